@@ -1,0 +1,23 @@
+# Every dependency comes from a Debian 12 package; nothing is downloaded at configure or build time.
+# tools/lib/setup.sh installs the packages named here.
+
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)   # libeigen3-dev
+find_package(TBB REQUIRED)                    # libtbb-dev
+find_package(nlohmann_json 3.10 REQUIRED)     # nlohmann-json3-dev
+find_package(tinyobjloader REQUIRED)          # libtinyobjloader-dev (shared library, no IMPLEMENTATION macro)
+
+# Debian's xsimd 8.1 exports INTERFACE_LINK_LIBRARIES "xtl", a library nothing provides: linking
+# the target fails with `cannot find -lxtl` (shared/design/platform.md, trap 1). xsimd only needs
+# xtl for xtensor interop, so an empty interface target of that name satisfies it. Consumers link
+# xsimd as $<BUILD_INTERFACE:xsimd> so it never leaks into an installed package.
+if(NOT TARGET xtl)
+  add_library(xtl INTERFACE IMPORTED)
+endif()
+find_package(xsimd 8.1 REQUIRED)              # libxsimd-dev
+
+if(FACET_BUILD_TESTS)
+  find_package(GTest REQUIRED)                # libgtest-dev
+endif()
+if(FACET_BUILD_BENCHMARKS)
+  find_package(benchmark REQUIRED)            # libbenchmark-dev
+endif()

@@ -1,0 +1,12 @@
+// Umbrella header: the whole public C++ API of facet.
+#pragma once
+
+#include "facet/camera.hpp"
+#include "facet/light.hpp"
+#include "facet/lighting.hpp"
+#include "facet/material.hpp"
+#include "facet/mesh.hpp"
+#include "facet/scene.hpp"
+#include "facet/scene_file.hpp"
+#include "facet/status.hpp"
+#include "facet/types.hpp"

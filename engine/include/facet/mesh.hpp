@@ -1,0 +1,66 @@
+// Triangle meshes: positions, per-vertex normals, counter-clockwise triangles (front faces wind
+// counter-clockwise seen from outside, as in OpenGL). Built from caller arrays, procedural shapes
+// or Wavefront OBJ. A Mesh owns its data; a valid mesh has one normal per position and every
+// index < vertex_count().
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "facet/status.hpp"
+#include "facet/types.hpp"
+
+namespace facet {
+
+inline constexpr float kDefaultCreaseAngleDeg = 60.0f;
+
+struct Mesh {
+  std::vector<Vec3> positions;
+  std::vector<Vec3> normals;  // unit length, or zero where no normal can be defined
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+
+  std::size_t vertex_count() const noexcept { return positions.size(); }
+  std::size_t triangle_count() const noexcept { return triangles.size(); }
+};
+
+// Checks sizes, indices and finiteness. `field` prefixes the error's field name.
+Status validate_mesh(const Mesh& mesh, const std::string& field = "mesh");
+
+// From caller arrays: xyz triples and index triples. `normals_xyz` may be empty: then normals are
+// computed with compute_vertex_normals(crease_angle_deg), which may split vertices along creases.
+Result<Mesh> mesh_from_arrays(std::span<const float> positions_xyz, std::span<const float> normals_xyz,
+                              std::span<const std::uint32_t> indices,
+                              float crease_angle_deg = kDefaultCreaseAngleDeg);
+
+// Vertex normals from the faces: at each corner, the angle-weighted average of the normals of the
+// faces around that vertex whose normal lies within `crease_angle_deg` of the corner's own face.
+// Corners of one vertex that end with different normals get separate vertices, so edges sharper
+// than the crease angle stay hard. Positions that are bit-identical are treated as one vertex (so
+// the seams of a UV-mapped mesh are smoothed). Degenerate triangles get no weight; a vertex with
+// no usable face gets a zero normal. Triangles and their winding are kept; `normals` is replaced.
+void compute_vertex_normals(Mesh& mesh, float crease_angle_deg = kDefaultCreaseAngleDeg);
+
+// Procedural shapes, centred on the origin. Tessellation arguments are clamped to their minimum
+// (noted per shape) and to 4096 per axis.
+Mesh make_uv_sphere(float radius, int segments, int rings);       // segments >= 3, rings >= 2; exact normals
+Mesh make_cube(float size, int subdivisions);                     // subdivisions >= 1 per edge; face normals
+Mesh make_plane(float size_x, float size_z, int subdivisions);    // in y = 0, normal +y
+Mesh make_torus(float major_radius, float minor_radius, int segments, int sides);  // around y
+
+struct ObjOptions {
+  // Used when the file has no `vn` normals (or not for every corner).
+  float crease_angle_deg = kDefaultCreaseAngleDeg;
+};
+
+// Wavefront OBJ through tinyobjloader: polygons are triangulated, `v`, `v/vt`, `v//vn`, `v/vt/vn`
+// and negative (relative) indices are accepted, all groups/objects are merged into one mesh and
+// materials are ignored. Errors name the file and line.
+Result<Mesh> load_obj(const std::string& path, const ObjOptions& options = {});
+// The same from text in memory; `source_name` is used in messages.
+Result<Mesh> parse_obj(const std::string& text, const std::string& source_name,
+                       const ObjOptions& options = {});
+
+}  // namespace facet

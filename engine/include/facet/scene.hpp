@@ -1,0 +1,53 @@
+// A scene: meshes, materials, instances of (mesh, material, transform), lights, a camera and the
+// global switches of the lighting model. Plain data, owned by the caller; validate_scene() checks
+// it and names the offending field in the scene-file path form ("lights[2].position").
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "facet/camera.hpp"
+#include "facet/light.hpp"
+#include "facet/material.hpp"
+#include "facet/mesh.hpp"
+#include "facet/status.hpp"
+#include "facet/types.hpp"
+
+namespace facet {
+
+enum class ViewerMode {
+  local,     // specular half-vector uses the true direction to the eye (GL_LIGHT_MODEL_LOCAL_VIEWER)
+  infinite,  // uses (0, 0, 1) in eye space: cheaper, GL's default
+};
+
+struct NamedMesh {
+  std::string name;
+  Mesh mesh;
+};
+
+struct Instance {
+  std::uint32_t mesh = 0;      // index into Scene::meshes
+  std::uint32_t material = 0;  // index into Scene::materials
+  Mat4 model = Mat4::Identity();  // model -> world; must be invertible
+};
+
+struct Scene {
+  std::vector<NamedMesh> meshes;
+  std::vector<Material> materials;
+  std::vector<Instance> objects;
+  std::vector<Light> lights;
+  Color3 global_ambient{0.2f, 0.2f, 0.2f};
+  Camera camera;
+  ViewerMode viewer = ViewerMode::local;
+  bool two_sided = false;  // back faces are lit with the negated normal
+};
+
+Status validate_scene(const Scene& scene);
+
+// The built-in scene: procedural shapes only (spheres of shininess 8, 64 and 512, a cube, a torus
+// and a ground plane) lit by a directional light, a point light with attenuation, a GL spot light
+// and a smooth-cone spot light. Needs no file.
+Scene make_default_scene();
+
+}  // namespace facet

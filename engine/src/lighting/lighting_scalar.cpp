@@ -1,0 +1,8 @@
+// The scalar path: the same lighting model in float, one vertex at a time. This file is compiled
+// with FACET_NO_VECTORIZE_FLAGS (cmake/FacetCompilerFlags.cmake) so that it stays an honest
+// scalar baseline for the SIMD paths.
+#include "lighting/shade.hpp"
+
+namespace facet::lighting {
+template void light_mesh<float>(const ShadeParams<float>&, const EyeTransform<float>&, const Mesh&, bool, Color3*);
+}  // namespace facet::lighting

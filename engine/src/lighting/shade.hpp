@@ -1,0 +1,159 @@
+// Internal: the classic lighting model for one vertex (OpenGL 2.1 §2.14.1 plus facet's extensions),
+// written once and instantiated per precision: double in lighting_reference.cpp (the oracle) and
+// float in lighting_scalar.cpp (the scalar baseline, built without auto-vectorisation). Plain
+// scalar code on purpose: no Eigen inside the loop (Eigen would use its own SSE packets).
+//
+//   colour = e_m + a_m a_scene + sum_i att_i spot_i [a_m a_i + (n.VP_i)+ d_m d_i + f_i (n.h_i)+^s s_m s_i]
+//
+// Edge-case rules (public contract in facet/lighting.hpp): see light_contribution().
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "facet/light.hpp"
+#include "facet/mesh.hpp"
+#include "facet/types.hpp"
+
+namespace facet::lighting {
+
+template <class T>
+struct V3 {
+  T x, y, z;
+};
+template <class T> V3<T> operator+(V3<T> a, V3<T> b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+template <class T> V3<T> operator-(V3<T> a, V3<T> b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+template <class T> V3<T> operator*(T s, V3<T> a) { return {s * a.x, s * a.y, s * a.z}; }
+template <class T> T dot(V3<T> a, V3<T> b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+// Vectors shorter than this (or non-finite) have no direction and normalise to zero.
+template <class T> inline constexpr T kMinLength = T(1e-6);
+// Floor of the attenuation denominator, so a light at the vertex with k0 = 0 stays finite.
+template <class T> inline constexpr T kMinAttenuationDenominator = T(1e-6);
+
+template <class T>
+V3<T> normalize_or_zero(V3<T> v) {
+  const T len = std::sqrt(dot(v, v));
+  // Written so that NaN and Inf lengths fail the test too.
+  if (!(len > kMinLength<T> && len <= std::numeric_limits<T>::max())) return {T(0), T(0), T(0)};
+  return (T(1) / len) * v;
+}
+
+// NaN -> 0 (the comparison order is deliberate: NaN fails `x > 0`).
+template <class T> T clamp01(T x) { return x > T(0) ? (x < T(1) ? x : T(1)) : T(0); }
+
+// One light in eye space, with its colours already multiplied by the material's.
+template <class T>
+struct EyeLight {
+  LightType type = LightType::directional;
+  V3<T> position{};   // point, spot
+  V3<T> to_light{};   // directional: unit vector towards the light
+  V3<T> spot_axis{};  // spot: unit vector the light travels along
+  T k0 = 1, k1 = 0, k2 = 0;
+  T inv_range = 0;  // 0 = no range window
+  SpotShape spot_shape = SpotShape::cutoff_exponent;
+  bool has_cone = false;  // cutoff_exponent with cutoff < 180
+  T cos_cutoff = -1, spot_exponent = 0;
+  T cos_outer = -1, inv_cone_span = 0, spot_falloff = 0;  // smooth_cone; inv_cone_span 0 = hard edge
+  V3<T> ambient{}, diffuse{}, specular{};  // a_m a_i, d_m d_i, s_m s_i
+};
+
+template <class T>
+struct ShadeParams {
+  V3<T> base{};  // e_m + a_m a_scene
+  T shininess = 0;
+  bool local_viewer = true;
+  bool clamp = true;
+  std::vector<EyeLight<T>> lights;  // enabled lights only
+};
+
+template <class T>
+T spot_factor(const EyeLight<T>& L, T cos_angle) {
+  if (L.spot_shape == SpotShape::cutoff_exponent) {
+    if (!L.has_cone) return T(1);
+    return cos_angle >= L.cos_cutoff ? std::pow(cos_angle > T(0) ? cos_angle : T(0), L.spot_exponent) : T(0);
+  }
+  if (!(cos_angle >= L.cos_outer)) return T(0);
+  const T t = L.inv_cone_span > T(0) ? clamp01((cos_angle - L.cos_outer) * L.inv_cone_span) : T(1);
+  return std::pow(t, L.spot_falloff);
+}
+
+// Adds light L's contribution at eye-space position p with unit (or zero) normal n.
+template <class T>
+void light_contribution(const ShadeParams<T>& sp, const EyeLight<T>& L, V3<T> p, V3<T> n, V3<T> eye_dir,
+                        V3<T>& colour) {
+  V3<T> vp;
+  T att = T(1);
+  if (L.type == LightType::directional) {
+    vp = L.to_light;
+  } else {
+    const V3<T> diff = L.position - p;
+    const T d2 = dot(diff, diff);
+    const T d = std::sqrt(d2);
+    if (!(d <= std::numeric_limits<T>::max())) return;  // NaN/Inf position or distance: no contribution
+    vp = d > kMinLength<T> ? (T(1) / d) * diff : V3<T>{T(0), T(0), T(0)};
+    const T denom = L.k0 + L.k1 * d + L.k2 * d2;
+    att = T(1) / (denom > kMinAttenuationDenominator<T> ? denom : kMinAttenuationDenominator<T>);
+    if (L.inv_range > T(0)) {
+      const T x = d * L.inv_range, x2 = x * x;
+      const T w = clamp01(T(1) - x2 * x2);
+      att *= w * w;
+    }
+    if (L.type == LightType::spot) att *= spot_factor(L, -dot(vp, L.spot_axis));
+    if (att == T(0)) return;
+  }
+  const T n_dot_l = dot(n, vp);
+  V3<T> sum = L.ambient;
+  if (n_dot_l > T(0)) {
+    const T n_dot_h = clamp01(dot(n, normalize_or_zero(vp + eye_dir)));
+    sum = sum + n_dot_l * L.diffuse + std::pow(n_dot_h, sp.shininess) * L.specular;
+  }
+  colour = colour + att * sum;
+}
+
+template <class T>
+V3<T> shade_vertex(const ShadeParams<T>& sp, V3<T> p, V3<T> n_in) {
+  const V3<T> n = normalize_or_zero(n_in);
+  const V3<T> eye_dir = sp.local_viewer ? normalize_or_zero(V3<T>{-p.x, -p.y, -p.z}) : V3<T>{T(0), T(0), T(1)};
+  V3<T> colour = sp.base;
+  for (const EyeLight<T>& L : sp.lights) light_contribution(sp, L, p, n, eye_dir, colour);
+  if (sp.clamp) return {clamp01(colour.x), clamp01(colour.y), clamp01(colour.z)};
+  auto hdr = [](T x) { return x > T(0) ? (x < std::numeric_limits<float>::max() ? x : T(std::numeric_limits<float>::max())) : T(0); };
+  return {hdr(colour.x), hdr(colour.y), hdr(colour.z)};
+}
+
+// Model -> eye transform in the kernel's precision: 3x4 affine for positions, 3x3 for normals
+// (inverse transpose of the model-view's linear part), row-major.
+template <class T>
+struct EyeTransform {
+  T position[12];
+  T normal[9];
+};
+
+// Transforms and lights every vertex of `mesh`; writes one colour per vertex to `out`.
+template <class T>
+void light_mesh(const ShadeParams<T>& sp, const EyeTransform<T>& xf, const Mesh& mesh, bool back_side, Color3* out) {
+  const T* m = xf.position;
+  const T* nm = xf.normal;
+  const T sign = back_side ? T(-1) : T(1);
+  const std::size_t count = mesh.positions.size();
+  for (std::size_t i = 0; i < count; ++i) {
+    const T px = T(mesh.positions[i].x()), py = T(mesh.positions[i].y()), pz = T(mesh.positions[i].z());
+    const T nx = sign * T(mesh.normals[i].x()), ny = sign * T(mesh.normals[i].y()), nz = sign * T(mesh.normals[i].z());
+    const V3<T> p{m[0] * px + m[1] * py + m[2] * pz + m[3], m[4] * px + m[5] * py + m[6] * pz + m[7],
+                  m[8] * px + m[9] * py + m[10] * pz + m[11]};
+    const V3<T> n{nm[0] * nx + nm[1] * ny + nm[2] * nz, nm[3] * nx + nm[4] * ny + nm[5] * nz,
+                  nm[6] * nx + nm[7] * ny + nm[8] * nz};
+    const V3<T> c = shade_vertex(sp, p, n);
+    out[i] = Color3(float(c.x), float(c.y), float(c.z));
+  }
+}
+
+// Each precision is instantiated in exactly one file, with that file's compile flags.
+extern template void light_mesh<double>(const ShadeParams<double>&, const EyeTransform<double>&, const Mesh&, bool,
+                                        Color3*);
+extern template void light_mesh<float>(const ShadeParams<float>&, const EyeTransform<float>&, const Mesh&, bool,
+                                       Color3*);
+
+}  // namespace facet::lighting

@@ -1,0 +1,279 @@
+// Scene validation, camera matrices and the built-in default scene.
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "facet/scene.hpp"
+#include "common/format.hpp"
+#include "common/look_at.hpp"
+#include "common/try.hpp"
+#include "scene/validate.hpp"
+
+namespace facet {
+
+const char* to_string(ErrorCode code) noexcept {
+  switch (code) {
+    case ErrorCode::ok: return "ok";
+    case ErrorCode::invalid_argument: return "invalid argument";
+    case ErrorCode::parse_error: return "parse error";
+    case ErrorCode::io_error: return "i/o error";
+    case ErrorCode::unsupported: return "unsupported";
+  }
+  return "unknown error";
+}
+
+namespace {
+
+constexpr float kDegToRad = std::numbers::pi_v<float> / 180.0f;
+
+bool finite(const Vec3& v) { return v.allFinite(); }
+
+std::string describe(const Vec3& v) {
+  return "[" + format_number(v.x()) + ", " + format_number(v.y()) + ", " + format_number(v.z()) + "]";
+}
+
+Status invalid(const std::string& field, const std::string& what) {
+  return {ErrorCode::invalid_argument, field, field + ": " + what};
+}
+
+Status check_color(const Color3& c, const std::string& field) {
+  if (!finite(c) || (c.array() < 0.0f).any()) {
+    return invalid(field, "expected finite colour components >= 0, found " + describe(c));
+  }
+  return {};
+}
+
+Status check_range(float value, float lo, float hi, const std::string& field) {
+  if (!(value >= lo && value <= hi)) {
+    return invalid(field, "expected a number in [" + format_number(lo) + ", " + format_number(hi) + "], found " +
+                              format_number(value));
+  }
+  return {};
+}
+
+Status check_direction(const Vec3& d, const std::string& field) {
+  if (!finite(d) || !(d.squaredNorm() > 1e-24f)) {
+    return invalid(field, "expected a finite non-zero direction, found " + describe(d));
+  }
+  return {};
+}
+
+Status validate_material(const Material& m, const std::string& f) {
+  FACET_TRY(check_color(m.emissive, f + ".emissive"));
+  FACET_TRY(check_color(m.ambient, f + ".ambient"));
+  FACET_TRY(check_color(m.diffuse, f + ".diffuse"));
+  FACET_TRY(check_color(m.specular, f + ".specular"));
+  FACET_TRY(check_range(m.shininess, 0.0f, kMaxShininess, f + ".shininess"));
+  FACET_TRY(check_range(m.alpha, 0.0f, 1.0f, f + ".alpha"));
+  return {};
+}
+
+Status validate_light(const Light& l, const std::string& f) {
+  FACET_TRY(check_color(l.ambient, f + ".ambient"));
+  FACET_TRY(check_color(l.diffuse, f + ".diffuse"));
+  FACET_TRY(check_color(l.specular, f + ".specular"));
+  if (l.type != LightType::point) FACET_TRY(check_direction(l.direction, f + ".direction"));
+  if (l.type == LightType::directional) {
+    if (l.range != 0.0f) return invalid(f + ".range", "only point and spot lights have a range");
+    return {};
+  }
+  if (!finite(l.position)) return invalid(f + ".position", "expected finite coordinates, found " + describe(l.position));
+  const float big = 3.0e38f;
+  FACET_TRY(check_range(l.constant_attenuation, 0.0f, big, f + ".attenuation.constant"));
+  FACET_TRY(check_range(l.linear_attenuation, 0.0f, big, f + ".attenuation.linear"));
+  FACET_TRY(check_range(l.quadratic_attenuation, 0.0f, big, f + ".attenuation.quadratic"));
+  if (!(l.constant_attenuation + l.linear_attenuation + l.quadratic_attenuation > 0.0f)) {
+    return invalid(f + ".attenuation", "at least one attenuation coefficient must be > 0");
+  }
+  FACET_TRY(check_range(l.range, 0.0f, big, f + ".range"));
+  if (l.type != LightType::spot) return {};
+  if (l.spot_shape == SpotShape::cutoff_exponent) {
+    if (l.spot_cutoff_deg != 180.0f) FACET_TRY(check_range(l.spot_cutoff_deg, 0.0f, 90.0f, f + ".spot.cutoff_deg"));
+    FACET_TRY(check_range(l.spot_exponent, 0.0f, kMaxShininess, f + ".spot.exponent"));
+  } else {
+    FACET_TRY(check_range(l.spot_outer_deg, 0.0f, 90.0f, f + ".spot.outer_deg"));
+    FACET_TRY(check_range(l.spot_inner_deg, 0.0f, l.spot_outer_deg, f + ".spot.inner_deg"));
+    FACET_TRY(check_range(l.spot_falloff, 0.0f, kMaxShininess, f + ".spot.falloff"));
+  }
+  return {};
+}
+
+Status validate_camera(const Camera& c) {
+  if (!finite(c.eye)) return invalid("camera.eye", "expected finite coordinates, found " + describe(c.eye));
+  if (!finite(c.target)) return invalid("camera.target", "expected finite coordinates, found " + describe(c.target));
+  FACET_TRY(check_direction(c.up, "camera.up"));
+  const Vec3 forward = c.target - c.eye;
+  if (!(forward.squaredNorm() > 1e-24f)) return invalid("camera.target", "must differ from camera.eye");
+  if (!(forward.normalized().cross(c.up.normalized()).norm() > 1e-6f)) {
+    return invalid("camera.up", "must not be parallel to the viewing direction");
+  }
+  if (!(c.vertical_fov_deg > 0.0f && c.vertical_fov_deg < 180.0f)) {
+    return invalid("camera.fov_deg", "expected a number in (0, 180), found " + format_number(c.vertical_fov_deg));
+  }
+  FACET_TRY(check_range(c.aspect, 0.0f, 1e6f, "camera.aspect"));
+  if (!(c.near > 0.0f && std::isfinite(c.near))) {
+    return invalid("camera.near", "expected a finite number > 0, found " + format_number(c.near));
+  }
+  if (!(c.far > c.near && std::isfinite(c.far))) {
+    return invalid("camera.far", "expected a finite number > camera.near, found " + format_number(c.far));
+  }
+  return {};
+}
+
+}  // namespace
+
+Status validate_lighting_inputs(const Scene& scene) {
+  FACET_TRY(check_color(scene.global_ambient, "global_ambient"));
+  FACET_TRY(validate_camera(scene.camera));
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+    FACET_TRY(validate_material(scene.materials[i], "materials[" + std::to_string(i) + "]"));
+  }
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+    FACET_TRY(validate_light(scene.lights[i], "lights[" + std::to_string(i) + "]"));
+  }
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const Instance& inst = scene.objects[i];
+    const std::string f = "objects[" + std::to_string(i) + "]";
+    if (inst.mesh >= scene.meshes.size()) {
+      return invalid(f + ".mesh", "mesh index " + std::to_string(inst.mesh) + " is out of range (" +
+                                     std::to_string(scene.meshes.size()) + " meshes)");
+    }
+    if (inst.material >= scene.materials.size()) {
+      return invalid(f + ".material", "material index " + std::to_string(inst.material) + " is out of range (" +
+                                         std::to_string(scene.materials.size()) + " materials)");
+    }
+    const Eigen::Matrix3f linear = inst.model.topLeftCorner<3, 3>();
+    const float det = linear.determinant();
+    if (!inst.model.allFinite() || !(std::abs(det) > 1e-30f) || !std::isfinite(1.0f / det)) {
+      return invalid(f + ".transform", "expected a finite invertible transform");
+    }
+    if (inst.model.row(3) != Eigen::RowVector4f(0, 0, 0, 1)) {
+      return invalid(f + ".transform", "expected an affine transform (last row 0 0 0 1)");
+    }
+    const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    if (mesh.normals.size() != mesh.positions.size()) {
+      return invalid("meshes[" + std::to_string(inst.mesh) + "].normals",
+                     "expected one normal per position (" + std::to_string(mesh.positions.size()) + "), found " +
+                         std::to_string(mesh.normals.size()));
+    }
+  }
+  return {};
+}
+
+Status validate_scene(const Scene& scene) {
+  for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
+    FACET_TRY(validate_mesh(scene.meshes[i].mesh, "meshes[" + std::to_string(i) + "]"));
+  }
+  return validate_lighting_inputs(scene);
+}
+
+Mat4 view_matrix(const Camera& camera) { return look_at_d(camera).cast<float>(); }
+
+Mat4 projection_matrix(const Camera& camera, float aspect) {
+  const float t = 1.0f / std::tan(0.5f * camera.vertical_fov_deg * kDegToRad);
+  const float n = camera.near, f = camera.far;
+  Mat4 m = Mat4::Zero();
+  m(0, 0) = t / aspect;
+  m(1, 1) = t;
+  m(2, 2) = (f + n) / (n - f);
+  m(2, 3) = 2.0f * f * n / (n - f);
+  m(3, 2) = -1.0f;
+  return m;
+}
+
+namespace {
+
+Mat4 translate_scale(const Vec3& t, float s) {
+  Mat4 m = Mat4::Identity();
+  m.topLeftCorner<3, 3>() *= s;
+  m.block<3, 1>(0, 3) = t;
+  return m;
+}
+
+Material make_material(const char* name, Color3 diffuse, Color3 specular, float shininess) {
+  Material m;
+  m.name = name;
+  m.ambient = diffuse;
+  m.diffuse = diffuse;
+  m.specular = specular;
+  m.shininess = shininess;
+  return m;
+}
+
+}  // namespace
+
+Scene make_default_scene() {
+  Scene scene;
+  scene.meshes.push_back({"sphere", make_uv_sphere(1.0f, 64, 32)});
+  scene.meshes.push_back({"cube", make_cube(1.0f, 8)});
+  scene.meshes.push_back({"torus", make_torus(0.7f, 0.25f, 64, 24)});
+  scene.meshes.push_back({"ground", make_plane(12.0f, 12.0f, 48)});
+
+  scene.materials.push_back(make_material("matte_red", {0.75f, 0.18f, 0.15f}, {0.3f, 0.3f, 0.3f}, 8.0f));
+  scene.materials.push_back(make_material("satin_green", {0.2f, 0.6f, 0.25f}, {0.6f, 0.6f, 0.6f}, 64.0f));
+  scene.materials.push_back(make_material("glossy_blue", {0.15f, 0.3f, 0.8f}, {1.0f, 1.0f, 1.0f}, 512.0f));
+  scene.materials.push_back(make_material("gold", {0.8f, 0.6f, 0.2f}, {0.9f, 0.8f, 0.5f}, 32.0f));
+  scene.materials.push_back(make_material("ground", {0.55f, 0.55f, 0.5f}, {0.0f, 0.0f, 0.0f}, 0.0f));
+
+  scene.objects.push_back({0, 0, translate_scale({-2.2f, 1.0f, 0.0f}, 1.0f)});
+  scene.objects.push_back({0, 1, translate_scale({0.0f, 1.0f, -0.6f}, 1.0f)});
+  scene.objects.push_back({0, 2, translate_scale({2.2f, 1.0f, 0.0f}, 1.0f)});
+  Mat4 cube = translate_scale({-0.9f, 0.5f, 1.7f}, 1.0f);
+  cube.topLeftCorner<3, 3>() = Eigen::AngleAxisf(0.6f, Vec3::UnitY()).toRotationMatrix();
+  scene.objects.push_back({1, 3, cube});
+  Mat4 torus = translate_scale({1.3f, 0.35f, 1.9f}, 1.0f);
+  torus.topLeftCorner<3, 3>() = Eigen::AngleAxisf(-0.35f, Vec3::UnitX()).toRotationMatrix();
+  scene.objects.push_back({2, 3, torus});
+  scene.objects.push_back({3, 4, Mat4::Identity()});
+
+  Light sun;
+  sun.name = "sun";
+  sun.type = LightType::directional;
+  sun.direction = Vec3(-0.4f, -1.0f, -0.5f);
+  sun.diffuse = {0.55f, 0.55f, 0.5f};
+  sun.specular = {0.5f, 0.5f, 0.5f};
+  scene.lights.push_back(sun);
+
+  Light lamp;
+  lamp.name = "lamp";
+  lamp.type = LightType::point;
+  lamp.position = {2.5f, 3.0f, 3.0f};
+  lamp.diffuse = {1.0f, 0.85f, 0.6f};
+  lamp.specular = {1.0f, 0.9f, 0.7f};
+  lamp.ambient = {0.05f, 0.05f, 0.05f};
+  lamp.linear_attenuation = 0.05f;
+  lamp.quadratic_attenuation = 0.02f;
+  lamp.range = 15.0f;
+  scene.lights.push_back(lamp);
+
+  Light spot;
+  spot.name = "gl_spot";
+  spot.type = LightType::spot;
+  spot.position = {-3.0f, 5.0f, 2.0f};
+  spot.direction = Vec3(-2.2f, 0.0f, 0.0f) - spot.position;
+  spot.diffuse = {0.3f, 0.4f, 1.0f};
+  spot.specular = {0.6f, 0.6f, 1.0f};
+  spot.spot_cutoff_deg = 25.0f;
+  spot.spot_exponent = 10.0f;
+  scene.lights.push_back(spot);
+
+  Light cone;
+  cone.name = "stage_spot";
+  cone.type = LightType::spot;
+  cone.spot_shape = SpotShape::smooth_cone;
+  cone.position = {1.0f, 6.0f, -3.0f};
+  cone.direction = Vec3(0.5f, 0.0f, 0.5f) - cone.position;
+  cone.diffuse = {1.0f, 0.5f, 0.8f};
+  cone.specular = {1.0f, 0.6f, 0.9f};
+  cone.spot_inner_deg = 12.0f;
+  cone.spot_outer_deg = 24.0f;
+  scene.lights.push_back(cone);
+
+  scene.global_ambient = {0.12f, 0.12f, 0.14f};
+  scene.camera.eye = {0.0f, 3.2f, 8.5f};
+  scene.camera.target = {0.0f, 0.8f, 0.0f};
+  scene.camera.vertical_fov_deg = 40.0f;
+  return scene;
+}
+
+}  // namespace facet

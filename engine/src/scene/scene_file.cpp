@@ -1,0 +1,494 @@
+// JSON scene files: nlohmann-json for the document, JsonLines for where each value is, and one
+// reader per object kind. The reader checks types and the JSON-only fields; validate_scene() checks
+// the rest, and its field path is mapped back to a line of the file.
+#include "facet/scene_file.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <initializer_list>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "common/try.hpp"
+#include "io/read_file.hpp"
+#include "scene/json_lines.hpp"
+
+namespace facet {
+namespace {
+
+using json = nlohmann::json;
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string describe(const json& j) {
+  switch (j.type()) {
+    case json::value_t::null: return "null";
+    case json::value_t::boolean: return std::string("boolean ") + (j.get<bool>() ? "true" : "false");
+    case json::value_t::string: {
+      std::string s = j.get<std::string>();
+      if (s.size() > 40) s = s.substr(0, 37) + "...";
+      return "string \"" + s + "\"";
+    }
+    case json::value_t::array: return "an array of " + std::to_string(j.size()) + " elements";
+    case json::value_t::object: return "an object";
+    case json::value_t::number_integer:
+    case json::value_t::number_unsigned:
+    case json::value_t::number_float: return "number " + j.dump();
+    default: return "a value of another type";
+  }
+}
+
+std::string join(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+std::string child(const std::string& path, std::string_view key) {
+  return path.empty() ? std::string(key) : path + "." + std::string(key);
+}
+
+class SceneReader {
+ public:
+  SceneReader(std::string source, const JsonLines& lines, std::string base_dir)
+      : source_(std::move(source)), lines_(lines), base_dir_(std::move(base_dir)) {}
+
+  Status read(const json& root, Scene& scene) {
+    FACET_TRY(expect_object(root, "", {"camera", "global_ambient", "viewer", "two_sided", "materials", "meshes",
+                                       "objects", "lights"}));
+    if (root.contains("camera")) FACET_TRY(read_camera(root["camera"], scene.camera));
+    FACET_TRY(opt_color(root, "", "global_ambient", scene.global_ambient));
+    if (root.contains("viewer")) {
+      std::string mode;
+      FACET_TRY(read_enum(root["viewer"], "viewer", {"local", "infinite"}, mode));
+      scene.viewer = mode == "local" ? ViewerMode::local : ViewerMode::infinite;
+    }
+    FACET_TRY(opt_bool(root, "", "two_sided", scene.two_sided));
+    auto add_material = [&](const json& j, const std::string& p) {
+      Material m;
+      FACET_TRY(read_material(j, p, m));
+      scene.materials.push_back(std::move(m));
+      return Status{};
+    };
+    auto add_mesh = [&](const json& j, const std::string& p) {
+      NamedMesh m;
+      FACET_TRY(read_mesh(j, p, m));
+      scene.meshes.push_back(std::move(m));
+      return Status{};
+    };
+    auto add_object = [&](const json& j, const std::string& p) {
+      Instance inst;
+      FACET_TRY(read_object(j, p, scene, inst));
+      scene.objects.push_back(inst);
+      return Status{};
+    };
+    auto add_light = [&](const json& j, const std::string& p) {
+      Light l;
+      FACET_TRY(read_light(j, p, l));
+      scene.lights.push_back(std::move(l));
+      return Status{};
+    };
+    FACET_TRY(read_list(root, "materials", add_material));
+    FACET_TRY(read_list(root, "meshes", add_mesh));
+    FACET_TRY(read_list(root, "objects", add_object));
+    FACET_TRY(read_list(root, "lights", add_light));
+    if (Status s = validate_scene(scene); !s.ok()) return located(s.field(), s.code(), s.message());
+    return {};
+  }
+
+  // "file:line: message" for a field path.
+  Status located(const std::string& path, ErrorCode code, const std::string& message) const {
+    const std::size_t line = lines_.line_of(path);
+    return {code, path, source_ + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + message};
+  }
+
+ private:
+  Status mismatch(const std::string& path, const std::string& expected, const json& found) const {
+    return located(path, ErrorCode::invalid_argument,
+                   (path.empty() ? std::string("top level") : path) + ": expected " + expected + ", found " +
+                       describe(found));
+  }
+  Status invalid(const std::string& path, const std::string& what) const {
+    return located(path, ErrorCode::invalid_argument, path + ": " + what);
+  }
+
+  Status expect_object(const json& j, const std::string& path, std::initializer_list<std::string_view> allowed) const {
+    if (!j.is_object()) return mismatch(path, "an object", j);
+    for (const auto& [key, value] : j.items()) {
+      bool known = false;
+      for (auto a : allowed) known |= a == key;
+      if (known) continue;
+      std::string hint;
+      std::size_t best = 3;
+      std::vector<std::string> names;
+      for (auto a : allowed) {
+        names.emplace_back(a);
+        if (const std::size_t d = edit_distance(key, a); d < best) {
+          best = d;
+          hint = " (did you mean '" + std::string(a) + "'?)";
+        }
+      }
+      const std::string where = path.empty() ? std::string("top level") : path;
+      return located(child(path, key), ErrorCode::invalid_argument,
+                     where + ": unknown field '" + key + "'" + hint + "; known fields: " + join(names));
+    }
+    return {};
+  }
+
+  template <class Fn>
+  Status read_list(const json& root, const char* key, Fn fn) {
+    if (!root.contains(key)) return {};
+    const json& list = root[key];
+    if (!list.is_array()) return mismatch(key, "an array", list);
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      FACET_TRY(fn(list[i], std::string(key) + "[" + std::to_string(i) + "]"));
+    }
+    return {};
+  }
+
+  Status read_number(const json& j, const std::string& path, float& out) const {
+    if (!j.is_number()) return mismatch(path, "a number", j);
+    const double v = j.get<double>();
+    if (!std::isfinite(v) || std::abs(v) > std::numeric_limits<float>::max()) {
+      return mismatch(path, "a finite number within float range", j);
+    }
+    out = static_cast<float>(v);
+    return {};
+  }
+
+  Status opt_number(const json& obj, const std::string& path, const char* key, float& out) const {
+    return obj.contains(key) ? read_number(obj[key], child(path, key), out) : Status{};
+  }
+
+  Status opt_int(const json& obj, const std::string& path, const char* key, int lo, int hi, int& out) const {
+    if (!obj.contains(key)) return {};
+    const json& j = obj[key];
+    const std::string p = child(path, key);
+    if (!j.is_number_integer()) return mismatch(p, "an integer", j);
+    const auto v = j.get<long long>();
+    if (v < lo || v > hi) {
+      return mismatch(p, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", j);
+    }
+    out = static_cast<int>(v);
+    return {};
+  }
+
+  Status opt_bool(const json& obj, const std::string& path, const char* key, bool& out) const {
+    if (!obj.contains(key)) return {};
+    const json& j = obj[key];
+    if (!j.is_boolean()) return mismatch(child(path, key), "true or false", j);
+    out = j.get<bool>();
+    return {};
+  }
+
+  Status opt_string(const json& obj, const std::string& path, const char* key, std::string& out) const {
+    if (!obj.contains(key)) return {};
+    const json& j = obj[key];
+    if (!j.is_string()) return mismatch(child(path, key), "a string", j);
+    out = j.get<std::string>();
+    return {};
+  }
+
+  Status read_vec3(const json& j, const std::string& path, Vec3& out) const {
+    if (!j.is_array() || j.size() != 3) return mismatch(path, "an array of 3 numbers", j);
+    for (std::size_t i = 0; i < 3; ++i) {
+      float v = 0;
+      FACET_TRY(read_number(j[i], path + "[" + std::to_string(i) + "]", v));
+      out[static_cast<Eigen::Index>(i)] = v;
+    }
+    return {};
+  }
+
+  Status opt_vec3(const json& obj, const std::string& path, const char* key, Vec3& out) const {
+    return obj.contains(key) ? read_vec3(obj[key], child(path, key), out) : Status{};
+  }
+
+  // A colour is [r, g, b] or one number for a grey.
+  Status opt_color(const json& obj, const std::string& path, const char* key, Color3& out) const {
+    if (!obj.contains(key)) return {};
+    const json& j = obj[key];
+    const std::string p = child(path, key);
+    if (j.is_number()) {
+      float g = 0;
+      FACET_TRY(read_number(j, p, g));
+      out = Color3(g, g, g);
+      return {};
+    }
+    if (!j.is_array()) return mismatch(p, "a colour: [r, g, b] or one number", j);
+    return read_vec3(j, p, out);
+  }
+
+  Status read_enum(const json& j, const std::string& path, std::initializer_list<std::string_view> choices,
+                   std::string& out) const {
+    std::vector<std::string> names(choices.begin(), choices.end());
+    const std::string expected = "one of \"" + join(names) + "\"";
+    if (!j.is_string()) return mismatch(path, expected, j);
+    out = j.get<std::string>();
+    for (auto c : choices)
+      if (c == out) return {};
+    return mismatch(path, expected, j);
+  }
+
+  Status read_camera(const json& j, Camera& c) const {
+    const std::string p = "camera";
+    FACET_TRY(expect_object(j, p, {"eye", "target", "up", "fov_deg", "aspect", "near", "far"}));
+    FACET_TRY(opt_vec3(j, p, "eye", c.eye));
+    FACET_TRY(opt_vec3(j, p, "target", c.target));
+    FACET_TRY(opt_vec3(j, p, "up", c.up));
+    FACET_TRY(opt_number(j, p, "fov_deg", c.vertical_fov_deg));
+    FACET_TRY(opt_number(j, p, "aspect", c.aspect));
+    FACET_TRY(opt_number(j, p, "near", c.near));
+    return opt_number(j, p, "far", c.far);
+  }
+
+  Status read_material(const json& j, const std::string& p, Material& m) const {
+    FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "alpha"}));
+    FACET_TRY(opt_string(j, p, "name", m.name));
+    FACET_TRY(opt_color(j, p, "emissive", m.emissive));
+    FACET_TRY(opt_color(j, p, "ambient", m.ambient));
+    FACET_TRY(opt_color(j, p, "diffuse", m.diffuse));
+    FACET_TRY(opt_color(j, p, "specular", m.specular));
+    FACET_TRY(opt_number(j, p, "shininess", m.shininess));
+    return opt_number(j, p, "alpha", m.alpha);
+  }
+
+  Status read_mesh(const json& j, const std::string& p, NamedMesh& out) const {
+    if (!j.is_object()) return mismatch(p, "an object", j);
+    FACET_TRY(opt_string(j, p, "name", out.name));
+    if (j.contains("obj") == j.contains("shape")) {
+      return invalid(p, "a mesh needs exactly one of \"obj\" (a file) or \"shape\" (a procedural shape)");
+    }
+    if (j.contains("obj")) {
+      FACET_TRY(expect_object(j, p, {"name", "obj", "crease_angle_deg"}));
+      std::string file;
+      FACET_TRY(opt_string(j, p, "obj", file));
+      ObjOptions options;
+      FACET_TRY(opt_number(j, p, "crease_angle_deg", options.crease_angle_deg));
+      if (!(options.crease_angle_deg >= 0.0f && options.crease_angle_deg <= 180.0f)) {
+        return invalid(child(p, "crease_angle_deg"), "expected a number in [0, 180]");
+      }
+      const std::filesystem::path resolved = std::filesystem::path(base_dir_) / file;
+      Result<Mesh> mesh = load_obj(resolved.string(), options);
+      if (!mesh) return located(child(p, "obj"), mesh.status().code(), child(p, "obj") + ": " + mesh.status().message());
+      out.mesh = std::move(*mesh);
+      return {};
+    }
+    std::string shape;
+    FACET_TRY(read_enum(j["shape"], child(p, "shape"), {"sphere", "cube", "plane", "torus"}, shape));
+    if (shape == "sphere") {
+      FACET_TRY(expect_object(j, p, {"name", "shape", "radius", "segments", "rings"}));
+      float radius = 1.0f;
+      int segments = 48, rings = 24;
+      FACET_TRY(opt_size(j, p, "radius", radius));
+      FACET_TRY(opt_int(j, p, "segments", 3, 4096, segments));
+      FACET_TRY(opt_int(j, p, "rings", 2, 4096, rings));
+      out.mesh = make_uv_sphere(radius, segments, rings);
+    } else if (shape == "cube") {
+      FACET_TRY(expect_object(j, p, {"name", "shape", "size", "subdivisions"}));
+      float size = 1.0f;
+      int subdivisions = 1;
+      FACET_TRY(opt_size(j, p, "size", size));
+      FACET_TRY(opt_int(j, p, "subdivisions", 1, 4096, subdivisions));
+      out.mesh = make_cube(size, subdivisions);
+    } else if (shape == "plane") {
+      FACET_TRY(expect_object(j, p, {"name", "shape", "size_x", "size_z", "subdivisions"}));
+      float sx = 10.0f, sz = 10.0f;
+      int subdivisions = 1;
+      FACET_TRY(opt_size(j, p, "size_x", sx));
+      FACET_TRY(opt_size(j, p, "size_z", sz));
+      FACET_TRY(opt_int(j, p, "subdivisions", 1, 4096, subdivisions));
+      out.mesh = make_plane(sx, sz, subdivisions);
+    } else {
+      FACET_TRY(expect_object(j, p, {"name", "shape", "major_radius", "minor_radius", "segments", "sides"}));
+      float major = 1.0f, minor = 0.25f;
+      int segments = 48, sides = 24;
+      FACET_TRY(opt_size(j, p, "major_radius", major));
+      FACET_TRY(opt_size(j, p, "minor_radius", minor));
+      FACET_TRY(opt_int(j, p, "segments", 3, 4096, segments));
+      FACET_TRY(opt_int(j, p, "sides", 3, 4096, sides));
+      out.mesh = make_torus(major, minor, segments, sides);
+    }
+    return {};
+  }
+
+  // A strictly positive, finite length.
+  Status opt_size(const json& obj, const std::string& path, const char* key, float& out) const {
+    FACET_TRY(opt_number(obj, path, key, out));
+    if (!(out > 0.0f)) return mismatch(child(path, key), "a number > 0", obj[key]);
+    return {};
+  }
+
+  template <class Named>
+  Status find_by_name(const json& obj, const std::string& path, const char* key, const std::vector<Named>& items,
+                      const char* kind, std::uint32_t& out) const {
+    const std::string p = child(path, key);
+    if (!obj.contains(key)) return invalid(p, std::string("missing: every object names its ") + kind);
+    const json& j = obj[key];
+    if (!j.is_string()) return mismatch(p, std::string("the name of a ") + kind, j);
+    const std::string name = j.get<std::string>();
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      if (items[i].name == name) {
+        out = static_cast<std::uint32_t>(i);
+        return {};
+      }
+      names.push_back("'" + items[i].name + "'");
+    }
+    return invalid(p, std::string("no ") + kind + " named '" + name + "' (defined: " +
+                          (names.empty() ? std::string("none") : join(names)) + ")");
+  }
+
+  Status read_object(const json& j, const std::string& p, Scene& scene, Instance& inst) const {
+    FACET_TRY(expect_object(j, p, {"mesh", "material", "translate", "rotate_deg", "scale", "matrix"}));
+    FACET_TRY(find_by_name(j, p, "mesh", scene.meshes, "mesh", inst.mesh));
+    if (j.contains("material")) {
+      FACET_TRY(find_by_name(j, p, "material", scene.materials, "material", inst.material));
+    } else {
+      // Objects without a material share one with GL's default values.
+      auto it = std::find_if(scene.materials.begin(), scene.materials.end(),
+                             [](const Material& m) { return m.name == "default"; });
+      if (it == scene.materials.end()) {
+        Material m;
+        m.name = "default";
+        scene.materials.push_back(m);
+        it = scene.materials.end() - 1;
+      }
+      inst.material = static_cast<std::uint32_t>(it - scene.materials.begin());
+    }
+    if (j.contains("matrix")) {
+      if (j.contains("translate") || j.contains("rotate_deg") || j.contains("scale")) {
+        return invalid(p, "\"matrix\" cannot be combined with \"translate\", \"rotate_deg\" or \"scale\"");
+      }
+      const json& m = j["matrix"];
+      const std::string mp = child(p, "matrix");
+      if (!m.is_array() || m.size() != 16) return mismatch(mp, "an array of 16 numbers (row-major 4x4)", m);
+      for (int i = 0; i < 16; ++i) {
+        FACET_TRY(read_number(m[static_cast<std::size_t>(i)], mp + "[" + std::to_string(i) + "]", inst.model(i / 4, i % 4)));
+      }
+      return {};
+    }
+    Vec3 t = Vec3::Zero(), r = Vec3::Zero(), s = Vec3::Ones();
+    FACET_TRY(opt_vec3(j, p, "translate", t));
+    FACET_TRY(opt_vec3(j, p, "rotate_deg", r));
+    if (j.contains("scale")) {
+      if (j["scale"].is_number()) {
+        float u = 1.0f;
+        FACET_TRY(read_number(j["scale"], child(p, "scale"), u));
+        s = Vec3(u, u, u);
+      } else {
+        FACET_TRY(read_vec3(j["scale"], child(p, "scale"), s));
+      }
+      if ((s.array() == 0.0f).any()) return invalid(child(p, "scale"), "every scale factor must be non-zero");
+    }
+    const float k = std::numbers::pi_v<float> / 180.0f;
+    const Eigen::Matrix3f rot = (Eigen::AngleAxisf(k * r.z(), Vec3::UnitZ()) * Eigen::AngleAxisf(k * r.y(), Vec3::UnitY()) *
+                                 Eigen::AngleAxisf(k * r.x(), Vec3::UnitX()))
+                                    .toRotationMatrix();
+    inst.model = Mat4::Identity();
+    inst.model.topLeftCorner<3, 3>() = rot * s.asDiagonal();
+    inst.model.block<3, 1>(0, 3) = t;
+    return {};
+  }
+
+  Status read_light(const json& j, const std::string& p, Light& l) const {
+    FACET_TRY(expect_object(j, p, {"name", "type", "enabled", "position", "direction", "ambient", "diffuse",
+                                   "specular", "attenuation", "range", "spot"}));
+    FACET_TRY(opt_string(j, p, "name", l.name));
+    if (!j.contains("type")) return invalid(child(p, "type"), "missing: \"directional\", \"point\" or \"spot\"");
+    std::string type;
+    FACET_TRY(read_enum(j["type"], child(p, "type"), {"directional", "point", "spot"}, type));
+    l.type = type == "directional" ? LightType::directional : type == "point" ? LightType::point : LightType::spot;
+    FACET_TRY(opt_bool(j, p, "enabled", l.enabled));
+    if (l.type == LightType::point && j.contains("direction")) {
+      return invalid(child(p, "direction"), "a point light has no direction");
+    }
+    if (l.type == LightType::directional && j.contains("position")) {
+      return invalid(child(p, "position"), "a directional light has no position (give its \"direction\")");
+    }
+    FACET_TRY(opt_vec3(j, p, "position", l.position));
+    FACET_TRY(opt_vec3(j, p, "direction", l.direction));
+    FACET_TRY(opt_color(j, p, "ambient", l.ambient));
+    FACET_TRY(opt_color(j, p, "diffuse", l.diffuse));
+    FACET_TRY(opt_color(j, p, "specular", l.specular));
+    if (j.contains("attenuation")) {
+      if (l.type == LightType::directional) return invalid(child(p, "attenuation"), "a directional light has no attenuation");
+      const json& a = j["attenuation"];
+      const std::string ap = child(p, "attenuation");
+      FACET_TRY(expect_object(a, ap, {"constant", "linear", "quadratic"}));
+      FACET_TRY(opt_number(a, ap, "constant", l.constant_attenuation));
+      FACET_TRY(opt_number(a, ap, "linear", l.linear_attenuation));
+      FACET_TRY(opt_number(a, ap, "quadratic", l.quadratic_attenuation));
+    }
+    FACET_TRY(opt_number(j, p, "range", l.range));
+    if (j.contains("spot")) {
+      const std::string sp = child(p, "spot");
+      if (l.type != LightType::spot) return invalid(sp, "only spot lights have a \"spot\" cone");
+      const json& s = j["spot"];
+      FACET_TRY(expect_object(s, sp, {"cutoff_deg", "exponent", "inner_deg", "outer_deg", "falloff"}));
+      const bool gl = s.contains("cutoff_deg") || s.contains("exponent");
+      const bool smooth = s.contains("inner_deg") || s.contains("outer_deg") || s.contains("falloff");
+      if (gl && smooth) {
+        return invalid(sp, "use either cutoff_deg/exponent (GL cone) or inner_deg/outer_deg/falloff (smooth cone), not both");
+      }
+      l.spot_shape = smooth ? SpotShape::smooth_cone : SpotShape::cutoff_exponent;
+      FACET_TRY(opt_number(s, sp, "cutoff_deg", l.spot_cutoff_deg));
+      FACET_TRY(opt_number(s, sp, "exponent", l.spot_exponent));
+      FACET_TRY(opt_number(s, sp, "inner_deg", l.spot_inner_deg));
+      FACET_TRY(opt_number(s, sp, "outer_deg", l.spot_outer_deg));
+      FACET_TRY(opt_number(s, sp, "falloff", l.spot_falloff));
+    }
+    return {};
+  }
+
+  std::string source_;
+  const JsonLines& lines_;
+  std::string base_dir_;
+};
+
+}  // namespace
+
+Result<Scene> parse_scene_json(const std::string& text, const std::string& source_name, const std::string& base_dir) {
+  try {
+    if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
+      return Status{ErrorCode::parse_error, "", source_name + ":1: empty file: expected a JSON object"};
+    }
+    JsonLines lines;
+    FACET_TRY(lines.scan(text, source_name));
+    const json root = json::parse(text);
+    Scene scene;
+    SceneReader reader(source_name, lines, base_dir);
+    FACET_TRY(reader.read(root, scene));
+    return scene;
+  } catch (const std::bad_alloc&) {
+    return Status{ErrorCode::io_error, "", source_name + ": out of memory while reading the scene"};
+  } catch (const std::exception& e) {
+    return Status{ErrorCode::parse_error, "", source_name + ": " + e.what()};
+  }
+}
+
+Result<Scene> load_scene_file(const std::string& path) {
+  Result<std::string> text = read_text_file(path, "scene file");
+  if (!text) return text.status();
+  const std::string base = std::filesystem::path(path).parent_path().string();
+  return parse_scene_json(*text, path, base);
+}
+
+}  // namespace facet

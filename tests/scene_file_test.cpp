@@ -1,0 +1,192 @@
+// JSON scene files: a complete example, the defaults, and malformed files. Every error must name
+// the file, the line and the field.
+#include <filesystem>
+
+#include "test_support.hpp"
+
+namespace facet {
+namespace {
+
+Result<Scene> parse(const std::string& text) { return parse_scene_json(text, "inline.json", test::data_dir()); }
+
+// Parses `text`, expects failure, and checks that the message has `file:line:` and mentions all of `parts`.
+void expect_error(const std::string& text, int line, const std::string& field,
+                  const std::vector<std::string>& parts) {
+  const Result<Scene> s = parse(text);
+  ASSERT_FALSE(s.ok()) << "accepted:\n" << text;
+  const std::string msg = s.status().message();
+  EXPECT_EQ(msg.rfind("inline.json:" + std::to_string(line) + ":", 0), 0u) << msg;
+  if (!field.empty()) {
+    EXPECT_NE(msg.find(field), std::string::npos) << msg;
+  }
+  for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "'" << p << "' not in: " << msg;
+}
+
+TEST(SceneFile, CompleteExampleLoads) {
+  const std::string path = test::data_dir() + "/scenes/example.json";
+  Result<Scene> s = load_scene_file(path);
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  EXPECT_EQ(s->meshes.size(), 5u);
+  EXPECT_EQ(s->materials.size(), 4u);  // three named + the default for the object without one
+  EXPECT_EQ(s->objects.size(), 5u);
+  ASSERT_EQ(s->lights.size(), 5u);
+  EXPECT_EQ(s->camera.eye, (Vec3(0, 2.5f, 7)));
+  EXPECT_EQ(s->materials[0].specular, Color3(0.6f, 0.6f, 0.6f));  // grey shorthand
+  EXPECT_FLOAT_EQ(s->materials[0].shininess, 48);
+  EXPECT_EQ(s->lights[1].type, LightType::point);
+  EXPECT_FLOAT_EQ(s->lights[1].quadratic_attenuation, 0.02f);
+  EXPECT_FLOAT_EQ(s->lights[1].range, 12);
+  EXPECT_EQ(s->lights[2].spot_shape, SpotShape::cutoff_exponent);
+  EXPECT_EQ(s->lights[3].spot_shape, SpotShape::smooth_cone);
+  EXPECT_FALSE(s->lights[4].enabled);
+  EXPECT_EQ(s->meshes[4].mesh.triangle_count(), 4u);  // the OBJ, resolved next to the scene file
+  EXPECT_EQ(s->meshes[4].mesh.vertex_count(), 12u);   // 30 deg crease: every corner is hard
+  EXPECT_EQ(s->objects[4].material, 3u);
+  EXPECT_EQ(s->materials[3].name, "default");
+  // rotate_deg [90, 0, 0] then uniform scale 1.5: y goes to z.
+  const Mat4& ring = s->objects[3].model;
+  EXPECT_NEAR((ring.topLeftCorner<3, 3>() * Vec3(0, 1, 0) - Vec3(0, 0, 1.5f)).norm(), 0.0f, 1e-6f);
+  EXPECT_EQ(Vec3(ring.block<3, 1>(0, 3)), Vec3(0, 1.5f, -1));
+  EXPECT_TRUE(validate_scene(*s).ok());
+}
+
+TEST(SceneFile, EmptyObjectGivesGlDefaults) {
+  Result<Scene> s = parse("{}");
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  const Scene defaults;
+  EXPECT_EQ(s->global_ambient, defaults.global_ambient);
+  EXPECT_EQ(s->camera.eye, defaults.camera.eye);
+  EXPECT_EQ(s->viewer, ViewerMode::local);
+  EXPECT_TRUE(s->lights.empty());
+}
+
+TEST(SceneFile, NotJson) {
+  expect_error("{\n  \"camera\": {\n    \"eye\": [0, 1, 2,]\n  }\n}\n", 3, "", {"invalid JSON"});
+  expect_error("{\n  \"lights\": [\n", 3, "", {"invalid JSON"});
+}
+
+TEST(SceneFile, EmptyFile) { expect_error("  \n", 1, "", {"empty file"}); }
+
+TEST(SceneFile, TopLevelMustBeAnObject) { expect_error("[1, 2]", 1, "top level", {"expected an object"}); }
+
+TEST(SceneFile, WrongType) {
+  expect_error("{\n  \"lights\": [\n    { \"type\": \"point\",\n      \"position\": \"up there\" }\n  ]\n}", 4,
+               "lights[0].position", {"expected an array of 3 numbers", "found string \"up there\""});
+}
+
+TEST(SceneFile, WrongArrayLength) {
+  expect_error("{\n\"camera\": {\"eye\": [1, 2]}\n}", 2, "camera.eye", {"found an array of 2 elements"});
+}
+
+TEST(SceneFile, UnknownFieldSuggestsTheRightOne) {
+  expect_error("{\n  \"lights\": [\n    { \"type\": \"point\",\n      \"positon\": [0, 1, 0] }\n  ]\n}", 4,
+               "lights[0]", {"unknown field 'positon'", "did you mean 'position'?"});
+  expect_error("{ \"camra\": {} }", 1, "top level", {"unknown field 'camra'", "did you mean 'camera'?"});
+}
+
+TEST(SceneFile, NaNWrittenAsAString) {
+  expect_error("{\"materials\": [\n {\"shininess\": \"NaN\"}\n]}", 2, "materials[0].shininess",
+               {"expected a number", "found string \"NaN\""});
+}
+
+TEST(SceneFile, NumberOutOfFloatRange) {
+  expect_error("{\"materials\": [\n {\"shininess\": 1e300}\n]}", 2, "materials[0].shininess",
+               {"finite number within float range"});
+}
+
+TEST(SceneFile, NegativeAndHugeShininess) {
+  expect_error("{\"materials\": [\n {\"name\": \"a\"},\n {\"name\": \"b\",\n  \"shininess\": -3}\n]}", 4,
+               "materials[1].shininess", {"expected a number in [0, 4096", "found -3"});
+  expect_error("{\"materials\": [\n {\"shininess\": 1e9}\n]}", 2, "materials[0].shininess", {"found 1e+09"});
+}
+
+TEST(SceneFile, ZeroLengthDirection) {
+  expect_error("{\"lights\": [\n {\"type\": \"directional\",\n  \"direction\": [0, 0, 0]}\n]}", 3,
+               "lights[0].direction", {"non-zero direction"});
+}
+
+TEST(SceneFile, SpotConeOver90Degrees) {
+  expect_error("{\"lights\": [{\"type\": \"spot\",\n  \"spot\": {\"cutoff_deg\": 200}}]}", 2,
+               "lights[0].spot.cutoff_deg", {"[0, 90", "found 200"});
+  expect_error("{\"lights\": [{\"type\": \"spot\",\n  \"spot\": {\"inner_deg\": 50, \"outer_deg\": 40}}]}", 2,
+               "lights[0].spot.inner_deg", {"found 50"});
+}
+
+TEST(SceneFile, SpotFieldsOfBothShapes) {
+  expect_error("{\"lights\": [{\"type\": \"spot\",\n  \"spot\": {\"cutoff_deg\": 20, \"outer_deg\": 40}}]}", 2,
+               "lights[0].spot", {"not both"});
+}
+
+TEST(SceneFile, UnknownLightType) {
+  expect_error("{\"lights\": [\n{\"type\": \"lamp\"}]}", 2, "lights[0].type",
+               {"one of \"directional, point, spot\"", "found string \"lamp\""});
+}
+
+TEST(SceneFile, UnknownMeshNameListsTheDefinedOnes) {
+  expect_error("{\"meshes\": [{\"name\": \"ball\", \"shape\": \"sphere\"}],\n \"objects\": [\n  {\"mesh\": \"bal\"}]}", 3,
+               "objects[0].mesh", {"no mesh named 'bal'", "defined: 'ball'"});
+}
+
+TEST(SceneFile, MissingObjFileNamesThePathTried) {
+  const Result<Scene> s = parse("{\"meshes\": [\n {\"name\": \"m\",\n  \"obj\": \"nowhere/missing.obj\"}]}");
+  ASSERT_FALSE(s.ok());
+  const std::string msg = s.status().message();
+  EXPECT_EQ(msg.rfind("inline.json:3:", 0), 0u) << msg;
+  EXPECT_NE(msg.find("meshes[0].obj"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(test::data_dir() + "/nowhere/missing.obj"), std::string::npos) << msg;
+}
+
+TEST(SceneFile, MalformedObjNamesBothFiles) {
+  const Result<Scene> s = parse("{\"meshes\": [{\"obj\": \"scenes/example.json\"}]}");
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.status().message().find("inline.json:1: meshes[0].obj:"), std::string::npos) << s.status().message();
+  EXPECT_NE(s.status().message().find("example.json:1: unknown statement"), std::string::npos) << s.status().message();
+}
+
+TEST(SceneFile, IntegerExpected) {
+  expect_error("{\"meshes\": [{\"shape\": \"sphere\",\n \"segments\": 2.5}]}", 2, "meshes[0].segments",
+               {"expected an integer"});
+  expect_error("{\"meshes\": [{\"shape\": \"sphere\",\n \"segments\": 100000}]}", 2, "meshes[0].segments",
+               {"[3, 4096]"});
+}
+
+TEST(SceneFile, NegativeSize) {
+  expect_error("{\"meshes\": [{\"shape\": \"cube\",\n \"size\": -1}]}", 2, "meshes[0].size", {"a number > 0"});
+}
+
+TEST(SceneFile, DuplicateKey) {
+  expect_error("{\"camera\": {\"near\": 1,\n \"near\": 2}}", 2, "", {"duplicate key 'near' in camera"});
+}
+
+TEST(SceneFile, DeepNestingIsRefused) {
+  const std::string deep = "{\"camera\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
+  expect_error(deep, 1, "", {"nesting deeper than 64 levels"});
+}
+
+TEST(SceneFile, CameraProblemsFoundByValidation) {
+  expect_error("{\"camera\": {\"eye\": [0, 0, 5],\n \"target\": [0, 0, 5]}}", 2, "camera.target",
+               {"must differ from camera.eye"});
+  expect_error("{\"camera\": {\n \"near\": 10, \"far\": 1}}", 2, "camera.far", {"> camera.near"});
+}
+
+TEST(SceneFile, MissingAndDirectoryPaths) {
+  const Result<Scene> missing = load_scene_file("/nonexistent/scene.json");
+  EXPECT_EQ(missing.status().code(), ErrorCode::io_error);
+  EXPECT_NE(missing.status().message().find("'/nonexistent/scene.json'"), std::string::npos);
+  EXPECT_EQ(load_scene_file(test::data_dir()).status().code(), ErrorCode::io_error);
+}
+
+TEST(SceneFile, ObjectWithMatrixAndTranslateIsAmbiguous) {
+  expect_error("{\"meshes\": [{\"name\": \"c\", \"shape\": \"cube\"}],\n\"objects\": [{\"mesh\": \"c\",\n"
+               " \"translate\": [1, 2, 3], \"matrix\": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}]}",
+               2, "objects[0]", {"cannot be combined"});
+}
+
+TEST(SceneFile, SingularMatrixIsRejected) {
+  expect_error("{\"meshes\": [{\"name\": \"c\", \"shape\": \"cube\"}],\n\"objects\": [\n{\"mesh\": \"c\",\n"
+               " \"matrix\": [1,0,0,0, 0,0,0,0, 0,0,1,0, 0,0,0,1]}]}",
+               3, "objects[0].transform", {"invertible"});
+}
+
+}  // namespace
+}  // namespace facet

@@ -1,0 +1,39 @@
+# Shared by tools/run and tools/test: install missing Debian packages, configure, build.
+# Sourced, not executed. Builds the `release` preset into build/ (incrementally).
+
+facet_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+
+# Every package the build and the test suite need on a fresh Debian 12 machine.
+facet_packages=(
+  g++ cmake ninja-build pkg-config
+  libeigen3-dev libxsimd-dev libtbb-dev
+  libgtest-dev libbenchmark-dev
+  libtinyobjloader-dev nlohmann-json3-dev libpng-dev
+)
+
+facet_install_packages() {
+  local missing=() pkg
+  for pkg in "${facet_packages[@]}"; do
+    if ! dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed"; then
+      missing+=("$pkg")
+    fi
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  if [ "$(id -u)" -ne 0 ]; then
+    echo "facet: missing Debian packages. Install them with:" >&2
+    echo "  sudo apt-get install -y ${missing[*]}" >&2
+    return 1
+  fi
+  echo "facet: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq || return 1
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null || return 1
+}
+
+facet_build() {
+  local build_dir="$facet_root/build"
+  if [ ! -f "$build_dir/CMakeCache.txt" ]; then
+    cmake --preset release -S "$facet_root" >/dev/null || return 1
+  fi
+  cmake --build "$build_dir" --parallel "$(nproc)" || return 1
+}
