@@ -1,0 +1,88 @@
+// Vertex lighting throughput per path: vertices lit per second and vertex-lights per second, for
+// 1, 4 and 8 lights of mixed types, on a mesh that fits in L1/L2 (4,096 vertices) and one that
+// does not (1M vertices, 24 MB of positions and normals in, 12 MB of colours out). One thread.
+//
+//   build/bin/facet_bench_lighting                        # everything
+//   build/bin/facet_bench_lighting --benchmark_filter=scalar/4
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <random>
+
+#include "facet/facet.hpp"
+
+namespace {
+
+// `vertex_count` vertices on a sphere in front of the camera, lit by `light_count` lights that
+// cycle through point (with attenuation), GL spot, directional and smooth spot.
+facet::Scene bench_scene(int vertex_count, int light_count) {
+  using facet::Vec3;
+  facet::Scene s;
+  const int rings = std::max(2, static_cast<int>(std::sqrt(vertex_count / 2.0)));
+  const int segments = std::max(3, vertex_count / (rings + 1) - 1);
+  s.meshes.push_back({"sphere", facet::make_uv_sphere(1.0f, segments, rings)});
+  facet::Material m;
+  m.diffuse = {0.7f, 0.5f, 0.3f};
+  m.specular = {0.8f, 0.8f, 0.8f};
+  m.shininess = 48.0f;
+  s.materials.push_back(m);
+  s.objects.push_back({0, 0, facet::Mat4::Identity()});
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> u(-3.0f, 3.0f);
+  for (int i = 0; i < light_count; ++i) {
+    facet::Light l;
+    l.position = Vec3(u(rng), u(rng), 3.0f + u(rng));
+    l.direction = -l.position;
+    switch (i % 4) {
+      case 0: l.type = facet::LightType::point; l.linear_attenuation = 0.1f; l.quadratic_attenuation = 0.02f; break;
+      case 1: l.type = facet::LightType::spot; l.spot_cutoff_deg = 40; l.spot_exponent = 6; break;
+      case 2: l.type = facet::LightType::directional; break;
+      default:
+        l.type = facet::LightType::spot;
+        l.spot_shape = facet::SpotShape::smooth_cone;
+        l.spot_inner_deg = 15;
+        l.spot_outer_deg = 35;
+        break;
+    }
+    s.lights.push_back(l);
+  }
+  s.camera.eye = Vec3(0, 0, 4);
+  return s;
+}
+
+void BM_Lighting(benchmark::State& state, facet::LightingPath path) {
+  const int lights = static_cast<int>(state.range(0));
+  const facet::Scene scene = bench_scene(static_cast<int>(state.range(1)), lights);
+  const auto vertices = static_cast<std::int64_t>(scene.meshes[0].mesh.vertex_count());
+  facet::LightingOptions options;
+  options.path = path;
+  facet::VertexColors out;
+  for (auto _ : state) {
+    const facet::Status s = facet::light_instance(scene, 0, options, out);
+    if (!s.ok()) {
+      state.SkipWithError(s.message().c_str());
+      break;
+    }
+    benchmark::DoNotOptimize(out.front.data());
+    benchmark::ClobberMemory();
+  }
+  using benchmark::Counter;
+  state.counters["vertices_lit/s"] = Counter(static_cast<double>(vertices), Counter::kIsIterationInvariantRate);
+  state.counters["vertex_lights/s"] =
+      Counter(static_cast<double>(vertices * lights), Counter::kIsIterationInvariantRate);
+  state.SetLabel(std::string(facet::to_string(path)) + ", " + std::to_string(vertices) + " vertices");
+}
+
+void lighting_args(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"lights", "vertices"});
+  for (int vertices : {4096, 1 << 20})
+    for (int lights : {1, 4, 8}) b->Args({lights, vertices});
+  b->Unit(benchmark::kMillisecond);
+}
+
+BENCHMARK_CAPTURE(BM_Lighting, reference, facet::LightingPath::reference)->Apply(lighting_args);
+BENCHMARK_CAPTURE(BM_Lighting, scalar, facet::LightingPath::scalar)->Apply(lighting_args);
+
+}  // namespace
+
+BENCHMARK_MAIN();
