@@ -5,6 +5,7 @@ find_package(Eigen3 3.4 REQUIRED NO_MODULE)   # libeigen3-dev
 find_package(TBB REQUIRED)                    # libtbb-dev
 find_package(nlohmann_json 3.10 REQUIRED)     # nlohmann-json3-dev
 find_package(tinyobjloader REQUIRED)          # libtinyobjloader-dev (shared library, no IMPLEMENTATION macro)
+find_package(PNG REQUIRED)                    # libpng-dev
 
 # Debian's xsimd 8.1 exports INTERFACE_LINK_LIBRARIES "xtl", a library nothing provides: linking
 # the target fails with `cannot find -lxtl` (shared/design/platform.md, trap 1). xsimd only needs

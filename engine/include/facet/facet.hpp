@@ -2,10 +2,12 @@
 #pragma once
 
 #include "facet/camera.hpp"
+#include "facet/image.hpp"
 #include "facet/light.hpp"
 #include "facet/lighting.hpp"
 #include "facet/material.hpp"
 #include "facet/mesh.hpp"
+#include "facet/render.hpp"
 #include "facet/scene.hpp"
 #include "facet/scene_file.hpp"
 #include "facet/status.hpp"

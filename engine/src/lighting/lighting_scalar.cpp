@@ -5,4 +5,5 @@
 
 namespace facet::lighting {
 template void light_mesh<float>(const ShadeParams<float>&, const EyeTransform<float>&, const Mesh&, bool, Color3*);
+template void shade_points<float>(const ShadeParams<float>&, std::size_t, const Vec3*, const Vec3*, Color3*);
 }  // namespace facet::lighting

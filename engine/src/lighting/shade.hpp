@@ -150,10 +150,24 @@ void light_mesh(const ShadeParams<T>& sp, const EyeTransform<T>& xf, const Mesh&
   }
 }
 
+// Lights `count` points given in eye space (positions and normals, normals need not be unit):
+// the per-pixel (Phong) and per-centroid (flat) entry to the same kernel.
+template <class T>
+void shade_points(const ShadeParams<T>& sp, std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out) {
+  for (std::size_t i = 0; i < count; ++i) {
+    const V3<T> p{T(p_eye[i].x()), T(p_eye[i].y()), T(p_eye[i].z())};
+    const V3<T> n{T(n_eye[i].x()), T(n_eye[i].y()), T(n_eye[i].z())};
+    const V3<T> c = shade_vertex(sp, p, n);
+    out[i] = Color3(float(c.x), float(c.y), float(c.z));
+  }
+}
+
 // Each precision is instantiated in exactly one file, with that file's compile flags.
 extern template void light_mesh<double>(const ShadeParams<double>&, const EyeTransform<double>&, const Mesh&, bool,
                                         Color3*);
 extern template void light_mesh<float>(const ShadeParams<float>&, const EyeTransform<float>&, const Mesh&, bool,
                                        Color3*);
+extern template void shade_points<double>(const ShadeParams<double>&, std::size_t, const Vec3*, const Vec3*, Color3*);
+extern template void shade_points<float>(const ShadeParams<float>&, std::size_t, const Vec3*, const Vec3*, Color3*);
 
 }  // namespace facet::lighting

@@ -1,0 +1,76 @@
+// Rendering a scene into a caller's image: transform, clip, bin into screen tiles, rasterize with
+// integer edge functions (top-left rule), depth-test, shade (flat / Gouraud / Phong) and resolve
+// into the caller's ImageView. See README "Rasterization" for the exact rules.
+//
+// A Renderer owns its scratch memory (reused from frame to frame); one Renderer renders one frame
+// at a time. Different Renderers are independent.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+
+#include "facet/image.hpp"
+#include "facet/lighting.hpp"
+#include "facet/scene.hpp"
+#include "facet/status.hpp"
+
+namespace facet {
+
+enum class ShadingMode {
+  flat,     // one lighting evaluation per triangle: face normal at the centroid
+  gouraud,  // per-vertex lighting, colours interpolated (perspective-correct)
+  phong,    // position and normal interpolated, normal renormalised, lit per pixel
+};
+enum class CullMode { none, back, front };
+
+const char* to_string(ShadingMode mode) noexcept;
+
+struct RenderOptions {
+  ShadingMode shading = ShadingMode::gouraud;
+  LightingPath path = LightingPath::scalar;
+  // Faces wind counter-clockwise seen from the front. In a two-sided scene back faces are never
+  // culled by CullMode::back: they are drawn with their back-side lighting.
+  CullMode cull = CullMode::back;
+  int tile_size = 64;  // pixels; 8..256, a multiple of 8
+  std::array<float, 4> clear_color{0.0f, 0.0f, 0.0f, 1.0f};
+  bool hdr = false;  // RGBA32F output keeps unclamped (>= 0) lighting; 8-bit output is always clamped
+};
+
+struct FrameStats {
+  std::uint64_t triangles_in = 0;         // triangles of all objects
+  std::uint64_t triangles_nonfinite = 0;  // dropped: a vertex with NaN/Inf clip coordinates
+  std::uint64_t triangles_outside = 0;    // dropped: entirely outside one frustum plane
+  std::uint64_t triangles_clipped = 0;    // crossed the near/far plane or the guard band
+  std::uint64_t triangles_culled = 0;     // facing away (after clipping, per piece)
+  std::uint64_t triangles_degenerate = 0; // zero area after snapping to 1/256 pixel
+  std::uint64_t triangles_drawn = 0;      // pieces set up and binned
+  std::uint64_t bin_entries = 0;          // (triangle, tile) pairs
+  std::uint64_t vertices_lit = 0;         // lighting evaluations: vertices, centroids or pixels
+  std::uint64_t pixels_tested = 0;        // covered pixels that were depth-tested
+  std::uint64_t pixels_filled = 0;        // pixels that passed and were written
+  double seconds_lighting = 0;  // vertex lighting (Gouraud) or centroid lighting (flat)
+  double seconds_geometry = 0;  // transform, clip, project, set up, bin
+  double seconds_raster = 0;    // coverage, depth, interpolation, per-pixel lighting (Phong)
+  double seconds_resolve = 0;   // tile buffers into the caller's image
+  double seconds_total = 0;
+};
+
+class Renderer {
+ public:
+  Renderer();
+  ~Renderer();
+  Renderer(Renderer&&) noexcept;
+  Renderer& operator=(Renderer&&) noexcept;
+
+  // Renders `scene` into `color` (and `depth`, if given, of the same size). Validates the scene,
+  // the options and the views first: on error nothing is written. Never throws.
+  Status render(const Scene& scene, const RenderOptions& options, const ImageView& color,
+                const DepthView* depth = nullptr, FrameStats* stats = nullptr) noexcept;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace facet

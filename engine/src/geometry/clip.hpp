@@ -1,0 +1,44 @@
+// Internal: homogeneous clipping. A triangle in clip space is clipped against the near and far
+// planes and against a guard band in x and y (so that snapped screen coordinates always fit the
+// fixed-point range), by Sutherland-Hodgman, interpolating every attribute linearly in clip space
+// (which is affine in model space, so correct before the perspective divide).
+//
+// Watertightness: an edge shared by two triangles is cut at bit-identical points in both, because
+// the intersection is always computed from the endpoint inside the plane towards the one outside.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+namespace facet::geometry {
+
+inline constexpr int kMaxAttributes = 6;
+
+struct ClipVertex {
+  float x, y, z, w;
+  float attr[kMaxAttributes];
+};
+
+// A convex polygon gains at most one vertex per plane: 3 + 6 = 9. Rounding can make a sliver
+// slightly non-convex, so the buffers have room to spare and a clip that would overflow them
+// drops the triangle instead.
+inline constexpr int kMaxClippedVertices = 16;
+
+struct ClipPlanes {
+  float guard_x;  // |x| <= guard_x * w keeps screen x inside the guard band
+  float guard_y;
+};
+
+// Bit k set: the vertex is outside clip plane k (0 near, 1 far, 2..5 guard band -x +x -y +y).
+std::uint32_t clip_outcode(const ClipVertex& v, const ClipPlanes& planes) noexcept;
+// Bit k set: outside frustum plane k (0 near, 1 far, 2..5 viewport -x +x -y +y). A triangle whose
+// three vertices share a bit is entirely outside.
+std::uint32_t frustum_outcode(const ClipVertex& v) noexcept;
+
+// Clips triangle (a, b, c) against the planes in `outcode_union`; writes the polygon (a fan) to
+// `out` and returns its vertex count (0 if nothing is left). `attribute_count` attributes are
+// interpolated.
+int clip_triangle(const ClipVertex& a, const ClipVertex& b, const ClipVertex& c, std::uint32_t outcode_union,
+                  const ClipPlanes& planes, int attribute_count, ClipVertex* out) noexcept;
+
+}  // namespace facet::geometry

@@ -1,0 +1,400 @@
+// The frame pipeline (scalar, one thread): per object, light or transform the vertices, assemble
+// triangles, drop non-finite and out-of-frustum ones, clip, project, snap, cull, set up and bin;
+// then rasterize each tile from its bin and resolve it into the caller's image.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <new>
+
+#include "common/look_at.hpp"
+#include "facet/render.hpp"
+#include "geometry/clip.hpp"
+#include "lighting/setup.hpp"
+#include "raster/tile_raster.hpp"
+#include "raster/triangle_setup.hpp"
+
+namespace facet {
+
+const char* to_string(ShadingMode mode) noexcept {
+  switch (mode) {
+    case ShadingMode::flat: return "flat";
+    case ShadingMode::gouraud: return "gouraud";
+    case ShadingMode::phong: return "phong";
+  }
+  return "unknown";
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using geometry::ClipVertex;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+Status check_options(const RenderOptions& o) {
+  auto bad = [](const char* field, const std::string& what) {
+    return Status{ErrorCode::invalid_argument, field, std::string(field) + ": " + what};
+  };
+  if (o.shading != ShadingMode::flat && o.shading != ShadingMode::gouraud && o.shading != ShadingMode::phong) {
+    return bad("options.shading", "unknown shading mode");
+  }
+  if (o.path != LightingPath::reference && o.path != LightingPath::scalar) return bad("options.path", "unknown lighting path");
+  if (o.cull != CullMode::none && o.cull != CullMode::back && o.cull != CullMode::front) {
+    return bad("options.cull", "unknown cull mode");
+  }
+  if (o.tile_size < 8 || o.tile_size > 256 || o.tile_size % 8 != 0) {
+    return bad("options.tile_size", "expected a multiple of 8 in [8, 256], found " + std::to_string(o.tile_size));
+  }
+  for (float c : o.clear_color) {
+    if (!std::isfinite(c)) return bad("options.clear_color", "expected finite components");
+  }
+  return {};
+}
+
+// Row-major 4x4 in float.
+struct Mat4Rows {
+  float m[16];
+};
+
+Mat4Rows to_rows(const Eigen::Matrix4d& d) {
+  Mat4Rows r{};
+  for (int i = 0; i < 16; ++i) r.m[i] = static_cast<float>(d(i / 4, i % 4));
+  return r;
+}
+
+}  // namespace
+
+struct Renderer::Impl {
+  // Frame-wide state, reused from frame to frame (capacity is kept).
+  std::vector<raster::ScreenTriangle> triangles;
+  std::vector<std::vector<std::uint32_t>> bins;
+  raster::TileBuffers tile;
+  std::vector<lighting::ShadeParams<float>> params_scalar;
+  std::vector<lighting::ShadeParams<double>> params_reference;
+  std::vector<raster::ObjectShading> object_shading;
+  // Per-object scratch.
+  std::vector<std::array<float, 4>> clip;
+  std::vector<Color3> front, back;
+  std::vector<Vec3> eye_p, eye_n, centroid, face_normal;
+
+  // Frame constants.
+  int width = 0, height = 0, tile_size = 64, tiles_x = 0, tiles_y = 0;
+  geometry::ClipPlanes planes{};
+  CullMode cull = CullMode::back;
+  bool two_sided = false;
+  ShadingMode shading = ShadingMode::gouraud;
+  FrameStats stats;
+
+  void render(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth);
+  void prepare_object(const Scene& scene, const Instance& inst, const Eigen::Matrix4d& view,
+                      const Eigen::Matrix4d& proj, LightingPath path, bool clamp, std::uint32_t object);
+  void assemble_object(const Mesh& mesh, std::uint32_t object, float alpha);
+  void emit(const ClipVertex (&v)[3], std::uint32_t object, const Color3& flat_front, const Color3& flat_back,
+            float alpha);
+};
+
+Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+Status Renderer::render(const Scene& scene, const RenderOptions& options, const ImageView& color,
+                        const DepthView* depth, FrameStats* stats) noexcept {
+  try {
+    if (!impl_) return {ErrorCode::invalid_argument, "renderer", "renderer: used after being moved from"};
+    if (Status s = validate_image_view(color); !s.ok()) return s;
+    if (depth) {
+      if (Status s = validate_depth_view(*depth, color.width, color.height); !s.ok()) return s;
+    }
+    if (Status s = check_options(options); !s.ok()) return s;
+    if (Status s = validate_scene(scene); !s.ok()) return s;
+    impl_->render(scene, options, color, depth);
+    if (stats) *stats = impl_->stats;
+    return {};
+  } catch (const std::bad_alloc&) {
+    return {ErrorCode::invalid_argument, "scene", "out of memory while rendering (nothing was written)"};
+  } catch (const std::exception& e) {
+    return {ErrorCode::invalid_argument, "scene", std::string("render failed (nothing was written): ") + e.what()};
+  }
+}
+
+void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, const ImageView& color,
+                            const DepthView* depth) {
+  const auto frame_start = Clock::now();
+  stats = FrameStats{};
+  width = color.width;
+  height = color.height;
+  tile_size = options.tile_size;
+  tiles_x = (width + tile_size - 1) / tile_size;
+  tiles_y = (height + tile_size - 1) / tile_size;
+  cull = options.cull;
+  two_sided = scene.two_sided;
+  shading = options.shading;
+  // |x/w| <= 2G/W - 1 keeps screen x within [-G, G] (likewise y).
+  planes.guard_x = 2.0f * raster::kGuardBandPixels / static_cast<float>(width) - 1.0f;
+  planes.guard_y = 2.0f * raster::kGuardBandPixels / static_cast<float>(height) - 1.0f;
+
+  triangles.clear();
+  bins.resize(static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y));
+  for (auto& bin : bins) bin.clear();
+  params_scalar.assign(scene.objects.size(), {});
+  params_reference.assign(scene.objects.size(), {});
+  object_shading.assign(scene.objects.size(), {});
+
+  const float aspect = scene.camera.aspect > 0.0f ? scene.camera.aspect : float(width) / float(height);
+  const Eigen::Matrix4d view = look_at_d(scene.camera);
+  const Eigen::Matrix4d proj = projection_matrix(scene.camera, aspect).cast<double>();
+  const bool clamp = !(options.hdr && color.format == PixelFormat::rgba32f);
+
+  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+    const Instance& inst = scene.objects[o];
+    const auto object = static_cast<std::uint32_t>(o);
+    prepare_object(scene, inst, view, proj, options.path, clamp, object);
+    const auto geometry_start = Clock::now();
+    assemble_object(scene.meshes[inst.mesh].mesh, object, scene.materials[inst.material].alpha);
+    stats.seconds_geometry += seconds_since(geometry_start);
+  }
+
+  tile.resize(tile_size);
+  const raster::RasterJob job{shading, triangles, object_shading, options.clear_color};
+  raster::RasterCounters counters;
+  for (int ty = 0; ty < tiles_y; ++ty) {
+    for (int tx = 0; tx < tiles_x; ++tx) {
+      const raster::TileRect rect{tx * tile_size, ty * tile_size, std::min(width, (tx + 1) * tile_size),
+                                  std::min(height, (ty + 1) * tile_size)};
+      const auto raster_start = Clock::now();
+      raster::rasterize_tile(job, bins[static_cast<std::size_t>(ty * tiles_x + tx)], rect, tile, counters);
+      const auto resolve_start = Clock::now();
+      raster::resolve_tile(tile, rect, color, depth);
+      stats.seconds_raster += std::chrono::duration<double>(resolve_start - raster_start).count();
+      stats.seconds_resolve += seconds_since(resolve_start);
+    }
+  }
+  stats.pixels_tested = counters.tested;
+  stats.pixels_filled = counters.filled;
+  stats.vertices_lit += counters.shaded;
+  stats.seconds_total = seconds_since(frame_start);
+}
+
+void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, const Eigen::Matrix4d& view,
+                                    const Eigen::Matrix4d& proj, LightingPath path, bool clamp, std::uint32_t object) {
+  const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+  const Material& material = scene.materials[inst.material];
+  const std::size_t n = mesh.vertex_count();
+  const auto lighting_start = Clock::now();
+
+  const bool reference = path == LightingPath::reference;
+  if (reference) {
+    params_reference[object] = lighting::make_shade_params<double>(scene, view, material, clamp);
+    object_shading[object].reference = &params_reference[object];
+  } else {
+    params_scalar[object] = lighting::make_shade_params<float>(scene, view, material, clamp);
+    object_shading[object].scalar = &params_scalar[object];
+  }
+
+  // Clip-space positions.
+  const Mat4Rows mvp = to_rows(proj * view * inst.model.cast<double>());
+  clip.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& p = mesh.positions[i];
+    for (int r = 0; r < 4; ++r) {
+      const float* m = &mvp.m[4 * r];
+      clip[i][static_cast<std::size_t>(r)] = m[0] * p.x() + m[1] * p.y() + m[2] * p.z() + m[3];
+    }
+  }
+
+  if (shading == ShadingMode::gouraud) {
+    front.resize(n);
+    if (reference) {
+      const auto xf = lighting::make_eye_transform<double>(view, inst.model);
+      lighting::light_mesh(params_reference[object], xf, mesh, false, front.data());
+      if (two_sided) lighting::light_mesh(params_reference[object], xf, mesh, true, (back.resize(n), back.data()));
+    } else {
+      const auto xf = lighting::make_eye_transform<float>(view, inst.model);
+      lighting::light_mesh(params_scalar[object], xf, mesh, false, front.data());
+      if (two_sided) lighting::light_mesh(params_scalar[object], xf, mesh, true, (back.resize(n), back.data()));
+    }
+    stats.vertices_lit += n * (two_sided ? 2 : 1);
+    stats.seconds_lighting += seconds_since(lighting_start);
+    return;
+  }
+
+  // Flat and Phong need eye-space positions and normals.
+  const auto xf = lighting::make_eye_transform<float>(view, inst.model);
+  eye_p.resize(n);
+  eye_n.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& p = mesh.positions[i];
+    const Vec3& nn = mesh.normals[i];
+    const float* m = xf.position;
+    const float* q = xf.normal;
+    eye_p[i] = Vec3(m[0] * p.x() + m[1] * p.y() + m[2] * p.z() + m[3], m[4] * p.x() + m[5] * p.y() + m[6] * p.z() + m[7],
+                    m[8] * p.x() + m[9] * p.y() + m[10] * p.z() + m[11]);
+    eye_n[i] = Vec3(q[0] * nn.x() + q[1] * nn.y() + q[2] * nn.z(), q[3] * nn.x() + q[4] * nn.y() + q[5] * nn.z(),
+                    q[6] * nn.x() + q[7] * nn.y() + q[8] * nn.z());
+  }
+  if (shading == ShadingMode::flat) {
+    // One evaluation per triangle: the face normal (from the eye-space corners) at the centroid.
+    const std::size_t t_count = mesh.triangle_count();
+    centroid.resize(t_count);
+    face_normal.resize(t_count);
+    for (std::size_t t = 0; t < t_count; ++t) {
+      const auto& tri = mesh.triangles[t];
+      const Vec3 &a = eye_p[tri[0]], &b = eye_p[tri[1]], &c = eye_p[tri[2]];
+      centroid[t] = (a + b + c) / 3.0f;
+      face_normal[t] = (b - a).cross(c - a);
+    }
+    auto shade = [&](std::vector<Color3>& out) {
+      out.resize(t_count);
+      if (reference) {
+        lighting::shade_points(params_reference[object], t_count, centroid.data(), face_normal.data(), out.data());
+      } else {
+        lighting::shade_points(params_scalar[object], t_count, centroid.data(), face_normal.data(), out.data());
+      }
+    };
+    shade(front);
+    if (two_sided) {
+      for (auto& fn : face_normal) fn = -fn;
+      shade(back);
+    }
+    stats.vertices_lit += t_count * (two_sided ? 2 : 1);
+  }
+  stats.seconds_lighting += seconds_since(lighting_start);
+}
+
+void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, float alpha) {
+  const int attribute_count = shading == ShadingMode::flat ? 0 : (shading == ShadingMode::phong || two_sided ? 6 : 3);
+  const Color3 none = Color3::Zero();
+  ClipVertex polygon[geometry::kMaxClippedVertices];
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    ++stats.triangles_in;
+    const auto& tri = mesh.triangles[t];
+    ClipVertex v[3];
+    bool finite = true;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t i = tri[static_cast<std::size_t>(k)];
+      const auto& c = clip[i];
+      v[k].x = c[0];
+      v[k].y = c[1];
+      v[k].z = c[2];
+      v[k].w = c[3];
+      finite &= std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(c[2]) && std::isfinite(c[3]);
+      float* a = v[k].attr;
+      std::fill(a, a + geometry::kMaxAttributes, 0.0f);
+      if (shading == ShadingMode::gouraud) {
+        a[0] = front[i].x(), a[1] = front[i].y(), a[2] = front[i].z();
+        if (two_sided) a[3] = back[i].x(), a[4] = back[i].y(), a[5] = back[i].z();
+      } else if (shading == ShadingMode::phong) {
+        a[0] = eye_p[i].x(), a[1] = eye_p[i].y(), a[2] = eye_p[i].z();
+        a[3] = eye_n[i].x(), a[4] = eye_n[i].y(), a[5] = eye_n[i].z();
+      }
+    }
+    if (!finite) {
+      ++stats.triangles_nonfinite;
+      continue;
+    }
+    if (geometry::frustum_outcode(v[0]) & geometry::frustum_outcode(v[1]) & geometry::frustum_outcode(v[2])) {
+      ++stats.triangles_outside;
+      continue;
+    }
+    const Color3& flat_front = shading == ShadingMode::flat ? front[t] : none;
+    const Color3& flat_back = shading == ShadingMode::flat && two_sided ? back[t] : flat_front;
+    const std::uint32_t outcodes = geometry::clip_outcode(v[0], planes) | geometry::clip_outcode(v[1], planes) |
+                                   geometry::clip_outcode(v[2], planes);
+    if (outcodes == 0) {
+      emit(v, object, flat_front, flat_back, alpha);
+      continue;
+    }
+    ++stats.triangles_clipped;
+    const int count = geometry::clip_triangle(v[0], v[1], v[2], outcodes, planes, attribute_count, polygon);
+    for (int i = 1; i + 1 < count; ++i) {
+      const ClipVertex piece[3] = {polygon[0], polygon[i], polygon[i + 1]};
+      emit(piece, object, flat_front, flat_back, alpha);
+    }
+  }
+}
+
+void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const Color3& flat_front,
+                          const Color3& flat_back, float alpha) {
+  raster::ScreenTriangle t;
+  const float half_w = 0.5f * static_cast<float>(width), half_h = 0.5f * static_cast<float>(height);
+  const float g = raster::kGuardBandPixels;
+  for (int k = 0; k < 3; ++k) {
+    const float inv_w = 1.0f / v[k].w;
+    // Clipping keeps these inside the guard band up to rounding; the clamp makes overflow impossible.
+    const float sx = std::clamp((v[k].x * inv_w + 1.0f) * half_w, -g, g);
+    const float sy = std::clamp((1.0f - v[k].y * inv_w) * half_h, -g, g);
+    t.x[k] = static_cast<std::int32_t>(std::nearbyint(sx * float(raster::kSubpixelOne)));
+    t.y[k] = static_cast<std::int32_t>(std::nearbyint(sy * float(raster::kSubpixelOne)));
+    t.z[k] = std::clamp(0.5f * v[k].z * inv_w + 0.5f, 0.0f, 1.0f);
+    t.inv_w[k] = inv_w;
+    std::copy(v[k].attr, v[k].attr + geometry::kMaxAttributes, t.attr[k]);
+  }
+  std::int64_t area2 = (std::int64_t(t.x[1]) - t.x[0]) * (std::int64_t(t.y[2]) - t.y[0]) -
+                       (std::int64_t(t.x[2]) - t.x[0]) * (std::int64_t(t.y[1]) - t.y[0]);
+  if (area2 == 0) {
+    ++stats.triangles_degenerate;
+    return;
+  }
+  // Counter-clockwise in GL's y-up window is negative area in this y-down screen.
+  t.back_facing = area2 > 0;
+  if ((cull == CullMode::back && t.back_facing && !two_sided) || (cull == CullMode::front && !t.back_facing)) {
+    ++stats.triangles_culled;
+    return;
+  }
+  if (area2 < 0) {  // orient clockwise on screen
+    std::swap(t.x[1], t.x[2]);
+    std::swap(t.y[1], t.y[2]);
+    std::swap(t.z[1], t.z[2]);
+    std::swap(t.inv_w[1], t.inv_w[2]);
+    std::swap(t.attr[1], t.attr[2]);
+    area2 = -area2;
+  }
+  const std::int64_t min_x = std::min({t.x[0], t.x[1], t.x[2]}), max_x = std::max({t.x[0], t.x[1], t.x[2]});
+  const std::int64_t min_y = std::min({t.y[0], t.y[1], t.y[2]}), max_y = std::max({t.y[0], t.y[1], t.y[2]});
+  // Pixels whose centre (px + 1/2) lies in [min, max].
+  t.min_px = static_cast<int>(std::max<std::int64_t>(0, raster::floor_div(min_x - raster::kPixelCentre + raster::kSubpixelOne - 1, raster::kSubpixelOne)));
+  t.max_px = static_cast<int>(std::min<std::int64_t>(width - 1, raster::floor_div(max_x - raster::kPixelCentre, raster::kSubpixelOne)));
+  t.min_py = static_cast<int>(std::max<std::int64_t>(0, raster::floor_div(min_y - raster::kPixelCentre + raster::kSubpixelOne - 1, raster::kSubpixelOne)));
+  t.max_py = static_cast<int>(std::min<std::int64_t>(height - 1, raster::floor_div(max_y - raster::kPixelCentre, raster::kSubpixelOne)));
+  if (t.min_px > t.max_px || t.min_py > t.max_py) {
+    ++stats.triangles_outside;
+    return;
+  }
+  for (int k = 0; k < 3; ++k) {
+    const int a = (k + 1) % 3, b = (k + 2) % 3;
+    t.bias[k] = raster::is_top_left(std::int64_t(t.x[b]) - t.x[a], std::int64_t(t.y[b]) - t.y[a]) ? 0 : -1;
+  }
+  t.area2 = area2;
+  t.inv_area2 = static_cast<float>(1.0 / static_cast<double>(area2));
+  const bool use_back = t.back_facing && two_sided;
+  const Color3& flat = use_back ? flat_back : flat_front;
+  t.flat_rgb[0] = flat.x();
+  t.flat_rgb[1] = flat.y();
+  t.flat_rgb[2] = flat.z();
+  if (use_back) {
+    for (auto& a : t.attr) {
+      if (shading == ShadingMode::gouraud) {
+        a[0] = a[3], a[1] = a[4], a[2] = a[5];  // the back-side colours
+      } else if (shading == ShadingMode::phong) {
+        a[3] = -a[3], a[4] = -a[4], a[5] = -a[5];  // lit with -n
+      }
+    }
+  }
+  t.alpha = alpha;
+  t.object = object;
+
+  const auto index = static_cast<std::uint32_t>(triangles.size());
+  triangles.push_back(t);
+  ++stats.triangles_drawn;
+  for (int ty = t.min_py / tile_size; ty <= t.max_py / tile_size; ++ty) {
+    for (int tx = t.min_px / tile_size; tx <= t.max_px / tile_size; ++tx) {
+      bins[static_cast<std::size_t>(ty * tiles_x + tx)].push_back(index);
+      ++stats.bin_entries;
+    }
+  }
+}
+
+}  // namespace facet

@@ -1,0 +1,50 @@
+// Internal: one screen tile, rasterized and resolved. The tile's colour (float RGBA) and depth live
+// in a tile-local buffer that is cleared here; triangles are processed in bin order (= submission
+// order), so the result does not depend on which task renders which tile.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "facet/render.hpp"
+#include "lighting/shade.hpp"
+#include "raster/triangle_setup.hpp"
+
+namespace facet::raster {
+
+struct TileRect {
+  int x0, y0, x1, y1;  // pixels, [x0, x1) x [y0, y1)
+};
+
+struct TileBuffers {
+  int size = 0;
+  std::vector<float> color;  // size * size * 4
+  std::vector<float> depth;  // size * size
+  void resize(int tile_size);
+};
+
+// Per-object lighting for per-pixel (Phong) shading; only the pointer of the frame's path is set.
+struct ObjectShading {
+  const lighting::ShadeParams<float>* scalar = nullptr;
+  const lighting::ShadeParams<double>* reference = nullptr;
+};
+
+struct RasterJob {
+  ShadingMode shading;
+  std::span<const ScreenTriangle> triangles;
+  std::span<const ObjectShading> objects;
+  std::array<float, 4> clear_color;
+};
+
+struct RasterCounters {
+  std::uint64_t tested = 0, filled = 0, shaded = 0;
+};
+
+void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, const TileRect& rect,
+                    TileBuffers& tile, RasterCounters& counters);
+
+// Writes the tile into the caller's views (already validated; depth may be null).
+void resolve_tile(const TileBuffers& tile, const TileRect& rect, const ImageView& color, const DepthView* depth);
+
+}  // namespace facet::raster

@@ -1,0 +1,43 @@
+// Shared helpers of the facet command-line program.
+#pragma once
+
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "facet/facet.hpp"
+
+namespace facet::cli {
+
+// Prints "facet: message" to stderr and returns the usage-error exit status (2).
+int fail(const std::string& message);
+
+// Walks argv, handing out options and their values with errors that name the option.
+class Args {
+ public:
+  Args(int argc, char** argv) : argc_(argc), argv_(argv) {}
+  bool next(std::string& arg) {
+    if (i_ >= argc_) return false;
+    arg = argv_[i_++];
+    return true;
+  }
+  // The value after `option`; empty optional (and an error printed) if missing.
+  std::optional<std::string> value(const std::string& option);
+  std::optional<int> int_value(const std::string& option, int lo, int hi);
+  std::optional<double> number_value(const std::string& option, double lo, double hi);
+
+ private:
+  int argc_;
+  char** argv_;
+  int i_ = 0;
+};
+
+// The scene named on the command line, or the built-in one when `path` is empty.
+std::optional<Scene> load_scene_or_default(const std::string& path);
+
+int run_light(int argc, char** argv);
+int run_render(int argc, char** argv);
+int run_compare(int argc, char** argv);
+int run_check(int argc, char** argv);
+
+}  // namespace facet::cli

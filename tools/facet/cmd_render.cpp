@@ -1,0 +1,223 @@
+// facet render: a scene into a PNG or PFM file, with statistics and throughput.
+#include <chrono>
+#include <filesystem>
+#include <vector>
+
+#include "cli.hpp"
+
+namespace facet::cli {
+namespace {
+
+constexpr const char* kRenderUsage =
+    "usage: facet render [SCENE.json] -o OUT.png|OUT.pfm [options]\n"
+    "\n"
+    "Renders SCENE.json, or the built-in default scene when none is given.\n"
+    "\n"
+    "options:\n"
+    "  -o, --output FILE      .png (8-bit RGBA) or .pfm (float RGB, linear)\n"
+    "  --width W              image width, 1..16384 (default 1280)\n"
+    "  --height H             image height, 1..16384 (default 720)\n"
+    "  --shading MODE         flat | gouraud | phong (default gouraud)\n"
+    "  --path P               reference | scalar | simd (default scalar; simd is not in this build)\n"
+    "  --isa I                auto | sse2 | avx2 | avx512: instruction set of --path simd (default auto)\n"
+    "  --threads N            worker threads (this build renders on 1)\n"
+    "  --cull C               back | front | none (default back)\n"
+    "  --tile N               tile size in pixels, a multiple of 8 in [8, 256] (default 64)\n"
+    "  --hdr                  keep unclamped lighting in .pfm output\n"
+    "  --depth FILE.pfm       also write window-space depth (0 near .. 1 far)\n"
+    "  --seconds S            render repeatedly for at least S seconds; report the mean frame time\n"
+    "  --stats                print what the frame did and how long each stage took\n"
+    "  --json                 print the statistics as one JSON object\n"
+    "  -h, --help             this text\n";
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+Status ensure_parent_directory(const std::string& path) {
+  const auto parent = std::filesystem::path(path).parent_path();
+  if (parent.empty()) return {};
+  std::error_code ec;
+  std::filesystem::create_directories(parent, ec);
+  if (ec) return {ErrorCode::io_error, "path", "cannot create directory '" + parent.string() + "': " + ec.message()};
+  return {};
+}
+
+void print_stats_text(const FrameStats& s, int frames, double seconds) {
+  std::printf("  triangles   %llu in: %llu drawn, %llu culled, %llu outside, %llu clipped, %llu degenerate, "
+              "%llu non-finite; %llu bin entries\n",
+              (unsigned long long)s.triangles_in, (unsigned long long)s.triangles_drawn,
+              (unsigned long long)s.triangles_culled, (unsigned long long)s.triangles_outside,
+              (unsigned long long)s.triangles_clipped, (unsigned long long)s.triangles_degenerate,
+              (unsigned long long)s.triangles_nonfinite, (unsigned long long)s.bin_entries);
+  std::printf("  lighting    %llu evaluations (vertices, centroids or pixels)\n", (unsigned long long)s.vertices_lit);
+  std::printf("  pixels      %llu tested, %llu filled\n", (unsigned long long)s.pixels_tested,
+              (unsigned long long)s.pixels_filled);
+  std::printf("  time (ms)   lighting %.3f, geometry %.3f, raster %.3f, resolve %.3f, frame %.3f\n",
+              1e3 * s.seconds_lighting, 1e3 * s.seconds_geometry, 1e3 * s.seconds_raster, 1e3 * s.seconds_resolve,
+              1e3 * s.seconds_total);
+  const double per_frame = seconds / frames;
+  std::printf("  throughput  %.2f ms/frame (mean of %d), %.2f M vertices lit/s, %.1f M pixels filled/s\n",
+              1e3 * per_frame, frames, double(s.vertices_lit) / per_frame / 1e6,
+              double(s.pixels_filled) / per_frame / 1e6);
+}
+
+void print_stats_json(const FrameStats& s, int frames, double seconds, const RenderOptions& o, int w, int h) {
+  const double per_frame = seconds / frames;
+  std::printf("{\"width\": %d, \"height\": %d, \"shading\": \"%s\", \"path\": \"%s\", \"threads\": 1, "
+              "\"triangles_in\": %llu, \"triangles_drawn\": %llu, \"triangles_culled\": %llu, "
+              "\"triangles_outside\": %llu, \"triangles_clipped\": %llu, \"triangles_degenerate\": %llu, "
+              "\"triangles_nonfinite\": %llu, \"bin_entries\": %llu, \"vertices_lit\": %llu, "
+              "\"pixels_tested\": %llu, \"pixels_filled\": %llu, \"seconds_lighting\": %.6g, "
+              "\"seconds_geometry\": %.6g, \"seconds_raster\": %.6g, \"seconds_resolve\": %.6g, "
+              "\"seconds_frame\": %.6g, \"frames\": %d, \"mean_seconds_per_frame\": %.6g, "
+              "\"vertices_lit_per_s\": %.6g, \"pixels_filled_per_s\": %.6g}\n",
+              w, h, to_string(o.shading), to_string(o.path), (unsigned long long)s.triangles_in,
+              (unsigned long long)s.triangles_drawn, (unsigned long long)s.triangles_culled,
+              (unsigned long long)s.triangles_outside, (unsigned long long)s.triangles_clipped,
+              (unsigned long long)s.triangles_degenerate, (unsigned long long)s.triangles_nonfinite,
+              (unsigned long long)s.bin_entries, (unsigned long long)s.vertices_lit,
+              (unsigned long long)s.pixels_tested, (unsigned long long)s.pixels_filled, s.seconds_lighting,
+              s.seconds_geometry, s.seconds_raster, s.seconds_resolve, s.seconds_total, frames, per_frame,
+              double(s.vertices_lit) / per_frame, double(s.pixels_filled) / per_frame);
+}
+
+}  // namespace
+
+int run_render(int argc, char** argv) {
+  std::string scene_path, output, depth_path;
+  int width = 1280, height = 720;
+  double min_seconds = 0;
+  bool stats = false, json = false;
+  RenderOptions options;
+  Args args(argc, argv);
+  std::string arg;
+  while (args.next(arg)) {
+    if (arg == "-h" || arg == "--help") {
+      std::fputs(kRenderUsage, stdout);
+      return 0;
+    } else if (arg == "-o" || arg == "--output") {
+      const auto v = args.value(arg);
+      if (!v) return 2;
+      output = *v;
+    } else if (arg == "--width" || arg == "--height") {
+      const auto v = args.int_value(arg, 1, kMaxImageDimension);
+      if (!v) return 2;
+      (arg == "--width" ? width : height) = *v;
+    } else if (arg == "--shading") {
+      const auto v = args.value(arg);
+      if (!v) return 2;
+      if (*v == "flat") options.shading = ShadingMode::flat;
+      else if (*v == "gouraud") options.shading = ShadingMode::gouraud;
+      else if (*v == "phong") options.shading = ShadingMode::phong;
+      else return fail("--shading: unknown mode '" + *v + "' (flat, gouraud or phong)");
+    } else if (arg == "--path") {
+      const auto v = args.value(arg);
+      if (!v) return 2;
+      if (*v == "reference") options.path = LightingPath::reference;
+      else if (*v == "scalar") options.path = LightingPath::scalar;
+      else if (*v == "simd") return fail("--path simd: this build has no SIMD path yet (it has: reference, scalar)");
+      else return fail("--path: unknown path '" + *v + "' (reference, scalar or simd)");
+    } else if (arg == "--isa") {
+      const auto v = args.value(arg);
+      if (!v) return 2;
+      if (*v == "sse2" || *v == "avx2" || *v == "avx512") {
+        return fail("--isa " + *v + ": this build has no SIMD kernels yet (only --isa auto is accepted)");
+      }
+      if (*v != "auto") return fail("--isa: unknown instruction set '" + *v + "' (auto, sse2, avx2 or avx512)");
+    } else if (arg == "--threads") {
+      const auto v = args.int_value(arg, 0, 1024);
+      if (!v) return 2;
+      if (*v != 1) {
+        return fail("--threads " + std::to_string(*v) + ": this build renders on one thread (only --threads 1 is accepted)");
+      }
+    } else if (arg == "--cull") {
+      const auto v = args.value(arg);
+      if (!v) return 2;
+      if (*v == "back") options.cull = CullMode::back;
+      else if (*v == "front") options.cull = CullMode::front;
+      else if (*v == "none") options.cull = CullMode::none;
+      else return fail("--cull: unknown mode '" + *v + "' (back, front or none)");
+    } else if (arg == "--tile") {
+      const auto v = args.int_value(arg, 8, 256);
+      if (!v) return 2;
+      options.tile_size = *v;
+    } else if (arg == "--hdr") {
+      options.hdr = true;
+    } else if (arg == "--depth") {
+      const auto v = args.value(arg);
+      if (!v) return 2;
+      depth_path = *v;
+      if (lower_extension(depth_path) != ".pfm") return fail("--depth: the depth file must end in .pfm");
+    } else if (arg == "--seconds") {
+      const auto v = args.number_value(arg, 0, 3600);
+      if (!v) return 2;
+      min_seconds = *v;
+    } else if (arg == "--stats") {
+      stats = true;
+    } else if (arg == "--json") {
+      json = true;
+    } else if (!arg.empty() && arg[0] == '-') {
+      return fail("render: unknown option '" + arg + "' (see 'facet render --help')");
+    } else if (scene_path.empty()) {
+      scene_path = arg;
+    } else {
+      return fail("render: more than one scene given ('" + scene_path + "' and '" + arg + "')");
+    }
+  }
+  if (output.empty()) return fail("render: no output file (-o OUT.png or -o OUT.pfm)");
+  const std::string ext = lower_extension(output);
+  if (ext != ".png" && ext != ".pfm") return fail("-o: the output file must end in .png or .pfm, found '" + output + "'");
+  if (options.hdr && ext != ".pfm") return fail("--hdr needs a .pfm output (PNG is 8-bit)");
+
+  std::optional<Scene> scene = load_scene_or_default(scene_path);
+  if (!scene) return 2;
+
+  const PixelFormat format = ext == ".pfm" ? PixelFormat::rgba32f : PixelFormat::rgba8;
+  const std::size_t stride = static_cast<std::size_t>(width) * bytes_per_pixel(format);
+  std::vector<std::uint8_t> pixels(stride * static_cast<std::size_t>(height));
+  std::vector<float> depth_pixels;
+  const ImageView image{pixels.data(), width, height, stride, format, false};
+  DepthView depth;
+  if (!depth_path.empty()) {
+    depth_pixels.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+    depth = DepthView{depth_pixels.data(), width, height, static_cast<std::size_t>(width) * sizeof(float), false};
+  }
+
+  Renderer renderer;
+  FrameStats frame;
+  int frames = 0;
+  const auto start = std::chrono::steady_clock::now();
+  double elapsed = 0;
+  do {
+    if (Status s = renderer.render(*scene, options, image, depth_path.empty() ? nullptr : &depth, &frame); !s.ok()) {
+      return fail(s.message());
+    }
+    ++frames;
+    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  } while (elapsed < min_seconds);
+
+  for (const std::string& path : {output, depth_path}) {
+    if (path.empty()) continue;
+    if (Status s = ensure_parent_directory(path); !s.ok()) return fail(s.message());
+  }
+  const Status written = ext == ".png" ? write_png(output, image) : write_pfm(output, image);
+  if (!written.ok()) return fail(written.message());
+  if (!depth_path.empty()) {
+    if (Status s = write_pfm(depth_path, depth); !s.ok()) return fail(s.message());
+  }
+
+  if (json) {
+    print_stats_json(frame, frames, elapsed, options, width, height);
+  } else if (stats) {
+    std::printf("facet render: %s -> %s (%d x %d, %s shading, %s path, 1 thread)\n",
+                scene_path.empty() ? "built-in default scene" : scene_path.c_str(), output.c_str(), width, height,
+                to_string(options.shading), to_string(options.path));
+    print_stats_text(frame, frames, elapsed);
+  }
+  return 0;
+}
+
+}  // namespace facet::cli
