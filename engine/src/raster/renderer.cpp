@@ -332,8 +332,7 @@ void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const 
     t.inv_w[k] = inv_w;
     std::copy(v[k].attr, v[k].attr + geometry::kMaxAttributes, t.attr[k]);
   }
-  std::int64_t area2 = (std::int64_t(t.x[1]) - t.x[0]) * (std::int64_t(t.y[2]) - t.y[0]) -
-                       (std::int64_t(t.x[2]) - t.x[0]) * (std::int64_t(t.y[1]) - t.y[0]);
+  const std::int64_t area2 = raster::signed_area2(t);
   if (area2 == 0) {
     ++stats.triangles_degenerate;
     return;
@@ -344,31 +343,11 @@ void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const 
     ++stats.triangles_culled;
     return;
   }
-  if (area2 < 0) {  // orient clockwise on screen
-    std::swap(t.x[1], t.x[2]);
-    std::swap(t.y[1], t.y[2]);
-    std::swap(t.z[1], t.z[2]);
-    std::swap(t.inv_w[1], t.inv_w[2]);
-    std::swap(t.attr[1], t.attr[2]);
-    area2 = -area2;
-  }
-  const std::int64_t min_x = std::min({t.x[0], t.x[1], t.x[2]}), max_x = std::max({t.x[0], t.x[1], t.x[2]});
-  const std::int64_t min_y = std::min({t.y[0], t.y[1], t.y[2]}), max_y = std::max({t.y[0], t.y[1], t.y[2]});
-  // Pixels whose centre (px + 1/2) lies in [min, max].
-  t.min_px = static_cast<int>(std::max<std::int64_t>(0, raster::floor_div(min_x - raster::kPixelCentre + raster::kSubpixelOne - 1, raster::kSubpixelOne)));
-  t.max_px = static_cast<int>(std::min<std::int64_t>(width - 1, raster::floor_div(max_x - raster::kPixelCentre, raster::kSubpixelOne)));
-  t.min_py = static_cast<int>(std::max<std::int64_t>(0, raster::floor_div(min_y - raster::kPixelCentre + raster::kSubpixelOne - 1, raster::kSubpixelOne)));
-  t.max_py = static_cast<int>(std::min<std::int64_t>(height - 1, raster::floor_div(max_y - raster::kPixelCentre, raster::kSubpixelOne)));
-  if (t.min_px > t.max_px || t.min_py > t.max_py) {
+  if (area2 < 0) raster::swap_vertices_1_2(t);  // orient clockwise on screen
+  if (!raster::finish_setup(t, width, height)) {
     ++stats.triangles_outside;
     return;
   }
-  for (int k = 0; k < 3; ++k) {
-    const int a = (k + 1) % 3, b = (k + 2) % 3;
-    t.bias[k] = raster::is_top_left(std::int64_t(t.x[b]) - t.x[a], std::int64_t(t.y[b]) - t.y[a]) ? 0 : -1;
-  }
-  t.area2 = area2;
-  t.inv_area2 = static_cast<float>(1.0 / static_cast<double>(area2));
   const bool use_back = t.back_facing && two_sided;
   const Color3& flat = use_back ? flat_back : flat_front;
   t.flat_rgb[0] = flat.x();

@@ -74,61 +74,41 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
     const int y0 = std::max(t.min_py, rect.y0), y1 = std::min(t.max_py, rect.y1 - 1);
     if (x0 > x1 || y0 > y1) continue;
 
-    // Edge k runs from vertex k+1 to vertex k+2. E_k = B_k (py - a.y) + A_k (px - a.x).
-    std::int64_t row_e[3], step_x[3], step_y[3];
-    const std::int64_t px = std::int64_t(x0) * kSubpixelOne + kPixelCentre;
-    const std::int64_t py = std::int64_t(y0) * kSubpixelOne + kPixelCentre;
-    for (int k = 0; k < 3; ++k) {
-      const int a = (k + 1) % 3, b = (k + 2) % 3;
-      const std::int64_t A = -(std::int64_t(t.y[b]) - t.y[a]);
-      const std::int64_t B = std::int64_t(t.x[b]) - t.x[a];
-      row_e[k] = B * (py - t.y[a]) + A * (px - t.x[a]) + t.bias[k];
-      step_x[k] = A * kSubpixelOne;
-      step_y[k] = B * kSubpixelOne;
-    }
     const ObjectShading& shading = job.objects[t.object];
-    for (int y = y0; y <= y1; ++y) {
-      std::int64_t e0 = row_e[0], e1 = row_e[1], e2 = row_e[2];
-      for (int x = x0; x <= x1; ++x, e0 += step_x[0], e1 += step_x[1], e2 += step_x[2]) {
-        if ((e0 | e1 | e2) < 0) continue;
-        ++counters.tested;
-        // Barycentrics from the unbiased edge values.
-        const float l0 = static_cast<float>(e0 - t.bias[0]) * t.inv_area2;
-        const float l1 = static_cast<float>(e1 - t.bias[1]) * t.inv_area2;
-        const float l2 = static_cast<float>(e2 - t.bias[2]) * t.inv_area2;
-        float z = l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2];
-        z = z > 0.0f ? (z < 1.0f ? z : 1.0f) : 0.0f;
-        const int pixel = (y - rect.y0) * stride + (x - rect.x0);
-        if (!(z < tile.depth[static_cast<std::size_t>(pixel)])) continue;
-        tile.depth[static_cast<std::size_t>(pixel)] = z;
-        ++counters.filled;
-        float* c = &tile.color[4 * static_cast<std::size_t>(pixel)];
-        if (job.shading == ShadingMode::flat) {
-          c[0] = t.flat_rgb[0];
-          c[1] = t.flat_rgb[1];
-          c[2] = t.flat_rgb[2];
-          c[3] = t.alpha;
-          continue;
-        }
-        // Perspective-correct weights: (l_k / w_k) / sum(l_j / w_j).
-        const float m0 = l0 * t.inv_w[0], m1 = l1 * t.inv_w[1], m2 = l2 * t.inv_w[2];
-        const float inv_sum = 1.0f / (m0 + m1 + m2);
-        const float w0 = m0 * inv_sum, w1 = m1 * inv_sum, w2 = m2 * inv_sum;
-        auto interp = [&](int a) { return w0 * t.attr[0][a] + w1 * t.attr[1][a] + w2 * t.attr[2][a]; };
-        if (job.shading == ShadingMode::gouraud) {
-          c[0] = interp(0);
-          c[1] = interp(1);
-          c[2] = interp(2);
-          c[3] = t.alpha;
-        } else {
-          batch.add(pixel, Vec3(interp(0), interp(1), interp(2)), Vec3(interp(3), interp(4), interp(5)));
-          if (batch.full()) batch.flush(shading, t.alpha, tile, counters);
-        }
+    for_each_covered_pixel(t, x0, y0, x1, y1, [&](int x, int y, std::int64_t e0, std::int64_t e1, std::int64_t e2) {
+      ++counters.tested;
+      const float l0 = static_cast<float>(e0) * t.inv_area2;
+      const float l1 = static_cast<float>(e1) * t.inv_area2;
+      const float l2 = static_cast<float>(e2) * t.inv_area2;
+      float z = l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2];
+      z = z > 0.0f ? (z < 1.0f ? z : 1.0f) : 0.0f;
+      const int pixel = (y - rect.y0) * stride + (x - rect.x0);
+      if (!(z < tile.depth[static_cast<std::size_t>(pixel)])) return;  // depth test: LESS
+      tile.depth[static_cast<std::size_t>(pixel)] = z;
+      ++counters.filled;
+      float* c = &tile.color[4 * static_cast<std::size_t>(pixel)];
+      if (job.shading == ShadingMode::flat) {
+        c[0] = t.flat_rgb[0];
+        c[1] = t.flat_rgb[1];
+        c[2] = t.flat_rgb[2];
+        c[3] = t.alpha;
+        return;
       }
-      row_e[0] += step_y[0];
-      row_e[1] += step_y[1];
-      row_e[2] += step_y[2];
-    }
+      // Perspective-correct weights: (l_k / w_k) / sum(l_j / w_j).
+      const float m0 = l0 * t.inv_w[0], m1 = l1 * t.inv_w[1], m2 = l2 * t.inv_w[2];
+      const float inv_sum = 1.0f / (m0 + m1 + m2);
+      const float w0 = m0 * inv_sum, w1 = m1 * inv_sum, w2 = m2 * inv_sum;
+      auto interp = [&](int a) { return w0 * t.attr[0][a] + w1 * t.attr[1][a] + w2 * t.attr[2][a]; };
+      if (job.shading == ShadingMode::gouraud) {
+        c[0] = interp(0);
+        c[1] = interp(1);
+        c[2] = interp(2);
+        c[3] = t.alpha;
+      } else {
+        batch.add(pixel, Vec3(interp(0), interp(1), interp(2)), Vec3(interp(3), interp(4), interp(5)));
+        if (batch.full()) batch.flush(shading, t.alpha, tile, counters);
+      }
+    });
     batch.flush(shading, t.alpha, tile, counters);
   }
 }

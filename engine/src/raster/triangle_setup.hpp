@@ -44,4 +44,48 @@ inline bool is_top_left(std::int64_t dx, std::int64_t dy) { return dy < 0 || (dy
 // floor(a / b) for b > 0.
 inline std::int64_t floor_div(std::int64_t a, std::int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
+// Twice the signed area of the snapped triangle: > 0 clockwise on the y-down screen.
+inline std::int64_t signed_area2(const ScreenTriangle& t) {
+  return (std::int64_t(t.x[1]) - t.x[0]) * (std::int64_t(t.y[2]) - t.y[0]) -
+         (std::int64_t(t.x[2]) - t.x[0]) * (std::int64_t(t.y[1]) - t.y[0]);
+}
+
+// Swaps vertices 1 and 2 with everything attached to them (reverses the orientation).
+void swap_vertices_1_2(ScreenTriangle& t);
+
+// For a triangle with x, y set and signed_area2(t) > 0: sets area2, inv_area2, the top-left biases
+// and the covered pixel bounds clipped to a width x height viewport. False if no pixel centre of
+// the viewport can be covered.
+bool finish_setup(ScreenTriangle& t, int width, int height);
+
+// Calls fn(x, y, e0, e1, e2) for every covered pixel of `t` in [x0, x1] x [y0, y1] (inclusive,
+// inside t's bounds), row by row, left to right; e_k are the unbiased edge values (barycentric
+// weight k = e_k / area2). Edge k runs from vertex k+1 to vertex k+2:
+//   E_k(p) = B_k (p.y - a.y) + A_k (p.x - a.x),  A_k = -(b.y - a.y),  B_k = b.x - a.x,
+// evaluated exactly once per triangle and row and stepped by whole pixels (exact in int64).
+template <class Fn>
+void for_each_covered_pixel(const ScreenTriangle& t, int x0, int y0, int x1, int y1, Fn&& fn) {
+  std::int64_t row_e[3], step_x[3], step_y[3];
+  const std::int64_t px = std::int64_t(x0) * kSubpixelOne + kPixelCentre;
+  const std::int64_t py = std::int64_t(y0) * kSubpixelOne + kPixelCentre;
+  for (int k = 0; k < 3; ++k) {
+    const int a = (k + 1) % 3, b = (k + 2) % 3;
+    const std::int64_t A = -(std::int64_t(t.y[b]) - t.y[a]);
+    const std::int64_t B = std::int64_t(t.x[b]) - t.x[a];
+    row_e[k] = B * (py - t.y[a]) + A * (px - t.x[a]) + t.bias[k];
+    step_x[k] = A * kSubpixelOne;
+    step_y[k] = B * kSubpixelOne;
+  }
+  for (int y = y0; y <= y1; ++y) {
+    std::int64_t e0 = row_e[0], e1 = row_e[1], e2 = row_e[2];
+    for (int x = x0; x <= x1; ++x, e0 += step_x[0], e1 += step_x[1], e2 += step_x[2]) {
+      if ((e0 | e1 | e2) < 0) continue;  // some biased edge value is negative: outside
+      fn(x, y, e0 - t.bias[0], e1 - t.bias[1], e2 - t.bias[2]);
+    }
+    row_e[0] += step_y[0];
+    row_e[1] += step_y[1];
+    row_e[2] += step_y[2];
+  }
+}
+
 }  // namespace facet::raster
