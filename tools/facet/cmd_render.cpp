@@ -47,10 +47,11 @@ Status ensure_parent_directory(const std::string& path) {
 
 void print_stats_text(const FrameStats& s, int frames, double seconds) {
   std::printf("  triangles   %llu in: %llu drawn, %llu culled, %llu outside, %llu clipped, %llu degenerate, "
-              "%llu non-finite; %llu bin entries\n",
+              "%llu between pixel centres, %llu non-finite; %llu bin entries\n",
               (unsigned long long)s.triangles_in, (unsigned long long)s.triangles_drawn,
               (unsigned long long)s.triangles_culled, (unsigned long long)s.triangles_outside,
               (unsigned long long)s.triangles_clipped, (unsigned long long)s.triangles_degenerate,
+              (unsigned long long)s.triangles_small,
               (unsigned long long)s.triangles_nonfinite, (unsigned long long)s.bin_entries);
   std::printf("  lighting    %llu evaluations (vertices, centroids or pixels)\n", (unsigned long long)s.vertices_lit);
   std::printf("  pixels      %llu tested, %llu filled\n", (unsigned long long)s.pixels_tested,
@@ -69,6 +70,7 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
   std::printf("{\"width\": %d, \"height\": %d, \"shading\": \"%s\", \"path\": \"%s\", \"threads\": 1, "
               "\"triangles_in\": %llu, \"triangles_drawn\": %llu, \"triangles_culled\": %llu, "
               "\"triangles_outside\": %llu, \"triangles_clipped\": %llu, \"triangles_degenerate\": %llu, "
+              "\"triangles_small\": %llu, "
               "\"triangles_nonfinite\": %llu, \"bin_entries\": %llu, \"vertices_lit\": %llu, "
               "\"pixels_tested\": %llu, \"pixels_filled\": %llu, \"seconds_lighting\": %.6g, "
               "\"seconds_geometry\": %.6g, \"seconds_raster\": %.6g, \"seconds_resolve\": %.6g, "
@@ -77,8 +79,9 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               w, h, to_string(o.shading), to_string(o.path), (unsigned long long)s.triangles_in,
               (unsigned long long)s.triangles_drawn, (unsigned long long)s.triangles_culled,
               (unsigned long long)s.triangles_outside, (unsigned long long)s.triangles_clipped,
-              (unsigned long long)s.triangles_degenerate, (unsigned long long)s.triangles_nonfinite,
-              (unsigned long long)s.bin_entries, (unsigned long long)s.vertices_lit,
+              (unsigned long long)s.triangles_degenerate, (unsigned long long)s.triangles_small,
+              (unsigned long long)s.triangles_nonfinite, (unsigned long long)s.bin_entries,
+              (unsigned long long)s.vertices_lit,
               (unsigned long long)s.pixels_tested, (unsigned long long)s.pixels_filled, s.seconds_lighting,
               s.seconds_geometry, s.seconds_raster, s.seconds_resolve, s.seconds_total, frames, per_frame,
               double(s.vertices_lit) / per_frame, double(s.pixels_filled) / per_frame);

@@ -44,6 +44,7 @@ struct FrameStats {
   std::uint64_t triangles_clipped = 0;    // crossed the near/far plane or the guard band
   std::uint64_t triangles_culled = 0;     // facing away (after clipping, per piece)
   std::uint64_t triangles_degenerate = 0; // zero area after snapping to 1/256 pixel
+  std::uint64_t triangles_small = 0;      // no pixel centre of the viewport within their bounds
   std::uint64_t triangles_drawn = 0;      // pieces set up and binned
   std::uint64_t bin_entries = 0;          // (triangle, tile) pairs
   std::uint64_t vertices_lit = 0;         // lighting evaluations: vertices, centroids or pixels

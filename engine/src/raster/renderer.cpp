@@ -345,7 +345,7 @@ void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const 
   }
   if (area2 < 0) raster::swap_vertices_1_2(t);  // orient clockwise on screen
   if (!raster::finish_setup(t, width, height)) {
-    ++stats.triangles_outside;
+    ++stats.triangles_small;
     return;
   }
   const bool use_back = t.back_facing && two_sided;
