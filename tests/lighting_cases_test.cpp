@@ -33,15 +33,35 @@ Light point_at(const Vec3& position) {
   return l;
 }
 
-class LightingCase : public ::testing::TestWithParam<LightingPath> {
+// Every path; the simd path on each ISA with the exact pow tier (the hand values are exact).
+struct PathCase {
+  LightingPath path;
+  Isa isa;
+};
+
+std::string name_of(const PathCase& c) {
+  return c.path == LightingPath::simd ? std::string("simd_") + to_string(c.isa) : std::string(to_string(c.path));
+}
+
+class LightingCase : public ::testing::TestWithParam<PathCase> {
  protected:
+  void SetUp() override {
+    if (!isa_supported(GetParam().isa)) GTEST_SKIP() << "this CPU has no " << to_string(GetParam().isa);
+  }
   Scene scene = eye_space_scene();
   Material& material() { return scene.materials[0]; }
 
+  LightingOptions options_for_path() const {
+    LightingOptions options;
+    options.path = GetParam().path;
+    options.isa = GetParam().isa;
+    options.pow_tier = PowTier::exact;
+    return options;
+  }
+
   VertexColors light(const Vec3& p, const Vec3& n, bool clamp = true) {
     set_single_vertex(scene, p, n);
-    LightingOptions options;
-    options.path = GetParam();
+    LightingOptions options = options_for_path();
     options.clamp = clamp;
     VertexColors out;
     const Status s = light_instance(scene, 0, options, out);
@@ -412,8 +432,7 @@ TEST_P(LightingCase, CameraAndModelTransformsLeaveEyeSpaceValuesUnchanged) {
   scene.lights.push_back(point_at(Vec3(11, 2, -3)));
   set_single_vertex(scene, Vec3::Zero(), Vec3(1, 0, 0));
   scene.objects[0].model.block<3, 1>(0, 3) = Vec3(7, 2, 0);
-  LightingOptions options;
-  options.path = GetParam();
+  const LightingOptions options = options_for_path();
   VertexColors out;
   ASSERT_TRUE(light_instance(scene, 0, options, out).ok());
   EXPECT_GREY(out.front[0], 0.8);
@@ -426,8 +445,7 @@ TEST_P(LightingCase, NonUniformScaleTransformsNormalsByInverseTranspose) {
   scene.objects[0].model(1, 1) = 2;  // stretch y: the surface tilts towards z
   // The normal of the scaled surface is ~ (0, 1/2, 1): n.z = 1/sqrt(1.25) = 0.89442719. (Scaling
   // the normal like a position would give (0, 2, 1)/sqrt 5, n.z = 0.447.)
-  LightingOptions options;
-  options.path = GetParam();
+  const LightingOptions options = options_for_path();
   VertexColors out;
   ASSERT_TRUE(light_instance(scene, 0, options, out).ok());
   EXPECT_GREY(out.front[0], 1.0 / std::sqrt(1.25));
@@ -436,8 +454,7 @@ TEST_P(LightingCase, NonUniformScaleTransformsNormalsByInverseTranspose) {
 TEST_P(LightingCase, InvalidSceneIsRejectedAndOutputUntouched) {
   set_single_vertex(scene, kOrigin, kFacingEye);
   scene.materials[0].shininess = -1;
-  LightingOptions options;
-  options.path = GetParam();
+  const LightingOptions options = options_for_path();
   VertexColors out;
   out.front = {Color3(7, 7, 7)};
   const Status s = light_instance(scene, 0, options, out);
@@ -447,8 +464,12 @@ TEST_P(LightingCase, InvalidSceneIsRejectedAndOutputUntouched) {
   EXPECT_EQ(light_instance(scene, 5, options, out).field(), "instance");
 }
 
-INSTANTIATE_TEST_SUITE_P(Paths, LightingCase, ::testing::Values(LightingPath::reference, LightingPath::scalar),
-                         [](const auto& param_info) { return std::string(to_string(param_info.param)); });
+INSTANTIATE_TEST_SUITE_P(Paths, LightingCase,
+                         ::testing::Values(PathCase{LightingPath::reference, Isa::best},
+                                           PathCase{LightingPath::scalar, Isa::best},
+                                           PathCase{LightingPath::simd, Isa::sse2}, PathCase{LightingPath::simd, Isa::avx2},
+                                           PathCase{LightingPath::simd, Isa::avx512}),
+                         [](const auto& param_info) { return name_of(param_info.param); });
 
 }  // namespace
 }  // namespace facet

@@ -95,19 +95,24 @@ struct RandomScene {
 };
 
 struct Comparison {
-  double max_error = 0;      // largest |scalar - reference|
+  double max_error = 0;      // largest |candidate - reference|
   double max_excess = -1e9;  // largest |error| - bound(shininess)
+  int max_delta8 = 0;        // largest difference after rounding both to 8 bits
   std::size_t nan_count = 0, out_of_range = 0, compared = 0;
 };
 
+// Compares `candidate` with the reference path on every vertex of every object.
 template <class Bound>
-Comparison compare_paths(const Scene& scene, bool clamp, Bound bound) {
+Comparison compare_with_reference(const Scene& scene, LightingOptions candidate, Bound bound) {
   Comparison c;
+  const bool clamp = candidate.clamp;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    LightingOptions ref_options{LightingPath::reference, clamp}, scalar_options{LightingPath::scalar, clamp};
+    LightingOptions ref_options;
+    ref_options.path = LightingPath::reference;
+    ref_options.clamp = clamp;
     VertexColors ref, scalar;
     EXPECT_TRUE(light_instance(scene, i, ref_options, ref).ok());
-    EXPECT_TRUE(light_instance(scene, i, scalar_options, scalar).ok());
+    EXPECT_TRUE(light_instance(scene, i, candidate, scalar).ok());
     const double shininess = scene.materials[scene.objects[i].material].shininess;
     for (std::size_t v = 0; v < ref.front.size(); ++v) {
       for (int ch = 0; ch < 3; ++ch) {
@@ -116,6 +121,9 @@ Comparison compare_paths(const Scene& scene, bool clamp, Bound bound) {
         if (clamp && !(s >= 0.0 && s <= 1.0)) ++c.out_of_range;
         // Relative to the magnitude when unclamped: HDR sums can be far above 1.
         const double err = std::abs(r - s) / (clamp ? 1.0 : std::max(1.0, std::abs(r)));
+        if (clamp) {
+          c.max_delta8 = std::max<int>(c.max_delta8, std::abs(int(std::lround(255.0 * r)) - int(std::lround(255.0 * s))));
+        }
         c.max_error = std::max(c.max_error, err);
         c.max_excess = std::max(c.max_excess, err - bound(shininess));
         ++c.compared;
@@ -125,11 +133,18 @@ Comparison compare_paths(const Scene& scene, bool clamp, Bound bound) {
   return c;
 }
 
+LightingOptions scalar_options(bool clamp) {
+  LightingOptions o;
+  o.path = LightingPath::scalar;
+  o.clamp = clamp;
+  return o;
+}
+
 // The bound, in GL's shininess and spot-exponent range [0, 128]: 1e-5.
 TEST(LightingRandom, ScalarMatchesReferenceWithin1e5) {
   RandomScene gen(20261121);
   const Scene scene = gen.scene(10, 10000, 128.0f);  // 10^5 vertices
-  const Comparison c = compare_paths(scene, true, [](double) { return 1e-5; });
+  const Comparison c = compare_with_reference(scene, scalar_options(true), [](double) { return 1e-5; });
   EXPECT_EQ(c.compared, 300000u);
   EXPECT_EQ(c.nan_count, 0u);
   EXPECT_EQ(c.out_of_range, 0u);
@@ -141,7 +156,7 @@ TEST(LightingRandom, ScalarMatchesReferenceWithin1e5) {
 TEST(LightingRandom, ScalarMatchesReferenceUnclamped) {
   RandomScene gen(7);
   const Scene scene = gen.scene(4, 5000, 128.0f);
-  const Comparison c = compare_paths(scene, false, [](double) { return 1e-5; });
+  const Comparison c = compare_with_reference(scene, scalar_options(false), [](double) { return 1e-5; });
   EXPECT_EQ(c.nan_count, 0u);
   EXPECT_LE(c.max_error, 1e-5) << "relative error of HDR colours";
 }
@@ -152,11 +167,49 @@ TEST(LightingRandom, ScalarMatchesReferenceUnclamped) {
 TEST(LightingRandom, ScalarMatchesReferenceAtHighShininess) {
   RandomScene gen(99);
   const Scene scene = gen.scene(8, 5000, kMaxShininess);
-  const Comparison c = compare_paths(scene, true, [](double s) { return 1e-5 + s * 2.4e-7; });
+  const Comparison c = compare_with_reference(scene, scalar_options(true), [](double s) { return 1e-5 + s * 2.4e-7; });
   EXPECT_EQ(c.nan_count, 0u);
   EXPECT_LE(c.max_excess, 0.0);
   std::printf("scalar vs reference, shininess <= %g: max |error| = %.3g\n", double(kMaxShininess), c.max_error);
 }
+
+// --- The simd path, on every ISA this CPU has, for every pow tier (shininess 0..256).
+
+struct SimdCase {
+  Isa isa;
+  PowTier tier;
+};
+
+class SimdRandom : public ::testing::TestWithParam<SimdCase> {};
+
+TEST_P(SimdRandom, MatchesReference) {
+  const auto [isa, tier] = GetParam();
+  if (!isa_supported(isa)) GTEST_SKIP() << "this CPU has no " << to_string(isa);
+  RandomScene gen(424242);
+  const Scene scene = gen.scene(10, 10000, 256.0f);  // 10^5 vertices, 8 random lights
+  LightingOptions o;
+  o.path = LightingPath::simd;
+  o.isa = isa;
+  o.pow_tier = tier;
+  const Comparison c = compare_with_reference(scene, o, [](double) { return 0.0; });
+  EXPECT_EQ(c.compared, 300000u);
+  EXPECT_EQ(c.nan_count, 0u);
+  EXPECT_EQ(c.out_of_range, 0u);
+  EXPECT_LE(c.max_delta8, 1) << "8-bit output differs by more than one step";
+  std::printf("simd %s, pow %s vs reference: max |error| %.3g, max 8-bit difference %d\n", to_string(isa),
+              to_string(tier), c.max_error, c.max_delta8);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    IsaAndTier, SimdRandom,
+    ::testing::Values(SimdCase{Isa::sse2, PowTier::automatic}, SimdCase{Isa::sse2, PowTier::fast},
+                      SimdCase{Isa::sse2, PowTier::exact}, SimdCase{Isa::avx2, PowTier::automatic},
+                      SimdCase{Isa::avx2, PowTier::fast}, SimdCase{Isa::avx2, PowTier::exact},
+                      SimdCase{Isa::avx512, PowTier::automatic}, SimdCase{Isa::avx512, PowTier::fast},
+                      SimdCase{Isa::avx512, PowTier::exact}),
+    [](const auto& param_info) {
+      return std::string(to_string(param_info.param.isa)) + "_" + to_string(param_info.param.tier);
+    });
 
 }  // namespace
 }  // namespace facet

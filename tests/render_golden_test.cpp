@@ -12,10 +12,12 @@
 namespace facet {
 namespace {
 
-Rgba8Image render_rgba8(const Scene& scene, int w, int h, ShadingMode mode, FrameStats* stats = nullptr) {
+Rgba8Image render_rgba8(const Scene& scene, int w, int h, ShadingMode mode, FrameStats* stats = nullptr,
+                        LightingPath path = LightingPath::simd) {
   test::Canvas c(w, h);
   RenderOptions o;
   o.shading = mode;
+  o.path = path;
   Renderer r;
   const Status s = r.render(scene, o, c.view(), nullptr, stats);
   EXPECT_TRUE(s.ok()) << s.message();
@@ -32,7 +34,7 @@ TEST_P(Golden, DefaultSceneMatches) {
   const std::string name = std::string("default_") + to_string(GetParam()) + ".png";
   const Result<Rgba8Image> golden = read_png(test::data_dir() + "/golden/" + name);
   ASSERT_TRUE(golden.ok()) << golden.status().message();
-  const Rgba8Image actual = render_rgba8(make_default_scene(), 160, 120, GetParam());
+  const Rgba8Image actual = render_rgba8(make_default_scene(), 160, 120, GetParam(), nullptr, LightingPath::scalar);
   const Result<ImageDifference> d = compare_images(*golden, actual);
   ASSERT_TRUE(d.ok()) << d.status().message();
   if (d->max_channel_difference > 1) {

@@ -377,7 +377,8 @@ TEST(RenderShading, GouraudMissesTheHighlightPhongFindsIt) {
   Scene point = s;
   test::set_single_vertex(point, Vec3(0, 0, -5), Vec3(0, 0, 1));
   point.materials[0] = s.materials[0];
-  LightingOptions ref{LightingPath::reference, true};
+  LightingOptions ref;
+  ref.path = LightingPath::reference;
   VertexColors v;
   ASSERT_TRUE(light_instance(point, 0, ref, v).ok());
   const int expected = static_cast<int>(std::lround(v.front[0].x() * 255.0f));

@@ -41,6 +41,30 @@ std::optional<double> Args::number_value(const std::string& option, double lo, d
   return n;
 }
 
+std::optional<LightingPath> parse_path(const std::string& name) {
+  for (LightingPath p : {LightingPath::reference, LightingPath::scalar, LightingPath::simd})
+    if (name == to_string(p)) return p;
+  return std::nullopt;
+}
+
+std::optional<Isa> parse_isa(const std::string& name) {
+  if (name == "auto") return Isa::best;
+  for (Isa i : {Isa::sse2, Isa::avx2, Isa::avx512})
+    if (name == to_string(i)) return i;
+  return std::nullopt;
+}
+
+std::optional<PowTier> parse_pow_tier(const std::string& name) {
+  for (PowTier t : {PowTier::automatic, PowTier::exact, PowTier::fast, PowTier::integer, PowTier::schlick})
+    if (name == to_string(t)) return t;
+  return std::nullopt;
+}
+
+std::string describe_path(LightingPath path, Isa isa, PowTier tier) {
+  if (path != LightingPath::simd) return to_string(path);
+  return std::string("simd ") + to_string(isa == Isa::best ? best_isa() : isa) + " (pow " + to_string(tier) + ")";
+}
+
 std::optional<Scene> load_scene_or_default(const std::string& path) {
   if (path.empty()) return make_default_scene();
   Result<Scene> loaded = load_scene_file(path);

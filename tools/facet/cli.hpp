@@ -32,6 +32,12 @@ class Args {
   int i_ = 0;
 };
 
+std::optional<LightingPath> parse_path(const std::string& name);
+std::optional<Isa> parse_isa(const std::string& name);  // "auto" -> Isa::best
+std::optional<PowTier> parse_pow_tier(const std::string& name);
+// "reference", "scalar", or "simd avx512 (pow auto)" with `best` resolved.
+std::string describe_path(LightingPath path, Isa isa, PowTier tier);
+
 // The scene named on the command line, or the built-in one when `path` is empty.
 std::optional<Scene> load_scene_or_default(const std::string& path);
 

@@ -15,7 +15,9 @@ constexpr const char* kLightUsage =
     "Lights all vertices of every object in eye space, repeatedly, for each path, and reports the rate.\n"
     "\n"
     "options:\n"
-    "  --path P       reference | scalar | all (default: all)\n"
+    "  --path P       reference | scalar | simd | all (default: all = reference, scalar and simd on\n"
+    "                 every instruction set this CPU has)\n"
+    "  --pow T        auto | exact | fast | integer | schlick: pow tier of the simd path (default auto)\n"
     "  --seconds S    minimum measuring time per path, in seconds (default: 0.5)\n"
     "  --json         print the results as one JSON object\n"
     "  -h, --help     this text\n";
@@ -23,7 +25,7 @@ constexpr const char* kLightUsage =
 constexpr const char* kCheckUsage = "usage: facet check SCENE.json\n";
 
 struct PathResult {
-  LightingPath path;
+  LightingOptions options;
   double seconds = 0;
   std::size_t vertices = 0;       // vertex evaluations (front and, if two-sided, back)
   std::size_t vertex_lights = 0;  // vertex evaluations x enabled lights
@@ -41,10 +43,8 @@ std::size_t scene_vertices(const Scene& scene) {
   return n;
 }
 
-Status light_scene(const Scene& scene, LightingPath path, std::vector<VertexColors>& out) {
+Status light_scene(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out) {
   out.resize(scene.objects.size());
-  LightingOptions options;
-  options.path = path;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     if (Status s = light_instance(scene, i, options, out[i]); !s.ok()) return s;
   }
@@ -55,6 +55,7 @@ Status light_scene(const Scene& scene, LightingPath path, std::vector<VertexColo
 
 int run_light(int argc, char** argv) {
   std::string scene_path, path_name = "all";
+  PowTier tier = PowTier::automatic;
   double min_seconds = 0.5;
   bool json = false;
   Args args(argc, argv);
@@ -67,10 +68,15 @@ int run_light(int argc, char** argv) {
       const auto v = args.value(arg);
       if (!v) return 2;
       path_name = *v;
-      if (path_name == "simd") return fail("--path simd: this build has no SIMD lighting path yet (it has: reference, scalar, all)");
-      if (path_name != "reference" && path_name != "scalar" && path_name != "all") {
-        return fail("--path: unknown path '" + path_name + "' (this build has: reference, scalar, all)");
+      if (path_name != "all" && !parse_path(path_name)) {
+        return fail("--path: unknown path '" + path_name + "' (reference, scalar, simd or all)");
       }
+    } else if (arg == "--pow") {
+      const auto v = args.value(arg);
+      if (!v) return 2;
+      const auto t = parse_pow_tier(*v);
+      if (!t) return fail("--pow: unknown tier '" + *v + "' (auto, exact, fast, integer or schlick)");
+      tier = *t;
     } else if (arg == "--seconds") {
       const auto v = args.number_value(arg, 1e-3, 3600);
       if (!v) return 2;
@@ -90,9 +96,20 @@ int run_light(int argc, char** argv) {
   const Scene& scene = *loaded;
   const std::string scene_name = scene_path.empty() ? "built-in default scene" : scene_path;
 
-  std::vector<LightingPath> paths;
-  if (path_name == "all" || path_name == "reference") paths.push_back(LightingPath::reference);
-  if (path_name == "all" || path_name == "scalar") paths.push_back(LightingPath::scalar);
+  std::vector<LightingOptions> paths;
+  auto add = [&](LightingPath p, Isa isa) {
+    LightingOptions o;
+    o.path = p;
+    o.isa = isa;
+    o.pow_tier = tier;
+    paths.push_back(o);
+  };
+  if (path_name == "all" || path_name == "reference") add(LightingPath::reference, Isa::best);
+  if (path_name == "all" || path_name == "scalar") add(LightingPath::scalar, Isa::best);
+  if (path_name == "all" || path_name == "simd") {
+    for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512})
+      if (isa_supported(isa)) add(LightingPath::simd, isa);
+  }
 
   const std::size_t vertices_per_pass = scene_vertices(scene) * (scene.two_sided ? 2 : 1);
   const std::size_t lights = enabled_lights(scene);
@@ -112,15 +129,21 @@ int run_light(int argc, char** argv) {
     results.push_back(r);
   }
 
-  double max_diff = -1.0;  // scalar vs reference, as a sanity line
-  if (paths.size() == 2) {
-    max_diff = 0.0;
-    for (std::size_t o = 0; o < colours[0].size(); ++o) {
-      const auto& a = colours[0][o].front;
-      const auto& b = colours[1][o].front;
-      for (std::size_t v = 0; v < a.size(); ++v) max_diff = std::max<double>(max_diff, (a[v] - b[v]).cwiseAbs().maxCoeff());
+  // Largest difference of each path from the reference, when the reference ran.
+  std::vector<double> max_diff(paths.size(), -1.0);
+  if (!paths.empty() && paths[0].path == LightingPath::reference) {
+    for (std::size_t k = 0; k < paths.size(); ++k) {
+      max_diff[k] = 0.0;
+      for (std::size_t o = 0; o < colours[0].size(); ++o) {
+        const auto& a = colours[0][o].front;
+        const auto& b = colours[k][o].front;
+        for (std::size_t v = 0; v < a.size(); ++v) max_diff[k] = std::max<double>(max_diff[k], (a[v] - b[v]).cwiseAbs().maxCoeff());
+      }
     }
   }
+  double scalar_rate = 0;
+  for (const auto& r : results)
+    if (r.options.path == LightingPath::scalar) scalar_rate = double(r.vertices) / r.seconds;
 
   if (json) {
     std::printf("{\"scene\": \"%s\", \"objects\": %zu, \"vertices\": %zu, \"lights\": %zu, \"results\": [",
@@ -128,27 +151,25 @@ int run_light(int argc, char** argv) {
     for (std::size_t k = 0; k < results.size(); ++k) {
       const auto& r = results[k];
       std::printf("%s{\"path\": \"%s\", \"seconds\": %.6f, \"passes\": %zu, \"vertices_lit_per_s\": %.6g, "
-                  "\"vertex_lights_per_s\": %.6g}",
-                  k ? ", " : "", to_string(r.path), r.seconds, r.passes, double(r.vertices) / r.seconds,
-                  double(r.vertex_lights) / r.seconds);
+                  "\"vertex_lights_per_s\": %.6g, \"max_abs_difference_vs_reference\": %.3g}",
+                  k ? ", " : "", describe_path(r.options.path, r.options.isa, r.options.pow_tier).c_str(), r.seconds,
+                  r.passes, double(r.vertices) / r.seconds, double(r.vertex_lights) / r.seconds, max_diff[k]);
     }
-    std::printf("]");
-    if (max_diff >= 0.0) std::printf(", \"max_abs_difference_scalar_vs_reference\": %.3g", max_diff);
-    std::printf("}\n");
+    std::printf("]}\n");
     return 0;
   }
   std::printf("facet light: %s\n", scene_name.c_str());
   std::printf("  %zu objects, %zu vertices per pass%s, %zu enabled lights\n\n", scene.objects.size(),
               vertices_per_pass, scene.two_sided ? " (front and back)" : "", lights);
-  std::printf("  %-10s %16s %18s %11s %8s\n", "path", "vertices lit/s", "vertex-lights/s", "ns/vertex", "passes");
-  for (const auto& r : results) {
+  std::printf("  %-26s %16s %18s %11s %9s %14s\n", "path", "vertices lit/s", "vertex-lights/s", "ns/vertex",
+              "vs scalar", "max |d| vs ref");
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    const auto& r = results[k];
     const double vps = double(r.vertices) / r.seconds;
-    std::printf("  %-10s %14.2f M %16.2f M %11.2f %8zu\n", to_string(r.path), vps / 1e6,
-                double(r.vertex_lights) / r.seconds / 1e6, 1e9 / vps, r.passes);
-  }
-  if (max_diff >= 0.0) {
-    std::printf("\n  scalar vs reference: largest colour difference %.3g (%.3g of an 8-bit step)\n", max_diff,
-                max_diff * 255.0);
+    std::printf("  %-26s %14.2f M %16.2f M %11.2f %8.2fx %14.3g\n",
+                describe_path(r.options.path, r.options.isa, r.options.pow_tier).c_str(), vps / 1e6,
+                double(r.vertex_lights) / r.seconds / 1e6, 1e9 / vps, scalar_rate > 0 ? vps / scalar_rate : 0.0,
+                max_diff[k]);
   }
   std::printf("  (one thread; measured for at least %.2g s per path)\n", min_seconds);
   return 0;

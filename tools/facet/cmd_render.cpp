@@ -18,8 +18,11 @@ constexpr const char* kRenderUsage =
     "  --width W              image width, 1..16384 (default 1280)\n"
     "  --height H             image height, 1..16384 (default 720)\n"
     "  --shading MODE         flat | gouraud | phong (default gouraud)\n"
-    "  --path P               reference | scalar | simd (default scalar; simd is not in this build)\n"
-    "  --isa I                auto | sse2 | avx2 | avx512: instruction set of --path simd (default auto)\n"
+    "  --path P               reference | scalar | simd (default simd)\n"
+    "  --isa I                auto | sse2 | avx2 | avx512: instruction set of --path simd (default auto:\n"
+    "                         the widest this CPU has); one the CPU lacks is an error\n"
+    "  --pow T                auto | exact | fast | integer | schlick: how --path simd evaluates the\n"
+    "                         specular and spot exponents (default auto)\n"
     "  --threads N            worker threads (this build renders on 1)\n"
     "  --cull C               back | front | none (default back)\n"
     "  --tile N               tile size in pixels, a multiple of 8 in [8, 256] (default 64)\n"
@@ -76,7 +79,7 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               "\"seconds_geometry\": %.6g, \"seconds_raster\": %.6g, \"seconds_resolve\": %.6g, "
               "\"seconds_frame\": %.6g, \"frames\": %d, \"mean_seconds_per_frame\": %.6g, "
               "\"vertices_lit_per_s\": %.6g, \"pixels_filled_per_s\": %.6g}\n",
-              w, h, to_string(o.shading), to_string(o.path), (unsigned long long)s.triangles_in,
+              w, h, to_string(o.shading), describe_path(o.path, o.isa, o.pow_tier).c_str(), (unsigned long long)s.triangles_in,
               (unsigned long long)s.triangles_drawn, (unsigned long long)s.triangles_culled,
               (unsigned long long)s.triangles_outside, (unsigned long long)s.triangles_clipped,
               (unsigned long long)s.triangles_degenerate, (unsigned long long)s.triangles_small,
@@ -119,17 +122,24 @@ int run_render(int argc, char** argv) {
     } else if (arg == "--path") {
       const auto v = args.value(arg);
       if (!v) return 2;
-      if (*v == "reference") options.path = LightingPath::reference;
-      else if (*v == "scalar") options.path = LightingPath::scalar;
-      else if (*v == "simd") return fail("--path simd: this build has no SIMD path yet (it has: reference, scalar)");
-      else return fail("--path: unknown path '" + *v + "' (reference, scalar or simd)");
+      const auto path = parse_path(*v);
+      if (!path) return fail("--path: unknown path '" + *v + "' (reference, scalar or simd)");
+      options.path = *path;
     } else if (arg == "--isa") {
       const auto v = args.value(arg);
       if (!v) return 2;
-      if (*v == "sse2" || *v == "avx2" || *v == "avx512") {
-        return fail("--isa " + *v + ": this build has no SIMD kernels yet (only --isa auto is accepted)");
+      const auto isa = parse_isa(*v);
+      if (!isa) return fail("--isa: unknown instruction set '" + *v + "' (auto, sse2, avx2 or avx512)");
+      if (!isa_supported(*isa)) {
+        return fail("--isa " + *v + ": this CPU does not have it (best available: " + to_string(best_isa()) + ")");
       }
-      if (*v != "auto") return fail("--isa: unknown instruction set '" + *v + "' (auto, sse2, avx2 or avx512)");
+      options.isa = *isa;
+    } else if (arg == "--pow") {
+      const auto v = args.value(arg);
+      if (!v) return 2;
+      const auto tier = parse_pow_tier(*v);
+      if (!tier) return fail("--pow: unknown tier '" + *v + "' (auto, exact, fast, integer or schlick)");
+      options.pow_tier = *tier;
     } else if (arg == "--threads") {
       const auto v = args.int_value(arg, 0, 1024);
       if (!v) return 2;
@@ -215,9 +225,9 @@ int run_render(int argc, char** argv) {
   if (json) {
     print_stats_json(frame, frames, elapsed, options, width, height);
   } else if (stats) {
-    std::printf("facet render: %s -> %s (%d x %d, %s shading, %s path, 1 thread)\n",
+    std::printf("facet render: %s -> %s (%d x %d, %s shading, %s, 1 thread)\n",
                 scene_path.empty() ? "built-in default scene" : scene_path.c_str(), output.c_str(), width, height,
-                to_string(options.shading), to_string(options.path));
+                to_string(options.shading), describe_path(options.path, options.isa, options.pow_tier).c_str());
     print_stats_text(frame, frames, elapsed);
   }
   return 0;

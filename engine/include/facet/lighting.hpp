@@ -3,6 +3,8 @@
 // Paths (one algorithm, see README "Lighting model"):
 //   reference: double precision, std::pow; the oracle of every test.
 //   scalar:    float, one vertex at a time, built without auto-vectorisation: the honest baseline.
+//   simd:      float, xsimd batches (4, 8 or 16 lanes), compiled once per ISA and chosen at run
+//              time; the pow tier decides how the specular and spot exponents are evaluated.
 // Edge cases, identical on every path, never NaN:
 //   - light at the vertex (distance <= 1e-6): no direction, so no diffuse/specular; the ambient
 //     term stays, with the attenuation denominator floored at 1e-6;
@@ -21,12 +23,32 @@
 
 namespace facet {
 
-enum class LightingPath { reference, scalar };
+enum class LightingPath { reference, scalar, simd };
+
+// Instruction sets of the simd path. `best` is the widest this CPU has (detected with GCC's
+// __builtin_cpu_supports, which also checks that the OS saves the AVX/AVX-512 registers).
+enum class Isa { best, sse2, avx2, avx512 };
+
+// How the simd path evaluates x^s (specular shininess, spot exponent); see README "pow tiers".
+// The reference and scalar paths always use std::pow.
+enum class PowTier {
+  automatic,  // per exponent, the cheapest tier within 1 step of 8-bit output: integer, fast or exact
+  exact,      // full-precision exp2(s log2 x): <= 2e-6 absolute
+  fast,       // cheap log2/exp2 polynomials: <= 2.2e-5 absolute, so Delta8 <= 1
+  integer,    // repeated squaring; whole exponents <= 256 only (others use exact)
+  schlick,    // Schlick's rational lobe: a different specular model, not an approximation
+};
 
 const char* to_string(LightingPath path) noexcept;
+const char* to_string(Isa isa) noexcept;
+const char* to_string(PowTier tier) noexcept;
+bool isa_supported(Isa isa) noexcept;  // best is always supported
+Isa best_isa() noexcept;               // never returns Isa::best
 
 struct LightingOptions {
   LightingPath path = LightingPath::scalar;
+  Isa isa = Isa::best;                     // simd path only
+  PowTier pow_tier = PowTier::automatic;   // simd path only
   bool clamp = true;  // clamp each channel to [0, 1]; false keeps HDR values (still >= 0)
 };
 
@@ -38,7 +60,8 @@ struct VertexColors {
 };
 
 // Lights every vertex of scene.objects[instance] into `out` (resized; its capacity is reused).
-// Returns an error, leaving `out` untouched, if the scene is invalid or `instance` out of range.
+// Returns an error, leaving `out` untouched, if the scene is invalid, `instance` out of range or
+// the requested ISA missing on this CPU.
 Status light_instance(const Scene& scene, std::size_t instance, const LightingOptions& options,
                       VertexColors& out);
 

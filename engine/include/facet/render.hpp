@@ -28,7 +28,9 @@ const char* to_string(ShadingMode mode) noexcept;
 
 struct RenderOptions {
   ShadingMode shading = ShadingMode::gouraud;
-  LightingPath path = LightingPath::scalar;
+  LightingPath path = LightingPath::simd;
+  Isa isa = Isa::best;                    // simd path only; an ISA the CPU lacks is an error
+  PowTier pow_tier = PowTier::automatic;  // simd path only
   // Faces wind counter-clockwise seen from the front. In a two-sided scene back faces are never
   // culled by CullMode::back: they are drawn with their back-side lighting.
   CullMode cull = CullMode::back;

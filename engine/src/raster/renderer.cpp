@@ -9,6 +9,7 @@
 #include "common/look_at.hpp"
 #include "facet/render.hpp"
 #include "geometry/clip.hpp"
+#include "lighting/point_shader.hpp"
 #include "lighting/setup.hpp"
 #include "raster/tile_raster.hpp"
 #include "raster/triangle_setup.hpp"
@@ -40,7 +41,21 @@ Status check_options(const RenderOptions& o) {
   if (o.shading != ShadingMode::flat && o.shading != ShadingMode::gouraud && o.shading != ShadingMode::phong) {
     return bad("options.shading", "unknown shading mode");
   }
-  if (o.path != LightingPath::reference && o.path != LightingPath::scalar) return bad("options.path", "unknown lighting path");
+  if (o.path != LightingPath::reference && o.path != LightingPath::scalar && o.path != LightingPath::simd) {
+    return bad("options.path", "unknown lighting path");
+  }
+  if (o.isa != Isa::best && o.isa != Isa::sse2 && o.isa != Isa::avx2 && o.isa != Isa::avx512) {
+    return bad("options.isa", "unknown instruction set");
+  }
+  if (o.pow_tier != PowTier::automatic && o.pow_tier != PowTier::exact && o.pow_tier != PowTier::fast &&
+      o.pow_tier != PowTier::integer && o.pow_tier != PowTier::schlick) {
+    return bad("options.pow_tier", "unknown pow tier");
+  }
+  if (o.path == LightingPath::simd && !isa_supported(o.isa)) {
+    return {ErrorCode::unsupported, "options.isa",
+            std::string("options.isa: this CPU has no ") + to_string(o.isa) + " (best available: " +
+                to_string(best_isa()) + ")"};
+  }
   if (o.cull != CullMode::none && o.cull != CullMode::back && o.cull != CullMode::front) {
     return bad("options.cull", "unknown cull mode");
   }
@@ -71,9 +86,8 @@ struct Renderer::Impl {
   std::vector<raster::ScreenTriangle> triangles;
   std::vector<std::vector<std::uint32_t>> bins;
   raster::TileBuffers tile;
-  std::vector<lighting::ShadeParams<float>> params_scalar;
-  std::vector<lighting::ShadeParams<double>> params_reference;
-  std::vector<raster::ObjectShading> object_shading;
+  std::vector<lighting::PointShader> shaders;  // one per object
+  lighting::SoaScratch scratch;
   // Per-object scratch.
   std::vector<std::array<float, 4>> clip;
   std::vector<Color3> front, back;
@@ -89,7 +103,7 @@ struct Renderer::Impl {
 
   void render(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth);
   void prepare_object(const Scene& scene, const Instance& inst, const Eigen::Matrix4d& view,
-                      const Eigen::Matrix4d& proj, LightingPath path, bool clamp, std::uint32_t object);
+                      const Eigen::Matrix4d& proj, const LightingOptions& lighting, std::uint32_t object);
   void assemble_object(const Mesh& mesh, std::uint32_t object, float alpha);
   void emit(const ClipVertex (&v)[3], std::uint32_t object, const Color3& flat_front, const Color3& flat_back,
             float alpha);
@@ -139,26 +153,28 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   triangles.clear();
   bins.resize(static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y));
   for (auto& bin : bins) bin.clear();
-  params_scalar.assign(scene.objects.size(), {});
-  params_reference.assign(scene.objects.size(), {});
-  object_shading.assign(scene.objects.size(), {});
+  shaders.resize(scene.objects.size());
 
   const float aspect = scene.camera.aspect > 0.0f ? scene.camera.aspect : float(width) / float(height);
   const Eigen::Matrix4d view = look_at_d(scene.camera);
   const Eigen::Matrix4d proj = projection_matrix(scene.camera, aspect).cast<double>();
-  const bool clamp = !(options.hdr && color.format == PixelFormat::rgba32f);
+  LightingOptions lighting;
+  lighting.path = options.path;
+  lighting.isa = options.isa;
+  lighting.pow_tier = options.pow_tier;
+  lighting.clamp = !(options.hdr && color.format == PixelFormat::rgba32f);
 
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     const Instance& inst = scene.objects[o];
     const auto object = static_cast<std::uint32_t>(o);
-    prepare_object(scene, inst, view, proj, options.path, clamp, object);
+    prepare_object(scene, inst, view, proj, lighting, object);
     const auto geometry_start = Clock::now();
     assemble_object(scene.meshes[inst.mesh].mesh, object, scene.materials[inst.material].alpha);
     stats.seconds_geometry += seconds_since(geometry_start);
   }
 
   tile.resize(tile_size);
-  const raster::RasterJob job{shading, triangles, object_shading, options.clear_color};
+  const raster::RasterJob job{shading, triangles, shaders, options.clear_color};
   raster::RasterCounters counters;
   for (int ty = 0; ty < tiles_y; ++ty) {
     for (int tx = 0; tx < tiles_x; ++tx) {
@@ -179,20 +195,14 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
 }
 
 void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, const Eigen::Matrix4d& view,
-                                    const Eigen::Matrix4d& proj, LightingPath path, bool clamp, std::uint32_t object) {
+                                    const Eigen::Matrix4d& proj, const LightingOptions& lighting,
+                                    std::uint32_t object) {
   const Mesh& mesh = scene.meshes[inst.mesh].mesh;
-  const Material& material = scene.materials[inst.material];
   const std::size_t n = mesh.vertex_count();
   const auto lighting_start = Clock::now();
-
-  const bool reference = path == LightingPath::reference;
-  if (reference) {
-    params_reference[object] = lighting::make_shade_params<double>(scene, view, material, clamp);
-    object_shading[object].reference = &params_reference[object];
-  } else {
-    params_scalar[object] = lighting::make_shade_params<float>(scene, view, material, clamp);
-    object_shading[object].scalar = &params_scalar[object];
-  }
+  lighting::PointShader& shader = shaders[object];
+  // Options were checked in render(), so preparing cannot fail here.
+  (void)shader.prepare(scene, view, scene.materials[inst.material], lighting);
 
   // Clip-space positions.
   const Mat4Rows mvp = to_rows(proj * view * inst.model.cast<double>());
@@ -207,14 +217,10 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
 
   if (shading == ShadingMode::gouraud) {
     front.resize(n);
-    if (reference) {
-      const auto xf = lighting::make_eye_transform<double>(view, inst.model);
-      lighting::light_mesh(params_reference[object], xf, mesh, false, front.data());
-      if (two_sided) lighting::light_mesh(params_reference[object], xf, mesh, true, (back.resize(n), back.data()));
-    } else {
-      const auto xf = lighting::make_eye_transform<float>(view, inst.model);
-      lighting::light_mesh(params_scalar[object], xf, mesh, false, front.data());
-      if (two_sided) lighting::light_mesh(params_scalar[object], xf, mesh, true, (back.resize(n), back.data()));
+    shader.light_mesh(mesh, view, inst.model, false, front.data(), scratch);
+    if (two_sided) {
+      back.resize(n);
+      shader.light_mesh(mesh, view, inst.model, true, back.data(), scratch);
     }
     stats.vertices_lit += n * (two_sided ? 2 : 1);
     stats.seconds_lighting += seconds_since(lighting_start);
@@ -248,11 +254,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
     }
     auto shade = [&](std::vector<Color3>& out) {
       out.resize(t_count);
-      if (reference) {
-        lighting::shade_points(params_reference[object], t_count, centroid.data(), face_normal.data(), out.data());
-      } else {
-        lighting::shade_points(params_scalar[object], t_count, centroid.data(), face_normal.data(), out.data());
-      }
+      shader.shade_points(t_count, centroid.data(), face_normal.data(), out.data(), scratch);
     };
     shade(front);
     if (two_sided) {

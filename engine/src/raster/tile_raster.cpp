@@ -29,13 +29,9 @@ class PixelBatch {
   }
   bool full() const { return count_ == kCapacity; }
 
-  void flush(const ObjectShading& shading, float alpha, TileBuffers& tile, RasterCounters& counters) {
+  void flush(const lighting::PointShader& shader, float alpha, TileBuffers& tile, RasterCounters& counters) {
     if (count_ == 0) return;
-    if (shading.reference) {
-      lighting::shade_points(*shading.reference, static_cast<std::size_t>(count_), p_, n_, out_);
-    } else {
-      lighting::shade_points(*shading.scalar, static_cast<std::size_t>(count_), p_, n_, out_);
-    }
+    shader.shade_points(static_cast<std::size_t>(count_), p_, n_, out_, scratch_);
     for (int i = 0; i < count_; ++i) {
       float* c = &tile.color[4 * static_cast<std::size_t>(index_[i])];
       c[0] = out_[i].x();
@@ -52,6 +48,7 @@ class PixelBatch {
   int index_[kCapacity];
   Vec3 p_[kCapacity], n_[kCapacity];
   Color3 out_[kCapacity];
+  lighting::SoaScratch scratch_;
 };
 
 }  // namespace
@@ -74,7 +71,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
     const int y0 = std::max(t.min_py, rect.y0), y1 = std::min(t.max_py, rect.y1 - 1);
     if (x0 > x1 || y0 > y1) continue;
 
-    const ObjectShading& shading = job.objects[t.object];
+    const lighting::PointShader& shading = job.objects[t.object];
     for_each_covered_pixel(t, x0, y0, x1, y1, [&](int x, int y, std::int64_t e0, std::int64_t e1, std::int64_t e2) {
       ++counters.tested;
       const float l0 = static_cast<float>(e0) * t.inv_area2;

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "facet/render.hpp"
-#include "lighting/shade.hpp"
+#include "lighting/point_shader.hpp"
 #include "raster/triangle_setup.hpp"
 
 namespace facet::raster {
@@ -24,16 +24,10 @@ struct TileBuffers {
   void resize(int tile_size);
 };
 
-// Per-object lighting for per-pixel (Phong) shading; only the pointer of the frame's path is set.
-struct ObjectShading {
-  const lighting::ShadeParams<float>* scalar = nullptr;
-  const lighting::ShadeParams<double>* reference = nullptr;
-};
-
 struct RasterJob {
   ShadingMode shading;
   std::span<const ScreenTriangle> triangles;
-  std::span<const ObjectShading> objects;
+  std::span<const lighting::PointShader> objects;  // per object, for per-pixel (Phong) lighting
   std::array<float, 4> clear_color;
 };
 

@@ -1,0 +1,187 @@
+#include "lighting/point_shader.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "lighting/setup.hpp"
+
+namespace facet::lighting {
+
+void SoaScratch::reserve_padded(std::size_t count) {
+  const std::size_t n = simd::padded(count);
+  for (auto* v : {&px, &py, &pz, &nx, &ny, &nz, &r, &g, &b}) {
+    if (v->size() < n) v->resize(n);
+  }
+}
+
+const SimdKernels* simd_kernels(Isa isa) noexcept {
+  static constexpr SimdKernels kSse2{&simd::sse2::shade, &simd::sse2::pow_array};
+  static constexpr SimdKernels kAvx2{&simd::avx2::shade, &simd::avx2::pow_array};
+  static constexpr SimdKernels kAvx512{&simd::avx512::shade, &simd::avx512::pow_array};
+  if (isa == Isa::best) isa = best_isa();
+  if (!isa_supported(isa)) return nullptr;
+  switch (isa) {
+    case Isa::sse2: return &kSse2;
+    case Isa::avx2: return &kAvx2;
+    case Isa::avx512: return &kAvx512;
+    case Isa::best: break;
+  }
+  return nullptr;
+}
+
+simd::PowSpec resolve_pow(float s, PowTier tier) noexcept {
+  using simd::PowMethod;
+  if (s == 0.0f) return {PowMethod::one, 0.0f, 0};
+  const bool whole = s == std::floor(s) && s <= 256.0f;
+  const simd::PowSpec integer{PowMethod::integer, s, whole ? static_cast<int>(s) : 0};
+  switch (tier) {
+    case PowTier::exact: return {PowMethod::exact, s, 0};
+    case PowTier::fast: return {PowMethod::fast, s, 0};
+    case PowTier::integer: return whole ? integer : simd::PowSpec{PowMethod::exact, s, 0};
+    case PowTier::schlick: return {PowMethod::schlick, s, 0};
+    case PowTier::automatic: break;
+  }
+  // The cheapest within the 8-bit budget: squaring for whole exponents, the fast polynomials up
+  // to 256 (where their Delta8 <= 1 is tested), the exact tier above.
+  if (whole) return integer;
+  return {s <= 256.0f ? PowMethod::fast : PowMethod::exact, s, 0};
+}
+
+namespace {
+
+void copy3(float (&dst)[3], const V3<float>& v) {
+  dst[0] = v.x;
+  dst[1] = v.y;
+  dst[2] = v.z;
+}
+
+simd::Light to_simd(const EyeLight<float>& L, PowTier tier) {
+  simd::Light s;
+  s.type = L.type == LightType::directional ? simd::kDirectional : L.type == LightType::point ? simd::kPoint : simd::kSpot;
+  copy3(s.position, L.position);
+  copy3(s.to_light, L.to_light);
+  copy3(s.axis, L.spot_axis);
+  s.k0 = L.k0, s.k1 = L.k1, s.k2 = L.k2, s.inv_range = L.inv_range;
+  s.smooth_cone = L.spot_shape == SpotShape::smooth_cone ? 1 : 0;
+  s.has_cone = L.has_cone ? 1 : 0;
+  s.cos_cutoff = L.cos_cutoff;
+  s.cos_outer = L.cos_outer;
+  s.inv_cone_span = L.inv_cone_span;
+  // Schlick is a specular model; spot exponents keep a real pow.
+  const PowTier spot_tier = tier == PowTier::schlick ? PowTier::automatic : tier;
+  s.spot_pow = resolve_pow(s.smooth_cone ? L.spot_falloff : L.spot_exponent, spot_tier);
+  copy3(s.ambient, L.ambient);
+  copy3(s.diffuse, L.diffuse);
+  copy3(s.specular, L.specular);
+  return s;
+}
+
+}  // namespace
+
+Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
+                            const LightingOptions& options) {
+  path_ = options.path;
+  switch (path_) {
+    case LightingPath::reference: reference_ = make_shade_params<double>(scene, view, material, options.clamp); break;
+    case LightingPath::scalar: scalar_ = make_shade_params<float>(scene, view, material, options.clamp); break;
+    case LightingPath::simd: {
+      const SimdKernels* kernels = simd_kernels(options.isa);
+      if (!kernels) {
+        return {ErrorCode::unsupported, "isa",
+                std::string("isa: this CPU has no ") + to_string(options.isa) + " (best available: " +
+                    to_string(best_isa()) + ")"};
+      }
+      simd_shade_ = kernels->shade;
+      scalar_ = make_shade_params<float>(scene, view, material, options.clamp);
+      simd_lights_.clear();
+      for (const auto& L : scalar_.lights) simd_lights_.push_back(to_simd(L, options.pow_tier));
+      simd::Params& p = simd_params_;
+      copy3(p.base, scalar_.base);
+      p.specular_pow = resolve_pow(scalar_.shininess, options.pow_tier);
+      p.specular_on = material.specular.isZero() ? 0 : 1;
+      p.local_viewer = scalar_.local_viewer ? 1 : 0;
+      p.clamp = options.clamp ? 1 : 0;
+      p.lights = simd_lights_.data();
+      p.light_count = static_cast<int>(simd_lights_.size());
+      break;
+    }
+    default: return {ErrorCode::invalid_argument, "path", "path: unknown lighting path"};
+  }
+  return {};
+}
+
+std::size_t PointShader::light_count() const {
+  return path_ == LightingPath::reference ? reference_.lights.size() : scalar_.lights.size();
+}
+
+namespace {
+
+// At most this many vertices go through the simd kernel at a time: 9 streams of 2048 floats are
+// 72 KiB, which stays in L2 between the copy in, the kernel and the copy out.
+constexpr std::size_t kSimdChunk = 2048;
+
+// Copies `count` (position, normal) pairs given by fetch(i) into padded SoA chunks, runs the
+// kernel on each and writes the colours to `out`.
+template <class Fetch>
+void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd::Transform* xf, std::size_t count,
+              Fetch fetch, Color3* out, SoaScratch& scratch) {
+  scratch.reserve_padded(std::min(kSimdChunk, count));
+  for (std::size_t start = 0; start < count; start += kSimdChunk) {
+    const std::size_t n = std::min(kSimdChunk, count - start);
+    const std::size_t padded = simd::padded(n);
+    for (std::size_t i = 0; i < padded; ++i) {
+      Vec3 p = Vec3::Zero(), q = Vec3::Zero();  // padding lanes: finite, no normal
+      if (i < n) fetch(start + i, p, q);
+      scratch.px[i] = p.x(), scratch.py[i] = p.y(), scratch.pz[i] = p.z();
+      scratch.nx[i] = q.x(), scratch.ny[i] = q.y(), scratch.nz[i] = q.z();
+    }
+    const simd::Streams s{scratch.px.data(), scratch.py.data(), scratch.pz.data(), scratch.nx.data(),
+                          scratch.ny.data(), scratch.nz.data(), scratch.r.data(),  scratch.g.data(),
+                          scratch.b.data(),  padded};
+    shade(params, xf, s);
+    for (std::size_t i = 0; i < n; ++i) out[start + i] = Color3(scratch.r[i], scratch.g[i], scratch.b[i]);
+  }
+}
+
+}  // namespace
+
+void PointShader::light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, bool back_side,
+                             Color3* out, SoaScratch& scratch) const {
+  switch (path_) {
+    case LightingPath::reference:
+      lighting::light_mesh(reference_, make_eye_transform<double>(view, model), mesh, back_side, out);
+      return;
+    case LightingPath::scalar:
+      lighting::light_mesh(scalar_, make_eye_transform<float>(view, model), mesh, back_side, out);
+      return;
+    case LightingPath::simd: break;
+  }
+  const EyeTransform<float> e = make_eye_transform<float>(view, model);
+  simd::Transform xf;
+  std::copy(e.position, e.position + 12, xf.position);
+  std::copy(e.normal, e.normal + 9, xf.normal);
+  const float sign = back_side ? -1.0f : 1.0f;
+  run_simd(simd_shade_, simd_params_, &xf, mesh.vertex_count(),
+           [&](std::size_t i, Vec3& p, Vec3& n) {
+             p = mesh.positions[i];
+             n = sign * mesh.normals[i];
+           },
+           out, scratch);
+}
+
+void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out,
+                               SoaScratch& scratch) const {
+  switch (path_) {
+    case LightingPath::reference: lighting::shade_points(reference_, count, p_eye, n_eye, out); return;
+    case LightingPath::scalar: lighting::shade_points(scalar_, count, p_eye, n_eye, out); return;
+    case LightingPath::simd: break;
+  }
+  run_simd(simd_shade_, simd_params_, nullptr, count,
+           [&](std::size_t i, Vec3& p, Vec3& n) {
+             p = p_eye[i];
+             n = n_eye[i];
+           },
+           out, scratch);
+}
+
+}  // namespace facet::lighting

@@ -1,0 +1,59 @@
+// Internal: one material under the scene's lights, prepared once for one lighting path, that
+// lights meshes (model space, Gouraud) and eye-space points (Phong pixels, flat centroids). It
+// hides which path runs; callers own the scratch memory, so one PointShader can serve several
+// threads at once.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "facet/lighting.hpp"
+#include "facet/scene.hpp"
+#include "lighting/shade.hpp"
+#include "lighting/simd_types.hpp"
+
+namespace facet::lighting {
+
+// Structure-of-arrays buffers for the simd path, reused between calls.
+struct SoaScratch {
+  std::vector<float> px, py, pz, nx, ny, nz, r, g, b;
+  void reserve_padded(std::size_t count);
+};
+
+class PointShader {
+ public:
+  // Fails (unsupported) if options.isa is not available on this CPU; nothing else can fail for a
+  // validated scene.
+  Status prepare(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
+                 const LightingOptions& options);
+
+  // Lights mesh vertices through model -> eye; `back_side` lights them with negated normals.
+  void light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, bool back_side, Color3* out,
+                  SoaScratch& scratch) const;
+
+  // Lights `count` eye-space points.
+  void shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out, SoaScratch& scratch) const;
+
+  std::size_t light_count() const;
+
+ private:
+  LightingPath path_ = LightingPath::scalar;
+  ShadeParams<float> scalar_;
+  ShadeParams<double> reference_;
+  std::vector<simd::Light> simd_lights_;
+  simd::Params simd_params_;
+  simd::ShadeFunction simd_shade_ = nullptr;
+};
+
+struct SimdKernels {
+  simd::ShadeFunction shade;
+  simd::PowFunction pow;
+};
+// The kernels of an ISA (Isa::best resolved), or null if this CPU lacks it.
+const SimdKernels* simd_kernels(Isa isa) noexcept;
+
+// The pow method the simd path uses for exponent `s` under `tier` (see PowTier).
+simd::PowSpec resolve_pow(float s, PowTier tier) noexcept;
+
+}  // namespace facet::lighting

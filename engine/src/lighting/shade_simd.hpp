@@ -1,0 +1,144 @@
+// Internal: the lighting model on xsimd batches (one vertex or pixel per lane), the SIMD twin of
+// shade.hpp with the same edge-case rules (see facet/lighting.hpp). Included only by the
+// per-ISA files shade_simd_<isa>.cpp; everything is a template on Arch.
+//
+// Exact sqrt and division everywhere (no rsqrt/rcp approximations, whose low bits differ between
+// CPU vendors). With -mfma the compiler contracts a*b+c, so avx2/avx512 differ from sse2 by ulps.
+#pragma once
+
+#include <xsimd/xsimd.hpp>
+
+#include "fastmath/pow_simd.hpp"
+#include "lighting/simd_types.hpp"
+
+namespace facet::lighting::simd {
+
+template <class B>
+struct V {
+  B x, y, z;
+};
+
+template <class B>
+B dot3(const V<B>& a, const V<B>& b) {
+  return xsimd::fma(a.x, b.x, xsimd::fma(a.y, b.y, a.z * b.z));
+}
+
+template <class B>
+V<B> normalize_or_zero(const V<B>& v) {
+  const B len = xsimd::sqrt(dot3(v, v));
+  const auto ok = (len > B(1e-6f)) && (len <= B(3.4028235e38f));  // NaN and Inf fail
+  const B inv = B(1.0f) / len;
+  return {xsimd::select(ok, v.x * inv, B(0.0f)), xsimd::select(ok, v.y * inv, B(0.0f)),
+          xsimd::select(ok, v.z * inv, B(0.0f))};
+}
+
+template <class B>
+B pow_spec(const B& x, const PowSpec& p) {
+  switch (p.method) {
+    case PowMethod::one: return B(1.0f);
+    case PowMethod::exact: return fastmath::pow_exact(x, p.exponent);
+    case PowMethod::fast: return fastmath::pow_fast(x, p.exponent);
+    case PowMethod::integer: return fastmath::pow_integer(x, p.integer_exponent);
+    case PowMethod::schlick: return fastmath::pow_schlick(x, p.exponent);
+  }
+  return B(1.0f);
+}
+
+template <class Arch>
+void shade_streams(const Params& prm, const Transform* xf, const Streams& s) {
+  using B = xsimd::batch<float, Arch>;
+  constexpr std::size_t lanes = B::size;
+  const B zero(0.0f), one(1.0f);
+  for (std::size_t i = 0; i < s.count; i += lanes) {
+    V<B> p{B::load_unaligned(s.px + i), B::load_unaligned(s.py + i), B::load_unaligned(s.pz + i)};
+    V<B> n{B::load_unaligned(s.nx + i), B::load_unaligned(s.ny + i), B::load_unaligned(s.nz + i)};
+    if (xf) {
+      const float* m = xf->position;
+      const float* q = xf->normal;
+      p = {xsimd::fma(B(m[0]), p.x, xsimd::fma(B(m[1]), p.y, xsimd::fma(B(m[2]), p.z, B(m[3])))),
+           xsimd::fma(B(m[4]), p.x, xsimd::fma(B(m[5]), p.y, xsimd::fma(B(m[6]), p.z, B(m[7])))),
+           xsimd::fma(B(m[8]), p.x, xsimd::fma(B(m[9]), p.y, xsimd::fma(B(m[10]), p.z, B(m[11]))))};
+      n = {xsimd::fma(B(q[0]), n.x, xsimd::fma(B(q[1]), n.y, B(q[2]) * n.z)),
+           xsimd::fma(B(q[3]), n.x, xsimd::fma(B(q[4]), n.y, B(q[5]) * n.z)),
+           xsimd::fma(B(q[6]), n.x, xsimd::fma(B(q[7]), n.y, B(q[8]) * n.z))};
+    }
+    n = normalize_or_zero(n);
+    const V<B> eye = prm.local_viewer ? normalize_or_zero(V<B>{-p.x, -p.y, -p.z}) : V<B>{zero, zero, one};
+    B r(prm.base[0]), g(prm.base[1]), b(prm.base[2]);
+
+    for (int li = 0; li < prm.light_count; ++li) {
+      const Light& L = prm.lights[li];
+      V<B> vp;
+      B att = one;
+      if (L.type == kDirectional) {
+        vp = {B(L.to_light[0]), B(L.to_light[1]), B(L.to_light[2])};
+      } else {
+        const V<B> diff{B(L.position[0]) - p.x, B(L.position[1]) - p.y, B(L.position[2]) - p.z};
+        const B d2 = dot3(diff, diff);
+        const B d = xsimd::sqrt(d2);
+        const auto finite = d <= B(3.4028235e38f);  // NaN/Inf position or distance: no contribution
+        const auto has_dir = d > B(1e-6f);
+        const B inv_d = one / d;
+        vp = {xsimd::select(has_dir, diff.x * inv_d, zero), xsimd::select(has_dir, diff.y * inv_d, zero),
+              xsimd::select(has_dir, diff.z * inv_d, zero)};
+        const B denom = xsimd::fma(B(L.k2), d2, xsimd::fma(B(L.k1), d, B(L.k0)));
+        att = one / xsimd::select(denom > B(1e-6f), denom, B(1e-6f));
+        if (L.inv_range > 0.0f) {
+          const B x = d * B(L.inv_range), x2 = x * x;
+          const B w = fastmath::clamp01(one - x2 * x2);
+          att *= w * w;
+        }
+        if (L.type == kSpot) {
+          const B cos_angle = -dot3(vp, V<B>{B(L.axis[0]), B(L.axis[1]), B(L.axis[2])});
+          B spot;
+          if (!L.smooth_cone) {
+            spot = L.has_cone ? xsimd::select(cos_angle >= B(L.cos_cutoff), pow_spec(cos_angle, L.spot_pow), zero) : one;
+          } else {
+            const B t = L.inv_cone_span > 0.0f ? fastmath::clamp01((cos_angle - B(L.cos_outer)) * B(L.inv_cone_span)) : one;
+            spot = xsimd::select(cos_angle >= B(L.cos_outer), pow_spec(t, L.spot_pow), zero);
+          }
+          att *= spot;
+        }
+        att = xsimd::select(finite, att, zero);
+      }
+      const B n_dot_l = dot3(n, vp);
+      const auto lit = n_dot_l > zero;
+      B sr = B(L.ambient[0]), sg = B(L.ambient[1]), sb = B(L.ambient[2]);
+      if (xsimd::any(lit)) {
+        const B kd = xsimd::select(lit, n_dot_l, zero);
+        sr = xsimd::fma(kd, B(L.diffuse[0]), sr);
+        sg = xsimd::fma(kd, B(L.diffuse[1]), sg);
+        sb = xsimd::fma(kd, B(L.diffuse[2]), sb);
+        if (prm.specular_on) {
+          const V<B> h = normalize_or_zero(V<B>{vp.x + eye.x, vp.y + eye.y, vp.z + eye.z});
+          const B ks = xsimd::select(lit, pow_spec(dot3(n, h), prm.specular_pow), zero);
+          sr = xsimd::fma(ks, B(L.specular[0]), sr);
+          sg = xsimd::fma(ks, B(L.specular[1]), sg);
+          sb = xsimd::fma(ks, B(L.specular[2]), sb);
+        }
+      }
+      r = xsimd::fma(att, sr, r);
+      g = xsimd::fma(att, sg, g);
+      b = xsimd::fma(att, sb, b);
+    }
+    if (prm.clamp) {
+      r = fastmath::clamp01(r), g = fastmath::clamp01(g), b = fastmath::clamp01(b);
+    } else {
+      const B big(3.4028235e38f);
+      r = xsimd::select(r > zero, xsimd::min(r, big), zero);
+      g = xsimd::select(g > zero, xsimd::min(g, big), zero);
+      b = xsimd::select(b > zero, xsimd::min(b, big), zero);
+    }
+    r.store_unaligned(s.r + i);
+    g.store_unaligned(s.g + i);
+    b.store_unaligned(s.b + i);
+  }
+}
+
+template <class Arch>
+void pow_streams(const PowSpec& spec, const float* x, float* out, std::size_t count) {
+  using B = xsimd::batch<float, Arch>;
+  for (std::size_t i = 0; i < count; i += B::size) pow_spec(B::load_unaligned(x + i), spec).store_unaligned(out + i);
+}
+
+}  // namespace facet::lighting::simd

@@ -1,0 +1,15 @@
+// The SIMD lighting kernel for sse2, built with: none (x86-64 baseline) (engine/CMakeLists.txt).
+#if !defined(__SSE2__)
+#error "shade_simd_sse2.cpp must be compiled with its ISA flags"
+#endif
+
+#include "lighting/shade_simd.hpp"
+
+namespace facet::lighting::simd::sse2 {
+void shade(const Params& params, const Transform* xf, const Streams& streams) {
+  shade_streams<xsimd::sse2>(params, xf, streams);
+}
+void pow_array(const PowSpec& spec, const float* x, float* out, std::size_t count) {
+  pow_streams<xsimd::sse2>(spec, x, out, count);
+}
+}  // namespace facet::lighting::simd::sse2

@@ -1,0 +1,80 @@
+// Internal: what the SIMD lighting kernels read. Plain data with no Eigen and no standard-library
+// containers, because the kernels are compiled once per ISA and must not instantiate inline code
+// that the linker could merge across ISA files (shared/design/platform.md, trap 5).
+#pragma once
+
+#include <cstddef>
+
+namespace facet::lighting::simd {
+
+// Widest batch (avx512: 16 floats). Streams are padded to a multiple of it: no tail loops.
+inline constexpr std::size_t kMaxLanes = 16;
+
+inline std::size_t padded(std::size_t n) { return (n + kMaxLanes - 1) / kMaxLanes * kMaxLanes; }
+
+enum class PowMethod : int { one, exact, fast, integer, schlick };
+
+struct PowSpec {
+  PowMethod method = PowMethod::one;
+  float exponent = 0.0f;
+  int integer_exponent = 0;
+};
+
+enum : int { kDirectional = 0, kPoint = 1, kSpot = 2 };
+
+struct Light {
+  int type = kDirectional;
+  float position[3] = {}, to_light[3] = {}, axis[3] = {};
+  float k0 = 1, k1 = 0, k2 = 0, inv_range = 0;
+  int smooth_cone = 0;  // 0: GL cutoff + exponent; 1: inner/outer ramp
+  int has_cone = 0;
+  float cos_cutoff = -1, cos_outer = -1, inv_cone_span = 0;
+  PowSpec spot_pow;
+  float ambient[3] = {}, diffuse[3] = {}, specular[3] = {};  // already times the material's
+};
+
+struct Params {
+  float base[3] = {};  // e_m + a_m a_scene
+  PowSpec specular_pow;
+  int specular_on = 1;  // 0 when the material's specular colour is black
+  int local_viewer = 1;
+  int clamp = 1;
+  const Light* lights = nullptr;
+  int light_count = 0;
+};
+
+// Model -> eye, row-major (3x4 for positions, 3x3 inverse-transpose for normals).
+struct Transform {
+  float position[12];
+  float normal[9];
+};
+
+// Structure-of-arrays streams, `count` a multiple of kMaxLanes. Inputs are model space when a
+// Transform is given, eye space otherwise.
+struct Streams {
+  const float *px, *py, *pz, *nx, *ny, *nz;
+  float *r, *g, *b;
+  std::size_t count;
+};
+
+using ShadeFunction = void (*)(const Params&, const Transform*, const Streams&);
+
+// x^s for `count` (a multiple of kMaxLanes) values with one pow method: the entry the tests use
+// to check each tier on each ISA.
+using PowFunction = void (*)(const PowSpec&, const float* x, float* out, std::size_t count);
+
+// One per ISA file; each is compiled with that ISA's flags.
+namespace sse2 {
+void shade(const Params&, const Transform*, const Streams&);
+void pow_array(const PowSpec&, const float*, float*, std::size_t);
+}  // namespace sse2
+namespace avx2 {
+void shade(const Params&, const Transform*, const Streams&);
+void pow_array(const PowSpec&, const float*, float*, std::size_t);
+}  // namespace avx2
+namespace avx512 {
+void shade(const Params&, const Transform*, const Streams&);
+void pow_array(const PowSpec&, const float*, float*, std::size_t);
+}  // namespace avx512
+
+}  // namespace facet::lighting::simd
