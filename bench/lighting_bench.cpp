@@ -1,6 +1,7 @@
-// Vertex lighting throughput per path: vertices lit per second and vertex-lights per second, for
-// 1, 4 and 8 lights of mixed types, on a mesh that fits in L1/L2 (4,096 vertices) and one that
-// does not (1M vertices, 24 MB of positions and normals in, 12 MB of colours out). One thread.
+// Vertex lighting throughput per path (reference, scalar, simd per ISA and pow tier): vertices lit
+// per second and vertex-lights per second, for 1, 4 and 8 lights of mixed types, on a mesh that
+// fits in L1/L2 (4,096 vertices) and one that does not (1M vertices, 24 MB of positions and
+// normals in, 12 MB of colours out). One thread. ISAs the CPU lacks are reported as skipped.
 //
 //   build/bin/facet_bench_lighting                        # everything
 //   build/bin/facet_bench_lighting --benchmark_filter=scalar/4
@@ -50,12 +51,19 @@ facet::Scene bench_scene(int vertex_count, int light_count) {
   return s;
 }
 
-void BM_Lighting(benchmark::State& state, facet::LightingPath path) {
+void BM_Lighting(benchmark::State& state, facet::LightingPath path, facet::Isa isa = facet::Isa::best,
+                 facet::PowTier tier = facet::PowTier::automatic) {
+  if (path == facet::LightingPath::simd && !facet::isa_supported(isa)) {
+    state.SkipWithError((std::string("this CPU has no ") + facet::to_string(isa)).c_str());
+    return;
+  }
   const int lights = static_cast<int>(state.range(0));
   const facet::Scene scene = bench_scene(static_cast<int>(state.range(1)), lights);
   const auto vertices = static_cast<std::int64_t>(scene.meshes[0].mesh.vertex_count());
   facet::LightingOptions options;
   options.path = path;
+  options.isa = isa;
+  options.pow_tier = tier;
   facet::VertexColors out;
   for (auto _ : state) {
     const facet::Status s = facet::light_instance(scene, 0, options, out);
@@ -70,7 +78,9 @@ void BM_Lighting(benchmark::State& state, facet::LightingPath path) {
   state.counters["vertices_lit/s"] = Counter(static_cast<double>(vertices), Counter::kIsIterationInvariantRate);
   state.counters["vertex_lights/s"] =
       Counter(static_cast<double>(vertices * lights), Counter::kIsIterationInvariantRate);
-  state.SetLabel(std::string(facet::to_string(path)) + ", " + std::to_string(vertices) + " vertices");
+  std::string label = facet::to_string(path);
+  if (path == facet::LightingPath::simd) label += std::string(" ") + facet::to_string(isa) + " pow " + facet::to_string(tier);
+  state.SetLabel(label + ", " + std::to_string(vertices) + " vertices");
 }
 
 void lighting_args(benchmark::internal::Benchmark* b) {
@@ -82,6 +92,14 @@ void lighting_args(benchmark::internal::Benchmark* b) {
 
 BENCHMARK_CAPTURE(BM_Lighting, reference, facet::LightingPath::reference)->Apply(lighting_args);
 BENCHMARK_CAPTURE(BM_Lighting, scalar, facet::LightingPath::scalar)->Apply(lighting_args);
+BENCHMARK_CAPTURE(BM_Lighting, simd_sse2, facet::LightingPath::simd, facet::Isa::sse2)->Apply(lighting_args);
+BENCHMARK_CAPTURE(BM_Lighting, simd_avx2, facet::LightingPath::simd, facet::Isa::avx2)->Apply(lighting_args);
+BENCHMARK_CAPTURE(BM_Lighting, simd_avx512, facet::LightingPath::simd, facet::Isa::avx512)->Apply(lighting_args);
+// The pow tiers on the best ISA (the material's shininess 48 is whole: auto picks integer).
+BENCHMARK_CAPTURE(BM_Lighting, simd_best_exact, facet::LightingPath::simd, facet::Isa::best, facet::PowTier::exact)
+    ->Apply(lighting_args);
+BENCHMARK_CAPTURE(BM_Lighting, simd_best_fast, facet::LightingPath::simd, facet::Isa::best, facet::PowTier::fast)
+    ->Apply(lighting_args);
 
 }  // namespace
 

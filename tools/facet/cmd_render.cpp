@@ -27,6 +27,7 @@ constexpr const char* kRenderUsage =
     "  --cull C               back | front | none (default back)\n"
     "  --tile N               tile size in pixels, a multiple of 8 in [8, 256] (default 64)\n"
     "  --hdr                  keep unclamped lighting in .pfm output\n"
+    "  --no-light-culling     light every object with every enabled light (turn the frame plan off)\n"
     "  --depth FILE.pfm       also write window-space depth (0 near .. 1 far)\n"
     "  --seconds S            render repeatedly for at least S seconds; report the mean frame time\n"
     "  --stats                print what the frame did and how long each stage took\n"
@@ -56,7 +57,10 @@ void print_stats_text(const FrameStats& s, int frames, double seconds) {
               (unsigned long long)s.triangles_clipped, (unsigned long long)s.triangles_degenerate,
               (unsigned long long)s.triangles_small,
               (unsigned long long)s.triangles_nonfinite, (unsigned long long)s.bin_entries);
-  std::printf("  lighting    %llu evaluations (vertices, centroids or pixels)\n", (unsigned long long)s.vertices_lit);
+  std::printf("  lighting    %llu evaluations (vertices, centroids or pixels); %llu vertex-light pairs evaluated, "
+              "%llu skipped by the frame plan\n",
+              (unsigned long long)s.vertices_lit, (unsigned long long)s.vertex_lights_evaluated,
+              (unsigned long long)s.vertex_lights_skipped);
   std::printf("  pixels      %llu tested, %llu filled\n", (unsigned long long)s.pixels_tested,
               (unsigned long long)s.pixels_filled);
   std::printf("  time (ms)   lighting %.3f, geometry %.3f, raster %.3f, resolve %.3f, frame %.3f\n",
@@ -75,6 +79,7 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               "\"triangles_outside\": %llu, \"triangles_clipped\": %llu, \"triangles_degenerate\": %llu, "
               "\"triangles_small\": %llu, "
               "\"triangles_nonfinite\": %llu, \"bin_entries\": %llu, \"vertices_lit\": %llu, "
+              "\"vertex_lights_evaluated\": %llu, \"vertex_lights_skipped\": %llu, "
               "\"pixels_tested\": %llu, \"pixels_filled\": %llu, \"seconds_lighting\": %.6g, "
               "\"seconds_geometry\": %.6g, \"seconds_raster\": %.6g, \"seconds_resolve\": %.6g, "
               "\"seconds_frame\": %.6g, \"frames\": %d, \"mean_seconds_per_frame\": %.6g, "
@@ -84,8 +89,8 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               (unsigned long long)s.triangles_outside, (unsigned long long)s.triangles_clipped,
               (unsigned long long)s.triangles_degenerate, (unsigned long long)s.triangles_small,
               (unsigned long long)s.triangles_nonfinite, (unsigned long long)s.bin_entries,
-              (unsigned long long)s.vertices_lit,
-              (unsigned long long)s.pixels_tested, (unsigned long long)s.pixels_filled, s.seconds_lighting,
+              (unsigned long long)s.vertices_lit, (unsigned long long)s.vertex_lights_evaluated,
+              (unsigned long long)s.vertex_lights_skipped, (unsigned long long)s.pixels_tested, (unsigned long long)s.pixels_filled, s.seconds_lighting,
               s.seconds_geometry, s.seconds_raster, s.seconds_resolve, s.seconds_total, frames, per_frame,
               double(s.vertices_lit) / per_frame, double(s.pixels_filled) / per_frame);
 }
@@ -159,6 +164,8 @@ int run_render(int argc, char** argv) {
       options.tile_size = *v;
     } else if (arg == "--hdr") {
       options.hdr = true;
+    } else if (arg == "--no-light-culling") {
+      options.cull_lights = false;
     } else if (arg == "--depth") {
       const auto v = args.value(arg);
       if (!v) return 2;

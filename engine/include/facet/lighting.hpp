@@ -50,6 +50,9 @@ struct LightingOptions {
   Isa isa = Isa::best;                     // simd path only
   PowTier pow_tier = PowTier::automatic;   // simd path only
   bool clamp = true;  // clamp each channel to [0, 1]; false keeps HDR values (still >= 0)
+  // The frame plan: per object, skip the lights that cannot reach its bounding sphere (range
+  // window) or whose contributions there add up to less than half an 8-bit step. See README.
+  bool cull_lights = true;
 };
 
 // Colours of one instance's vertices. `back` is filled only for two-sided scenes: the same

@@ -37,6 +37,7 @@ struct RenderOptions {
   int tile_size = 64;  // pixels; 8..256, a multiple of 8
   std::array<float, 4> clear_color{0.0f, 0.0f, 0.0f, 1.0f};
   bool hdr = false;  // RGBA32F output keeps unclamped (>= 0) lighting; 8-bit output is always clamped
+  bool cull_lights = true;  // the frame plan's per-object light culling (LightingOptions::cull_lights)
 };
 
 struct FrameStats {
@@ -50,6 +51,8 @@ struct FrameStats {
   std::uint64_t triangles_drawn = 0;      // pieces set up and binned
   std::uint64_t bin_entries = 0;          // (triangle, tile) pairs
   std::uint64_t vertices_lit = 0;         // lighting evaluations: vertices, centroids or pixels
+  std::uint64_t vertex_lights_evaluated = 0;  // (evaluation, light) pairs computed
+  std::uint64_t vertex_lights_skipped = 0;    // pairs the frame plan skipped (lights culled per object)
   std::uint64_t pixels_tested = 0;        // covered pixels that were depth-tested
   std::uint64_t pixels_filled = 0;        // pixels that passed and were written
   double seconds_lighting = 0;  // vertex lighting (Gouraud) or centroid lighting (flat)

@@ -71,9 +71,10 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
   try {
     const Instance& inst = scene.objects[instance];
     const Eigen::Matrix4d view = look_at_d(scene.camera);
-    lighting::PointShader shader;
-    if (Status s = shader.prepare(scene, view, scene.materials[inst.material], options); !s.ok()) return s;
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model);
+    lighting::PointShader shader;
+    if (Status s = shader.prepare(scene, view, scene.materials[inst.material], options, &bounds); !s.ok()) return s;
     lighting::SoaScratch scratch;
     out.front.resize(mesh.vertex_count());
     shader.light_mesh(mesh, view, inst.model, false, out.front.data(), scratch);

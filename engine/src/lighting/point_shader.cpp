@@ -79,11 +79,19 @@ simd::Light to_simd(const EyeLight<float>& L, PowTier tier) {
 }  // namespace
 
 Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
-                            const LightingOptions& options) {
+                            const LightingOptions& options, const EyeSphere* bounds) {
   path_ = options.path;
+  // The frame plan decides once, in double, for every path, so all paths light the same lights.
+  reference_ = make_shade_params<double>(scene, view, material, options.clamp);
+  std::vector<bool> drop(reference_.lights.size(), false);
+  if (bounds && options.cull_lights) drop = lights_to_drop(reference_, *bounds, kLightCullBudget);
+  culled_ = remove_lights(reference_, drop);
   switch (path_) {
-    case LightingPath::reference: reference_ = make_shade_params<double>(scene, view, material, options.clamp); break;
-    case LightingPath::scalar: scalar_ = make_shade_params<float>(scene, view, material, options.clamp); break;
+    case LightingPath::reference: break;
+    case LightingPath::scalar:
+      scalar_ = make_shade_params<float>(scene, view, material, options.clamp);
+      remove_lights(scalar_, drop);
+      break;
     case LightingPath::simd: {
       const SimdKernels* kernels = simd_kernels(options.isa);
       if (!kernels) {
@@ -93,6 +101,7 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
       }
       simd_shade_ = kernels->shade;
       scalar_ = make_shade_params<float>(scene, view, material, options.clamp);
+      remove_lights(scalar_, drop);
       simd_lights_.clear();
       for (const auto& L : scalar_.lights) simd_lights_.push_back(to_simd(L, options.pow_tier));
       simd::Params& p = simd_params_;

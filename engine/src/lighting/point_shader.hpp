@@ -10,6 +10,7 @@
 
 #include "facet/lighting.hpp"
 #include "facet/scene.hpp"
+#include "lighting/setup.hpp"
 #include "lighting/shade.hpp"
 #include "lighting/simd_types.hpp"
 
@@ -24,9 +25,10 @@ struct SoaScratch {
 class PointShader {
  public:
   // Fails (unsupported) if options.isa is not available on this CPU; nothing else can fail for a
-  // validated scene.
+  // validated scene. With `bounds` (and options.cull_lights) the frame plan drops the lights that
+  // cannot reach them (see lights_to_drop).
   Status prepare(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
-                 const LightingOptions& options);
+                 const LightingOptions& options, const EyeSphere* bounds = nullptr);
 
   // Lights mesh vertices through model -> eye; `back_side` lights them with negated normals.
   void light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, bool back_side, Color3* out,
@@ -35,7 +37,8 @@ class PointShader {
   // Lights `count` eye-space points.
   void shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out, SoaScratch& scratch) const;
 
-  std::size_t light_count() const;
+  std::size_t light_count() const;    // lights evaluated per point
+  std::size_t culled_lights() const { return culled_; }  // enabled lights the frame plan dropped
 
  private:
   LightingPath path_ = LightingPath::scalar;
@@ -44,6 +47,7 @@ class PointShader {
   std::vector<simd::Light> simd_lights_;
   simd::Params simd_params_;
   simd::ShadeFunction simd_shade_ = nullptr;
+  std::size_t culled_ = 0;
 };
 
 struct SimdKernels {

@@ -1,5 +1,6 @@
 #include "lighting/setup.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -79,6 +80,69 @@ EyeTransform<T> make_eye_transform(const Eigen::Matrix4d& view, const Mat4& mode
   return xf;
 }
 
+EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model) {
+  // Centre of the model-space box, radius to its farthest finite vertex; then into eye space,
+  // with the radius scaled by the Frobenius norm of the linear part (>= its largest stretch).
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo;
+  for (const Vec3& p : mesh.positions) {
+    if (!p.allFinite()) continue;
+    lo = lo.cwiseMin(p.cast<double>());
+    hi = hi.cwiseMax(p.cast<double>());
+  }
+  if (!(lo.x() <= hi.x())) return {Eigen::Vector3d::Zero(), 0.0};  // no finite vertex
+  const Eigen::Vector3d c = 0.5 * (lo + hi);
+  double r2 = 0;
+  for (const Vec3& p : mesh.positions)
+    if (p.allFinite()) r2 = std::max(r2, (p.cast<double>() - c).squaredNorm());
+  const Eigen::Matrix4d mv = view * model.cast<double>();
+  return {(mv * c.homogeneous()).head<3>(), std::sqrt(r2) * mv.topLeftCorner<3, 3>().norm() * (1 + 1e-9)};
+}
+
+std::vector<bool> lights_to_drop(const ShadeParams<double>& params, const EyeSphere& sphere, double budget) {
+  struct Candidate {
+    std::size_t index;
+    double bound;  // largest contribution, per channel
+  };
+  std::vector<Candidate> candidates;
+  std::vector<bool> drop(params.lights.size(), false);
+  for (std::size_t i = 0; i < params.lights.size(); ++i) {
+    const EyeLight<double>& L = params.lights[i];
+    if (L.type == LightType::directional) continue;
+    const Eigen::Vector3d pos(L.position.x, L.position.y, L.position.z);
+    const double d_min = std::max(0.0, (pos - sphere.centre).norm() - sphere.radius);
+    if (L.inv_range > 0.0 && d_min * L.inv_range >= 1.0) {
+      drop[i] = true;
+      continue;
+    }
+    const double denom = std::max(L.k0 + L.k1 * d_min + L.k2 * d_min * d_min, 1e-6);
+    const double colour = std::max({L.ambient.x + L.diffuse.x + L.specular.x, L.ambient.y + L.diffuse.y + L.specular.y,
+                                    L.ambient.z + L.diffuse.z + L.specular.z});
+    candidates.push_back({i, colour / denom});
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+    return a.bound < b.bound || (a.bound == b.bound && a.index < b.index);
+  });
+  double spent = 0;
+  for (const Candidate& c : candidates) {
+    if (spent + c.bound >= budget) break;
+    spent += c.bound;
+    drop[c.index] = true;
+  }
+  return drop;
+}
+
+template <class T>
+std::size_t remove_lights(ShadeParams<T>& params, const std::vector<bool>& drop) {
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < params.lights.size(); ++i)
+    if (!drop[i]) params.lights[kept++] = params.lights[i];
+  const std::size_t removed = params.lights.size() - kept;
+  params.lights.resize(kept);
+  return removed;
+}
+
+template std::size_t remove_lights<double>(ShadeParams<double>&, const std::vector<bool>&);
+template std::size_t remove_lights<float>(ShadeParams<float>&, const std::vector<bool>&);
 template ShadeParams<double> make_shade_params<double>(const Scene&, const Eigen::Matrix4d&, const Material&, bool);
 template ShadeParams<float> make_shade_params<float>(const Scene&, const Eigen::Matrix4d&, const Material&, bool);
 template EyeTransform<double> make_eye_transform<double>(const Eigen::Matrix4d&, const Mat4&);

@@ -2,10 +2,13 @@
 // the scene's float data and then rounded once to the kernel's precision T.
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "facet/lighting.hpp"
 #include "facet/scene.hpp"
+#include "facet/mesh.hpp"
 #include "lighting/shade.hpp"
 
 namespace facet::lighting {
@@ -16,5 +19,27 @@ ShadeParams<T> make_shade_params(const Scene& scene, const Eigen::Matrix4d& view
 
 template <class T>
 EyeTransform<T> make_eye_transform(const Eigen::Matrix4d& view, const Mat4& model);
+
+// An object's bounds in eye space: every vertex lies within `radius` of `centre`.
+struct EyeSphere {
+  Eigen::Vector3d centre;
+  double radius;
+};
+EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model);
+
+// The frame plan's light culling for one object, decided once (in double) for every path: marks
+// the point and spot lights that cannot reach the sphere (range window: exactly zero there) and
+// then, smallest bound first, lights whose largest possible contribution there is so small that
+// all marked ones together stay below `budget` per channel:
+//   contribution <= att(d_min) * max_channel(a_m a_i + d_m d_i + s_m s_i)
+// since n.l, spot factors and pow are <= 1, with d_min the sphere's closest approach.
+std::vector<bool> lights_to_drop(const ShadeParams<double>& params, const EyeSphere& sphere, double budget);
+
+// Removes the marked lights (same order as params.lights); returns how many.
+template <class T>
+std::size_t remove_lights(ShadeParams<T>& params, const std::vector<bool>& drop);
+
+// Half a step of 8-bit output: what the frame plan allows the removed lights to add up to.
+inline constexpr double kLightCullBudget = 0.5 / 255.0;
 
 }  // namespace facet::lighting

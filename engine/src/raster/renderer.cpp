@@ -163,6 +163,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   lighting.isa = options.isa;
   lighting.pow_tier = options.pow_tier;
   lighting.clamp = !(options.hdr && color.format == PixelFormat::rgba32f);
+  lighting.cull_lights = options.cull_lights;
 
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     const Instance& inst = scene.objects[o];
@@ -191,6 +192,8 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   stats.pixels_tested = counters.tested;
   stats.pixels_filled = counters.filled;
   stats.vertices_lit += counters.shaded;
+  stats.vertex_lights_evaluated += counters.light_pairs;
+  stats.vertex_lights_skipped += counters.skipped_pairs;
   stats.seconds_total = seconds_since(frame_start);
 }
 
@@ -201,8 +204,14 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   const std::size_t n = mesh.vertex_count();
   const auto lighting_start = Clock::now();
   lighting::PointShader& shader = shaders[object];
+  const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model);
   // Options were checked in render(), so preparing cannot fail here.
-  (void)shader.prepare(scene, view, scene.materials[inst.material], lighting);
+  (void)shader.prepare(scene, view, scene.materials[inst.material], lighting, &bounds);
+  auto count_pairs = [&](std::size_t evaluations) {
+    stats.vertices_lit += evaluations;
+    stats.vertex_lights_evaluated += evaluations * shader.light_count();
+    stats.vertex_lights_skipped += evaluations * shader.culled_lights();
+  };
 
   // Clip-space positions.
   const Mat4Rows mvp = to_rows(proj * view * inst.model.cast<double>());
@@ -222,7 +231,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       back.resize(n);
       shader.light_mesh(mesh, view, inst.model, true, back.data(), scratch);
     }
-    stats.vertices_lit += n * (two_sided ? 2 : 1);
+    count_pairs(n * (two_sided ? 2 : 1));
     stats.seconds_lighting += seconds_since(lighting_start);
     return;
   }
@@ -261,7 +270,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       for (auto& fn : face_normal) fn = -fn;
       shade(back);
     }
-    stats.vertices_lit += t_count * (two_sided ? 2 : 1);
+    count_pairs(t_count * (two_sided ? 2 : 1));
   }
   stats.seconds_lighting += seconds_since(lighting_start);
 }

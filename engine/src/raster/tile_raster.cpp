@@ -40,6 +40,8 @@ class PixelBatch {
       c[3] = alpha;
     }
     counters.shaded += static_cast<std::uint64_t>(count_);
+    counters.light_pairs += static_cast<std::uint64_t>(count_) * shader.light_count();
+    counters.skipped_pairs += static_cast<std::uint64_t>(count_) * shader.culled_lights();
     count_ = 0;
   }
 

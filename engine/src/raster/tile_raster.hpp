@@ -33,6 +33,7 @@ struct RasterJob {
 
 struct RasterCounters {
   std::uint64_t tested = 0, filled = 0, shaded = 0;
+  std::uint64_t light_pairs = 0, skipped_pairs = 0;  // per-pixel (Phong) lighting
 };
 
 void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, const TileRect& rect,
