@@ -196,6 +196,13 @@ TEST_P(SimdRandom, MatchesReference) {
   EXPECT_EQ(c.nan_count, 0u);
   EXPECT_EQ(c.out_of_range, 0u);
   EXPECT_LE(c.max_delta8, 1) << "8-bit output differs by more than one step";
+  if (tier == PowTier::exact) {
+    // The exact tier evaluates pow through 1 - cos (pow_cos_exact), so the exponent no longer
+    // multiplies rounding (7.7e-6 -> 2.7e-6 at s <= 256). What remains is float rounding of
+    // the eye-space transform and of the sums over 8 lights: measured 2.5e-6..3.4e-6 over
+    // seeds and shininess ranges. (The 2e-6 would need double-precision transforms.)
+    EXPECT_LE(c.max_error, 4e-6);
+  }
   std::printf("simd %s, pow %s vs reference: max |error| %.3g, max 8-bit difference %d\n", to_string(isa),
               to_string(tier), c.max_error, c.max_delta8);
 }
