@@ -16,7 +16,7 @@ namespace {
 
 // `vertex_count` vertices on a sphere in front of the camera, lit by `light_count` lights that
 // cycle through point (with attenuation), GL spot, directional and smooth spot.
-facet::Scene bench_scene(int vertex_count, int light_count) {
+facet::Scene bench_scene(int vertex_count, int light_count, bool points_only = false) {
   using facet::Vec3;
   facet::Scene s;
   const int rings = std::max(2, static_cast<int>(std::sqrt(vertex_count / 2.0)));
@@ -34,7 +34,7 @@ facet::Scene bench_scene(int vertex_count, int light_count) {
     facet::Light l;
     l.position = Vec3(u(rng), u(rng), 3.0f + u(rng));
     l.direction = -l.position;
-    switch (i % 4) {
+    switch (points_only ? 0 : i % 4) {
       case 0: l.type = facet::LightType::point; l.linear_attenuation = 0.1f; l.quadratic_attenuation = 0.02f; break;
       case 1: l.type = facet::LightType::spot; l.spot_cutoff_deg = 40; l.spot_exponent = 6; break;
       case 2: l.type = facet::LightType::directional; break;
@@ -52,13 +52,13 @@ facet::Scene bench_scene(int vertex_count, int light_count) {
 }
 
 void BM_Lighting(benchmark::State& state, facet::LightingPath path, facet::Isa isa = facet::Isa::best,
-                 facet::PowTier tier = facet::PowTier::automatic) {
+                 facet::PowTier tier = facet::PowTier::automatic, bool points_only = false) {
   if (path == facet::LightingPath::simd && !facet::isa_supported(isa)) {
     state.SkipWithError((std::string("this CPU has no ") + facet::to_string(isa)).c_str());
     return;
   }
   const int lights = static_cast<int>(state.range(0));
-  const facet::Scene scene = bench_scene(static_cast<int>(state.range(1)), lights);
+  const facet::Scene scene = bench_scene(static_cast<int>(state.range(1)), lights, points_only);
   const auto vertices = static_cast<std::int64_t>(scene.meshes[0].mesh.vertex_count());
   facet::LightingOptions options;
   options.path = path;
@@ -100,6 +100,14 @@ BENCHMARK_CAPTURE(BM_Lighting, simd_best_exact, facet::LightingPath::simd, facet
     ->Apply(lighting_args);
 BENCHMARK_CAPTURE(BM_Lighting, simd_best_fast, facet::LightingPath::simd, facet::Isa::best, facet::PowTier::fast)
     ->Apply(lighting_args);
+// The configuration of shared/design/targets.md: point lights with attenuation only.
+void point_args(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"point_lights", "vertices"})->Args({4, 1 << 16})->Args({4, 1 << 20})->Unit(benchmark::kMillisecond);
+}
+BENCHMARK_CAPTURE(BM_Lighting, points_scalar, facet::LightingPath::scalar, facet::Isa::best, facet::PowTier::automatic,
+                  true)->Apply(point_args);
+BENCHMARK_CAPTURE(BM_Lighting, points_simd_best, facet::LightingPath::simd, facet::Isa::best,
+                  facet::PowTier::automatic, true)->Apply(point_args);
 
 }  // namespace
 
