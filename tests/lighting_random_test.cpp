@@ -207,6 +207,29 @@ TEST_P(SimdRandom, MatchesReference) {
               to_string(tier), c.max_error, c.max_delta8);
 }
 
+TEST_P(SimdRandom, MatchesScalar) {
+  const auto [isa, tier] = GetParam();
+  if (!isa_supported(isa)) GTEST_SKIP() << "this CPU has no " << to_string(isa);
+  RandomScene gen(424242);
+  const Scene scene = gen.scene(10, 10000, 256.0f);
+  LightingOptions simd, scalar;
+  simd.path = LightingPath::simd;
+  simd.isa = isa;
+  simd.pow_tier = tier;
+  scalar.path = LightingPath::scalar;
+  int worst = 0;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    VertexColors a, b;
+    ASSERT_TRUE(light_instance(scene, i, simd, a).ok());
+    ASSERT_TRUE(light_instance(scene, i, scalar, b).ok());
+    for (std::size_t v = 0; v < a.front.size(); ++v)
+      for (int ch = 0; ch < 3; ++ch)
+        worst = std::max<int>(worst, std::abs(int(std::lround(255.0f * a.front[v][ch])) -
+                                              int(std::lround(255.0f * b.front[v][ch]))));
+  }
+  EXPECT_LE(worst, 1);
+}
+
 INSTANTIATE_TEST_SUITE_P(
     IsaAndTier, SimdRandom,
     ::testing::Values(SimdCase{Isa::sse2, PowTier::automatic}, SimdCase{Isa::sse2, PowTier::fast},
