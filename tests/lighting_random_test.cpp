@@ -197,11 +197,11 @@ TEST_P(SimdRandom, MatchesReference) {
   EXPECT_EQ(c.out_of_range, 0u);
   EXPECT_LE(c.max_delta8, 1) << "8-bit output differs by more than one step";
   if (tier == PowTier::exact) {
-    // The exact tier evaluates pow through 1 - cos (pow_cos_exact), so the exponent no longer
-    // multiplies rounding (7.7e-6 -> 2.7e-6 at s <= 256). What remains is float rounding of
-    // the eye-space transform and of the sums over 8 lights: measured 2.5e-6..3.4e-6 over
-    // seeds and shininess ranges. (The 2e-6 would need double-precision transforms.)
-    EXPECT_LE(c.max_error, 4e-6);
+    // The exact tier raises cosines through 1 - cos (pow_cos_exact) and takes light - vertex in
+    // model space (Params::model_space_differences): 7.7e-6 -> 1.07e-6 (sse2) / 2.15e-6 (avx2).
+    // What remains is the model-view and normal matrices rounded to float (~1.5e-7 rad on the
+    // directions) multiplied by the exponent; the target of 2e-6 is met on sse2, not on avx2.
+    EXPECT_LE(c.max_error, 2.5e-6);
   }
   std::printf("simd %s, pow %s vs reference: max |error| %.3g, max 8-bit difference %d\n", to_string(isa),
               to_string(tier), c.max_error, c.max_delta8);

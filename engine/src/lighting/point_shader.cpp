@@ -110,6 +110,7 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
       p.specular_on = material.specular.isZero() ? 0 : 1;
       p.local_viewer = scalar_.local_viewer ? 1 : 0;
       p.clamp = options.clamp ? 1 : 0;
+      p.model_space_differences = options.pow_tier == PowTier::exact ? 1 : 0;
       p.lights = simd_lights_.data();
       p.light_count = static_cast<int>(simd_lights_.size());
       break;
@@ -170,7 +171,20 @@ void PointShader::light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, cons
   std::copy(e.position, e.position + 12, xf.position);
   std::copy(e.normal, e.normal + 9, xf.normal);
   const float sign = back_side ? -1.0f : 1.0f;
-  run_simd(simd_shade_, simd_params_, &xf, mesh.vertex_count(),
+  simd::Params params = simd_params_;
+  if (params.model_space_differences) {
+    // Light positions in this object's model space, from the double-precision model-view.
+    const Eigen::Matrix4d inverse = (view * model.cast<double>()).inverse();
+    // reference_ holds the same lights, in the same order, in double precision.
+    scratch.lights.assign(simd_lights_.begin(), simd_lights_.end());
+    for (std::size_t i = 0; i < scratch.lights.size(); ++i) {
+      const V3<double>& eye_pos = reference_.lights[i].position;
+      const Eigen::Vector4d m = inverse * Eigen::Vector4d(eye_pos.x, eye_pos.y, eye_pos.z, 1.0);
+      for (int k = 0; k < 3; ++k) scratch.lights[i].model_position[k] = static_cast<float>(m[k]);
+    }
+    params.lights = scratch.lights.data();
+  }
+  run_simd(simd_shade_, params, &xf, mesh.vertex_count(),
            [&](std::size_t i, Vec3& p, Vec3& n) {
              p = mesh.positions[i];
              n = sign * mesh.normals[i];

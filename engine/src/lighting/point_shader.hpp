@@ -19,6 +19,7 @@ namespace facet::lighting {
 // Structure-of-arrays buffers for the simd path, reused between calls.
 struct SoaScratch {
   std::vector<float> px, py, pz, nx, ny, nz, r, g, b;
+  std::vector<simd::Light> lights;  // per-object copies (model-space light positions)
   void reserve_padded(std::size_t count);
 };
 

@@ -71,6 +71,8 @@ void shade_streams(const Params& prm, const Transform* xf, const Streams& s) {
   for (std::size_t i = 0; i < s.count; i += lanes) {
     V<B> p{B::load_unaligned(s.px + i), B::load_unaligned(s.py + i), B::load_unaligned(s.pz + i)};
     V<B> n{B::load_unaligned(s.nx + i), B::load_unaligned(s.ny + i), B::load_unaligned(s.nz + i)};
+    const V<B> p_model = p;
+    const bool model_diffs = xf && prm.model_space_differences;
     if (xf) {
       const float* m = xf->position;
       const float* q = xf->normal;
@@ -92,7 +94,15 @@ void shade_streams(const Params& prm, const Transform* xf, const Streams& s) {
       if (L.type == kDirectional) {
         vp = {B(L.to_light[0]), B(L.to_light[1]), B(L.to_light[2])};
       } else {
-        const V<B> diff{B(L.position[0]) - p.x, B(L.position[1]) - p.y, B(L.position[2]) - p.z};
+        V<B> diff{B(L.position[0]) - p.x, B(L.position[1]) - p.y, B(L.position[2]) - p.z};
+        if (model_diffs) {
+          const float* m = xf->position;
+          const V<B> dm{B(L.model_position[0]) - p_model.x, B(L.model_position[1]) - p_model.y,
+                        B(L.model_position[2]) - p_model.z};
+          diff = {xsimd::fma(B(m[0]), dm.x, xsimd::fma(B(m[1]), dm.y, B(m[2]) * dm.z)),
+                  xsimd::fma(B(m[4]), dm.x, xsimd::fma(B(m[5]), dm.y, B(m[6]) * dm.z)),
+                  xsimd::fma(B(m[8]), dm.x, xsimd::fma(B(m[9]), dm.y, B(m[10]) * dm.z))};
+        }
         const B d2 = dot3(diff, diff);
         const B d = xsimd::sqrt(d2);
         const auto finite = d <= B(3.4028235e38f);  // NaN/Inf position or distance: no contribution

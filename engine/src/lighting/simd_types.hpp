@@ -31,6 +31,7 @@ struct Light {
   float cos_cutoff = -1, cos_outer = -1, inv_cone_span = 0;
   PowSpec spot_pow;
   float ambient[3] = {}, diffuse[3] = {}, specular[3] = {};  // already times the material's
+  float model_position[3] = {};  // point/spot position in the object's model space (see Params)
 };
 
 struct Params {
@@ -39,6 +40,10 @@ struct Params {
   int specular_on = 1;  // 0 when the material's specular colour is black
   int local_viewer = 1;
   int clamp = 1;
+  // With a Transform: take light - vertex in model space (where the vertex position is exact)
+  // and transform the difference, instead of subtracting two eye-space positions that each carry
+  // ~1e-7 of |position| in rounding (which a nearby light turns into a large direction error).
+  int model_space_differences = 0;
   const Light* lights = nullptr;
   int light_count = 0;
 };
