@@ -2,8 +2,8 @@
 // integer edge functions (top-left rule), depth-test, shade (flat / Gouraud / Phong) and resolve
 // into the caller's ImageView. See README "Rasterization" for the exact rules.
 //
-// A Renderer owns its scratch memory (reused from frame to frame); one Renderer renders one frame
-// at a time. Different Renderers are independent.
+// A Renderer owns its scratch memory (reused from frame to frame) and its threads (a
+// tbb::task_arena); one Renderer renders one frame at a time. Different Renderers are independent.
 #pragma once
 
 #include <array>
@@ -35,6 +35,9 @@ struct RenderOptions {
   // culled by CullMode::back: they are drawn with their back-side lighting.
   CullMode cull = CullMode::back;
   int tile_size = 64;  // pixels; 8..256, a multiple of 8
+  // Worker threads of this renderer (its own tbb::task_arena; process-wide TBB settings are
+  // never touched): 0 = all cores, otherwise 1..256. The image is byte-identical for any value.
+  int threads = 0;
   std::array<float, 4> clear_color{0.0f, 0.0f, 0.0f, 1.0f};
   bool hdr = false;  // RGBA32F output keeps unclamped (>= 0) lighting; 8-bit output is always clamped
   bool cull_lights = true;  // the frame plan's per-object light culling (LightingOptions::cull_lights)
@@ -57,8 +60,9 @@ struct FrameStats {
   std::uint64_t pixels_filled = 0;        // pixels that passed and were written
   double seconds_lighting = 0;  // vertex lighting (Gouraud) or centroid lighting (flat)
   double seconds_geometry = 0;  // transform, clip, project, set up, bin
-  double seconds_raster = 0;    // coverage, depth, interpolation, per-pixel lighting (Phong)
-  double seconds_resolve = 0;   // tile buffers into the caller's image
+  double seconds_raster = 0;    // wall time of the tile loop: coverage, depth, shading, resolve (all threads)
+  double seconds_resolve = 0;   // of which resolving tiles into the caller's image, summed over threads
+  int threads = 0;              // worker threads used
   double seconds_total = 0;
 };
 

@@ -77,10 +77,10 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
     if (Status s = shader.prepare(scene, view, scene.materials[inst.material], options, &bounds); !s.ok()) return s;
     lighting::SoaScratch scratch;
     out.front.resize(mesh.vertex_count());
-    shader.light_mesh(mesh, view, inst.model, false, out.front.data(), scratch);
+    shader.light_mesh(mesh, view, inst.model, false, 0, mesh.vertex_count(), out.front.data(), scratch);
     if (scene.two_sided) {
       out.back.resize(mesh.vertex_count());
-      shader.light_mesh(mesh, view, inst.model, true, out.back.data(), scratch);
+      shader.light_mesh(mesh, view, inst.model, true, 0, mesh.vertex_count(), out.back.data(), scratch);
     } else {
       out.back.clear();
     }

@@ -2,6 +2,7 @@
 #include "lighting/shade.hpp"
 
 namespace facet::lighting {
-template void light_mesh<double>(const ShadeParams<double>&, const EyeTransform<double>&, const Mesh&, bool, Color3*);
+template void light_mesh<double>(const ShadeParams<double>&, const EyeTransform<double>&, const Mesh&, bool, std::size_t,
+                                 std::size_t, Color3*);
 template void shade_points<double>(const ShadeParams<double>&, std::size_t, const Vec3*, const Vec3*, Color3*);
 }  // namespace facet::lighting

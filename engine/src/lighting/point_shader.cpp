@@ -156,13 +156,13 @@ void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd:
 }  // namespace
 
 void PointShader::light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, bool back_side,
-                             Color3* out, SoaScratch& scratch) const {
+                             std::size_t begin, std::size_t end, Color3* out, SoaScratch& scratch) const {
   switch (path_) {
     case LightingPath::reference:
-      lighting::light_mesh(reference_, make_eye_transform<double>(view, model), mesh, back_side, out);
+      lighting::light_mesh(reference_, make_eye_transform<double>(view, model), mesh, back_side, begin, end, out);
       return;
     case LightingPath::scalar:
-      lighting::light_mesh(scalar_, make_eye_transform<float>(view, model), mesh, back_side, out);
+      lighting::light_mesh(scalar_, make_eye_transform<float>(view, model), mesh, back_side, begin, end, out);
       return;
     case LightingPath::simd: break;
   }
@@ -184,12 +184,12 @@ void PointShader::light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, cons
     }
     params.lights = scratch.lights.data();
   }
-  run_simd(simd_shade_, params, &xf, mesh.vertex_count(),
+  run_simd(simd_shade_, params, &xf, end - begin,
            [&](std::size_t i, Vec3& p, Vec3& n) {
-             p = mesh.positions[i];
-             n = sign * mesh.normals[i];
+             p = mesh.positions[begin + i];
+             n = sign * mesh.normals[begin + i];
            },
-           out, scratch);
+           out + begin, scratch);
 }
 
 void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out,

@@ -31,9 +31,11 @@ class PointShader {
   Status prepare(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
                  const LightingOptions& options, const EyeSphere* bounds = nullptr);
 
-  // Lights mesh vertices through model -> eye; `back_side` lights them with negated normals.
-  void light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, bool back_side, Color3* out,
-                  SoaScratch& scratch) const;
+  // Lights mesh vertices [begin, end) through model -> eye into out[begin, end); `back_side`
+  // lights them with negated normals. Each vertex's colour does not depend on the range it was
+  // lit in, so any split of the mesh gives the same bytes.
+  void light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, bool back_side, std::size_t begin,
+                  std::size_t end, Color3* out, SoaScratch& scratch) const;
 
   // Lights `count` eye-space points.
   void shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out, SoaScratch& scratch) const;

@@ -131,14 +131,14 @@ struct EyeTransform {
   T normal[9];
 };
 
-// Transforms and lights every vertex of `mesh`; writes one colour per vertex to `out`.
+// Transforms and lights vertices [begin, end) of `mesh`; writes colour i to out[i].
 template <class T>
-void light_mesh(const ShadeParams<T>& sp, const EyeTransform<T>& xf, const Mesh& mesh, bool back_side, Color3* out) {
+void light_mesh(const ShadeParams<T>& sp, const EyeTransform<T>& xf, const Mesh& mesh, bool back_side,
+                std::size_t begin, std::size_t end, Color3* out) {
   const T* m = xf.position;
   const T* nm = xf.normal;
   const T sign = back_side ? T(-1) : T(1);
-  const std::size_t count = mesh.positions.size();
-  for (std::size_t i = 0; i < count; ++i) {
+  for (std::size_t i = begin; i < end; ++i) {
     const T px = T(mesh.positions[i].x()), py = T(mesh.positions[i].y()), pz = T(mesh.positions[i].z());
     const T nx = sign * T(mesh.normals[i].x()), ny = sign * T(mesh.normals[i].y()), nz = sign * T(mesh.normals[i].z());
     const V3<T> p{m[0] * px + m[1] * py + m[2] * pz + m[3], m[4] * px + m[5] * py + m[6] * pz + m[7],
@@ -164,9 +164,9 @@ void shade_points(const ShadeParams<T>& sp, std::size_t count, const Vec3* p_eye
 
 // Each precision is instantiated in exactly one file, with that file's compile flags.
 extern template void light_mesh<double>(const ShadeParams<double>&, const EyeTransform<double>&, const Mesh&, bool,
-                                        Color3*);
+                                        std::size_t, std::size_t, Color3*);
 extern template void light_mesh<float>(const ShadeParams<float>&, const EyeTransform<float>&, const Mesh&, bool,
-                                       Color3*);
+                                       std::size_t, std::size_t, Color3*);
 extern template void shade_points<double>(const ShadeParams<double>&, std::size_t, const Vec3*, const Vec3*, Color3*);
 extern template void shade_points<float>(const ShadeParams<float>&, std::size_t, const Vec3*, const Vec3*, Color3*);
 

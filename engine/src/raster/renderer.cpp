@@ -6,6 +6,12 @@
 #include <cmath>
 #include <new>
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include "common/look_at.hpp"
 #include "facet/render.hpp"
 #include "geometry/clip.hpp"
@@ -62,6 +68,9 @@ Status check_options(const RenderOptions& o) {
   if (o.tile_size < 8 || o.tile_size > 256 || o.tile_size % 8 != 0) {
     return bad("options.tile_size", "expected a multiple of 8 in [8, 256], found " + std::to_string(o.tile_size));
   }
+  if (o.threads < 0 || o.threads > 256) {
+    return bad("options.threads", "expected 0 (all cores) or 1..256, found " + std::to_string(o.threads));
+  }
   for (float c : o.clear_color) {
     if (!std::isfinite(c)) return bad("options.clear_color", "expected finite components");
   }
@@ -81,13 +90,26 @@ Mat4Rows to_rows(const Eigen::Matrix4d& d) {
 
 }  // namespace
 
+// What each worker thread needs for itself, kept from frame to frame.
+struct WorkerScratch {
+  raster::TileBuffers tile;
+  lighting::SoaScratch soa;
+};
+
+// Vertices per parallel lighting task: large enough to amortise scheduling, small enough to
+// spread a 36k-vertex mesh over the cores.
+constexpr std::size_t kVertexChunk = 4096;
+
 struct Renderer::Impl {
+  // Threads: this renderer's own arena, rebuilt only when the thread count changes.
+  std::unique_ptr<tbb::task_arena> arena;
+  int arena_threads = 0;
+  tbb::enumerable_thread_specific<WorkerScratch> workers;
+  std::vector<raster::RasterCounters> tile_counters;
   // Frame-wide state, reused from frame to frame (capacity is kept).
   std::vector<raster::ScreenTriangle> triangles;
   std::vector<std::vector<std::uint32_t>> bins;
-  raster::TileBuffers tile;
   std::vector<lighting::PointShader> shaders;  // one per object
-  lighting::SoaScratch scratch;
   // Per-object scratch.
   std::vector<std::array<float, 4>> clip;
   std::vector<Color3> front, back;
@@ -124,7 +146,12 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
     }
     if (Status s = check_options(options); !s.ok()) return s;
     if (Status s = validate_scene(scene); !s.ok()) return s;
-    impl_->render(scene, options, color, depth);
+    const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+    if (!impl_->arena || impl_->arena_threads != threads) {
+      impl_->arena = std::make_unique<tbb::task_arena>(threads);
+      impl_->arena_threads = threads;
+    }
+    impl_->arena->execute([&] { impl_->render(scene, options, color, depth); });
     if (stats) *stats = impl_->stats;
     return {};
   } catch (const std::bad_alloc&) {
@@ -138,6 +165,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
                             const DepthView* depth) {
   const auto frame_start = Clock::now();
   stats = FrameStats{};
+  stats.threads = arena_threads;
   width = color.width;
   height = color.height;
   tile_size = options.tile_size;
@@ -174,20 +202,36 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     stats.seconds_geometry += seconds_since(geometry_start);
   }
 
-  tile.resize(tile_size);
+  // The tile loop: each tile is rasterized and resolved by exactly one task, from its bin (in
+  // submission order) into its own pixels, so the image does not depend on the schedule.
+  // Counters are kept per tile and added up in tile order afterwards.
   const raster::RasterJob job{shading, triangles, shaders, options.clear_color};
-  raster::RasterCounters counters;
-  for (int ty = 0; ty < tiles_y; ++ty) {
-    for (int tx = 0; tx < tiles_x; ++tx) {
+  const int tile_count = tiles_x * tiles_y;
+  tile_counters.assign(static_cast<std::size_t>(tile_count), {});
+  const auto raster_start = Clock::now();
+  tbb::parallel_for(tbb::blocked_range<int>(0, tile_count), [&](const tbb::blocked_range<int>& range) {
+    WorkerScratch& worker = workers.local();
+    worker.tile.resize(tile_size);
+    for (int index = range.begin(); index != range.end(); ++index) {
+      const int tx = index % tiles_x, ty = index / tiles_x;
       const raster::TileRect rect{tx * tile_size, ty * tile_size, std::min(width, (tx + 1) * tile_size),
                                   std::min(height, (ty + 1) * tile_size)};
-      const auto raster_start = Clock::now();
-      raster::rasterize_tile(job, bins[static_cast<std::size_t>(ty * tiles_x + tx)], rect, tile, counters);
+      raster::RasterCounters& c = tile_counters[static_cast<std::size_t>(index)];
+      raster::rasterize_tile(job, bins[static_cast<std::size_t>(index)], rect, worker.tile, worker.soa, c);
       const auto resolve_start = Clock::now();
-      raster::resolve_tile(tile, rect, color, depth);
-      stats.seconds_raster += std::chrono::duration<double>(resolve_start - raster_start).count();
-      stats.seconds_resolve += seconds_since(resolve_start);
+      raster::resolve_tile(worker.tile, rect, color, depth);
+      c.seconds_resolve = seconds_since(resolve_start);
     }
+  });
+  stats.seconds_raster = seconds_since(raster_start);
+  raster::RasterCounters counters;
+  for (const raster::RasterCounters& c : tile_counters) {
+    counters.tested += c.tested;
+    counters.filled += c.filled;
+    counters.shaded += c.shaded;
+    counters.light_pairs += c.light_pairs;
+    counters.skipped_pairs += c.skipped_pairs;
+    stats.seconds_resolve += c.seconds_resolve;
   }
   stats.pixels_tested = counters.tested;
   stats.pixels_filled = counters.filled;
@@ -226,11 +270,13 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
 
   if (shading == ShadingMode::gouraud) {
     front.resize(n);
-    shader.light_mesh(mesh, view, inst.model, false, front.data(), scratch);
-    if (two_sided) {
-      back.resize(n);
-      shader.light_mesh(mesh, view, inst.model, true, back.data(), scratch);
-    }
+    if (two_sided) back.resize(n);
+    // Vertex batches in parallel; a vertex's colour does not depend on its batch.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kVertexChunk), [&](const tbb::blocked_range<std::size_t>& r) {
+      lighting::SoaScratch& soa = workers.local().soa;
+      shader.light_mesh(mesh, view, inst.model, false, r.begin(), r.end(), front.data(), soa);
+      if (two_sided) shader.light_mesh(mesh, view, inst.model, true, r.begin(), r.end(), back.data(), soa);
+    });
     count_pairs(n * (two_sided ? 2 : 1));
     stats.seconds_lighting += seconds_since(lighting_start);
     return;
@@ -263,7 +309,11 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
     }
     auto shade = [&](std::vector<Color3>& out) {
       out.resize(t_count);
-      shader.shade_points(t_count, centroid.data(), face_normal.data(), out.data(), scratch);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t_count, kVertexChunk),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          shader.shade_points(r.size(), centroid.data() + r.begin(), face_normal.data() + r.begin(),
+                                              out.data() + r.begin(), workers.local().soa);
+                        });
     };
     shade(front);
     if (two_sided) {

@@ -20,6 +20,7 @@ namespace {
 class PixelBatch {
  public:
   static constexpr int kCapacity = 64;
+  explicit PixelBatch(lighting::SoaScratch& scratch) : scratch_(scratch) {}
 
   void add(int index, const Vec3& p, const Vec3& n) {
     index_[count_] = index;
@@ -50,13 +51,13 @@ class PixelBatch {
   int index_[kCapacity];
   Vec3 p_[kCapacity], n_[kCapacity];
   Color3 out_[kCapacity];
-  lighting::SoaScratch scratch_;
+  lighting::SoaScratch& scratch_;
 };
 
 }  // namespace
 
 void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, const TileRect& rect,
-                    TileBuffers& tile, RasterCounters& counters) {
+                    TileBuffers& tile, lighting::SoaScratch& scratch, RasterCounters& counters) {
   const int stride = tile.size;
   for (int y = rect.y0; y < rect.y1; ++y) {
     const std::size_t row = static_cast<std::size_t>(y - rect.y0) * static_cast<std::size_t>(stride);
@@ -66,7 +67,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
     }
   }
 
-  PixelBatch batch;
+  PixelBatch batch(scratch);
   for (const std::uint32_t index : bin) {
     const ScreenTriangle& t = job.triangles[index];
     const int x0 = std::max(t.min_px, rect.x0), x1 = std::min(t.max_px, rect.x1 - 1);

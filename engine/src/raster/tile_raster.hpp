@@ -34,10 +34,12 @@ struct RasterJob {
 struct RasterCounters {
   std::uint64_t tested = 0, filled = 0, shaded = 0;
   std::uint64_t light_pairs = 0, skipped_pairs = 0;  // per-pixel (Phong) lighting
+  double seconds_resolve = 0;
 };
 
+// `tile` and `scratch` belong to the calling thread; the tile's pixels belong to this call.
 void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, const TileRect& rect,
-                    TileBuffers& tile, RasterCounters& counters);
+                    TileBuffers& tile, lighting::SoaScratch& scratch, RasterCounters& counters);
 
 // Writes the tile into the caller's views (already validated; depth may be null).
 void resolve_tile(const TileBuffers& tile, const TileRect& rect, const ImageView& color, const DepthView* depth);

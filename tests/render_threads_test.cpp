@@ -1,0 +1,85 @@
+// Determinism: images and depth are byte-identical for any thread count, in every shading mode, on
+// the built-in scene and on a scene of 10^5 small random triangles.
+#include <random>
+
+#include "render_support.hpp"
+
+namespace facet {
+namespace {
+
+Scene random_triangles_scene(int count) {
+  Scene s = test::camera_scene();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> pos(-6.0f, 6.0f), depth(-12.0f, -4.0f), off(-0.25f, 0.25f);
+  Mesh m;
+  for (int i = 0; i < count; ++i) {
+    const Vec3 c(pos(rng), pos(rng), depth(rng));
+    for (int k = 0; k < 3; ++k) {
+      m.positions.push_back(c + Vec3(off(rng), off(rng), off(rng)));
+      m.normals.push_back(Vec3(off(rng), off(rng), 1.0f).normalized());
+    }
+    const auto b = static_cast<std::uint32_t>(3 * i);
+    m.triangles.push_back({b, b + 1, b + 2});
+  }
+  s.meshes.push_back({"soup", m});
+  Material mat;
+  mat.diffuse = Color3(0.8f, 0.6f, 0.4f);
+  mat.specular = Color3(0.5f, 0.5f, 0.5f);
+  mat.shininess = 20;
+  s.materials.push_back(mat);
+  s.objects.push_back({0, 0, Mat4::Identity()});
+  Light l;
+  l.type = LightType::point;
+  l.position = Vec3(2, 3, 0);
+  s.lights.push_back(l);
+  s.lights.push_back(Light{});
+  return s;
+}
+
+void expect_same_for_any_thread_count(const Scene& s, int w, int h) {
+  for (ShadingMode mode : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+    std::vector<std::uint8_t> first_pixels;
+    std::vector<float> first_depth;
+    for (int threads : {1, 2, 3, 8}) {
+      test::Canvas c(w, h);
+      std::vector<float> depth(static_cast<std::size_t>(w * h));
+      const DepthView d{depth.data(), w, h, static_cast<std::size_t>(w) * sizeof(float), false};
+      RenderOptions o;
+      o.shading = mode;
+      o.threads = threads;
+      o.tile_size = 32;
+      FrameStats st;
+      Renderer r;
+      ASSERT_TRUE(r.render(s, o, c.view(), &d, &st).ok());
+      EXPECT_EQ(st.threads, threads);
+      if (first_pixels.empty()) {
+        first_pixels = c.pixels();
+        first_depth = depth;
+        EXPECT_GT(st.pixels_filled, 0u);
+      } else {
+        EXPECT_TRUE(c.pixels() == first_pixels) << to_string(mode) << ", " << threads << " threads";
+        EXPECT_TRUE(depth == first_depth) << to_string(mode) << ", " << threads << " threads";
+      }
+    }
+  }
+}
+
+TEST(RenderThreads, BuiltInSceneIsByteIdenticalForAnyThreadCount) {
+  expect_same_for_any_thread_count(make_default_scene(), 320, 200);
+}
+
+TEST(RenderThreads, HundredThousandSmallTrianglesAreByteIdenticalForAnyThreadCount) {
+  expect_same_for_any_thread_count(random_triangles_scene(100000), 256, 160);
+}
+
+TEST(RenderThreads, ThreadCountIsChecked) {
+  test::Canvas c(8, 8);
+  RenderOptions o;
+  o.threads = -1;
+  Renderer r;
+  EXPECT_EQ(r.render(make_default_scene(), o, c.view()).field(), "options.threads");
+  EXPECT_TRUE(c.untouched());
+}
+
+}  // namespace
+}  // namespace facet
