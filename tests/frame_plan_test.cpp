@@ -127,7 +127,9 @@ TEST(FramePlan, LightsToDropUsesRangeAndTheAttenuationBudget) {
   s.lights.push_back(Light{});  // directional: never dropped
   const auto params = lighting::make_shade_params<double>(s, Eigen::Matrix4d::Identity(), m, true);
   const lighting::EyeSphere sphere{Eigen::Vector3d(0, 0, -10), 1.0};  // d_min: 9, 9, 189, 1
-  const std::vector<bool> drop = lighting::lights_to_drop(params, sphere, lighting::kLightCullBudget);
+  std::vector<bool> drop;
+  std::vector<lighting::CullCandidate> scratch;
+  lighting::lights_to_drop(params, sphere, lighting::kLightCullBudget, drop, scratch);
   ASSERT_EQ(drop.size(), 5u);
   EXPECT_TRUE(drop[0]) << "range 9 ends exactly at the sphere";
   EXPECT_FALSE(drop[1]) << "range 11 reaches 2 units into it";

@@ -82,14 +82,18 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
                             const LightingOptions& options, const EyeSphere* bounds) {
   path_ = options.path;
   // The frame plan decides once, in double, for every path, so all paths light the same lights.
-  reference_ = make_shade_params<double>(scene, view, material, options.clamp);
-  std::vector<bool> drop(reference_.lights.size(), false);
-  if (bounds && options.cull_lights) drop = lights_to_drop(reference_, *bounds, kLightCullBudget);
+  make_shade_params(scene, view, material, options.clamp, reference_);
+  if (bounds && options.cull_lights) {
+    lights_to_drop(reference_, *bounds, kLightCullBudget, drop_, candidates_);
+  } else {
+    drop_.assign(reference_.lights.size(), false);
+  }
+  const std::vector<bool>& drop = drop_;
   culled_ = remove_lights(reference_, drop);
   switch (path_) {
     case LightingPath::reference: break;
     case LightingPath::scalar:
-      scalar_ = make_shade_params<float>(scene, view, material, options.clamp);
+      make_shade_params(scene, view, material, options.clamp, scalar_);
       remove_lights(scalar_, drop);
       break;
     case LightingPath::simd: {
@@ -100,7 +104,7 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
                     to_string(best_isa()) + ")"};
       }
       simd_shade_ = kernels->shade;
-      scalar_ = make_shade_params<float>(scene, view, material, options.clamp);
+      make_shade_params(scene, view, material, options.clamp, scalar_);
       remove_lights(scalar_, drop);
       simd_lights_.clear();
       for (const auto& L : scalar_.lights) simd_lights_.push_back(to_simd(L, options.pow_tier));

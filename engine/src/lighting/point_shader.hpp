@@ -51,6 +51,8 @@ class PointShader {
   simd::Params simd_params_;
   simd::ShadeFunction simd_shade_ = nullptr;
   std::size_t culled_ = 0;
+  std::vector<bool> drop_;                // frame-plan scratch, kept between frames
+  std::vector<CullCandidate> candidates_;
 };
 
 struct SimdKernels {

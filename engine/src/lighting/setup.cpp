@@ -25,11 +25,11 @@ V3<T> v3(const Vec3d& v) {
 }  // namespace
 
 template <class T>
-ShadeParams<T> make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
-                                 bool clamp) {
+void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Material& material, bool clamp,
+                       ShadeParams<T>& sp) {
   const Vec3d am = material.ambient.cast<double>(), dm = material.diffuse.cast<double>(),
               sm = material.specular.cast<double>();
-  ShadeParams<T> sp;
+  sp.lights.clear();
   sp.base = v3<T>(material.emissive.cast<double>() + am.cwiseProduct(scene.global_ambient.cast<double>()));
   sp.shininess = T(material.shininess);
   sp.local_viewer = scene.viewer == ViewerMode::local;
@@ -65,7 +65,6 @@ ShadeParams<T> make_shade_params(const Scene& scene, const Eigen::Matrix4d& view
     }
     sp.lights.push_back(L);
   }
-  return sp;
 }
 
 template <class T>
@@ -98,13 +97,11 @@ EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, con
   return {(mv * c.homogeneous()).head<3>(), std::sqrt(r2) * mv.topLeftCorner<3, 3>().norm() * (1 + 1e-9)};
 }
 
-std::vector<bool> lights_to_drop(const ShadeParams<double>& params, const EyeSphere& sphere, double budget) {
-  struct Candidate {
-    std::size_t index;
-    double bound;  // largest contribution, per channel
-  };
-  std::vector<Candidate> candidates;
-  std::vector<bool> drop(params.lights.size(), false);
+void lights_to_drop(const ShadeParams<double>& params, const EyeSphere& sphere, double budget,
+                    std::vector<bool>& drop, std::vector<CullCandidate>& candidates) {
+  using Candidate = CullCandidate;
+  candidates.clear();
+  drop.assign(params.lights.size(), false);
   for (std::size_t i = 0; i < params.lights.size(); ++i) {
     const EyeLight<double>& L = params.lights[i];
     if (L.type == LightType::directional) continue;
@@ -128,7 +125,6 @@ std::vector<bool> lights_to_drop(const ShadeParams<double>& params, const EyeSph
     spent += c.bound;
     drop[c.index] = true;
   }
-  return drop;
 }
 
 template <class T>
@@ -143,8 +139,10 @@ std::size_t remove_lights(ShadeParams<T>& params, const std::vector<bool>& drop)
 
 template std::size_t remove_lights<double>(ShadeParams<double>&, const std::vector<bool>&);
 template std::size_t remove_lights<float>(ShadeParams<float>&, const std::vector<bool>&);
-template ShadeParams<double> make_shade_params<double>(const Scene&, const Eigen::Matrix4d&, const Material&, bool);
-template ShadeParams<float> make_shade_params<float>(const Scene&, const Eigen::Matrix4d&, const Material&, bool);
+template void make_shade_params<double>(const Scene&, const Eigen::Matrix4d&, const Material&, bool,
+                                        ShadeParams<double>&);
+template void make_shade_params<float>(const Scene&, const Eigen::Matrix4d&, const Material&, bool,
+                                       ShadeParams<float>&);
 template EyeTransform<double> make_eye_transform<double>(const Eigen::Matrix4d&, const Mat4&);
 template EyeTransform<float> make_eye_transform<float>(const Eigen::Matrix4d&, const Mat4&);
 

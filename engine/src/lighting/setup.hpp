@@ -13,9 +13,17 @@
 
 namespace facet::lighting {
 
+// Fills `out` (its light list keeps its capacity, so a steady frame allocates nothing).
+template <class T>
+void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Material& material, bool clamp,
+                       ShadeParams<T>& out);
 template <class T>
 ShadeParams<T> make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
-                                 bool clamp);
+                                 bool clamp) {
+  ShadeParams<T> out;
+  make_shade_params(scene, view, material, clamp, out);
+  return out;
+}
 
 template <class T>
 EyeTransform<T> make_eye_transform(const Eigen::Matrix4d& view, const Mat4& model);
@@ -33,7 +41,13 @@ EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, con
 // all marked ones together stay below `budget` per channel:
 //   contribution <= att(d_min) * max_channel(a_m a_i + d_m d_i + s_m s_i)
 // since n.l, spot factors and pow are <= 1, with d_min the sphere's closest approach.
-std::vector<bool> lights_to_drop(const ShadeParams<double>& params, const EyeSphere& sphere, double budget);
+struct CullCandidate {
+  std::size_t index;
+  double bound;  // largest contribution on the sphere, per channel
+};
+// Writes the decision to `drop` (one per light); `scratch` is working memory. Both keep capacity.
+void lights_to_drop(const ShadeParams<double>& params, const EyeSphere& sphere, double budget,
+                    std::vector<bool>& drop, std::vector<CullCandidate>& scratch);
 
 // Removes the marked lights (same order as params.lights); returns how many.
 template <class T>

@@ -7,7 +7,6 @@
 #include <new>
 
 #include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -104,7 +103,10 @@ struct Renderer::Impl {
   // Threads: this renderer's own arena, rebuilt only when the thread count changes.
   std::unique_ptr<tbb::task_arena> arena;
   int arena_threads = 0;
-  tbb::enumerable_thread_specific<WorkerScratch> workers;
+  // One per arena slot (tbb::this_task_arena::current_thread_index()), sized on the calling
+  // thread before any parallel loop, so that no task ever allocates.
+  std::vector<WorkerScratch> workers;
+  WorkerScratch& worker() { return workers[static_cast<std::size_t>(tbb::this_task_arena::current_thread_index())]; }
   std::vector<raster::RasterCounters> tile_counters;
   // Frame-wide state, reused from frame to frame (capacity is kept).
   std::vector<raster::ScreenTriangle> triangles;
@@ -150,6 +152,8 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
     if (!impl_->arena || impl_->arena_threads != threads) {
       impl_->arena = std::make_unique<tbb::task_arena>(threads);
       impl_->arena_threads = threads;
+      impl_->workers.clear();
+      impl_->workers.resize(static_cast<std::size_t>(threads));
     }
     impl_->arena->execute([&] { impl_->render(scene, options, color, depth); });
     if (stats) *stats = impl_->stats;
@@ -166,6 +170,11 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   const auto frame_start = Clock::now();
   stats = FrameStats{};
   stats.threads = arena_threads;
+  for (WorkerScratch& w : workers) {  // grows only when the tile size or the chunk size grows
+    w.tile.resize(options.tile_size);
+    w.soa.reserve_padded(kVertexChunk);
+    w.soa.lights.reserve(scene.lights.size());
+  }
   width = color.width;
   height = color.height;
   tile_size = options.tile_size;
@@ -210,16 +219,15 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});
   const auto raster_start = Clock::now();
   tbb::parallel_for(tbb::blocked_range<int>(0, tile_count), [&](const tbb::blocked_range<int>& range) {
-    WorkerScratch& worker = workers.local();
-    worker.tile.resize(tile_size);
+    WorkerScratch& w = worker();
     for (int index = range.begin(); index != range.end(); ++index) {
       const int tx = index % tiles_x, ty = index / tiles_x;
       const raster::TileRect rect{tx * tile_size, ty * tile_size, std::min(width, (tx + 1) * tile_size),
                                   std::min(height, (ty + 1) * tile_size)};
       raster::RasterCounters& c = tile_counters[static_cast<std::size_t>(index)];
-      raster::rasterize_tile(job, bins[static_cast<std::size_t>(index)], rect, worker.tile, worker.soa, c);
+      raster::rasterize_tile(job, bins[static_cast<std::size_t>(index)], rect, w.tile, w.soa, c);
       const auto resolve_start = Clock::now();
-      raster::resolve_tile(worker.tile, rect, color, depth);
+      raster::resolve_tile(w.tile, rect, color, depth);
       c.seconds_resolve = seconds_since(resolve_start);
     }
   });
@@ -273,7 +281,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
     if (two_sided) back.resize(n);
     // Vertex batches in parallel; a vertex's colour does not depend on its batch.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kVertexChunk), [&](const tbb::blocked_range<std::size_t>& r) {
-      lighting::SoaScratch& soa = workers.local().soa;
+      lighting::SoaScratch& soa = worker().soa;
       shader.light_mesh(mesh, view, inst.model, false, r.begin(), r.end(), front.data(), soa);
       if (two_sided) shader.light_mesh(mesh, view, inst.model, true, r.begin(), r.end(), back.data(), soa);
     });
@@ -312,7 +320,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t_count, kVertexChunk),
                         [&](const tbb::blocked_range<std::size_t>& r) {
                           shader.shade_points(r.size(), centroid.data() + r.begin(), face_normal.data() + r.begin(),
-                                              out.data() + r.begin(), workers.local().soa);
+                                              out.data() + r.begin(), worker().soa);
                         });
     };
     shade(front);

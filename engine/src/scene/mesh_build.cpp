@@ -5,8 +5,17 @@
 
 #include "common/format.hpp"
 #include "facet/mesh.hpp"
+#include "scene/validate.hpp"
 
 namespace facet {
+
+bool mesh_is_valid(const Mesh& mesh) noexcept {
+  const std::size_t n = mesh.positions.size();
+  if (n > std::numeric_limits<std::uint32_t>::max() || mesh.normals.size() != n) return false;
+  for (const auto& t : mesh.triangles)
+    if (t[0] >= n || t[1] >= n || t[2] >= n) return false;
+  return true;
+}
 
 Status validate_mesh(const Mesh& mesh, const std::string& field) {
   const std::size_t n = mesh.positions.size();

@@ -32,76 +32,91 @@ std::string describe(const Vec3& v) {
   return "[" + format_number(v.x()) + ", " + format_number(v.y()) + ", " + format_number(v.z()) + "]";
 }
 
+// A field path such as "lights[2].position", built only when there is an error to report:
+// validating a valid scene allocates nothing (the renderer validates every frame).
+struct Field {
+  const char* list;   // "lights", or an object such as "camera"
+  std::size_t index;  // used when `indexed`
+  bool indexed;
+  std::string operator()(const char* member) const {
+    std::string s = list;
+    if (indexed) s += "[" + std::to_string(index) + "]";
+    if (*member) s += std::string(".") + member;
+    return s;
+  }
+};
+
 Status invalid(const std::string& field, const std::string& what) {
   return {ErrorCode::invalid_argument, field, field + ": " + what};
 }
 
-Status check_color(const Color3& c, const std::string& field) {
+Status check_color(const Color3& c, const Field& f, const char* member) {
   if (!finite(c) || (c.array() < 0.0f).any()) {
-    return invalid(field, "expected finite colour components >= 0, found " + describe(c));
+    return invalid(f(member), "expected finite colour components >= 0, found " + describe(c));
   }
   return {};
 }
 
-Status check_range(float value, float lo, float hi, const std::string& field) {
+Status check_range(float value, float lo, float hi, const Field& f, const char* member) {
   if (!(value >= lo && value <= hi)) {
-    return invalid(field, "expected a number in [" + format_number(lo) + ", " + format_number(hi) + "], found " +
-                              format_number(value));
+    return invalid(f(member), "expected a number in [" + format_number(lo) + ", " + format_number(hi) +
+                                  "], found " + format_number(value));
   }
   return {};
 }
 
-Status check_direction(const Vec3& d, const std::string& field) {
+Status check_direction(const Vec3& d, const Field& f, const char* member) {
   if (!finite(d) || !(d.squaredNorm() > 1e-24f)) {
-    return invalid(field, "expected a finite non-zero direction, found " + describe(d));
+    return invalid(f(member), "expected a finite non-zero direction, found " + describe(d));
   }
   return {};
 }
 
-Status validate_material(const Material& m, const std::string& f) {
-  FACET_TRY(check_color(m.emissive, f + ".emissive"));
-  FACET_TRY(check_color(m.ambient, f + ".ambient"));
-  FACET_TRY(check_color(m.diffuse, f + ".diffuse"));
-  FACET_TRY(check_color(m.specular, f + ".specular"));
-  FACET_TRY(check_range(m.shininess, 0.0f, kMaxShininess, f + ".shininess"));
-  FACET_TRY(check_range(m.alpha, 0.0f, 1.0f, f + ".alpha"));
+Status validate_material(const Material& m, const Field& f) {
+  FACET_TRY(check_color(m.emissive, f, "emissive"));
+  FACET_TRY(check_color(m.ambient, f, "ambient"));
+  FACET_TRY(check_color(m.diffuse, f, "diffuse"));
+  FACET_TRY(check_color(m.specular, f, "specular"));
+  FACET_TRY(check_range(m.shininess, 0.0f, kMaxShininess, f, "shininess"));
+  FACET_TRY(check_range(m.alpha, 0.0f, 1.0f, f, "alpha"));
   return {};
 }
 
-Status validate_light(const Light& l, const std::string& f) {
-  FACET_TRY(check_color(l.ambient, f + ".ambient"));
-  FACET_TRY(check_color(l.diffuse, f + ".diffuse"));
-  FACET_TRY(check_color(l.specular, f + ".specular"));
-  if (l.type != LightType::point) FACET_TRY(check_direction(l.direction, f + ".direction"));
+Status validate_light(const Light& l, const Field& f) {
+  FACET_TRY(check_color(l.ambient, f, "ambient"));
+  FACET_TRY(check_color(l.diffuse, f, "diffuse"));
+  FACET_TRY(check_color(l.specular, f, "specular"));
+  if (l.type != LightType::point) FACET_TRY(check_direction(l.direction, f, "direction"));
   if (l.type == LightType::directional) {
-    if (l.range != 0.0f) return invalid(f + ".range", "only point and spot lights have a range");
+    if (l.range != 0.0f) return invalid(f("range"), "only point and spot lights have a range");
     return {};
   }
-  if (!finite(l.position)) return invalid(f + ".position", "expected finite coordinates, found " + describe(l.position));
+  if (!finite(l.position)) return invalid(f("position"), "expected finite coordinates, found " + describe(l.position));
   const float big = 3.0e38f;
-  FACET_TRY(check_range(l.constant_attenuation, 0.0f, big, f + ".attenuation.constant"));
-  FACET_TRY(check_range(l.linear_attenuation, 0.0f, big, f + ".attenuation.linear"));
-  FACET_TRY(check_range(l.quadratic_attenuation, 0.0f, big, f + ".attenuation.quadratic"));
+  FACET_TRY(check_range(l.constant_attenuation, 0.0f, big, f, "attenuation.constant"));
+  FACET_TRY(check_range(l.linear_attenuation, 0.0f, big, f, "attenuation.linear"));
+  FACET_TRY(check_range(l.quadratic_attenuation, 0.0f, big, f, "attenuation.quadratic"));
   if (!(l.constant_attenuation + l.linear_attenuation + l.quadratic_attenuation > 0.0f)) {
-    return invalid(f + ".attenuation", "at least one attenuation coefficient must be > 0");
+    return invalid(f("attenuation"), "at least one attenuation coefficient must be > 0");
   }
-  FACET_TRY(check_range(l.range, 0.0f, big, f + ".range"));
+  FACET_TRY(check_range(l.range, 0.0f, big, f, "range"));
   if (l.type != LightType::spot) return {};
   if (l.spot_shape == SpotShape::cutoff_exponent) {
-    if (l.spot_cutoff_deg != 180.0f) FACET_TRY(check_range(l.spot_cutoff_deg, 0.0f, 90.0f, f + ".spot.cutoff_deg"));
-    FACET_TRY(check_range(l.spot_exponent, 0.0f, kMaxShininess, f + ".spot.exponent"));
+    if (l.spot_cutoff_deg != 180.0f) FACET_TRY(check_range(l.spot_cutoff_deg, 0.0f, 90.0f, f, "spot.cutoff_deg"));
+    FACET_TRY(check_range(l.spot_exponent, 0.0f, kMaxShininess, f, "spot.exponent"));
   } else {
-    FACET_TRY(check_range(l.spot_outer_deg, 0.0f, 90.0f, f + ".spot.outer_deg"));
-    FACET_TRY(check_range(l.spot_inner_deg, 0.0f, l.spot_outer_deg, f + ".spot.inner_deg"));
-    FACET_TRY(check_range(l.spot_falloff, 0.0f, kMaxShininess, f + ".spot.falloff"));
+    FACET_TRY(check_range(l.spot_outer_deg, 0.0f, 90.0f, f, "spot.outer_deg"));
+    FACET_TRY(check_range(l.spot_inner_deg, 0.0f, l.spot_outer_deg, f, "spot.inner_deg"));
+    FACET_TRY(check_range(l.spot_falloff, 0.0f, kMaxShininess, f, "spot.falloff"));
   }
   return {};
 }
 
 Status validate_camera(const Camera& c) {
+  const Field f{"camera", 0, false};
   if (!finite(c.eye)) return invalid("camera.eye", "expected finite coordinates, found " + describe(c.eye));
   if (!finite(c.target)) return invalid("camera.target", "expected finite coordinates, found " + describe(c.target));
-  FACET_TRY(check_direction(c.up, "camera.up"));
+  FACET_TRY(check_direction(c.up, f, "up"));
   const Vec3 forward = c.target - c.eye;
   if (!(forward.squaredNorm() > 1e-24f)) return invalid("camera.target", "must differ from camera.eye");
   if (!(forward.normalized().cross(c.up.normalized()).norm() > 1e-6f)) {
@@ -110,7 +125,7 @@ Status validate_camera(const Camera& c) {
   if (!(c.vertical_fov_deg > 0.0f && c.vertical_fov_deg < 180.0f)) {
     return invalid("camera.fov_deg", "expected a number in (0, 180), found " + format_number(c.vertical_fov_deg));
   }
-  FACET_TRY(check_range(c.aspect, 0.0f, 1e6f, "camera.aspect"));
+  FACET_TRY(check_range(c.aspect, 0.0f, 1e6f, f, "aspect"));
   if (!(c.near > 0.0f && std::isfinite(c.near))) {
     return invalid("camera.near", "expected a finite number > 0, found " + format_number(c.near));
   }
@@ -123,36 +138,36 @@ Status validate_camera(const Camera& c) {
 }  // namespace
 
 Status validate_lighting_inputs(const Scene& scene) {
-  FACET_TRY(check_color(scene.global_ambient, "global_ambient"));
+  FACET_TRY(check_color(scene.global_ambient, Field{"global_ambient", 0, false}, ""));
   FACET_TRY(validate_camera(scene.camera));
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
-    FACET_TRY(validate_material(scene.materials[i], "materials[" + std::to_string(i) + "]"));
+    FACET_TRY(validate_material(scene.materials[i], Field{"materials", i, true}));
   }
   for (std::size_t i = 0; i < scene.lights.size(); ++i) {
-    FACET_TRY(validate_light(scene.lights[i], "lights[" + std::to_string(i) + "]"));
+    FACET_TRY(validate_light(scene.lights[i], Field{"lights", i, true}));
   }
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const Instance& inst = scene.objects[i];
-    const std::string f = "objects[" + std::to_string(i) + "]";
+    const Field f{"objects", i, true};
     if (inst.mesh >= scene.meshes.size()) {
-      return invalid(f + ".mesh", "mesh index " + std::to_string(inst.mesh) + " is out of range (" +
-                                     std::to_string(scene.meshes.size()) + " meshes)");
+      return invalid(f("mesh"), "mesh index " + std::to_string(inst.mesh) + " is out of range (" +
+                                    std::to_string(scene.meshes.size()) + " meshes)");
     }
     if (inst.material >= scene.materials.size()) {
-      return invalid(f + ".material", "material index " + std::to_string(inst.material) + " is out of range (" +
-                                         std::to_string(scene.materials.size()) + " materials)");
+      return invalid(f("material"), "material index " + std::to_string(inst.material) + " is out of range (" +
+                                        std::to_string(scene.materials.size()) + " materials)");
     }
     const Eigen::Matrix3f linear = inst.model.topLeftCorner<3, 3>();
     const float det = linear.determinant();
     if (!inst.model.allFinite() || !(std::abs(det) > 1e-30f) || !std::isfinite(1.0f / det)) {
-      return invalid(f + ".transform", "expected a finite invertible transform");
+      return invalid(f("transform"), "expected a finite invertible transform");
     }
     if (inst.model.row(3) != Eigen::RowVector4f(0, 0, 0, 1)) {
-      return invalid(f + ".transform", "expected an affine transform (last row 0 0 0 1)");
+      return invalid(f("transform"), "expected an affine transform (last row 0 0 0 1)");
     }
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
     if (mesh.normals.size() != mesh.positions.size()) {
-      return invalid("meshes[" + std::to_string(inst.mesh) + "].normals",
+      return invalid(Field{"meshes", inst.mesh, true}("normals"),
                      "expected one normal per position (" + std::to_string(mesh.positions.size()) + "), found " +
                          std::to_string(mesh.normals.size()));
     }
@@ -162,7 +177,9 @@ Status validate_lighting_inputs(const Scene& scene) {
 
 Status validate_scene(const Scene& scene) {
   for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
-    FACET_TRY(validate_mesh(scene.meshes[i].mesh, "meshes[" + std::to_string(i) + "]"));
+    const Mesh& mesh = scene.meshes[i].mesh;
+    if (mesh_is_valid(mesh)) continue;  // the common case, checked without building a field name
+    FACET_TRY(validate_mesh(mesh, Field{"meshes", i, true}("")));
   }
   return validate_lighting_inputs(scene);
 }

@@ -8,4 +8,7 @@ namespace facet {
 
 Status validate_lighting_inputs(const Scene& scene);
 
+// validate_mesh(mesh).ok() without building any message: the allocation-free fast path.
+bool mesh_is_valid(const Mesh& mesh) noexcept;
+
 }  // namespace facet
