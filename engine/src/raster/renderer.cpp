@@ -225,7 +225,14 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
       const raster::TileRect rect{tx * tile_size, ty * tile_size, std::min(width, (tx + 1) * tile_size),
                                   std::min(height, (ty + 1) * tile_size)};
       raster::RasterCounters& c = tile_counters[static_cast<std::size_t>(index)];
-      raster::rasterize_tile(job, bins[static_cast<std::size_t>(index)], rect, w.tile, w.soa, c);
+      const auto& bin = bins[static_cast<std::size_t>(index)];
+      if (bin.empty()) {  // nothing to rasterize: the clear colour goes straight to the image
+        const auto resolve_start = Clock::now();
+        raster::resolve_clear_tile(options.clear_color, rect, color, depth);
+        c.seconds_resolve = seconds_since(resolve_start);
+        continue;
+      }
+      raster::rasterize_tile(job, bin, rect, w.tile, w.soa, c);
       const auto resolve_start = Clock::now();
       raster::resolve_tile(w.tile, rect, color, depth);
       c.seconds_resolve = seconds_since(resolve_start);

@@ -145,4 +145,36 @@ void resolve_tile(const TileBuffers& tile, const TileRect& rect, const ImageView
   }
 }
 
+void resolve_clear_tile(const std::array<float, 4>& clear_color, const TileRect& rect, const ImageView& color,
+                        const DepthView* depth) {
+  // One pixel in the output format, converted by the same code as resolve_tile.
+  std::uint8_t pixel[16];
+  const std::size_t bpp = bytes_per_pixel(color.format);
+  switch (color.format) {
+    case PixelFormat::rgba8:
+      for (int c = 0; c < 4; ++c) pixel[c] = to_unorm8(clear_color[static_cast<std::size_t>(c)]);
+      break;
+    case PixelFormat::bgra8:
+      pixel[0] = to_unorm8(clear_color[2]);
+      pixel[1] = to_unorm8(clear_color[1]);
+      pixel[2] = to_unorm8(clear_color[0]);
+      pixel[3] = to_unorm8(clear_color[3]);
+      break;
+    case PixelFormat::rgba32f: std::memcpy(pixel, clear_color.data(), 16); break;
+  }
+  const float far_depth = 1.0f;
+  for (int y = rect.y0; y < rect.y1; ++y) {
+    const int image_row = color.y_up ? color.height - 1 - y : y;
+    auto* dst = static_cast<std::uint8_t*>(color.data) + static_cast<std::size_t>(image_row) * color.stride_bytes +
+                static_cast<std::size_t>(rect.x0) * bpp;
+    for (int x = rect.x0; x < rect.x1; ++x, dst += bpp) std::memcpy(dst, pixel, bpp);
+    if (depth) {
+      const int depth_row = depth->y_up ? depth->height - 1 - y : y;
+      auto* d = reinterpret_cast<std::uint8_t*>(depth->data) + static_cast<std::size_t>(depth_row) * depth->stride_bytes +
+                static_cast<std::size_t>(rect.x0) * sizeof(float);
+      for (int x = rect.x0; x < rect.x1; ++x, d += sizeof(float)) std::memcpy(d, &far_depth, sizeof far_depth);
+    }
+  }
+}
+
 }  // namespace facet::raster

@@ -44,4 +44,9 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
 // Writes the tile into the caller's views (already validated; depth may be null).
 void resolve_tile(const TileBuffers& tile, const TileRect& rect, const ImageView& color, const DepthView* depth);
 
+// A tile no triangle touches: writes the clear colour (converted exactly as resolve_tile would)
+// and far depth straight into the caller's views, without the tile buffers.
+void resolve_clear_tile(const std::array<float, 4>& clear_color, const TileRect& rect, const ImageView& color,
+                        const DepthView* depth);
+
 }  // namespace facet::raster
