@@ -98,6 +98,16 @@ struct WorkerScratch {
 // Vertices per parallel lighting task: large enough to amortise scheduling, small enough to
 // spread a 36k-vertex mesh over the cores.
 constexpr std::size_t kVertexChunk = 4096;
+// Triangles per parallel set-up range. Fixed, so the split (and so every bin) is the same for
+// any thread count; small enough that its clipped pieces fit the 16-bit index of a bin entry.
+constexpr std::size_t kTriangleRange = 8192;
+
+// What one set-up range produced: its triangles, its bin entries (tile, index) in triangle
+// order, and its counters. Kept from frame to frame.
+struct RangeBinning {
+  std::vector<std::uint32_t> tile, index;
+  FrameStats counts;  // only the triangle counters are used
+};
 
 struct Renderer::Impl {
   // Threads: this renderer's own arena, rebuilt only when the thread count changes.
@@ -109,7 +119,9 @@ struct Renderer::Impl {
   WorkerScratch& worker() { return workers[static_cast<std::size_t>(tbb::this_task_arena::current_thread_index())]; }
   std::vector<raster::RasterCounters> tile_counters;
   // Frame-wide state, reused from frame to frame (capacity is kept).
-  std::vector<raster::ScreenTriangle> triangles;
+  std::vector<std::vector<raster::ScreenTriangle>> range_triangles;
+  std::vector<RangeBinning> range_binning;
+  std::size_t range_count = 0;
   std::vector<std::vector<std::uint32_t>> bins;
   std::vector<lighting::PointShader> shaders;  // one per object
   // Per-object scratch.
@@ -129,8 +141,11 @@ struct Renderer::Impl {
   void prepare_object(const Scene& scene, const Instance& inst, const Eigen::Matrix4d& view,
                       const Eigen::Matrix4d& proj, const LightingOptions& lighting, std::uint32_t object);
   void assemble_object(const Mesh& mesh, std::uint32_t object, float alpha);
+  void assemble_range(const Mesh& mesh, std::uint32_t object, float alpha, std::size_t begin, std::size_t end,
+                      std::size_t range);
   void emit(const ClipVertex (&v)[3], std::uint32_t object, const Color3& flat_front, const Color3& flat_back,
-            float alpha);
+            float alpha, std::size_t range);
+  void merge_ranges();
 };
 
 Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
@@ -187,7 +202,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   planes.guard_x = 2.0f * raster::kGuardBandPixels / static_cast<float>(width) - 1.0f;
   planes.guard_y = 2.0f * raster::kGuardBandPixels / static_cast<float>(height) - 1.0f;
 
-  triangles.clear();
+  range_count = 0;
   bins.resize(static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y));
   for (auto& bin : bins) bin.clear();
   shaders.resize(scene.objects.size());
@@ -214,7 +229,10 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   // The tile loop: each tile is rasterized and resolved by exactly one task, from its bin (in
   // submission order) into its own pixels, so the image does not depend on the schedule.
   // Counters are kept per tile and added up in tile order afterwards.
-  const raster::RasterJob job{shading, triangles, shaders, options.clear_color};
+  const auto merge_start = Clock::now();
+  merge_ranges();
+  stats.seconds_geometry += seconds_since(merge_start);
+  const raster::RasterJob job{shading, std::span(range_triangles.data(), range_count), shaders, options.clear_color};
   const int tile_count = tiles_x * tiles_y;
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});
   const auto raster_start = Clock::now();
@@ -275,13 +293,15 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   // Clip-space positions.
   const Mat4Rows mvp = to_rows(proj * view * inst.model.cast<double>());
   clip.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3& p = mesh.positions[i];
-    for (int r = 0; r < 4; ++r) {
-      const float* m = &mvp.m[4 * r];
-      clip[i][static_cast<std::size_t>(r)] = m[0] * p.x() + m[1] * p.y() + m[2] * p.z() + m[3];
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kVertexChunk), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      const Vec3& p = mesh.positions[i];
+      for (int row = 0; row < 4; ++row) {
+        const float* m = &mvp.m[4 * row];
+        clip[i][static_cast<std::size_t>(row)] = m[0] * p.x() + m[1] * p.y() + m[2] * p.z() + m[3];
+      }
     }
-  }
+  });
 
   if (shading == ShadingMode::gouraud) {
     front.resize(n);
@@ -341,11 +361,52 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
 }
 
 void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, float alpha) {
+  const std::size_t count = mesh.triangle_count();
+  const std::size_t ranges = (count + kTriangleRange - 1) / kTriangleRange;
+  if (range_triangles.size() < range_count + ranges) {  // grows only with the scene
+    range_triangles.resize(range_count + ranges);
+    range_binning.resize(range_count + ranges);
+  }
+  const std::size_t first = range_count;
+  range_count += ranges;
+  tbb::parallel_for(std::size_t(0), ranges, [&](std::size_t r) {
+    assemble_range(mesh, object, alpha, r * kTriangleRange, std::min(count, (r + 1) * kTriangleRange), first + r);
+  });
+}
+
+// Bins get each range's entries in range order, so every bin lists its triangles in submission
+// order whatever the schedule was.
+void Renderer::Impl::merge_ranges() {
+  for (std::size_t r = 0; r < range_count; ++r) {
+    const RangeBinning& rb = range_binning[r];
+    const auto high = static_cast<std::uint32_t>(r) << raster::kRangeShift;
+    for (std::size_t e = 0; e < rb.tile.size(); ++e) bins[rb.tile[e]].push_back(high | rb.index[e]);
+    const FrameStats& c = rb.counts;
+    stats.triangles_in += c.triangles_in;
+    stats.triangles_nonfinite += c.triangles_nonfinite;
+    stats.triangles_outside += c.triangles_outside;
+    stats.triangles_clipped += c.triangles_clipped;
+    stats.triangles_culled += c.triangles_culled;
+    stats.triangles_degenerate += c.triangles_degenerate;
+    stats.triangles_small += c.triangles_small;
+    stats.triangles_drawn += c.triangles_drawn;
+    stats.bin_entries += c.bin_entries;
+  }
+}
+
+void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, float alpha, std::size_t begin,
+                                    std::size_t end, std::size_t range) {
+  range_triangles[range].clear();
+  RangeBinning& out = range_binning[range];
+  out.tile.clear();
+  out.index.clear();
+  out.counts = FrameStats{};
+  FrameStats& counts = out.counts;
   const int attribute_count = shading == ShadingMode::flat ? 0 : (shading == ShadingMode::phong || two_sided ? 6 : 3);
   const Color3 none = Color3::Zero();
   ClipVertex polygon[geometry::kMaxClippedVertices];
-  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-    ++stats.triangles_in;
+  for (std::size_t t = begin; t < end; ++t) {
+    ++counts.triangles_in;
     const auto& tri = mesh.triangles[t];
     ClipVertex v[3];
     bool finite = true;
@@ -368,11 +429,11 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
       }
     }
     if (!finite) {
-      ++stats.triangles_nonfinite;
+      ++counts.triangles_nonfinite;
       continue;
     }
     if (geometry::frustum_outcode(v[0]) & geometry::frustum_outcode(v[1]) & geometry::frustum_outcode(v[2])) {
-      ++stats.triangles_outside;
+      ++counts.triangles_outside;
       continue;
     }
     const Color3& flat_front = shading == ShadingMode::flat ? front[t] : none;
@@ -380,20 +441,21 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
     const std::uint32_t outcodes = geometry::clip_outcode(v[0], planes) | geometry::clip_outcode(v[1], planes) |
                                    geometry::clip_outcode(v[2], planes);
     if (outcodes == 0) {
-      emit(v, object, flat_front, flat_back, alpha);
+      emit(v, object, flat_front, flat_back, alpha, range);
       continue;
     }
-    ++stats.triangles_clipped;
+    ++counts.triangles_clipped;
     const int count = geometry::clip_triangle(v[0], v[1], v[2], outcodes, planes, attribute_count, polygon);
     for (int i = 1; i + 1 < count; ++i) {
       const ClipVertex piece[3] = {polygon[0], polygon[i], polygon[i + 1]};
-      emit(piece, object, flat_front, flat_back, alpha);
+      emit(piece, object, flat_front, flat_back, alpha, range);
     }
   }
 }
 
 void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const Color3& flat_front,
-                          const Color3& flat_back, float alpha) {
+                          const Color3& flat_back, float alpha, std::size_t range) {
+  FrameStats& counts = range_binning[range].counts;
   raster::ScreenTriangle t;
   const float half_w = 0.5f * static_cast<float>(width), half_h = 0.5f * static_cast<float>(height);
   const float g = raster::kGuardBandPixels;
@@ -410,18 +472,18 @@ void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const 
   }
   const std::int64_t area2 = raster::signed_area2(t);
   if (area2 == 0) {
-    ++stats.triangles_degenerate;
+    ++counts.triangles_degenerate;
     return;
   }
   // Counter-clockwise in GL's y-up window is negative area in this y-down screen.
   t.back_facing = area2 > 0;
   if ((cull == CullMode::back && t.back_facing && !two_sided) || (cull == CullMode::front && !t.back_facing)) {
-    ++stats.triangles_culled;
+    ++counts.triangles_culled;
     return;
   }
   if (area2 < 0) raster::swap_vertices_1_2(t);  // orient clockwise on screen
   if (!raster::finish_setup(t, width, height)) {
-    ++stats.triangles_small;
+    ++counts.triangles_small;
     return;
   }
   const bool use_back = t.back_facing && two_sided;
@@ -441,13 +503,16 @@ void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const 
   t.alpha = alpha;
   t.object = object;
 
+  std::vector<raster::ScreenTriangle>& triangles = range_triangles[range];
+  RangeBinning& binning = range_binning[range];
   const auto index = static_cast<std::uint32_t>(triangles.size());
   triangles.push_back(t);
-  ++stats.triangles_drawn;
+  ++counts.triangles_drawn;
   for (int ty = t.min_py / tile_size; ty <= t.max_py / tile_size; ++ty) {
     for (int tx = t.min_px / tile_size; tx <= t.max_px / tile_size; ++tx) {
-      bins[static_cast<std::size_t>(ty * tiles_x + tx)].push_back(index);
-      ++stats.bin_entries;
+      binning.tile.push_back(static_cast<std::uint32_t>(ty * tiles_x + tx));
+      binning.index.push_back(index);
+      ++counts.bin_entries;
     }
   }
 }

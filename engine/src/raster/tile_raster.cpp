@@ -68,8 +68,8 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
   }
 
   PixelBatch batch(scratch);
-  for (const std::uint32_t index : bin) {
-    const ScreenTriangle& t = job.triangles[index];
+  for (const std::uint32_t entry : bin) {
+    const ScreenTriangle& t = job.triangle_ranges[entry >> kRangeShift][entry & kIndexMask];
     const int x0 = std::max(t.min_px, rect.x0), x1 = std::min(t.max_px, rect.x1 - 1);
     const int y0 = std::max(t.min_py, rect.y0), y1 = std::min(t.max_py, rect.y1 - 1);
     if (x0 > x1 || y0 > y1) continue;

@@ -24,9 +24,14 @@ struct TileBuffers {
   void resize(int tile_size);
 };
 
+// Triangles are set up in parallel ranges; a bin entry names one as (range << 16) | index. A range
+// holds at most 8192 input triangles, each clipped into at most 7 pieces (< 2^16).
+inline constexpr int kRangeShift = 16;
+inline constexpr std::uint32_t kIndexMask = (1u << kRangeShift) - 1;
+
 struct RasterJob {
   ShadingMode shading;
-  std::span<const ScreenTriangle> triangles;
+  std::span<const std::vector<ScreenTriangle>> triangle_ranges;
   std::span<const lighting::PointShader> objects;  // per object, for per-pixel (Phong) lighting
   std::array<float, 4> clear_color;
 };
