@@ -45,7 +45,7 @@ struct RenderOptions {
 
 struct FrameStats {
   std::uint64_t triangles_in = 0;         // triangles of all objects
-  std::uint64_t triangles_nonfinite = 0;  // dropped: a vertex with NaN/Inf clip coordinates
+  std::uint64_t triangles_nonfinite = 0;  // dropped: NaN/Inf clip coordinates, or a piece whose projection overflows
   std::uint64_t triangles_outside = 0;    // dropped: entirely outside one frustum plane
   std::uint64_t triangles_clipped = 0;    // crossed the near/far plane or the guard band
   std::uint64_t triangles_culled = 0;     // facing away (after clipping, per piece)

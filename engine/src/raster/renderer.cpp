@@ -461,12 +461,21 @@ void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const 
   const float g = raster::kGuardBandPixels;
   for (int k = 0; k < 3; ++k) {
     const float inv_w = 1.0f / v[k].w;
+    float sx = (v[k].x * inv_w + 1.0f) * half_w;
+    float sy = (1.0f - v[k].y * inv_w) * half_h;
+    const float z = 0.5f * v[k].z * inv_w + 0.5f;
+    // After near clipping w >= near for real geometry; a hostile camera can still leave w at a
+    // subnormal (found by fuzz_render), so 1/w overflows. Such a piece is dropped, never cast.
+    if (!std::isfinite(sx) || !std::isfinite(sy) || !std::isfinite(z) || !std::isfinite(inv_w)) {
+      ++counts.triangles_nonfinite;
+      return;
+    }
     // Clipping keeps these inside the guard band up to rounding; the clamp makes overflow impossible.
-    const float sx = std::clamp((v[k].x * inv_w + 1.0f) * half_w, -g, g);
-    const float sy = std::clamp((1.0f - v[k].y * inv_w) * half_h, -g, g);
+    sx = std::clamp(sx, -g, g);
+    sy = std::clamp(sy, -g, g);
     t.x[k] = static_cast<std::int32_t>(std::nearbyint(sx * float(raster::kSubpixelOne)));
     t.y[k] = static_cast<std::int32_t>(std::nearbyint(sy * float(raster::kSubpixelOne)));
-    t.z[k] = std::clamp(0.5f * v[k].z * inv_w + 0.5f, 0.0f, 1.0f);
+    t.z[k] = std::clamp(z, 0.0f, 1.0f);
     t.inv_w[k] = inv_w;
     std::copy(v[k].attr, v[k].attr + geometry::kMaxAttributes, t.attr[k]);
   }
