@@ -55,6 +55,20 @@ TEST(ObjLoader, CommentsGroupsCrlfAndBlankLines) {
   EXPECT_EQ(m->triangle_count(), 1u);
 }
 
+TEST(ObjLoader, CommentInTheMiddleOfAFaceLineEndsIt) {
+  // Found by fuzzing: tinyobjloader alone would read "-9" as a (negative, out-of-range) index.
+  Result<Mesh> m = parse(std::string(kSquare) + "f 1 2 3 # 4 -9\n");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_EQ(m->triangle_count(), 1u);
+}
+
+TEST(ObjLoader, PolygonWithRepeatedCornersStaysInBounds) {
+  Result<Mesh> m = parse(std::string(kSquare) + "f 1 2 2 4 4 1 4\n");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_EQ(m->triangle_count(), 5u);  // a fan of 7 corners; the degenerate ones are kept, not drawn
+  EXPECT_TRUE(validate_mesh(*m).ok());
+}
+
 TEST(ObjLoader, MalformedFiles) {
   expect_error(std::string(kSquare) + "f 1 2 x\n", "test.obj:5:", "bad vertex index 'x'");
   expect_error(std::string(kSquare) + "f 1 2 9\n", "test.obj:5:", "vertex index 9 is out of range (4 defined so far)");

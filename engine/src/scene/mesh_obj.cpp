@@ -1,6 +1,10 @@
-// Wavefront OBJ loading. tinyobjloader parses and triangulates; before it runs, a line-by-line
-// check rejects what it would accept silently (unknown statements, non-numeric coordinates, bad
-// or out-of-range face indices), so every error names the file and line.
+// Wavefront OBJ loading. tinyobjloader parses; before it runs, a line-by-line check rejects what it
+// would accept silently (unknown statements, non-numeric coordinates, bad or out-of-range face
+// indices), so every error names the file and line. tinyobjloader then reads the *checked* text
+// (comments and blank lines removed), not the original: it does not treat a '#' in the middle of
+// a line as a comment, so it once resolved indices the check never saw (found by fuzz_obj; the
+// input is in tests/data/fuzz/obj/). Every index it returns is bounds-checked again all the same.
+// Polygons are triangulated here, as fans from their first corner (exact for convex polygons).
 #include <charconv>
 #include <cmath>
 #include <string>
@@ -63,7 +67,10 @@ class ObjChecker {
  public:
   explicit ObjChecker(std::string source) : source_(std::move(source)) {}
 
-  Status check(const std::string& text) {
+  // Checks `text` and writes the lines it checked, without comments, to `clean`.
+  Status check(const std::string& text, std::string& clean) {
+    clean.clear();
+    clean.reserve(text.size());
     std::size_t line_no = 0, pos = 0;
     while (pos <= text.size()) {
       std::size_t end = text.find('\n', pos);
@@ -76,6 +83,8 @@ class ObjChecker {
       if (line.empty()) continue;
       if (line.back() == '\\') return error(line_no, "line continuations ('\\') are not supported");
       if (Status s = check_line(line_no, split_ws(line)); !s.ok()) return s;
+      clean.append(line);
+      clean.push_back('\n');
       if (end == text.size()) break;
     }
     if (face_count_ == 0) return error(line_no, "no faces: the file defines no triangle or polygon");
@@ -162,8 +171,33 @@ class ObjChecker {
   std::size_t v_ = 0, vn_ = 0, vt_ = 0, face_count_ = 0;
 };
 
+// Calls fn(corner_a, corner_b, corner_c) for the fan triangles of every face, in file order.
+template <class Fn>
+void for_each_fan_triangle(const std::vector<tinyobj::shape_t>& shapes, Fn fn) {
+  for (const auto& shape : shapes) {
+    const auto& idx = shape.mesh.indices;
+    std::size_t offset = 0;
+    for (const unsigned int corners : shape.mesh.num_face_vertices) {
+      if (offset + corners > idx.size()) return;  // inconsistent counts: stop rather than read past
+      for (unsigned int k = 1; k + 1 < corners; ++k) fn(idx[offset], idx[offset + k], idx[offset + k + 1]);
+      offset += corners;
+    }
+  }
+}
+
 Result<Mesh> build_mesh(const tinyobj::attrib_t& attrib, const std::vector<tinyobj::shape_t>& shapes,
-                        const ObjOptions& options) {
+                        const ObjOptions& options, const std::string& source_name) {
+  // The check before parsing makes these impossible; a disagreement between it and tinyobjloader
+  // must still never index out of bounds.
+  const auto positions = static_cast<long long>(attrib.vertices.size() / 3);
+  const auto normals = static_cast<long long>(attrib.normals.size() / 3);
+  for (const auto& shape : shapes) {
+    for (const auto& i : shape.mesh.indices) {
+      if (i.vertex_index < 0 || i.vertex_index >= positions || i.normal_index >= normals) {
+        return Status{ErrorCode::parse_error, "", source_name + ": a face index is out of range"};
+      }
+    }
+  }
   bool all_have_normals = true;
   for (const auto& shape : shapes)
     for (const auto& idx : shape.mesh.indices) all_have_normals &= idx.normal_index >= 0;
@@ -175,26 +209,22 @@ Result<Mesh> build_mesh(const tinyobj::attrib_t& attrib, const std::vector<tinyo
   if (all_have_normals) {
     // The file decides: one vertex per distinct (position, normal) pair.
     std::unordered_map<long long, std::uint32_t> vertex_of;
-    for (const auto& shape : shapes) {
-      const auto& idx = shape.mesh.indices;
-      for (std::size_t c = 0; c + 2 < idx.size(); c += 3) {
-        std::array<std::uint32_t, 3> tri{};
-        for (int k = 0; k < 3; ++k) {
-          const auto& i = idx[c + k];
-          const long long key = static_cast<long long>(i.vertex_index) << 32 | static_cast<std::uint32_t>(i.normal_index);
-          auto [it, inserted] = vertex_of.try_emplace(key, static_cast<std::uint32_t>(mesh.positions.size()));
-          if (inserted) {
-            mesh.positions.push_back(position(i.vertex_index));
-            const Vec3 n(attrib.normals[3 * i.normal_index], attrib.normals[3 * i.normal_index + 1],
-                         attrib.normals[3 * i.normal_index + 2]);
-            const float len = n.norm();
-            mesh.normals.push_back(len > 0.0f && std::isfinite(len) ? Vec3(n / len) : Vec3::Zero());
-          }
-          tri[k] = it->second;
-        }
-        mesh.triangles.push_back(tri);
+    auto vertex = [&](const tinyobj::index_t& i) {
+      const long long key = static_cast<long long>(i.vertex_index) << 32 | static_cast<std::uint32_t>(i.normal_index);
+      auto [it, inserted] = vertex_of.try_emplace(key, static_cast<std::uint32_t>(mesh.positions.size()));
+      if (inserted) {
+        mesh.positions.push_back(position(i.vertex_index));
+        const Vec3 n(attrib.normals[3 * i.normal_index], attrib.normals[3 * i.normal_index + 1],
+                     attrib.normals[3 * i.normal_index + 2]);
+        const float len = n.norm();
+        mesh.normals.push_back(len > 0.0f && std::isfinite(len) ? Vec3(n / len) : Vec3::Zero());
       }
-    }
+      return it->second;
+    };
+    for_each_fan_triangle(shapes, [&](const tinyobj::index_t& a, const tinyobj::index_t& b, const tinyobj::index_t& c) {
+      const std::uint32_t ia = vertex(a), ib = vertex(b), ic = vertex(c);
+      mesh.triangles.push_back({ia, ib, ic});
+    });
     return mesh;
   }
   // Vertices no face uses are dropped (the bunny has 1,113): lighting them would be wasted work.
@@ -208,14 +238,11 @@ Result<Mesh> build_mesh(const tinyobj::attrib_t& attrib, const std::vector<tinyo
     new_index[i] = static_cast<std::uint32_t>(mesh.positions.size());
     mesh.positions.push_back(position(static_cast<int>(i)));
   }
-  for (const auto& shape : shapes) {
-    const auto& idx = shape.mesh.indices;
-    for (std::size_t c = 0; c + 2 < idx.size(); c += 3) {
-      mesh.triangles.push_back({new_index[static_cast<std::size_t>(idx[c].vertex_index)],
-                                new_index[static_cast<std::size_t>(idx[c + 1].vertex_index)],
-                                new_index[static_cast<std::size_t>(idx[c + 2].vertex_index)]});
-    }
-  }
+  for_each_fan_triangle(shapes, [&](const tinyobj::index_t& a, const tinyobj::index_t& b, const tinyobj::index_t& c) {
+    mesh.triangles.push_back({new_index[static_cast<std::size_t>(a.vertex_index)],
+                              new_index[static_cast<std::size_t>(b.vertex_index)],
+                              new_index[static_cast<std::size_t>(c.vertex_index)]});
+  });
   mesh.normals.assign(mesh.positions.size(), Vec3::Zero());
   compute_vertex_normals(mesh, options.crease_angle_deg);
   return mesh;
@@ -232,13 +259,14 @@ Result<Mesh> parse_obj(const std::string& text, const std::string& source_name, 
     if (text.find('\0') != std::string::npos) {
       return Status{ErrorCode::parse_error, "", source_name + ": not a text file (contains NUL bytes)"};
     }
-    if (Status s = ObjChecker(source_name).check(text); !s.ok()) return s;
+    std::string checked;
+    if (Status s = ObjChecker(source_name).check(text, checked); !s.ok()) return s;
 
     tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
+    config.triangulate = false;  // see the top of this file
     config.vertex_color = false;
     tinyobj::ObjReader reader;
-    const bool parsed = reader.ParseFromString(text, "", config);
+    const bool parsed = reader.ParseFromString(checked, "", config);
     if (!parsed || !reader.Error().empty()) {
       return Status{ErrorCode::parse_error, "", source_name + ": " + std::string(trim(reader.Error()))};
     }
@@ -247,7 +275,7 @@ Result<Mesh> parse_obj(const std::string& text, const std::string& source_name, 
     if (reader.Warning().find("out of bounds") != std::string::npos) {
       return Status{ErrorCode::parse_error, "", source_name + ": " + std::string(trim(reader.Warning()))};
     }
-    return build_mesh(reader.GetAttrib(), reader.GetShapes(), options);
+    return build_mesh(reader.GetAttrib(), reader.GetShapes(), options, source_name);
   } catch (const std::bad_alloc&) {
     return Status{ErrorCode::io_error, "", source_name + ": out of memory while loading"};
   } catch (const std::exception& e) {
