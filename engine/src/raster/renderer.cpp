@@ -1,6 +1,8 @@
-// The frame pipeline (scalar, one thread): per object, light or transform the vertices, assemble
-// triangles, drop non-finite and out-of-frustum ones, clip, project, snap, cull, set up and bin;
-// then rasterize each tile from its bin and resolve it into the caller's image.
+// The frame pipeline, on the renderer's own task arena: per object, light or transform the
+// vertices (parallel batches), assemble triangles in parallel fixed ranges (drop non-finite and
+// out-of-frustum ones, clip, project, snap, cull, set up, bin), merge the ranges' bin entries in
+// order; then rasterize every tile from its bin and resolve it into the caller's image, one task
+// per tile.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
