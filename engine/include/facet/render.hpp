@@ -58,7 +58,7 @@ struct FrameStats {
   std::uint64_t vertex_lights_skipped = 0;    // pairs the frame plan skipped (lights culled per object)
   std::uint64_t pixels_tested = 0;        // covered pixels that were depth-tested
   std::uint64_t pixels_filled = 0;        // pixels that passed and were written
-  double seconds_lighting = 0;  // vertex lighting (Gouraud) or centroid lighting (flat)
+  double seconds_lighting = 0;  // per-object set-up: clip transform, vertex (Gouraud) or centroid (flat) lighting
   double seconds_geometry = 0;  // transform, clip, project, set up, bin
   double seconds_raster = 0;    // wall time of the tile loop: coverage, depth, shading, resolve (all threads)
   double seconds_resolve = 0;   // of which resolving tiles into the caller's image, summed over threads
