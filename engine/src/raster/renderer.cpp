@@ -104,11 +104,28 @@ constexpr std::size_t kVertexChunk = 4096;
 // any thread count; small enough that its clipped pieces fit the 16-bit index of a bin entry.
 constexpr std::size_t kTriangleRange = 8192;
 
-// What one set-up range produced: its triangles, its bin entries (tile, index) in triangle
-// order, and its counters. Kept from frame to frame.
+// What happened to the triangles of one set-up range (see FrameStats for each counter).
+struct TriangleCounts {
+  std::uint64_t in = 0, nonfinite = 0, outside = 0, clipped = 0, culled = 0, degenerate = 0, small = 0, drawn = 0,
+                bin_entries = 0;
+  void add_to(FrameStats& s) const {
+    s.triangles_in += in;
+    s.triangles_nonfinite += nonfinite;
+    s.triangles_outside += outside;
+    s.triangles_clipped += clipped;
+    s.triangles_culled += culled;
+    s.triangles_degenerate += degenerate;
+    s.triangles_small += small;
+    s.triangles_drawn += drawn;
+    s.bin_entries += bin_entries;
+  }
+};
+
+// What one set-up range produced besides its triangles: its bin entries (tile, index) in
+// triangle order, and its counters. Kept from frame to frame.
 struct RangeBinning {
   std::vector<std::uint32_t> tile, index;
-  FrameStats counts;  // only the triangle counters are used
+  TriangleCounts counts;
 };
 
 struct Renderer::Impl {
@@ -260,14 +277,8 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   });
   stats.seconds_raster = seconds_since(raster_start);
   raster::RasterCounters counters;
-  for (const raster::RasterCounters& c : tile_counters) {
-    counters.tested += c.tested;
-    counters.filled += c.filled;
-    counters.shaded += c.shaded;
-    counters.light_pairs += c.light_pairs;
-    counters.skipped_pairs += c.skipped_pairs;
-    stats.seconds_resolve += c.seconds_resolve;
-  }
+  for (const raster::RasterCounters& c : tile_counters) counters += c;  // in tile order
+  stats.seconds_resolve = counters.seconds_resolve;
   stats.pixels_tested = counters.tested;
   stats.pixels_filled = counters.filled;
   stats.vertices_lit += counters.shaded;
@@ -383,16 +394,7 @@ void Renderer::Impl::merge_ranges() {
     const RangeBinning& rb = range_binning[r];
     const auto high = static_cast<std::uint32_t>(r) << raster::kRangeShift;
     for (std::size_t e = 0; e < rb.tile.size(); ++e) bins[rb.tile[e]].push_back(high | rb.index[e]);
-    const FrameStats& c = rb.counts;
-    stats.triangles_in += c.triangles_in;
-    stats.triangles_nonfinite += c.triangles_nonfinite;
-    stats.triangles_outside += c.triangles_outside;
-    stats.triangles_clipped += c.triangles_clipped;
-    stats.triangles_culled += c.triangles_culled;
-    stats.triangles_degenerate += c.triangles_degenerate;
-    stats.triangles_small += c.triangles_small;
-    stats.triangles_drawn += c.triangles_drawn;
-    stats.bin_entries += c.bin_entries;
+    rb.counts.add_to(stats);
   }
 }
 
@@ -402,13 +404,13 @@ void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, floa
   RangeBinning& out = range_binning[range];
   out.tile.clear();
   out.index.clear();
-  out.counts = FrameStats{};
-  FrameStats& counts = out.counts;
+  out.counts = TriangleCounts{};
+  TriangleCounts& counts = out.counts;
   const int attribute_count = shading == ShadingMode::flat ? 0 : (shading == ShadingMode::phong || two_sided ? 6 : 3);
   const Color3 none = Color3::Zero();
   ClipVertex polygon[geometry::kMaxClippedVertices];
   for (std::size_t t = begin; t < end; ++t) {
-    ++counts.triangles_in;
+    ++counts.in;
     const auto& tri = mesh.triangles[t];
     ClipVertex v[3];
     bool finite = true;
@@ -431,11 +433,11 @@ void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, floa
       }
     }
     if (!finite) {
-      ++counts.triangles_nonfinite;
+      ++counts.nonfinite;
       continue;
     }
     if (geometry::frustum_outcode(v[0]) & geometry::frustum_outcode(v[1]) & geometry::frustum_outcode(v[2])) {
-      ++counts.triangles_outside;
+      ++counts.outside;
       continue;
     }
     const Color3& flat_front = shading == ShadingMode::flat ? front[t] : none;
@@ -446,7 +448,7 @@ void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, floa
       emit(v, object, flat_front, flat_back, alpha, range);
       continue;
     }
-    ++counts.triangles_clipped;
+    ++counts.clipped;
     const int count = geometry::clip_triangle(v[0], v[1], v[2], outcodes, planes, attribute_count, polygon);
     for (int i = 1; i + 1 < count; ++i) {
       const ClipVertex piece[3] = {polygon[0], polygon[i], polygon[i + 1]};
@@ -457,7 +459,7 @@ void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, floa
 
 void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const Color3& flat_front,
                           const Color3& flat_back, float alpha, std::size_t range) {
-  FrameStats& counts = range_binning[range].counts;
+  TriangleCounts& counts = range_binning[range].counts;
   raster::ScreenTriangle t;
   const float half_w = 0.5f * static_cast<float>(width), half_h = 0.5f * static_cast<float>(height);
   const float g = raster::kGuardBandPixels;
@@ -469,7 +471,7 @@ void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const 
     // After near clipping w >= near for real geometry; a hostile camera can still leave w at a
     // subnormal (found by fuzz_render), so 1/w overflows. Such a piece is dropped, never cast.
     if (!std::isfinite(sx) || !std::isfinite(sy) || !std::isfinite(z) || !std::isfinite(inv_w)) {
-      ++counts.triangles_nonfinite;
+      ++counts.nonfinite;
       return;
     }
     // Clipping keeps these inside the guard band up to rounding; the clamp makes overflow impossible.
@@ -483,18 +485,18 @@ void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const 
   }
   const std::int64_t area2 = raster::signed_area2(t);
   if (area2 == 0) {
-    ++counts.triangles_degenerate;
+    ++counts.degenerate;
     return;
   }
   // Counter-clockwise in GL's y-up window is negative area in this y-down screen.
   t.back_facing = area2 > 0;
   if ((cull == CullMode::back && t.back_facing && !two_sided) || (cull == CullMode::front && !t.back_facing)) {
-    ++counts.triangles_culled;
+    ++counts.culled;
     return;
   }
   if (area2 < 0) raster::swap_vertices_1_2(t);  // orient clockwise on screen
   if (!raster::finish_setup(t, width, height)) {
-    ++counts.triangles_small;
+    ++counts.small;
     return;
   }
   const bool use_back = t.back_facing && two_sided;
@@ -518,7 +520,7 @@ void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const 
   RangeBinning& binning = range_binning[range];
   const auto index = static_cast<std::uint32_t>(triangles.size());
   triangles.push_back(t);
-  ++counts.triangles_drawn;
+  ++counts.drawn;
   for (int ty = t.min_py / tile_size; ty <= t.max_py / tile_size; ++ty) {
     for (int tx = t.min_px / tile_size; tx <= t.max_px / tile_size; ++tx) {
       binning.tile.push_back(static_cast<std::uint32_t>(ty * tiles_x + tx));

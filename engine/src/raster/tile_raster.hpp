@@ -40,6 +40,12 @@ struct RasterCounters {
   std::uint64_t tested = 0, filled = 0, shaded = 0;
   std::uint64_t light_pairs = 0, skipped_pairs = 0;  // per-pixel (Phong) lighting
   double seconds_resolve = 0;
+  RasterCounters& operator+=(const RasterCounters& o) {
+    tested += o.tested, filled += o.filled, shaded += o.shaded;
+    light_pairs += o.light_pairs, skipped_pairs += o.skipped_pairs;
+    seconds_resolve += o.seconds_resolve;
+    return *this;
+  }
 };
 
 // `tile` and `scratch` belong to the calling thread; the tile's pixels belong to this call.
