@@ -1,5 +1,6 @@
 // Coverage of the fixed-point rasterizer: the top-left rule case by case, and watertightness on
-// 10^5 random closed meshes (fans and grids) checked against an exact point-in-polygon test.
+// 10^5 random closed meshes (fans and grids) checked against an exact point-in-polygon test, for
+// the scalar rasterizer and for the SIMD tile kernels of every ISA this CPU has.
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -8,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "raster/tile_raster.hpp"
 #include "raster/triangle_setup.hpp"
 
 namespace facet::raster {
@@ -34,14 +36,40 @@ std::optional<ScreenTriangle> setup(P a, P b, P c, int width, int height) {
   return t;
 }
 
+// Counts how often each pixel is covered, with the scalar rasterizer or (kernels != null) with a
+// SIMD tile kernel: one triangle per run over the whole w x h tile, covered pixels read back from
+// the depth plane.
 class Coverage {
  public:
-  Coverage(int w, int h) : w_(w), h_(h), count_(static_cast<std::size_t>(w * h), 0) {}
+  Coverage(int w, int h, const simd::Kernels* kernels = nullptr)
+      : w_(w), h_(h), count_(static_cast<std::size_t>(w * h), 0), kernels_(kernels) {
+    tile_.resize(w);
+  }
   void add(P a, P b, P c) {
-    if (auto t = setup(a, b, c, w_, h_)) {
+    auto t = setup(a, b, c, w_, h_);
+    if (!t) return;
+    if (!kernels_) {
       for_each_covered_pixel(*t, t->min_px, t->min_py, t->max_px, t->max_py,
                              [&](int x, int y, std::int64_t, std::int64_t, std::int64_t) { ++at(x, y); });
+      return;
     }
+    for (auto& z : t->z) z = 0.5f;
+    for (auto& w : t->inv_w) w = 1.0f;
+    compute_planes(*t, 0);
+    const ScreenTriangle* range = &*t;
+    const std::uint32_t bin = 0;
+    simd::TileJob job{0, &range, &bin, 1, 0, 0, w_, h_, nullptr};
+    simd::TileCounters counters;
+    kernels_->raster(job, tile_.view({0, 0, 0, 1}), counters);
+    std::uint64_t found = 0;
+    for (int y = t->min_py; y <= t->max_py; ++y) {
+      for (int x = t->min_px; x <= t->max_px; ++x) {
+        const std::size_t i = tile_.index(x, y);
+        if (tile_.touched[i / simd::kBlockPixels] && tile_.plane(4)[i] < 1.0f) ++at(x, y), ++found;
+      }
+    }
+    // Every pixel the kernel counted lies inside the triangle's bounds.
+    if (found != counters.tested) ADD_FAILURE() << "covered pixels outside the triangle's bounds";
   }
   int& at(int x, int y) { return count_[static_cast<std::size_t>(y * w_ + x)]; }
   void clear(int x0, int y0, int x1, int y1) {
@@ -54,6 +82,8 @@ class Coverage {
  private:
   int w_, h_;
   std::vector<int> count_;
+  const simd::Kernels* kernels_;
+  TileBuffers tile_;
 };
 
 // --- The top-left rule, case by case (y grows downwards; pixel (x, y) has its centre at
@@ -224,12 +254,22 @@ class MeshMaker {
   std::mt19937_64 rng_;
 };
 
-// 10^5 meshes in four shards of 25,000 (their own seeds), so that ctest can run them in parallel.
-class Watertight : public ::testing::TestWithParam<unsigned> {};
+// 10^5 meshes in four shards of 25,000 (their own seeds), so that ctest can run them in parallel;
+// each shard on the scalar rasterizer and on the SIMD kernels of each ISA.
+struct WatertightParam {
+  unsigned shard;
+  std::optional<Isa> isa;  // none: the scalar rasterizer
+};
+class Watertight : public ::testing::TestWithParam<WatertightParam> {};
 
 TEST_P(Watertight, RandomFansAndGridsCoverEveryInteriorPixelExactlyOnce) {
-  MeshMaker maker(12345 + GetParam());
-  Coverage cov(64, 64);
+  const simd::Kernels* kernels = nullptr;
+  if (GetParam().isa) {
+    if (!isa_supported(*GetParam().isa)) GTEST_SKIP() << "this CPU does not have " << to_string(*GetParam().isa);
+    kernels = simd_raster_kernels(*GetParam().isa);
+  }
+  MeshMaker maker(12345 + GetParam().shard);
+  Coverage cov(64, 64, kernels);
   std::size_t meshes = 0, interior_checked = 0, failures = 0;
   while (meshes < 25000) {
     const Mesh2D m = meshes % 5 < 3 ? maker.fan() : maker.grid();
@@ -263,7 +303,20 @@ TEST_P(Watertight, RandomFansAndGridsCoverEveryInteriorPixelExactlyOnce) {
   std::printf("%zu meshes, %zu interior pixel centres checked, %zu failures\n", meshes, interior_checked, failures);
 }
 
-INSTANTIATE_TEST_SUITE_P(Shards, Watertight, ::testing::Values(0u, 1u, 2u, 3u));
+std::vector<WatertightParam> watertight_params() {
+  std::vector<WatertightParam> v;
+  for (std::optional<Isa> isa : {std::optional<Isa>{}, std::optional(Isa::sse2), std::optional(Isa::avx2),
+                                 std::optional(Isa::avx512)}) {
+    for (unsigned shard = 0; shard < 4; ++shard) v.push_back({shard, isa});
+  }
+  return v;
+}
+
+INSTANTIATE_TEST_SUITE_P(Shards, Watertight, ::testing::ValuesIn(watertight_params()),
+                         [](const ::testing::TestParamInfo<WatertightParam>& info) {
+                           return (info.param.isa ? std::string(to_string(*info.param.isa)) : std::string("scalar")) +
+                                  "_" + std::to_string(info.param.shard);
+                         });
 
 }  // namespace
 }  // namespace facet::raster

@@ -211,4 +211,21 @@ void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3*
            out, scratch);
 }
 
+void PointShader::shade_soa(const simd::Streams& s) const {
+  if (path_ == LightingPath::simd) {
+    simd_shade_(simd_params_, nullptr, s);
+    return;
+  }
+  for (std::size_t i = 0; i < s.count; ++i) {  // the other paths, one point at a time
+    const Vec3 p(s.px[i], s.py[i], s.pz[i]), n(s.nx[i], s.ny[i], s.nz[i]);
+    Color3 c;
+    if (path_ == LightingPath::reference) {
+      lighting::shade_points(reference_, 1, &p, &n, &c);
+    } else {
+      lighting::shade_points(scalar_, 1, &p, &n, &c);
+    }
+    s.r[i] = c.x(), s.g[i] = c.y(), s.b[i] = c.z();
+  }
+}
+
 }  // namespace facet::lighting

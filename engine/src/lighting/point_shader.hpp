@@ -40,6 +40,10 @@ class PointShader {
   // Lights `count` eye-space points.
   void shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out, SoaScratch& scratch) const;
 
+  // Lights eye-space points given as padded structure-of-arrays streams (positions and normals in,
+  // colours out; s.count a multiple of simd::kMaxLanes): what the SIMD rasterizer's Phong pixels use.
+  void shade_soa(const simd::Streams& s) const;
+
   std::size_t light_count() const;    // lights evaluated per point
   std::size_t culled_lights() const { return culled_; }  // enabled lights the frame plan dropped
 

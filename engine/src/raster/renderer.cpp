@@ -140,6 +140,7 @@ struct Renderer::Impl {
   // Frame-wide state, reused from frame to frame (capacity is kept).
   std::vector<std::vector<raster::ScreenTriangle>> range_triangles;
   std::vector<RangeBinning> range_binning;
+  std::vector<const raster::ScreenTriangle*> range_data;
   std::size_t range_count = 0;
   std::vector<std::vector<std::uint32_t>> bins;
   std::vector<lighting::PointShader> shaders;  // one per object
@@ -251,7 +252,14 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   const auto merge_start = Clock::now();
   merge_ranges();
   stats.seconds_geometry += seconds_since(merge_start);
-  const raster::RasterJob job{shading, std::span(range_triangles.data(), range_count), shaders, options.clear_color};
+  range_data.resize(range_count);
+  for (std::size_t r = 0; r < range_count; ++r) range_data[r] = range_triangles[r].data();
+  const raster::RasterJob job{shading,
+                              std::span(range_triangles.data(), range_count),
+                              range_data.data(),
+                              shaders,
+                              options.clear_color,
+                              options.path == LightingPath::simd ? raster::simd_raster_kernels(options.isa) : nullptr};
   const int tile_count = tiles_x * tiles_y;
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});
   const auto raster_start = Clock::now();
@@ -271,7 +279,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
       }
       raster::rasterize_tile(job, bin, rect, w.tile, w.soa, c);
       const auto resolve_start = Clock::now();
-      raster::resolve_tile(w.tile, rect, color, depth);
+      raster::resolve_tile(job, w.tile, rect, color, depth);
       c.seconds_resolve = seconds_since(resolve_start);
     }
   });
@@ -515,6 +523,7 @@ void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const 
   }
   t.alpha = alpha;
   t.object = object;
+  raster::compute_planes(t, shading == ShadingMode::flat ? 0 : (shading == ShadingMode::phong ? 6 : 3));
 
   std::vector<raster::ScreenTriangle>& triangles = range_triangles[range];
   RangeBinning& binning = range_binning[range];

@@ -9,9 +9,28 @@ namespace facet::raster {
 
 void TileBuffers::resize(int tile_size) {
   size = tile_size;
-  const auto n = static_cast<std::size_t>(tile_size) * static_cast<std::size_t>(tile_size);
-  color.resize(4 * n);
-  depth.resize(n);
+  plane_size_ = static_cast<std::size_t>(tile_size) * static_cast<std::size_t>(tile_size);  // a multiple of 64
+  storage.resize(5 * plane_size_ + 16);  // grows only; + slack for the alignment below
+  const auto address = reinterpret_cast<std::uintptr_t>(storage.data());
+  offset_ = ((64 - address % 64) % 64) / sizeof(float);
+  phong.resize(9 * static_cast<std::size_t>(simd::kPhongCapacity));
+  phong_pixel.resize(simd::kPhongCapacity);
+  touched.resize(static_cast<std::size_t>(tile_size / simd::kBlock) * static_cast<std::size_t>(tile_size / simd::kBlock));
+}
+
+const simd::Kernels* simd_raster_kernels(Isa isa) noexcept {
+  static constexpr simd::Kernels sse2{simd::sse2::raster_tile, simd::sse2::resolve_tile};
+  static constexpr simd::Kernels avx2{simd::avx2::raster_tile, simd::avx2::resolve_tile};
+  static constexpr simd::Kernels avx512{simd::avx512::raster_tile, simd::avx512::resolve_tile};
+  if (isa == Isa::best) isa = best_isa();
+  if (!isa_supported(isa)) return nullptr;
+  switch (isa) {
+    case Isa::sse2: return &sse2;
+    case Isa::avx2: return &avx2;
+    case Isa::avx512: return &avx512;
+    case Isa::best: break;
+  }
+  return nullptr;
 }
 
 namespace {
@@ -22,7 +41,7 @@ class PixelBatch {
   static constexpr int kCapacity = 64;
   explicit PixelBatch(lighting::SoaScratch& scratch) : scratch_(scratch) {}
 
-  void add(int index, const Vec3& p, const Vec3& n) {
+  void add(std::size_t index, const Vec3& p, const Vec3& n) {
     index_[count_] = index;
     p_[count_] = p;
     n_[count_] = n;
@@ -34,11 +53,11 @@ class PixelBatch {
     if (count_ == 0) return;
     shader.shade_points(static_cast<std::size_t>(count_), p_, n_, out_, scratch_);
     for (int i = 0; i < count_; ++i) {
-      float* c = &tile.color[4 * static_cast<std::size_t>(index_[i])];
-      c[0] = out_[i].x();
-      c[1] = out_[i].y();
-      c[2] = out_[i].z();
-      c[3] = alpha;
+      const auto p = static_cast<std::size_t>(index_[i]);
+      tile.plane(0)[p] = out_[i].x();
+      tile.plane(1)[p] = out_[i].y();
+      tile.plane(2)[p] = out_[i].z();
+      tile.plane(3)[p] = alpha;
     }
     counters.shaded += static_cast<std::uint64_t>(count_);
     counters.light_pairs += static_cast<std::uint64_t>(count_) * shader.light_count();
@@ -48,22 +67,66 @@ class PixelBatch {
 
  private:
   int count_ = 0;
-  int index_[kCapacity];
+  std::size_t index_[kCapacity];
   Vec3 p_[kCapacity], n_[kCapacity];
   Color3 out_[kCapacity];
   lighting::SoaScratch& scratch_;
 };
 
+// The Phong sink of the SIMD kernels: lights the gathered pixels with the object's shader.
+struct PhongContext {
+  const RasterJob* job;
+  RasterCounters* counters;
+  float* buffers;  // TileBuffers::phong
+};
+
+void shade_phong(void* context, std::uint32_t object, std::size_t count, std::size_t padded) {
+  auto& c = *static_cast<PhongContext*>(context);
+  const lighting::PointShader& shader = c.job->objects[object];
+  float* f = c.buffers;
+  const std::size_t cap = simd::kPhongCapacity;
+  shader.shade_soa({f, f + cap, f + 2 * cap, f + 3 * cap, f + 4 * cap, f + 5 * cap, f + 6 * cap, f + 7 * cap,
+                    f + 8 * cap, padded});
+  c.counters->shaded += count;
+  c.counters->light_pairs += count * shader.light_count();
+  c.counters->skipped_pairs += count * shader.culled_lights();
+}
+
+void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bin, const TileRect& rect,
+                         TileBuffers& tile, RasterCounters& counters) {
+  PhongContext context{&job, &counters, tile.phong.data()};
+  float* f = tile.phong.data();
+  const std::size_t cap = simd::kPhongCapacity;
+  simd::PhongSink sink{f,           f + cap,     f + 2 * cap, f + 3 * cap, f + 4 * cap,           f + 5 * cap,
+                       f + 6 * cap, f + 7 * cap, f + 8 * cap, tile.phong_pixel.data(), &context, shade_phong};
+  simd::TileJob tj{static_cast<int>(job.shading),
+                   job.range_data,
+                   bin.data(),
+                   bin.size(),
+                   rect.x0,
+                   rect.y0,
+                   rect.x1,
+                   rect.y1,
+                   &sink};
+  simd::TileCounters tc;
+  job.kernels->raster(tj, tile.view(job.clear_color), tc);
+  counters.tested += tc.tested;
+  counters.filled += tc.filled;
+}
+
 }  // namespace
 
 void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, const TileRect& rect,
                     TileBuffers& tile, lighting::SoaScratch& scratch, RasterCounters& counters) {
-  const int stride = tile.size;
-  for (int y = rect.y0; y < rect.y1; ++y) {
-    const std::size_t row = static_cast<std::size_t>(y - rect.y0) * static_cast<std::size_t>(stride);
+  if (job.kernels) {
+    rasterize_tile_simd(job, bin, rect, tile, counters);
+    return;
+  }
+  for (int y = 0; y < rect.y1 - rect.y0; ++y) {
     for (int x = 0; x < rect.x1 - rect.x0; ++x) {
-      std::memcpy(&tile.color[4 * (row + static_cast<std::size_t>(x))], job.clear_color.data(), 4 * sizeof(float));
-      tile.depth[row + static_cast<std::size_t>(x)] = 1.0f;
+      const std::size_t p = tile.index(x, y);
+      for (int c = 0; c < 4; ++c) tile.plane(c)[p] = job.clear_color[static_cast<std::size_t>(c)];
+      tile.plane(4)[p] = 1.0f;
     }
   }
 
@@ -82,16 +145,19 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
       const float l2 = static_cast<float>(e2) * t.inv_area2;
       float z = l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2];
       z = z > 0.0f ? (z < 1.0f ? z : 1.0f) : 0.0f;
-      const int pixel = (y - rect.y0) * stride + (x - rect.x0);
-      if (!(z < tile.depth[static_cast<std::size_t>(pixel)])) return;  // depth test: LESS
-      tile.depth[static_cast<std::size_t>(pixel)] = z;
+      const std::size_t pixel = tile.index(x - rect.x0, y - rect.y0);
+      float* depth = tile.plane(4);
+      if (!(z < depth[pixel])) return;  // depth test: LESS
+      depth[pixel] = z;
       ++counters.filled;
-      float* c = &tile.color[4 * static_cast<std::size_t>(pixel)];
+      auto put = [&](float r, float g, float b) {
+        tile.plane(0)[pixel] = r;
+        tile.plane(1)[pixel] = g;
+        tile.plane(2)[pixel] = b;
+        tile.plane(3)[pixel] = t.alpha;
+      };
       if (job.shading == ShadingMode::flat) {
-        c[0] = t.flat_rgb[0];
-        c[1] = t.flat_rgb[1];
-        c[2] = t.flat_rgb[2];
-        c[3] = t.alpha;
+        put(t.flat_rgb[0], t.flat_rgb[1], t.flat_rgb[2]);
         return;
       }
       // Perspective-correct weights: (l_k / w_k) / sum(l_j / w_j).
@@ -100,10 +166,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
       const float w0 = m0 * inv_sum, w1 = m1 * inv_sum, w2 = m2 * inv_sum;
       auto interp = [&](int a) { return w0 * t.attr[0][a] + w1 * t.attr[1][a] + w2 * t.attr[2][a]; };
       if (job.shading == ShadingMode::gouraud) {
-        c[0] = interp(0);
-        c[1] = interp(1);
-        c[2] = interp(2);
-        c[3] = t.alpha;
+        put(interp(0), interp(1), interp(2));
       } else {
         batch.add(pixel, Vec3(interp(0), interp(1), interp(2)), Vec3(interp(3), interp(4), interp(5)));
         if (batch.full()) batch.flush(shading, t.alpha, tile, counters);
@@ -113,34 +176,39 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
   }
 }
 
-void resolve_tile(const TileBuffers& tile, const TileRect& rect, const ImageView& color, const DepthView* depth) {
+void resolve_tile(const RasterJob& job, TileBuffers& tile, const TileRect& rect, const ImageView& color,
+                  const DepthView* depth) {
+  if (job.kernels) {
+    job.kernels->resolve(tile.view(job.clear_color), rect.x0, rect.y0, rect.x1, rect.y1, color, depth);
+    return;
+  }
   const std::size_t bpp = bytes_per_pixel(color.format);
+  const int n = rect.x1 - rect.x0;
   for (int y = rect.y0; y < rect.y1; ++y) {
     const int image_row = color.y_up ? color.height - 1 - y : y;
     auto* dst = static_cast<std::uint8_t*>(color.data) + static_cast<std::size_t>(image_row) * color.stride_bytes +
                 static_cast<std::size_t>(rect.x0) * bpp;
-    const float* src = &tile.color[4 * static_cast<std::size_t>(y - rect.y0) * static_cast<std::size_t>(tile.size)];
-    const int n = rect.x1 - rect.x0;
-    switch (color.format) {
-      case PixelFormat::rgba8:
-        for (int i = 0; i < 4 * n; ++i) dst[i] = to_unorm8(src[i]);
-        break;
-      case PixelFormat::bgra8:
-        for (int x = 0; x < n; ++x) {
-          dst[4 * x + 0] = to_unorm8(src[4 * x + 2]);
-          dst[4 * x + 1] = to_unorm8(src[4 * x + 1]);
-          dst[4 * x + 2] = to_unorm8(src[4 * x + 0]);
-          dst[4 * x + 3] = to_unorm8(src[4 * x + 3]);
-        }
-        break;
-      case PixelFormat::rgba32f: std::memcpy(dst, src, static_cast<std::size_t>(n) * 16); break;
+    for (int x = 0; x < n; ++x, dst += bpp) {
+      const std::size_t p = tile.index(x, y - rect.y0);
+      const float rgba[4] = {tile.plane(0)[p], tile.plane(1)[p], tile.plane(2)[p], tile.plane(3)[p]};
+      switch (color.format) {
+        case PixelFormat::rgba8:
+          for (int c = 0; c < 4; ++c) dst[c] = to_unorm8(rgba[c]);
+          break;
+        case PixelFormat::bgra8:
+          dst[0] = to_unorm8(rgba[2]);
+          dst[1] = to_unorm8(rgba[1]);
+          dst[2] = to_unorm8(rgba[0]);
+          dst[3] = to_unorm8(rgba[3]);
+          break;
+        case PixelFormat::rgba32f: std::memcpy(dst, rgba, 16); break;
+      }
     }
     if (depth) {
       const int depth_row = depth->y_up ? depth->height - 1 - y : y;
       auto* d = reinterpret_cast<std::uint8_t*>(depth->data) + static_cast<std::size_t>(depth_row) * depth->stride_bytes +
                 static_cast<std::size_t>(rect.x0) * sizeof(float);
-      std::memcpy(d, &tile.depth[static_cast<std::size_t>(y - rect.y0) * static_cast<std::size_t>(tile.size)],
-                  static_cast<std::size_t>(n) * sizeof(float));
+      for (int x = 0; x < n; ++x, d += sizeof(float)) std::memcpy(d, &tile.plane(4)[tile.index(x, y - rect.y0)], 4);
     }
   }
 }
@@ -163,16 +231,33 @@ void resolve_clear_tile(const std::array<float, 4>& clear_color, const TileRect&
     case PixelFormat::rgba32f: std::memcpy(pixel, clear_color.data(), 16); break;
   }
   const float far_depth = 1.0f;
+  const std::size_t row_bytes = static_cast<std::size_t>(rect.x1 - rect.x0) * bpp;
+  const std::uint8_t* first_color = nullptr;
+  const std::uint8_t* first_depth = nullptr;
   for (int y = rect.y0; y < rect.y1; ++y) {
     const int image_row = color.y_up ? color.height - 1 - y : y;
     auto* dst = static_cast<std::uint8_t*>(color.data) + static_cast<std::size_t>(image_row) * color.stride_bytes +
                 static_cast<std::size_t>(rect.x0) * bpp;
-    for (int x = rect.x0; x < rect.x1; ++x, dst += bpp) std::memcpy(dst, pixel, bpp);
+    if (first_color) {
+      std::memcpy(dst, first_color, row_bytes);  // every row is the same as the first
+    } else {
+      if (bpp == 4) {
+        for (int x = rect.x0; x < rect.x1; ++x) std::memcpy(dst + 4 * (x - rect.x0), pixel, 4);
+      } else {
+        for (int x = rect.x0; x < rect.x1; ++x) std::memcpy(dst + 16 * (x - rect.x0), pixel, 16);
+      }
+      first_color = dst;
+    }
     if (depth) {
       const int depth_row = depth->y_up ? depth->height - 1 - y : y;
       auto* d = reinterpret_cast<std::uint8_t*>(depth->data) + static_cast<std::size_t>(depth_row) * depth->stride_bytes +
                 static_cast<std::size_t>(rect.x0) * sizeof(float);
-      for (int x = rect.x0; x < rect.x1; ++x, d += sizeof(float)) std::memcpy(d, &far_depth, sizeof far_depth);
+      if (first_depth) {
+        std::memcpy(d, first_depth, static_cast<std::size_t>(rect.x1 - rect.x0) * sizeof(float));
+      } else {
+        for (int x = rect.x0; x < rect.x1; ++x) std::memcpy(d + 4 * (x - rect.x0), &far_depth, 4);
+        first_depth = d;
+      }
     }
   }
 }

@@ -1,6 +1,9 @@
-// Internal: one screen tile, rasterized and resolved. The tile's colour (float RGBA) and depth live
-// in a tile-local buffer that is cleared here; triangles are processed in bin order (= submission
-// order), so the result does not depend on which task renders which tile.
+// Internal: one screen tile, rasterized and resolved. The tile's colour (float R, G, B, A planes)
+// and depth live in tile-local, block-linear buffers (raster_kernels.hpp) that are cleared here;
+// triangles are processed in bin order (= submission order), so the result does not depend on
+// which task renders which tile. Two rasterizers fill them: the scalar one below (the twin the
+// SIMD kernels are tested against, used by the reference and scalar paths) and the SIMD kernels
+// (raster_simd.hpp, used by the simd path).
 #pragma once
 
 #include <cstdint>
@@ -9,6 +12,7 @@
 
 #include "facet/render.hpp"
 #include "lighting/point_shader.hpp"
+#include "raster/raster_kernels.hpp"
 #include "raster/triangle_setup.hpp"
 
 namespace facet::raster {
@@ -19,22 +23,38 @@ struct TileRect {
 
 struct TileBuffers {
   int size = 0;
-  std::vector<float> color;  // size * size * 4
-  std::vector<float> depth;  // size * size
+  std::vector<float> storage;  // five planes of size * size floats, 64-byte aligned
+  std::vector<float> phong;    // Phong sink buffers: 9 x kPhongCapacity
+  std::vector<std::uint32_t> phong_pixel;
+  std::vector<std::uint8_t> touched;  // per block, for the SIMD kernels' lazy clear
   void resize(int tile_size);
-};
+  float* plane(int c) { return storage.data() + offset_ + static_cast<std::size_t>(c) * plane_size_; }
+  const float* plane(int c) const { return storage.data() + offset_ + static_cast<std::size_t>(c) * plane_size_; }
+  simd::TileView view(const std::array<float, 4>& clear) {
+    return {{plane(0), plane(1), plane(2), plane(3), plane(4)}, touched.data(), size, {clear[0], clear[1], clear[2], clear[3]}};
+  }
+  // Block-linear index of tile pixel (x, y).
+  std::size_t index(int x, int y) const {
+    return static_cast<std::size_t>((y / simd::kBlock) * (size / simd::kBlock) + x / simd::kBlock) *
+               simd::kBlockPixels +
+           static_cast<std::size_t>((y % simd::kBlock) * simd::kBlock + x % simd::kBlock);
+  }
 
-// Triangles are set up in parallel ranges; a bin entry names one as (range << 16) | index. A range
-// holds at most 8192 input triangles, each clipped into at most 7 pieces (< 2^16).
-inline constexpr int kRangeShift = 16;
-inline constexpr std::uint32_t kIndexMask = (1u << kRangeShift) - 1;
+ private:
+  std::size_t offset_ = 0, plane_size_ = 0;
+};
 
 struct RasterJob {
   ShadingMode shading;
   std::span<const std::vector<ScreenTriangle>> triangle_ranges;
+  const ScreenTriangle* const* range_data;         // triangle_ranges[r].data(), for the SIMD kernels
   std::span<const lighting::PointShader> objects;  // per object, for per-pixel (Phong) lighting
   std::array<float, 4> clear_color;
+  const simd::Kernels* kernels;  // the SIMD rasterizer of the chosen ISA; null: the scalar one
 };
+
+// The SIMD rasterizer of an ISA (Isa::best resolved), or null if this CPU lacks it.
+const simd::Kernels* simd_raster_kernels(Isa isa) noexcept;
 
 struct RasterCounters {
   std::uint64_t tested = 0, filled = 0, shaded = 0;
@@ -52,8 +72,10 @@ struct RasterCounters {
 void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, const TileRect& rect,
                     TileBuffers& tile, lighting::SoaScratch& scratch, RasterCounters& counters);
 
-// Writes the tile into the caller's views (already validated; depth may be null).
-void resolve_tile(const TileBuffers& tile, const TileRect& rect, const ImageView& color, const DepthView* depth);
+// Writes the tile into the caller's views (already validated; depth may be null), with the job's
+// kernels or the scalar code: both convert exactly as to_unorm8.
+void resolve_tile(const RasterJob& job, TileBuffers& tile, const TileRect& rect, const ImageView& color,
+                  const DepthView* depth);
 
 // A tile no triangle touches: writes the clear colour (converted exactly as resolve_tile would)
 // and far depth straight into the caller's views, without the tile buffers.

@@ -33,4 +33,24 @@ bool finish_setup(ScreenTriangle& t, int width, int height) {
   return true;
 }
 
+void compute_planes(ScreenTriangle& t, int attribute_count) {
+  constexpr double kInvOne = 1.0 / kSubpixelOne;
+  const double x10 = (double(t.x[1]) - t.x[0]) * kInvOne, y10 = (double(t.y[1]) - t.y[0]) * kInvOne;
+  const double x20 = (double(t.x[2]) - t.x[0]) * kInvOne, y20 = (double(t.y[2]) - t.y[0]) * kInvOne;
+  const double inv_det = 1.0 / (x10 * y20 - x20 * y10);  // area2 / 2^16 != 0
+  auto set = [&](Plane& p, double f0, double f1, double f2) {
+    const double d1 = f1 - f0, d2 = f2 - f0;
+    p.at_v0 = static_cast<float>(f0);
+    p.dx = static_cast<float>((d1 * y20 - d2 * y10) * inv_det);
+    p.dy = static_cast<float>((d2 * x10 - d1 * x20) * inv_det);
+  };
+  set(t.plane[kPlaneZ], t.z[0], t.z[1], t.z[2]);
+  set(t.plane[kPlaneInvW], t.inv_w[0], t.inv_w[1], t.inv_w[2]);
+  for (int a = 0; a < attribute_count; ++a) {
+    set(t.plane[kPlaneAttr + a], double(t.attr[0][a]) * t.inv_w[0], double(t.attr[1][a]) * t.inv_w[1],
+        double(t.attr[2][a]) * t.inv_w[2]);
+  }
+  for (int a = attribute_count; a < geometry::kMaxAttributes; ++a) t.plane[kPlaneAttr + a] = Plane{0, 0, 0};
+}
+
 }  // namespace facet::raster

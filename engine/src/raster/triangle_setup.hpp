@@ -24,6 +24,17 @@ inline constexpr std::int32_t kSubpixelOne = 1 << kSubpixelBits;
 inline constexpr std::int32_t kPixelCentre = kSubpixelOne / 2;
 inline constexpr float kGuardBandPixels = 32768.0f;
 
+// An attribute as an affine function of the pixel position (screen space, pixels, y down):
+// f(x, y) = at_v0 + dx (x - x0) + dy (y - y0), where (x0, y0) is vertex 0. Depth is affine in
+// screen space; perspective-correct attributes are interpolated as f/w and 1/w (both affine) and
+// divided per pixel. The SIMD rasterizer evaluates these planes; the scalar one uses barycentrics.
+struct Plane {
+  float at_v0, dx, dy;
+};
+// Planes of a triangle: depth, 1/w, then attribute a over w.
+inline constexpr int kPlaneZ = 0, kPlaneInvW = 1, kPlaneAttr = 2;
+inline constexpr int kPlaneCount = kPlaneAttr + geometry::kMaxAttributes;
+
 struct ScreenTriangle {
   std::int32_t x[3], y[3];  // fixed point, oriented (area2 > 0)
   std::int64_t bias[3];     // 0 on top-left edges, -1 on the others
@@ -37,6 +48,7 @@ struct ScreenTriangle {
   std::uint32_t object;
   bool back_facing;
   int min_px, min_py, max_px, max_py;  // covered pixel bounds, inclusive, inside the viewport
+  Plane plane[kPlaneCount];            // set by compute_planes
 };
 
 inline bool is_top_left(std::int64_t dx, std::int64_t dy) { return dy < 0 || (dy == 0 && dx > 0); }
@@ -57,6 +69,10 @@ void swap_vertices_1_2(ScreenTriangle& t);
 // and the covered pixel bounds clipped to a width x height viewport. False if no pixel centre of
 // the viewport can be covered.
 bool finish_setup(ScreenTriangle& t, int width, int height);
+
+// After finish_setup: the planes of depth, 1/w and the first `attribute_count` attributes over w,
+// from the snapped vertex positions (so they agree with the coverage test), computed in double.
+void compute_planes(ScreenTriangle& t, int attribute_count);
 
 // Calls fn(x, y, e0, e1, e2) for every covered pixel of `t` in [x0, x1] x [y0, y1] (inclusive,
 // inside t's bounds), row by row, left to right; e_k are the unbiased edge values (barycentric

@@ -1,0 +1,384 @@
+// Internal: the SIMD tile rasterizer, a template on the xsimd architecture. Only the per-ISA files
+// raster_simd_{sse2,avx2,avx512}.cpp include this header; each instantiates it once with its own
+// flags, always with -ffp-contract=off so that every ISA does the same IEEE operations in the same
+// order: images are then byte-identical across sse2, avx2 and avx512 (tests/raster_simd_test.cpp).
+// Everything here is a template on Arch or sits in an unnamed namespace, so no inline function is
+// shared with another ISA's object file (platform.md, trap 5).
+//
+// Per triangle and tile:
+//   1. Hierarchical test on 8x8 blocks with the exact 64-bit edge functions at the block corners:
+//      a block outside an edge is skipped; edges the whole block is inside are not tested again.
+//   2. Blocks on an edge test each pixel in 32-bit lanes, exactly: within a block
+//        E(i, j) = E(block) + 256 (A i + B j)   (A, B: the edge's fixed-point deltas, |A|,|B| < 2^24)
+//      so E >= 0  <=>  A i + B j + floor(E(block) / 256) >= 0, where |A i + B j| <= 7 (|A|+|B|) < 2^28
+//      and, the block being on the edge, |E(block) / 256| <= 7 (|A|+|B|) as well: no overflow, and
+//      the same pixels as the scalar rasterizer's int64 test (coverage is identical on every path).
+//   3. Depth and attributes from screen-space planes (ScreenTriangle::plane): the value at the
+//      block origin in double, rounded to float, plus (i dx + j dy) per lane in float; 1/w and
+//      attribute/w planes, divided per pixel, give perspective-correct attributes.
+#pragma once
+
+#include <xsimd/xsimd.hpp>
+
+#include "raster/raster_kernels.hpp"
+
+namespace facet::raster::simd {
+namespace {
+
+template <class Arch>
+struct TileKernel {
+  using F = xsimd::batch<float, Arch>;
+  using I = xsimd::batch<std::int32_t, Arch>;
+  using BF = xsimd::batch_bool<float, Arch>;
+  using BI = xsimd::batch_bool<std::int32_t, Arch>;
+  static constexpr int W = static_cast<int>(F::size);
+  static constexpr int kBatches = kBlockPixels / W;
+  static_assert(kBlockPixels % W == 0 && (W <= kBlock ? kBlock % W == 0 : W % kBlock == 0));
+
+  // Lane q of a block (q = batch * W + lane) is pixel (q % 8, q / 8).
+  struct Lanes {
+    alignas(64) float fi[kBlockPixels], fj[kBlockPixels];
+    alignas(64) std::int32_t ii[kBlockPixels], jj[kBlockPixels];
+    alignas(64) std::int32_t bit0[16], bit1[16], bit2[16], row1[16];  // batch 0: masks of i's bits, j == 1
+  };
+  static const Lanes& lanes() {
+    static constexpr Lanes l = [] {
+      Lanes r{};
+      for (int q = 0; q < kBlockPixels; ++q) {
+        r.fi[q] = static_cast<float>(q % kBlock), r.fj[q] = static_cast<float>(q / kBlock);
+        r.ii[q] = q % kBlock, r.jj[q] = q / kBlock;
+      }
+      for (int q = 0; q < 16; ++q) {
+        r.bit0[q] = (q % kBlock) & 1 ? -1 : 0;
+        r.bit1[q] = (q % kBlock) & 2 ? -1 : 0;
+        r.bit2[q] = (q % kBlock) & 4 ? -1 : 0;
+        r.row1[q] = q / kBlock == 1 ? -1 : 0;
+      }
+      return r;
+    }();
+    return l;
+  }
+
+  static int imin(int a, int b) { return a < b ? a : b; }
+  static int imax(int a, int b) { return a > b ? a : b; }
+  static std::int64_t lmin0(std::int64_t a) { return a < 0 ? a : 0; }
+  static std::int64_t lmax0(std::int64_t a) { return a > 0 ? a : 0; }
+
+  // Block-origin values and per-lane steps of one plane.
+  struct PlaneEval {
+    double at_v0, dxd, dyd;
+    F dx, dy;
+    void set(const Plane& p) {
+      at_v0 = p.at_v0, dxd = p.dx, dyd = p.dy;
+      dx = F(p.dx), dy = F(p.dy);
+    }
+    // Value at the block's first pixel centre, (cx, cy) relative to vertex 0.
+    float origin(double cx, double cy) const { return static_cast<float>(at_v0 + dxd * cx + dyd * cy); }
+    F at(float o, const F& fi, const F& fj) const { return F(o) + (fi * dx + fj * dy); }
+  };
+
+  // Gathers Phong pixels and lights them with one object's shader; entries are scattered back in
+  // the order they were added, so when a pixel appears twice the later triangle wins.
+  struct PhongBatch {
+    PhongSink* sink;
+    const TileView* tile;
+    int count = 0;
+    std::uint32_t object = 0;
+    float alpha = 1.0f;
+
+    void flush() {
+      if (count == 0) return;
+      int padded = (count + 15) / 16 * 16;
+      for (int k = count; k < padded; ++k) {
+        sink->px[k] = sink->py[k] = sink->pz[k] = 0.0f;
+        sink->nx[k] = sink->ny[k] = sink->nz[k] = 0.0f;
+      }
+      sink->shade(sink->context, object, static_cast<std::size_t>(count), static_cast<std::size_t>(padded));
+      for (int k = 0; k < count; ++k) {
+        const std::uint32_t p = sink->pixel[k];
+        tile->plane[0][p] = sink->r[k];
+        tile->plane[1][p] = sink->g[k];
+        tile->plane[2][p] = sink->b[k];
+        tile->plane[3][p] = alpha;
+      }
+      count = 0;
+    }
+  };
+
+  // Marks every block of the tile untouched (the lazy clear; see TileView).
+  static void clear(const TileJob& job, const TileView& tv) {
+    const int nbx = (job.x1 - job.x0 + kBlock - 1) / kBlock, nby = (job.y1 - job.y0 + kBlock - 1) / kBlock;
+    const int blocks_per_row = tv.size / kBlock;
+    for (int by = 0; by < nby; ++by) {
+      for (int bx = 0; bx < nbx; ++bx) tv.touched[by * blocks_per_row + bx] = 0;
+    }
+  }
+
+  // First triangle to reach a block: fill it with the clear colour and far depth.
+  static void touch(const TileView& tv, int block, std::size_t base) {
+    if (tv.touched[block]) return;
+    tv.touched[block] = 1;
+    const F values[5] = {F(tv.clear[0]), F(tv.clear[1]), F(tv.clear[2]), F(tv.clear[3]), F(1.0f)};
+    for (int c = 0; c < 5; ++c) {
+      for (int b = 0; b < kBatches; ++b) values[c].store_unaligned(tv.plane[c] + base + b * W);
+    }
+  }
+
+  template <int Mode>
+  static void triangle(const TileJob& job, const TileView& tv, const ScreenTriangle& t, PhongBatch& phong,
+                       I& tested, I& filled) {
+    const int x0 = imax(t.min_px, job.x0), x1 = imin(t.max_px, job.x1 - 1);
+    const int y0 = imax(t.min_py, job.y0), y1 = imin(t.max_py, job.y1 - 1);
+    if (x0 > x1 || y0 > y1) return;
+    const int bx0 = (x0 - job.x0) / kBlock, bx1 = (x1 - job.x0) / kBlock;
+    const int by0 = (y0 - job.y0) / kBlock, by1 = (y1 - job.y0) / kBlock;
+    const int rect_w = job.x1 - job.x0, rect_h = job.y1 - job.y0;
+    const int blocks_per_row = tv.size / kBlock;
+    const Lanes& L = lanes();
+
+    // Edges: 64-bit values at the first block's first pixel centre (biased by the top-left rule),
+    // steps between blocks, and the corner offsets that bound a block's values.
+    std::int64_t e_row[3], step_bx[3], step_by[3], lo[3], hi[3];
+    std::int32_t a32[3], b32[3];
+    I lane_ab[3];  // A i + B j for the lanes of batch 0
+    {
+      const std::int64_t px = std::int64_t(job.x0 + bx0 * kBlock) * kSubpixelOne + kPixelCentre;
+      const std::int64_t py = std::int64_t(job.y0 + by0 * kBlock) * kSubpixelOne + kPixelCentre;
+      for (int k = 0; k < 3; ++k) {
+        const int a = (k + 1) % 3, b = (k + 2) % 3;
+        const std::int64_t A = -(std::int64_t(t.y[b]) - t.y[a]);
+        const std::int64_t B = std::int64_t(t.x[b]) - t.x[a];
+        e_row[k] = B * (py - t.y[a]) + A * (px - t.x[a]) + t.bias[k];
+        const std::int64_t sa = A * kSubpixelOne, sb = B * kSubpixelOne;
+        step_bx[k] = kBlock * sa;
+        step_by[k] = kBlock * sb;
+        lo[k] = lmin0((kBlock - 1) * sa) + lmin0((kBlock - 1) * sb);
+        hi[k] = lmax0((kBlock - 1) * sa) + lmax0((kBlock - 1) * sb);
+        a32[k] = static_cast<std::int32_t>(A);
+        b32[k] = static_cast<std::int32_t>(B);
+        // A i for i in 0..7 from i's bits (no 32-bit multiply on sse2), + B on the second row (avx512).
+        lane_ab[k] = (I(a32[k]) & I::load_aligned(L.bit0)) + (I(a32[k] * 2) & I::load_aligned(L.bit1)) +
+                     (I(a32[k] * 4) & I::load_aligned(L.bit2)) + (I(b32[k]) & I::load_aligned(L.row1));
+      }
+    }
+
+    // Planes.
+    constexpr int kAttributes = Mode == 2 ? 6 : 3;
+    PlaneEval z_plane, w_plane, attr[kAttributes];
+    z_plane.set(t.plane[kPlaneZ]);
+    if constexpr (Mode != 0) {
+      w_plane.set(t.plane[kPlaneInvW]);
+      for (int a = 0; a < kAttributes; ++a) attr[a].set(t.plane[kPlaneAttr + a]);
+    }
+    const double vx = double(t.x[0]) / kSubpixelOne, vy = double(t.y[0]) / kSubpixelOne;
+    const F flat[4] = {F(t.flat_rgb[0]), F(t.flat_rgb[1]), F(t.flat_rgb[2]), F(t.alpha)};
+    const F alpha(t.alpha);
+
+    for (int by = by0; by <= by1; ++by) {
+      std::int64_t e[3] = {e_row[0], e_row[1], e_row[2]};
+      for (int bx = bx0; bx <= bx1; ++bx, e[0] += step_bx[0], e[1] += step_bx[1], e[2] += step_bx[2]) {
+        if (e[0] + hi[0] < 0 || e[1] + hi[1] < 0 || e[2] + hi[2] < 0) continue;  // outside an edge
+        // Edges the block straddles, with their per-block lane values A i + B j + floor(E / 256).
+        int partial = 0;
+        I edge_base[3] = {I(0), I(0), I(0)};
+        for (int k = 0; k < 3; ++k) {
+          if (e[k] + lo[k] >= 0) continue;  // the whole block is inside this edge
+          partial |= 1 << k;
+          edge_base[k] = lane_ab[k] + I(static_cast<std::int32_t>(e[k] >> kSubpixelBits));
+        }
+        const int ox = bx * kBlock, oy = by * kBlock;  // block origin in the tile
+        const bool clipped = ox + kBlock > rect_w || oy + kBlock > rect_h;
+        const int block = by * blocks_per_row + bx;
+        const std::size_t base = static_cast<std::size_t>(block) * kBlockPixels;
+        touch(tv, block, base);
+        const double cx = (job.x0 + ox) + 0.5 - vx, cy = (job.y0 + oy) + 0.5 - vy;
+        const float z_o = z_plane.origin(cx, cy);
+        float w_o = 0.0f, attr_o[kAttributes] = {};
+        if constexpr (Mode != 0) {
+          w_o = w_plane.origin(cx, cy);
+          for (int a = 0; a < kAttributes; ++a) attr_o[a] = attr[a].origin(cx, cy);
+        }
+
+        for (int b = 0; b < kBatches; ++b) {
+          const int i0 = (b * W) % kBlock, j0 = (b * W) / kBlock;  // first lane's pixel in the block
+          BI cover_i(true);
+          if (partial) {
+            I acc(0);
+            for (int k = 0; k < 3; ++k) {
+              if (partial & (1 << k)) acc = acc | (edge_base[k] + I(a32[k] * i0 + b32[k] * j0));
+            }
+            cover_i = acc >= I(0);
+          }
+          if (clipped) {
+            cover_i = cover_i & (I::load_aligned(L.ii + b * W) < I(rect_w - ox)) &
+                      (I::load_aligned(L.jj + b * W) < I(rect_h - oy));
+          }
+          if (!xsimd::any(cover_i)) continue;
+          const BF cover = xsimd::bool_cast(cover_i);
+          const F fi = F::load_aligned(L.fi + b * W), fj = F::load_aligned(L.fj + b * W);
+          float* depth = tv.plane[4] + base + b * W;
+          F z = z_plane.at(z_o, fi, fj);
+          z = xsimd::select(z > F(0.0f), xsimd::min(z, F(1.0f)), F(0.0f));  // NaN -> 0, as the scalar path
+          const F old_z = F::load_unaligned(depth);
+          const BF pass = cover & (z < old_z);
+          tested += xsimd::select(cover_i, I(1), I(0));
+          if (!xsimd::any(pass)) continue;
+          filled += xsimd::select(xsimd::bool_cast(pass), I(1), I(0));
+          const bool all = xsimd::all(pass);
+          auto put = [&](int c, const F& v) {
+            float* dst = tv.plane[c] + base + b * W;
+            (all ? v : xsimd::select(pass, v, F::load_unaligned(dst))).store_unaligned(dst);
+          };
+          put(4, z);
+          if constexpr (Mode == 0) {
+            for (int c = 0; c < 4; ++c) put(c, flat[c]);
+          } else {
+            const F inv_w = F(1.0f) / w_plane.at(w_o, fi, fj);
+            if constexpr (Mode == 1) {
+              for (int c = 0; c < 3; ++c) put(c, attr[c].at(attr_o[c], fi, fj) * inv_w);
+              put(3, alpha);
+            } else {
+              alignas(64) float values[6][W];
+              alignas(64) float mask[W];
+              for (int a = 0; a < 6; ++a) (attr[a].at(attr_o[a], fi, fj) * inv_w).store_aligned(values[a]);
+              xsimd::select(pass, F(1.0f), F(0.0f)).store_aligned(mask);
+              PhongSink& s = *phong.sink;
+              for (int lane = 0; lane < W; ++lane) {
+                if (mask[lane] == 0.0f) continue;
+                const int k = phong.count++;
+                s.px[k] = values[0][lane], s.py[k] = values[1][lane], s.pz[k] = values[2][lane];
+                s.nx[k] = values[3][lane], s.ny[k] = values[4][lane], s.nz[k] = values[5][lane];
+                s.pixel[k] = static_cast<std::uint32_t>(base + static_cast<std::size_t>(b * W + lane));
+                if (phong.count == kPhongCapacity) phong.flush();
+              }
+            }
+          }
+        }
+      }
+      for (int k = 0; k < 3; ++k) e_row[k] += step_by[k];
+    }
+  }
+
+  static void raster(const TileJob& job, const TileView& tv, TileCounters& counters) {
+    clear(job, tv);
+    PhongBatch phong{job.phong, &tv};
+    I tested(0), filled(0);
+    for (std::size_t n = 0; n < job.bin_size; ++n) {
+      const std::uint32_t entry = job.bin[n];
+      const ScreenTriangle& t = job.ranges[entry >> kRangeShift][entry & kIndexMask];
+      switch (job.shading) {
+        case 0: triangle<0>(job, tv, t, phong, tested, filled); break;
+        case 1: triangle<1>(job, tv, t, phong, tested, filled); break;
+        default:
+          if (phong.count > 0 && (t.object != phong.object || t.alpha != phong.alpha)) phong.flush();
+          phong.object = t.object;
+          phong.alpha = t.alpha;
+          triangle<2>(job, tv, t, phong, tested, filled);
+          break;
+      }
+      // Lane counters stay far from overflow when folded per triangle (< 2^16 pixels per tile).
+      counters.tested += static_cast<std::uint32_t>(xsimd::hadd(tested));
+      counters.filled += static_cast<std::uint32_t>(xsimd::hadd(filled));
+      tested = I(0);
+      filled = I(0);
+    }
+    phong.flush();
+  }
+
+  // --- resolve -------------------------------------------------------------------------------
+
+  static std::uint32_t unorm8(float v) {
+    const float c = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
+    return static_cast<std::uint32_t>(c * 255.0f + 0.5f);  // as to_unorm8 (io/image_convert.hpp)
+  }
+  static I unorm8(const F& v) {
+    const F c = xsimd::select(v > F(0.0f), xsimd::min(v, F(1.0f)), F(0.0f));
+    return xsimd::batch_cast<std::int32_t>(c * F(255.0f) + F(0.5f));  // truncation, as the cast above
+  }
+
+  // Resolve works on rows of 8 pixels: avx512 uses its avx2 half (see raster_simd_avx512.cpp).
+  static void resolve(const TileView& tv, int x0, int y0, int x1, int y1, const ImageView& color,
+                      const DepthView* depth) {
+    const int blocks_per_row = tv.size / kBlock;
+    const int width = x1 - x0;
+    // RGBA8 and BGRA8 as little-endian words: channel c goes to byte shift[c] / 8.
+    const int red_shift = color.format == PixelFormat::bgra8 ? 16 : 0, blue_shift = 16 - red_shift;
+    const std::uint32_t clear_word = (unorm8(tv.clear[0]) << red_shift) | (unorm8(tv.clear[1]) << 8) |
+                                     (unorm8(tv.clear[2]) << blue_shift) | (unorm8(tv.clear[3]) << 24);
+    const std::uint8_t clear_bytes[4] = {static_cast<std::uint8_t>(clear_word), static_cast<std::uint8_t>(clear_word >> 8),
+                                         static_cast<std::uint8_t>(clear_word >> 16),
+                                         static_cast<std::uint8_t>(clear_word >> 24)};
+    for (int y = y0; y < y1; ++y) {
+      const int ty = y - y0;
+      const int image_row = color.y_up ? color.height - 1 - y : y;
+      auto* row = static_cast<std::uint8_t*>(color.data) + static_cast<std::size_t>(image_row) * color.stride_bytes;
+      float* depth_row = nullptr;
+      if (depth) {
+        const int depth_row_index = depth->y_up ? depth->height - 1 - y : y;
+        depth_row = reinterpret_cast<float*>(reinterpret_cast<std::uint8_t*>(depth->data) +
+                                             static_cast<std::size_t>(depth_row_index) * depth->stride_bytes);
+      }
+      for (int bx = 0; bx * kBlock < width; ++bx) {
+        const int block = (ty / kBlock) * blocks_per_row + bx;
+        const std::size_t src =
+            static_cast<std::size_t>(block) * kBlockPixels + static_cast<std::size_t>((ty % kBlock) * kBlock);
+        const int x = x0 + bx * kBlock;
+        const int n = imin(kBlock, width - bx * kBlock);
+        if (!tv.touched[block]) {  // still the clear colour: converted once per tile, as below
+          if (depth_row) {
+            for (int i = 0; i < n; ++i) depth_row[x + i] = 1.0f;
+          }
+          if (color.format == PixelFormat::rgba32f) {
+            auto* dst = reinterpret_cast<float*>(row) + 4 * static_cast<std::size_t>(x);
+            for (int i = 0; i < n; ++i) {
+              for (int c = 0; c < 4; ++c) dst[4 * i + c] = tv.clear[c];
+            }
+          } else {
+            auto* dst = row + 4 * static_cast<std::size_t>(x);
+            for (int i = 0; i < n; ++i) {
+              for (int c = 0; c < 4; ++c) dst[4 * i + c] = clear_bytes[c];
+            }
+          }
+          continue;
+        }
+        const float* r = tv.plane[0] + src;
+        const float* g = tv.plane[1] + src;
+        const float* b = tv.plane[2] + src;
+        const float* a = tv.plane[3] + src;
+        if (depth_row) {
+          for (int i = 0; i < n; ++i) depth_row[x + i] = tv.plane[4][src + static_cast<std::size_t>(i)];
+        }
+        if (color.format == PixelFormat::rgba32f) {
+          auto* dst = reinterpret_cast<float*>(row) + 4 * static_cast<std::size_t>(x);
+          for (int i = 0; i < n; ++i) {
+            dst[4 * i + 0] = r[i], dst[4 * i + 1] = g[i], dst[4 * i + 2] = b[i], dst[4 * i + 3] = a[i];
+          }
+          continue;
+        }
+        auto* dst = reinterpret_cast<std::uint32_t*>(row + 4 * static_cast<std::size_t>(x));
+        int i = 0;
+        if constexpr (W <= kBlock) {
+          if (n == kBlock) {
+            for (; i < kBlock; i += W) {
+              const I word = (unorm8(F::load_unaligned(r + i)) << red_shift) |
+                             (unorm8(F::load_unaligned(g + i)) << 8) |
+                             (unorm8(F::load_unaligned(b + i)) << blue_shift) | (unorm8(F::load_unaligned(a + i)) << 24);
+              // Unaligned store: image rows need not be 4-byte aligned.
+              word.store_unaligned(reinterpret_cast<std::int32_t*>(dst + i));
+            }
+          }
+        }
+        for (; i < n; ++i) {
+          const std::uint32_t u = (unorm8(r[i]) << red_shift) | (unorm8(g[i]) << 8) | (unorm8(b[i]) << blue_shift) |
+                                  (unorm8(a[i]) << 24);
+          auto* d = reinterpret_cast<std::uint8_t*>(dst + i);
+          d[0] = static_cast<std::uint8_t>(u), d[1] = static_cast<std::uint8_t>(u >> 8);
+          d[2] = static_cast<std::uint8_t>(u >> 16), d[3] = static_cast<std::uint8_t>(u >> 24);
+        }
+      }
+    }
+  }
+};
+
+}  // namespace
+}  // namespace facet::raster::simd

@@ -1,0 +1,19 @@
+// The SIMD tile rasterizer for avx2, built with: -mavx2 -mfma -ffp-contract=off (engine/CMakeLists.txt).
+#if !defined(__AVX2__) || !defined(__FMA__)
+#error "raster_simd_avx2.cpp must be compiled with its ISA flags"
+#endif
+#if !defined(FACET_NO_FP_CONTRACT)
+#error "raster kernels must be compiled with -ffp-contract=off (byte-identical images on every ISA)"
+#endif
+
+#include "raster/raster_simd.hpp"
+
+namespace facet::raster::simd::avx2 {
+void raster_tile(const TileJob& job, const TileView& tile, TileCounters& counters) {
+  TileKernel<xsimd::fma3<xsimd::avx2>>::raster(job, tile, counters);
+}
+void resolve_tile(const TileView& tile, int x0, int y0, int x1, int y1, const ImageView& color,
+                  const DepthView* depth) {
+  TileKernel<xsimd::fma3<xsimd::avx2>>::resolve(tile, x0, y0, x1, y1, color, depth);
+}
+}  // namespace facet::raster::simd::avx2

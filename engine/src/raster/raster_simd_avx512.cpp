@@ -1,0 +1,19 @@
+// The SIMD tile rasterizer for avx512, built with: -mavx512f -mavx512bw -mavx512dq -mavx512vl -mavx512cd -mfma -ffp-contract=off (engine/CMakeLists.txt).
+#if !defined(__AVX512F__) || !defined(__AVX512BW__)
+#error "raster_simd_avx512.cpp must be compiled with its ISA flags"
+#endif
+#if !defined(FACET_NO_FP_CONTRACT)
+#error "raster kernels must be compiled with -ffp-contract=off (byte-identical images on every ISA)"
+#endif
+
+#include "raster/raster_simd.hpp"
+
+namespace facet::raster::simd::avx512 {
+void raster_tile(const TileJob& job, const TileView& tile, TileCounters& counters) {
+  TileKernel<xsimd::avx512bw>::raster(job, tile, counters);
+}
+void resolve_tile(const TileView& tile, int x0, int y0, int x1, int y1, const ImageView& color,
+                  const DepthView* depth) {
+  TileKernel<xsimd::fma3<xsimd::avx2>>::resolve(tile, x0, y0, x1, y1, color, depth);
+}
+}  // namespace facet::raster::simd::avx512

@@ -1,0 +1,19 @@
+// The SIMD tile rasterizer for sse2, built with: (none) -ffp-contract=off (engine/CMakeLists.txt).
+#if defined(__AVX__)
+#error "raster_simd_sse2.cpp must be compiled without AVX flags"
+#endif
+#if !defined(FACET_NO_FP_CONTRACT)
+#error "raster kernels must be compiled with -ffp-contract=off (byte-identical images on every ISA)"
+#endif
+
+#include "raster/raster_simd.hpp"
+
+namespace facet::raster::simd::sse2 {
+void raster_tile(const TileJob& job, const TileView& tile, TileCounters& counters) {
+  TileKernel<xsimd::sse2>::raster(job, tile, counters);
+}
+void resolve_tile(const TileView& tile, int x0, int y0, int x1, int y1, const ImageView& color,
+                  const DepthView* depth) {
+  TileKernel<xsimd::sse2>::resolve(tile, x0, y0, x1, y1, color, depth);
+}
+}  // namespace facet::raster::simd::sse2
