@@ -313,9 +313,9 @@ std::vector<WatertightParam> watertight_params() {
 }
 
 INSTANTIATE_TEST_SUITE_P(Shards, Watertight, ::testing::ValuesIn(watertight_params()),
-                         [](const ::testing::TestParamInfo<WatertightParam>& info) {
-                           return (info.param.isa ? std::string(to_string(*info.param.isa)) : std::string("scalar")) +
-                                  "_" + std::to_string(info.param.shard);
+                         [](const ::testing::TestParamInfo<WatertightParam>& p) {
+                           return (p.param.isa ? std::string(to_string(*p.param.isa)) : std::string("scalar")) +
+                                  "_" + std::to_string(p.param.shard);
                          });
 
 }  // namespace

@@ -192,7 +192,7 @@ TEST_P(SimdRaster, PlaneDepthAgreesWithBarycentricDepth) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Isas, SimdRaster, ::testing::Values(Isa::sse2, Isa::avx2, Isa::avx512),
-                         [](const ::testing::TestParamInfo<Isa>& info) { return std::string(to_string(info.param)); });
+                         [](const ::testing::TestParamInfo<Isa>& p) { return std::string(to_string(p.param)); });
 
 }  // namespace
 }  // namespace facet::raster

@@ -295,6 +295,13 @@ struct TileKernel {
     clear(job, tv);
     PhongBatch phong{job.phong, &tv};
     for (std::size_t n = 0; n < job.bin_size; ++n) {
+      if (n + 2 < job.bin_size) {  // the triangle after next: set-up wrote it long ago, so it is not in cache
+        const std::uint32_t ahead = job.bin[n + 2];
+        const auto* p = reinterpret_cast<const char*>(&job.ranges[ahead >> kRangeShift][ahead & kIndexMask]);
+        __builtin_prefetch(p);
+        __builtin_prefetch(p + 64);
+        __builtin_prefetch(p + 128);
+      }
       const std::uint32_t entry = job.bin[n];
       const ScreenTriangle& t = job.ranges[entry >> kRangeShift][entry & kIndexMask];
       switch (job.shading) {

@@ -146,6 +146,16 @@ struct Renderer::Impl {
   std::vector<lighting::PointShader> shaders;  // one per object
   // Per-object scratch.
   std::vector<std::array<float, 4>> clip;
+  // Per vertex: outcodes, and for vertices inside the guard band the snapped screen position,
+  // computed once instead of once per triangle that uses the vertex.
+  struct ScreenVertex {
+    std::int32_t x, y;
+    float z, inv_w;
+    std::uint8_t frustum, guard;  // frustum_outcode, clip_outcode
+    bool finite;                  // clip position finite
+    bool projected;               // guard == 0 and the projection is finite
+  };
+  std::vector<ScreenVertex> screen;
   std::vector<Color3> front, back;
   std::vector<Vec3> eye_p, eye_n, centroid, face_normal;
 
@@ -165,6 +175,10 @@ struct Renderer::Impl {
                       std::size_t range);
   void emit(const ClipVertex (&v)[3], std::uint32_t object, const Color3& flat_front, const Color3& flat_back,
             float alpha, std::size_t range);
+  bool project(const ClipVertex& v, ScreenVertex& out) const;
+  bool place(raster::ScreenTriangle& t, TriangleCounts& counts, bool& swapped) const;
+  void finish(raster::ScreenTriangle& t, std::uint32_t object, const Color3& flat_front, const Color3& flat_back,
+              float alpha, std::size_t range);
   void merge_ranges();
 };
 
@@ -314,6 +328,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   // Clip-space positions.
   const Mat4Rows mvp = to_rows(proj * view * inst.model.cast<double>());
   clip.resize(n);
+  screen.resize(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kVertexChunk), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
       const Vec3& p = mesh.positions[i];
@@ -321,6 +336,13 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
         const float* m = &mvp.m[4 * row];
         clip[i][static_cast<std::size_t>(row)] = m[0] * p.x() + m[1] * p.y() + m[2] * p.z() + m[3];
       }
+      const auto& c = clip[i];
+      ScreenVertex& sv = screen[i];
+      const ClipVertex v{c[0], c[1], c[2], c[3], {}};
+      sv.finite = std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(c[2]) && std::isfinite(c[3]);
+      sv.frustum = static_cast<std::uint8_t>(geometry::frustum_outcode(v));
+      sv.guard = static_cast<std::uint8_t>(geometry::clip_outcode(v, planes));
+      sv.projected = sv.finite && sv.guard == 0 && project(v, sv);
     }
   });
 
@@ -417,11 +439,56 @@ void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, floa
   const int attribute_count = shading == ShadingMode::flat ? 0 : (shading == ShadingMode::phong || two_sided ? 6 : 3);
   const Color3 none = Color3::Zero();
   ClipVertex polygon[geometry::kMaxClippedVertices];
+  std::vector<raster::ScreenTriangle>& triangles = range_triangles[range];
   for (std::size_t t = begin; t < end; ++t) {
     ++counts.in;
     const auto& tri = mesh.triangles[t];
+    const ScreenVertex* sv[3] = {&screen[tri[0]], &screen[tri[1]], &screen[tri[2]]};
+    if (!(sv[0]->finite && sv[1]->finite && sv[2]->finite)) {
+      ++counts.nonfinite;
+      continue;
+    }
+    if (sv[0]->frustum & sv[1]->frustum & sv[2]->frustum) {
+      ++counts.outside;
+      continue;
+    }
+    const Color3& flat_front = shading == ShadingMode::flat ? front[t] : none;
+    const Color3& flat_back = shading == ShadingMode::flat && two_sided ? back[t] : flat_front;
+    const std::uint32_t outcodes = sv[0]->guard | sv[1]->guard | sv[2]->guard;
+    if (outcodes == 0) {
+      // Inside the guard band (most triangles): the vertices' screen positions are already
+      // projected, and culled or degenerate triangles are dropped before any attribute is read.
+      if (!(sv[0]->projected && sv[1]->projected && sv[2]->projected)) {
+        ++counts.nonfinite;
+        continue;
+      }
+      raster::ScreenTriangle& st = triangles.emplace_back();
+      for (int k = 0; k < 3; ++k) {
+        st.x[k] = sv[k]->x, st.y[k] = sv[k]->y;
+        st.z[k] = sv[k]->z, st.inv_w[k] = sv[k]->inv_w;
+      }
+      bool swapped = false;
+      if (!place(st, counts, swapped)) {
+        triangles.pop_back();
+        continue;
+      }
+      const std::uint32_t order[3] = {tri[0], swapped ? tri[2] : tri[1], swapped ? tri[1] : tri[2]};
+      for (int k = 0; k < 3; ++k) {
+        float* a = st.attr[k];
+        const std::uint32_t i = order[k];
+        std::fill(a, a + geometry::kMaxAttributes, 0.0f);
+        if (shading == ShadingMode::gouraud) {
+          a[0] = front[i].x(), a[1] = front[i].y(), a[2] = front[i].z();
+          if (two_sided) a[3] = back[i].x(), a[4] = back[i].y(), a[5] = back[i].z();
+        } else if (shading == ShadingMode::phong) {
+          a[0] = eye_p[i].x(), a[1] = eye_p[i].y(), a[2] = eye_p[i].z();
+          a[3] = eye_n[i].x(), a[4] = eye_n[i].y(), a[5] = eye_n[i].z();
+        }
+      }
+      finish(st, object, flat_front, flat_back, alpha, range);
+      continue;
+    }
     ClipVertex v[3];
-    bool finite = true;
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t i = tri[static_cast<std::size_t>(k)];
       const auto& c = clip[i];
@@ -429,7 +496,6 @@ void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, floa
       v[k].y = c[1];
       v[k].z = c[2];
       v[k].w = c[3];
-      finite &= std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(c[2]) && std::isfinite(c[3]);
       float* a = v[k].attr;
       std::fill(a, a + geometry::kMaxAttributes, 0.0f);
       if (shading == ShadingMode::gouraud) {
@@ -440,22 +506,6 @@ void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, floa
         a[3] = eye_n[i].x(), a[4] = eye_n[i].y(), a[5] = eye_n[i].z();
       }
     }
-    if (!finite) {
-      ++counts.nonfinite;
-      continue;
-    }
-    if (geometry::frustum_outcode(v[0]) & geometry::frustum_outcode(v[1]) & geometry::frustum_outcode(v[2])) {
-      ++counts.outside;
-      continue;
-    }
-    const Color3& flat_front = shading == ShadingMode::flat ? front[t] : none;
-    const Color3& flat_back = shading == ShadingMode::flat && two_sided ? back[t] : flat_front;
-    const std::uint32_t outcodes = geometry::clip_outcode(v[0], planes) | geometry::clip_outcode(v[1], planes) |
-                                   geometry::clip_outcode(v[2], planes);
-    if (outcodes == 0) {
-      emit(v, object, flat_front, flat_back, alpha, range);
-      continue;
-    }
     ++counts.clipped;
     const int count = geometry::clip_triangle(v[0], v[1], v[2], outcodes, planes, attribute_count, polygon);
     for (int i = 1; i + 1 < count; ++i) {
@@ -465,48 +515,61 @@ void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, floa
   }
 }
 
-void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const Color3& flat_front,
-                          const Color3& flat_back, float alpha, std::size_t range) {
-  TriangleCounts& counts = range_binning[range].counts;
-  raster::ScreenTriangle t;
+// Perspective divide and viewport: screen position snapped to fixed point, window depth, 1/w.
+// False if any of them is not finite.
+bool Renderer::Impl::project(const ClipVertex& v, ScreenVertex& out) const {
   const float half_w = 0.5f * static_cast<float>(width), half_h = 0.5f * static_cast<float>(height);
   const float g = raster::kGuardBandPixels;
-  for (int k = 0; k < 3; ++k) {
-    const float inv_w = 1.0f / v[k].w;
-    float sx = (v[k].x * inv_w + 1.0f) * half_w;
-    float sy = (1.0f - v[k].y * inv_w) * half_h;
-    const float z = 0.5f * v[k].z * inv_w + 0.5f;
-    // After near clipping w >= near for real geometry; a hostile camera can still leave w at a
-    // subnormal (found by fuzz_render), so 1/w overflows. Such a piece is dropped, never cast.
-    if (!std::isfinite(sx) || !std::isfinite(sy) || !std::isfinite(z) || !std::isfinite(inv_w)) {
-      ++counts.nonfinite;
-      return;
-    }
-    // Clipping keeps these inside the guard band up to rounding; the clamp makes overflow impossible.
-    sx = std::clamp(sx, -g, g);
-    sy = std::clamp(sy, -g, g);
-    t.x[k] = static_cast<std::int32_t>(std::nearbyint(sx * float(raster::kSubpixelOne)));
-    t.y[k] = static_cast<std::int32_t>(std::nearbyint(sy * float(raster::kSubpixelOne)));
-    t.z[k] = std::clamp(z, 0.0f, 1.0f);
-    t.inv_w[k] = inv_w;
-    std::copy(v[k].attr, v[k].attr + geometry::kMaxAttributes, t.attr[k]);
-  }
+  const float inv_w = 1.0f / v.w;
+  float sx = (v.x * inv_w + 1.0f) * half_w;
+  float sy = (1.0f - v.y * inv_w) * half_h;
+  const float z = 0.5f * v.z * inv_w + 0.5f;
+  // After near clipping w >= near for real geometry; a hostile camera can still leave w at a
+  // subnormal (found by fuzz_render), so 1/w overflows. Such a piece is dropped, never cast.
+  if (!std::isfinite(sx) || !std::isfinite(sy) || !std::isfinite(z) || !std::isfinite(inv_w)) return false;
+  // Clipping keeps these inside the guard band up to rounding; the clamp makes overflow impossible.
+  sx = std::clamp(sx, -g, g);
+  sy = std::clamp(sy, -g, g);
+  out.x = static_cast<std::int32_t>(std::nearbyint(sx * float(raster::kSubpixelOne)));
+  out.y = static_cast<std::int32_t>(std::nearbyint(sy * float(raster::kSubpixelOne)));
+  out.z = std::clamp(z, 0.0f, 1.0f);
+  out.inv_w = inv_w;
+  return true;
+}
+
+// With the screen positions of `t` set: drops degenerate, culled and pixel-free triangles
+// (counting them), orients the rest clockwise (`swapped`: vertices 1 and 2 were exchanged, with
+// their z and 1/w; attributes are not set yet) and sets the coverage data.
+bool Renderer::Impl::place(raster::ScreenTriangle& t, TriangleCounts& counts, bool& swapped) const {
   const std::int64_t area2 = raster::signed_area2(t);
   if (area2 == 0) {
     ++counts.degenerate;
-    return;
+    return false;
   }
   // Counter-clockwise in GL's y-up window is negative area in this y-down screen.
   t.back_facing = area2 > 0;
   if ((cull == CullMode::back && t.back_facing && !two_sided) || (cull == CullMode::front && !t.back_facing)) {
     ++counts.culled;
-    return;
+    return false;
   }
-  if (area2 < 0) raster::swap_vertices_1_2(t);  // orient clockwise on screen
+  swapped = area2 < 0;
+  if (swapped) {  // orient clockwise on screen
+    std::swap(t.x[1], t.x[2]);
+    std::swap(t.y[1], t.y[2]);
+    std::swap(t.z[1], t.z[2]);
+    std::swap(t.inv_w[1], t.inv_w[2]);
+  }
   if (!raster::finish_setup(t, width, height)) {
     ++counts.small;
-    return;
+    return false;
   }
+  return true;
+}
+
+// A placed triangle with its attributes: flat colour, back-side attributes, planes, and its bins.
+void Renderer::Impl::finish(raster::ScreenTriangle& t, std::uint32_t object, const Color3& flat_front,
+                            const Color3& flat_back, float alpha, std::size_t range) {
+  TriangleCounts& counts = range_binning[range].counts;
   const bool use_back = t.back_facing && two_sided;
   const Color3& flat = use_back ? flat_back : flat_front;
   t.flat_rgb[0] = flat.x();
@@ -525,10 +588,8 @@ void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const 
   t.object = object;
   raster::compute_planes(t, shading == ShadingMode::flat ? 0 : (shading == ShadingMode::phong ? 6 : 3));
 
-  std::vector<raster::ScreenTriangle>& triangles = range_triangles[range];
   RangeBinning& binning = range_binning[range];
-  const auto index = static_cast<std::uint32_t>(triangles.size());
-  triangles.push_back(t);
+  const auto index = static_cast<std::uint32_t>(range_triangles[range].size() - 1);
   ++counts.drawn;
   for (int ty = t.min_py / tile_size; ty <= t.max_py / tile_size; ++ty) {
     for (int tx = t.min_px / tile_size; tx <= t.max_px / tile_size; ++tx) {
@@ -537,6 +598,31 @@ void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const 
       ++counts.bin_entries;
     }
   }
+}
+
+// A clipped piece: projected here (its vertices are new), then placed and finished.
+void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const Color3& flat_front,
+                          const Color3& flat_back, float alpha, std::size_t range) {
+  TriangleCounts& counts = range_binning[range].counts;
+  std::vector<raster::ScreenTriangle>& triangles = range_triangles[range];
+  raster::ScreenTriangle& t = triangles.emplace_back();
+  for (int k = 0; k < 3; ++k) {
+    ScreenVertex sv{};
+    if (!project(v[k], sv)) {
+      ++counts.nonfinite;
+      triangles.pop_back();
+      return;
+    }
+    t.x[k] = sv.x, t.y[k] = sv.y, t.z[k] = sv.z, t.inv_w[k] = sv.inv_w;
+  }
+  bool swapped = false;
+  if (!place(t, counts, swapped)) {
+    triangles.pop_back();
+    return;
+  }
+  const int order[3] = {0, swapped ? 2 : 1, swapped ? 1 : 2};
+  for (int k = 0; k < 3; ++k) std::copy(v[order[k]].attr, v[order[k]].attr + geometry::kMaxAttributes, t.attr[k]);
+  finish(t, object, flat_front, flat_back, alpha, range);
 }
 
 }  // namespace facet

@@ -35,20 +35,23 @@ struct Plane {
 inline constexpr int kPlaneZ = 0, kPlaneInvW = 1, kPlaneAttr = 2;
 inline constexpr int kPlaneCount = kPlaneAttr + geometry::kMaxAttributes;
 
+// Fields the SIMD rasterizer reads come first (three cache lines, prefetched ahead of use); the
+// scalar rasterizer also reads the rest.
 struct ScreenTriangle {
   std::int32_t x[3], y[3];  // fixed point, oriented (area2 > 0)
   std::int64_t bias[3];     // 0 on top-left edges, -1 on the others
+  int min_px, min_py, max_px, max_py;  // covered pixel bounds, inclusive, inside the viewport
+  float flat_rgb[3];
+  float alpha;
+  std::uint32_t object;
+  bool back_facing;
+  Plane plane[kPlaneCount];  // set by compute_planes
+  // Scalar rasterizer and set-up only.
   std::int64_t area2;
   float inv_area2;
   float z[3];      // window depth, [0, 1]
   float inv_w[3];  // 1 / clip w, for perspective-correct interpolation
   float attr[3][geometry::kMaxAttributes];
-  float flat_rgb[3];
-  float alpha;
-  std::uint32_t object;
-  bool back_facing;
-  int min_px, min_py, max_px, max_py;  // covered pixel bounds, inclusive, inside the viewport
-  Plane plane[kPlaneCount];            // set by compute_planes
 };
 
 inline bool is_top_left(std::int64_t dx, std::int64_t dy) { return dy < 0 || (dy == 0 && dx > 0); }
