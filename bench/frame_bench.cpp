@@ -3,7 +3,8 @@
 //   BM_Fill:  16 full-screen Gouraud layers at 1920x1080, depth test passing (front to back would
 //             fail it: the layers are drawn back to front), no lighting cost to speak of.
 //   BM_Frame: the built-in scene and, when ../shared/models exists, the Stanford bunny with 4
-//             lights at 1920x1080, Gouraud, simd path on the best ISA.
+//             lights at 1920x1080, Gouraud.
+// Each on the scalar path and on the simd path of every ISA this CPU has (BM_Fill/avx2/threads:2).
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -58,34 +59,69 @@ void run_frames(benchmark::State& state, const facet::Scene& scene, facet::Rende
   state.SetLabel(std::to_string(w) + "x" + std::to_string(h) + ", " + std::to_string(stats.threads) + " threads");
 }
 
-void BM_Fill(benchmark::State& state) {
-  static const facet::Scene scene = layers_scene(16);
-  run_frames(state, scene, {}, 1920, 1080);
-}
+// A rasterizer variant: the scalar path (scalar lighting and the scalar rasterizer) or the simd
+// path on one ISA.
+struct Variant {
+  const char* name;
+  facet::LightingPath path;
+  facet::Isa isa;
+};
+constexpr Variant kVariants[] = {{"scalar", facet::LightingPath::scalar, facet::Isa::best},
+                                 {"sse2", facet::LightingPath::simd, facet::Isa::sse2},
+                                 {"avx2", facet::LightingPath::simd, facet::Isa::avx2},
+                                 {"avx512", facet::LightingPath::simd, facet::Isa::avx512}};
 
-void BM_Frame_Default(benchmark::State& state) {
-  static const facet::Scene scene = facet::make_default_scene();
-  run_frames(state, scene, {}, 1920, 1080);
-}
-
-void BM_Frame_Bunny(benchmark::State& state) {
+const facet::Scene* bunny_scene(std::string& error) {
   static const facet::Result<facet::Scene> scene =
       facet::load_scene_file(std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/bunny.json");
   if (!scene) {
-    state.SkipWithError(("bunny scene not available: " + scene.status().message()).c_str());
-    return;
+    error = "bunny scene not available: " + scene.status().message();
+    return nullptr;
   }
-  run_frames(state, *scene, {}, 1920, 1080);
+  return &*scene;
 }
 
-void thread_args(benchmark::internal::Benchmark* b) {
-  b->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+void register_all() {
+  for (const Variant& v : kVariants) {
+    if (v.path == facet::LightingPath::simd && !facet::isa_supported(v.isa)) continue;
+    facet::RenderOptions o;
+    o.path = v.path;
+    o.isa = v.isa;
+    auto add = [&](const std::string& name, auto&& fn) {
+      benchmark::RegisterBenchmark(name.c_str(), fn)
+          ->ArgName("threads")
+          ->Arg(1)
+          ->Arg(2)
+          ->UseRealTime()
+          ->Unit(benchmark::kMillisecond);
+    };
+    add(std::string("BM_Fill/") + v.name, [o](benchmark::State& state) {
+      static const facet::Scene scene = layers_scene(16);
+      run_frames(state, scene, o, 1920, 1080);
+    });
+    add(std::string("BM_Frame_Default/") + v.name, [o](benchmark::State& state) {
+      static const facet::Scene scene = facet::make_default_scene();
+      run_frames(state, scene, o, 1920, 1080);
+    });
+    add(std::string("BM_Frame_Bunny/") + v.name, [o](benchmark::State& state) {
+      std::string error;
+      const facet::Scene* scene = bunny_scene(error);
+      if (!scene) {
+        state.SkipWithError(error.c_str());
+        return;
+      }
+      run_frames(state, *scene, o, 1920, 1080);
+    });
+  }
 }
-
-BENCHMARK(BM_Fill)->Apply(thread_args);
-BENCHMARK(BM_Frame_Default)->Apply(thread_args);
-BENCHMARK(BM_Frame_Bunny)->Apply(thread_args);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  register_all();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
