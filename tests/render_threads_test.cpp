@@ -2,6 +2,7 @@
 // the built-in scene and on a scene of 10^5 small random triangles. And the SIMD rasterizer of
 // every ISA against the scalar one on the same scenes: identical coverage, colour within 1 step.
 #include <random>
+#include <thread>
 
 #include "render_support.hpp"
 
@@ -118,6 +119,56 @@ TEST(RenderPaths, BuiltInSceneHasTheSameCoverageOnEveryIsa) { expect_same_covera
 
 TEST(RenderPaths, SmallTrianglesHaveTheSameCoverageOnEveryIsa) {
   expect_same_coverage_on_every_isa(random_triangles_scene(100000), 250, 161);
+}
+
+// Embedding: two renderers in two threads render two scenes at the same time (and a third thread
+// renders the first scene again with a third renderer); every image equals the one rendered alone.
+TEST(RenderThreads, RenderersInDifferentThreadsRenderConcurrently) {
+  const Scene a = make_default_scene();
+  const Scene b = random_triangles_scene(20000);
+  const int w = 160, h = 120;
+  RenderOptions config;
+  config.threads = 2;
+  config.shading = ShadingMode::phong;
+  auto render_alone = [&](const Scene& s) {
+    test::Canvas c(w, h);
+    Renderer r(config);
+    EXPECT_TRUE(r.render(s, c.view()).ok());
+    return c.pixels();
+  };
+  const std::vector<std::uint8_t> expected_a = render_alone(a), expected_b = render_alone(b);
+  for (int round = 0; round < 3; ++round) {
+    test::Canvas ca(w, h), cb(w, h), cc(w, h);
+    Status sa, sb, sc;
+    {
+      std::jthread ta([&] { Renderer r(config); for (int i = 0; i < 3; ++i) sa = r.render(a, ca.view()); });
+      std::jthread tb([&] { Renderer r(config); for (int i = 0; i < 3; ++i) sb = r.render(b, cb.view()); });
+      std::jthread tc([&] { Renderer r(config); for (int i = 0; i < 3; ++i) sc = r.render(a, cc.view()); });
+    }
+    EXPECT_TRUE(sa.ok() && sb.ok() && sc.ok());
+    EXPECT_TRUE(ca.pixels() == expected_a);
+    EXPECT_TRUE(cb.pixels() == expected_b);
+    EXPECT_TRUE(cc.pixels() == expected_a);
+  }
+}
+
+TEST(RenderThreads, ConfiguredRendererUsesItsConfigAndReportsStats) {
+  RenderOptions config;
+  config.threads = 1;
+  config.tile_size = 16;
+  Renderer r(config);
+  EXPECT_EQ(r.config().tile_size, 16);
+  EXPECT_EQ(r.last_stats().threads, 0);
+  test::Canvas c(40, 30);
+  ASSERT_TRUE(r.render(make_default_scene(), c.view()).ok());
+  EXPECT_EQ(r.last_stats().threads, 1);
+  EXPECT_GT(r.last_stats().pixels_filled, 0u);
+  config.tile_size = 12;
+  EXPECT_EQ(check_render_options(config).field(), "options.tile_size");
+  r.set_config(config);
+  test::Canvas untouched(40, 30);
+  EXPECT_EQ(r.render(make_default_scene(), untouched.view()).field(), "options.tile_size");
+  EXPECT_TRUE(untouched.untouched());
 }
 
 TEST(RenderThreads, ThreadCountIsChecked) {

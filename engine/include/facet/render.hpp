@@ -2,8 +2,23 @@
 // integer edge functions (top-left rule), depth-test, shade (flat / Gouraud / Phong) and resolve
 // into the caller's ImageView. See README "Rasterization" for the exact rules.
 //
-// A Renderer owns its scratch memory (reused from frame to frame) and its threads (a
-// tbb::task_arena); one Renderer renders one frame at a time. Different Renderers are independent.
+// Ownership and threads. A Renderer owns its scratch memory (reused from frame to frame, so a
+// repeated frame allocates nothing) and its worker threads (its own tbb::task_arena, capped by
+// RenderOptions::threads; process-wide TBB settings are never touched). One Renderer renders one
+// frame at a time: do not call render() on the same Renderer from two threads at once. Different
+// Renderers share nothing and may render at the same time from different threads, also the same
+// Scene (a render only reads the scene). The library has no global state and reads no
+// environment variables.
+//
+// Scenes belong to the caller and are read only during render(). Between frames anything in them
+// may change: move the camera, edit materials and lights, or change mesh positions in place (keep
+// the vertex count and the index ranges valid; recompute normals with compute_vertex_normals if
+// the shape changed). Every render validates the scene it is given, so nothing is cached across
+// frames but memory.
+//
+// Conventions: right-handed world; the camera looks down -z in eye space (gluLookAt); clip space
+// and projection as gluPerspective; window depth 0 at the near plane, 1 at the far plane, test
+// LESS; images row 0 at the top unless the view is y_up; counter-clockwise faces are front faces.
 #pragma once
 
 #include <array>
@@ -66,12 +81,30 @@ struct FrameStats {
   double seconds_total = 0;
 };
 
+// Checks options on their own (what render() checks before touching anything): the ranges above,
+// and that options.isa exists on this CPU when options.path is simd.
+Status check_render_options(const RenderOptions& options) noexcept;
+
 class Renderer {
  public:
-  Renderer();
+  Renderer();  // configured with RenderOptions{}
+  // A renderer with a configuration (threads, ISA, path, tile size, pow tier, shading, culling…)
+  // that render(scene, color, …) uses. Check it first with check_render_options, or let the first
+  // render report it.
+  explicit Renderer(const RenderOptions& config);
   ~Renderer();
   Renderer(Renderer&&) noexcept;
   Renderer& operator=(Renderer&&) noexcept;
+
+  const RenderOptions& config() const noexcept;
+  void set_config(const RenderOptions& config) noexcept;
+
+  // Renders with the renderer's configuration.
+  Status render(const Scene& scene, const ImageView& color, const DepthView* depth = nullptr,
+                FrameStats* stats = nullptr) noexcept;
+
+  // What the last successful render did (counters and per-stage times); zero before the first.
+  FrameStats last_stats() const noexcept;
 
   // Renders `scene` into `color` (and `depth`, if given, of the same size). Validates the scene,
   // the options and the views first: on error nothing is written. Never throws.

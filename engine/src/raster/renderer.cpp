@@ -166,6 +166,8 @@ struct Renderer::Impl {
   bool two_sided = false;
   ShadingMode shading = ShadingMode::gouraud;
   FrameStats stats;
+  FrameStats last_stats;  // of the last successful render
+  RenderOptions config;   // for render(scene, color, ...)
 
   void render(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth);
   void prepare_object(const Scene& scene, const Instance& inst, const Eigen::Matrix4d& view,
@@ -182,7 +184,34 @@ struct Renderer::Impl {
   void merge_ranges();
 };
 
+Status check_render_options(const RenderOptions& options) noexcept {
+  try {
+    return check_options(options);
+  } catch (const std::exception&) {
+    return {ErrorCode::invalid_argument, "options", "out of memory while checking the options"};
+  }
+}
+
 Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
+Renderer::Renderer(const RenderOptions& config) : impl_(std::make_unique<Impl>()) { impl_->config = config; }
+
+const RenderOptions& Renderer::config() const noexcept {
+  static const RenderOptions kDefaults;  // immutable; for a moved-from renderer
+  return impl_ ? impl_->config : kDefaults;
+}
+
+void Renderer::set_config(const RenderOptions& config) noexcept {
+  if (impl_) impl_->config = config;
+}
+
+Status Renderer::render(const Scene& scene, const ImageView& color, const DepthView* depth,
+                        FrameStats* stats) noexcept {
+  if (!impl_) return {ErrorCode::invalid_argument, "renderer", "renderer: used after being moved from"};
+  const RenderOptions config = impl_->config;
+  return render(scene, config, color, depth, stats);
+}
+
+FrameStats Renderer::last_stats() const noexcept { return impl_ ? impl_->last_stats : FrameStats{}; }
 Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
@@ -205,6 +234,7 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
       impl_->workers.resize(static_cast<std::size_t>(threads));
     }
     impl_->arena->execute([&] { impl_->render(scene, options, color, depth); });
+    impl_->last_stats = impl_->stats;
     if (stats) *stats = impl_->stats;
     return {};
   } catch (const std::bad_alloc&) {

@@ -1,0 +1,124 @@
+/* facet's C API: opaque handles over the C++ library, for hosts written in C or any language with
+ * a C FFI. Link with -lfacet (see facet.pc) or CMake's facet::engine.
+ *
+ * Errors: every fallible call returns a facet_status; FACET_OK (0) is success. The complete
+ * message of the last failure (naming the argument or field) is kept per handle:
+ * facet_renderer_last_error / facet_scene_last_error. Nothing aborts and nothing is printed.
+ * A failed call changes nothing: a failed render writes no pixel.
+ *
+ * Threads: a handle is used by one thread at a time. Different renderers may render at the same
+ * time from different threads, also the same scene (rendering only reads it).
+ *
+ * Conventions (as the C++ API): right-handed world, the camera looks down -z in eye space;
+ * window depth 0 = near plane, 1 = far plane; counter-clockwise triangles face the viewer;
+ * matrices are 4x4 column-major (OpenGL order); colours are linear RGB in [0, 1]. */
+#ifndef FACET_FACET_H
+#define FACET_FACET_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum facet_status {
+  FACET_OK = 0,
+  FACET_INVALID_ARGUMENT = 1, /* a value outside its documented domain (NaN, bad index, size...) */
+  FACET_PARSE_ERROR = 2,      /* a file is not well-formed */
+  FACET_IO_ERROR = 3,         /* a file cannot be read or written */
+  FACET_UNSUPPORTED = 4,      /* e.g. an instruction set this CPU does not have */
+  FACET_OUT_OF_MEMORY = 5
+} facet_status;
+
+typedef enum facet_pixel_format { FACET_RGBA8 = 0, FACET_BGRA8 = 1, FACET_RGBA32F = 2 } facet_pixel_format;
+typedef enum facet_shading { FACET_FLAT = 0, FACET_GOURAUD = 1, FACET_PHONG = 2 } facet_shading;
+typedef enum facet_path { FACET_PATH_REFERENCE = 0, FACET_PATH_SCALAR = 1, FACET_PATH_SIMD = 2 } facet_path;
+typedef enum facet_isa { FACET_ISA_BEST = 0, FACET_ISA_SSE2 = 1, FACET_ISA_AVX2 = 2, FACET_ISA_AVX512 = 3 } facet_isa;
+typedef enum facet_cull { FACET_CULL_NONE = 0, FACET_CULL_BACK = 1, FACET_CULL_FRONT = 2 } facet_cull;
+typedef enum facet_light_type { FACET_DIRECTIONAL = 0, FACET_POINT = 1, FACET_SPOT = 2 } facet_light_type;
+
+/* How a renderer renders. Start from facet_render_config_default(). */
+typedef struct facet_render_config {
+  facet_shading shading;
+  facet_path path;
+  facet_isa isa;       /* simd path: the instruction set (FACET_ISA_BEST: the widest available) */
+  facet_cull cull;
+  int tile_size;       /* 8..256, a multiple of 8 */
+  int threads;         /* 0 = all cores, else 1..256; the image is the same for any value */
+  float clear_color[4];
+} facet_render_config;
+
+typedef struct facet_material {
+  float emissive[3], ambient[3], diffuse[3], specular[3];
+  float shininess; /* [0, 4096] */
+  float alpha;     /* [0, 1] */
+} facet_material;
+
+typedef struct facet_light {
+  facet_light_type type;
+  float position[3];  /* point, spot: world space */
+  float direction[3]; /* directional, spot: the way the light travels */
+  float ambient[3], diffuse[3], specular[3];
+  float constant_attenuation, linear_attenuation, quadratic_attenuation;
+  float spot_cutoff_deg; /* spot: [0, 90] or 180 */
+  float spot_exponent;
+} facet_light;
+
+typedef struct facet_camera {
+  float eye[3], target[3], up[3];
+  float vertical_fov_deg; /* (0, 180) */
+  float near_plane, far_plane;
+} facet_camera;
+
+typedef struct facet_frame_stats {
+  uint64_t triangles_in, triangles_drawn, vertices_lit, pixels_filled;
+  double seconds_total;
+  int threads;
+} facet_frame_stats;
+
+typedef struct facet_renderer facet_renderer;
+typedef struct facet_scene facet_scene;
+
+/* Defaults: Gouraud, simd path on the best ISA, back-face culling, 64-pixel tiles, all cores,
+ * opaque black clear colour. Also material, light and camera defaults as in the C++ API. */
+facet_render_config facet_render_config_default(void);
+facet_material facet_material_default(void);
+facet_light facet_light_default(void); /* directional, white, travelling along -z */
+facet_camera facet_camera_default(void);
+
+/* NULL on out of memory or an invalid configuration (then *status, if given, says why; the
+ * message is not kept since there is no handle). config may be NULL for the defaults. */
+facet_renderer* facet_renderer_create(const facet_render_config* config, facet_status* status);
+void facet_renderer_destroy(facet_renderer* renderer); /* NULL is allowed */
+const char* facet_renderer_last_error(const facet_renderer* renderer); /* "" after success */
+
+facet_scene* facet_scene_create(void); /* an empty scene: no meshes, default camera */
+void facet_scene_destroy(facet_scene* scene);
+const char* facet_scene_last_error(const facet_scene* scene);
+
+/* A triangle mesh from arrays the caller keeps: positions (3 floats per vertex), normals (3 per
+ * vertex, or NULL to compute them), indices (3 per triangle). The data is copied. */
+facet_status facet_scene_add_mesh(facet_scene* scene, const float* positions, size_t vertex_count,
+                                  const float* normals, const uint32_t* indices, size_t triangle_count,
+                                  uint32_t* mesh_id);
+facet_status facet_scene_add_material(facet_scene* scene, const facet_material* material, uint32_t* material_id);
+/* model: 4x4 column-major model -> world matrix, or NULL for the identity. */
+facet_status facet_scene_add_object(facet_scene* scene, uint32_t mesh_id, uint32_t material_id,
+                                    const float* model, uint32_t* object_id);
+facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light);
+facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* camera);
+facet_status facet_scene_set_global_ambient(facet_scene* scene, const float rgb[3]);
+
+/* Renders into the caller's buffer: width x height pixels, rows stride_bytes apart, row 0 at the
+ * top unless y_up. depth (width x height floats, depth_stride_bytes apart) and stats may be NULL.
+ * Everything is checked before any byte is written. */
+facet_status facet_render(facet_renderer* renderer, const facet_scene* scene, void* pixels, int width, int height,
+                          size_t stride_bytes, facet_pixel_format format, int y_up, float* depth,
+                          size_t depth_stride_bytes, facet_frame_stats* stats);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* FACET_FACET_H */

@@ -1,0 +1,329 @@
+// The C API (facet/facet.h) over the C++ library. Every entry point is noexcept: C++ exceptions
+// (only std::bad_alloc can arise here) become FACET_OUT_OF_MEMORY, and every failure is recorded
+// in the handle's last-error string.
+#include "facet/facet.h"
+
+#include <new>
+#include <string>
+
+#include "facet/facet.hpp"
+
+struct facet_renderer {
+  facet::Renderer renderer;
+  std::string error;
+};
+
+struct facet_scene {
+  facet::Scene scene;
+  std::string error;
+};
+
+namespace {
+
+facet_status to_c(facet::ErrorCode code) {
+  switch (code) {
+    case facet::ErrorCode::ok: return FACET_OK;
+    case facet::ErrorCode::invalid_argument: return FACET_INVALID_ARGUMENT;
+    case facet::ErrorCode::parse_error: return FACET_PARSE_ERROR;
+    case facet::ErrorCode::io_error: return FACET_IO_ERROR;
+    case facet::ErrorCode::unsupported: return FACET_UNSUPPORTED;
+  }
+  return FACET_INVALID_ARGUMENT;
+}
+
+// Records the outcome in `error` ("" on success) and returns its C status.
+facet_status report(std::string& error, const facet::Status& s) {
+  error = s.ok() ? std::string() : s.message();
+  return to_c(s.code());
+}
+
+facet_status fail(std::string& error, const char* field, const std::string& what) {
+  error = std::string(field) + ": " + what;
+  return FACET_INVALID_ARGUMENT;
+}
+
+facet::Vec3 vec3(const float* v) { return {v[0], v[1], v[2]}; }
+
+// Runs `fn` (returning facet_status), turning std::bad_alloc into FACET_OUT_OF_MEMORY.
+template <class Fn>
+facet_status guarded(std::string* error, Fn&& fn) noexcept {
+  try {
+    return fn();
+  } catch (const std::bad_alloc&) {
+    if (error) {
+      try {
+        *error = "out of memory";
+      } catch (...) {
+      }
+    }
+    return FACET_OUT_OF_MEMORY;
+  } catch (...) {  // nothing else is thrown by facet; never let anything cross into C
+    return FACET_INVALID_ARGUMENT;
+  }
+}
+
+bool to_options(const facet_render_config& c, facet::RenderOptions& o, std::string& error) {
+  if (c.shading < FACET_FLAT || c.shading > FACET_PHONG) return fail(error, "config.shading", "unknown shading"), false;
+  if (c.path < FACET_PATH_REFERENCE || c.path > FACET_PATH_SIMD) return fail(error, "config.path", "unknown path"), false;
+  if (c.isa < FACET_ISA_BEST || c.isa > FACET_ISA_AVX512) return fail(error, "config.isa", "unknown ISA"), false;
+  if (c.cull < FACET_CULL_NONE || c.cull > FACET_CULL_FRONT) return fail(error, "config.cull", "unknown cull mode"), false;
+  const facet::ShadingMode shading[] = {facet::ShadingMode::flat, facet::ShadingMode::gouraud, facet::ShadingMode::phong};
+  const facet::LightingPath path[] = {facet::LightingPath::reference, facet::LightingPath::scalar,
+                                      facet::LightingPath::simd};
+  const facet::Isa isa[] = {facet::Isa::best, facet::Isa::sse2, facet::Isa::avx2, facet::Isa::avx512};
+  const facet::CullMode cull[] = {facet::CullMode::none, facet::CullMode::back, facet::CullMode::front};
+  o.shading = shading[c.shading];
+  o.path = path[c.path];
+  o.isa = isa[c.isa];
+  o.cull = cull[c.cull];
+  o.tile_size = c.tile_size;
+  o.threads = c.threads;
+  for (int i = 0; i < 4; ++i) o.clear_color[static_cast<std::size_t>(i)] = c.clear_color[i];
+  return true;
+}
+
+}  // namespace
+
+extern "C" {
+
+facet_render_config facet_render_config_default(void) {
+  const facet::RenderOptions o;
+  facet_render_config c{};
+  c.shading = FACET_GOURAUD;
+  c.path = FACET_PATH_SIMD;
+  c.isa = FACET_ISA_BEST;
+  c.cull = FACET_CULL_BACK;
+  c.tile_size = o.tile_size;
+  c.threads = o.threads;
+  for (int i = 0; i < 4; ++i) c.clear_color[i] = o.clear_color[static_cast<std::size_t>(i)];
+  return c;
+}
+
+facet_material facet_material_default(void) {
+  const facet::Material m;
+  facet_material c{};
+  for (int i = 0; i < 3; ++i) {
+    c.emissive[i] = m.emissive[i], c.ambient[i] = m.ambient[i];
+    c.diffuse[i] = m.diffuse[i], c.specular[i] = m.specular[i];
+  }
+  c.shininess = m.shininess;
+  c.alpha = m.alpha;
+  return c;
+}
+
+facet_light facet_light_default(void) {
+  const facet::Light l;
+  facet_light c{};
+  c.type = FACET_DIRECTIONAL;
+  for (int i = 0; i < 3; ++i) {
+    c.position[i] = l.position[i], c.direction[i] = l.direction[i];
+    c.ambient[i] = l.ambient[i], c.diffuse[i] = l.diffuse[i], c.specular[i] = l.specular[i];
+  }
+  c.constant_attenuation = l.constant_attenuation;
+  c.linear_attenuation = l.linear_attenuation;
+  c.quadratic_attenuation = l.quadratic_attenuation;
+  c.spot_cutoff_deg = l.spot_cutoff_deg;
+  c.spot_exponent = l.spot_exponent;
+  return c;
+}
+
+facet_camera facet_camera_default(void) {
+  const facet::Camera k;
+  facet_camera c{};
+  for (int i = 0; i < 3; ++i) c.eye[i] = k.eye[i], c.target[i] = k.target[i], c.up[i] = k.up[i];
+  c.vertical_fov_deg = k.vertical_fov_deg;
+  c.near_plane = k.near;
+  c.far_plane = k.far;
+  return c;
+}
+
+facet_renderer* facet_renderer_create(const facet_render_config* config, facet_status* status) {
+  facet_renderer* r = nullptr;
+  std::string error;
+  const facet_status s = guarded(&error, [&] {
+    facet::RenderOptions o;
+    if (config && !to_options(*config, o, error)) return FACET_INVALID_ARGUMENT;
+    if (const facet::Status check = facet::check_render_options(o); !check.ok()) return to_c(check.code());
+    r = new facet_renderer{facet::Renderer(o), {}};
+    return FACET_OK;
+  });
+  if (status) *status = s;
+  return s == FACET_OK ? r : nullptr;
+}
+
+void facet_renderer_destroy(facet_renderer* renderer) { delete renderer; }
+
+const char* facet_renderer_last_error(const facet_renderer* renderer) {
+  return renderer ? renderer->error.c_str() : "renderer: null handle";
+}
+
+facet_scene* facet_scene_create(void) {
+  facet_scene* s = nullptr;
+  (void)guarded(nullptr, [&] {
+    s = new facet_scene{};
+    return FACET_OK;
+  });
+  return s;
+}
+
+void facet_scene_destroy(facet_scene* scene) { delete scene; }
+
+const char* facet_scene_last_error(const facet_scene* scene) {
+  return scene ? scene->error.c_str() : "scene: null handle";
+}
+
+facet_status facet_scene_add_mesh(facet_scene* scene, const float* positions, size_t vertex_count,
+                                  const float* normals, const uint32_t* indices, size_t triangle_count,
+                                  uint32_t* mesh_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!positions && vertex_count > 0) return fail(scene->error, "positions", "null with a non-zero vertex count");
+    if (!indices && triangle_count > 0) return fail(scene->error, "indices", "null with a non-zero triangle count");
+    if (vertex_count > (SIZE_MAX / 12) || triangle_count > (SIZE_MAX / 12)) {
+      return fail(scene->error, "vertex_count", "too large");
+    }
+    const std::span<const float> p(positions, 3 * vertex_count);
+    const std::span<const float> n(normals, normals ? 3 * vertex_count : 0);
+    const std::span<const std::uint32_t> i(indices, 3 * triangle_count);
+    facet::Result<facet::Mesh> mesh = facet::mesh_from_arrays(p, n, i);
+    if (!mesh) return report(scene->error, mesh.status());
+    const auto id = static_cast<std::uint32_t>(scene->scene.meshes.size());
+    scene->scene.meshes.push_back({"mesh" + std::to_string(id), std::move(*mesh)});
+    if (mesh_id) *mesh_id = id;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_add_material(facet_scene* scene, const facet_material* material, uint32_t* material_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!material) return fail(scene->error, "material", "null");
+    facet::Material m;
+    m.emissive = facet::Color3(vec3(material->emissive));
+    m.ambient = facet::Color3(vec3(material->ambient));
+    m.diffuse = facet::Color3(vec3(material->diffuse));
+    m.specular = facet::Color3(vec3(material->specular));
+    m.shininess = material->shininess;
+    m.alpha = material->alpha;
+    const auto id = static_cast<std::uint32_t>(scene->scene.materials.size());
+    m.name = "material" + std::to_string(id);
+    scene->scene.materials.push_back(std::move(m));
+    // Checked now, so the error names this call's argument rather than the next render.
+    if (facet::Status s = facet::validate_scene(scene->scene); !s.ok() && s.field().rfind("materials[", 0) == 0) {
+      scene->scene.materials.pop_back();
+      return report(scene->error, s);
+    }
+    if (material_id) *material_id = id;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_add_object(facet_scene* scene, uint32_t mesh_id, uint32_t material_id, const float* model,
+                                    uint32_t* object_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (mesh_id >= scene->scene.meshes.size()) return fail(scene->error, "mesh_id", "no such mesh");
+    if (material_id >= scene->scene.materials.size()) return fail(scene->error, "material_id", "no such material");
+    facet::Instance inst;
+    inst.mesh = mesh_id;
+    inst.material = material_id;
+    if (model) {
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) inst.model(r, c) = model[4 * c + r];
+    }
+    const auto id = static_cast<std::uint32_t>(scene->scene.objects.size());
+    scene->scene.objects.push_back(inst);
+    if (object_id) *object_id = id;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!light) return fail(scene->error, "light", "null");
+    if (light->type < FACET_DIRECTIONAL || light->type > FACET_SPOT) return fail(scene->error, "light.type", "unknown type");
+    const facet::LightType types[] = {facet::LightType::directional, facet::LightType::point, facet::LightType::spot};
+    facet::Light l;
+    l.type = types[light->type];
+    l.position = vec3(light->position);
+    l.direction = vec3(light->direction);
+    l.ambient = facet::Color3(vec3(light->ambient));
+    l.diffuse = facet::Color3(vec3(light->diffuse));
+    l.specular = facet::Color3(vec3(light->specular));
+    l.constant_attenuation = light->constant_attenuation;
+    l.linear_attenuation = light->linear_attenuation;
+    l.quadratic_attenuation = light->quadratic_attenuation;
+    l.spot_cutoff_deg = light->spot_cutoff_deg;
+    l.spot_exponent = light->spot_exponent;
+    l.name = "light" + std::to_string(scene->scene.lights.size());
+    scene->scene.lights.push_back(std::move(l));
+    if (facet::Status s = facet::validate_scene(scene->scene); !s.ok() && s.field().rfind("lights[", 0) == 0) {
+      scene->scene.lights.pop_back();
+      return report(scene->error, s);
+    }
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* camera) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!camera) return fail(scene->error, "camera", "null");
+    facet::Camera c;
+    c.eye = vec3(camera->eye);
+    c.target = vec3(camera->target);
+    c.up = vec3(camera->up);
+    c.vertical_fov_deg = camera->vertical_fov_deg;
+    c.near = camera->near_plane;
+    c.far = camera->far_plane;
+    const facet::Camera previous = scene->scene.camera;
+    scene->scene.camera = c;
+    if (facet::Status s = facet::validate_scene(scene->scene); !s.ok() && s.field().rfind("camera", 0) == 0) {
+      scene->scene.camera = previous;
+      return report(scene->error, s);
+    }
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_set_global_ambient(facet_scene* scene, const float rgb[3]) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!rgb) return fail(scene->error, "global_ambient", "null");
+    const facet::Color3 previous = scene->scene.global_ambient;
+    scene->scene.global_ambient = facet::Color3(vec3(rgb));
+    if (facet::Status s = facet::validate_scene(scene->scene); !s.ok() && s.field().rfind("global_ambient", 0) == 0) {
+      scene->scene.global_ambient = previous;
+      return report(scene->error, s);
+    }
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_render(facet_renderer* renderer, const facet_scene* scene, void* pixels, int width, int height,
+                          size_t stride_bytes, facet_pixel_format format, int y_up, float* depth,
+                          size_t depth_stride_bytes, facet_frame_stats* stats) {
+  if (!renderer) return FACET_INVALID_ARGUMENT;
+  return guarded(&renderer->error, [&] {
+    if (!scene) return fail(renderer->error, "scene", "null");
+    if (format < FACET_RGBA8 || format > FACET_RGBA32F) return fail(renderer->error, "format", "unknown pixel format");
+    const facet::PixelFormat formats[] = {facet::PixelFormat::rgba8, facet::PixelFormat::bgra8,
+                                          facet::PixelFormat::rgba32f};
+    const facet::ImageView color{pixels, width, height, stride_bytes, formats[format], y_up != 0};
+    const facet::DepthView depth_view{depth, width, height, depth_stride_bytes, y_up != 0};
+    facet::FrameStats s;
+    const facet::Status status = renderer->renderer.render(scene->scene, color, depth ? &depth_view : nullptr, &s);
+    if (status.ok() && stats) {
+      stats->triangles_in = s.triangles_in;
+      stats->triangles_drawn = s.triangles_drawn;
+      stats->vertices_lit = s.vertices_lit;
+      stats->pixels_filled = s.pixels_filled;
+      stats->seconds_total = s.seconds_total;
+      stats->threads = s.threads;
+    }
+    return report(renderer->error, status);
+  });
+}
+
+}  // extern "C"

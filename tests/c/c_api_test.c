@@ -1,0 +1,97 @@
+/* The C API, from C: build a scene from arrays, render into a caller buffer with guard bytes,
+ * and check that bad arguments are refused with a message, before any byte is written. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "facet/facet.h"
+
+static int failures = 0;
+#define CHECK(cond)                                                   \
+  do {                                                                \
+    if (!(cond)) {                                                    \
+      fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
+      ++failures;                                                     \
+    }                                                                 \
+  } while (0)
+
+enum { W = 48, H = 32, GUARD = 64 };
+
+int main(void) {
+  /* An octahedron of radius 1 at the origin, normals computed by facet. */
+  const float positions[] = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
+  const uint32_t indices[] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+  facet_scene* scene = facet_scene_create();
+  CHECK(scene != NULL);
+  uint32_t mesh = 99, material = 99, object = 99;
+  CHECK(facet_scene_add_mesh(scene, positions, 6, NULL, indices, 8, &mesh) == FACET_OK);
+  CHECK(mesh == 0);
+  facet_material m = facet_material_default();
+  m.diffuse[0] = 0.9f, m.diffuse[1] = 0.4f, m.diffuse[2] = 0.1f;
+  CHECK(facet_scene_add_material(scene, &m, &material) == FACET_OK);
+  CHECK(facet_scene_add_object(scene, mesh, material, NULL, &object) == FACET_OK);
+  facet_light light = facet_light_default();
+  CHECK(facet_scene_add_light(scene, &light) == FACET_OK);
+  facet_camera camera = facet_camera_default();
+  camera.eye[2] = 4.0f;
+  CHECK(facet_scene_set_camera(scene, &camera) == FACET_OK);
+  CHECK(strcmp(facet_scene_last_error(scene), "") == 0);
+
+  /* Bad arguments: refused, with the argument named; the scene is unchanged. */
+  CHECK(facet_scene_add_object(scene, 7, material, NULL, NULL) == FACET_INVALID_ARGUMENT);
+  CHECK(strstr(facet_scene_last_error(scene), "mesh_id") != NULL);
+  const uint32_t bad_indices[] = {0, 1, 9};
+  CHECK(facet_scene_add_mesh(scene, positions, 6, NULL, bad_indices, 1, NULL) == FACET_INVALID_ARGUMENT);
+  CHECK(strlen(facet_scene_last_error(scene)) > 0);
+  facet_material bad = m;
+  bad.shininess = NAN;
+  CHECK(facet_scene_add_material(scene, &bad, NULL) == FACET_INVALID_ARGUMENT);
+  CHECK(strstr(facet_scene_last_error(scene), "shininess") != NULL);
+  camera.near_plane = -1.0f;
+  CHECK(facet_scene_set_camera(scene, &camera) == FACET_INVALID_ARGUMENT);
+  CHECK(strstr(facet_scene_last_error(scene), "camera.near") != NULL);
+
+  facet_render_config config = facet_render_config_default();
+  config.threads = 2;
+  config.clear_color[0] = 0.0f, config.clear_color[1] = 0.0f, config.clear_color[2] = 1.0f;
+  facet_status status = FACET_IO_ERROR;
+  facet_renderer* renderer = facet_renderer_create(&config, &status);
+  CHECK(renderer != NULL && status == FACET_OK);
+
+  static unsigned char buffer[GUARD + W * H * 4 + GUARD];
+  memset(buffer, 0xA5, sizeof buffer);
+  unsigned char* pixels = buffer + GUARD;
+
+  /* Invalid views: an error, and not a byte written. */
+  CHECK(facet_render(renderer, scene, pixels, W, H, W * 4 - 1, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_INVALID_ARGUMENT);
+  CHECK(strlen(facet_renderer_last_error(renderer)) > 0);
+  CHECK(facet_render(renderer, scene, pixels, 0, H, W * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_INVALID_ARGUMENT);
+  CHECK(facet_render(renderer, NULL, pixels, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_INVALID_ARGUMENT);
+  CHECK(facet_render(renderer, scene, pixels, W, H, W * 4, (facet_pixel_format)7, 0, NULL, 0, NULL) ==
+        FACET_INVALID_ARGUMENT);
+  for (size_t i = 0; i < sizeof buffer; ++i) CHECK(buffer[i] == 0xA5);
+
+  facet_frame_stats stats;
+  memset(&stats, 0, sizeof stats);
+  static float depth[W * H];
+  CHECK(facet_render(renderer, scene, pixels, W, H, W * 4, FACET_RGBA8, 0, depth, W * sizeof(float), &stats) == FACET_OK);
+  CHECK(strcmp(facet_renderer_last_error(renderer), "") == 0);
+  CHECK(stats.triangles_in == 8 && stats.triangles_drawn >= 4 && stats.pixels_filled > 0 && stats.threads == 2);
+  /* The centre is the lit octahedron (reddish), the corner is the clear colour (blue). */
+  const unsigned char* centre = pixels + 4 * (W * (H / 2) + W / 2);
+  CHECK(centre[0] > centre[2] && centre[3] == 255);
+  CHECK(pixels[0] == 0 && pixels[1] == 0 && pixels[2] == 255 && pixels[3] == 255);
+  CHECK(depth[W * (H / 2) + W / 2] < 1.0f && depth[0] == 1.0f);
+  for (size_t i = 0; i < GUARD; ++i) CHECK(buffer[i] == 0xA5 && buffer[sizeof buffer - 1 - i] == 0xA5);
+
+  /* An invalid configuration is refused at creation. */
+  config.tile_size = 12;
+  CHECK(facet_renderer_create(&config, &status) == NULL && status == FACET_INVALID_ARGUMENT);
+
+  facet_renderer_destroy(renderer);
+  facet_scene_destroy(scene);
+  facet_renderer_destroy(NULL);
+  facet_scene_destroy(NULL);
+  if (failures == 0) printf("c_api_test: ok\n");
+  return failures == 0 ? 0 : 1;
+}
