@@ -10,10 +10,9 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/info.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "common/look_at.hpp"
+#include "common/parallel.hpp"
 #include "facet/render.hpp"
 #include "geometry/clip.hpp"
 #include "lighting/point_shader.hpp"
@@ -130,12 +129,12 @@ struct RangeBinning {
 
 struct Renderer::Impl {
   // Threads: this renderer's own arena, rebuilt only when the thread count changes.
-  std::unique_ptr<tbb::task_arena> arena;
+  std::unique_ptr<parallel::Arena> arena;
   int arena_threads = 0;
   // One per arena slot (tbb::this_task_arena::current_thread_index()), sized on the calling
   // thread before any parallel loop, so that no task ever allocates.
   std::vector<WorkerScratch> workers;
-  WorkerScratch& worker() { return workers[static_cast<std::size_t>(tbb::this_task_arena::current_thread_index())]; }
+  WorkerScratch& worker(int slot) { return workers[static_cast<std::size_t>(slot)]; }
   std::vector<raster::RasterCounters> tile_counters;
   // Frame-wide state, reused from frame to frame (capacity is kept).
   std::vector<std::vector<raster::ScreenTriangle>> range_triangles;
@@ -228,7 +227,7 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
     if (Status s = validate_scene(scene); !s.ok()) return s;
     const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
     if (!impl_->arena || impl_->arena_threads != threads) {
-      impl_->arena = std::make_unique<tbb::task_arena>(threads);
+      impl_->arena = std::make_unique<parallel::Arena>(threads);
       impl_->arena_threads = threads;
       impl_->workers.clear();
       impl_->workers.resize(static_cast<std::size_t>(threads));
@@ -307,8 +306,8 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   const int tile_count = tiles_x * tiles_y;
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});
   const auto raster_start = Clock::now();
-  tbb::parallel_for(tbb::blocked_range<int>(0, tile_count), [&](const tbb::blocked_range<int>& range) {
-    WorkerScratch& w = worker();
+  arena->parallel_for(tbb::blocked_range<int>(0, tile_count), [&](const tbb::blocked_range<int>& range, int slot) {
+    WorkerScratch& w = worker(slot);
     for (int index = range.begin(); index != range.end(); ++index) {
       const int tx = index % tiles_x, ty = index / tiles_x;
       const raster::TileRect rect{tx * tile_size, ty * tile_size, std::min(width, (tx + 1) * tile_size),
@@ -359,7 +358,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   const Mat4Rows mvp = to_rows(proj * view * inst.model.cast<double>());
   clip.resize(n);
   screen.resize(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kVertexChunk), [&](const tbb::blocked_range<std::size_t>& r) {
+  arena->parallel_for(tbb::blocked_range<std::size_t>(0, n, kVertexChunk), [&](const tbb::blocked_range<std::size_t>& r, int) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
       const Vec3& p = mesh.positions[i];
       for (int row = 0; row < 4; ++row) {
@@ -380,8 +379,8 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
     front.resize(n);
     if (two_sided) back.resize(n);
     // Vertex batches in parallel; a vertex's colour does not depend on its batch.
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kVertexChunk), [&](const tbb::blocked_range<std::size_t>& r) {
-      lighting::SoaScratch& soa = worker().soa;
+    arena->parallel_for(tbb::blocked_range<std::size_t>(0, n, kVertexChunk), [&](const tbb::blocked_range<std::size_t>& r, int slot) {
+      lighting::SoaScratch& soa = worker(slot).soa;
       shader.light_mesh(mesh, view, inst.model, false, r.begin(), r.end(), front.data(), soa);
       if (two_sided) shader.light_mesh(mesh, view, inst.model, true, r.begin(), r.end(), back.data(), soa);
     });
@@ -417,10 +416,10 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
     }
     auto shade = [&](std::vector<Color3>& out) {
       out.resize(t_count);
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t_count, kVertexChunk),
-                        [&](const tbb::blocked_range<std::size_t>& r) {
+      arena->parallel_for(tbb::blocked_range<std::size_t>(0, t_count, kVertexChunk),
+                        [&](const tbb::blocked_range<std::size_t>& r, int slot) {
                           shader.shade_points(r.size(), centroid.data() + r.begin(), face_normal.data() + r.begin(),
-                                              out.data() + r.begin(), worker().soa);
+                                              out.data() + r.begin(), worker(slot).soa);
                         });
     };
     shade(front);
@@ -442,8 +441,10 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   }
   const std::size_t first = range_count;
   range_count += ranges;
-  tbb::parallel_for(std::size_t(0), ranges, [&](std::size_t r) {
-    assemble_range(mesh, object, alpha, r * kTriangleRange, std::min(count, (r + 1) * kTriangleRange), first + r);
+  arena->parallel_for(tbb::blocked_range<std::size_t>(0, ranges, 1), [&](const tbb::blocked_range<std::size_t>& rs, int) {
+    for (std::size_t r = rs.begin(); r != rs.end(); ++r) {
+      assemble_range(mesh, object, alpha, r * kTriangleRange, std::min(count, (r + 1) * kTriangleRange), first + r);
+    }
   });
 }
 
