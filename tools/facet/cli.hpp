@@ -45,5 +45,6 @@ int run_light(int argc, char** argv);
 int run_render(int argc, char** argv);
 int run_compare(int argc, char** argv);
 int run_check(int argc, char** argv);
+int run_accuracy(int argc, char** argv);
 
 }  // namespace facet::cli

@@ -1,4 +1,4 @@
-// facet — command-line front end: render, compare, light, check.
+// facet — command-line front end: render, compare, light, check, accuracy.
 // Errors go to stderr with exit status 2 (1 from `compare` means "images differ"); every message
 // names what was wrong.
 #include <cstdio>
@@ -16,6 +16,7 @@ constexpr const char* kUsage =
     "  compare A B          compare two images: PSNR, largest and mean difference, differing pixels\n"
     "  light [SCENE.json]   light every vertex of a scene with each lighting path; print vertices lit per second\n"
     "  check SCENE.json     load and validate a scene file; print a summary or the first error\n"
+    "  accuracy             every lighting path, ISA and pow tier against the exact reference\n"
     "\n"
     "run 'facet <command> --help' for the options of a command\n";
 
@@ -35,5 +36,6 @@ int main(int argc, char** argv) {
   if (command == "compare") return facet::cli::run_compare(argc - 2, argv + 2);
   if (command == "light") return facet::cli::run_light(argc - 2, argv + 2);
   if (command == "check") return facet::cli::run_check(argc - 2, argv + 2);
+  if (command == "accuracy") return facet::cli::run_accuracy(argc - 2, argv + 2);
   return facet::cli::fail("unknown command '" + command + "'\n" + kUsage);
 }

@@ -1,0 +1,655 @@
+// facet accuracy: how far every fast method is from the exact one, at three levels.
+//
+//  1. Vertices: 10^5 random vertices (16 random materials, shininess 0..256, some black
+//     specular; 8 random lights of every type) lit by every path x ISA x pow tier, against the
+//     reference path (double precision): max and mean error in 8-bit steps, the largest
+//     difference after rounding to 8 bits, NaN count. Then the special inputs (n.h = 1 at high
+//     shininess, light at the vertex, zero normals, L = -V, 0^0, eye at the vertex).
+//  2. Pow methods: every tier on every ISA over its failure inputs (NaN, negative, 0, subnormal,
+//     1 - ulp, 1, 1 + ulp, +inf, huge exponents), against double-precision pow of the clamped
+//     input: where each returns NaN, leaves [0, 1], or exceeds its stated contract.
+//  3. Images: a scene of spheres on a plane, ray-cast per pixel in double precision from the
+//     exact geometry (not its triangles) and lit by the reference path at the exact hit point and
+//     normal; then facet's flat, Gouraud and Phong images at several tessellation levels: PSNR and
+//     largest error over the pixels inside the silhouettes (covered in both images, and not on an
+//     edge of either).
+// Output: a table, or JSON (--json FILE) and CSV (--csv FILE).
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <vector>
+
+#include "cli.hpp"
+#include "common/look_at.hpp"
+#include "lighting/point_shader.hpp"
+
+namespace facet::cli {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: facet accuracy [options]\n"
+    "\n"
+    "Measures every lighting path, ISA and pow tier against the exact reference: vertex colours\n"
+    "(random and special inputs), the pow methods over their failure inputs, and whole images\n"
+    "against a ray-cast reference of exact spheres.\n"
+    "\n"
+    "options:\n"
+    "  --only PART    vertices | pow | images (default: all three)\n"
+    "  --quick        fewer vertices (10^4) and tessellation levels, for tests\n"
+    "  --json FILE    write all results as JSON\n"
+    "  --csv FILE     write all results as CSV (one row per measurement)\n"
+    "  --check        exit with status 1 if any measurement is outside its contract (for tests)\n"
+    "  -h, --help     this text\n";
+
+// One measurement: what was measured (kind, method, case) and its numbers.
+struct Row {
+  std::string kind;    // "vertices", "special", "pow", "image"
+  std::string method;  // e.g. "simd avx2 (pow fast)", "pow fast avx2", "phong"
+  std::string item;    // e.g. "random", "light at vertex", "x=nan s=3", "segments=64"
+  double max_lsb = 0;  // largest |error| in 8-bit steps
+  double mean_lsb = 0;
+  int max_step = 0;  // largest difference after rounding both to 8 bits
+  long nans = 0;
+  double psnr_db = 0;     // images
+  std::string verdict;    // "ok" or what failed
+};
+
+std::string json_escape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    o += c;
+  }
+  return o;
+}
+
+std::string number(double v) {
+  if (std::isnan(v)) return "null";
+  if (std::isinf(v)) return v > 0 ? "1e999" : "-1e999";
+  std::ostringstream o;
+  o.precision(6);
+  o << v;
+  return o.str();
+}
+
+// --- 1. vertices -------------------------------------------------------------------------------
+
+Scene random_scene(int vertex_count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), u01(0.0f, 1.0f);
+  Scene s;
+  s.camera.eye = Vec3(0, 0, 6);
+  s.global_ambient = Color3(0.1f, 0.1f, 0.1f);
+  const int objects = 16;
+  for (int o = 0; o < objects; ++o) {
+    Mesh m;
+    const int n = vertex_count / objects / 3 * 3;
+    for (int i = 0; i < n; ++i) {
+      m.positions.emplace_back(2 * u(rng), 2 * u(rng), 2 * u(rng));
+      Vec3 nn(u(rng), u(rng), u(rng));
+      m.normals.push_back(nn.norm() > 1e-3f ? Vec3(nn.normalized()) : Vec3(0, 0, 1));
+    }
+    for (int i = 0; i + 2 < n; i += 3) {
+      m.triangles.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(i + 1), static_cast<std::uint32_t>(i + 2)});
+    }
+    s.meshes.push_back({"random" + std::to_string(o), m});
+    Material mat;
+    mat.emissive = Color3(0.1f * u01(rng), 0.1f * u01(rng), 0.1f * u01(rng));
+    mat.ambient = Color3(u01(rng), u01(rng), u01(rng)) * 0.3f;
+    mat.diffuse = Color3(u01(rng), u01(rng), u01(rng)) * 0.7f;
+    mat.specular = o % 5 == 0 ? Color3(0, 0, 0) : Color3(u01(rng), u01(rng), u01(rng)) * 0.6f;
+    // Shininess 0..256: whole numbers, fractions, 0.
+    const float s_raw = 256.0f * u01(rng) * u01(rng);
+    mat.shininess = o % 4 == 0 ? std::round(s_raw) : (o % 7 == 0 ? 0.0f : s_raw);
+    s.materials.push_back(mat);
+    s.objects.push_back({static_cast<std::uint32_t>(o), static_cast<std::uint32_t>(o), Mat4::Identity()});
+  }
+  for (int i = 0; i < 8; ++i) {
+    Light l;
+    l.position = Vec3(4 * u(rng), 4 * u(rng), 4 * u(rng));
+    l.direction = Vec3(u(rng), u(rng), -1.0f).normalized();
+    l.ambient = Color3(u01(rng), u01(rng), u01(rng)) * 0.1f;
+    l.diffuse = Color3(u01(rng), u01(rng), u01(rng)) * 0.5f;
+    l.specular = Color3(u01(rng), u01(rng), u01(rng)) * 0.5f;
+    switch (i % 4) {
+      case 0: l.type = LightType::directional; break;
+      case 1:
+        l.type = LightType::point;
+        l.linear_attenuation = 0.2f * u01(rng);
+        l.quadratic_attenuation = 0.1f * u01(rng);
+        break;
+      case 2:
+        l.type = LightType::spot;
+        l.direction = (-l.position).normalized();
+        l.spot_cutoff_deg = 20 + 60 * u01(rng);
+        l.spot_exponent = 64 * u01(rng);
+        break;
+      default:
+        l.type = LightType::spot;
+        l.direction = (-l.position).normalized();
+        l.spot_shape = SpotShape::smooth_cone;
+        l.spot_inner_deg = 10 + 20 * u01(rng);
+        l.spot_outer_deg = l.spot_inner_deg + 30 * u01(rng);
+        break;
+    }
+    s.lights.push_back(l);
+  }
+  return s;
+}
+
+// The special inputs, one object each, named.
+std::vector<std::pair<std::string, Scene>> special_scenes() {
+  std::vector<std::pair<std::string, Scene>> out;
+  auto base = [](float shininess) {
+    Scene s;
+    s.camera.eye = Vec3(0, 0, 5);
+    Material m;
+    m.diffuse = Color3(0.6f, 0.6f, 0.6f);
+    m.specular = Color3(1, 1, 1);
+    m.shininess = shininess;
+    s.materials.push_back(m);
+    return s;
+  };
+  auto one_vertex = [](Scene& s, const Vec3& p, const Vec3& n) {
+    Mesh m;
+    m.positions = {p, p + Vec3(1e-3f, 0, 0), p + Vec3(0, 1e-3f, 0)};
+    m.normals = {n, n, n};
+    m.triangles = {{0, 1, 2}};
+    s.meshes.push_back({"v", m});
+    s.objects.push_back({0, 0, Mat4::Identity()});
+  };
+  {  // n.h = 1 (light and eye both along the normal) at the largest shininess
+    Scene s = base(4096);
+    Light l;
+    l.direction = Vec3(0, 0, -1);
+    s.lights.push_back(l);
+    s.viewer = ViewerMode::infinite;
+    one_vertex(s, Vec3(0, 0, 0), Vec3(0, 0, 1));
+    out.emplace_back("n.h = 1, shininess 4096", s);
+  }
+  {  // light exactly at the vertex
+    Scene s = base(32);
+    Light l;
+    l.type = LightType::point;
+    l.position = Vec3(0.5f, 0.25f, 0.125f);
+    s.lights.push_back(l);
+    one_vertex(s, Vec3(0.5f, 0.25f, 0.125f), Vec3(0, 0, 1));
+    out.emplace_back("point light at the vertex", s);
+  }
+  {  // zero normal
+    Scene s = base(32);
+    s.lights.push_back(Light{});
+    one_vertex(s, Vec3(0, 0, 0), Vec3(0, 0, 0));
+    out.emplace_back("zero normal", s);
+  }
+  {  // L = -V: the light straight behind the vertex, seen from the eye
+    Scene s = base(32);
+    Light l;
+    l.type = LightType::point;
+    l.position = Vec3(0, 0, -5);
+    s.lights.push_back(l);
+    one_vertex(s, Vec3(0, 0, 0), Vec3(0, 0, 1));
+    out.emplace_back("L = -V", s);
+  }
+  {  // 0^0: shininess 0 and n.h = 0
+    Scene s = base(0);
+    Light l;
+    l.direction = Vec3(-1, 0, 0);  // grazing: n.l = 0 exactly
+    s.lights.push_back(l);
+    s.viewer = ViewerMode::infinite;
+    one_vertex(s, Vec3(0, 0, 0), Vec3(0, 0, 1));
+    out.emplace_back("0^0 (shininess 0, grazing light)", s);
+  }
+  {  // eye at the vertex (local viewer: V has no direction)
+    Scene s = base(32);
+    s.camera.eye = Vec3(0, 0, 0);
+    s.camera.target = Vec3(0, 0, -1);
+    s.lights.push_back(Light{});
+    one_vertex(s, Vec3(0, 0, 0), Vec3(0, 0, 1));
+    out.emplace_back("eye at the vertex", s);
+  }
+  return out;
+}
+
+struct Method {
+  std::string name;
+  LightingOptions options;
+};
+
+std::vector<Method> all_methods() {
+  std::vector<Method> v;
+  LightingOptions o;
+  o.path = LightingPath::scalar;
+  v.push_back({"scalar", o});
+  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+    if (!isa_supported(isa)) continue;
+    for (PowTier tier : {PowTier::automatic, PowTier::exact, PowTier::fast, PowTier::integer, PowTier::schlick}) {
+      o.path = LightingPath::simd;
+      o.isa = isa;
+      o.pow_tier = tier;
+      v.push_back({describe_path(LightingPath::simd, isa, tier), o});
+    }
+  }
+  return v;
+}
+
+// Errors of `got` against `ref` over all objects' front colours.
+Row compare_colours(const std::vector<VertexColors>& ref, const std::vector<VertexColors>& got) {
+  Row r;
+  double sum = 0;
+  long count = 0;
+  for (std::size_t o = 0; o < ref.size(); ++o) {
+    for (std::size_t i = 0; i < ref[o].front.size(); ++i) {
+      for (int c = 0; c < 3; ++c) {
+        const double a = ref[o].front[i][c], b = got[o].front[i][c];
+        if (std::isnan(b)) {
+          ++r.nans;
+          continue;
+        }
+        const double d = std::abs(a - b) * 255.0;
+        r.max_lsb = std::max(r.max_lsb, d);
+        sum += d;
+        ++count;
+        auto step = [](double v) { return static_cast<int>(std::clamp(v, 0.0, 1.0) * 255.0 + 0.5); };
+        r.max_step = std::max(r.max_step, std::abs(step(a) - step(b)));
+      }
+    }
+  }
+  r.mean_lsb = count ? sum / double(count) : 0;
+  return r;
+}
+
+Status light_all(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out) {
+  out.resize(scene.objects.size());
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    if (Status s = light_instance(scene, i, options, out[i]); !s.ok()) return s;
+  }
+  return {};
+}
+
+Status vertex_accuracy(bool quick, std::vector<Row>& rows) {
+  const Scene scene = random_scene(quick ? 10000 : 100000, 2026);
+  LightingOptions ref_options;
+  ref_options.path = LightingPath::reference;
+  std::vector<VertexColors> ref, got;
+  if (Status s = light_all(scene, ref_options, ref); !s.ok()) return s;
+  const auto specials = special_scenes();
+  for (const Method& m : all_methods()) {
+    if (Status s = light_all(scene, m.options, got); !s.ok()) return s;
+    Row r = compare_colours(ref, got);
+    r.kind = "vertices";
+    r.method = m.name;
+    r.item = "random";
+    // The budget of the tiers that promise 8-bit accuracy (see README "pow tiers").
+    const bool promised = m.options.path == LightingPath::scalar || m.options.pow_tier != PowTier::schlick;
+    r.verdict = r.nans ? "NaN" : (promised && r.max_step > 1 ? "more than 1 step" : "ok");
+    if (!promised) r.verdict += " (schlick: a different lobe, no accuracy promised)";
+    rows.push_back(r);
+    for (const auto& [name, special] : specials) {
+      std::vector<VertexColors> sref, sgot;
+      if (Status s = light_all(special, ref_options, sref); !s.ok()) return s;
+      if (Status s = light_all(special, m.options, sgot); !s.ok()) return s;
+      Row sr = compare_colours(sref, sgot);
+      sr.kind = "special";
+      sr.method = m.name;
+      sr.item = name;
+      sr.verdict = sr.nans ? "NaN" : (promised && sr.max_step > 1 ? "more than 1 step" : "ok");
+      rows.push_back(sr);
+    }
+  }
+  return {};
+}
+
+// --- 2. pow methods ----------------------------------------------------------------------------
+
+void pow_sweep(std::vector<Row>& rows) {
+  using lighting::simd::PowMethod;
+  using lighting::simd::PowSpec;
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const float xs[] = {nan, -inf, -0.5f, -0.0f, 0.0f, 1e-40f, 1e-20f, 0.25f, 0.5f, std::nextafter(1.0f, 0.0f),
+                      1.0f, std::nextafter(1.0f, 2.0f), 2.0f, inf};
+  const float ss[] = {0.0f, 0.01f, 0.5f, 1.0f, 3.0f, 37.5f, 128.0f, 256.0f, 1024.0f, 4096.0f};
+  struct Tier {
+    const char* name;
+    PowMethod method;
+  };
+  const Tier tiers[] = {{"exact", PowMethod::exact}, {"fast", PowMethod::fast}, {"integer", PowMethod::integer},
+                        {"schlick", PowMethod::schlick}};
+  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+    const lighting::SimdKernels* k = lighting::simd_kernels(isa);
+    if (!k) continue;
+    for (const Tier& tier : tiers) {
+      for (float s : ss) {
+        if (tier.method == PowMethod::integer && (s != std::floor(s) || s > 256)) continue;  // outside its domain
+        alignas(64) float in[lighting::simd::kMaxLanes * 2] = {};
+        alignas(64) float out[lighting::simd::kMaxLanes * 2] = {};
+        const std::size_t n = std::size(xs);
+        std::copy(std::begin(xs), std::end(xs), in);
+        k->pow(PowSpec{tier.method, s, static_cast<int>(s)}, in, out, lighting::simd::kMaxLanes * 2);
+        for (std::size_t i = 0; i < n; ++i) {
+          const float x = xs[i];
+          const double clamped = std::isnan(x) ? 0.0 : std::clamp(double(x), 0.0, 1.0);
+          const double exact = (clamped == 0.0 && s == 0.0f) ? 1.0 : std::pow(clamped, double(s));
+          Row r;
+          r.kind = "pow";
+          r.method = std::string("pow ") + tier.name + " " + to_string(isa);
+          std::ostringstream item;
+          item << "x=" << x << " s=" << s;
+          r.item = item.str();
+          const float y = out[i];
+          r.nans = std::isnan(y) ? 1 : 0;
+          r.max_lsb = std::isnan(y) ? 0 : std::abs(double(y) - exact) * 255.0;
+          r.mean_lsb = r.max_lsb;
+          // Contracts (engine/src/fastmath/pow_simd.hpp): exact 2e-6 up to s = 1024; fast and
+          // integer within one 8-bit step up to s = 256; schlick promises none.
+          const double err = std::isnan(y) ? INFINITY : std::abs(double(y) - exact);
+          std::string verdict = "ok";
+          if (std::isnan(y)) {
+            verdict = "NaN";
+          } else if (y < 0.0f || y > 1.0f) {
+            verdict = "outside [0, 1]";
+          } else if (tier.method == PowMethod::exact && s <= 1024 && err > 2e-6) {
+            verdict = "above contract (2e-6)";
+          } else if ((tier.method == PowMethod::fast || tier.method == PowMethod::integer) && s <= 256 &&
+                     err * 255.0 > 1.0) {
+            verdict = "above contract (1 step)";
+          } else if (tier.method == PowMethod::schlick) {
+            verdict = "ok (no contract)";
+          } else if (s > 256 && tier.method == PowMethod::fast) {
+            verdict = "ok (outside its contract's range)";
+          }
+          r.verdict = verdict;
+          rows.push_back(r);
+        }
+      }
+    }
+  }
+}
+
+// --- 3. images ---------------------------------------------------------------------------------
+
+struct Sphere {
+  Eigen::Vector3d centre;
+  double radius;
+  std::uint32_t material;
+};
+
+// The reference scene: three spheres on a ground plane, two lights (directional and point).
+Scene image_scene(int segments, const std::vector<Sphere>& spheres, double plane_y) {
+  Scene s;
+  s.camera.eye = Vec3(0, 1.2f, 5.5f);
+  s.camera.target = Vec3(0, 0.5f, 0);
+  s.camera.vertical_fov_deg = 40;
+  s.camera.near = 0.5f;
+  s.camera.far = 30;
+  s.global_ambient = Color3(0.1f, 0.1f, 0.1f);
+  const Color3 colours[] = {{0.8f, 0.2f, 0.2f}, {0.2f, 0.7f, 0.3f}, {0.2f, 0.3f, 0.9f}, {0.6f, 0.6f, 0.55f}};
+  for (int m = 0; m < 4; ++m) {
+    Material mat;
+    mat.ambient = colours[m] * 0.5f;
+    mat.diffuse = colours[m];
+    mat.specular = m < 3 ? Color3(0.6f, 0.6f, 0.6f) : Color3(0.1f, 0.1f, 0.1f);
+    mat.shininess = m == 0 ? 16.0f : (m == 1 ? 60.0f : (m == 2 ? 128.0f : 8.0f));
+    s.materials.push_back(mat);
+  }
+  s.meshes.push_back({"sphere", make_uv_sphere(1.0f, segments, std::max(2, segments / 2))});
+  for (const Sphere& sp : spheres) {
+    Mat4 t = Mat4::Identity();
+    t.topLeftCorner<3, 3>() *= static_cast<float>(sp.radius);
+    t.block<3, 1>(0, 3) = sp.centre.cast<float>();
+    s.objects.push_back({0, sp.material, t});
+  }
+  s.meshes.push_back({"ground", make_plane(20.0f, 20.0f, std::max(1, segments / 4))});
+  Mat4 g = Mat4::Identity();
+  g(1, 3) = static_cast<float>(plane_y);
+  s.objects.push_back({1, 3, g});
+  Light sun;
+  sun.direction = Vec3(-0.4f, -1.0f, -0.5f).normalized();
+  sun.diffuse = Color3(0.7f, 0.7f, 0.7f);
+  sun.specular = Color3(0.7f, 0.7f, 0.7f);
+  s.lights.push_back(sun);
+  Light lamp;
+  lamp.type = LightType::point;
+  lamp.position = Vec3(2.0f, 3.0f, 2.5f);
+  lamp.diffuse = Color3(0.6f, 0.55f, 0.5f);
+  lamp.specular = Color3(0.8f, 0.8f, 0.8f);
+  lamp.linear_attenuation = 0.05f;
+  s.lights.push_back(lamp);
+  return s;
+}
+
+struct Image {
+  int w = 0, h = 0;
+  std::vector<std::uint8_t> rgba;
+  std::vector<std::uint8_t> covered;
+  std::vector<int> object;  // reference only: which object the pixel shows (-1: none)
+};
+
+// Ray-cast reference: per pixel centre, the nearest exact hit (spheres and the plane, in double
+// precision, eye space), lit by the reference path at the exact point and normal.
+Status raycast(const Scene& scene, const std::vector<Sphere>& spheres, double plane_y, int w, int h, Image& out) {
+  const Eigen::Matrix4d view = look_at_d(scene.camera);
+  std::vector<lighting::PointShader> shaders(scene.materials.size());
+  LightingOptions o;
+  o.path = LightingPath::reference;
+  o.cull_lights = false;
+  for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+    if (Status s = shaders[m].prepare(scene, view, scene.materials[m], o); !s.ok()) return s;
+  }
+  struct Hit {
+    double t = INFINITY;
+    Eigen::Vector3d n;
+    std::uint32_t material = 0;
+    int object = -1;
+  };
+  std::vector<std::pair<Eigen::Vector3d, double>> centres;  // eye space
+  for (const Sphere& sp : spheres) centres.emplace_back((view * sp.centre.homogeneous()).head<3>(), sp.radius);
+  const Eigen::Vector3d plane_n = view.topLeftCorner<3, 3>() * Eigen::Vector3d(0, 1, 0);
+  const Eigen::Vector3d plane_p = (view * Eigen::Vector4d(0, plane_y, 0, 1)).head<3>();
+  const double tan_half = std::tan(double(scene.camera.vertical_fov_deg) * M_PI / 360.0);
+  const double aspect = double(w) / double(h);
+  const Eigen::Matrix4d eye_to_world = view.inverse();
+  out.w = w, out.h = h;
+  out.rgba.assign(static_cast<std::size_t>(w * h * 4), 0);
+  out.covered.assign(static_cast<std::size_t>(w * h), 0);
+  out.object.assign(static_cast<std::size_t>(w * h), -1);
+  lighting::SoaScratch scratch;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const double ndc_x = 2.0 * (x + 0.5) / w - 1.0, ndc_y = 1.0 - 2.0 * (y + 0.5) / h;
+      const Eigen::Vector3d d = Eigen::Vector3d(ndc_x * tan_half * aspect, ndc_y * tan_half, -1.0).normalized();
+      Hit hit;
+      for (std::size_t i = 0; i < centres.size(); ++i) {
+        const Eigen::Vector3d& c = centres[i].first;
+        const double r = centres[i].second;
+        const double b = d.dot(c), disc = b * b - (c.squaredNorm() - r * r);
+        if (disc < 0) continue;
+        const double t = b - std::sqrt(disc);
+        if (t > 0 && t < hit.t) hit = {t, (t * d - c) / r, spheres[i].material, static_cast<int>(i)};
+      }
+      const double denom = d.dot(plane_n);
+      if (std::abs(denom) > 1e-12) {
+        const double t = plane_p.dot(plane_n) / denom;
+        const Eigen::Vector3d p = t * d;
+        // The plane is a 20 x 20 square around the origin (as the mesh).
+        const Eigen::Vector4d world = eye_to_world * p.homogeneous();
+        if (t > 0 && t < hit.t && std::abs(world.x()) <= 10 && std::abs(world.z()) <= 10) {
+          hit = {t, plane_n, 3, static_cast<int>(centres.size())};
+        }
+      }
+      if (!std::isfinite(hit.t)) continue;
+      // Beyond the far plane the rasterizer draws nothing either.
+      if (hit.t * -d.z() > scene.camera.far) continue;
+      const Vec3 p = (hit.t * d).cast<float>(), n = hit.n.normalized().cast<float>();
+      Color3 c;
+      shaders[hit.material].shade_points(1, &p, &n, &c, scratch);
+      const std::size_t i = static_cast<std::size_t>(y * w + x);
+      for (int k = 0; k < 3; ++k) out.rgba[4 * i + k] = static_cast<std::uint8_t>(std::clamp(c[k], 0.0f, 1.0f) * 255.0f + 0.5f);
+      out.rgba[4 * i + 3] = 255;
+      out.covered[i] = 1;
+      out.object[i] = hit.object;
+    }
+  }
+  return {};
+}
+
+Row compare_images_inside(const Image& ref, const Image& got) {
+  Row r;
+  double sum = 0, sq = 0;
+  long n = 0;
+  // Inside a silhouette: the pixel and its 8 neighbours are covered (and, in the reference, show
+  // the same object): edges, where tessellation moves the outline, are left out.
+  auto interior = [&](const Image& im, int x, int y) {
+    const int id = im.object.empty() ? 0 : im.object[static_cast<std::size_t>(y * im.w + x)];
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int xx = x + dx, yy = y + dy;
+        if (xx < 0 || yy < 0 || xx >= im.w || yy >= im.h) return false;
+        const std::size_t j = static_cast<std::size_t>(yy * im.w + xx);
+        if (!im.covered[j] || (!im.object.empty() && im.object[j] != id)) return false;
+      }
+    return true;
+  };
+  for (int y = 0; y < ref.h; ++y) {
+    for (int x = 0; x < ref.w; ++x) {
+      if (!interior(ref, x, y) || !interior(got, x, y)) continue;
+      const std::size_t i = static_cast<std::size_t>(y * ref.w + x);
+      for (int k = 0; k < 3; ++k) {
+        const double d = std::abs(double(ref.rgba[4 * i + k]) - double(got.rgba[4 * i + k]));
+        r.max_lsb = std::max(r.max_lsb, d);
+        sum += d;
+        sq += d * d;
+        ++n;
+      }
+    }
+  }
+  r.mean_lsb = n ? sum / double(n) : 0;
+  r.max_step = static_cast<int>(r.max_lsb);
+  r.psnr_db = sq > 0 ? 10.0 * std::log10(255.0 * 255.0 / (sq / double(n))) : INFINITY;
+  return r;
+}
+
+Status image_accuracy(bool quick, std::vector<Row>& rows) {
+  const std::vector<Sphere> spheres = {{{-1.3, 0.6, 0.0}, 0.6, 0}, {{0.1, 0.8, -0.6}, 0.8, 1}, {{1.4, 0.45, 0.5}, 0.45, 2}};
+  const double plane_y = 0.0;
+  const int w = quick ? 320 : 640, h = quick ? 200 : 400;
+  Image ref;
+  if (Status s = raycast(image_scene(8, spheres, plane_y), spheres, plane_y, w, h, ref); !s.ok()) return s;
+  std::vector<int> levels = quick ? std::vector<int>{16, 64, 256} : std::vector<int>{8, 16, 32, 64, 128, 256};
+  for (ShadingMode mode : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+    for (int segments : levels) {
+      const Scene scene = image_scene(segments, spheres, plane_y);
+      Image got;
+      got.w = w, got.h = h;
+      got.rgba.assign(static_cast<std::size_t>(w * h * 4), 0);
+      std::vector<float> depth(static_cast<std::size_t>(w * h));
+      RenderOptions o;
+      o.shading = mode;
+      o.path = LightingPath::reference;
+      o.clear_color = {0, 0, 0, 0};
+      const ImageView view{got.rgba.data(), w, h, static_cast<std::size_t>(w) * 4, PixelFormat::rgba8, false};
+      const DepthView dv{depth.data(), w, h, static_cast<std::size_t>(w) * sizeof(float), false};
+      Renderer r;
+      if (Status s = r.render(scene, o, view, &dv); !s.ok()) return s;
+      got.covered.resize(depth.size());
+      for (std::size_t i = 0; i < depth.size(); ++i) got.covered[i] = depth[i] < 1.0f;
+      Row row = compare_images_inside(ref, got);
+      row.kind = "image";
+      row.method = to_string(mode);
+      row.item = "segments=" + std::to_string(segments);
+      row.verdict = "ok";
+      if (mode == ShadingMode::phong && segments == levels.back() && row.psnr_db < 45.0) row.verdict = "below 45 dB";
+      rows.push_back(row);
+    }
+  }
+  return {};
+}
+
+void write_json(std::ostream& o, const std::vector<Row>& rows) {
+  o << "{\n  \"machine\": \"" << json_escape(to_string(best_isa())) << "\",\n  \"rows\": [\n";
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
+    o << "    {\"kind\": \"" << r.kind << "\", \"method\": \"" << json_escape(r.method) << "\", \"item\": \""
+      << json_escape(r.item) << "\", \"max_lsb\": " << number(r.max_lsb) << ", \"mean_lsb\": " << number(r.mean_lsb)
+      << ", \"max_step\": " << r.max_step << ", \"nans\": " << r.nans << ", \"psnr_db\": " << number(r.psnr_db)
+      << ", \"verdict\": \"" << json_escape(r.verdict) << "\"}" << (i + 1 < rows.size() ? "," : "") << "\n";
+  }
+  o << "  ]\n}\n";
+}
+
+void write_csv(std::ostream& o, const std::vector<Row>& rows) {
+  o << "kind,method,item,max_lsb,mean_lsb,max_step,nans,psnr_db,verdict\n";
+  auto q = [](const std::string& s) { return "\"" + s + "\""; };
+  for (const Row& r : rows) {
+    o << r.kind << "," << q(r.method) << "," << q(r.item) << "," << number(r.max_lsb) << "," << number(r.mean_lsb)
+      << "," << r.max_step << "," << r.nans << "," << number(r.psnr_db) << "," << q(r.verdict) << "\n";
+  }
+}
+
+}  // namespace
+
+int run_accuracy(int argc, char** argv) {
+  Args args(argc, argv);
+  std::string arg, only, json_path, csv_path;
+  bool quick = false, check = false;
+  while (args.next(arg)) {
+    if (arg == "-h" || arg == "--help") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    } else if (arg == "--only") {
+      const auto v = args.value(arg);
+      if (!v) return 2;
+      if (*v != "vertices" && *v != "pow" && *v != "images") return fail("--only: expected vertices, pow or images, found '" + *v + "'");
+      only = *v;
+    } else if (arg == "--quick") {
+      quick = true;
+    } else if (arg == "--check") {
+      check = true;
+    } else if (arg == "--json" || arg == "--csv") {
+      const auto v = args.value(arg);
+      if (!v) return 2;
+      (arg == "--json" ? json_path : csv_path) = *v;
+    } else {
+      return fail("accuracy: unknown option '" + arg + "'\n" + kUsage);
+    }
+  }
+  std::vector<Row> rows;
+  if (only.empty() || only == "vertices") {
+    if (Status s = vertex_accuracy(quick, rows); !s.ok()) return fail(s.message());
+  }
+  if (only.empty() || only == "pow") pow_sweep(rows);
+  if (only.empty() || only == "images") {
+    if (Status s = image_accuracy(quick, rows); !s.ok()) return fail(s.message());
+  }
+
+  int failures = 0;
+  std::printf("%-9s %-28s %-36s %9s %9s %5s %5s %8s  %s\n", "kind", "method", "case", "max LSB", "mean LSB", "step",
+              "NaN", "PSNR dB", "verdict");
+  for (const Row& r : rows) {
+    const bool bad = r.verdict.rfind("ok", 0) != 0;
+    failures += bad;
+    // The pow sweep has hundreds of rows: print only its failures and the worst per method.
+    if (r.kind == "pow" && !bad) continue;
+    std::printf("%-9s %-28s %-36s %9.3g %9.3g %5d %5ld %8s  %s\n", r.kind.c_str(), r.method.c_str(), r.item.c_str(),
+                r.max_lsb, r.mean_lsb, r.max_step, r.nans, r.kind == "image" ? number(r.psnr_db).c_str() : "",
+                r.verdict.c_str());
+  }
+  std::printf("%zu measurements, %d outside their contract%s\n", rows.size(), failures,
+              failures ? " (see the verdicts above)" : "");
+  if (!json_path.empty()) {
+    std::ofstream f(json_path);
+    write_json(f, rows);
+    if (!f) return fail("cannot write " + json_path);
+  }
+  if (!csv_path.empty()) {
+    std::ofstream f(csv_path);
+    write_csv(f, rows);
+    if (!f) return fail("cannot write " + csv_path);
+  }
+  return check && failures > 0 ? 1 : 0;
+}
+
+}  // namespace facet::cli
