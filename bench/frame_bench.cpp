@@ -1,20 +1,29 @@
-// Whole frames and pixel fill, with the thread count as an argument (each renderer owns its
-// tbb::task_arena; UseRealTime because the work runs on TBB threads).
-//   BM_Fill:  16 full-screen Gouraud layers at 1920x1080, depth test passing (front to back would
-//             fail it: the layers are drawn back to front), no lighting cost to speak of.
-//   BM_Frame: the built-in scene and, when ../shared/models exists, the Stanford bunny with 4
-//             lights at 1920x1080, Gouraud.
-// Each on the scalar path and on the simd path of every ISA this CPU has (BM_Fill/avx2/threads:2).
+// Whole frames and pixel fill (Google Benchmark; UseRealTime because the work runs on the
+// renderer's own TBB threads; the thread count is the benchmark argument).
+//   BM_Fill/<variant>/gouraud: 16 full-screen Gouraud layers at 1920x1080, drawn back to front so
+//       every layer passes the depth test (33 M pixels a frame), no lighting cost to speak of;
+//   BM_Fill/<variant>/phong:   4 full-screen layers lit per pixel (one point light);
+//   BM_Fill/<variant>/small:   200,000 random triangles of 1-16 pixels at 1920x1080;
+//   BM_Frame/<variant>/<scene>/<size>: the built-in scene and each model scene of
+//       tests/data/scenes (skipped when ../shared/models is absent), Gouraud.
+// Variants: the scalar path (scalar lighting and rasterizer) and the simd path of each ISA this
+// CPU has; the model scenes and 1280x720 run on the best ISA only.
+// Counters: frames/s, pixels_filled/s, vertices_lit/s and bw_share, the bytes of the output
+// image written per second over the triad bandwidth measured at start (bench/roofline.hpp).
 #include <benchmark/benchmark.h>
 
-#include <filesystem>
+#include <chrono>
+#include <functional>
+#include <random>
+#include <string>
 #include <vector>
 
 #include "facet/facet.hpp"
+#include "roofline.hpp"
 
 namespace {
 
-facet::Scene layers_scene(int layers) {
+facet::Scene layers_scene(int layers, bool lit = false) {
   facet::Scene s;
   s.camera.eye = facet::Vec3(0, 0, 0);
   s.camera.target = facet::Vec3(0, 0, -1);
@@ -27,6 +36,16 @@ facet::Scene layers_scene(int layers) {
   s.meshes.push_back({"quad", quad});
   facet::Material m;
   m.emissive = facet::Color3(0.3f, 0.5f, 0.7f);
+  if (lit) {
+    m.emissive = facet::Color3(0.05f, 0.05f, 0.05f);
+    m.specular = facet::Color3(0.5f, 0.5f, 0.5f);
+    m.shininess = 24;
+    facet::Light l;
+    l.type = facet::LightType::point;
+    l.position = facet::Vec3(0.0f, 0.0f, 0.0f);
+    l.linear_attenuation = 0.01f;
+    s.lights.push_back(l);
+  }
   s.materials.push_back(m);
   for (int i = 0; i < layers; ++i) {  // back to front: every layer passes the depth test
     const float z = -50.0f + float(i);
@@ -38,12 +57,43 @@ facet::Scene layers_scene(int layers) {
   return s;
 }
 
+// `count` random triangles of 1-16 pixels each over a 1920x1080 view at depth -10.
+facet::Scene small_triangles_scene(int count) {
+  facet::Scene s;
+  s.camera.eye = facet::Vec3(0, 0, 0);
+  s.camera.target = facet::Vec3(0, 0, -1);
+  s.camera.vertical_fov_deg = 90;
+  s.camera.far = 100;
+  std::mt19937 rng(3);
+  // At depth 10 with a 90-degree field of view, 1080 pixels span 20 units: 1 px = 0.0185 units.
+  std::uniform_real_distribution<float> x(-17.7f, 17.7f), y(-10.0f, 10.0f), side(0.027f, 0.1f), z(-11.0f, -9.0f);
+  facet::Mesh m;
+  for (int i = 0; i < count; ++i) {
+    const facet::Vec3 c(x(rng), y(rng), z(rng));
+    const float a = side(rng);  // right triangle with legs of 1.5 to 5.4 px: area 1-15 px
+    m.positions.push_back(c);
+    m.positions.push_back(c + facet::Vec3(a, 0, 0));
+    m.positions.push_back(c + facet::Vec3(0, a, 0));
+    for (int k = 0; k < 3; ++k) m.normals.push_back(facet::Vec3(0, 0, 1));
+    const auto b = static_cast<std::uint32_t>(3 * i);
+    m.triangles.push_back({b, b + 1, b + 2});
+  }
+  s.meshes.push_back({"small", m});
+  facet::Material mat;
+  mat.diffuse = facet::Color3(0.7f, 0.6f, 0.5f);
+  s.materials.push_back(mat);
+  s.objects.push_back({0, 0, facet::Mat4::Identity()});
+  s.lights.push_back(facet::Light{});
+  return s;
+}
+
 void run_frames(benchmark::State& state, const facet::Scene& scene, facet::RenderOptions options, int w, int h) {
   options.threads = static_cast<int>(state.range(0));
   std::vector<std::uint8_t> pixels(static_cast<std::size_t>(w) * h * 4);
   const facet::ImageView view{pixels.data(), w, h, static_cast<std::size_t>(w) * 4, facet::PixelFormat::rgba8, false};
   facet::Renderer renderer;
   facet::FrameStats stats;
+  const auto start = std::chrono::steady_clock::now();
   for (auto _ : state) {
     const facet::Status s = renderer.render(scene, options, view, nullptr, &stats);
     if (!s.ok()) {
@@ -52,15 +102,18 @@ void run_frames(benchmark::State& state, const facet::Scene& scene, facet::Rende
     }
     benchmark::DoNotOptimize(pixels.data());
   }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   using benchmark::Counter;
   state.counters["frames/s"] = Counter(1.0, Counter::kIsIterationInvariantRate);
   state.counters["pixels_filled/s"] = Counter(double(stats.pixels_filled), Counter::kIsIterationInvariantRate);
   state.counters["vertices_lit/s"] = Counter(double(stats.vertices_lit), Counter::kIsIterationInvariantRate);
+  state.counters["threads"] = stats.threads;
+  state.counters["bw_share"] = double(state.iterations()) * double(pixels.size()) / seconds /
+                               facet::bench::roofline().triad_bytes_per_s;
   state.SetLabel(std::to_string(w) + "x" + std::to_string(h) + ", " + std::to_string(stats.threads) + " threads");
 }
 
-// A rasterizer variant: the scalar path (scalar lighting and the scalar rasterizer) or the simd
-// path on one ISA.
+// A variant: the scalar path (scalar lighting and the scalar rasterizer) or the simd path on one ISA.
 struct Variant {
   const char* name;
   facet::LightingPath path;
@@ -71,47 +124,71 @@ constexpr Variant kVariants[] = {{"scalar", facet::LightingPath::scalar, facet::
                                  {"avx2", facet::LightingPath::simd, facet::Isa::avx2},
                                  {"avx512", facet::LightingPath::simd, facet::Isa::avx512}};
 
-const facet::Scene* bunny_scene(std::string& error) {
-  static const facet::Result<facet::Scene> scene =
-      facet::load_scene_file(std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/bunny.json");
-  if (!scene) {
-    error = "bunny scene not available: " + scene.status().message();
-    return nullptr;
+// A scene file of tests/data/scenes, loaded once; null (with the reason) when its model is absent.
+const facet::Scene* scene_file(const std::string& name, std::string& error) {
+  static std::vector<std::pair<std::string, facet::Result<facet::Scene>>> cache;
+  for (auto& [n, r] : cache) {
+    if (n == name) {
+      if (!r) error = r.status().message();
+      return r ? &*r : nullptr;
+    }
   }
-  return &*scene;
+  cache.emplace_back(name, facet::load_scene_file(std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/" + name + ".json"));
+  return scene_file(name, error);
+}
+
+void add(const std::string& name, std::function<void(benchmark::State&)> fn) {
+  benchmark::RegisterBenchmark(name.c_str(), std::move(fn))
+      ->ArgName("threads")
+      ->Arg(1)
+      ->Arg(2)
+      ->UseRealTime()
+      ->Unit(benchmark::kMillisecond);
 }
 
 void register_all() {
+  const std::vector<std::string> models = {"bunny", "teapot", "suzanne", "spot", "fandisk"};
   for (const Variant& v : kVariants) {
     if (v.path == facet::LightingPath::simd && !facet::isa_supported(v.isa)) continue;
+    const bool best = v.path == facet::LightingPath::simd && v.isa == facet::best_isa();
     facet::RenderOptions o;
     o.path = v.path;
     o.isa = v.isa;
-    auto add = [&](const std::string& name, auto&& fn) {
-      benchmark::RegisterBenchmark(name.c_str(), fn)
-          ->ArgName("threads")
-          ->Arg(1)
-          ->Arg(2)
-          ->UseRealTime()
-          ->Unit(benchmark::kMillisecond);
-    };
-    add(std::string("BM_Fill/") + v.name, [o](benchmark::State& state) {
+    const std::string prefix = std::string("/") + v.name + "/";
+    add("BM_Fill" + prefix + "gouraud", [o](benchmark::State& state) {
       static const facet::Scene scene = layers_scene(16);
       run_frames(state, scene, o, 1920, 1080);
     });
-    add(std::string("BM_Frame_Default/") + v.name, [o](benchmark::State& state) {
-      static const facet::Scene scene = facet::make_default_scene();
+    facet::RenderOptions phong = o;
+    phong.shading = facet::ShadingMode::phong;
+    add("BM_Fill" + prefix + "phong", [phong](benchmark::State& state) {
+      static const facet::Scene scene = layers_scene(4, true);
+      run_frames(state, scene, phong, 1920, 1080);
+    });
+    add("BM_Fill" + prefix + "small", [o](benchmark::State& state) {
+      static const facet::Scene scene = small_triangles_scene(200000);
       run_frames(state, scene, o, 1920, 1080);
     });
-    add(std::string("BM_Frame_Bunny/") + v.name, [o](benchmark::State& state) {
-      std::string error;
-      const facet::Scene* scene = bunny_scene(error);
-      if (!scene) {
-        state.SkipWithError(error.c_str());
-        return;
+    for (const char* size : {"1280x720", "1920x1080"}) {
+      const int w = size[0] == '1' && size[1] == '2' ? 1280 : 1920, h = w == 1280 ? 720 : 1080;
+      if (w == 1280 && !best) continue;
+      add("BM_Frame" + prefix + "default/" + size, [o, w, h](benchmark::State& state) {
+        static const facet::Scene scene = facet::make_default_scene();
+        run_frames(state, scene, o, w, h);
+      });
+      for (const std::string& model : models) {
+        if (!best && model != "bunny") continue;
+        add("BM_Frame" + prefix + model + "/" + size, [o, w, h, model](benchmark::State& state) {
+          std::string error;
+          const facet::Scene* scene = scene_file(model, error);
+          if (!scene) {
+            state.SkipWithError(("model not available: " + error).c_str());
+            return;
+          }
+          run_frames(state, *scene, o, w, h);
+        });
       }
-      run_frames(state, *scene, o, 1920, 1080);
-    });
+    }
   }
 }
 
@@ -121,6 +198,7 @@ int main(int argc, char** argv) {
   register_all();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  facet::bench::add_roofline_context();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

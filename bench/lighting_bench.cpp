@@ -1,22 +1,43 @@
 // Vertex lighting throughput per path (reference, scalar, simd per ISA and pow tier): vertices lit
-// per second and vertex-lights per second, for 1, 4 and 8 lights of mixed types, on a mesh that
-// fits in L1/L2 (4,096 vertices) and one that does not (1M vertices, 24 MB of positions and
-// normals in, 12 MB of colours out). One thread. ISAs the CPU lacks are reported as skipped.
+// per second and vertex-lights per second. One thread. Two families:
+//   BM_Lighting/<method>/mixed/lights:4/vertices:{4096,1048576}: every path x ISA x pow tier on
+//     4 lights of mixed types (point with attenuation, GL spot, directional, smooth spot), on a
+//     mesh that fits in L1/L2 and one that does not (1M vertices: 24 MB in, 12 MB out);
+//   BM_Lighting/<method>/<mix>/lights:{1,4,8,16}/vertices:65536: scalar and the best ISA (pow
+//     auto) as the light count grows, for mixed lights and for each type alone.
+// Counters: vertices_lit/s, vertex_lights/s, and the share of the machine's limits measured at
+// start (bench/roofline.hpp): bw_share = bytes the kernel must stream (24 in + 12 out per
+// vertex) / triad bandwidth; for point lights, flop_share = counted flops / peak FMA rate.
+// ISAs the CPU lacks are not registered.
 //
 //   build/bin/facet_bench_lighting                        # everything
-//   build/bin/facet_bench_lighting --benchmark_filter=scalar/4
+//   build/bin/facet_bench_lighting --benchmark_filter=scalar/mixed/lights:4
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <cmath>
 #include <random>
+#include <string>
 
 #include "facet/facet.hpp"
+#include "roofline.hpp"
 
 namespace {
 
 // `vertex_count` vertices on a sphere in front of the camera, lit by `light_count` lights that
 // cycle through point (with attenuation), GL spot, directional and smooth spot.
-facet::Scene bench_scene(int vertex_count, int light_count, bool points_only = false) {
+enum class Mix { mixed, directional, point, spot };
+const char* to_string(Mix m) {
+  switch (m) {
+    case Mix::mixed: return "mixed";
+    case Mix::directional: return "directional";
+    case Mix::point: return "point";
+    case Mix::spot: return "spot";
+  }
+  return "?";
+}
+
+facet::Scene bench_scene(int vertex_count, int light_count, Mix mix) {
   using facet::Vec3;
   facet::Scene s;
   const int rings = std::max(2, static_cast<int>(std::sqrt(vertex_count / 2.0)));
@@ -34,7 +55,8 @@ facet::Scene bench_scene(int vertex_count, int light_count, bool points_only = f
     facet::Light l;
     l.position = Vec3(u(rng), u(rng), 3.0f + u(rng));
     l.direction = -l.position;
-    switch (points_only ? 0 : i % 4) {
+    const int kind = mix == Mix::mixed ? i % 4 : (mix == Mix::point ? 0 : (mix == Mix::spot ? 1 : 2));
+    switch (kind) {
       case 0: l.type = facet::LightType::point; l.linear_attenuation = 0.1f; l.quadratic_attenuation = 0.02f; break;
       case 1: l.type = facet::LightType::spot; l.spot_cutoff_deg = 40; l.spot_exponent = 6; break;
       case 2: l.type = facet::LightType::directional; break;
@@ -51,20 +73,23 @@ facet::Scene bench_scene(int vertex_count, int light_count, bool points_only = f
   return s;
 }
 
-void BM_Lighting(benchmark::State& state, facet::LightingPath path, facet::Isa isa = facet::Isa::best,
-                 facet::PowTier tier = facet::PowTier::automatic, bool points_only = false) {
-  if (path == facet::LightingPath::simd && !facet::isa_supported(isa)) {
-    state.SkipWithError((std::string("this CPU has no ") + facet::to_string(isa)).c_str());
-    return;
-  }
-  const int lights = static_cast<int>(state.range(0));
-  const facet::Scene scene = bench_scene(static_cast<int>(state.range(1)), lights, points_only);
-  const auto vertices = static_cast<std::int64_t>(scene.meshes[0].mesh.vertex_count());
+// Flops per vertex and point light on the auto tier (shininess 48: integer pow), counted from
+// shade_simd.hpp with sqrt and division as one each (they cost 4-8 FMAs of throughput, so the
+// share below understates how busy the divider is): difference 3, |d|^2 5, sqrt 1, 1/d 1,
+// direction 3, attenuation 4 + 1, n.l 5, diffuse 6, half vector 3 + normalise 10, n.h 5, pow 7,
+// specular 6, accumulate 6.
+constexpr double kFlopsPerPointLight = 66;
+
+struct Method {
+  std::string name;
   facet::LightingOptions options;
-  options.path = path;
-  options.isa = isa;
-  options.pow_tier = tier;
+};
+
+void run_lighting(benchmark::State& state, const facet::LightingOptions& options, Mix mix, int lights, int vertex_count) {
+  const facet::Scene scene = bench_scene(vertex_count, lights, mix);
+  const auto vertices = static_cast<std::int64_t>(scene.meshes[0].mesh.vertex_count());
   facet::VertexColors out;
+  const auto start = std::chrono::steady_clock::now();
   for (auto _ : state) {
     const facet::Status s = facet::light_instance(scene, 0, options, out);
     if (!s.ok()) {
@@ -74,41 +99,61 @@ void BM_Lighting(benchmark::State& state, facet::LightingPath path, facet::Isa i
     benchmark::DoNotOptimize(out.front.data());
     benchmark::ClobberMemory();
   }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double iterations = static_cast<double>(state.iterations());
   using benchmark::Counter;
+  const facet::bench::Roofline& roof = facet::bench::roofline();
   state.counters["vertices_lit/s"] = Counter(static_cast<double>(vertices), Counter::kIsIterationInvariantRate);
-  state.counters["vertex_lights/s"] =
-      Counter(static_cast<double>(vertices * lights), Counter::kIsIterationInvariantRate);
-  std::string label = facet::to_string(path);
-  if (path == facet::LightingPath::simd) label += std::string(" ") + facet::to_string(isa) + " pow " + facet::to_string(tier);
-  state.SetLabel(label + ", " + std::to_string(vertices) + " vertices");
+  state.counters["vertex_lights/s"] = Counter(static_cast<double>(vertices * lights), Counter::kIsIterationInvariantRate);
+  // Shares of the machine's limits (plain ratios, from the measured loop time).
+  const double vertex_rate = iterations * static_cast<double>(vertices) / seconds;
+  state.counters["bw_share"] = vertex_rate * 36.0 / roof.triad_bytes_per_s;
+  if (mix == Mix::point) state.counters["flop_share"] = vertex_rate * lights * kFlopsPerPointLight / roof.peak_flops;
+  state.SetLabel(std::to_string(vertices) + " vertices");
 }
 
-void lighting_args(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"lights", "vertices"});
-  for (int vertices : {4096, 1 << 20})
-    for (int lights : {1, 4, 8}) b->Args({lights, vertices});
-  b->Unit(benchmark::kMillisecond);
+void register_all() {
+  std::vector<Method> all, sweep;
+  facet::LightingOptions o;
+  o.path = facet::LightingPath::reference;
+  all.push_back({"reference", o});
+  o.path = facet::LightingPath::scalar;
+  all.push_back({"scalar", o});
+  sweep.push_back({"scalar", o});
+  for (facet::Isa isa : {facet::Isa::sse2, facet::Isa::avx2, facet::Isa::avx512}) {
+    if (!facet::isa_supported(isa)) continue;
+    for (facet::PowTier tier : {facet::PowTier::automatic, facet::PowTier::exact, facet::PowTier::fast,
+                                facet::PowTier::integer, facet::PowTier::schlick}) {
+      o.path = facet::LightingPath::simd;
+      o.isa = isa;
+      o.pow_tier = tier;
+      all.push_back({std::string("simd_") + facet::to_string(isa) + "_" + facet::to_string(tier), o});
+      if (isa == facet::best_isa() && tier == facet::PowTier::automatic) sweep.push_back(all.back());
+    }
+  }
+  auto add = [](const Method& m, Mix mix, int lights, int vertices) {
+    const std::string name = "BM_Lighting/" + m.name + "/" + to_string(mix) + "/lights:" + std::to_string(lights) +
+                             "/vertices:" + std::to_string(vertices);
+    const facet::LightingOptions options = m.options;
+    benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& state) {
+      run_lighting(state, options, mix, lights, vertices);
+    })->Unit(benchmark::kMillisecond);
+  };
+  for (const Method& m : all)
+    for (int vertices : {4096, 1 << 20}) add(m, Mix::mixed, 4, vertices);
+  for (const Method& m : sweep)
+    for (Mix mix : {Mix::mixed, Mix::directional, Mix::point, Mix::spot})
+      for (int lights : {1, 4, 8, 16}) add(m, mix, lights, 1 << 16);
 }
-
-BENCHMARK_CAPTURE(BM_Lighting, reference, facet::LightingPath::reference)->Apply(lighting_args);
-BENCHMARK_CAPTURE(BM_Lighting, scalar, facet::LightingPath::scalar)->Apply(lighting_args);
-BENCHMARK_CAPTURE(BM_Lighting, simd_sse2, facet::LightingPath::simd, facet::Isa::sse2)->Apply(lighting_args);
-BENCHMARK_CAPTURE(BM_Lighting, simd_avx2, facet::LightingPath::simd, facet::Isa::avx2)->Apply(lighting_args);
-BENCHMARK_CAPTURE(BM_Lighting, simd_avx512, facet::LightingPath::simd, facet::Isa::avx512)->Apply(lighting_args);
-// The pow tiers on the best ISA (the material's shininess 48 is whole: auto picks integer).
-BENCHMARK_CAPTURE(BM_Lighting, simd_best_exact, facet::LightingPath::simd, facet::Isa::best, facet::PowTier::exact)
-    ->Apply(lighting_args);
-BENCHMARK_CAPTURE(BM_Lighting, simd_best_fast, facet::LightingPath::simd, facet::Isa::best, facet::PowTier::fast)
-    ->Apply(lighting_args);
-// The configuration of shared/design/targets.md: point lights with attenuation only.
-void point_args(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"point_lights", "vertices"})->Args({4, 1 << 16})->Args({4, 1 << 20})->Unit(benchmark::kMillisecond);
-}
-BENCHMARK_CAPTURE(BM_Lighting, points_scalar, facet::LightingPath::scalar, facet::Isa::best, facet::PowTier::automatic,
-                  true)->Apply(point_args);
-BENCHMARK_CAPTURE(BM_Lighting, points_simd_best, facet::LightingPath::simd, facet::Isa::best,
-                  facet::PowTier::automatic, true)->Apply(point_args);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  register_all();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  facet::bench::add_roofline_context();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
