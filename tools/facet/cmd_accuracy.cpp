@@ -14,6 +14,7 @@
 //     largest error over the pixels inside the silhouettes (covered in both images, and not on an
 //     edge of either).
 // Output: a table, or JSON (--json FILE) and CSV (--csv FILE).
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -54,6 +55,7 @@ struct Row {
   int max_step = 0;  // largest difference after rounding both to 8 bits
   long nans = 0;
   double psnr_db = 0;     // images
+  double ms_per_frame = 0;  // images: the same frame on the default path (simd, best ISA), 1 thread
   std::string verdict;    // "ok" or what failed
 };
 
@@ -557,6 +559,17 @@ Status image_accuracy(bool quick, std::vector<Row>& rows) {
       got.covered.resize(depth.size());
       for (std::size_t i = 0; i < depth.size(); ++i) got.covered[i] = depth[i] < 1.0f;
       Row row = compare_images_inside(ref, got);
+      {  // time of the same frame on the default (simd) path, one thread: the speed side of the chart
+        RenderOptions fast = o;
+        fast.path = LightingPath::simd;
+        fast.threads = 1;
+        Renderer timed(fast);
+        (void)timed.render(scene, view);  // warm-up; the image is not used
+        const int repeats = quick ? 2 : 10;
+        const auto t0 = std::chrono::steady_clock::now();
+        for (int i = 0; i < repeats; ++i) (void)timed.render(scene, view);
+        row.ms_per_frame = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / repeats;
+      }
       row.kind = "image";
       row.method = to_string(mode);
       row.item = "segments=" + std::to_string(segments);
@@ -574,18 +587,19 @@ void write_json(std::ostream& o, const std::vector<Row>& rows) {
     const Row& r = rows[i];
     o << "    {\"kind\": \"" << r.kind << "\", \"method\": \"" << json_escape(r.method) << "\", \"item\": \""
       << json_escape(r.item) << "\", \"max_lsb\": " << number(r.max_lsb) << ", \"mean_lsb\": " << number(r.mean_lsb)
-      << ", \"max_step\": " << r.max_step << ", \"nans\": " << r.nans << ", \"psnr_db\": " << number(r.psnr_db)
+      << ", \"max_step\": " << r.max_step << ", \"nans\": " << r.nans << ", \"psnr_db\": " << number(r.psnr_db) << ", \"ms_per_frame\": " << number(r.ms_per_frame)
       << ", \"verdict\": \"" << json_escape(r.verdict) << "\"}" << (i + 1 < rows.size() ? "," : "") << "\n";
   }
   o << "  ]\n}\n";
 }
 
 void write_csv(std::ostream& o, const std::vector<Row>& rows) {
-  o << "kind,method,item,max_lsb,mean_lsb,max_step,nans,psnr_db,verdict\n";
+  o << "kind,method,item,max_lsb,mean_lsb,max_step,nans,psnr_db,ms_per_frame,verdict\n";
   auto q = [](const std::string& s) { return "\"" + s + "\""; };
   for (const Row& r : rows) {
     o << r.kind << "," << q(r.method) << "," << q(r.item) << "," << number(r.max_lsb) << "," << number(r.mean_lsb)
-      << "," << r.max_step << "," << r.nans << "," << number(r.psnr_db) << "," << q(r.verdict) << "\n";
+      << "," << r.max_step << "," << r.nans << "," << number(r.psnr_db) << "," << number(r.ms_per_frame) << ","
+      << q(r.verdict) << "\n";
   }
 }
 

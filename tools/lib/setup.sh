@@ -11,9 +11,10 @@ facet_packages=(
   libtinyobjloader-dev nlohmann-json3-dev libpng-dev
 )
 
+# Extra packages for one command may be given as arguments (tools/charts: python3-matplotlib).
 facet_install_packages() {
   local missing=() pkg
-  for pkg in "${facet_packages[@]}"; do
+  for pkg in "${facet_packages[@]}" "$@"; do
     if ! dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed"; then
       missing+=("$pkg")
     fi

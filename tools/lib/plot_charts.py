@@ -1,0 +1,242 @@
+"""Draws facet's three charts and the summary table from bench/results/*.json (see tools/charts).
+
+Run by Debian's /usr/bin/python3 with python3-matplotlib; no other dependency.
+"""
+import json
+import os
+import platform
+import sys
+import time
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+OUT = sys.argv[1]
+
+
+def load(name):
+    with open(os.path.join(OUT, name)) as f:
+        return json.load(f)
+
+
+lighting = load("lighting.json")
+frames = load("frames.json")
+accuracy = load("accuracy.json")["rows"]
+
+
+def bench_rows(doc):
+    return [b for b in doc["benchmarks"] if b.get("run_type", "iteration") == "iteration" and "error_occurred" not in b]
+
+
+def method_label(bench_method):
+    """Benchmark method name -> the accuracy harness's name ("simd_avx2_fast" -> "simd avx2 (pow fast)")."""
+    if bench_method.startswith("simd_"):
+        _, isa, tier = bench_method.split("_", 2)
+        return f"simd {isa} (pow {tier})"
+    return bench_method
+
+
+def pareto(points):
+    """Points (x, y, ...) not dominated by another with larger-or-equal x and smaller-or-equal y."""
+    front = [p for p in points if not any(q[0] >= p[0] and q[1] <= p[1] and (q[0], q[1]) != (p[0], p[1]) for q in points)]
+    return sorted(front, key=lambda p: p[0])
+
+
+ISA_COLOURS = {"reference": "#555555", "scalar": "#1f77b4", "sse2": "#2ca02c", "avx2": "#d62728", "avx512": "#9467bd"}
+TIER_MARKERS = {"auto": "o", "exact": "s", "fast": "^", "integer": "D", "schlick": "x"}
+MODE_COLOURS = {"flat": "#1f77b4", "gouraud": "#ff7f0e", "phong": "#2ca02c"}
+
+
+def save(fig, name):
+    fig.savefig(os.path.join(OUT, name + ".png"), dpi=110)
+    fig.savefig(os.path.join(OUT, name + ".svg"))
+    plt.close(fig)
+
+
+# --- 1. speed vs accuracy -------------------------------------------------------------------------
+vertex_error = {r["method"]: r["max_lsb"] for r in accuracy if r["kind"] == "vertices" and r["item"] == "random"}
+FLOOR = 1e-5  # the reference is the oracle: its error is 0, drawn at this floor
+points = []
+for b in bench_rows(lighting):
+    parts = b["name"].split("/")
+    if parts[2] != "mixed" or parts[3] != "lights:4" or parts[4] != "vertices:4096":
+        continue
+    method = parts[1]
+    label = method_label(method)
+    err = 0.0 if method == "reference" else vertex_error.get(label)
+    if err is None:
+        continue
+    points.append((b["vertex_lights/s"], max(err, FLOOR), label, method))
+
+fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(14, 6))
+for x, y, label, method in points:
+    isa = "reference" if method == "reference" else ("scalar" if method == "scalar" else method.split("_")[1])
+    tier = method.split("_")[2] if method.startswith("simd_") else "auto"
+    ax1.scatter(x / 1e6, y, color=ISA_COLOURS[isa], marker=TIER_MARKERS[tier], s=60, zorder=3)
+front = pareto(points)
+ax1.plot([p[0] / 1e6 for p in front], [p[1] for p in front], "--", color="black", lw=1, zorder=2, label="Pareto front")
+for x, y, label, method in front:
+    if method != "reference":
+        ax1.annotate(label.replace("simd ", ""), (x / 1e6, y), textcoords="offset points", xytext=(6, 4), fontsize=8)
+ax1.set_xlim(0, max(p[0] for p in points) / 1e6 * 1.25)
+ax1.set_yscale("log")
+ax1.set_xlabel("vertex-lights per second (millions, 1 thread, 4 mixed lights, 4096 vertices)")
+ax1.set_ylabel("largest error vs the double-precision reference (8-bit steps)")
+ax1.set_title("Vertex lighting: path x ISA x pow tier")
+handles = [plt.Line2D([], [], color=c, marker="o", ls="", label=k) for k, c in ISA_COLOURS.items()
+           if any((p[3] == k) or (k in p[3].split("_")) for p in points)]
+handles += [plt.Line2D([], [], color="black", marker=m, ls="", label="pow " + t) for t, m in TIER_MARKERS.items()]
+handles.append(plt.Line2D([], [], color="black", ls="--", label="Pareto front"))
+ax1.legend(handles=handles, fontsize=8, loc="upper left")
+ax1.axhline(FLOOR, color="#999999", lw=0.5)
+ax1.annotate("reference: error 0 (drawn at 1e-5)", (ax1.get_xlim()[1], FLOOR), textcoords="offset points",
+             xytext=(-4, 4), fontsize=7, color="#666666", ha="right")
+ax1.axhline(0.5, color="#bbbbbb", lw=0.8, ls=":")
+ax1.annotate("half an 8-bit step", (ax1.get_xlim()[1], 0.5), textcoords="offset points", xytext=(-4, 4), fontsize=7,
+             color="#666666", ha="right")
+ax1.grid(True, which="both", alpha=0.2)
+
+image_points = []
+for r in accuracy:
+    if r["kind"] != "image" or not r.get("ms_per_frame"):
+        continue
+    seg = int(r["item"].split("=")[1])
+    image_points.append((1000.0 / r["ms_per_frame"], max(r["mean_lsb"], 1e-4), r["method"], seg, r["psnr_db"]))
+for mode in MODE_COLOURS:
+    pts = sorted([p for p in image_points if p[2] == mode], key=lambda p: p[3])
+    ax2.plot([p[0] for p in pts], [p[1] for p in pts], "-o", color=MODE_COLOURS[mode], label=mode, ms=5)
+    for p in pts:
+        ax2.annotate(str(p[3]), (p[0], p[1]), textcoords="offset points", xytext=(4, -10), fontsize=7,
+                     color=MODE_COLOURS[mode])
+front = pareto(image_points)
+ax2.plot([p[0] for p in front], [p[1] for p in front], "--", color="black", lw=1, label="Pareto front")
+ax2.set_xscale("log")
+ax2.set_yscale("log")
+ax2.set_xlabel("frames per second (640x400, simd path, 1 thread)")
+ax2.set_ylabel("mean error inside silhouettes vs ray-cast spheres (8-bit steps)")
+ax2.set_title("Shading modes x tessellation (labels: sphere segments)")
+ax2.legend(fontsize=8)
+ax2.grid(True, which="both", alpha=0.2)
+fig.suptitle("facet: speed against accuracy", fontsize=13)
+fig.tight_layout()
+save(fig, "speed_vs_accuracy")
+
+# --- 2. scalar vs SIMD ----------------------------------------------------------------------------
+light_rate = {}
+for b in bench_rows(lighting):
+    parts = b["name"].split("/")
+    if parts[2] == "mixed" and parts[3] == "lights:4" and parts[4] == "vertices:4096":
+        light_rate[parts[1]] = b["vertices_lit/s"]
+order = ["reference", "scalar"] + [m for m in ("simd_sse2_auto", "simd_avx2_auto", "simd_avx512_auto") if m in light_rate]
+fill = {}
+for b in bench_rows(frames):
+    parts = b["name"].split("/")
+    if parts[0] == "BM_Fill" and parts[2] == "gouraud":
+        fill[(parts[1], parts[3])] = b["pixels_filled/s"]
+variants = [v for v in ("scalar", "sse2", "avx2", "avx512") if (v, "threads:1") in fill]
+
+fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5.5))
+xs = range(len(order))
+vals = [light_rate[m] / 1e6 for m in order]
+bars = ax1.bar(xs, vals, color=[ISA_COLOURS["reference"], ISA_COLOURS["scalar"]] +
+               [ISA_COLOURS[m.split("_")[1]] for m in order[2:]])
+for bar, m in zip(bars, order):
+    ax1.annotate(f"{light_rate[m] / light_rate['scalar']:.1f}x", (bar.get_x() + bar.get_width() / 2, bar.get_height()),
+                 ha="center", va="bottom", fontsize=9)
+ax1.set_xticks(list(xs))
+ax1.set_xticklabels([m.replace("simd_", "").replace("_auto", " (auto)") for m in order])
+ax1.set_ylabel("vertices lit per second (millions)")
+ax1.set_title("Vertex lighting, 1 thread, 4 mixed lights\n(labels: speed-up over scalar)")
+ax1.grid(True, axis="y", alpha=0.3)
+width = 0.38
+for k, threads in enumerate(("threads:1", "threads:2")):
+    vals = [fill.get((v, threads), 0) / 1e9 for v in variants]
+    pos = [i + (k - 0.5) * width for i in range(len(variants))]
+    bars = ax2.bar(pos, vals, width, label=threads.replace("threads:", "") + (" thread" if k == 0 else " threads"),
+                   color=["#9ecae1", "#3182bd"][k])
+    for bar, v in zip(bars, variants):
+        base = fill.get(("scalar", threads))
+        if base:
+            ax2.annotate(f"{fill[(v, threads)] / base:.1f}x", (bar.get_x() + bar.get_width() / 2, bar.get_height()),
+                         ha="center", va="bottom", fontsize=8)
+ax2.axhline(2.4, color="#d62728", ls=":", lw=1)
+ax2.set_ylim(0, max(2.8, max(fill.values()) / 1e9 * 1.15))
+ax2.annotate("target: 2.4 G/s on 2 threads", (-0.4, 2.4), textcoords="offset points", xytext=(0, 4),
+             fontsize=8, color="#d62728")
+ax2.set_xticks(range(len(variants)))
+ax2.set_xticklabels(variants)
+ax2.set_ylabel("pixels filled per second (billions)")
+ax2.set_title("Fill: 16 full-screen Gouraud layers, 1920x1080\n(labels: speed-up over scalar, same threads)")
+ax2.legend(fontsize=9, loc="center left")
+ax2.grid(True, axis="y", alpha=0.3)
+fig.tight_layout()
+save(fig, "scalar_vs_simd")
+
+# --- 3. thread scaling ------------------------------------------------------------------------------
+best = variants[-1]
+scaling = {}
+for b in bench_rows(frames):
+    parts = b["name"].split("/")
+    if parts[1] != best:
+        continue
+    key = "/".join(parts[2:-2]) if parts[0] == "BM_Frame" else "fill " + parts[2]
+    scaling.setdefault(key, {})[parts[-2]] = b["real_time"]
+labels = [k for k in scaling if "threads:1" in scaling[k] and "threads:2" in scaling[k]]
+labels.sort()
+speedups = [scaling[k]["threads:1"] / scaling[k]["threads:2"] for k in labels]
+fig, ax = plt.subplots(figsize=(12, 5.5))
+bars = ax.bar(range(len(labels)), speedups, color="#3182bd")
+for bar, k in zip(bars, labels):
+    ax.annotate(f"{bar.get_height():.2f}x\n{scaling[k]['threads:2']:.1f} ms", (bar.get_x() + bar.get_width() / 2, bar.get_height()),
+                ha="center", va="bottom", fontsize=7)
+ax.axhline(2.0, color="black", lw=0.8, ls="--")
+ax.annotate("ideal (2 cores)", (len(labels) - 0.6, 2.0), textcoords="offset points", xytext=(0, 4), fontsize=8,
+            ha="right")
+ax.axhline(1.8, color="#d62728", lw=0.8, ls=":")
+ax.annotate("target 1.8x", (len(labels) - 0.6, 1.8), textcoords="offset points", xytext=(0, -12), fontsize=8,
+            color="#d62728", ha="right")
+ax.set_xticks(range(len(labels)))
+ax.set_xticklabels(labels, rotation=35, ha="right", fontsize=8)
+ax.set_ylim(0, 2.5)
+ax.set_ylabel("speed-up: 2 threads over 1")
+ax.set_title(f"Thread scaling of whole frames, simd {best} (labels: speed-up, ms per frame on 2 threads)")
+ax.grid(True, axis="y", alpha=0.3)
+fig.tight_layout()
+save(fig, "thread_scaling")
+
+# --- summary -----------------------------------------------------------------------------------------
+ctx = lighting["context"]
+points_rate = {}
+for b in bench_rows(lighting):
+    parts = b["name"].split("/")
+    if parts[2] == "point" and parts[3] == "lights:4":
+        points_rate[parts[1]] = b
+lines = [f"Measured {time.strftime('%Y-%m-%d')} on {ctx.get('host_name', platform.node())} "
+         f"({ctx.get('num_cpus')} CPUs at {ctx.get('mhz_per_cpu')} MHz); roofline: read "
+         f"{float(ctx['roofline_read_GB/s']):.1f} GB/s, triad {float(ctx['roofline_triad_GB/s']):.1f} GB/s, "
+         f"peak {float(ctx['roofline_peak_GFLOP/s']):.1f} GFLOP/s (1 thread).", "",
+         "| figure | value | share of the machine's limit |", "|---|---|---|"]
+for m in order:
+    b = next((x for x in bench_rows(lighting) if x["name"] == f"BM_Lighting/{m}/mixed/lights:4/vertices:4096"), None)
+    if b:
+        lines.append(f"| vertex-lights/s, {m.replace('_', ' ')}, 4 mixed lights, 1 thread | {b['vertex_lights/s'] / 1e6:.1f} M "
+                     f"| {100 * b['bw_share']:.1f} % of triad bandwidth |")
+for m, b in points_rate.items():
+    lines.append(f"| vertex-lights/s, {m.replace('_', ' ')}, 4 point lights, 64 Ki vertices | {b['vertex_lights/s'] / 1e6:.1f} M "
+                 f"| {100 * b.get('flop_share', 0):.1f} % of peak FMA (counted flops) |")
+for (v, t), rate in sorted(fill.items()):
+    b = next(x for x in bench_rows(frames) if x["name"].startswith(f"BM_Fill/{v}/gouraud/{t}"))
+    lines.append(f"| pixels filled/s, {v}, {t.replace(':', ' ')} | {rate / 1e9:.2f} G | {100 * b['bw_share']:.1f} % of triad bandwidth (image writes) |")
+for b in bench_rows(frames):
+    if b["name"].startswith(f"BM_Frame/{best}/bunny/1920x1080/"):
+        lines.append(f"| Stanford bunny 1080p, {best}, {b['name'].split('/')[4].replace(':', ' ')} | {b['real_time']:.2f} ms | |")
+phong = [r for r in accuracy if r["kind"] == "image" and r["method"] == "phong"]
+if phong:
+    finest = max(phong, key=lambda r: int(r["item"].split("=")[1]))
+    lines.append(f"| Phong PSNR vs ray-cast spheres, {finest['item']} | {finest['psnr_db']:.1f} dB | target >= 45 dB |")
+with open(os.path.join(OUT, "summary.md"), "w") as f:
+    f.write("\n".join(lines) + "\n")
+print("\n".join(lines))
+print("charts:", ", ".join(os.path.join(OUT, n + ".png") for n in ("speed_vs_accuracy", "scalar_vs_simd", "thread_scaling")))
