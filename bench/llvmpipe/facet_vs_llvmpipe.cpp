@@ -1,0 +1,377 @@
+// facet against Mesa's llvmpipe, on the same work in the same run: the same scene (mesh, normals,
+// camera, lights, materials), rendered by OpenGL 2.1 fixed-function lighting through OSMesa
+// (off-screen, into a caller buffer; Gouraud, depth test LESS, back faces culled) and by facet's
+// default path with the same thread count (llvmpipe: LP_NUM_THREADS, set before the first
+// context; facet: RenderOptions::threads). Reports ms per frame for each, the ratio, and the
+// image difference over the pixels either renderer covered: mean absolute difference, share
+// within 2 steps, PSNR; writes both images.
+//
+// GL-compatible lighting: facet's model *is* GL 2.1's (emission + global ambient + per light
+// attenuated ambient/diffuse/Blinn-Phong specular with h = normalize(L + V), spot cutoff and
+// exponent, colour clamped per vertex, 0^0 = 1). The one default that differs is the viewer:
+// facet's Scene defaults to a local viewer, GL to an infinite one; this program sets
+// GL_LIGHT_MODEL_LOCAL_VIEWER from the scene, so either works. Features GL 2.1 lacks (smooth
+// cones, light ranges, shininess above 128) are refused with a message.
+//
+//   facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick]
+//                     [--check] [SCENE.json ...]
+// With no scene file: the built-in scene, the Stanford bunny (when ../shared/models is there) and
+// a 1M-triangle sphere, each with 1, 4 and 8 lights. --check exits 1 unless every comparison has
+// a mean difference <= 1 step and >= 99 % of covered pixels within 2 steps (the test).
+#include <GL/gl.h>
+#include <GL/osmesa.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "facet/facet.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Options {
+  int threads = 2, width = 1920, height = 1080;
+  double seconds = 1.0;
+  std::string out = "out/llvmpipe";
+  bool quick = false, check = false;
+  std::vector<std::string> scenes;
+};
+
+struct Result {
+  std::string name;
+  std::size_t triangles = 0;
+  double facet_ms = 0, gl_ms = 0;
+  double mean_diff = 0, within2 = 0, psnr = 0;
+  std::size_t covered = 0;
+};
+
+// Lights for the comparison: a directional key light, then point and GL spot lights around.
+std::vector<facet::Light> light_set(int count, const facet::Vec3& centre, float radius) {
+  std::vector<facet::Light> v;
+  for (int i = 0; i < count; ++i) {
+    facet::Light l;
+    const float a = 2.0f * 3.14159265f * float(i) / float(std::max(count, 1));
+    const facet::Vec3 p = centre + radius * facet::Vec3(2.0f * std::cos(a), 1.5f, 2.0f * std::sin(a) + 1.0f);
+    const float k = 0.9f / float(count);  // keep the sum of lights from saturating everything
+    l.diffuse = facet::Color3(k, k * 0.95f, k * 0.9f) * 1.6f;
+    l.specular = facet::Color3(0.5f, 0.5f, 0.5f);
+    l.ambient = facet::Color3(0.02f, 0.02f, 0.02f);
+    switch (i % 3) {
+      case 0: l.type = facet::LightType::directional; l.direction = (centre - p).normalized(); break;
+      case 1:
+        l.type = facet::LightType::point;
+        l.position = p;
+        l.linear_attenuation = 0.05f / radius;
+        break;
+      default:
+        l.type = facet::LightType::spot;
+        l.position = p;
+        l.direction = centre - p;
+        l.spot_cutoff_deg = 35;
+        l.spot_exponent = 4;
+        break;
+    }
+    v.push_back(l);
+  }
+  return v;
+}
+
+// The scene's bounding sphere (world space), to place lights.
+void bounds(const facet::Scene& s, facet::Vec3& centre, float& radius) {
+  facet::Vec3 lo = facet::Vec3::Constant(1e30f), hi = facet::Vec3::Constant(-1e30f);
+  for (const auto& o : s.objects) {
+    for (const auto& p : s.meshes[o.mesh].mesh.positions) {
+      const facet::Vec3 w = (o.model * p.homogeneous()).head<3>();
+      lo = lo.cwiseMin(w), hi = hi.cwiseMax(w);
+    }
+  }
+  centre = 0.5f * (lo + hi);
+  radius = std::max(0.5f * (hi - lo).norm(), 1e-3f);
+}
+
+std::string gl_incompatibility(const facet::Scene& s) {
+  for (std::size_t i = 0; i < s.lights.size(); ++i) {
+    const facet::Light& l = s.lights[i];
+    if (l.type == facet::LightType::spot && l.spot_shape != facet::SpotShape::cutoff_exponent)
+      return "lights[" + std::to_string(i) + "]: smooth cones are not OpenGL 2.1";
+    if (l.range > 0) return "lights[" + std::to_string(i) + "]: light ranges are not OpenGL 2.1";
+  }
+  if (s.lights.size() > 8) return "more than 8 lights (GL_MAX_LIGHTS)";
+  for (std::size_t i = 0; i < s.materials.size(); ++i) {
+    if (s.materials[i].shininess > 128) return "materials[" + std::to_string(i) + "]: shininess above 128 (GL's limit)";
+  }
+  return {};
+}
+
+void gl_colour(GLenum light_or_face, GLenum what, const facet::Color3& c, float alpha, bool material) {
+  const GLfloat v[4] = {c.x(), c.y(), c.z(), alpha};
+  if (material) {
+    glMaterialfv(light_or_face, what, v);
+  } else {
+    glLightfv(light_or_face, what, v);
+  }
+}
+
+// Draws the scene with fixed-function OpenGL into the current OSMesa buffer.
+void gl_draw(const facet::Scene& s, int w, int h) {
+  glViewport(0, 0, w, h);
+  glClearColor(0, 0, 0, 1);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  glFrontFace(GL_CCW);
+  glShadeModel(GL_SMOOTH);
+  glEnable(GL_LIGHTING);
+  glEnable(GL_NORMALIZE);
+  const float aspect = s.camera.aspect > 0 ? s.camera.aspect : float(w) / float(h);
+  const facet::Mat4 proj = facet::projection_matrix(s.camera, aspect);
+  const facet::Mat4 view = facet::view_matrix(s.camera);
+  glMatrixMode(GL_PROJECTION);
+  glLoadMatrixf(proj.data());  // Eigen is column-major, like OpenGL
+  glMatrixMode(GL_MODELVIEW);
+  glLoadMatrixf(view.data());  // lights are given in world space: GL moves them to eye space
+  const GLfloat global[4] = {s.global_ambient.x(), s.global_ambient.y(), s.global_ambient.z(), 1};
+  glLightModelfv(GL_LIGHT_MODEL_AMBIENT, global);
+  glLightModeli(GL_LIGHT_MODEL_LOCAL_VIEWER, s.viewer == facet::ViewerMode::local ? GL_TRUE : GL_FALSE);
+  glLightModeli(GL_LIGHT_MODEL_TWO_SIDE, s.two_sided ? GL_TRUE : GL_FALSE);
+  for (int i = 0; i < 8; ++i) glDisable(GL_LIGHT0 + i);
+  for (std::size_t i = 0; i < s.lights.size(); ++i) {
+    const facet::Light& l = s.lights[i];
+    const GLenum id = GL_LIGHT0 + static_cast<GLenum>(i);
+    if (!l.enabled) continue;
+    glEnable(id);
+    gl_colour(id, GL_AMBIENT, l.ambient, 1, false);
+    gl_colour(id, GL_DIFFUSE, l.diffuse, 1, false);
+    gl_colour(id, GL_SPECULAR, l.specular, 1, false);
+    if (l.type == facet::LightType::directional) {
+      const facet::Vec3 to_light = -l.direction.normalized();
+      const GLfloat p[4] = {to_light.x(), to_light.y(), to_light.z(), 0};
+      glLightfv(id, GL_POSITION, p);
+    } else {
+      const GLfloat p[4] = {l.position.x(), l.position.y(), l.position.z(), 1};
+      glLightfv(id, GL_POSITION, p);
+    }
+    glLightf(id, GL_CONSTANT_ATTENUATION, l.type == facet::LightType::directional ? 1 : l.constant_attenuation);
+    glLightf(id, GL_LINEAR_ATTENUATION, l.type == facet::LightType::directional ? 0 : l.linear_attenuation);
+    glLightf(id, GL_QUADRATIC_ATTENUATION, l.type == facet::LightType::directional ? 0 : l.quadratic_attenuation);
+    if (l.type == facet::LightType::spot) {
+      const GLfloat d[3] = {l.direction.x(), l.direction.y(), l.direction.z()};
+      glLightfv(id, GL_SPOT_DIRECTION, d);
+      glLightf(id, GL_SPOT_CUTOFF, l.spot_cutoff_deg);
+      glLightf(id, GL_SPOT_EXPONENT, l.spot_exponent);
+    } else {
+      glLightf(id, GL_SPOT_CUTOFF, 180);
+    }
+  }
+  glEnableClientState(GL_VERTEX_ARRAY);
+  glEnableClientState(GL_NORMAL_ARRAY);
+  for (const auto& o : s.objects) {
+    const facet::Material& m = s.materials[o.material];
+    gl_colour(GL_FRONT_AND_BACK, GL_EMISSION, m.emissive, m.alpha, true);
+    gl_colour(GL_FRONT_AND_BACK, GL_AMBIENT, m.ambient, m.alpha, true);
+    gl_colour(GL_FRONT_AND_BACK, GL_DIFFUSE, m.diffuse, m.alpha, true);
+    gl_colour(GL_FRONT_AND_BACK, GL_SPECULAR, m.specular, m.alpha, true);
+    glMaterialf(GL_FRONT_AND_BACK, GL_SHININESS, m.shininess);
+    const facet::Mat4 mv = view * o.model;
+    glLoadMatrixf(mv.data());
+    const facet::Mesh& mesh = s.meshes[o.mesh].mesh;
+    glVertexPointer(3, GL_FLOAT, sizeof(facet::Vec3), mesh.positions.data());
+    glNormalPointer(GL_FLOAT, sizeof(facet::Vec3), mesh.normals.data());
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(3 * mesh.triangles.size()), GL_UNSIGNED_INT, mesh.triangles.data());
+  }
+  glFinish();
+}
+
+template <class Fn>
+double ms_per_frame(Fn&& frame, double seconds) {
+  frame();  // warm-up (JIT compilation, buffers)
+  int n = 0;
+  const auto t0 = Clock::now();
+  do {
+    frame();
+    ++n;
+  } while (std::chrono::duration<double>(Clock::now() - t0).count() < seconds || n < 3);
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / n;
+}
+
+bool compare(const std::string& name, const facet::Scene& scene, const Options& opt, OSMesaContext ctx, Result& r) {
+  const int w = opt.width, h = opt.height;
+  r.name = name;
+  for (const auto& o : scene.objects) r.triangles += scene.meshes[o.mesh].mesh.triangle_count();
+  // llvmpipe.
+  std::vector<std::uint8_t> gl_pixels(static_cast<std::size_t>(w * h * 4));
+  if (!OSMesaMakeCurrent(ctx, gl_pixels.data(), GL_UNSIGNED_BYTE, w, h)) {
+    std::fprintf(stderr, "OSMesaMakeCurrent failed\n");
+    return false;
+  }
+  r.gl_ms = ms_per_frame([&] { gl_draw(scene, w, h); }, opt.seconds);
+  std::vector<float> gl_depth(static_cast<std::size_t>(w * h));
+  glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, gl_depth.data());
+  // facet, into the same layout (OSMesa's buffer is bottom row first: y_up).
+  std::vector<std::uint8_t> facet_pixels(static_cast<std::size_t>(w * h * 4));
+  std::vector<float> facet_depth(static_cast<std::size_t>(w * h));
+  const facet::ImageView view{facet_pixels.data(), w, h, static_cast<std::size_t>(w) * 4, facet::PixelFormat::rgba8, true};
+  const facet::DepthView dview{facet_depth.data(), w, h, static_cast<std::size_t>(w) * sizeof(float), true};
+  facet::RenderOptions ro;
+  ro.threads = opt.threads;
+  facet::Renderer renderer(ro);
+  facet::Status status;
+  r.facet_ms = ms_per_frame([&] { status = renderer.render(scene, view, &dview); }, opt.seconds);
+  if (!status.ok()) {
+    std::fprintf(stderr, "facet: %s\n", status.message().c_str());
+    return false;
+  }
+  // Differences over the pixels either covered.
+  double sum = 0, sq = 0;
+  std::size_t within = 0, channels = 0;
+  for (std::size_t i = 0; i < gl_depth.size(); ++i) {
+    if (!(gl_depth[i] < 1.0f || facet_depth[i] < 1.0f)) continue;
+    ++r.covered;
+    int worst = 0;
+    for (int c = 0; c < 3; ++c) {
+      const int d = std::abs(int(gl_pixels[4 * i + c]) - int(facet_pixels[4 * i + c]));
+      sum += d, sq += double(d) * d, ++channels;
+      worst = std::max(worst, d);
+    }
+    within += worst <= 2;
+  }
+  r.mean_diff = channels ? sum / double(channels) : 0;
+  r.within2 = r.covered ? double(within) / double(r.covered) : 1;
+  r.psnr = sq > 0 ? 10 * std::log10(255.0 * 255.0 * double(channels) / sq) : INFINITY;
+  // Both images, top row first.
+  std::filesystem::create_directories(opt.out);
+  const std::string stem = opt.out + "/" + name;
+  const facet::ImageView gl_view{gl_pixels.data(), w, h, static_cast<std::size_t>(w) * 4, facet::PixelFormat::rgba8, true};
+  (void)facet::write_png(stem + "_llvmpipe.png", gl_view);
+  (void)facet::write_png(stem + "_facet.png", view);
+  return true;
+}
+
+facet::Scene sphere_scene(int triangles) {
+  facet::Scene s;
+  const int rings = static_cast<int>(std::sqrt(triangles / 4.0));
+  s.meshes.push_back({"sphere", facet::make_uv_sphere(1.0f, 2 * rings, rings)});
+  facet::Material m;
+  m.diffuse = facet::Color3(0.7f, 0.6f, 0.5f);
+  m.specular = facet::Color3(0.5f, 0.5f, 0.5f);
+  m.shininess = 32;
+  s.materials.push_back(m);
+  s.objects.push_back({0, 0, facet::Mat4::Identity()});
+  s.camera.eye = facet::Vec3(0, 0.5f, 3.2f);
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options opt;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> const char* {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "facet_vs_llvmpipe: %s needs a value\n", a.c_str());
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (a == "--threads") opt.threads = std::atoi(next());
+    else if (a == "--width") opt.width = std::atoi(next());
+    else if (a == "--height") opt.height = std::atoi(next());
+    else if (a == "--seconds") opt.seconds = std::atof(next());
+    else if (a == "--out") opt.out = next();
+    else if (a == "--quick") opt.quick = true;
+    else if (a == "--check") opt.check = true;
+    else if (a == "-h" || a == "--help") {
+      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [SCENE.json ...]");
+      return 0;
+    } else if (!a.empty() && a[0] == '-') {
+      std::fprintf(stderr, "facet_vs_llvmpipe: unknown option %s\n", a.c_str());
+      return 2;
+    } else {
+      opt.scenes.push_back(a);
+    }
+  }
+  if (opt.threads < 1 || opt.threads > 64 || opt.width < 1 || opt.height < 1 || opt.width > 8192 || opt.height > 8192) {
+    std::fprintf(stderr, "facet_vs_llvmpipe: --threads 1..64, sizes 1..8192\n");
+    return 2;
+  }
+  // llvmpipe reads its thread count when the first context is created (this program's own
+  // environment; the facet library reads none).
+  setenv("LP_NUM_THREADS", std::to_string(opt.threads).c_str(), 1);
+  OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
+  if (!ctx) {
+    std::fprintf(stderr, "OSMesaCreateContextExt failed\n");
+    return 2;
+  }
+
+  std::vector<std::pair<std::string, facet::Scene>> cases;
+  if (opt.scenes.empty()) {
+    std::vector<std::pair<std::string, facet::Scene>> bases;
+    bases.emplace_back("default", facet::make_default_scene());
+    const auto bunny = facet::load_scene_file(std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/bunny.json");
+    if (bunny) {
+      bases.emplace_back("bunny", *bunny);
+    } else {
+      std::fprintf(stderr, "skipping the bunny: %s\n", bunny.status().message().c_str());
+    }
+    bases.emplace_back(opt.quick ? "sphere64k" : "sphere1m", sphere_scene(opt.quick ? 65536 : 1 << 20));
+    for (auto& [name, base] : bases) {
+      // GL 2.1 caps shininess at 128 (the built-in scene has a 200): both renderers get 128.
+      for (auto& m : base.materials) m.shininess = std::min(m.shininess, 128.0f);
+      facet::Vec3 c;
+      float radius;
+      bounds(base, c, radius);
+      for (int lights : opt.quick ? std::vector<int>{4} : std::vector<int>{1, 4, 8}) {
+        facet::Scene s = base;
+        s.lights = light_set(lights, c, radius);
+        cases.emplace_back(name + "_" + std::to_string(lights) + "lights", std::move(s));
+      }
+    }
+  } else {
+    for (const std::string& path : opt.scenes) {
+      auto s = facet::load_scene_file(path);
+      if (!s) {
+        std::fprintf(stderr, "%s\n", s.status().message().c_str());
+        return 2;
+      }
+      cases.emplace_back(std::filesystem::path(path).stem().string(), *s);
+    }
+  }
+
+  std::printf("facet vs llvmpipe (OSMesa), %dx%d, %d thread%s each, Gouraud, depth test, back faces culled\n\n",
+              opt.width, opt.height, opt.threads, opt.threads == 1 ? "" : "s");
+  std::printf("%-22s %10s %12s %12s %8s %10s %10s %9s\n", "scene", "triangles", "facet ms", "llvmpipe ms", "ratio",
+              "mean diff", "within 2", "PSNR dB");
+  bool ok = true;
+  for (auto& [name, scene] : cases) {
+    if (const std::string why = gl_incompatibility(scene); !why.empty()) {
+      std::printf("%-22s skipped: %s\n", name.c_str(), why.c_str());
+      continue;
+    }
+    Result r;
+    if (!compare(name, scene, opt, ctx, r)) return 2;
+    std::printf("%-22s %10zu %12.2f %12.2f %7.2fx %10.3f %9.2f%% %9.1f\n", r.name.c_str(), r.triangles, r.facet_ms,
+                r.gl_ms, r.gl_ms / r.facet_ms, r.mean_diff, 100 * r.within2, r.psnr);
+    if (r.mean_diff > 1.0 || r.within2 < 0.99) ok = false;
+  }
+  const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+  std::printf("\nGL: %s, %s; ratio = llvmpipe ms / facet ms; images in %s/\n", renderer ? renderer : "?",
+              version ? version : "?", opt.out.c_str());
+  OSMesaDestroyContext(ctx);
+  if (opt.check && !ok) {
+    std::fprintf(stderr, "facet_vs_llvmpipe: a comparison exceeds a mean of 1 step or has < 99%% within 2 steps\n");
+    return 1;
+  }
+  return 0;
+}
