@@ -356,11 +356,11 @@ struct TileKernel {
       const int ty = y - y0;
       const int image_row = color.y_up ? color.height - 1 - y : y;
       auto* row = static_cast<std::uint8_t*>(color.data) + static_cast<std::size_t>(image_row) * color.stride_bytes;
-      float* depth_row = nullptr;
+      // Depth and float colour buffers may have any alignment (image.hpp): bytes and memcpy only.
+      std::uint8_t* depth_row = nullptr;
       if (depth) {
         const int depth_row_index = depth->y_up ? depth->height - 1 - y : y;
-        depth_row = reinterpret_cast<float*>(reinterpret_cast<std::uint8_t*>(depth->data) +
-                                             static_cast<std::size_t>(depth_row_index) * depth->stride_bytes);
+        depth_row = reinterpret_cast<std::uint8_t*>(depth->data) + static_cast<std::size_t>(depth_row_index) * depth->stride_bytes;
       }
       for (int bx = 0; bx * kBlock < width; ++bx) {
         const int block = (ty / kBlock) * blocks_per_row + bx;
@@ -370,13 +370,11 @@ struct TileKernel {
         const int n = imin(kBlock, width - bx * kBlock);
         if (!tv.touched[block]) {  // still the clear colour: converted once per tile, as below
           if (depth_row) {
-            for (int i = 0; i < n; ++i) depth_row[x + i] = 1.0f;
+            const float far_depth[kBlock] = {1, 1, 1, 1, 1, 1, 1, 1};
+            std::memcpy(depth_row + 4 * static_cast<std::size_t>(x), far_depth, 4 * static_cast<std::size_t>(n));
           }
           if (color.format == PixelFormat::rgba32f) {
-            auto* dst = reinterpret_cast<float*>(row) + 4 * static_cast<std::size_t>(x);
-            for (int i = 0; i < n; ++i) {
-              for (int c = 0; c < 4; ++c) dst[4 * i + c] = tv.clear[c];
-            }
+            for (int i = 0; i < n; ++i) std::memcpy(row + 16 * static_cast<std::size_t>(x + i), tv.clear, 16);
           } else {
             auto* dst = reinterpret_cast<std::int32_t*>(row + 4 * static_cast<std::size_t>(x));
             int i = 0;
@@ -392,13 +390,14 @@ struct TileKernel {
         const float* b = tv.plane[2] + src;
         const float* a = tv.plane[3] + src;
         if (depth_row) {
-          for (int i = 0; i < n; ++i) depth_row[x + i] = tv.plane[4][src + static_cast<std::size_t>(i)];
+          std::memcpy(depth_row + 4 * static_cast<std::size_t>(x), tv.plane[4] + src, 4 * static_cast<std::size_t>(n));
         }
         if (color.format == PixelFormat::rgba32f) {
-          auto* dst = reinterpret_cast<float*>(row) + 4 * static_cast<std::size_t>(x);
+          float rgba[4 * kBlock];
           for (int i = 0; i < n; ++i) {
-            dst[4 * i + 0] = r[i], dst[4 * i + 1] = g[i], dst[4 * i + 2] = b[i], dst[4 * i + 3] = a[i];
+            rgba[4 * i + 0] = r[i], rgba[4 * i + 1] = g[i], rgba[4 * i + 2] = b[i], rgba[4 * i + 3] = a[i];
           }
+          std::memcpy(row + 16 * static_cast<std::size_t>(x), rgba, 16 * static_cast<std::size_t>(n));
           continue;
         }
         auto* dst = reinterpret_cast<std::uint32_t*>(row + 4 * static_cast<std::size_t>(x));
