@@ -115,4 +115,15 @@ inline void add_roofline_context() {
   benchmark::AddCustomContext("roofline_peak_GFLOP/s", std::to_string(r.peak_flops / 1e9));
 }
 
+// main() of a benchmark program whose benchmarks `register_all` registers at run time.
+inline int run_benchmarks(int argc, char** argv, void (*register_all)()) {
+  register_all();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  add_roofline_context();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
+
 }  // namespace facet::bench

@@ -75,4 +75,12 @@ std::optional<Scene> load_scene_or_default(const std::string& path) {
   return std::move(*loaded);
 }
 
+Status light_scene(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out) {
+  out.resize(scene.objects.size());
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    if (Status s = light_instance(scene, i, options, out[i]); !s.ok()) return s;
+  }
+  return {};
+}
+
 }  // namespace facet::cli

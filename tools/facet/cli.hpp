@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "facet/facet.hpp"
 
@@ -40,6 +41,9 @@ std::string describe_path(LightingPath path, Isa isa, PowTier tier);
 
 // The scene named on the command line, or the built-in one when `path` is empty.
 std::optional<Scene> load_scene_or_default(const std::string& path);
+
+// Lights every object of `scene` into out[i] (light_instance for each).
+Status light_scene(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out);
 
 int run_light(int argc, char** argv);
 int run_render(int argc, char** argv);

@@ -264,23 +264,15 @@ Row compare_colours(const std::vector<VertexColors>& ref, const std::vector<Vert
   return r;
 }
 
-Status light_all(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out) {
-  out.resize(scene.objects.size());
-  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    if (Status s = light_instance(scene, i, options, out[i]); !s.ok()) return s;
-  }
-  return {};
-}
-
 Status vertex_accuracy(bool quick, std::vector<Row>& rows) {
   const Scene scene = random_scene(quick ? 10000 : 100000, 2026);
   LightingOptions ref_options;
   ref_options.path = LightingPath::reference;
   std::vector<VertexColors> ref, got;
-  if (Status s = light_all(scene, ref_options, ref); !s.ok()) return s;
+  if (Status s = light_scene(scene, ref_options, ref); !s.ok()) return s;
   const auto specials = special_scenes();
   for (const Method& m : all_methods()) {
-    if (Status s = light_all(scene, m.options, got); !s.ok()) return s;
+    if (Status s = light_scene(scene, m.options, got); !s.ok()) return s;
     Row r = compare_colours(ref, got);
     r.kind = "vertices";
     r.method = m.name;
@@ -292,8 +284,8 @@ Status vertex_accuracy(bool quick, std::vector<Row>& rows) {
     rows.push_back(r);
     for (const auto& [name, special] : specials) {
       std::vector<VertexColors> sref, sgot;
-      if (Status s = light_all(special, ref_options, sref); !s.ok()) return s;
-      if (Status s = light_all(special, m.options, sgot); !s.ok()) return s;
+      if (Status s = light_scene(special, ref_options, sref); !s.ok()) return s;
+      if (Status s = light_scene(special, m.options, sgot); !s.ok()) return s;
       Row sr = compare_colours(sref, sgot);
       sr.kind = "special";
       sr.method = m.name;

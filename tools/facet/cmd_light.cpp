@@ -43,14 +43,6 @@ std::size_t scene_vertices(const Scene& scene) {
   return n;
 }
 
-Status light_scene(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out) {
-  out.resize(scene.objects.size());
-  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    if (Status s = light_instance(scene, i, options, out[i]); !s.ok()) return s;
-  }
-  return {};
-}
-
 }  // namespace
 
 int run_light(int argc, char** argv) {

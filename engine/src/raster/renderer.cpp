@@ -177,6 +177,7 @@ struct Renderer::Impl {
   void emit(const ClipVertex (&v)[3], std::uint32_t object, const Color3& flat_front, const Color3& flat_back,
             float alpha, std::size_t range);
   bool project(const ClipVertex& v, ScreenVertex& out) const;
+  void vertex_attributes(std::uint32_t vertex, float* a) const;
   bool place(raster::ScreenTriangle& t, TriangleCounts& counts, bool& swapped) const;
   void finish(raster::ScreenTriangle& t, std::uint32_t object, const Color3& flat_front, const Color3& flat_back,
               float alpha, std::size_t range);
@@ -504,18 +505,7 @@ void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, floa
         continue;
       }
       const std::uint32_t order[3] = {tri[0], swapped ? tri[2] : tri[1], swapped ? tri[1] : tri[2]};
-      for (int k = 0; k < 3; ++k) {
-        float* a = st.attr[k];
-        const std::uint32_t i = order[k];
-        std::fill(a, a + geometry::kMaxAttributes, 0.0f);
-        if (shading == ShadingMode::gouraud) {
-          a[0] = front[i].x(), a[1] = front[i].y(), a[2] = front[i].z();
-          if (two_sided) a[3] = back[i].x(), a[4] = back[i].y(), a[5] = back[i].z();
-        } else if (shading == ShadingMode::phong) {
-          a[0] = eye_p[i].x(), a[1] = eye_p[i].y(), a[2] = eye_p[i].z();
-          a[3] = eye_n[i].x(), a[4] = eye_n[i].y(), a[5] = eye_n[i].z();
-        }
-      }
+      for (int k = 0; k < 3; ++k) vertex_attributes(order[k], st.attr[k]);
       finish(st, object, flat_front, flat_back, alpha, range);
       continue;
     }
@@ -527,15 +517,7 @@ void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, floa
       v[k].y = c[1];
       v[k].z = c[2];
       v[k].w = c[3];
-      float* a = v[k].attr;
-      std::fill(a, a + geometry::kMaxAttributes, 0.0f);
-      if (shading == ShadingMode::gouraud) {
-        a[0] = front[i].x(), a[1] = front[i].y(), a[2] = front[i].z();
-        if (two_sided) a[3] = back[i].x(), a[4] = back[i].y(), a[5] = back[i].z();
-      } else if (shading == ShadingMode::phong) {
-        a[0] = eye_p[i].x(), a[1] = eye_p[i].y(), a[2] = eye_p[i].z();
-        a[3] = eye_n[i].x(), a[4] = eye_n[i].y(), a[5] = eye_n[i].z();
-      }
+      vertex_attributes(i, v[k].attr);
     }
     ++counts.clipped;
     const int count = geometry::clip_triangle(v[0], v[1], v[2], outcodes, planes, attribute_count, polygon);
@@ -543,6 +525,19 @@ void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, floa
       const ClipVertex piece[3] = {polygon[0], polygon[i], polygon[i + 1]};
       emit(piece, object, flat_front, flat_back, alpha, range);
     }
+  }
+}
+
+// The interpolated attributes of a vertex: Gouraud colours (front, and back in a two-sided scene)
+// or Phong's eye-space position and normal; zeros for flat shading.
+void Renderer::Impl::vertex_attributes(std::uint32_t i, float* a) const {
+  std::fill(a, a + geometry::kMaxAttributes, 0.0f);
+  if (shading == ShadingMode::gouraud) {
+    a[0] = front[i].x(), a[1] = front[i].y(), a[2] = front[i].z();
+    if (two_sided) a[3] = back[i].x(), a[4] = back[i].y(), a[5] = back[i].z();
+  } else if (shading == ShadingMode::phong) {
+    a[0] = eye_p[i].x(), a[1] = eye_p[i].y(), a[2] = eye_p[i].z();
+    a[3] = eye_n[i].x(), a[4] = eye_n[i].y(), a[5] = eye_n[i].z();
   }
 }
 

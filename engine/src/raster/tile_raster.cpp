@@ -73,6 +73,22 @@ class PixelBatch {
   lighting::SoaScratch& scratch_;
 };
 
+// One RGBA float pixel in an output format (8-bit channels as to_unorm8; floats as they are).
+void store_pixel(const float* rgba, PixelFormat format, std::uint8_t* dst) {
+  switch (format) {
+    case PixelFormat::rgba8:
+      for (int c = 0; c < 4; ++c) dst[c] = to_unorm8(rgba[c]);
+      break;
+    case PixelFormat::bgra8:
+      dst[0] = to_unorm8(rgba[2]);
+      dst[1] = to_unorm8(rgba[1]);
+      dst[2] = to_unorm8(rgba[0]);
+      dst[3] = to_unorm8(rgba[3]);
+      break;
+    case PixelFormat::rgba32f: std::memcpy(dst, rgba, 16); break;
+  }
+}
+
 // The Phong sink of the SIMD kernels: lights the gathered pixels with the object's shader.
 struct PhongContext {
   const RasterJob* job;
@@ -191,18 +207,7 @@ void resolve_tile(const RasterJob& job, TileBuffers& tile, const TileRect& rect,
     for (int x = 0; x < n; ++x, dst += bpp) {
       const std::size_t p = tile.index(x, y - rect.y0);
       const float rgba[4] = {tile.plane(0)[p], tile.plane(1)[p], tile.plane(2)[p], tile.plane(3)[p]};
-      switch (color.format) {
-        case PixelFormat::rgba8:
-          for (int c = 0; c < 4; ++c) dst[c] = to_unorm8(rgba[c]);
-          break;
-        case PixelFormat::bgra8:
-          dst[0] = to_unorm8(rgba[2]);
-          dst[1] = to_unorm8(rgba[1]);
-          dst[2] = to_unorm8(rgba[0]);
-          dst[3] = to_unorm8(rgba[3]);
-          break;
-        case PixelFormat::rgba32f: std::memcpy(dst, rgba, 16); break;
-      }
+      store_pixel(rgba, color.format, dst);
     }
     if (depth) {
       const int depth_row = depth->y_up ? depth->height - 1 - y : y;
@@ -218,18 +223,7 @@ void resolve_clear_tile(const std::array<float, 4>& clear_color, const TileRect&
   // One pixel in the output format, converted by the same code as resolve_tile.
   std::uint8_t pixel[16];
   const std::size_t bpp = bytes_per_pixel(color.format);
-  switch (color.format) {
-    case PixelFormat::rgba8:
-      for (int c = 0; c < 4; ++c) pixel[c] = to_unorm8(clear_color[static_cast<std::size_t>(c)]);
-      break;
-    case PixelFormat::bgra8:
-      pixel[0] = to_unorm8(clear_color[2]);
-      pixel[1] = to_unorm8(clear_color[1]);
-      pixel[2] = to_unorm8(clear_color[0]);
-      pixel[3] = to_unorm8(clear_color[3]);
-      break;
-    case PixelFormat::rgba32f: std::memcpy(pixel, clear_color.data(), 16); break;
-  }
+  store_pixel(clear_color.data(), color.format, pixel);
   const float far_depth = 1.0f;
   const std::size_t row_bytes = static_cast<std::size_t>(rect.x1 - rect.x0) * bpp;
   const std::uint8_t* first_color = nullptr;
