@@ -84,9 +84,15 @@ int main(void) {
   CHECK(depth[W * (H / 2) + W / 2] < 1.0f && depth[0] == 1.0f);
   for (size_t i = 0; i < GUARD; ++i) CHECK(buffer[i] == 0xA5 && buffer[sizeof buffer - 1 - i] == 0xA5);
 
-  /* An invalid configuration is refused at creation. */
+  /* Invalid configurations are refused at creation, also enum values no enumerator has. */
   config.tile_size = 12;
   CHECK(facet_renderer_create(&config, &status) == NULL && status == FACET_INVALID_ARGUMENT);
+  config = facet_render_config_default();
+  config.shading = (facet_shading)9;
+  CHECK(facet_renderer_create(&config, &status) == NULL && status == FACET_INVALID_ARGUMENT);
+  light.type = (facet_light_type)-3;
+  CHECK(facet_scene_add_light(scene, &light) == FACET_INVALID_ARGUMENT);
+  CHECK(strstr(facet_scene_last_error(scene), "light.type") != NULL);
 
   facet_renderer_destroy(renderer);
   facet_scene_destroy(scene);

@@ -3,8 +3,10 @@
 // in the handle's last-error string.
 #include "facet/facet.h"
 
+#include <cstring>
 #include <new>
 #include <string>
+#include <type_traits>
 
 #include "facet/facet.hpp"
 
@@ -44,6 +46,17 @@ facet_status fail(std::string& error, const char* field, const std::string& what
 
 facet::Vec3 vec3(const float* v) { return {v[0], v[1], v[2]}; }
 
+// A C enum as the integer the caller stored. C lets a caller put any int in an enum object; in
+// C++ loading a value outside the enumerators' range is undefined (UBSan: -fsanitize=enum), so
+// enums that come from C are read through their bytes and range-checked as integers.
+template <class E>
+long raw(const E& e) {
+  std::underlying_type_t<E> v;
+  static_assert(sizeof v == sizeof e);
+  std::memcpy(&v, &e, sizeof v);
+  return static_cast<long>(v);
+}
+
 // Runs `fn` (returning facet_status), turning std::bad_alloc into FACET_OUT_OF_MEMORY.
 template <class Fn>
 facet_status guarded(std::string* error, Fn&& fn) noexcept {
@@ -63,19 +76,20 @@ facet_status guarded(std::string* error, Fn&& fn) noexcept {
 }
 
 bool to_options(const facet_render_config& c, facet::RenderOptions& o, std::string& error) {
-  if (c.shading < FACET_FLAT || c.shading > FACET_PHONG) return fail(error, "config.shading", "unknown shading"), false;
-  if (c.path < FACET_PATH_REFERENCE || c.path > FACET_PATH_SIMD) return fail(error, "config.path", "unknown path"), false;
-  if (c.isa < FACET_ISA_BEST || c.isa > FACET_ISA_AVX512) return fail(error, "config.isa", "unknown ISA"), false;
-  if (c.cull < FACET_CULL_NONE || c.cull > FACET_CULL_FRONT) return fail(error, "config.cull", "unknown cull mode"), false;
+  const long shading_i = raw(c.shading), path_i = raw(c.path), isa_i = raw(c.isa), cull_i = raw(c.cull);
+  if (shading_i < FACET_FLAT || shading_i > FACET_PHONG) return fail(error, "config.shading", "unknown shading"), false;
+  if (path_i < FACET_PATH_REFERENCE || path_i > FACET_PATH_SIMD) return fail(error, "config.path", "unknown path"), false;
+  if (isa_i < FACET_ISA_BEST || isa_i > FACET_ISA_AVX512) return fail(error, "config.isa", "unknown ISA"), false;
+  if (cull_i < FACET_CULL_NONE || cull_i > FACET_CULL_FRONT) return fail(error, "config.cull", "unknown cull mode"), false;
   const facet::ShadingMode shading[] = {facet::ShadingMode::flat, facet::ShadingMode::gouraud, facet::ShadingMode::phong};
   const facet::LightingPath path[] = {facet::LightingPath::reference, facet::LightingPath::scalar,
                                       facet::LightingPath::simd};
   const facet::Isa isa[] = {facet::Isa::best, facet::Isa::sse2, facet::Isa::avx2, facet::Isa::avx512};
   const facet::CullMode cull[] = {facet::CullMode::none, facet::CullMode::back, facet::CullMode::front};
-  o.shading = shading[c.shading];
-  o.path = path[c.path];
-  o.isa = isa[c.isa];
-  o.cull = cull[c.cull];
+  o.shading = shading[shading_i];
+  o.path = path[path_i];
+  o.isa = isa[isa_i];
+  o.cull = cull[cull_i];
   o.tile_size = c.tile_size;
   o.threads = c.threads;
   for (int i = 0; i < 4; ++i) o.clear_color[static_cast<std::size_t>(i)] = c.clear_color[i];
@@ -242,10 +256,11 @@ facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light)
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
     if (!light) return fail(scene->error, "light", "null");
-    if (light->type < FACET_DIRECTIONAL || light->type > FACET_SPOT) return fail(scene->error, "light.type", "unknown type");
+    const long type = raw(light->type);
+    if (type < FACET_DIRECTIONAL || type > FACET_SPOT) return fail(scene->error, "light.type", "unknown type");
     const facet::LightType types[] = {facet::LightType::directional, facet::LightType::point, facet::LightType::spot};
     facet::Light l;
-    l.type = types[light->type];
+    l.type = types[type];
     l.position = vec3(light->position);
     l.direction = vec3(light->direction);
     l.ambient = facet::Color3(vec3(light->ambient));
@@ -307,10 +322,11 @@ facet_status facet_render(facet_renderer* renderer, const facet_scene* scene, vo
   if (!renderer) return FACET_INVALID_ARGUMENT;
   return guarded(&renderer->error, [&] {
     if (!scene) return fail(renderer->error, "scene", "null");
-    if (format < FACET_RGBA8 || format > FACET_RGBA32F) return fail(renderer->error, "format", "unknown pixel format");
+    const long format_i = raw(format);
+    if (format_i < FACET_RGBA8 || format_i > FACET_RGBA32F) return fail(renderer->error, "format", "unknown pixel format");
     const facet::PixelFormat formats[] = {facet::PixelFormat::rgba8, facet::PixelFormat::bgra8,
                                           facet::PixelFormat::rgba32f};
-    const facet::ImageView color{pixels, width, height, stride_bytes, formats[format], y_up != 0};
+    const facet::ImageView color{pixels, width, height, stride_bytes, formats[format_i], y_up != 0};
     const facet::DepthView depth_view{depth, width, height, depth_stride_bytes, y_up != 0};
     facet::FrameStats s;
     const facet::Status status = renderer->renderer.render(scene->scene, color, depth ? &depth_view : nullptr, &s);
