@@ -38,3 +38,12 @@ facet_build() {
   fi
   cmake --build "$build_dir" --parallel "$(nproc)" || return 1
 }
+
+# OSMesa (libosmesa6-dev) is optional: a build configured before it was installed must look for
+# it again to build the llvmpipe comparison.
+facet_refresh_osmesa() {
+  local cache="$facet_root/build/CMakeCache.txt"
+  if [ -f "$cache" ] && ! grep -q "OSMESA_FOUND:INTERNAL=1" "$cache"; then
+    cmake "$facet_root/build" >/dev/null
+  fi
+}

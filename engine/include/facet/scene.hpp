@@ -45,6 +45,14 @@ struct Scene {
 
 Status validate_scene(const Scene& scene);
 
+// Parts of validate_scene, for callers that build a scene piece by piece (the C API checks each
+// piece as it is added): the same checks and messages, naming materials[index], lights[index],
+// camera.* and global_ambient.
+Status validate_material(const Material& material, std::size_t index);
+Status validate_light(const Light& light, std::size_t index);
+Status validate_camera(const Camera& camera);
+Status validate_global_ambient(const Color3& ambient);
+
 // The built-in scene: procedural shapes only (spheres of shininess 8, 64 and 512, a cube, a torus
 // and a ground plane) lit by a directional light, a point light with attenuation, a GL spot light
 // and a smooth-cone spot light. Needs no file.

@@ -220,13 +220,10 @@ facet_status facet_scene_add_material(facet_scene* scene, const facet_material* 
     m.shininess = material->shininess;
     m.alpha = material->alpha;
     const auto id = static_cast<std::uint32_t>(scene->scene.materials.size());
+    // Checked now, so the error names this call's argument rather than the next render.
+    if (facet::Status st = facet::validate_material(m, id); !st.ok()) return report(scene->error, st);
     m.name = "material" + std::to_string(id);
     scene->scene.materials.push_back(std::move(m));
-    // Checked now, so the error names this call's argument rather than the next render.
-    if (facet::Status s = facet::validate_scene(scene->scene); !s.ok() && s.field().rfind("materials[", 0) == 0) {
-      scene->scene.materials.pop_back();
-      return report(scene->error, s);
-    }
     if (material_id) *material_id = id;
     return report(scene->error, {});
   });
@@ -271,12 +268,11 @@ facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light)
     l.quadratic_attenuation = light->quadratic_attenuation;
     l.spot_cutoff_deg = light->spot_cutoff_deg;
     l.spot_exponent = light->spot_exponent;
+    if (facet::Status st = facet::validate_light(l, scene->scene.lights.size()); !st.ok()) {
+      return report(scene->error, st);
+    }
     l.name = "light" + std::to_string(scene->scene.lights.size());
     scene->scene.lights.push_back(std::move(l));
-    if (facet::Status s = facet::validate_scene(scene->scene); !s.ok() && s.field().rfind("lights[", 0) == 0) {
-      scene->scene.lights.pop_back();
-      return report(scene->error, s);
-    }
     return report(scene->error, {});
   });
 }
@@ -292,12 +288,8 @@ facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* came
     c.vertical_fov_deg = camera->vertical_fov_deg;
     c.near = camera->near_plane;
     c.far = camera->far_plane;
-    const facet::Camera previous = scene->scene.camera;
+    if (facet::Status st = facet::validate_camera(c); !st.ok()) return report(scene->error, st);
     scene->scene.camera = c;
-    if (facet::Status s = facet::validate_scene(scene->scene); !s.ok() && s.field().rfind("camera", 0) == 0) {
-      scene->scene.camera = previous;
-      return report(scene->error, s);
-    }
     return report(scene->error, {});
   });
 }
@@ -306,12 +298,9 @@ facet_status facet_scene_set_global_ambient(facet_scene* scene, const float rgb[
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
     if (!rgb) return fail(scene->error, "global_ambient", "null");
-    const facet::Color3 previous = scene->scene.global_ambient;
-    scene->scene.global_ambient = facet::Color3(vec3(rgb));
-    if (facet::Status s = facet::validate_scene(scene->scene); !s.ok() && s.field().rfind("global_ambient", 0) == 0) {
-      scene->scene.global_ambient = previous;
-      return report(scene->error, s);
-    }
+    const facet::Color3 ambient(vec3(rgb));
+    if (facet::Status st = facet::validate_global_ambient(ambient); !st.ok()) return report(scene->error, st);
+    scene->scene.global_ambient = ambient;
     return report(scene->error, {});
   });
 }

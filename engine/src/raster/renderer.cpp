@@ -163,6 +163,7 @@ struct Renderer::Impl {
   geometry::ClipPlanes planes{};
   CullMode cull = CullMode::back;
   bool two_sided = false;
+  bool simd_raster = true;  // the simd path rasterizes with the SIMD kernels
   ShadingMode shading = ShadingMode::gouraud;
   FrameStats stats;
   FrameStats last_stats;  // of the last successful render
@@ -207,8 +208,7 @@ void Renderer::set_config(const RenderOptions& config) noexcept {
 Status Renderer::render(const Scene& scene, const ImageView& color, const DepthView* depth,
                         FrameStats* stats) noexcept {
   if (!impl_) return {ErrorCode::invalid_argument, "renderer", "renderer: used after being moved from"};
-  const RenderOptions config = impl_->config;
-  return render(scene, config, color, depth, stats);
+  return render(scene, impl_->config, color, depth, stats);
 }
 
 FrameStats Renderer::last_stats() const noexcept { return impl_ ? impl_->last_stats : FrameStats{}; }
@@ -262,6 +262,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   cull = options.cull;
   two_sided = scene.two_sided;
   shading = options.shading;
+  simd_raster = options.path == LightingPath::simd;
   // |x/w| <= 2G/W - 1 keeps screen x within [-G, G] (likewise y).
   planes.guard_x = 2.0f * raster::kGuardBandPixels / static_cast<float>(width) - 1.0f;
   planes.guard_y = 2.0f * raster::kGuardBandPixels / static_cast<float>(height) - 1.0f;
@@ -299,11 +300,10 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   range_data.resize(range_count);
   for (std::size_t r = 0; r < range_count; ++r) range_data[r] = range_triangles[r].data();
   const raster::RasterJob job{shading,
-                              std::span(range_triangles.data(), range_count),
                               range_data.data(),
                               shaders,
                               options.clear_color,
-                              options.path == LightingPath::simd ? raster::simd_raster_kernels(options.isa) : nullptr};
+                              simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr};
   const int tile_count = tiles_x * tiles_y;
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});
   const auto raster_start = Clock::now();
@@ -612,7 +612,10 @@ void Renderer::Impl::finish(raster::ScreenTriangle& t, std::uint32_t object, con
   }
   t.alpha = alpha;
   t.object = object;
-  raster::compute_planes(t, shading == ShadingMode::flat ? 0 : (shading == ShadingMode::phong ? 6 : 3));
+  // Only the SIMD rasterizer reads the planes; the scalar one interpolates barycentrics.
+  if (simd_raster) {
+    raster::compute_planes(t, shading == ShadingMode::flat ? 0 : (shading == ShadingMode::phong ? 6 : 3));
+  }
 
   RangeBinning& binning = range_binning[range];
   const auto index = static_cast<std::uint32_t>(range_triangles[range].size() - 1);

@@ -116,7 +116,7 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
   simd::PhongSink sink{f,           f + cap,     f + 2 * cap, f + 3 * cap, f + 4 * cap,           f + 5 * cap,
                        f + 6 * cap, f + 7 * cap, f + 8 * cap, tile.phong_pixel.data(), &context, shade_phong};
   simd::TileJob tj{static_cast<int>(job.shading),
-                   job.range_data,
+                   job.ranges,
                    bin.data(),
                    bin.size(),
                    rect.x0,
@@ -148,7 +148,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
 
   PixelBatch batch(scratch);
   for (const std::uint32_t entry : bin) {
-    const ScreenTriangle& t = job.triangle_ranges[entry >> kRangeShift][entry & kIndexMask];
+    const ScreenTriangle& t = job.ranges[entry >> kRangeShift][entry & kIndexMask];
     const int x0 = std::max(t.min_px, rect.x0), x1 = std::min(t.max_px, rect.x1 - 1);
     const int y0 = std::max(t.min_py, rect.y0), y1 = std::min(t.max_py, rect.y1 - 1);
     if (x0 > x1 || y0 > y1) continue;

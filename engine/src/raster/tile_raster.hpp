@@ -46,8 +46,7 @@ struct TileBuffers {
 
 struct RasterJob {
   ShadingMode shading;
-  std::span<const std::vector<ScreenTriangle>> triangle_ranges;
-  const ScreenTriangle* const* range_data;         // triangle_ranges[r].data(), for the SIMD kernels
+  const ScreenTriangle* const* ranges;  // the triangles of each set-up range (a bin entry names one)
   std::span<const lighting::PointShader> objects;  // per object, for per-pixel (Phong) lighting
   std::array<float, 4> clear_color;
   const simd::Kernels* kernels;  // the SIMD rasterizer of the chosen ISA; null: the scalar one

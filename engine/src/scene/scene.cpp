@@ -112,7 +112,7 @@ Status validate_light(const Light& l, const Field& f) {
   return {};
 }
 
-Status validate_camera(const Camera& c) {
+Status check_camera(const Camera& c) {
   const Field f{"camera", 0, false};
   if (!finite(c.eye)) return invalid("camera.eye", "expected finite coordinates, found " + describe(c.eye));
   if (!finite(c.target)) return invalid("camera.target", "expected finite coordinates, found " + describe(c.target));
@@ -137,9 +137,18 @@ Status validate_camera(const Camera& c) {
 
 }  // namespace
 
+Status validate_material(const Material& material, std::size_t index) {
+  return validate_material(material, Field{"materials", index, true});
+}
+Status validate_light(const Light& light, std::size_t index) { return validate_light(light, Field{"lights", index, true}); }
+Status validate_camera(const Camera& camera) { return check_camera(camera); }
+Status validate_global_ambient(const Color3& ambient) {
+  return check_color(ambient, Field{"global_ambient", 0, false}, "");
+}
+
 Status validate_lighting_inputs(const Scene& scene) {
-  FACET_TRY(check_color(scene.global_ambient, Field{"global_ambient", 0, false}, ""));
-  FACET_TRY(validate_camera(scene.camera));
+  FACET_TRY(validate_global_ambient(scene.global_ambient));
+  FACET_TRY(check_camera(scene.camera));
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
     FACET_TRY(validate_material(scene.materials[i], Field{"materials", i, true}));
   }
