@@ -112,6 +112,17 @@ B pow_fast(B x, float s) {
   return xsimd::select(zero || underflow, B(0.0f), xsimd::min(p * scale, B(1.0f)));
 }
 
+// Repeated squaring of an x already in [0, 1] (the lighting kernel clamps n.h itself).
+template <class B>
+B pow_integer_unit(B x, int s) {
+  B result(1.0f);
+  for (; s > 0; s >>= 1) {
+    if (s & 1) result *= x;
+    x *= x;
+  }
+  return result;
+}
+
 template <class B>
 B pow_integer(B x, int s) {
   x = clamp_unit_bits(x);

@@ -2,10 +2,24 @@
 // shade.hpp with the same edge-case rules (see facet/lighting.hpp). Included only by the
 // per-ISA files shade_simd_<isa>.cpp; everything is a template on Arch.
 //
-// Exact sqrt and division everywhere (no rsqrt/rcp approximations, whose low bits differ between
-// CPU vendors). With -mfma the compiler contracts a*b+c, so avx2/avx512 differ from sse2 by ulps.
+// Two precisions, chosen by the pow tier (shade_streams dispatches once per call):
+//  - exact tier: exact sqrt and division everywhere, so the only rounding left is float's;
+//  - every other tier: the hardware's reciprocal square root and reciprocal estimates (rsqrtps /
+//    rcpps, 12 bits; rsqrt14 / rcp14 on avx512) refined by one Newton step, about 23 bits: relative
+//    error about 2^-22, far inside the Delta8 <= 1 budget of those tiers (facet accuracy: the
+//    random-vertex maximum stays at 0.002 of an 8-bit step). A point light needed two sqrt and
+//    three divisions per vertex, all on one divider. Together with the method-specialised
+//    kernel below and the copies in soa.cpp this took BM_Lighting/simd_avx2_auto/point/lights:4
+//    (65k vertices, one thread) from 148 M to 291 M vertex-lights/s. The estimates' low bits
+//    differ between CPU vendors, so colours may differ by an ulp between an Intel and an AMD
+//    machine; on one machine they are fixed (and the same for any thread count).
+// With -mfma the compiler contracts a*b+c, so avx2/avx512 differ from sse2 by ulps.
 #pragma once
 
+#include <cfloat>
+#include <type_traits>
+
+#include <immintrin.h>
 #include <xsimd/xsimd.hpp>
 
 #include "fastmath/pow_simd.hpp"
@@ -23,17 +37,64 @@ B dot3(const V<B>& a, const V<B>& b) {
   return xsimd::fma(a.x, b.x, xsimd::fma(a.y, b.y, a.z * b.z));
 }
 
+// 1/sqrt(x) and 1/x for the non-exact tiers: the hardware estimate and one Newton step.
+// rsqrt_nr needs x in [FLT_MIN, FLT_MAX] (callers clamp); rcp_nr any x in [1e-6, FLT_MAX]
+// (the estimate of 1/FLT_MAX flushes to 0, and the step keeps 0).
 template <class B>
-V<B> normalize_or_zero(const V<B>& v) {
-  const B len = xsimd::sqrt(dot3(v, v));
-  const auto ok = (len > B(1e-6f)) && (len <= B(3.4028235e38f));  // NaN and Inf fail
-  const B inv = B(1.0f) / len;
-  return {xsimd::select(ok, v.x * inv, B(0.0f)), xsimd::select(ok, v.y * inv, B(0.0f)),
-          xsimd::select(ok, v.z * inv, B(0.0f))};
+B rsqrt_estimate(const B& x) {
+  using A = typename B::arch_type;
+  if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+    return B(_mm512_rsqrt14_ps(x));  // xsimd 8.1's rsqrt does not compile here (platform.md, trap 2)
+  } else if constexpr (std::is_base_of_v<xsimd::avx, A>) {
+    return B(_mm256_rsqrt_ps(x));
+  } else {
+    return B(_mm_rsqrt_ps(x));
+  }
 }
 
 template <class B>
-B pow_spec(const B& x, const PowSpec& p) {
+B rcp_estimate(const B& x) {
+  using A = typename B::arch_type;
+  if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+    return B(_mm512_rcp14_ps(x));
+  } else if constexpr (std::is_base_of_v<xsimd::avx, A>) {
+    return B(_mm256_rcp_ps(x));
+  } else {
+    return B(_mm_rcp_ps(x));
+  }
+}
+
+template <class B>
+B rsqrt_nr(const B& x) {
+  const B y = rsqrt_estimate(x);
+  return y * xsimd::fnma(B(0.5f) * x, y * y, B(1.5f));  // y (3 - x y^2) / 2
+}
+
+template <class B>
+B rcp_nr(const B& x) {
+  const B y = rcp_estimate(x);
+  return y * xsimd::fnma(x, y, B(2.0f));  // y (2 - x y)
+}
+
+// v / |v|, or zero when |v| is below 1e-6, infinite or NaN.
+template <bool Exact, class B>
+V<B> normalize_or_zero(const V<B>& v) {
+  if constexpr (Exact) {
+    const B len = xsimd::sqrt(dot3(v, v));
+    const auto ok = (len > B(1e-6f)) && (len <= B(FLT_MAX));  // NaN and Inf fail
+    const B inv = B(1.0f) / len;
+    return {xsimd::select(ok, v.x * inv, B(0.0f)), xsimd::select(ok, v.y * inv, B(0.0f)),
+            xsimd::select(ok, v.z * inv, B(0.0f))};
+  } else {
+    const B len2 = dot3(v, v);
+    const auto ok = (len2 > B(1e-12f)) && (len2 <= B(FLT_MAX));
+    const B inv = xsimd::select(ok, rsqrt_nr(xsimd::select(ok, len2, B(1.0f))), B(0.0f));
+    return {v.x * inv, v.y * inv, v.z * inv};
+  }
+}
+
+template <class B>
+[[gnu::always_inline]] inline B pow_spec(const B& x, const PowSpec& p) {
   switch (p.method) {
     case PowMethod::one: return B(1.0f);
     case PowMethod::exact: return fastmath::pow_exact(x, p.exponent);
@@ -63,16 +124,26 @@ B pow_cos_exact(const V<B>& a, const V<B>& b, float s) {
   return xsimd::select(valid, fastmath::clamp01(y), B(0.0f));
 }
 
-template <class Arch>
-void shade_streams(const Params& prm, const Transform* xf, const Streams& s) {
+// The specular pow with its method fixed at compile time (one instantiation per method).
+template <PowMethod M, class B>
+[[gnu::always_inline]] inline B pow_fixed(const B& x, const PowSpec& p) {
+  if constexpr (M == PowMethod::one) return B(1.0f);
+  else if constexpr (M == PowMethod::exact) return fastmath::pow_exact(x, p.exponent);
+  else if constexpr (M == PowMethod::fast) return fastmath::pow_fast(x, p.exponent);
+  else if constexpr (M == PowMethod::integer) return fastmath::pow_integer(x, p.integer_exponent);
+  else return fastmath::pow_schlick(x, p.exponent);
+}
+
+template <class Arch, bool Exact, PowMethod Spec>
+void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
   using B = xsimd::batch<float, Arch>;
   constexpr std::size_t lanes = B::size;
   const B zero(0.0f), one(1.0f);
+  const bool model_diffs = xf && prm.model_space_differences;
   for (std::size_t i = 0; i < s.count; i += lanes) {
     V<B> p{B::load_unaligned(s.px + i), B::load_unaligned(s.py + i), B::load_unaligned(s.pz + i)};
     V<B> n{B::load_unaligned(s.nx + i), B::load_unaligned(s.ny + i), B::load_unaligned(s.nz + i)};
     const V<B> p_model = p;
-    const bool model_diffs = xf && prm.model_space_differences;
     if (xf) {
       const float* m = xf->position;
       const float* q = xf->normal;
@@ -83,8 +154,8 @@ void shade_streams(const Params& prm, const Transform* xf, const Streams& s) {
            xsimd::fma(B(q[3]), n.x, xsimd::fma(B(q[4]), n.y, B(q[5]) * n.z)),
            xsimd::fma(B(q[6]), n.x, xsimd::fma(B(q[7]), n.y, B(q[8]) * n.z))};
     }
-    n = normalize_or_zero(n);
-    const V<B> eye = prm.local_viewer ? normalize_or_zero(V<B>{-p.x, -p.y, -p.z}) : V<B>{zero, zero, one};
+    n = normalize_or_zero<Exact>(n);
+    const V<B> eye = prm.local_viewer ? normalize_or_zero<Exact>(V<B>{-p.x, -p.y, -p.z}) : V<B>{zero, zero, one};
     B r(prm.base[0]), g(prm.base[1]), b(prm.base[2]);
 
     for (int li = 0; li < prm.light_count; ++li) {
@@ -104,14 +175,28 @@ void shade_streams(const Params& prm, const Transform* xf, const Streams& s) {
                   xsimd::fma(B(m[8]), dm.x, xsimd::fma(B(m[9]), dm.y, B(m[10]) * dm.z))};
         }
         const B d2 = dot3(diff, diff);
-        const B d = xsimd::sqrt(d2);
-        const auto finite = d <= B(3.4028235e38f);  // NaN/Inf position or distance: no contribution
-        const auto has_dir = d > B(1e-6f);
-        const B inv_d = one / d;
+        B d, inv_d;
+        typename B::batch_bool_type finite, has_dir;
+        if constexpr (Exact) {
+          d = xsimd::sqrt(d2);
+          finite = d <= B(FLT_MAX);  // NaN/Inf position or distance: no contribution
+          has_dir = d > B(1e-6f);
+          inv_d = one / d;
+        } else {
+          finite = d2 <= B(FLT_MAX);
+          has_dir = finite && (d2 > B(1e-12f));
+          inv_d = rsqrt_nr(xsimd::select(has_dir, d2, one));
+          d = xsimd::select(has_dir, d2 * inv_d, zero);  // below 1e-6 the distance counts as 0
+        }
         vp = {xsimd::select(has_dir, diff.x * inv_d, zero), xsimd::select(has_dir, diff.y * inv_d, zero),
               xsimd::select(has_dir, diff.z * inv_d, zero)};
         const B denom = xsimd::fma(B(L.k2), d2, xsimd::fma(B(L.k1), d, B(L.k0)));
-        att = one / xsimd::select(denom > B(1e-6f), denom, B(1e-6f));
+        if constexpr (Exact) {
+          att = one / xsimd::select(denom > B(1e-6f), denom, B(1e-6f));
+        } else {
+          // max(NaN, 1e-6) is 1e-6 (maxps returns its second operand); Inf becomes FLT_MAX.
+          att = rcp_nr(xsimd::min(xsimd::max(denom, B(1e-6f)), B(FLT_MAX)));
+        }
         if (L.inv_range > 0.0f) {
           const B x = d * B(L.inv_range), x2 = x * x;
           const B w = fastmath::clamp01(one - x2 * x2);
@@ -148,9 +233,25 @@ void shade_streams(const Params& prm, const Transform* xf, const Streams& s) {
         sb = xsimd::fma(kd, B(L.diffuse[2]), sb);
         if (prm.specular_on) {
           const V<B> half{vp.x + eye.x, vp.y + eye.y, vp.z + eye.z};
-          const B pow_nh = prm.specular_pow.method == PowMethod::exact
-                               ? pow_cos_exact(n, half, prm.specular_pow.exponent)
-                               : pow_spec(dot3(n, normalize_or_zero(half)), prm.specular_pow);
+          B pow_nh;
+          if constexpr (Spec == PowMethod::exact) {
+            pow_nh = pow_cos_exact(n, half, prm.specular_pow.exponent);
+          } else if constexpr (Exact) {
+            pow_nh = pow_fixed<Spec>(dot3(n, normalize_or_zero<true>(half)), prm.specular_pow);
+          } else {
+            // n.h / |h|: one estimate and no normalised h. A zero h (L = -V) gives 0.
+            const B h2 = dot3(half, half);
+            const auto ok = h2 > B(1e-12f);
+            const B n_dot_h = xsimd::select(ok, dot3(n, half) * rsqrt_nr(xsimd::select(ok, h2, one)), zero);
+            if constexpr (Spec == PowMethod::integer) {
+              // Whole s >= 1: the cheap clamp (max(NaN, 0) = 0, maxps returns its second operand)
+              // instead of the bitwise one, whose care for subnormals cannot matter here: x^s <= x.
+              pow_nh = fastmath::pow_integer_unit(xsimd::min(xsimd::max(n_dot_h, zero), one),
+                                                  prm.specular_pow.integer_exponent);
+            } else {
+              pow_nh = pow_fixed<Spec>(n_dot_h, prm.specular_pow);
+            }
+          }
           const B ks = xsimd::select(lit, pow_nh, zero);
           sr = xsimd::fma(ks, B(L.specular[0]), sr);
           sg = xsimd::fma(ks, B(L.specular[1]), sg);
@@ -164,7 +265,7 @@ void shade_streams(const Params& prm, const Transform* xf, const Streams& s) {
     if (prm.clamp) {
       r = fastmath::clamp01(r), g = fastmath::clamp01(g), b = fastmath::clamp01(b);
     } else {
-      const B big(3.4028235e38f);
+      const B big(FLT_MAX);
       r = xsimd::select(r > zero, xsimd::min(r, big), zero);
       g = xsimd::select(g > zero, xsimd::min(g, big), zero);
       b = xsimd::select(b > zero, xsimd::min(b, big), zero);
@@ -172,6 +273,26 @@ void shade_streams(const Params& prm, const Transform* xf, const Streams& s) {
     r.store_unaligned(s.r + i);
     g.store_unaligned(s.g + i);
     b.store_unaligned(s.b + i);
+  }
+}
+
+template <class Arch, bool Exact>
+void shade_precision(const Params& prm, const Transform* xf, const Streams& s) {
+  switch (prm.specular_pow.method) {
+    case PowMethod::one: return shade_kernel<Arch, Exact, PowMethod::one>(prm, xf, s);
+    case PowMethod::exact: return shade_kernel<Arch, Exact, PowMethod::exact>(prm, xf, s);
+    case PowMethod::fast: return shade_kernel<Arch, Exact, PowMethod::fast>(prm, xf, s);
+    case PowMethod::integer: return shade_kernel<Arch, Exact, PowMethod::integer>(prm, xf, s);
+    case PowMethod::schlick: return shade_kernel<Arch, Exact, PowMethod::schlick>(prm, xf, s);
+  }
+}
+
+template <class Arch>
+void shade_streams(const Params& prm, const Transform* xf, const Streams& s) {
+  if (prm.exact_math) {
+    shade_precision<Arch, true>(prm, xf, s);
+  } else {
+    shade_precision<Arch, false>(prm, xf, s);
   }
 }
 

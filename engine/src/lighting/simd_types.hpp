@@ -44,6 +44,8 @@ struct Params {
   // and transform the difference, instead of subtracting two eye-space positions that each carry
   // ~1e-7 of |position| in rounding (which a nearby light turns into a large direction error).
   int model_space_differences = 0;
+  // 1: exact sqrt and division (the exact tier); 0: refined hardware estimates (shade_simd.hpp).
+  int exact_math = 0;
   const Light* lights = nullptr;
   int light_count = 0;
 };
