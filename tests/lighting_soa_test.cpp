@@ -1,0 +1,109 @@
+// The lighting's data movement: the SSE2 AoS <-> SoA copies and the object bounding sphere that
+// the frame plan culls lights against (both rewritten for speed; these hold them to their plain
+// per-vertex definitions).
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "facet/facet.hpp"
+#include "lighting/setup.hpp"
+#include "lighting/soa.hpp"
+
+namespace facet::lighting {
+namespace {
+
+std::vector<Vec3> random_points(std::size_t n, float spread, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-spread, spread);
+  std::vector<Vec3> p(n);
+  for (auto& v : p) v = Vec3(u(rng), u(rng), u(rng)) + Vec3(3.0f, -1.0f, 0.5f) * spread;
+  return p;
+}
+
+TEST(LightingSoa, DeinterleaveAndInterleaveAreExactForEveryTailLength) {
+  for (std::size_t n = 0; n <= 13; ++n) {
+    const std::vector<Vec3> p = random_points(n, 10.0f, static_cast<std::uint32_t>(n));
+    std::vector<float> x(n + 1, 7.0f), y(n + 1, 7.0f), z(n + 1, 7.0f);
+    deinterleave3(p.data(), n, -2.0f, x.data(), y.data(), z.data());
+    for (std::size_t i = 0; i < n; ++i) {
+      EXPECT_EQ(x[i], -2.0f * p[i].x()) << n << " " << i;
+      EXPECT_EQ(y[i], -2.0f * p[i].y()) << n << " " << i;
+      EXPECT_EQ(z[i], -2.0f * p[i].z()) << n << " " << i;
+    }
+    EXPECT_EQ(x[n], 7.0f);  // nothing written past n
+    EXPECT_EQ(z[n], 7.0f);
+    std::vector<Vec3> back(n + 1, Vec3::Constant(5.0f));
+    interleave3(x.data(), y.data(), z.data(), n, back.data());
+    for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(back[i], (-2.0f * p[i]).eval()) << n << " " << i;
+    EXPECT_EQ(back[n], Vec3::Constant(5.0f));
+  }
+}
+
+double farthest_double(const std::vector<Vec3>& p, const Eigen::Vector3d& c) {
+  double r2 = 0;
+  for (const Vec3& v : p)
+    if (v.allFinite()) r2 = std::max(r2, (v.cast<double>() - c).squaredNorm());
+  return r2;
+}
+
+// The sphere holds every finite vertex and is no more than 1e-4 looser than the tight one around
+// the same centre (the box centre, in eye space).
+void expect_tight_bounds(const std::vector<Vec3>& positions, const Mat4& model) {
+  Mesh mesh;
+  mesh.positions = positions;
+  const Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
+  const EyeSphere s = eye_bounding_sphere(mesh, view, model);
+  const Eigen::Matrix4d m = model.cast<double>();
+  const double stretch = m.topLeftCorner<3, 3>().norm();
+  const Eigen::Vector3d c_model = (m.inverse() * s.centre.homogeneous()).head<3>();
+  const double tight = std::sqrt(farthest_double(positions, c_model)) * stretch;
+  // Slack for the double rounding of this check itself (the centre taken back to model space):
+  // 1e-12 of the coordinates' size, far below float's rounding that the sphere must cover.
+  double size = 0;
+  for (const Vec3& v : positions)
+    if (v.allFinite()) size = std::max(size, double(v.cwiseAbs().maxCoeff()));
+  const double slack = 1e-12 * size * stretch;
+  EXPECT_GE(s.radius, tight - slack);
+  EXPECT_LE(s.radius, tight * (1 + 1e-4) + slack);
+  for (const Vec3& v : positions) {
+    if (!v.allFinite()) continue;
+    const Eigen::Vector3d e = (m * v.cast<double>().homogeneous()).head<3>();
+    EXPECT_LE((e - s.centre).norm(), s.radius + slack);
+  }
+}
+
+TEST(LightingSoa, BoundingSphereHoldsEveryVertexForEveryTailLength) {
+  Mat4 model = Mat4::Identity();
+  model.block<3, 3>(0, 0) = Eigen::AngleAxisf(0.7f, Vec3(1, 2, 3).normalized()).toRotationMatrix() * 2.5f;
+  model.block<3, 1>(0, 3) = Vec3(1, -4, -20);
+  for (std::size_t n : {1u, 2u, 3u, 4u, 5u, 7u, 8u, 13u, 1000u, 4099u}) {
+    expect_tight_bounds(random_points(n, 3.0f, static_cast<std::uint32_t>(n)), model);
+  }
+  expect_tight_bounds(random_points(500, 1e17f, 1), Mat4::Identity());  // squares near float's limit
+  expect_tight_bounds(random_points(500, 1e30f, 2), Mat4::Identity());  // beyond it: the double pass
+}
+
+TEST(LightingSoa, BoundingSphereLeavesOutNonFiniteVertices) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  for (const Vec3& bad : {Vec3(inf, 0, 0), Vec3(0, -inf, 0), Vec3(nan, 1, 1), Vec3(1, 1, nan)}) {
+    for (std::size_t at : {0u, 5u, 12u, 16u}) {
+      std::vector<Vec3> p = random_points(17, 2.0f, static_cast<std::uint32_t>(at));
+      p[at] = bad;
+      expect_tight_bounds(p, Mat4::Identity());
+      Mesh mesh;
+      mesh.positions = p;
+      const EyeSphere s = eye_bounding_sphere(mesh, Eigen::Matrix4d::Identity(), Mat4::Identity());
+      EXPECT_TRUE(std::isfinite(s.radius));
+      EXPECT_LT(s.radius, 10.0);
+    }
+  }
+  Mesh none;
+  none.positions = {Vec3(nan, 0, 0), Vec3(inf, inf, inf)};
+  EXPECT_EQ(eye_bounding_sphere(none, Eigen::Matrix4d::Identity(), Mat4::Identity()).radius, 0.0);
+}
+
+}  // namespace
+}  // namespace facet::lighting
