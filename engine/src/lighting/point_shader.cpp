@@ -50,14 +50,16 @@ simd::PowSpec resolve_pow(float s, PowTier tier) noexcept {
 
 namespace {
 
-void copy3(float (&dst)[3], const V3<float>& v) {
+template <class T>
+void copy3(T (&dst)[3], const V3<T>& v) {
   dst[0] = v.x;
   dst[1] = v.y;
   dst[2] = v.z;
 }
 
-simd::Light to_simd(const EyeLight<float>& L, PowTier tier) {
-  simd::Light s;
+template <class T>
+simd::LightT<T> to_simd(const EyeLight<T>& L, PowTier tier) {
+  simd::LightT<T> s;
   s.type = L.type == LightType::directional ? simd::kDirectional : L.type == LightType::point ? simd::kPoint : simd::kSpot;
   copy3(s.position, L.position);
   copy3(s.to_light, L.to_light);
@@ -108,17 +110,23 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
       make_shade_params(scene, view, material, options.clamp, scalar_);
       remove_lights(scalar_, drop);
       simd_lights_.clear();
-      for (const auto& L : scalar_.lights) simd_lights_.push_back(to_simd(L, options.pow_tier));
+      simd_lights_d_.clear();
       simd::Params& p = simd_params_;
+      p.exact_math = options.pow_tier == PowTier::exact ? 1 : 0;
+      if (p.exact_math) {
+        for (const auto& L : reference_.lights) simd_lights_d_.push_back(to_simd(L, options.pow_tier));
+      } else {
+        for (const auto& L : scalar_.lights) simd_lights_.push_back(to_simd(L, options.pow_tier));
+      }
       copy3(p.base, scalar_.base);
+      copy3(p.base_d, reference_.base);
       p.specular_pow = resolve_pow(scalar_.shininess, options.pow_tier);
       p.specular_on = material.specular.isZero() ? 0 : 1;
       p.local_viewer = scalar_.local_viewer ? 1 : 0;
       p.clamp = options.clamp ? 1 : 0;
-      p.model_space_differences = options.pow_tier == PowTier::exact ? 1 : 0;
-      p.exact_math = options.pow_tier == PowTier::exact ? 1 : 0;
       p.lights = simd_lights_.data();
-      p.light_count = static_cast<int>(simd_lights_.size());
+      p.lights_d = simd_lights_d_.data();
+      p.light_count = static_cast<int>(scalar_.lights.size());
       break;
     }
     default: return {ErrorCode::invalid_argument, "path", "path: unknown lighting path"};
@@ -172,24 +180,14 @@ void PointShader::light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, cons
     case LightingPath::simd: break;
   }
   const EyeTransform<float> e = make_eye_transform<float>(view, model);
+  const EyeTransform<double> ed = make_eye_transform<double>(view, model);
   simd::Transform xf;
   std::copy(e.position, e.position + 12, xf.position);
   std::copy(e.normal, e.normal + 9, xf.normal);
+  std::copy(ed.position, ed.position + 12, xf.position_d);
+  std::copy(ed.normal, ed.normal + 9, xf.normal_d);
   const float sign = back_side ? -1.0f : 1.0f;
-  simd::Params params = simd_params_;
-  if (params.model_space_differences) {
-    // Light positions in this object's model space, from the double-precision model-view.
-    const Eigen::Matrix4d inverse = (view * model.cast<double>()).inverse();
-    // reference_ holds the same lights, in the same order, in double precision.
-    scratch.lights.assign(simd_lights_.begin(), simd_lights_.end());
-    for (std::size_t i = 0; i < scratch.lights.size(); ++i) {
-      const V3<double>& eye_pos = reference_.lights[i].position;
-      const Eigen::Vector4d m = inverse * Eigen::Vector4d(eye_pos.x, eye_pos.y, eye_pos.z, 1.0);
-      for (int k = 0; k < 3; ++k) scratch.lights[i].model_position[k] = static_cast<float>(m[k]);
-    }
-    params.lights = scratch.lights.data();
-  }
-  run_simd(simd_shade_, params, &xf, end - begin, mesh.positions.data() + begin, mesh.normals.data() + begin, sign,
+  run_simd(simd_shade_, simd_params_, &xf, end - begin, mesh.positions.data() + begin, mesh.normals.data() + begin, sign,
            out + begin, scratch);
 }
 

@@ -19,7 +19,6 @@ namespace facet::lighting {
 // Structure-of-arrays buffers for the simd path, reused between calls.
 struct SoaScratch {
   std::vector<float> px, py, pz, nx, ny, nz, r, g, b;
-  std::vector<simd::Light> lights;  // per-object copies (model-space light positions)
   void reserve_padded(std::size_t count);
 };
 
@@ -51,7 +50,8 @@ class PointShader {
   LightingPath path_ = LightingPath::scalar;
   ShadeParams<float> scalar_;
   ShadeParams<double> reference_;
-  std::vector<simd::Light> simd_lights_;
+  std::vector<simd::Light> simd_lights_;     // float kernel
+  std::vector<simd::LightD> simd_lights_d_;  // the exact tier's double kernel
   simd::Params simd_params_;
   simd::ShadeFunction simd_shade_ = nullptr;
   std::size_t culled_ = 0;

@@ -2,21 +2,26 @@
 // shade.hpp with the same edge-case rules (see facet/lighting.hpp). Included only by the
 // per-ISA files shade_simd_<isa>.cpp; everything is a template on Arch.
 //
-// Two precisions, chosen by the pow tier (shade_streams dispatches once per call):
-//  - exact tier: exact sqrt and division everywhere, so the only rounding left is float's;
-//  - every other tier: the hardware's reciprocal square root and reciprocal estimates (rsqrtps /
-//    rcpps, 12 bits; rsqrt14 / rcp14 on avx512) refined by one Newton step, about 23 bits: relative
-//    error about 2^-22, far inside the Delta8 <= 1 budget of those tiers (facet accuracy: the
-//    random-vertex maximum stays at 0.002 of an 8-bit step). A point light needed two sqrt and
-//    three divisions per vertex, all on one divider. Together with the method-specialised
-//    kernel below and the copies in soa.cpp this took BM_Lighting/simd_avx2_auto/point/lights:4
-//    (65k vertices, one thread) from 148 M to 291 M vertex-lights/s. The estimates' low bits
-//    differ between CPU vendors, so colours may differ by an ulp between an Intel and an AMD
-//    machine; on one machine they are fixed (and the same for any thread count).
+// Two kernels, chosen by the pow tier (shade_streams dispatches once per call):
+//  - exact tier: the whole model in double lanes (half as many per register), with exact sqrt and
+//    division, from the double-precision set-up (matrices, light positions, colours); only the
+//    inputs and the stored colours are float. Float lanes left ~2e-6 (avx2) of error from the
+//    model-view and normal matrices' rounding times the specular exponent; double lanes leave the
+//    colours' own rounding (tests/lighting_random_test.cpp prints the measured maximum).
+//  - every other tier: float lanes, with the hardware's reciprocal square root and reciprocal
+//    estimates (rsqrtps / rcpps, 12 bits; rsqrt14 / rcp14 on avx512) refined by one Newton step,
+//    relative error about 2^-22, far inside the Delta8 <= 1 budget of those tiers (facet accuracy:
+//    the random-vertex maximum stays at 0.002 of an 8-bit step). A point light needed two sqrt and
+//    three divisions per vertex, all on one divider. Together with the method-specialised kernel
+//    below and the copies in soa.cpp this took BM_Lighting/simd_avx2_auto/point/lights:4 (65k
+//    vertices, one thread) from 148 M to 291 M vertex-lights/s. The estimates' low bits differ
+//    between CPU vendors, so colours may differ by an ulp between an Intel and an AMD machine; on
+//    one machine they are fixed (and the same for any thread count).
 // With -mfma the compiler contracts a*b+c, so avx2/avx512 differ from sse2 by ulps.
 #pragma once
 
 #include <cfloat>
+#include <limits>
 #include <type_traits>
 
 #include <immintrin.h>
@@ -118,10 +123,18 @@ B pow_cos_exact(const V<B>& a, const V<B>& b, float s) {
   const B c = dot3(a, b);
   const V<B> x{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
   const B q = xsimd::sqrt(dot3(a, a) * dot3(b, b));
-  const auto valid = (c > B(0.0f)) && (q > B(0.0f)) && (q <= B(3.4028235e38f));
+  const auto valid = (c > B(0.0f)) && (q > B(0.0f)) && (q <= B(std::numeric_limits<typename B::value_type>::max()));
   const B delta = xsimd::min(dot3(x, x) / (q * (q + c)), B(1.0f));
-  const B y = xsimd::exp2(B(s * 1.44269504088896341f) * xsimd::log1p(-delta));
+  const B y = xsimd::exp2(B(double(s) * 1.4426950408889634) * xsimd::log1p(-delta));
   return xsimd::select(valid, fastmath::clamp01(y), B(0.0f));
+}
+
+// x^s in double lanes for the exact kernel's smooth spot ramp (x already in [0, 1]); s = 0 gives
+// 1, 0^s = 0 for s > 0: the exact tier's contract, with xsimd's double exp2 and log2.
+template <class B>
+B pow_unit_double(const B& x, float s) {
+  if (s == 0.0f) return B(1.0);
+  return xsimd::select(x > B(0.0), xsimd::exp2(B(double(s)) * xsimd::log2(xsimd::select(x > B(0.0), x, B(1.0)))), B(0.0));
 }
 
 // The specular pow with its method fixed at compile time (one instantiation per method).
@@ -136,17 +149,35 @@ template <PowMethod M, class B>
 
 template <class Arch, bool Exact, PowMethod Spec>
 void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
-  using B = xsimd::batch<float, Arch>;
+  using T = std::conditional_t<Exact, double, float>;
+  using B = xsimd::batch<T, Arch>;
   constexpr std::size_t lanes = B::size;
   const B zero(0.0f), one(1.0f);
-  const bool model_diffs = xf && prm.model_space_differences;
+  const LightT<T>* lights = nullptr;
+  const T* base = nullptr;
+  const T *xf_position = nullptr, *xf_normal = nullptr;
+  if constexpr (Exact) {
+    lights = prm.lights_d, base = prm.base_d;
+    if (xf) xf_position = xf->position_d, xf_normal = xf->normal_d;
+  } else {
+    lights = prm.lights, base = prm.base;
+    if (xf) xf_position = xf->position, xf_normal = xf->normal;
+  }
+  // Spot exponents keep a run-time method: float lanes take any tier's, double lanes the exact
+  // tier's (exact, or one for s = 0).
+  auto pow_spot = [](const B& x, const PowSpec& spec) -> B {
+    if constexpr (Exact) {
+      return pow_unit_double(fastmath::clamp01(x), spec.method == PowMethod::one ? 0.0f : spec.exponent);
+    } else {
+      return pow_spec(x, spec);
+    }
+  };
   for (std::size_t i = 0; i < s.count; i += lanes) {
     V<B> p{B::load_unaligned(s.px + i), B::load_unaligned(s.py + i), B::load_unaligned(s.pz + i)};
     V<B> n{B::load_unaligned(s.nx + i), B::load_unaligned(s.ny + i), B::load_unaligned(s.nz + i)};
-    const V<B> p_model = p;
     if (xf) {
-      const float* m = xf->position;
-      const float* q = xf->normal;
+      const T* m = xf_position;
+      const T* q = xf_normal;
       p = {xsimd::fma(B(m[0]), p.x, xsimd::fma(B(m[1]), p.y, xsimd::fma(B(m[2]), p.z, B(m[3])))),
            xsimd::fma(B(m[4]), p.x, xsimd::fma(B(m[5]), p.y, xsimd::fma(B(m[6]), p.z, B(m[7])))),
            xsimd::fma(B(m[8]), p.x, xsimd::fma(B(m[9]), p.y, xsimd::fma(B(m[10]), p.z, B(m[11]))))};
@@ -156,30 +187,22 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
     }
     n = normalize_or_zero<Exact>(n);
     const V<B> eye = prm.local_viewer ? normalize_or_zero<Exact>(V<B>{-p.x, -p.y, -p.z}) : V<B>{zero, zero, one};
-    B r(prm.base[0]), g(prm.base[1]), b(prm.base[2]);
+    B r(base[0]), g(base[1]), b(base[2]);
 
     for (int li = 0; li < prm.light_count; ++li) {
-      const Light& L = prm.lights[li];
+      const LightT<T>& L = lights[li];
       V<B> vp;
       B att = one;
       if (L.type == kDirectional) {
         vp = {B(L.to_light[0]), B(L.to_light[1]), B(L.to_light[2])};
       } else {
         V<B> diff{B(L.position[0]) - p.x, B(L.position[1]) - p.y, B(L.position[2]) - p.z};
-        if (model_diffs) {
-          const float* m = xf->position;
-          const V<B> dm{B(L.model_position[0]) - p_model.x, B(L.model_position[1]) - p_model.y,
-                        B(L.model_position[2]) - p_model.z};
-          diff = {xsimd::fma(B(m[0]), dm.x, xsimd::fma(B(m[1]), dm.y, B(m[2]) * dm.z)),
-                  xsimd::fma(B(m[4]), dm.x, xsimd::fma(B(m[5]), dm.y, B(m[6]) * dm.z)),
-                  xsimd::fma(B(m[8]), dm.x, xsimd::fma(B(m[9]), dm.y, B(m[10]) * dm.z))};
-        }
         const B d2 = dot3(diff, diff);
         B d, inv_d;
         typename B::batch_bool_type finite, has_dir;
         if constexpr (Exact) {
           d = xsimd::sqrt(d2);
-          finite = d <= B(FLT_MAX);  // NaN/Inf position or distance: no contribution
+          finite = d <= B(std::numeric_limits<T>::max());  // NaN/Inf position or distance: no contribution
           has_dir = d > B(1e-6f);
           inv_d = one / d;
         } else {
@@ -212,12 +235,12 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
               const B factor = L.spot_pow.method == PowMethod::exact
                                    ? pow_cos_exact(V<B>{-diff.x, -diff.y, -diff.z}, V<B>{B(L.axis[0]), B(L.axis[1]), B(L.axis[2])},
                                                    L.spot_pow.exponent)
-                                   : pow_spec(cos_angle, L.spot_pow);
+                                   : pow_spot(cos_angle, L.spot_pow);
               spot = xsimd::select(cos_angle >= B(L.cos_cutoff), factor, zero);
             }
           } else {
             const B t = L.inv_cone_span > 0.0f ? fastmath::clamp01((cos_angle - B(L.cos_outer)) * B(L.inv_cone_span)) : one;
-            spot = xsimd::select(cos_angle >= B(L.cos_outer), pow_spec(t, L.spot_pow), zero);
+            spot = xsimd::select(cos_angle >= B(L.cos_outer), pow_spot(t, L.spot_pow), zero);
           }
           att *= spot;
         }
@@ -265,7 +288,7 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
     if (prm.clamp) {
       r = fastmath::clamp01(r), g = fastmath::clamp01(g), b = fastmath::clamp01(b);
     } else {
-      const B big(FLT_MAX);
+      const B big(FLT_MAX);  // the float colour's limit, also for double lanes
       r = xsimd::select(r > zero, xsimd::min(r, big), zero);
       g = xsimd::select(g > zero, xsimd::min(g, big), zero);
       b = xsimd::select(b > zero, xsimd::min(b, big), zero);
@@ -276,23 +299,28 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
   }
 }
 
-template <class Arch, bool Exact>
+template <class Arch>
 void shade_precision(const Params& prm, const Transform* xf, const Streams& s) {
   switch (prm.specular_pow.method) {
-    case PowMethod::one: return shade_kernel<Arch, Exact, PowMethod::one>(prm, xf, s);
-    case PowMethod::exact: return shade_kernel<Arch, Exact, PowMethod::exact>(prm, xf, s);
-    case PowMethod::fast: return shade_kernel<Arch, Exact, PowMethod::fast>(prm, xf, s);
-    case PowMethod::integer: return shade_kernel<Arch, Exact, PowMethod::integer>(prm, xf, s);
-    case PowMethod::schlick: return shade_kernel<Arch, Exact, PowMethod::schlick>(prm, xf, s);
+    case PowMethod::one: return shade_kernel<Arch, false, PowMethod::one>(prm, xf, s);
+    case PowMethod::exact: return shade_kernel<Arch, false, PowMethod::exact>(prm, xf, s);
+    case PowMethod::fast: return shade_kernel<Arch, false, PowMethod::fast>(prm, xf, s);
+    case PowMethod::integer: return shade_kernel<Arch, false, PowMethod::integer>(prm, xf, s);
+    case PowMethod::schlick: return shade_kernel<Arch, false, PowMethod::schlick>(prm, xf, s);
   }
 }
 
 template <class Arch>
 void shade_streams(const Params& prm, const Transform* xf, const Streams& s) {
   if (prm.exact_math) {
-    shade_precision<Arch, true>(prm, xf, s);
+    // The exact tier's specular method is exact, or one for shininess 0.
+    if (prm.specular_pow.method == PowMethod::one) {
+      shade_kernel<Arch, true, PowMethod::one>(prm, xf, s);
+    } else {
+      shade_kernel<Arch, true, PowMethod::exact>(prm, xf, s);
+    }
   } else {
-    shade_precision<Arch, false>(prm, xf, s);
+    shade_precision<Arch>(prm, xf, s);
   }
 }
 

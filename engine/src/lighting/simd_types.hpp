@@ -22,38 +22,44 @@ struct PowSpec {
 
 enum : int { kDirectional = 0, kPoint = 1, kSpot = 2 };
 
-struct Light {
+// One light, set up for the kernel in T: float for every tier but exact, double for the exact tier
+// (whose kernel computes in double lanes; see shade_simd.hpp).
+template <class T>
+struct LightT {
   int type = kDirectional;
-  float position[3] = {}, to_light[3] = {}, axis[3] = {};
-  float k0 = 1, k1 = 0, k2 = 0, inv_range = 0;
+  T position[3] = {}, to_light[3] = {}, axis[3] = {};
+  T k0 = 1, k1 = 0, k2 = 0, inv_range = 0;
   int smooth_cone = 0;  // 0: GL cutoff + exponent; 1: inner/outer ramp
   int has_cone = 0;
-  float cos_cutoff = -1, cos_outer = -1, inv_cone_span = 0;
+  T cos_cutoff = -1, cos_outer = -1, inv_cone_span = 0;
   PowSpec spot_pow;
-  float ambient[3] = {}, diffuse[3] = {}, specular[3] = {};  // already times the material's
-  float model_position[3] = {};  // point/spot position in the object's model space (see Params)
+  T ambient[3] = {}, diffuse[3] = {}, specular[3] = {};  // already times the material's
 };
+using Light = LightT<float>;
+using LightD = LightT<double>;
 
 struct Params {
   float base[3] = {};  // e_m + a_m a_scene
+  double base_d[3] = {};
   PowSpec specular_pow;
   int specular_on = 1;  // 0 when the material's specular colour is black
   int local_viewer = 1;
   int clamp = 1;
-  // With a Transform: take light - vertex in model space (where the vertex position is exact)
-  // and transform the difference, instead of subtracting two eye-space positions that each carry
-  // ~1e-7 of |position| in rounding (which a nearby light turns into a large direction error).
-  int model_space_differences = 0;
-  // 1: exact sqrt and division (the exact tier); 0: refined hardware estimates (shade_simd.hpp).
+  // 1: the exact tier's kernel, in double lanes, reading base_d, lights_d and the Transform's
+  // double matrices; 0: the float kernel, reading base, lights and the float matrices.
   int exact_math = 0;
   const Light* lights = nullptr;
+  const LightD* lights_d = nullptr;
   int light_count = 0;
 };
 
-// Model -> eye, row-major (3x4 for positions, 3x3 inverse-transpose for normals).
+// Model -> eye, row-major (3x4 for positions, 3x3 inverse-transpose for normals), in float for
+// the float kernel and in double for the exact tier's.
 struct Transform {
   float position[12];
   float normal[9];
+  double position_d[12];
+  double normal_d[9];
 };
 
 // Structure-of-arrays streams, `count` a multiple of kMaxLanes. Inputs are model space when a

@@ -252,7 +252,6 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   for (WorkerScratch& w : workers) {  // grows only when the tile size or the chunk size grows
     w.tile.resize(options.tile_size);
     w.soa.reserve_padded(kVertexChunk);
-    w.soa.lights.reserve(scene.lights.size());
   }
   width = color.width;
   height = color.height;
