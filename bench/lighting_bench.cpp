@@ -1,10 +1,13 @@
 // Vertex lighting throughput per path (reference, scalar, simd per ISA and pow tier): vertices lit
-// per second and vertex-lights per second. One thread. Two families:
+// per second and vertex-lights per second. One thread unless the name ends in threads:N. Families:
 //   BM_Lighting/<method>/mixed/lights:4/vertices:{4096,1048576}: every path x ISA x pow tier on
 //     4 lights of mixed types (point with attenuation, GL spot, directional, smooth spot), on a
 //     mesh that fits in L1/L2 and one that does not (1M vertices: 24 MB in, 12 MB out);
 //   BM_Lighting/<method>/<mix>/lights:{1,4,8,16}/vertices:65536: scalar and the best ISA (pow
-//     auto) as the light count grows, for mixed lights and for each type alone.
+//     auto) as the light count grows, for mixed lights and for each type alone;
+//   BM_Lighting/<method>/point/lights:{1,4}/vertices:{65536,1048576}/threads:{1,2}: scalar and
+//     the best ISA (pow auto) on one and two threads (LightingOptions::threads; wall time), for
+//     the targets "4 point lights, best ISA, 2 threads" and "1 light, data larger than cache".
 // Counters: vertices_lit/s, vertex_lights/s, and the share of the machine's limits measured at
 // start (bench/roofline.hpp): bw_share = bytes the kernel must stream (24 in + 12 out per
 // vertex) / triad bandwidth; for point lights, flop_share = counted flops / peak FMA rate.
@@ -131,19 +134,29 @@ void register_all() {
       if (isa == facet::best_isa() && tier == facet::PowTier::automatic) sweep.push_back(all.back());
     }
   }
-  auto add = [](const Method& m, Mix mix, int lights, int vertices) {
-    const std::string name = "BM_Lighting/" + m.name + "/" + to_string(mix) + "/lights:" + std::to_string(lights) +
-                             "/vertices:" + std::to_string(vertices);
-    const facet::LightingOptions options = m.options;
-    benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& state) {
+  auto add = [](const Method& m, Mix mix, int lights, int vertices, int threads = 0) {
+    std::string name = "BM_Lighting/" + m.name + "/" + to_string(mix) + "/lights:" + std::to_string(lights) +
+                       "/vertices:" + std::to_string(vertices);
+    facet::LightingOptions options = m.options;
+    if (threads > 0) {
+      name += "/threads:" + std::to_string(threads);
+      options.threads = threads;
+    }
+    auto* b = benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& state) {
       run_lighting(state, options, mix, lights, vertices);
-    })->Unit(benchmark::kMillisecond);
+    });
+    b->Unit(benchmark::kMillisecond);
+    if (threads > 0) b->UseRealTime();  // the CPU timer sees only the calling thread
   };
   for (const Method& m : all)
     for (int vertices : {4096, 1 << 20}) add(m, Mix::mixed, 4, vertices);
   for (const Method& m : sweep)
     for (Mix mix : {Mix::mixed, Mix::directional, Mix::point, Mix::spot})
       for (int lights : {1, 4, 8, 16}) add(m, mix, lights, 1 << 16);
+  for (const Method& m : sweep)
+    for (int lights : {1, 4})
+      for (int vertices : {1 << 16, 1 << 20})
+        for (int threads : {1, 2}) add(m, Mix::point, lights, vertices, threads);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Scalar (float) against reference (double) on random scenes: random vertices, normals, lights of
 // every type and materials, through random camera and model transforms.
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <random>
 
@@ -238,6 +239,53 @@ INSTANTIATE_TEST_SUITE_P(
     [](const auto& param_info) {
       return std::string(to_string(param_info.param.isa)) + "_" + to_string(param_info.param.tier);
     });
+
+// light_instance on several threads: the same bytes as on one, for every path (two-sided, so
+// both colour sets are split), and a thread count outside [0, 1024] is refused before anything
+// is written.
+TEST(LightingThreads, AnyThreadCountGivesTheSameBytes) {
+  RandomScene gen(31337);
+  Scene scene = gen.scene(1, 40000, 256.0f);  // 40,000 vertices: five chunks of 8192
+  scene.two_sided = true;
+  for (LightingPath path : {LightingPath::reference, LightingPath::scalar, LightingPath::simd}) {
+    for (PowTier tier : {PowTier::automatic, PowTier::exact}) {
+      if (path != LightingPath::simd && tier != PowTier::automatic) continue;
+      LightingOptions o;
+      o.path = path;
+      o.pow_tier = tier;
+      VertexColors one;
+      ASSERT_TRUE(light_instance(scene, 0, o, one).ok());
+      ASSERT_EQ(one.back.size(), 40000u);
+      for (int threads : {2, 3, 8, 0}) {
+        o.threads = threads;
+        VertexColors many;
+        ASSERT_TRUE(light_instance(scene, 0, o, many).ok());
+        ASSERT_EQ(many.front.size(), one.front.size());
+        EXPECT_EQ(0, std::memcmp(many.front.data(), one.front.data(), one.front.size() * sizeof(Color3)))
+            << to_string(path) << " " << to_string(tier) << " threads " << threads;
+        EXPECT_EQ(0, std::memcmp(many.back.data(), one.back.data(), one.back.size() * sizeof(Color3)))
+            << to_string(path) << " " << to_string(tier) << " threads " << threads;
+      }
+    }
+  }
+}
+
+TEST(LightingThreads, CountOutsideItsRangeIsRefusedAndWritesNothing) {
+  RandomScene gen(5);
+  const Scene scene = gen.scene(1, 100, 64.0f);
+  for (int threads : {-1, 1025}) {
+    LightingOptions o;
+    o.path = LightingPath::simd;
+    o.threads = threads;
+    VertexColors out;
+    out.front.assign(3, Color3(0.25f, 0.5f, 0.75f));
+    const Status s = light_instance(scene, 0, o, out);
+    EXPECT_EQ(s.code(), ErrorCode::invalid_argument);
+    EXPECT_EQ(s.field(), "threads");
+    ASSERT_EQ(out.front.size(), 3u);
+    EXPECT_EQ(out.front[2], Color3(0.25f, 0.5f, 0.75f));
+  }
+}
 
 }  // namespace
 }  // namespace facet

@@ -53,6 +53,10 @@ struct LightingOptions {
   // The frame plan: per object, skip the lights that cannot reach its bounding sphere (range
   // window) or whose contributions there add up to less than half an 8-bit step. See README.
   bool cull_lights = true;
+  // Threads light_instance() splits the vertices over (its own tbb::task_arena for the call;
+  // process-wide TBB settings are never touched): 1 = the calling thread only, 0 = one per
+  // hardware thread. The colours are the same bytes for any count. Must be in [0, 1024].
+  int threads = 1;
 };
 
 // Colours of one instance's vertices. `back` is filled only for two-sided scenes: the same
@@ -63,8 +67,8 @@ struct VertexColors {
 };
 
 // Lights every vertex of scene.objects[instance] into `out` (resized; its capacity is reused).
-// Returns an error, leaving `out` untouched, if the scene is invalid, `instance` out of range or
-// the requested ISA missing on this CPU.
+// Returns an error, leaving `out` untouched, if the scene is invalid, `instance` out of range,
+// options.threads outside [0, 1024] or the requested ISA missing on this CPU.
 Status light_instance(const Scene& scene, std::size_t instance, const LightingOptions& options,
                       VertexColors& out);
 

@@ -1,13 +1,24 @@
 // Public lighting entry points: validate, set up once per call, run the chosen path.
 #include "facet/lighting.hpp"
 
+#include <algorithm>
 #include <new>
+#include <thread>
+#include <vector>
 
 #include "common/look_at.hpp"
+#include "common/parallel.hpp"
 #include "lighting/point_shader.hpp"
 #include "scene/validate.hpp"
 
 namespace facet {
+namespace {
+
+// Vertices per task when light_instance() runs on several threads: 8192 vertices are 0.1-0.4 ms
+// of work with 4 lights, far above a task's cost, and stay in L2 with their SoA copies.
+constexpr std::size_t kParallelChunk = 8192;
+
+}  // namespace
 
 const char* to_string(LightingPath path) noexcept {
   switch (path) {
@@ -67,6 +78,10 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
             "instance: index " + std::to_string(instance) + " is out of range (" +
                 std::to_string(scene.objects.size()) + " objects)"};
   }
+  if (options.threads < 0 || options.threads > 1024) {
+    return {ErrorCode::invalid_argument, "threads",
+            "threads: " + std::to_string(options.threads) + " is outside [0, 1024] (0 = one per hardware thread)"};
+  }
   if (Status s = validate_lighting_inputs(scene); !s.ok()) return s;
   try {
     const Instance& inst = scene.objects[instance];
@@ -75,14 +90,32 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
     const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model);
     lighting::PointShader shader;
     if (Status s = shader.prepare(scene, view, scene.materials[inst.material], options, &bounds); !s.ok()) return s;
-    lighting::SoaScratch scratch;
-    out.front.resize(mesh.vertex_count());
-    shader.light_mesh(mesh, view, inst.model, false, 0, mesh.vertex_count(), out.front.data(), scratch);
+    const std::size_t n = mesh.vertex_count();
+    out.front.resize(n);
     if (scene.two_sided) {
-      out.back.resize(mesh.vertex_count());
-      shader.light_mesh(mesh, view, inst.model, true, 0, mesh.vertex_count(), out.back.data(), scratch);
+      out.back.resize(n);
     } else {
       out.back.clear();
+    }
+    const int threads = options.threads == 0 ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
+                                             : options.threads;
+    auto light_range = [&](std::size_t begin, std::size_t end, lighting::SoaScratch& scratch) {
+      shader.light_mesh(mesh, view, inst.model, false, begin, end, out.front.data(), scratch);
+      if (scene.two_sided) shader.light_mesh(mesh, view, inst.model, true, begin, end, out.back.data(), scratch);
+    };
+    if (threads == 1 || n <= kParallelChunk) {
+      lighting::SoaScratch scratch;
+      light_range(0, n, scratch);
+    } else {
+      // Fixed chunks, each lit independently: the split cannot change a byte.
+      parallel::Arena arena(threads);
+      std::vector<lighting::SoaScratch> scratch(static_cast<std::size_t>(threads));
+      arena.execute([&] {
+        arena.parallel_for(tbb::blocked_range<std::size_t>(0, n, kParallelChunk),
+                           [&](const tbb::blocked_range<std::size_t>& r, int slot) {
+                             light_range(r.begin(), r.end(), scratch[static_cast<std::size_t>(slot)]);
+                           });
+      });
     }
   } catch (const std::bad_alloc&) {
     return {ErrorCode::invalid_argument, "instance", "out of memory for the vertex colours"};

@@ -72,7 +72,7 @@ simd::LightT<T> to_simd(const EyeLight<T>& L, PowTier tier) {
   s.inv_cone_span = L.inv_cone_span;
   // Schlick is a specular model; spot exponents keep a real pow.
   const PowTier spot_tier = tier == PowTier::schlick ? PowTier::automatic : tier;
-  s.spot_pow = resolve_pow(s.smooth_cone ? L.spot_falloff : L.spot_exponent, spot_tier);
+  s.spot_pow = resolve_pow(static_cast<float>(s.smooth_cone ? L.spot_falloff : L.spot_exponent), spot_tier);
   copy3(s.ambient, L.ambient);
   copy3(s.diffuse, L.diffuse);
   copy3(s.specular, L.specular);
