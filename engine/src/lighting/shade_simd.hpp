@@ -125,7 +125,7 @@ B pow_cos_exact(const V<B>& a, const V<B>& b, float s) {
   const B q = xsimd::sqrt(dot3(a, a) * dot3(b, b));
   const auto valid = (c > B(0.0f)) && (q > B(0.0f)) && (q <= B(std::numeric_limits<typename B::value_type>::max()));
   const B delta = xsimd::min(dot3(x, x) / (q * (q + c)), B(1.0f));
-  const B y = xsimd::exp2(B(double(s) * 1.4426950408889634) * xsimd::log1p(-delta));
+  const B y = xsimd::exp2(B(static_cast<typename B::value_type>(double(s) * 1.4426950408889634)) * xsimd::log1p(-delta));
   return xsimd::select(valid, fastmath::clamp01(y), B(0.0f));
 }
 
