@@ -73,6 +73,8 @@ struct FrameStats {
   std::uint64_t vertex_lights_skipped = 0;    // pairs the frame plan skipped (lights culled per object)
   std::uint64_t pixels_tested = 0;        // covered pixels that were depth-tested
   std::uint64_t pixels_filled = 0;        // pixels that passed and were written
+  // Per-object set-up, summed over objects: objects small enough to be set up side by side (one
+  // task each) add their thread time, so with several threads these can exceed the frame time.
   double seconds_lighting = 0;  // per-object set-up: clip transform, vertex (Gouraud) or centroid (flat) lighting
   double seconds_geometry = 0;  // transform, clip, project, set up, bin
   double seconds_raster = 0;    // wall time of the tile loop: coverage, depth, shading, resolve (all threads)
