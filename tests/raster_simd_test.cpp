@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "io/image_convert.hpp"
 #include "raster/tile_raster.hpp"
 #include "test_support.hpp"
 
@@ -189,6 +190,42 @@ TEST_P(SimdRaster, PlaneDepthAgreesWithBarycentricDepth) {
   EXPECT_LT(worst_scaled, 4.0 * 0x1p-24) << "error / (1 + 80 |gradient|), all triangles";
   std::printf("depth error: %.3g on well-shaped triangles; %.3g x (1 + 80 |gradient|) on all\n", worst_well_shaped,
               worst_scaled);
+}
+
+// The SIMD resolve quantises each pixel to 8 bits itself (TileKernel::unorm8, in the ISA's
+// template). Byte for byte, it must agree with to_unorm8 applied to the same pixel resolved as
+// float: rendered twice, as RGBA8 and as (non-HDR) RGBA32F, every channel of every pixel, for lit
+// pixels in both interpolating modes and for the clear colour in untouched blocks. The clear
+// colour sits on rounding boundaries (k + 0.5) / 255 and just below them.
+TEST_P(SimdRaster, ResolveQuantisesExactlyLikeToUnorm8) {
+  Scene scene = make_default_scene();
+  for (ShadingMode shading : {ShadingMode::gouraud, ShadingMode::phong}) {
+    for (float nudge : {0.0f, -1e-7f}) {
+      RenderOptions o;
+      o.path = LightingPath::simd;
+      o.isa = GetParam();
+      o.shading = shading;
+      o.threads = 1;
+      o.clear_color = {100.5f / 255.0f + nudge, 0.5f / 255.0f + nudge, 254.5f / 255.0f + nudge, 1.0f};
+      const int w = 96, h = 64;
+      std::vector<std::uint8_t> bytes(static_cast<std::size_t>(w) * h * 4);
+      std::vector<float> floats(static_cast<std::size_t>(w) * h * 4);
+      const ImageView as_bytes{bytes.data(), w, h, static_cast<std::size_t>(w) * 4, PixelFormat::rgba8, false};
+      const ImageView as_floats{reinterpret_cast<std::uint8_t*>(floats.data()), w, h, static_cast<std::size_t>(w) * 16,
+                                PixelFormat::rgba32f, false};
+      Renderer r(o);
+      ASSERT_TRUE(r.render(scene, as_bytes).ok());
+      ASSERT_TRUE(r.render(scene, as_floats).ok());
+      int mismatches = 0, lit = 0;
+      for (std::size_t k = 0; k < bytes.size(); ++k) {
+        if (bytes[k] != to_unorm8(floats[k])) ++mismatches;
+        if (k % 4 == 0 && floats[k] != o.clear_color[0]) ++lit;
+      }
+      EXPECT_EQ(mismatches, 0) << to_string(shading) << " nudge " << nudge;
+      EXPECT_GT(lit, w * h / 10) << "the scene must cover part of the image";
+      EXPECT_LT(lit, w * h) << "and leave some of the clear colour";
+    }
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Isas, SimdRaster, ::testing::Values(Isa::sse2, Isa::avx2, Isa::avx512),
