@@ -96,12 +96,17 @@ struct WorkerScratch {
   lighting::SoaScratch soa;
 };
 
-// Vertices per parallel lighting task: large enough to amortise scheduling, small enough to
-// spread a 36k-vertex mesh over the cores.
-constexpr std::size_t kVertexChunk = 4096;
-// Triangles per parallel set-up range. Fixed, so the split (and so every bin) is the same for
-// any thread count; small enough that its clipped pieces fit the 16-bit index of a bin entry.
-constexpr std::size_t kTriangleRange = 8192;
+// Vertices per parallel lighting task and triangles per parallel set-up range. Fixed, so the split
+// (and so every bin) is the same for any thread count. Small enough to spread a single 2-6k-triangle
+// object over 2 cores (2 threads, 1280x720: spot 1.36 -> 1.0 ms, fandisk 1.9 -> 1.5-1.65 ms, teapot
+// 1.4-1.5 -> 1.1-1.4 ms against 4096 and 8192); a range's clipped pieces fit the 16-bit index of a
+// bin entry (raster_kernels.hpp), and at most kMaxRanges ranges fit its other 16 bits.
+constexpr std::size_t kVertexChunk = 1024;
+constexpr std::size_t kTriangleRange = 2048;
+constexpr std::size_t kMaxRanges = std::size_t{1} << (32 - raster::kRangeShift);
+// Objects at most this large are set up whole by one task, side by side with other such objects.
+constexpr std::size_t kSmallObjectVertices = 4096;
+constexpr std::size_t kSmallObjectTriangles = 8192;
 
 // What happened to the triangles of one set-up range (see FrameStats for each counter).
 struct TriangleCounts {
@@ -246,6 +251,15 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
     }
     if (Status s = check_options(options); !s.ok()) return s;
     if (Status s = validate_scene(scene); !s.ok()) return s;
+    std::size_t ranges = 0;
+    for (const Instance& inst : scene.objects) {
+      ranges += (scene.meshes[inst.mesh].mesh.triangle_count() + kTriangleRange - 1) / kTriangleRange;
+    }
+    if (ranges > kMaxRanges) {
+      return {ErrorCode::invalid_argument, "scene.objects",
+              "scene.objects: too many triangles for one frame (" + std::to_string(ranges) + " ranges of " +
+                  std::to_string(kTriangleRange) + ", at most " + std::to_string(kMaxRanges) + ")"};
+    }
     const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
     if (!impl_->arena || impl_->arena_threads != threads) {
       impl_->arena = std::make_unique<parallel::Arena>(threads);
@@ -314,14 +328,13 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   }
   object_counts.assign(object_count, {});
   object_scratch.resize(workers.size());
-  // An object that fits one lighting chunk and one set-up range has no parallelism of its own:
-  // runs of such objects are set up side by side, one task per object (the built-in scene's six
+  // Runs of two or more small objects are set up side by side, one task per object (the built-in scene's six
   // objects took 1.6 ms of a 5.8 ms frame one after another on 2 threads). Larger objects are set
-  // up one at a time with their chunks spread over the threads.
+  // up one at a time with their chunks and ranges spread over the threads.
   auto small = [&](std::size_t o) {
     const Mesh& mesh = scene.meshes[scene.objects[o].mesh].mesh;
     const std::size_t lit = shading == ShadingMode::flat ? mesh.triangle_count() : mesh.vertex_count();
-    return lit <= kVertexChunk && mesh.triangle_count() <= kTriangleRange;
+    return lit <= kSmallObjectVertices && mesh.triangle_count() <= kSmallObjectTriangles;
   };
   for (std::size_t o = 0; o < object_count;) {
     if (!small(o)) {
@@ -331,6 +344,11 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     }
     std::size_t end = o + 1;
     while (end < object_count && small(end)) ++end;
+    if (end == o + 1) {  // alone: its own chunks and ranges are the only parallelism
+      set_up_object(scene, static_cast<std::uint32_t>(o), view, proj, lighting, object_scratch[0], -1);
+      ++o;
+      continue;
+    }
     arena->parallel_for(tbb::blocked_range<std::size_t>(o, end, 1), [&](const tbb::blocked_range<std::size_t>& r, int slot) {
       for (std::size_t k = r.begin(); k != r.end(); ++k) {
         set_up_object(scene, static_cast<std::uint32_t>(k), view, proj, lighting,
