@@ -125,13 +125,7 @@ B pow_integer_unit(B x, int s) {
 
 template <class B>
 B pow_integer(B x, int s) {
-  x = clamp_unit_bits(x);
-  B result(1.0f);
-  for (; s > 0; s >>= 1) {
-    if (s & 1) result *= x;
-    x *= x;
-  }
-  return result;
+  return pow_integer_unit(clamp_unit_bits(x), s);
 }
 
 template <class B>

@@ -1,10 +1,10 @@
 // Public lighting entry points: validate, set up once per call, run the chosen path.
 #include "facet/lighting.hpp"
 
-#include <algorithm>
 #include <new>
-#include <thread>
 #include <vector>
+
+#include <tbb/info.h>
 
 #include "common/look_at.hpp"
 #include "common/parallel.hpp"
@@ -97,8 +97,8 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
     } else {
       out.back.clear();
     }
-    const int threads = options.threads == 0 ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))
-                                             : options.threads;
+    // 0: as many as the renderer takes for RenderOptions::threads = 0.
+    const int threads = options.threads == 0 ? tbb::info::default_concurrency() : options.threads;
     auto light_range = [&](std::size_t begin, std::size_t end, lighting::SoaScratch& scratch) {
       shader.light_mesh(mesh, view, inst.model, false, begin, end, out.front.data(), scratch);
       if (scene.two_sided) shader.light_mesh(mesh, view, inst.model, true, begin, end, out.back.data(), scratch);

@@ -179,13 +179,14 @@ void PointShader::light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, cons
       return;
     case LightingPath::simd: break;
   }
-  const EyeTransform<float> e = make_eye_transform<float>(view, model);
+  // One double-precision set-up; the float kernel reads it rounded (make_eye_transform<float>
+  // rounds the same doubles).
   const EyeTransform<double> ed = make_eye_transform<double>(view, model);
   simd::Transform xf;
-  std::copy(e.position, e.position + 12, xf.position);
-  std::copy(e.normal, e.normal + 9, xf.normal);
   std::copy(ed.position, ed.position + 12, xf.position_d);
   std::copy(ed.normal, ed.normal + 9, xf.normal_d);
+  for (int k = 0; k < 12; ++k) xf.position[k] = static_cast<float>(ed.position[k]);
+  for (int k = 0; k < 9; ++k) xf.normal[k] = static_cast<float>(ed.normal[k]);
   const float sign = back_side ? -1.0f : 1.0f;
   run_simd(simd_shade_, simd_params_, &xf, end - begin, mesh.positions.data() + begin, mesh.normals.data() + begin, sign,
            out + begin, scratch);

@@ -98,14 +98,25 @@ V<B> normalize_or_zero(const V<B>& v) {
   }
 }
 
+// x^s with the method fixed at compile time: the specular pow (one kernel instantiation per
+// method); pow_spec picks the same functions at run time for spot exponents.
+template <PowMethod M, class B>
+[[gnu::always_inline]] inline B pow_fixed(const B& x, const PowSpec& p) {
+  if constexpr (M == PowMethod::one) return B(1.0f);
+  else if constexpr (M == PowMethod::exact) return fastmath::pow_exact(x, p.exponent);
+  else if constexpr (M == PowMethod::fast) return fastmath::pow_fast(x, p.exponent);
+  else if constexpr (M == PowMethod::integer) return fastmath::pow_integer(x, p.integer_exponent);
+  else return fastmath::pow_schlick(x, p.exponent);
+}
+
 template <class B>
 [[gnu::always_inline]] inline B pow_spec(const B& x, const PowSpec& p) {
   switch (p.method) {
-    case PowMethod::one: return B(1.0f);
-    case PowMethod::exact: return fastmath::pow_exact(x, p.exponent);
-    case PowMethod::fast: return fastmath::pow_fast(x, p.exponent);
-    case PowMethod::integer: return fastmath::pow_integer(x, p.integer_exponent);
-    case PowMethod::schlick: return fastmath::pow_schlick(x, p.exponent);
+    case PowMethod::one: return pow_fixed<PowMethod::one>(x, p);
+    case PowMethod::exact: return pow_fixed<PowMethod::exact>(x, p);
+    case PowMethod::fast: return pow_fixed<PowMethod::fast>(x, p);
+    case PowMethod::integer: return pow_fixed<PowMethod::integer>(x, p);
+    case PowMethod::schlick: return pow_fixed<PowMethod::schlick>(x, p);
   }
   return B(1.0f);
 }
@@ -137,18 +148,9 @@ B pow_unit_double(const B& x, float s) {
   return xsimd::select(x > B(0.0), xsimd::exp2(B(double(s)) * xsimd::log2(xsimd::select(x > B(0.0), x, B(1.0)))), B(0.0));
 }
 
-// The specular pow with its method fixed at compile time (one instantiation per method).
-template <PowMethod M, class B>
-[[gnu::always_inline]] inline B pow_fixed(const B& x, const PowSpec& p) {
-  if constexpr (M == PowMethod::one) return B(1.0f);
-  else if constexpr (M == PowMethod::exact) return fastmath::pow_exact(x, p.exponent);
-  else if constexpr (M == PowMethod::fast) return fastmath::pow_fast(x, p.exponent);
-  else if constexpr (M == PowMethod::integer) return fastmath::pow_integer(x, p.integer_exponent);
-  else return fastmath::pow_schlick(x, p.exponent);
-}
-
 template <class Arch, bool Exact, PowMethod Spec>
 void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
+  static_assert(!Exact || Spec == PowMethod::one || Spec == PowMethod::exact, "the exact tier's methods");
   using T = std::conditional_t<Exact, double, float>;
   using B = xsimd::batch<T, Arch>;
   constexpr std::size_t lanes = B::size;
@@ -257,10 +259,10 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
         if (prm.specular_on) {
           const V<B> half{vp.x + eye.x, vp.y + eye.y, vp.z + eye.z};
           B pow_nh;
-          if constexpr (Spec == PowMethod::exact) {
+          if constexpr (Spec == PowMethod::one) {
+            pow_nh = one;  // shininess 0: x^0 = 1, even at n.h = 0
+          } else if constexpr (Spec == PowMethod::exact) {
             pow_nh = pow_cos_exact(n, half, prm.specular_pow.exponent);
-          } else if constexpr (Exact) {
-            pow_nh = pow_fixed<Spec>(dot3(n, normalize_or_zero<true>(half)), prm.specular_pow);
           } else {
             // n.h / |h|: one estimate and no normalised h. A zero h (L = -V) gives 0.
             const B h2 = dot3(half, half);

@@ -108,6 +108,10 @@ constexpr std::size_t kMaxRanges = std::size_t{1} << (32 - raster::kRangeShift);
 constexpr std::size_t kSmallObjectVertices = 4096;
 constexpr std::size_t kSmallObjectTriangles = 8192;
 
+namespace {
+std::size_t range_count_of(const Mesh& mesh) { return (mesh.triangle_count() + kTriangleRange - 1) / kTriangleRange; }
+}  // namespace
+
 // What happened to the triangles of one set-up range (see FrameStats for each counter).
 struct TriangleCounts {
   std::uint64_t in = 0, nonfinite = 0, outside = 0, clipped = 0, culled = 0, degenerate = 0, small = 0, drawn = 0,
@@ -252,9 +256,7 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
     if (Status s = check_options(options); !s.ok()) return s;
     if (Status s = validate_scene(scene); !s.ok()) return s;
     std::size_t ranges = 0;
-    for (const Instance& inst : scene.objects) {
-      ranges += (scene.meshes[inst.mesh].mesh.triangle_count() + kTriangleRange - 1) / kTriangleRange;
-    }
+    for (const Instance& inst : scene.objects) ranges += range_count_of(scene.meshes[inst.mesh].mesh);
     if (ranges > kMaxRanges) {
       return {ErrorCode::invalid_argument, "scene.objects",
               "scene.objects: too many triangles for one frame (" + std::to_string(ranges) + " ranges of " +
@@ -320,7 +322,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   first_range.resize(object_count);
   for (std::size_t o = 0; o < object_count; ++o) {
     first_range[o] = range_count;
-    range_count += (scene.meshes[scene.objects[o].mesh].mesh.triangle_count() + kTriangleRange - 1) / kTriangleRange;
+    range_count += range_count_of(scene.meshes[scene.objects[o].mesh].mesh);
   }
   if (range_triangles.size() < range_count) {  // grows only with the scene
     range_triangles.resize(range_count);
@@ -534,9 +536,8 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
 void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, float alpha, const ObjectScratch& os,
                                      int slot) {
   const std::size_t count = mesh.triangle_count();
-  const std::size_t ranges = (count + kTriangleRange - 1) / kTriangleRange;
   const std::size_t first = first_range[object];
-  for_chunks(ranges, 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
+  for_chunks(range_count_of(mesh), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
     for (std::size_t r = rs.begin(); r != rs.end(); ++r) {
       assemble_range(mesh, object, alpha, r * kTriangleRange, std::min(count, (r + 1) * kTriangleRange), first + r, os);
     }
