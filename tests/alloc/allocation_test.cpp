@@ -39,24 +39,49 @@ void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::f
 namespace facet {
 namespace {
 
+// A scene with a large object (set up on slot 0, its chunks spread over the threads) beside
+// runs of small ones (set up side by side, one task each, on whichever slot takes them), so that
+// both kinds of per-slot scratch are exercised.
+Scene mixed_scene(bool two_sided) {
+  Scene scene = make_default_scene();
+  scene.two_sided = two_sided;
+  scene.meshes.push_back({"big", make_uv_sphere(0.6f, 96, 48)});
+  Instance big;
+  big.mesh = static_cast<std::uint32_t>(scene.meshes.size() - 1);
+  big.model(1, 3) = 1.5f;
+  scene.objects.insert(scene.objects.begin() + 2, big);
+  return scene;
+}
+
+// Which slot sets up which small object, and which worker joins the arena when, changes from
+// frame to frame; after one frame no schedule may allocate. Five steady frames per case, with
+// thread counts above the core count too (tools/stress runs this 200 times under load).
 TEST(SteadyState, SecondFrameAllocatesNothing) {
-  const Scene scene = make_default_scene();
   std::vector<std::uint8_t> pixels(320 * 200 * 4);
   std::vector<float> depth(320 * 200);
   const ImageView view{pixels.data(), 320, 200, 320 * 4, PixelFormat::rgba8, false};
   const DepthView depth_view{depth.data(), 320, 200, 320 * sizeof(float), false};
-  for (ShadingMode mode : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
-    for (int threads : {1, 2}) {
-      Renderer renderer;
-      RenderOptions o;
-      o.shading = mode;
-      o.threads = threads;
-      FrameStats stats;
-      ASSERT_TRUE(renderer.render(scene, o, view, &depth_view, &stats).ok());  // warms up
-      ASSERT_TRUE(renderer.render(scene, o, view, &depth_view, &stats).ok());
-      const long before = g_allocations.load();
-      ASSERT_TRUE(renderer.render(scene, o, view, &depth_view, &stats).ok());
-      EXPECT_EQ(g_allocations.load() - before, 0) << to_string(mode) << ", " << threads << " threads";
+  for (bool two_sided : {false, true}) {
+    const Scene scene = mixed_scene(two_sided);
+    for (LightingPath path : {LightingPath::simd, LightingPath::scalar}) {
+      for (ShadingMode mode : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+        for (int threads : {1, 2, 3, 8}) {
+          Renderer renderer;
+          RenderOptions o;
+          o.shading = mode;
+          o.path = path;
+          o.threads = threads;
+          FrameStats stats;
+          ASSERT_TRUE(renderer.render(scene, o, view, &depth_view, &stats).ok());  // warms up
+          const long before = g_allocations.load();
+          for (int frame = 0; frame < 5; ++frame) {
+            ASSERT_TRUE(renderer.render(scene, o, view, &depth_view, &stats).ok());
+          }
+          EXPECT_EQ(g_allocations.load() - before, 0)
+              << to_string(mode) << ", " << to_string(path) << ", " << threads << " threads"
+              << (two_sided ? ", two-sided" : "");
+        }
+      }
     }
   }
 }

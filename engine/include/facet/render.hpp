@@ -52,6 +52,8 @@ struct RenderOptions {
   int tile_size = 64;  // pixels; 8..256, a multiple of 8
   // Worker threads of this renderer (its own tbb::task_arena; process-wide TBB settings are
   // never touched): 0 = all cores, otherwise 1..256. The image is byte-identical for any value.
+  // More than TBB's process-wide limit (by default the hardware threads) runs that many:
+  // FrameStats::threads reports what ran.
   int threads = 0;
   std::array<float, 4> clear_color{0.0f, 0.0f, 0.0f, 1.0f};
   bool hdr = false;  // RGBA32F output keeps unclamped (>= 0) lighting; 8-bit output is always clamped
@@ -79,7 +81,7 @@ struct FrameStats {
   double seconds_geometry = 0;  // transform, clip, project, set up, bin
   double seconds_raster = 0;    // wall time of the tile loop: coverage, depth, shading, resolve (all threads)
   double seconds_resolve = 0;   // of which resolving tiles into the caller's image, summed over threads
-  int threads = 0;              // worker threads used
+  int threads = 0;              // worker threads the frame really had (the request, capped; see RenderOptions)
   double seconds_total = 0;
 };
 

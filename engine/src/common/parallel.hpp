@@ -17,18 +17,35 @@
 #include <thread>
 #include <vector>
 #else
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #endif
 
+#include <algorithm>
+
 namespace facet::parallel {
+
+// The threads an arena asked for `requested` can really run: TBB's process-wide limit on
+// parallelism (max_allowed_parallelism: read here, never set; by default the machine's hardware
+// threads) caps it. An arena asking for more workers than that limit makes libtbb print a warning
+// to stderr, which a library must never cause, and would report threads that never ran.
+inline int usable_threads(int requested) {
+#if defined(FACET_STD_THREADS)
+  return std::max(1, requested);
+#else
+  const std::size_t limit = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  return static_cast<int>(std::clamp<std::size_t>(static_cast<std::size_t>(std::max(1, requested)), 1, std::max<std::size_t>(1, limit)));
+#endif
+}
 
 class Arena {
  public:
-  explicit Arena(int threads) : threads_(threads)
+  // `threads` is capped by usable_threads(); threads() tells what the arena really has.
+  explicit Arena(int threads) : threads_(usable_threads(threads))
 #if !defined(FACET_STD_THREADS)
                                 ,
-                                arena_(threads)
+                                arena_(threads_)
 #endif
   {
   }

@@ -109,7 +109,7 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
     } else {
       // Fixed chunks, each lit independently: the split cannot change a byte.
       parallel::Arena arena(threads);
-      std::vector<lighting::SoaScratch> scratch(static_cast<std::size_t>(threads));
+      std::vector<lighting::SoaScratch> scratch(static_cast<std::size_t>(arena.threads()));
       arena.execute([&] {
         arena.parallel_for(tbb::blocked_range<std::size_t>(0, n, kParallelChunk),
                            [&](const tbb::blocked_range<std::size_t>& r, int slot) {

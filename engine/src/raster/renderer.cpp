@@ -169,6 +169,9 @@ struct Renderer::Impl {
     std::vector<ScreenVertex> screen;
     std::vector<Color3> front, back;
     std::vector<Vec3> eye_p, eye_n, centroid, face_normal;
+    // Capacity for any object of up to `vertices` vertices and `triangles` triangles in this
+    // shading mode, so that whichever object a slot gets, set-up allocates nothing.
+    void reserve(std::size_t vertices, std::size_t triangles, ShadingMode mode, bool two_sided);
   };
   std::vector<ObjectScratch> object_scratch;
   // Per object: its first set-up range (ranges are numbered in object order, so bins do not
@@ -262,12 +265,12 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
               "scene.objects: too many triangles for one frame (" + std::to_string(ranges) + " ranges of " +
                   std::to_string(kTriangleRange) + ", at most " + std::to_string(kMaxRanges) + ")"};
     }
-    const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+    const int threads = parallel::usable_threads(options.threads > 0 ? options.threads : tbb::info::default_concurrency());
     if (!impl_->arena || impl_->arena_threads != threads) {
       impl_->arena = std::make_unique<parallel::Arena>(threads);
-      impl_->arena_threads = threads;
+      impl_->arena_threads = impl_->arena->threads();
       impl_->workers.clear();
-      impl_->workers.resize(static_cast<std::size_t>(threads));
+      impl_->workers.resize(static_cast<std::size_t>(impl_->arena_threads));
     }
     impl_->arena->execute([&] { impl_->render(scene, options, color, depth); });
     impl_->last_stats = impl_->stats;
@@ -338,6 +341,23 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     const std::size_t lit = shading == ShadingMode::flat ? mesh.triangle_count() : mesh.vertex_count();
     return lit <= kSmallObjectVertices && mesh.triangle_count() <= kSmallObjectTriangles;
   };
+  // Which slot sets up which small object depends on the schedule, so every slot's scratch is
+  // sized here, on the calling thread, for the largest object it could get: slot 0 for every
+  // object (large ones always run on it), the others for every small one. A frame that has run
+  // once then allocates nothing, whatever the schedule (tests/alloc).
+  std::size_t small_v = 0, small_t = 0, all_v = 0, all_t = 0;
+  for (std::size_t o = 0; o < object_count; ++o) {
+    const Mesh& mesh = scene.meshes[scene.objects[o].mesh].mesh;
+    all_v = std::max(all_v, mesh.vertex_count());
+    all_t = std::max(all_t, mesh.triangle_count());
+    if (small(o)) {
+      small_v = std::max(small_v, mesh.vertex_count());
+      small_t = std::max(small_t, mesh.triangle_count());
+    }
+  }
+  for (std::size_t slot = 0; slot < object_scratch.size(); ++slot) {
+    object_scratch[slot].reserve(slot == 0 ? all_v : small_v, slot == 0 ? all_t : small_t, shading, two_sided);
+  }
   for (std::size_t o = 0; o < object_count;) {
     if (!small(o)) {
       set_up_object(scene, static_cast<std::uint32_t>(o), view, proj, lighting, object_scratch[0], -1);
@@ -413,6 +433,25 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   stats.vertex_lights_evaluated += counters.light_pairs;
   stats.vertex_lights_skipped += counters.skipped_pairs;
   stats.seconds_total = seconds_since(frame_start);
+}
+
+void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t triangles, ShadingMode mode,
+                                            bool two_sided) {
+  clip.reserve(vertices);
+  screen.reserve(vertices);
+  if (mode == ShadingMode::gouraud) {
+    front.reserve(vertices);
+    if (two_sided) back.reserve(vertices);
+    return;
+  }
+  eye_p.reserve(vertices);
+  eye_n.reserve(vertices);
+  if (mode == ShadingMode::flat) {
+    centroid.reserve(triangles);
+    face_normal.reserve(triangles);
+    front.reserve(triangles);
+    if (two_sided) back.reserve(triangles);
+  }
 }
 
 template <class Body>
