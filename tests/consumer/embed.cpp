@@ -12,7 +12,10 @@ int main() {
   clay.specular = facet::Color3(0.4f, 0.4f, 0.4f);
   clay.shininess = 32;
   scene.materials.push_back(clay);
-  scene.objects.push_back({0, 0, facet::Mat4::Identity()});
+  facet::Mat4 model = facet::Mat4::Identity();  // a transform: it must reach the library intact
+  model(0, 3) = 0.25f;
+  model(1, 1) = 1.5f;
+  scene.objects.push_back({0, 0, model});
   scene.lights.push_back(facet::Light{});  // white, directional, along -z
   scene.camera.eye = facet::Vec3(0, 0, 4);
 

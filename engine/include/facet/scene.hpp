@@ -31,6 +31,9 @@ struct Instance {
   std::uint32_t material = 0;  // index into Scene::materials
   Mat4 model = Mat4::Identity();  // model -> world; must be invertible
 };
+// One layout whatever the host's compiler flags (types.hpp): a host built with -mavx2 or
+// -march=native shares these structs with a library built for baseline x86-64.
+static_assert(sizeof(Instance) == 72 && alignof(Instance) == 4, "facet::Instance must not depend on compiler flags");
 
 struct Scene {
   std::vector<NamedMesh> meshes;
