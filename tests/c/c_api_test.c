@@ -17,6 +17,13 @@ static int failures = 0;
 
 enum { W = 48, H = 32, GUARD = 64 };
 
+static int progress_calls = 0;
+static int cancel_at_first_call(void* user, double done) {
+  (void)user;
+  ++progress_calls;
+  return done < 0.0; /* 0: cancel */
+}
+
 int main(void) {
   /* An octahedron of radius 1 at the origin, normals computed by facet. */
   const float positions[] = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
@@ -84,7 +91,27 @@ int main(void) {
   CHECK(depth[W * (H / 2) + W / 2] < 1.0f && depth[0] == 1.0f);
   for (size_t i = 0; i < GUARD; ++i) CHECK(buffer[i] == 0xA5 && buffer[sizeof buffer - 1 - i] == 0xA5);
 
+  /* A memory budget the frame exceeds: out of memory, before a byte is written. */
+  memset(buffer, 0xA5, sizeof buffer);
+  config = facet_render_config_default();
+  config.memory_budget_bytes = 1024;
+  facet_renderer* tight = facet_renderer_create(&config, &status);
+  CHECK(tight != NULL);
+  CHECK(facet_render(tight, scene, pixels, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OUT_OF_MEMORY);
+  CHECK(strstr(facet_renderer_last_error(tight), "memory_budget_bytes") != NULL);
+  for (size_t i = 0; i < sizeof buffer; ++i) CHECK(buffer[i] == 0xA5);
+  facet_renderer_destroy(tight);
+  /* A progress callback that cancels: FACET_CANCELLED. */
+  config = facet_render_config_default();
+  config.progress = cancel_at_first_call;
+  facet_renderer* cancelled = facet_renderer_create(&config, &status);
+  CHECK(cancelled != NULL);
+  CHECK(facet_render(cancelled, scene, pixels, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_CANCELLED);
+  CHECK(progress_calls == 1);
+  facet_renderer_destroy(cancelled);
+
   /* Invalid configurations are refused at creation, also enum values no enumerator has. */
+  config = facet_render_config_default();
   config.tile_size = 12;
   CHECK(facet_renderer_create(&config, &status) == NULL && status == FACET_INVALID_ARGUMENT);
   config = facet_render_config_default();

@@ -65,9 +65,11 @@ std::string describe_path(LightingPath path, Isa isa, PowTier tier) {
   return std::string("simd ") + to_string(isa == Isa::best ? best_isa() : isa) + " (pow " + to_string(tier) + ")";
 }
 
-std::optional<Scene> load_scene_or_default(const std::string& path) {
+std::optional<Scene> load_scene_or_default(const std::string& path, std::uint64_t memory_budget_bytes) {
   if (path.empty()) return make_default_scene();
-  Result<Scene> loaded = load_scene_file(path);
+  LoadOptions options;
+  options.memory_budget_bytes = memory_budget_bytes;
+  Result<Scene> loaded = load_scene_file(path, options);
   if (!loaded) {
     fail(loaded.status().message());
     return std::nullopt;

@@ -40,7 +40,8 @@ std::optional<PowTier> parse_pow_tier(const std::string& name);
 std::string describe_path(LightingPath path, Isa isa, PowTier tier);
 
 // The scene named on the command line, or the built-in one when `path` is empty.
-std::optional<Scene> load_scene_or_default(const std::string& path);
+// `memory_budget_bytes`: LoadOptions::memory_budget_bytes (0 = no limit).
+std::optional<Scene> load_scene_or_default(const std::string& path, std::uint64_t memory_budget_bytes = kDefaultLoadBudgetBytes);
 
 // Lights every object of `scene` into out[i] (light_instance for each).
 Status light_scene(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out);

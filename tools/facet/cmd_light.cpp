@@ -23,7 +23,15 @@ constexpr const char* kLightUsage =
     "  --json         print the results as one JSON object\n"
     "  -h, --help     this text\n";
 
-constexpr const char* kCheckUsage = "usage: facet check SCENE.json\n";
+constexpr const char* kCheckUsage =
+    "usage: facet check SCENE.json [options]\n"
+    "\n"
+    "Loads the scene and makes every check 'facet render' makes before it draws: the scene file, the\n"
+    "frame's limits and its memory estimate, for an image of the given size.\n"
+    "\n"
+    "options:\n"
+    "  --width W, --height H   the image size to check for (default 1280 x 720)\n"
+    "  --memory-budget-mb M    as for 'facet render' (default 4096; 0 = no limit)\n";
 
 struct PathResult {
   LightingOptions options;
@@ -181,18 +189,44 @@ int run_light(int argc, char** argv) {
 }
 
 int run_check(int argc, char** argv) {
-  if (argc >= 1 && (std::strcmp(argv[0], "-h") == 0 || std::strcmp(argv[0], "--help") == 0)) {
-    std::fputs(kCheckUsage, stdout);
-    return 0;
+  std::string scene_path;
+  int width = 1280, height = 720;
+  RenderOptions options;
+  Args args(argc, argv);
+  std::string arg;
+  while (args.next(arg)) {
+    if (arg == "-h" || arg == "--help") {
+      std::fputs(kCheckUsage, stdout);
+      return 0;
+    } else if (arg == "--width" || arg == "--height") {
+      const auto v = args.int_value(arg, 1, kMaxImageDimension);
+      if (!v) return 2;
+      (arg == "--width" ? width : height) = *v;
+    } else if (arg == "--memory-budget-mb") {
+      const auto v = args.int_value(arg, 0, 1 << 30);
+      if (!v) return 2;
+      options.memory_budget_bytes = static_cast<std::uint64_t>(*v) << 20;
+    } else if (!arg.empty() && arg[0] == '-') {
+      return fail("check: unknown option '" + arg + "' (see 'facet check --help')");
+    } else if (scene_path.empty()) {
+      scene_path = arg;
+    } else {
+      return fail(std::string("check needs exactly one scene file\n") + kCheckUsage);
+    }
   }
-  if (argc != 1) return fail(std::string("check needs exactly one scene file\n") + kCheckUsage);
-  Result<Scene> scene = load_scene_file(argv[0]);
+  if (scene_path.empty()) return fail(std::string("check needs exactly one scene file\n") + kCheckUsage);
+  LoadOptions load;
+  load.memory_budget_bytes = options.memory_budget_bytes;
+  Result<Scene> scene = load_scene_file(scene_path, load);
   if (!scene) return fail(scene.status().message());
+  if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(scene_path + ": " + s.message());
   std::size_t triangles = 0;
   for (const auto& obj : scene->objects) triangles += scene->meshes[obj.mesh].mesh.triangle_count();
-  std::printf("%s: ok — %zu meshes, %zu materials, %zu objects (%zu vertices, %zu triangles), %zu lights\n", argv[0],
-              scene->meshes.size(), scene->materials.size(), scene->objects.size(), scene_vertices(*scene), triangles,
-              scene->lights.size());
+  std::printf("%s: ok — %zu meshes, %zu materials, %zu objects (%zu vertices, %zu triangles), %zu lights; a %d x %d "
+              "frame needs about %llu MiB\n",
+              scene_path.c_str(), scene->meshes.size(), scene->materials.size(), scene->objects.size(),
+              scene_vertices(*scene), triangles, scene->lights.size(), width, height,
+              static_cast<unsigned long long>((estimate_frame_bytes(*scene, options, width, height) + (1u << 20) - 1) >> 20));
   return 0;
 }
 

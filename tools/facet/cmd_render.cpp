@@ -24,6 +24,8 @@ constexpr const char* kRenderUsage =
     "  --pow T                auto | exact | fast | integer | schlick: how --path simd evaluates the\n"
     "                         specular and spot exponents (default auto)\n"
     "  --threads N            worker threads, 0 = all cores (default 0); the image is the same for any N\n"
+    "  --memory-budget-mb M   the most memory the scene, the frame and the image may take, in MiB; 0 = no\n"
+    "                         limit (default 4096 for loading and 4096 for the frame's scratch)\n"
     "  --cull C               back | front | none (default back)\n"
     "  --tile N               tile size in pixels, a multiple of 8 in [8, 256] (default 64)\n"
     "  --hdr                  keep unclamped lighting in .pfm output\n"
@@ -38,15 +40,6 @@ std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
-}
-
-Status ensure_parent_directory(const std::string& path) {
-  const auto parent = std::filesystem::path(path).parent_path();
-  if (parent.empty()) return {};
-  std::error_code ec;
-  std::filesystem::create_directories(parent, ec);
-  if (ec) return {ErrorCode::io_error, "path", "cannot create directory '" + parent.string() + "': " + ec.message()};
-  return {};
 }
 
 void print_stats_text(const FrameStats& s, int frames, double seconds) {
@@ -150,6 +143,10 @@ int run_render(int argc, char** argv) {
       const auto v = args.int_value(arg, 0, 256);
       if (!v) return 2;
       options.threads = *v;
+    } else if (arg == "--memory-budget-mb") {
+      const auto v = args.int_value(arg, 0, 1 << 30);
+      if (!v) return 2;
+      options.memory_budget_bytes = static_cast<std::uint64_t>(*v) << 20;
     } else if (arg == "--cull") {
       const auto v = args.value(arg);
       if (!v) return 2;
@@ -191,13 +188,27 @@ int run_render(int argc, char** argv) {
   if (ext != ".png" && ext != ".pfm") return fail("-o: the output file must end in .png or .pfm, found '" + output + "'");
   if (options.hdr && ext != ".pfm") return fail("--hdr needs a .pfm output (PNG is 8-bit)");
 
-  std::optional<Scene> scene = load_scene_or_default(scene_path);
+  std::optional<Scene> scene = load_scene_or_default(scene_path, options.memory_budget_bytes);
   if (!scene) return 2;
+  // Everything the renderer refuses is refused before the image is allocated.
+  if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(s.message());
 
   const PixelFormat format = ext == ".pfm" ? PixelFormat::rgba32f : PixelFormat::rgba8;
   const std::size_t stride = static_cast<std::size_t>(width) * bytes_per_pixel(format);
-  std::vector<std::uint8_t> pixels(stride * static_cast<std::size_t>(height));
+  const std::uint64_t image_bytes = static_cast<std::uint64_t>(stride) * static_cast<std::uint64_t>(height) +
+                                    (depth_path.empty() ? 0 : std::uint64_t{4} * std::uint64_t(width) * std::uint64_t(height));
+  if (options.memory_budget_bytes != 0 && image_bytes > options.memory_budget_bytes) {
+    return fail("--memory-budget-mb: a " + std::to_string(width) + " x " + std::to_string(height) + " image takes " +
+                std::to_string(image_bytes >> 20) + " MiB, over the budget of " +
+                std::to_string(options.memory_budget_bytes >> 20) + " MiB");
+  }
+  std::vector<std::uint8_t> pixels;
   std::vector<float> depth_pixels;
+  try {
+    pixels.resize(stride * static_cast<std::size_t>(height));
+  } catch (const std::bad_alloc&) {
+    return fail("out of memory for a " + std::to_string(width) + " x " + std::to_string(height) + " image");
+  }
   const ImageView image{pixels.data(), width, height, stride, format, false};
   DepthView depth;
   if (!depth_path.empty()) {
@@ -218,10 +229,6 @@ int run_render(int argc, char** argv) {
     elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   } while (elapsed < min_seconds);
 
-  for (const std::string& path : {output, depth_path}) {
-    if (path.empty()) continue;
-    if (Status s = ensure_parent_directory(path); !s.ok()) return fail(s.message());
-  }
   const Status written = ext == ".png" ? write_png(output, image) : write_pfm(output, image);
   if (!written.ok()) return fail(written.message());
   if (!depth_path.empty()) {

@@ -1,6 +1,7 @@
 // facet — command-line front end: render, compare, light, check, accuracy.
 // Errors go to stderr with exit status 2 (1 from `compare` means "images differ"); every message
 // names what was wrong.
+#include <csignal>
 #include <cstdio>
 #include <string>
 
@@ -23,6 +24,9 @@ constexpr const char* kUsage =
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A write past `ulimit -f` then fails with EFBIG and is reported (the old output file is kept)
+  // instead of killing the process with SIGXFSZ. The program's choice; the library sets no signal.
+  std::signal(SIGXFSZ, SIG_IGN);
   if (argc < 2) {
     std::fputs(kUsage, stderr);
     return 2;

@@ -28,7 +28,8 @@ typedef enum facet_status {
   FACET_PARSE_ERROR = 2,      /* a file is not well-formed */
   FACET_IO_ERROR = 3,         /* a file cannot be read or written */
   FACET_UNSUPPORTED = 4,      /* e.g. an instruction set this CPU does not have */
-  FACET_OUT_OF_MEMORY = 5
+  FACET_OUT_OF_MEMORY = 5,    /* an allocation failed, or the frame would exceed its memory budget */
+  FACET_CANCELLED = 6         /* the progress callback returned 0 */
 } facet_status;
 
 typedef enum facet_pixel_format { FACET_RGBA8 = 0, FACET_BGRA8 = 1, FACET_RGBA32F = 2 } facet_pixel_format;
@@ -47,6 +48,14 @@ typedef struct facet_render_config {
   int tile_size;       /* 8..256, a multiple of 8 */
   int threads;         /* 0 = all cores, else 1..256; the image is the same for any value */
   float clear_color[4];
+  /* The most scratch memory one frame may take (estimated before allocating; a frame over it
+   * fails with FACET_OUT_OF_MEMORY before any pixel is written); 0 = no limit. Default 4 GiB. */
+  uint64_t memory_budget_bytes;
+  /* Optional (NULL: none): called from the renderer's threads, one call at a time, with the share
+   * of the frame done in [0, 1]; return 0 to cancel (facet_render then returns FACET_CANCELLED;
+   * pixels may be partly written if the tiles had started). */
+  int (*progress)(void* user, double done);
+  void* progress_user;
 } facet_render_config;
 
 typedef struct facet_material {

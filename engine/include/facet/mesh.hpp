@@ -50,14 +50,22 @@ Mesh make_cube(float size, int subdivisions);                     // subdivision
 Mesh make_plane(float size_x, float size_z, int subdivisions);    // in y = 0, normal +y
 Mesh make_torus(float major_radius, float minor_radius, int segments, int sides);  // around y
 
+// The memory a load may use unless told otherwise (LoadOptions, ObjOptions): 4 GiB.
+inline constexpr std::uint64_t kDefaultLoadBudgetBytes = std::uint64_t{4} << 30;
+
 struct ObjOptions {
   // Used when the file has no `vn` normals (or not for every corner).
   float crease_angle_deg = kDefaultCreaseAngleDeg;
+  // load_obj refuses a file larger than this (ErrorCode::out_of_memory) before reading it, and a
+  // mesh whose arrays would exceed it. 0 = no limit.
+  std::uint64_t memory_budget_bytes = kDefaultLoadBudgetBytes;
 };
 
-// Wavefront OBJ through tinyobjloader: polygons are triangulated, `v`, `v/vt`, `v//vn`, `v/vt/vn`
-// and negative (relative) indices are accepted, all groups/objects are merged into one mesh and
-// materials are ignored. Errors name the file and line.
+// Wavefront OBJ through tinyobjloader: polygons of any corner count are triangulated as fans from
+// their first corner, `v`, `v/vt`, `v//vn`, `v/vt/vn` and negative (relative) indices are
+// accepted, all groups/objects are merged into one mesh and materials are ignored. Every number
+// is read by facet (correctly rounded); NaN, infinities and values outside a float's range are
+// errors. Errors name the file and line. Only regular files are read (not FIFOs or devices).
 Result<Mesh> load_obj(const std::string& path, const ObjOptions& options = {});
 // The same from text in memory; `source_name` is used in messages.
 Result<Mesh> parse_obj(const std::string& text, const std::string& source_name,

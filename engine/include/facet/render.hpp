@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include "facet/image.hpp"
@@ -58,6 +59,19 @@ struct RenderOptions {
   std::array<float, 4> clear_color{0.0f, 0.0f, 0.0f, 1.0f};
   bool hdr = false;  // RGBA32F output keeps unclamped (>= 0) lighting; 8-bit output is always clamped
   bool cull_lights = true;  // the frame plan's per-object light culling (LightingOptions::cull_lights)
+  // The most memory one frame may take in the renderer's own scratch (transformed vertices,
+  // triangle records, bins, per-thread tiles; not the caller's scene or image), estimated from
+  // the scene before anything is allocated (estimate_frame_bytes). A frame over it is refused with
+  // ErrorCode::out_of_memory before any pixel is written. 0 = no limit. `facet render
+  // --memory-budget-mb` sets it.
+  std::uint64_t memory_budget_bytes = std::uint64_t{4} << 30;
+  // Progress and cancellation, for long frames: called with the share of the frame's work done
+  // so far (an estimate in [0, 1] that only grows), after each vertex chunk, set-up range and tile.
+  // Return false to cancel: render() then stops at the next chunk or tile and returns
+  // ErrorCode::cancelled. A frame cancelled before its tiles started has written no pixel; one
+  // cancelled later leaves the image partly written. Called from the renderer's worker threads,
+  // one call at a time (never concurrently); it must not call into the same Renderer.
+  std::function<bool(double done)> progress;
 };
 
 struct FrameStats {
@@ -88,6 +102,17 @@ struct FrameStats {
 // Checks options on their own (what render() checks before touching anything): the ranges above,
 // and that options.isa exists on this CPU when options.path is simd.
 Status check_render_options(const RenderOptions& options) noexcept;
+
+// Everything render() checks before it allocates or writes anything, without rendering: the
+// scene (validate_scene), the options, the frame's limit on set-up ranges (each object takes one
+// range per 2048 triangles, at least one if it has any; a frame holds at most 65536 ranges, so at
+// most 65536 objects and 134,217,728 triangles) and the memory estimate against
+// options.memory_budget_bytes, for a width x height image. `facet check` calls it too.
+Status check_render(const Scene& scene, const RenderOptions& options, int width, int height) noexcept;
+
+// The renderer's scratch memory for one frame of `scene` (an upper estimate for unclipped
+// geometry): what RenderOptions::memory_budget_bytes is compared with.
+std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& options, int width, int height) noexcept;
 
 class Renderer {
  public:

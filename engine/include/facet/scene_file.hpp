@@ -3,18 +3,32 @@
 // (`lights[2].position`), what was expected and what was found.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <string>
 
+#include "facet/mesh.hpp"
 #include "facet/scene.hpp"
 #include "facet/status.hpp"
 
 namespace facet {
 
-Result<Scene> load_scene_file(const std::string& path);
+struct LoadOptions {
+  // The most memory the loaded scene's meshes and the files read for it may take: each mesh's
+  // size is computed before it is generated or read, and a scene over the budget is refused with
+  // ErrorCode::out_of_memory, naming the mesh that crossed it. 0 = no limit. `facet
+  // --memory-budget-mb` sets it.
+  std::uint64_t memory_budget_bytes = kDefaultLoadBudgetBytes;
+  // Progress and cancellation: called on the calling thread after each mesh with the share of
+  // meshes done; return false to stop the load with ErrorCode::cancelled.
+  std::function<bool(double done)> progress;
+};
+
+Result<Scene> load_scene_file(const std::string& path, const LoadOptions& options = {});
 
 // The same from text. `source_name` is used in messages; OBJ paths are resolved against
 // `base_dir` (empty = the current directory).
 Result<Scene> parse_scene_json(const std::string& text, const std::string& source_name,
-                               const std::string& base_dir);
+                               const std::string& base_dir, const LoadOptions& options = {});
 
 }  // namespace facet

@@ -15,6 +15,8 @@ enum class ErrorCode {
   parse_error,       // a file is not well-formed (JSON syntax, OBJ line)
   io_error,          // a file cannot be opened or read
   unsupported,       // well-formed but not something this build can do
+  out_of_memory,     // an allocation failed, or the work would exceed the memory budget it was given
+  cancelled,         // the caller's progress callback asked to stop
 };
 
 const char* to_string(ErrorCode code) noexcept;

@@ -29,6 +29,8 @@ facet_status to_c(facet::ErrorCode code) {
     case facet::ErrorCode::parse_error: return FACET_PARSE_ERROR;
     case facet::ErrorCode::io_error: return FACET_IO_ERROR;
     case facet::ErrorCode::unsupported: return FACET_UNSUPPORTED;
+    case facet::ErrorCode::out_of_memory: return FACET_OUT_OF_MEMORY;
+    case facet::ErrorCode::cancelled: return FACET_CANCELLED;
   }
   return FACET_INVALID_ARGUMENT;
 }
@@ -93,6 +95,11 @@ bool to_options(const facet_render_config& c, facet::RenderOptions& o, std::stri
   o.tile_size = c.tile_size;
   o.threads = c.threads;
   for (int i = 0; i < 4; ++i) o.clear_color[static_cast<std::size_t>(i)] = c.clear_color[i];
+  o.memory_budget_bytes = c.memory_budget_bytes;
+  o.progress = nullptr;
+  if (c.progress) {
+    o.progress = [fn = c.progress, user = c.progress_user](double done) { return fn(user, done) != 0; };
+  }
   return true;
 }
 
@@ -110,6 +117,9 @@ facet_render_config facet_render_config_default(void) {
   c.tile_size = o.tile_size;
   c.threads = o.threads;
   for (int i = 0; i < 4; ++i) c.clear_color[i] = o.clear_color[static_cast<std::size_t>(i)];
+  c.memory_budget_bytes = o.memory_budget_bytes;
+  c.progress = nullptr;
+  c.progress_user = nullptr;
   return c;
 }
 

@@ -1,8 +1,9 @@
-// Internal: numbers in messages, shortest readable form ("0.5", "4096", "1e+09", "nan").
+// Internal: numbers and untrusted text in messages.
 #pragma once
 
 #include <cstdio>
 #include <string>
+#include <string_view>
 
 namespace facet {
 
@@ -10,6 +11,38 @@ inline std::string format_number(double value) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.9g", value);
   return buf;
+}
+
+// Text from a file or a caller (a token, a name, a path) as a short, quoted, printable excerpt:
+// control bytes, DEL and bytes >= 0x80 as \xNN (\n, \t, \r by name; a NUL does not cut the
+// message), quotes and backslashes escaped, and at most `max_chars` characters of the original
+// followed by "..." when it was longer. A message never carries a terminal escape or a whole line
+// of a file that was not what it claimed to be.
+inline std::string quote(std::string_view text, std::size_t max_chars = 48) {
+  std::string out = "'";
+  const std::size_t n = text.size() < max_chars ? text.size() : max_chars;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (c == '\'' || c == '\\') {
+      out += '\\';
+      out += static_cast<char>(c);
+    } else if (c < 0x20 || c >= 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  if (n < text.size()) out += "...";
+  out += "'";
+  return out;
 }
 
 }  // namespace facet

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "facet/image.hpp"
+#include "io/file_access.hpp"
 #include "io/image_convert.hpp"
 
 namespace facet {
@@ -18,38 +19,39 @@ Status io_error(const std::string& path, const std::string& what) {
   return {ErrorCode::io_error, "path", "'" + path + "': " + what};
 }
 
-struct FileCloser {
-  void operator()(std::FILE* f) const { std::fclose(f); }
-};
-
 }  // namespace
 
 Status write_png(const std::string& path, const ImageView& image) {
   if (Status s = validate_image_view(image); !s.ok()) return s;
   try {
     const Rgba8Image rgba = to_rgba8(image);
-    png_image png;
-    std::memset(&png, 0, sizeof png);
-    png.version = PNG_IMAGE_VERSION;
-    png.width = static_cast<png_uint_32>(rgba.width);
-    png.height = static_cast<png_uint_32>(rgba.height);
-    png.format = PNG_FORMAT_RGBA;
-    if (!png_image_write_to_file(&png, path.c_str(), 0, rgba.pixels.data(), 0, nullptr)) {
-      const std::string why = png.message;
-      png_image_free(&png);
-      return io_error(path, "cannot write PNG: " + why);
-    }
-    return {};
+    return io::write_file_atomically(path, "PNG file", [&](std::FILE* f) -> Status {
+      png_image png;
+      std::memset(&png, 0, sizeof png);
+      png.version = PNG_IMAGE_VERSION;
+      png.width = static_cast<png_uint_32>(rgba.width);
+      png.height = static_cast<png_uint_32>(rgba.height);
+      png.format = PNG_FORMAT_RGBA;
+      if (!png_image_write_to_stdio(&png, f, 0, rgba.pixels.data(), 0, nullptr)) {
+        const std::string why = png.message;
+        png_image_free(&png);
+        return io_error(path, "cannot write PNG: " + why);
+      }
+      return {};
+    });
   } catch (const std::bad_alloc&) {
-    return io_error(path, "out of memory");
+    return {ErrorCode::out_of_memory, "path", "'" + path + "': out of memory"};
   }
 }
 
 Result<Rgba8Image> read_png(const std::string& path) {
+  // Through io::read_file: regular files only (a FIFO would block forever), read whole.
+  Result<std::string> bytes = io::read_file(path, "PNG file");
+  if (!bytes) return bytes.status();
   png_image png;
   std::memset(&png, 0, sizeof png);
   png.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_file(&png, path.c_str())) {
+  if (!png_image_begin_read_from_memory(&png, bytes->data(), bytes->size())) {
     return io_error(path, std::string("cannot read PNG: ") + png.message);
   }
   if (png.width < 1 || png.height < 1 || png.width > static_cast<png_uint_32>(kMaxImageDimension) ||
@@ -65,7 +67,7 @@ Result<Rgba8Image> read_png(const std::string& path) {
     out.pixels.resize(PNG_IMAGE_SIZE(png));
   } catch (const std::bad_alloc&) {
     png_image_free(&png);
-    return io_error(path, "out of memory");
+    return Status{ErrorCode::out_of_memory, "path", "'" + path + "': out of memory"};
   }
   if (!png_image_finish_read(&png, nullptr, out.pixels.data(), 0, nullptr)) {
     const std::string why = png.message;
@@ -80,18 +82,19 @@ namespace {
 // PFM rows go bottom to top; a negative scale means little-endian floats.
 template <class Pixel>
 Status write_pfm_rows(const std::string& path, const char* magic, int width, int height, int channels, Pixel pixel) {
-  std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "wb"));
-  if (!f) return io_error(path, "cannot open for writing");
-  std::fprintf(f.get(), "%s\n%d %d\n-1.0\n", magic, width, height);
-  std::vector<float> row(static_cast<std::size_t>(width) * static_cast<std::size_t>(channels));
-  for (int y = height - 1; y >= 0; --y) {  // y counts from the top
-    for (int x = 0; x < width; ++x) pixel(x, y, &row[static_cast<std::size_t>(x * channels)]);
-    if (std::fwrite(row.data(), sizeof(float), row.size(), f.get()) != row.size()) {
-      return io_error(path, "write failed");
-    }
+  try {
+    std::vector<float> row(static_cast<std::size_t>(width) * static_cast<std::size_t>(channels));
+    return io::write_file_atomically(path, "PFM file", [&](std::FILE* f) -> Status {
+      if (std::fprintf(f, "%s\n%d %d\n-1.0\n", magic, width, height) < 0) return io_error(path, "write failed");
+      for (int y = height - 1; y >= 0; --y) {  // y counts from the top
+        for (int x = 0; x < width; ++x) pixel(x, y, &row[static_cast<std::size_t>(x * channels)]);
+        if (std::fwrite(row.data(), sizeof(float), row.size(), f) != row.size()) return io_error(path, "write failed");
+      }
+      return {};
+    });
+  } catch (const std::bad_alloc&) {
+    return {ErrorCode::out_of_memory, "path", "'" + path + "': out of memory"};
   }
-  if (std::fflush(f.get()) != 0) return io_error(path, "write failed");
-  return {};
 }
 
 }  // namespace

@@ -118,7 +118,7 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
       });
     }
   } catch (const std::bad_alloc&) {
-    return {ErrorCode::invalid_argument, "instance", "out of memory for the vertex colours"};
+    return {ErrorCode::out_of_memory, "instance", "out of memory for the vertex colours"};
   }
   return {};
 }

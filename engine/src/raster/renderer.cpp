@@ -4,8 +4,10 @@
 // order; then rasterize every tile from its bin and resolve it into the caller's image, one task
 // per tile.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <new>
 
 #include <tbb/blocked_range.h>
@@ -110,6 +112,31 @@ constexpr std::size_t kSmallObjectTriangles = 8192;
 
 namespace {
 std::size_t range_count_of(const Mesh& mesh) { return (mesh.triangle_count() + kTriangleRange - 1) / kTriangleRange; }
+
+std::string mib(std::uint64_t bytes) {
+  return std::to_string((bytes + (std::uint64_t{1} << 20) - 1) >> 20) + " MiB";
+}
+
+// The one check of the frame's limits, shared by render() and check_render().
+Status check_frame_limits(const Scene& scene, const RenderOptions& options, int width, int height) {
+  std::size_t ranges = 0;
+  for (const Instance& inst : scene.objects) ranges += range_count_of(scene.meshes[inst.mesh].mesh);
+  if (ranges > kMaxRanges) {
+    return {ErrorCode::unsupported, "objects",
+            "objects: the frame needs " + std::to_string(ranges) + " set-up ranges, at most " +
+                std::to_string(kMaxRanges) + " fit in one frame (each object takes one range per " +
+                std::to_string(kTriangleRange) + " triangles, at least one: at most " + std::to_string(kMaxRanges) +
+                " objects and " + std::to_string(kMaxRanges * kTriangleRange) + " triangles)"};
+  }
+  const std::uint64_t need = estimate_frame_bytes(scene, options, width, height);
+  if (options.memory_budget_bytes != 0 && need > options.memory_budget_bytes) {
+    return {ErrorCode::out_of_memory, "options.memory_budget_bytes",
+            "options.memory_budget_bytes: the frame needs about " + mib(need) + " of scratch memory, over its budget of " +
+                mib(options.memory_budget_bytes) +
+                " (raise RenderOptions::memory_budget_bytes, or facet render --memory-budget-mb)"};
+  }
+  return {};
+}
 }  // namespace
 
 // What happened to the triangles of one set-up range (see FrameStats for each counter).
@@ -192,6 +219,15 @@ struct Renderer::Impl {
   ShadingMode shading = ShadingMode::gouraud;
   FrameStats stats;
   FrameStats last_stats;  // of the last successful render
+  // Progress and cancellation (RenderOptions::progress): work units are vertex chunks, set-up
+  // ranges and tiles; loops skip their remaining units once `cancelled` is set.
+  const std::function<bool(double)>* progress = nullptr;
+  std::atomic<std::uint64_t> work_done{0};
+  std::uint64_t work_total = 1;
+  std::atomic<bool> cancelled{false};
+  std::mutex progress_mutex;  // one callback at a time; a busy thread skips its report
+  double progress_reported = 0;  // under progress_mutex
+  void unit_done();
   RenderOptions config;   // for render(scene, color, ...)
 
   void render(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth);
@@ -221,8 +257,63 @@ Status check_render_options(const RenderOptions& options) noexcept {
   try {
     return check_options(options);
   } catch (const std::exception&) {
-    return {ErrorCode::invalid_argument, "options", "out of memory while checking the options"};
+    return {ErrorCode::out_of_memory, "options", "out of memory while checking the options"};
   }
+}
+
+std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& options, int width, int height) noexcept {
+  using U = std::uint64_t;
+  const auto sat_add = [](U a, U b) { return a > ~U{0} - b ? ~U{0} : a + b; };
+  const auto sat_mul = [](U a, U b) { return b != 0 && a > ~U{0} / b ? ~U{0} : a * b; };
+  // Per vertex: clip position, screen vertex, front and back colour, eye position and normal.
+  const U per_vertex = 16 + 24 + 2 * 12 + 2 * 12;
+  // Per triangle: its record and its bin entries (one tile each, for unclipped small triangles);
+  // for flat shading also its centroid, face normal and two colours (4 x 12 bytes).
+  U bytes = 0, max_vertices = 0, max_triangles = 0;
+  for (const Instance& inst : scene.objects) {
+    if (inst.mesh >= scene.meshes.size()) continue;
+    const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    bytes = sat_add(bytes, sat_mul(mesh.triangle_count(), sizeof(raster::ScreenTriangle) + 3 * 4));
+    max_vertices = std::max<U>(max_vertices, mesh.vertex_count());
+    max_triangles = std::max<U>(max_triangles, mesh.triangle_count());
+  }
+  const U slots = static_cast<U>(
+      parallel::usable_threads(options.threads > 0 ? std::min(options.threads, 256) : tbb::info::default_concurrency()));
+  // Slot 0 holds the largest object; the others at most a small object each.
+  bytes = sat_add(bytes, sat_add(sat_mul(max_vertices, per_vertex), sat_mul(max_triangles, 4 * 12)));
+  bytes = sat_add(bytes, sat_mul(slots, kSmallObjectVertices * per_vertex + kSmallObjectTriangles * 4 * 12));
+  // Per object: its shader's copy of the lights.
+  bytes = sat_add(bytes, sat_mul(sat_mul(scene.objects.size(), scene.lights.size()), 512));
+  // Per thread: tile planes and SoA lighting scratch; per tile: its bin.
+  const U tile = static_cast<U>(std::clamp(options.tile_size, 8, 256));
+  bytes = sat_add(bytes, sat_mul(slots, 5 * tile * tile * 4 + 64 * 1024));
+  const U tiles = (static_cast<U>(std::max(width, 1)) / tile + 1) * (static_cast<U>(std::max(height, 1)) / tile + 1);
+  bytes = sat_add(bytes, sat_mul(tiles, 64));
+  return bytes;
+}
+
+Status check_render(const Scene& scene, const RenderOptions& options, int width, int height) noexcept {
+  try {
+    if (width < 1 || height < 1 || width > kMaxImageDimension || height > kMaxImageDimension) {
+      return {ErrorCode::invalid_argument, "image",
+              "image: expected a size of 1.." + std::to_string(kMaxImageDimension) + " per side"};
+    }
+    if (Status s = check_options(options); !s.ok()) return s;
+    if (Status s = validate_scene(scene); !s.ok()) return s;
+    return check_frame_limits(scene, options, width, height);
+  } catch (const std::bad_alloc&) {
+    return {ErrorCode::out_of_memory, "scene", "out of memory while checking the scene"};
+  }
+}
+
+void Renderer::Impl::unit_done() {
+  const std::uint64_t done = work_done.fetch_add(1, std::memory_order_relaxed) + 1;
+  if (!progress || cancelled.load(std::memory_order_relaxed)) return;
+  std::unique_lock<std::mutex> lock(progress_mutex, std::try_to_lock);
+  if (!lock.owns_lock()) return;
+  // Reports never go backwards, whichever thread's count arrives first.
+  progress_reported = std::max(progress_reported, std::min(1.0, static_cast<double>(done) / static_cast<double>(work_total)));
+  if (!(*progress)(progress_reported)) cancelled.store(true, std::memory_order_relaxed);
 }
 
 Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
@@ -256,15 +347,7 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
     if (depth) {
       if (Status s = validate_depth_view(*depth, color.width, color.height); !s.ok()) return s;
     }
-    if (Status s = check_options(options); !s.ok()) return s;
-    if (Status s = validate_scene(scene); !s.ok()) return s;
-    std::size_t ranges = 0;
-    for (const Instance& inst : scene.objects) ranges += range_count_of(scene.meshes[inst.mesh].mesh);
-    if (ranges > kMaxRanges) {
-      return {ErrorCode::invalid_argument, "scene.objects",
-              "scene.objects: too many triangles for one frame (" + std::to_string(ranges) + " ranges of " +
-                  std::to_string(kTriangleRange) + ", at most " + std::to_string(kMaxRanges) + ")"};
-    }
+    if (Status s = check_render(scene, options, color.width, color.height); !s.ok()) return s;
     const int threads = parallel::usable_threads(options.threads > 0 ? options.threads : tbb::info::default_concurrency());
     if (!impl_->arena || impl_->arena_threads != threads) {
       impl_->arena = std::make_unique<parallel::Arena>(threads);
@@ -272,14 +355,21 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
       impl_->workers.clear();
       impl_->workers.resize(static_cast<std::size_t>(impl_->arena_threads));
     }
+    impl_->progress = options.progress ? &options.progress : nullptr;
+    impl_->cancelled.store(false);
+    impl_->work_done.store(0);
+    impl_->progress_reported = 0;
     impl_->arena->execute([&] { impl_->render(scene, options, color, depth); });
+    if (impl_->cancelled.load()) {
+      return {ErrorCode::cancelled, "options.progress", "options.progress: the frame was cancelled"};
+    }
     impl_->last_stats = impl_->stats;
     if (stats) *stats = impl_->stats;
     return {};
   } catch (const std::bad_alloc&) {
-    return {ErrorCode::invalid_argument, "scene", "out of memory while rendering (nothing was written)"};
+    return {ErrorCode::out_of_memory, "scene", "out of memory while rendering"};
   } catch (const std::exception& e) {
-    return {ErrorCode::invalid_argument, "scene", std::string("render failed (nothing was written): ") + e.what()};
+    return {ErrorCode::invalid_argument, "scene", std::string("render failed: ") + e.what()};
   }
 }
 
@@ -333,6 +423,12 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   }
   object_counts.assign(object_count, {});
   object_scratch.resize(workers.size());
+  work_total = static_cast<std::uint64_t>(tiles_x) * static_cast<std::uint64_t>(tiles_y) + range_count;
+  for (const Instance& inst : scene.objects) {  // clip chunks, then lighting or centroid chunks
+    const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    work_total += (mesh.vertex_count() + kVertexChunk - 1) / kVertexChunk * 2 +
+                  (mesh.triangle_count() + kVertexChunk - 1) / kVertexChunk * (two_sided ? 2 : 1);
+  }
   // Runs of two or more small objects are set up side by side, one task per object (the built-in scene's six
   // objects took 1.6 ms of a 5.8 ms frame one after another on 2 threads). Larger objects are set
   // up one at a time with their chunks and ranges spread over the threads.
@@ -387,6 +483,8 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     stats.seconds_geometry += c.seconds_geometry;
   }
 
+  if (cancelled.load(std::memory_order_relaxed)) return;  // before any pixel is written
+
   // The tile loop: each tile is rasterized and resolved by exactly one task, from its bin (in
   // submission order) into its own pixels, so the image does not depend on the schedule.
   // Counters are kept per tile and added up in tile order afterwards.
@@ -406,6 +504,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   arena->parallel_for(tbb::blocked_range<int>(0, tile_count), [&](const tbb::blocked_range<int>& range, int slot) {
     WorkerScratch& w = worker(slot);
     for (int index = range.begin(); index != range.end(); ++index) {
+      if (cancelled.load(std::memory_order_relaxed)) return;
       const int tx = index % tiles_x, ty = index / tiles_x;
       const raster::TileRect rect{tx * tile_size, ty * tile_size, std::min(width, (tx + 1) * tile_size),
                                   std::min(height, (ty + 1) * tile_size)};
@@ -421,6 +520,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
       const auto resolve_start = Clock::now();
       raster::resolve_tile(job, w.tile, rect, color, depth);
       c.seconds_resolve = seconds_since(resolve_start);
+      unit_done();
     }
   });
   stats.seconds_raster = seconds_since(raster_start);
@@ -456,10 +556,15 @@ void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t tr
 
 template <class Body>
 void Renderer::Impl::for_chunks(std::size_t n, std::size_t grain, int slot, const Body& body) {
+  auto unit = [&](const tbb::blocked_range<std::size_t>& r, int s) {
+    if (cancelled.load(std::memory_order_relaxed)) return;
+    body(r, s);
+    unit_done();
+  };
   if (slot < 0) {
-    arena->parallel_for(tbb::blocked_range<std::size_t>(0, n, grain), body);
+    arena->parallel_for(tbb::blocked_range<std::size_t>(0, n, grain), unit);
   } else {
-    for (std::size_t b = 0; b < n; b += grain) body(tbb::blocked_range<std::size_t>(b, std::min(n, b + grain), grain), slot);
+    for (std::size_t b = 0; b < n; b += grain) unit(tbb::blocked_range<std::size_t>(b, std::min(n, b + grain), grain), slot);
   }
 }
 

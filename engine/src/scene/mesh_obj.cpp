@@ -5,8 +5,10 @@
 // a line as a comment, so it once resolved indices the check never saw (found by fuzz_obj; the
 // input is in tests/data/fuzz/obj/). Every index it returns is bounds-checked again all the same.
 // Polygons are triangulated here, as fans from their first corner (exact for convex polygons).
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -16,7 +18,7 @@
 
 #include "common/format.hpp"
 #include "facet/mesh.hpp"
-#include "io/read_file.hpp"
+#include "io/file_access.hpp"
 
 namespace facet {
 namespace {
@@ -40,9 +42,19 @@ std::vector<std::string_view> split_ws(std::string_view s) {
   return out;
 }
 
-bool parse_float(std::string_view tok, float& out) {
+enum class NumberKind { ok, not_a_number, not_finite, out_of_range };
+
+// facet decides every number of an OBJ file (std::from_chars: correctly rounded, any length of
+// mantissa); tinyobjloader's own reading of them is never used (build_mesh), so the two cannot
+// disagree. NaN and infinities, and values a float cannot hold (overflow, or a non-zero value
+// below the smallest subnormal), are errors.
+NumberKind parse_float(std::string_view tok, float& out) {
   const auto r = std::from_chars(tok.data(), tok.data() + tok.size(), out);
-  return r.ec == std::errc() && r.ptr == tok.data() + tok.size();
+  if (r.ptr != tok.data() + tok.size() || tok.empty()) return NumberKind::not_a_number;
+  if (r.ec == std::errc::result_out_of_range) return NumberKind::out_of_range;
+  if (r.ec != std::errc()) return NumberKind::not_a_number;
+  if (!std::isfinite(out)) return NumberKind::not_finite;
+  return NumberKind::ok;
 }
 
 bool parse_int(std::string_view tok, long long& out) {
@@ -67,7 +79,9 @@ class ObjChecker {
  public:
   explicit ObjChecker(std::string source) : source_(std::move(source)) {}
 
-  // Checks `text` and writes the lines it checked, without comments, to `clean`.
+  // Checks `text` and writes the lines it checked, without comments, to `clean` (faces of more
+  // than kMaxCorners corners split into fans of the same triangles). Keeps the values of `v` and
+  // `vn` lines, and for each line of `clean` the line of `text` it came from.
   Status check(const std::string& text, std::string& clean) {
     clean.clear();
     clean.reserve(text.size());
@@ -82,13 +96,26 @@ class ObjChecker {
       line = trim(line);
       if (line.empty()) continue;
       if (line.back() == '\\') return error(line_no, "line continuations ('\\') are not supported");
-      if (Status s = check_line(line_no, split_ws(line)); !s.ok()) return s;
-      clean.append(line);
-      clean.push_back('\n');
+      const std::vector<std::string_view> tok = split_ws(line);
+      if (Status s = check_line(line_no, tok); !s.ok()) return s;
+      if (tok[0] == "f" && tok.size() - 1 > kMaxCorners) {
+        append_split_face(tok, line_no, clean);
+      } else {
+        clean.append(line);
+        clean.push_back('\n');
+        origin_.push_back(line_no);
+      }
       if (end == text.size()) break;
     }
     if (face_count_ == 0) return error(line_no, "no faces: the file defines no triangle or polygon");
     return {};
+  }
+
+  const std::vector<float>& positions() const { return positions_; }
+  const std::vector<float>& normals() const { return normals_; }
+  // The line of the original text that line `clean_line` (1-based) of the checked text came from.
+  std::size_t origin(std::size_t clean_line) const {
+    return clean_line >= 1 && clean_line <= origin_.size() ? origin_[clean_line - 1] : 0;
   }
 
  private:
@@ -97,20 +124,45 @@ class ObjChecker {
             source_ + ":" + std::to_string(line) + ": " + what};
   }
 
+  // tinyobjloader 1.0.6 keeps a face's corner count in an unsigned char: a face of 256 or more
+  // corners would corrupt every face after it. Longer faces go to it as fans of at most this many.
+  static constexpr std::size_t kMaxCorners = 255;
+
+  // Corners c0 c1 ... cn-1 as faces (c0, c[a] .. c[b]) of at most kMaxCorners corners: the fan
+  // triangles from c0 are the same, in the same order.
+  void append_split_face(const std::vector<std::string_view>& tok, std::size_t line_no, std::string& clean) {
+    const std::size_t corners = tok.size() - 1;
+    for (std::size_t a = 1; a + 1 < corners; a += kMaxCorners - 2) {
+      const std::size_t b = std::min(corners - 1, a + kMaxCorners - 2);
+      clean.append("f ");
+      clean.append(tok[1]);
+      for (std::size_t k = a; k <= b; ++k) {
+        clean.push_back(' ');
+        clean.append(tok[k + 1]);
+      }
+      clean.push_back('\n');
+      origin_.push_back(line_no);
+    }
+  }
+
   Status check_numbers(std::size_t line_no, const std::vector<std::string_view>& tok, std::size_t lo,
-                       std::size_t hi) const {
+                       std::size_t hi, std::vector<float>* keep = nullptr) {
     const std::size_t n = tok.size() - 1;
     if (n < lo || n > hi) {
-      return error(line_no, "'" + std::string(tok[0]) + "' expects " + std::to_string(lo) +
+      return error(line_no, quote(tok[0], 16) + " expects " + std::to_string(lo) +
                                 (lo == hi ? "" : " to " + std::to_string(hi)) + " numbers, found " +
                                 std::to_string(n));
     }
     for (std::size_t i = 1; i < tok.size(); ++i) {
       float value = 0.0f;
-      if (!parse_float(tok[i], value)) {
-        return error(line_no, "'" + std::string(tok[0]) + "' value " + std::to_string(i) + " is not a number: '" +
-                                  std::string(tok[i]) + "'");
+      const NumberKind kind = parse_float(tok[i], value);
+      if (kind != NumberKind::ok) {
+        const char* why = kind == NumberKind::not_finite     ? " is not finite: "
+                          : kind == NumberKind::out_of_range ? " is outside the range of a float: "
+                                                             : " is not a number: ";
+        return error(line_no, quote(tok[0], 16) + " value " + std::to_string(i) + why + quote(tok[i], 32));
       }
+      if (keep && i <= 3) keep->push_back(value);  // x y z; a w or a colour is not kept
     }
     return {};
   }
@@ -119,7 +171,7 @@ class ObjChecker {
   Status check_index(std::size_t line_no, std::string_view part, const char* kind, std::size_t count) const {
     long long idx = 0;
     if (!parse_int(part, idx) || idx == 0) {
-      return error(line_no, std::string("bad ") + kind + " index '" + std::string(part) + "' (indices start at 1)");
+      return error(line_no, std::string("bad ") + kind + " index " + quote(part, 24) + " (indices start at 1)");
     }
     const long long resolved = idx > 0 ? idx : static_cast<long long>(count) + idx + 1;
     if (resolved < 1 || resolved > static_cast<long long>(count)) {
@@ -130,14 +182,20 @@ class ObjChecker {
   }
 
   Status check_line(std::size_t line_no, const std::vector<std::string_view>& tok) {
+    Status s = check_statement(line_no, tok);
+    ++statements_;
+    return s;
+  }
+
+  Status check_statement(std::size_t line_no, const std::vector<std::string_view>& tok) {
     const std::string_view k = tok[0];
     if (k == "v") {
       ++v_;
-      return check_numbers(line_no, tok, 3, 7);  // x y z [w] or x y z r g b
+      return check_numbers(line_no, tok, 3, 7, &positions_);  // x y z [w] or x y z r g b
     }
     if (k == "vn") {
       ++vn_;
-      return check_numbers(line_no, tok, 3, 3);
+      return check_numbers(line_no, tok, 3, 3, &normals_);
     }
     if (k == "vt") {
       ++vt_;
@@ -163,12 +221,19 @@ class ObjChecker {
       ++face_count_;
       return {};
     }
-    if (!known_statement(k)) return error(line_no, "unknown statement '" + std::string(k) + "'");
+    if (!known_statement(k)) {
+      // A file whose first statement is not OBJ is probably not an OBJ file at all: say so, and
+      // quote no more of it than a keyword would be.
+      if (statements_ == 0) return error(line_no, "not an OBJ file: it starts with " + quote(k, 16) + ", not an OBJ statement");
+      return error(line_no, "unknown statement " + quote(k, 16));
+    }
     return {};
   }
 
   std::string source_;
-  std::size_t v_ = 0, vn_ = 0, vt_ = 0, face_count_ = 0;
+  std::size_t v_ = 0, vn_ = 0, vt_ = 0, face_count_ = 0, statements_ = 0;
+  std::vector<float> positions_, normals_;
+  std::vector<std::size_t> origin_;
 };
 
 // Calls fn(corner_a, corner_b, corner_c) for the fan triangles of every face, in file order.
@@ -185,12 +250,31 @@ void for_each_fan_triangle(const std::vector<tinyobj::shape_t>& shapes, Fn fn) {
   }
 }
 
-Result<Mesh> build_mesh(const tinyobj::attrib_t& attrib, const std::vector<tinyobj::shape_t>& shapes,
+// A unit normal from any finite vector: scaled by its largest component first, so that neither
+// 1e30 (whose square overflows) nor 1e-30 (whose square underflows) becomes a zero normal.
+Vec3 unit_normal(const Vec3& n) {
+  const float scale = n.cwiseAbs().maxCoeff();
+  if (!(scale > 0.0f) || !std::isfinite(scale)) return Vec3::Zero();
+  const Vec3 m = n / scale;
+  return m / m.norm();
+}
+
+// Faces come from tinyobjloader, every number from the checker (`positions`, `normals`: xyz per
+// `v` and `vn` line, in file order), so tinyobjloader's reading of numbers is never used.
+Result<Mesh> build_mesh(const std::vector<float>& vertex_xyz, const std::vector<float>& normal_xyz,
+                        const tinyobj::attrib_t& attrib, const std::vector<tinyobj::shape_t>& shapes,
                         const ObjOptions& options, const std::string& source_name) {
+  if (vertex_xyz.size() != attrib.vertices.size() || normal_xyz.size() != attrib.normals.size()) {
+    return Status{ErrorCode::parse_error, "", source_name + ": tinyobjloader read " +
+                                                  std::to_string(attrib.vertices.size() / 3) + " vertices and " +
+                                                  std::to_string(attrib.normals.size() / 3) + " normals where facet read " +
+                                                  std::to_string(vertex_xyz.size() / 3) + " and " +
+                                                  std::to_string(normal_xyz.size() / 3)};
+  }
   // The check before parsing makes these impossible; a disagreement between it and tinyobjloader
   // must still never index out of bounds.
-  const auto positions = static_cast<long long>(attrib.vertices.size() / 3);
-  const auto normals = static_cast<long long>(attrib.normals.size() / 3);
+  const auto positions = static_cast<long long>(vertex_xyz.size() / 3);
+  const auto normals = static_cast<long long>(normal_xyz.size() / 3);
   for (const auto& shape : shapes) {
     for (const auto& i : shape.mesh.indices) {
       if (i.vertex_index < 0 || i.vertex_index >= positions || i.normal_index >= normals) {
@@ -203,9 +287,7 @@ Result<Mesh> build_mesh(const tinyobj::attrib_t& attrib, const std::vector<tinyo
     for (const auto& idx : shape.mesh.indices) all_have_normals &= idx.normal_index >= 0;
 
   Mesh mesh;
-  auto position = [&](int i) {
-    return Vec3(attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]);
-  };
+  auto position = [&](std::size_t i) { return Vec3(vertex_xyz[3 * i], vertex_xyz[3 * i + 1], vertex_xyz[3 * i + 2]); };
   if (all_have_normals) {
     // The file decides: one vertex per distinct (position, normal) pair.
     std::unordered_map<long long, std::uint32_t> vertex_of;
@@ -213,11 +295,9 @@ Result<Mesh> build_mesh(const tinyobj::attrib_t& attrib, const std::vector<tinyo
       const long long key = static_cast<long long>(i.vertex_index) << 32 | static_cast<std::uint32_t>(i.normal_index);
       auto [it, inserted] = vertex_of.try_emplace(key, static_cast<std::uint32_t>(mesh.positions.size()));
       if (inserted) {
-        mesh.positions.push_back(position(i.vertex_index));
-        const Vec3 n(attrib.normals[3 * i.normal_index], attrib.normals[3 * i.normal_index + 1],
-                     attrib.normals[3 * i.normal_index + 2]);
-        const float len = n.norm();
-        mesh.normals.push_back(len > 0.0f && std::isfinite(len) ? Vec3(n / len) : Vec3::Zero());
+        mesh.positions.push_back(position(static_cast<std::size_t>(i.vertex_index)));
+        const auto ni = static_cast<std::size_t>(i.normal_index);
+        mesh.normals.push_back(unit_normal(Vec3(normal_xyz[3 * ni], normal_xyz[3 * ni + 1], normal_xyz[3 * ni + 2])));
       }
       return it->second;
     };
@@ -228,7 +308,7 @@ Result<Mesh> build_mesh(const tinyobj::attrib_t& attrib, const std::vector<tinyo
     return mesh;
   }
   // Vertices no face uses are dropped (the bunny has 1,113): lighting them would be wasted work.
-  const std::size_t n = attrib.vertices.size() / 3;
+  const std::size_t n = vertex_xyz.size() / 3;
   constexpr std::uint32_t kUnused = ~0u;
   std::vector<std::uint32_t> new_index(n, kUnused);
   for (const auto& shape : shapes)
@@ -236,7 +316,7 @@ Result<Mesh> build_mesh(const tinyobj::attrib_t& attrib, const std::vector<tinyo
   for (std::size_t i = 0; i < n; ++i) {
     if (new_index[i] == kUnused) continue;
     new_index[i] = static_cast<std::uint32_t>(mesh.positions.size());
-    mesh.positions.push_back(position(static_cast<int>(i)));
+    mesh.positions.push_back(position(i));
   }
   for_each_fan_triangle(shapes, [&](const tinyobj::index_t& a, const tinyobj::index_t& b, const tinyobj::index_t& c) {
     mesh.triangles.push_back({new_index[static_cast<std::size_t>(a.vertex_index)],
@@ -260,31 +340,40 @@ Result<Mesh> parse_obj(const std::string& text, const std::string& source_name, 
       return Status{ErrorCode::parse_error, "", source_name + ": not a text file (contains NUL bytes)"};
     }
     std::string checked;
-    if (Status s = ObjChecker(source_name).check(text, checked); !s.ok()) return s;
+    ObjChecker checker(source_name);
+    if (Status s = checker.check(text, checked); !s.ok()) return s;
+    // tinyobjloader read the checked text: a line number in its messages is one of that text.
+    auto from_tinyobj = [&](std::string_view message) {
+      std::string what(trim(message));
+      std::size_t line = 0;
+      if (const auto at = what.find("line "); at != std::string::npos) {
+        line = checker.origin(std::strtoul(what.c_str() + at + 5, nullptr, 10));
+      }
+      return Status{ErrorCode::parse_error, line ? "line " + std::to_string(line) : "",
+                    source_name + ":" + (line ? std::to_string(line) + ":" : "") + " tinyobjloader: " + quote(what, 120)};
+    };
 
     tinyobj::ObjReaderConfig config;
     config.triangulate = false;  // see the top of this file
     config.vertex_color = false;
     tinyobj::ObjReader reader;
     const bool parsed = reader.ParseFromString(checked, "", config);
-    if (!parsed || !reader.Error().empty()) {
-      return Status{ErrorCode::parse_error, "", source_name + ": " + std::string(trim(reader.Error()))};
-    }
+    if (!parsed || !reader.Error().empty()) return from_tinyobj(reader.Error());
     // Index warnings mean tinyobjloader kept out-of-range indices; the check above should have
     // caught them, so treat any that remain as errors rather than trust the data.
-    if (reader.Warning().find("out of bounds") != std::string::npos) {
-      return Status{ErrorCode::parse_error, "", source_name + ": " + std::string(trim(reader.Warning()))};
-    }
-    return build_mesh(reader.GetAttrib(), reader.GetShapes(), options, source_name);
+    if (reader.Warning().find("out of bounds") != std::string::npos) return from_tinyobj(reader.Warning());
+    return build_mesh(checker.positions(), checker.normals(), reader.GetAttrib(), reader.GetShapes(), options,
+                      source_name);
   } catch (const std::bad_alloc&) {
-    return Status{ErrorCode::io_error, "", source_name + ": out of memory while loading"};
+    return Status{ErrorCode::out_of_memory, "", source_name + ": out of memory while loading"};
   } catch (const std::exception& e) {
     return Status{ErrorCode::parse_error, "", source_name + ": " + e.what()};
   }
 }
 
 Result<Mesh> load_obj(const std::string& path, const ObjOptions& options) {
-  Result<std::string> text = read_text_file(path, "OBJ file");
+  Result<std::string> text =
+      io::read_file(path, "OBJ file", options.memory_budget_bytes == 0 ? io::kNoSizeLimit : options.memory_budget_bytes);
   if (!text) return text.status();
   return parse_obj(*text, path, options);
 }

@@ -18,6 +18,8 @@ const char* to_string(ErrorCode code) noexcept {
     case ErrorCode::parse_error: return "parse error";
     case ErrorCode::io_error: return "i/o error";
     case ErrorCode::unsupported: return "unsupported";
+    case ErrorCode::out_of_memory: return "out of memory";
+    case ErrorCode::cancelled: return "cancelled";
   }
   return "unknown error";
 }

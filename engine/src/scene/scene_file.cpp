@@ -14,8 +14,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/format.hpp"
 #include "common/try.hpp"
-#include "io/read_file.hpp"
+#include "io/file_access.hpp"
 #include "scene/json_lines.hpp"
 
 namespace facet {
@@ -42,11 +43,7 @@ std::string describe(const json& j) {
   switch (j.type()) {
     case json::value_t::null: return "null";
     case json::value_t::boolean: return std::string("boolean ") + (j.get<bool>() ? "true" : "false");
-    case json::value_t::string: {
-      std::string s = j.get<std::string>();
-      if (s.size() > 40) s = s.substr(0, 37) + "...";
-      return "string \"" + s + "\"";
-    }
+    case json::value_t::string: return "string " + quote(j.get<std::string>(), 40);
     case json::value_t::array: return "an array of " + std::to_string(j.size()) + " elements";
     case json::value_t::object: return "an object";
     case json::value_t::number_integer:
@@ -68,8 +65,8 @@ std::string child(const std::string& path, std::string_view key) {
 
 class SceneReader {
  public:
-  SceneReader(std::string source, const JsonLines& lines, std::string base_dir)
-      : source_(std::move(source)), lines_(lines), base_dir_(std::move(base_dir)) {}
+  SceneReader(std::string source, const JsonLines& lines, std::string base_dir, const LoadOptions& options)
+      : source_(std::move(source)), lines_(lines), base_dir_(std::move(base_dir)), options_(options) {}
 
   Status read(const json& root, Scene& scene) {
     FACET_TRY(expect_object(root, "", {"camera", "global_ambient", "viewer", "two_sided", "materials", "meshes",
@@ -88,10 +85,15 @@ class SceneReader {
       scene.materials.push_back(std::move(m));
       return Status{};
     };
+    const std::size_t mesh_total = root.contains("meshes") && root["meshes"].is_array() ? root["meshes"].size() : 0;
     auto add_mesh = [&](const json& j, const std::string& p) {
       NamedMesh m;
       FACET_TRY(read_mesh(j, p, m));
       scene.meshes.push_back(std::move(m));
+      if (options_.progress && !options_.progress(static_cast<double>(scene.meshes.size()) /
+                                                  static_cast<double>(std::max<std::size_t>(mesh_total, 1)))) {
+        return Status{ErrorCode::cancelled, p, source_ + ": " + p + ": the load was cancelled"};
+      }
       return Status{};
     };
     auto add_object = [&](const json& j, const std::string& p) {
@@ -148,7 +150,7 @@ class SceneReader {
       }
       const std::string where = path.empty() ? std::string("top level") : path;
       return located(child(path, key), ErrorCode::invalid_argument,
-                     where + ": unknown field '" + key + "'" + hint + "; known fields: " + join(names));
+                     where + ": unknown field " + quote(key, 32) + hint + "; known fields: " + join(names));
     }
     return {};
   }
@@ -270,7 +272,24 @@ class SceneReader {
     return opt_number(j, p, "alpha", m.alpha);
   }
 
-  Status read_mesh(const json& j, const std::string& p, NamedMesh& out) const {
+  // Counts a mesh of `vertices` and `triangles` against the memory budget before it is made.
+  Status reserve_mesh(const json& j, const std::string& p, std::uint64_t vertices, std::uint64_t triangles) {
+    const std::uint64_t bytes = vertices * (2 * sizeof(Vec3)) + triangles * 3 * sizeof(std::uint32_t);
+    const std::uint64_t budget = options_.memory_budget_bytes;
+    if (budget != 0 && (bytes > budget || used_ > budget - bytes)) {
+      (void)j;
+      return located(p, ErrorCode::out_of_memory,
+                        p + ": this mesh (" + std::to_string(vertices) + " vertices, " + std::to_string(triangles) +
+                            " triangles, " + std::to_string(bytes >> 20) + " MiB) takes the scene's meshes to " +
+                            std::to_string((used_ + bytes) >> 20) + " MiB, over the memory budget of " +
+                            std::to_string(budget >> 20) +
+                            " MiB (LoadOptions::memory_budget_bytes, facet --memory-budget-mb)");
+    }
+    used_ += bytes;
+    return {};
+  }
+
+  Status read_mesh(const json& j, const std::string& p, NamedMesh& out) {
     if (!j.is_object()) return mismatch(p, "an object", j);
     FACET_TRY(opt_string(j, p, "name", out.name));
     if (j.contains("obj") == j.contains("shape")) {
@@ -281,6 +300,7 @@ class SceneReader {
       std::string file;
       FACET_TRY(opt_string(j, p, "obj", file));
       ObjOptions options;
+      options.memory_budget_bytes = options_.memory_budget_bytes == 0 ? 0 : std::max<std::uint64_t>(1, options_.memory_budget_bytes - used_);
       FACET_TRY(opt_number(j, p, "crease_angle_deg", options.crease_angle_deg));
       if (!(options.crease_angle_deg >= 0.0f && options.crease_angle_deg <= 180.0f)) {
         return invalid(child(p, "crease_angle_deg"), "expected a number in [0, 180]");
@@ -288,6 +308,7 @@ class SceneReader {
       const std::filesystem::path resolved = std::filesystem::path(base_dir_) / file;
       Result<Mesh> mesh = load_obj(resolved.string(), options);
       if (!mesh) return located(child(p, "obj"), mesh.status().code(), child(p, "obj") + ": " + mesh.status().message());
+      FACET_TRY(reserve_mesh(j, p, mesh->vertex_count(), mesh->triangle_count()));
       out.mesh = std::move(*mesh);
       return {};
     }
@@ -300,6 +321,7 @@ class SceneReader {
       FACET_TRY(opt_size(j, p, "radius", radius));
       FACET_TRY(opt_int(j, p, "segments", 3, 4096, segments));
       FACET_TRY(opt_int(j, p, "rings", 2, 4096, rings));
+      FACET_TRY(reserve_mesh(j, p, std::uint64_t(segments + 1) * std::uint64_t(rings + 1), 2 * std::uint64_t(segments) * std::uint64_t(rings)));
       out.mesh = make_uv_sphere(radius, segments, rings);
     } else if (shape == "cube") {
       FACET_TRY(expect_object(j, p, {"name", "shape", "size", "subdivisions"}));
@@ -307,6 +329,8 @@ class SceneReader {
       int subdivisions = 1;
       FACET_TRY(opt_size(j, p, "size", size));
       FACET_TRY(opt_int(j, p, "subdivisions", 1, 4096, subdivisions));
+      const std::uint64_t s1 = std::uint64_t(subdivisions) + 1;
+      FACET_TRY(reserve_mesh(j, p, 6 * s1 * s1, 12 * std::uint64_t(subdivisions) * std::uint64_t(subdivisions)));
       out.mesh = make_cube(size, subdivisions);
     } else if (shape == "plane") {
       FACET_TRY(expect_object(j, p, {"name", "shape", "size_x", "size_z", "subdivisions"}));
@@ -315,6 +339,8 @@ class SceneReader {
       FACET_TRY(opt_size(j, p, "size_x", sx));
       FACET_TRY(opt_size(j, p, "size_z", sz));
       FACET_TRY(opt_int(j, p, "subdivisions", 1, 4096, subdivisions));
+      const std::uint64_t s1 = std::uint64_t(subdivisions) + 1;
+      FACET_TRY(reserve_mesh(j, p, s1 * s1, 2 * std::uint64_t(subdivisions) * std::uint64_t(subdivisions)));
       out.mesh = make_plane(sx, sz, subdivisions);
     } else {
       FACET_TRY(expect_object(j, p, {"name", "shape", "major_radius", "minor_radius", "segments", "sides"}));
@@ -324,6 +350,7 @@ class SceneReader {
       FACET_TRY(opt_size(j, p, "minor_radius", minor));
       FACET_TRY(opt_int(j, p, "segments", 3, 4096, segments));
       FACET_TRY(opt_int(j, p, "sides", 3, 4096, sides));
+      FACET_TRY(reserve_mesh(j, p, std::uint64_t(segments + 1) * std::uint64_t(sides + 1), 2 * std::uint64_t(segments) * std::uint64_t(sides)));
       out.mesh = make_torus(major, minor, segments, sides);
     }
     return {};
@@ -350,9 +377,9 @@ class SceneReader {
         out = static_cast<std::uint32_t>(i);
         return {};
       }
-      names.push_back("'" + items[i].name + "'");
+      names.push_back(quote(items[i].name, 32));
     }
-    return invalid(p, std::string("no ") + kind + " named '" + name + "' (defined: " +
+    return invalid(p, std::string("no ") + kind + " named " + quote(name, 32) + " (defined: " +
                           (names.empty() ? std::string("none") : join(names)) + ")");
   }
 
@@ -461,11 +488,14 @@ class SceneReader {
   std::string source_;
   const JsonLines& lines_;
   std::string base_dir_;
+  const LoadOptions& options_;
+  std::uint64_t used_ = 0;  // bytes of the meshes read so far
 };
 
 }  // namespace
 
-Result<Scene> parse_scene_json(const std::string& text, const std::string& source_name, const std::string& base_dir) {
+Result<Scene> parse_scene_json(const std::string& text, const std::string& source_name, const std::string& base_dir,
+                               const LoadOptions& options) {
   try {
     if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
       return Status{ErrorCode::parse_error, "", source_name + ":1: empty file: expected a JSON object"};
@@ -474,21 +504,21 @@ Result<Scene> parse_scene_json(const std::string& text, const std::string& sourc
     FACET_TRY(lines.scan(text, source_name));
     const json root = json::parse(text);
     Scene scene;
-    SceneReader reader(source_name, lines, base_dir);
+    SceneReader reader(source_name, lines, base_dir, options);
     FACET_TRY(reader.read(root, scene));
     return scene;
   } catch (const std::bad_alloc&) {
-    return Status{ErrorCode::io_error, "", source_name + ": out of memory while reading the scene"};
+    return Status{ErrorCode::out_of_memory, "", source_name + ": out of memory while reading the scene"};
   } catch (const std::exception& e) {
-    return Status{ErrorCode::parse_error, "", source_name + ": " + e.what()};
+    return Status{ErrorCode::parse_error, "", source_name + ": " + quote(e.what(), 200)};
   }
 }
 
-Result<Scene> load_scene_file(const std::string& path) {
-  Result<std::string> text = read_text_file(path, "scene file");
+Result<Scene> load_scene_file(const std::string& path, const LoadOptions& options) {
+  Result<std::string> text = io::read_file(path, "scene file", options.memory_budget_bytes == 0 ? io::kNoSizeLimit : options.memory_budget_bytes);
   if (!text) return text.status();
   const std::string base = std::filesystem::path(path).parent_path().string();
-  return parse_scene_json(*text, path, base);
+  return parse_scene_json(*text, path, base, options);
 }
 
 }  // namespace facet

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# facet's command line and files: a FIFO is refused at once (never blocks), -o into a missing
+# directory fails without creating it, and a write cut short by `ulimit -f` keeps the old file
+# byte for byte and leaves no temporary file.   usage: cli_files_test.sh FACET GOLDEN.png WORKDIR
+set -u
+facet="$1" golden="$2" work="$3"
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+failed=0
+check() { if eval "$2"; then echo "ok: $1"; else echo "FAILED: $1"; failed=1; fi; }
+
+mkfifo pipe.png
+out=$(timeout 20 "$facet" compare pipe.png "$golden" 2>&1); rc=$?
+check "compare refuses a FIFO (exit $rc: $out)" '[ $rc -eq 2 ] && [[ "$out" == *"not a regular file"* ]]'
+out=$(timeout 20 "$facet" render pipe.png -o x.png --width 8 --height 8 2>&1); rc=$?
+check "render refuses a FIFO scene (exit $rc)" '[ $rc -eq 2 ] && [[ "$out" == *"not a regular file"* ]]'
+
+out=$("$facet" render -o missing/dir/x.png --width 8 --height 8 2>&1); rc=$?
+check "-o into a missing directory fails (exit $rc: $out)" '[ $rc -eq 2 ] && [ ! -e missing ]'
+
+for ext in png pfm; do
+  printf 'the old output' > old.$ext
+  out=$(bash -c "ulimit -f 16; exec \"$facet\" render -o old.$ext --width 640 --height 480" 2>&1); rc=$?
+  check "a write past ulimit -f fails (.$ext, exit $rc: $out)" '[ $rc -eq 2 ]'
+  check "the old .$ext file is intact" '[ "$(cat old.$ext)" = "the old output" ]'
+  check "no temporary file is left (.$ext)" '[ "$(ls | grep -c "^old\.$ext\.")" -eq 0 ]'
+done
+exit $failed
