@@ -196,6 +196,9 @@ struct Renderer::Impl {
     std::vector<ScreenVertex> screen;
     std::vector<Color3> front, back;
     std::vector<Vec3> eye_p, eye_n, centroid, face_normal;
+    // The object's model matrix has a negative determinant (a mirror): its triangles wind the
+    // other way on screen, so front and back swap (as in glTF, Direct3D and GL's glFrontFace).
+    bool mirrored = false;
     // Capacity for any object of up to `vertices` vertices and `triangles` triangles in this
     // shading mode, so that whichever object a slot gets, set-up allocates nothing.
     void reserve(std::size_t vertices, std::size_t triangles, ShadingMode mode, bool two_sided);
@@ -244,10 +247,10 @@ struct Renderer::Impl {
   void assemble_range(const Mesh& mesh, std::uint32_t object, float alpha, std::size_t begin, std::size_t end,
                       std::size_t range, const ObjectScratch& os);
   void emit(const ClipVertex (&v)[3], std::uint32_t object, const Color3& flat_front, const Color3& flat_back,
-            float alpha, std::size_t range);
+            float alpha, std::size_t range, bool mirrored);
   bool project(const ClipVertex& v, ScreenVertex& out) const;
   void vertex_attributes(std::uint32_t vertex, float* a, const ObjectScratch& os) const;
-  bool place(raster::ScreenTriangle& t, TriangleCounts& counts, bool& swapped) const;
+  bool place(raster::ScreenTriangle& t, TriangleCounts& counts, bool mirrored, bool& swapped) const;
   void finish(raster::ScreenTriangle& t, std::uint32_t object, const Color3& flat_front, const Color3& flat_back,
               float alpha, std::size_t range);
   void merge_ranges();
@@ -600,6 +603,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   std::vector<Color3>&front = os.front, &back = os.back;
   std::vector<Vec3>&eye_p = os.eye_p, &eye_n = os.eye_n, &centroid = os.centroid, &face_normal = os.face_normal;
 
+  os.mirrored = inst.model.cast<double>().topLeftCorner<3, 3>().determinant() < 0.0;
   // Clip-space positions.
   const Mat4Rows mvp = to_rows(proj * view * inst.model.cast<double>());
   clip.resize(n);
@@ -658,7 +662,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       const auto& tri = mesh.triangles[t];
       const Vec3 &a = eye_p[tri[0]], &b = eye_p[tri[1]], &c = eye_p[tri[2]];
       centroid[t] = (a + b + c) / 3.0f;
-      face_normal[t] = (b - a).cross(c - a);
+      face_normal[t] = os.mirrored ? (c - a).cross(b - a) : (b - a).cross(c - a);
     }
     auto shade = [&](std::vector<Color3>& out) {
       out.resize(t_count);
@@ -741,7 +745,7 @@ void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, floa
         st.z[k] = sv[k]->z, st.inv_w[k] = sv[k]->inv_w;
       }
       bool swapped = false;
-      if (!place(st, counts, swapped)) {
+      if (!place(st, counts, os.mirrored, swapped)) {
         triangles.pop_back();
         continue;
       }
@@ -764,7 +768,7 @@ void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, floa
     const int count = geometry::clip_triangle(v[0], v[1], v[2], outcodes, planes, attribute_count, polygon);
     for (int i = 1; i + 1 < count; ++i) {
       const ClipVertex piece[3] = {polygon[0], polygon[i], polygon[i + 1]};
-      emit(piece, object, flat_front, flat_back, alpha, range);
+      emit(piece, object, flat_front, flat_back, alpha, range, os.mirrored);
     }
   }
 }
@@ -807,14 +811,15 @@ bool Renderer::Impl::project(const ClipVertex& v, ScreenVertex& out) const {
 // With the screen positions of `t` set: drops degenerate, culled and pixel-free triangles
 // (counting them), orients the rest clockwise (`swapped`: vertices 1 and 2 were exchanged, with
 // their z and 1/w; attributes are not set yet) and sets the coverage data.
-bool Renderer::Impl::place(raster::ScreenTriangle& t, TriangleCounts& counts, bool& swapped) const {
+bool Renderer::Impl::place(raster::ScreenTriangle& t, TriangleCounts& counts, bool mirrored, bool& swapped) const {
   const std::int64_t area2 = raster::signed_area2(t);
   if (area2 == 0) {
     ++counts.degenerate;
     return false;
   }
-  // Counter-clockwise in GL's y-up window is negative area in this y-down screen.
-  t.back_facing = area2 > 0;
+  // Counter-clockwise in GL's y-up window is negative area in this y-down screen; a mirrored
+  // object's front faces wind clockwise.
+  t.back_facing = (area2 > 0) != mirrored;
   if ((cull == CullMode::back && t.back_facing && !two_sided) || (cull == CullMode::front && !t.back_facing)) {
     ++counts.culled;
     return false;
@@ -872,7 +877,7 @@ void Renderer::Impl::finish(raster::ScreenTriangle& t, std::uint32_t object, con
 
 // A clipped piece: projected here (its vertices are new), then placed and finished.
 void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const Color3& flat_front,
-                          const Color3& flat_back, float alpha, std::size_t range) {
+                          const Color3& flat_back, float alpha, std::size_t range, bool mirrored) {
   TriangleCounts& counts = range_binning[range].counts;
   std::vector<raster::ScreenTriangle>& triangles = range_triangles[range];
   raster::ScreenTriangle& t = triangles.emplace_back();
@@ -886,7 +891,7 @@ void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const 
     t.x[k] = sv.x, t.y[k] = sv.y, t.z[k] = sv.z, t.inv_w[k] = sv.inv_w;
   }
   bool swapped = false;
-  if (!place(t, counts, swapped)) {
+  if (!place(t, counts, mirrored, swapped)) {
     triangles.pop_back();
     return;
   }
