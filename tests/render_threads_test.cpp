@@ -252,6 +252,74 @@ TEST(RenderThreads, MoreThreadsThanCoresPrintsNothing) {
   EXPECT_EQ(st.threads, threads_that_run(many));
 }
 
+// Coincident faces of one large object: two full-screen quads at the same depth, with different
+// normals (so different colours), 6000 triangles apart, so in different set-up ranges that
+// different threads set up. Depth test LESS keeps the first one submitted, so the image must be
+// that quad's colour, whatever the thread count (a bin merge ordered by worker slot would not be).
+Mesh coincident_quads(bool red_first) {
+  Mesh m;
+  auto quad = [&](const Vec3& normal) {
+    const auto b = static_cast<std::uint32_t>(m.positions.size());
+    for (const Vec3& p : {Vec3(-9, -9, -5), Vec3(9, -9, -5), Vec3(9, 9, -5), Vec3(-9, 9, -5)}) {
+      m.positions.push_back(p);
+      m.normals.push_back(normal.normalized());
+    }
+    m.triangles.push_back({b, b + 1, b + 2});
+    m.triangles.push_back({b, b + 2, b + 3});
+  };
+  const Vec3 toward_red(-1, 0, 1), toward_blue(1, 0, 1);
+  quad(red_first ? toward_red : toward_blue);
+  // Filler: tiny triangles far outside the view, so the second quad lands in range 2 or later.
+  for (int i = 0; i < 6000; ++i) {
+    const auto b = static_cast<std::uint32_t>(m.positions.size());
+    for (int k = 0; k < 3; ++k) {
+      m.positions.push_back(Vec3(100.0f + float(k), 100.0f + float(i % 7), -5.0f));
+      m.normals.push_back(Vec3(0, 0, 1));
+    }
+    m.triangles.push_back({b, b + 1, b + 2});
+  }
+  quad(red_first ? toward_blue : toward_red);
+  return m;
+}
+
+TEST(RenderThreads, CoincidentFacesInDifferentRangesKeepSubmissionOrder) {
+  for (bool red_first : {true, false}) {
+    Scene s = test::camera_scene();
+    s.meshes.push_back({"quads", coincident_quads(red_first)});
+    Material mat;
+    mat.diffuse = Color3(1, 1, 1);
+    s.materials.push_back(mat);
+    s.objects.push_back({0, 0, Mat4::Identity()});
+    Light red, blue;
+    red.direction = Vec3(1, 0, -1);  // travels to +x: lights the quad whose normal is toward_red
+    red.diffuse = Color3(1, 0, 0);
+    blue.direction = Vec3(-1, 0, -1);
+    blue.diffuse = Color3(0, 0, 1);
+    s.lights = {red, blue};
+    // Flat shading lights the geometric face normal, the same for both quads: only the vertex
+    // normals of Gouraud and Phong tell them apart.
+    for (ShadingMode mode : {ShadingMode::gouraud, ShadingMode::phong}) {
+      for (int threads : {1, 2, 3, 8}) {
+        test::Canvas c(96, 64);
+        RenderOptions o;
+        o.shading = mode;
+        o.threads = threads;
+        o.tile_size = 16;
+        Renderer r;
+        ASSERT_TRUE(r.render(s, o, c.view()).ok());
+        const std::vector<std::uint8_t> px = c.pixels();
+        int first_wins = 0;
+        for (std::size_t i = 0; i < px.size(); i += 4) {
+          const bool red = px[i] > 100 && px[i + 2] < 20, blue = px[i + 2] > 100 && px[i] < 20;
+          first_wins += red_first ? red : blue;
+        }
+        EXPECT_EQ(first_wins, 96 * 64) << to_string(mode) << ", " << threads << " threads, "
+                                       << (red_first ? "red" : "blue") << " first";
+      }
+    }
+  }
+}
+
 TEST(RenderThreads, ThreadCountIsChecked) {
   test::Canvas c(8, 8);
   RenderOptions o;

@@ -1,0 +1,40 @@
+# ctest script: runs a benchmark program with JSON output and fails unless every benchmark ran
+# without error (a model missing from ../shared/models is the one allowed skip) and reported each
+# of the named rate counters as a number > 0. Google Benchmark 1.7 exits 0 after SkipWithError,
+# so its exit status alone proves nothing.
+#   -D BENCH=program -D OUT=file.json -D FILTER=regex -D COUNTERS="a;b" -D MIN_COUNT=n
+execute_process(COMMAND ${BENCH} --benchmark_min_time=0.001 --benchmark_filter=${FILTER}
+                        --benchmark_out=${OUT} --benchmark_out_format=json
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "${BENCH} exited with ${rc}: ${err}")
+endif()
+file(READ ${OUT} json)
+string(JSON count LENGTH "${json}" benchmarks)
+if(count LESS MIN_COUNT)
+  message(FATAL_ERROR "${count} benchmarks ran, expected at least ${MIN_COUNT}")
+endif()
+set(skipped 0)
+math(EXPR last "${count} - 1")
+foreach(i RANGE ${last})
+  string(JSON name GET "${json}" benchmarks ${i} name)
+  string(JSON failed ERROR_VARIABLE no_error GET "${json}" benchmarks ${i} error_occurred)
+  if(failed)
+    string(JSON why GET "${json}" benchmarks ${i} error_message)
+    if(why MATCHES "^model not available")
+      math(EXPR skipped "${skipped} + 1")
+      continue()
+    endif()
+    message(FATAL_ERROR "${name}: ${why}")
+  endif()
+  foreach(counter ${COUNTERS})
+    string(JSON value ERROR_VARIABLE missing GET "${json}" benchmarks ${i} ${counter})
+    if(missing)
+      message(FATAL_ERROR "${name}: no counter '${counter}'")
+    endif()
+    if(NOT value MATCHES "^[0-9]" OR value MATCHES "^0(\\.0*)?(e.*)?$")
+      message(FATAL_ERROR "${name}: counter '${counter}' is ${value}, expected a rate > 0")
+    endif()
+  endforeach()
+endforeach()
+message("${count} benchmarks ran (${skipped} skipped: model not available), every one reported ${COUNTERS} > 0")
