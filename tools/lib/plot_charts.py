@@ -103,7 +103,7 @@ for r in accuracy:
     if r["kind"] != "image" or not r.get("ms_per_frame"):
         continue
     seg = int(r["item"].split("=")[1])
-    image_points.append((1000.0 / r["ms_per_frame"], max(r["mean_lsb"], 1e-4), r["method"], seg, r["psnr_db"]))
+    image_points.append((1000.0 / r["ms_per_frame"], max(r["mean_lsb"], 1e-4), r["method"].split()[0], seg, r["psnr_db"]))
 for mode in MODE_COLOURS:
     pts = sorted([p for p in image_points if p[2] == mode], key=lambda p: p[3])
     ax2.plot([p[0] for p in pts], [p[1] for p in pts], "-o", color=MODE_COLOURS[mode], label=mode, ms=5)
