@@ -201,6 +201,9 @@ TEST_P(SimdRandom, MatchesReference) {
     // The exact tier's kernel runs in double lanes (shade_simd.hpp): the 2e-6. In float
     // lanes the float model-view and normal matrices left 2.15e-6 on avx2; measured now: 0.
     EXPECT_LE(c.max_error, 2e-6);
+  } else if (tier != PowTier::schlick) {
+    // The contract of the float tiers (cmd_accuracy.cpp): 3e-5; measured 1.84e-5 at most.
+    EXPECT_LE(c.max_error, 3e-5);
   }
   std::printf("simd %s, pow %s vs reference: max |error| %.3g, max 8-bit difference %d\n", to_string(isa),
               to_string(tier), c.max_error, c.max_delta8);
@@ -235,7 +238,8 @@ INSTANTIATE_TEST_SUITE_P(
                       SimdCase{Isa::sse2, PowTier::exact}, SimdCase{Isa::avx2, PowTier::automatic},
                       SimdCase{Isa::avx2, PowTier::fast}, SimdCase{Isa::avx2, PowTier::exact},
                       SimdCase{Isa::avx512, PowTier::automatic}, SimdCase{Isa::avx512, PowTier::fast},
-                      SimdCase{Isa::avx512, PowTier::exact}),
+                      SimdCase{Isa::avx512, PowTier::exact}, SimdCase{Isa::sse2, PowTier::integer},
+                      SimdCase{Isa::avx2, PowTier::integer}, SimdCase{Isa::avx512, PowTier::integer}),
     [](const auto& param_info) {
       return std::string(to_string(param_info.param.isa)) + "_" + to_string(param_info.param.tier);
     });

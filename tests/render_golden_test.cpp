@@ -30,11 +30,21 @@ Rgba8Image render_rgba8(const Scene& scene, int w, int h, ShadingMode mode, Fram
 
 class Golden : public ::testing::TestWithParam<ShadingMode> {};
 
-TEST_P(Golden, DefaultSceneMatches) {
-  const std::string name = std::string("default_") + to_string(GetParam()) + ".png";
+void expect_matches_golden(ShadingMode mode, LightingPath path, Isa isa) {
+  const std::string name = std::string("default_") + to_string(mode) + ".png";
   const Result<Rgba8Image> golden = read_png(test::data_dir() + "/golden/" + name);
   ASSERT_TRUE(golden.ok()) << golden.status().message();
-  const Rgba8Image actual = render_rgba8(make_default_scene(), 160, 120, GetParam(), nullptr, LightingPath::scalar);
+  test::Canvas c(160, 120);
+  RenderOptions o;
+  o.shading = mode;
+  o.path = path;
+  o.isa = isa;
+  Renderer r;
+  ASSERT_TRUE(r.render(make_default_scene(), o, c.view()).ok());
+  Rgba8Image actual;
+  actual.width = 160;
+  actual.height = 120;
+  actual.pixels = c.pixels();
   const Result<ImageDifference> d = compare_images(*golden, actual);
   ASSERT_TRUE(d.ok()) << d.status().message();
   if (d->max_channel_difference > 1) {
@@ -45,6 +55,18 @@ TEST_P(Golden, DefaultSceneMatches) {
     ADD_FAILURE() << name << ": largest difference " << d->max_channel_difference << ", " << d->differing_pixels
                   << " pixels differ, PSNR " << d->psnr_db << " dB. This render: " << out
                   << ". If the change is intended, run tools/regen-golden and commit the new images.";
+  }
+}
+
+// The golden files were rendered on the scalar path; every SIMD ISA must match them within the
+// same step (the cross-path contract), with the same coverage.
+TEST_P(Golden, DefaultSceneMatches) { expect_matches_golden(GetParam(), LightingPath::scalar, Isa::best); }
+
+TEST_P(Golden, DefaultSceneMatchesOnEverySimdIsa) {
+  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+    if (!isa_supported(isa)) continue;
+    SCOPED_TRACE(to_string(isa));
+    expect_matches_golden(GetParam(), LightingPath::simd, isa);
   }
 }
 

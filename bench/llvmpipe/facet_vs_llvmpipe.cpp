@@ -17,7 +17,11 @@
 //                     [--check] [SCENE.json ...]
 // With no scene file: the built-in scene, the Stanford bunny (when ../shared/models is there) and
 // a 1M-triangle sphere, each with 1, 4 and 8 lights. --check exits 1 unless every comparison has
-// a mean difference <= 1 step and >= 99 % of covered pixels within 2 steps (the test).
+// a mean difference <= 0.05 steps, >= 99.9 % of covered pixels within 2 steps and a PSNR >= 50 dB
+// (the test). Measured on the --quick scenes at 480x270: mean 0.001-0.006 steps, 100.00 % within
+// 2 steps, 60-78 dB: the bounds leave about 8x on the mean and 10 dB on the PSNR for another
+// CPU's llvmpipe, and are 20x tighter than the project's GL-compatibility target (mean <= 1 step,
+// >= 99 % within 2), which a wrong attenuation, cone or pow would still have passed.
 #include <GL/gl.h>
 #include <GL/osmesa.h>
 
@@ -362,7 +366,7 @@ int main(int argc, char** argv) {
     if (!compare(name, scene, opt, ctx, r)) return 2;
     std::printf("%-22s %10zu %12.2f %12.2f %7.2fx %10.3f %9.2f%% %9.1f\n", r.name.c_str(), r.triangles, r.facet_ms,
                 r.gl_ms, r.gl_ms / r.facet_ms, r.mean_diff, 100 * r.within2, r.psnr);
-    if (r.mean_diff > 1.0 || r.within2 < 0.99) ok = false;
+    if (r.mean_diff > 0.05 || r.within2 < 0.999 || r.psnr < 50.0) ok = false;
   }
   const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
@@ -370,7 +374,8 @@ int main(int argc, char** argv) {
               version ? version : "?", opt.out.c_str());
   OSMesaDestroyContext(ctx);
   if (opt.check && !ok) {
-    std::fprintf(stderr, "facet_vs_llvmpipe: a comparison exceeds a mean of 1 step or has < 99%% within 2 steps\n");
+    std::fprintf(stderr, "facet_vs_llvmpipe: a comparison exceeds a mean of 0.05 steps, has < 99.9%% within 2 steps "
+                         "or a PSNR below 50 dB\n");
     return 1;
   }
   return 0;
