@@ -188,10 +188,15 @@ TEST(RenderDepth, EqualDepthKeepsTheFirstSubmitted) {
   Scene s = camera_scene();
   add_quad(s, -9, -9, 9, 9, -4, kRed);
   add_quad(s, -9, -9, 9, 9, -4, kGreen);  // same depth everywhere: LESS keeps red
-  Canvas c(8, 8);
-  ASSERT_TRUE(render(s, c.view()).ok());
-  EXPECT_EQ(c.byte(3, 3, 0), 255);
-  EXPECT_EQ(c.byte(3, 3, 1), 0);
+  for (LightingPath path : {LightingPath::scalar, LightingPath::simd}) {  // both rasterizers' depth tests
+    Canvas c(8, 8);
+    RenderOptions o;
+    o.path = path;
+    Renderer r;
+    ASSERT_TRUE(r.render(s, o, c.view()).ok());
+    EXPECT_EQ(c.byte(3, 3, 0), 255) << to_string(path);
+    EXPECT_EQ(c.byte(3, 3, 1), 0) << to_string(path);
+  }
 }
 
 TEST(RenderDepth, DepthViewHoldsWindowDepth) {

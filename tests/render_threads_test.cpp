@@ -298,11 +298,17 @@ TEST(RenderThreads, CoincidentFacesInDifferentRangesKeepSubmissionOrder) {
     s.lights = {red, blue};
     // Flat shading lights the geometric face normal, the same for both quads: only the vertex
     // normals of Gouraud and Phong tell them apart.
-    for (ShadingMode mode : {ShadingMode::gouraud, ShadingMode::phong}) {
+    struct Case {
+      ShadingMode mode;
+      LightingPath path;
+    };
+    for (const auto& [mode, path] : {Case{ShadingMode::gouraud, LightingPath::scalar}, Case{ShadingMode::gouraud, LightingPath::simd},
+                                     Case{ShadingMode::phong, LightingPath::scalar}, Case{ShadingMode::phong, LightingPath::simd}}) {
       for (int threads : {1, 2, 3, 8}) {
         test::Canvas c(96, 64);
         RenderOptions o;
         o.shading = mode;
+        o.path = path;
         o.threads = threads;
         o.tile_size = 16;
         Renderer r;
@@ -313,7 +319,7 @@ TEST(RenderThreads, CoincidentFacesInDifferentRangesKeepSubmissionOrder) {
           const bool red = px[i] > 100 && px[i + 2] < 20, blue = px[i + 2] > 100 && px[i] < 20;
           first_wins += red_first ? red : blue;
         }
-        EXPECT_EQ(first_wins, 96 * 64) << to_string(mode) << ", " << threads << " threads, "
+        EXPECT_EQ(first_wins, 96 * 64) << to_string(mode) << ", " << to_string(path) << ", " << threads << " threads, "
                                        << (red_first ? "red" : "blue") << " first";
       }
     }
