@@ -8,7 +8,6 @@
 #include <unistd.h>
 
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -203,34 +202,33 @@ TEST(FileAccess, FailedWriteKeepsTheOldFile) {
 
 // ---- 4. Budgets, limits, cancellation, out-of-memory codes -----------------------------------
 
-TEST(MemoryBudget, SceneFileThatWouldTakeGigabytesIsRefusedBeforeAllocating) {
-  // Four 4096 x 4096 spheres: 805 MB each (16.8 M vertices, 33.5 M triangles).
+// A scene file of four spheres of `segments` x `segments`, one per line after the first.
+std::string spheres_json(int segments) {
   std::string json = "{\"meshes\": [\n";
   for (int i = 0; i < 4; ++i) {
     json += std::string(i ? ",\n" : "") + "{\"name\": \"s" + std::to_string(i) +
-            "\", \"shape\": \"sphere\", \"segments\": 4096, \"rings\": 4096}";
+            "\", \"shape\": \"sphere\", \"segments\": " + std::to_string(segments) +
+            ", \"rings\": " + std::to_string(segments) + "}";
   }
-  json += "]}";
+  return json + "]}";
+}
+
+TEST(MemoryBudget, SceneFileThatWouldTakeGigabytesIsRefusedBeforeAllocating) {
+  // 4096 x 4096 spheres: 805 MB each (16.8 M vertices, 33.5 M triangles), refused at the first
+  // (the check runs before a mesh is generated: scene_file.cpp, reserve_mesh).
+  const std::string json = spheres_json(4096);
   LoadOptions small;
   small.memory_budget_bytes = std::uint64_t{512} << 20;
-  const auto start = std::chrono::steady_clock::now();
   const Result<Scene> s = parse_scene_json(json, "big.json", "", small);
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.status().code(), ErrorCode::out_of_memory);
   EXPECT_NE(s.status().message().find("big.json:2: meshes[0]"), std::string::npos) << s.status().message();
   EXPECT_NE(s.status().message().find("memory budget of 512 MiB"), std::string::npos) << s.status().message();
-  // Refused before the 805 MB were generated (which takes seconds); not a timing contract.
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.0);
 }
 
 TEST(MemoryBudget, BudgetCountsEveryMeshOfTheScene) {
   // 512 x 512 spheres: 263,169 vertices and 524,288 triangles, 12.3 MiB each: the third crosses 30 MiB.
-  std::string json = "{\"meshes\": [\n";
-  for (int i = 0; i < 4; ++i) {
-    json += std::string(i ? ",\n" : "") + "{\"name\": \"s" + std::to_string(i) +
-            "\", \"shape\": \"sphere\", \"segments\": 512, \"rings\": 512}";
-  }
-  json += "]}";
+  const std::string json = spheres_json(512);
   LoadOptions o;
   o.memory_budget_bytes = std::uint64_t{30} << 20;
   const Result<Scene> s = parse_scene_json(json, "three.json", "", o);
@@ -313,17 +311,14 @@ TEST(RenderCancel, FrameWithHundredThousandLightsIsCancelled) {
       o.threads = threads;
       o.shading = mode;
       o.cull_lights = false;
-      o.progress = [&](double) { return ++calls < 3; };
+      o.progress = [&](double) { return ++calls < 2; };
       test::Canvas c(320, 200);
       Renderer r;
-      const auto start = std::chrono::steady_clock::now();
       const Status s = r.render(scene, o, c.view());
-      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      // The second report said stop, and no report came after it: the frame stopped at the next
+      // chunk or tile (run to the end, this frame takes minutes on one thread).
       EXPECT_EQ(s.code(), ErrorCode::cancelled) << s.message();
-      EXPECT_EQ(calls.load(), 3);
-      // Not a timing test: a frame that ran to the end would take minutes; a cancelled one stops
-      // within a chunk or a tile.
-      EXPECT_LT(seconds, 60.0);
+      EXPECT_EQ(calls.load(), 2);
       EXPECT_EQ(r.last_stats().pixels_filled, 0u);  // no stats from a cancelled frame
     }
   }

@@ -313,7 +313,8 @@ void Renderer::Impl::unit_done() {
   const std::uint64_t done = work_done.fetch_add(1, std::memory_order_relaxed) + 1;
   if (!progress || cancelled.load(std::memory_order_relaxed)) return;
   std::unique_lock<std::mutex> lock(progress_mutex, std::try_to_lock);
-  if (!lock.owns_lock()) return;
+  // After a report that said stop, no other report follows.
+  if (!lock.owns_lock() || cancelled.load(std::memory_order_relaxed)) return;
   // Reports never go backwards, whichever thread's count arrives first.
   progress_reported = std::max(progress_reported, std::min(1.0, static_cast<double>(done) / static_cast<double>(work_total)));
   if (!(*progress)(progress_reported)) cancelled.store(true, std::memory_order_relaxed);
