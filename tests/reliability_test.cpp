@@ -302,24 +302,35 @@ Scene many_lights_scene(int lights) {
   return scene;
 }
 
+// Cancelled during set-up (Gouraud: lighting 10^5 lights per vertex chunk) and during the tiles
+// (Phong: 10^5 lights per pixel, 8-pixel tiles). Run to the end, either frame takes minutes.
 TEST(RenderCancel, FrameWithHundredThousandLightsIsCancelled) {
   const Scene scene = many_lights_scene(100000);
   for (int threads : {1, 2}) {
     for (ShadingMode mode : {ShadingMode::gouraud, ShadingMode::phong}) {
-      std::atomic<int> calls{0};
+      std::atomic<int> calls{0}, after_stop{0};
+      std::atomic<bool> stopped{false};
       RenderOptions o;
       o.threads = threads;
       o.shading = mode;
       o.cull_lights = false;
-      o.progress = [&](double) { return ++calls < 2; };
-      test::Canvas c(320, 200);
+      o.tile_size = 8;
+      o.progress = [&](double done) {
+        ++calls;
+        if (stopped) ++after_stop;
+        // Gouraud: stop at the second report; Phong: at the first past 30 % (in the tile loop).
+        const bool stop = mode == ShadingMode::gouraud ? calls >= 2 : done >= 0.3;
+        if (stop) stopped = true;
+        return !stop;
+      };
+      test::Canvas c(96, 64);
       Renderer r;
       const Status s = r.render(scene, o, c.view());
-      // The second report said stop, and no report came after it: the frame stopped at the next
-      // chunk or tile (run to the end, this frame takes minutes on one thread).
       EXPECT_EQ(s.code(), ErrorCode::cancelled) << s.message();
-      EXPECT_EQ(calls.load(), 2);
-      EXPECT_EQ(r.last_stats().pixels_filled, 0u);  // no stats from a cancelled frame
+      EXPECT_TRUE(stopped.load());
+      EXPECT_EQ(after_stop.load(), 0) << "a report came after the one that said stop";
+      if (mode == ShadingMode::gouraud) EXPECT_TRUE(c.untouched()) << "cancelled in set-up: no pixel written";
+      EXPECT_TRUE(c.outside_pixels_untouched());
     }
   }
 }
