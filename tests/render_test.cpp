@@ -297,8 +297,13 @@ TEST(RenderClip, CoordinatesOf1e30AndNaN) {
     ASSERT_TRUE(render(one_triangle({-1, -1, -5}, {1, -1, -5}, far_vertex), c.view(), &st).ok());
     EXPECT_TRUE(c.outside_pixels_untouched());
     EXPECT_EQ(st.triangles_in, 1u);
-    // Dropped as non-finite, rejected as outside, or clipped into pieces that were then handled.
-    EXPECT_EQ(st.triangles_nonfinite + st.triangles_outside + st.triangles_clipped, 1u) << far_vertex.transpose();
+    // Each case has one outcome: NaN is dropped as non-finite; the others have finite clip
+    // coordinates with one vertex outside the frustum (right of the guard band, beyond the far
+    // plane, behind the eye) and are clipped.
+    const bool is_nan = std::isnan(far_vertex.x());
+    EXPECT_EQ(st.triangles_nonfinite, is_nan ? 1u : 0u) << far_vertex.transpose();
+    EXPECT_EQ(st.triangles_clipped, is_nan ? 0u : 1u) << far_vertex.transpose();
+    EXPECT_EQ(st.triangles_outside, 0u) << far_vertex.transpose();
     for (int y = 0; y < 16; ++y)
       for (int x = 0; x < 16; ++x)
         for (int ch = 0; ch < 4; ++ch) ASSERT_TRUE(std::isfinite(c.channel_f(x, y, ch)));
