@@ -183,8 +183,13 @@ TEST(FileAccess, FailedWriteKeepsTheOldFile) {
       std::signal(SIGXFSZ, SIG_IGN);
       const rlimit limit{4096, 4096};
       ::setrlimit(RLIMIT_FSIZE, &limit);
-      std::vector<float> px(256 * 256 * 4, 0.5f);
-      for (std::size_t i = 0; i < px.size(); ++i) px[i] = static_cast<float>(i % 977) / 977.0f;  // incompressible
+      // Pseudo-random bytes: the PNG cannot compress them below the 4 KiB limit (about 256 KiB).
+      std::vector<float> px(256 * 256 * 4);
+      std::uint32_t state = 12345;
+      for (float& v : px) {
+        state = state * 1664525u + 1013904223u;
+        v = static_cast<float>(state >> 24) / 255.0f;
+      }
       const ImageView img{px.data(), 256, 256, 256 * 16, PixelFormat::rgba32f, false};
       const Status s = std::string(name).ends_with(".png") ? write_png(target, img) : write_pfm(target, img);
       ::_exit(!s.ok() && s.code() == ErrorCode::io_error ? 0 : 1);
