@@ -1,10 +1,15 @@
-// Fuzzes the JSON scene parser; accepted scenes must validate and render into a small guarded
-// image. (OBJ paths resolve in a directory that does not exist: they fail as missing files.)
+// Fuzzes the JSON scene parser; accepted scenes must validate and, unless check_render refuses
+// them (frame limits, memory budget) with the very message render() then gives, render into a
+// small guarded image. Loads run under a 256 MiB budget, so no input can take more than that in
+// meshes (the fuzzer's RSS limit is 3 GiB). (OBJ paths resolve in a directory that does not
+// exist: they fail as missing files.)
 #include "fuzz_support.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  const facet::Result<facet::Scene> scene = facet::parse_scene_json(text, "fuzz.json", "/nonexistent-facet-fuzz");
+  facet::LoadOptions load;
+  load.memory_budget_bytes = std::uint64_t{256} << 20;
+  const facet::Result<facet::Scene> scene = facet::parse_scene_json(text, "fuzz.json", "/nonexistent-facet-fuzz", load);
   if (!scene.ok()) {
     if (scene.status().message().rfind("fuzz.json", 0) != 0) facet::fuzz::broken("an error that does not name the file");
     return 0;
@@ -18,7 +23,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   options.threads = 1;
   options.shading = static_cast<facet::ShadingMode>(size % 3);
   facet::Renderer renderer;
-  if (!renderer.render(*scene, options, image.view()).ok()) facet::fuzz::broken("a valid scene failed to render");
+  const facet::Status checked = facet::check_render(*scene, options, 24, 16);
+  const facet::Status rendered = renderer.render(*scene, options, image.view());
+  if (checked.message() != rendered.message()) facet::fuzz::broken("check_render and render disagree");
+  if (!checked.ok()) return 0;  // a frame limit or the memory budget, the same for both
   image.check();
   return 0;
 }
