@@ -138,5 +138,30 @@ TEST(FramePlan, LightsToDropUsesRangeAndTheAttenuationBudget) {
   EXPECT_FALSE(drop[4]);
 }
 
+// The attenuation budget is spent in full and never overspent: four lights each bounded by 0.3
+// of it, unattenuated (denominator 1), so three are dropped (0.9) and the fourth would cross it.
+TEST(FramePlan, LightsToDropNeverSpendsMoreThanTheBudget) {
+  Scene s = test::camera_scene();
+  Material m;  // set-up multiplies the material into each light: diffuse 1 keeps the bound
+  m.diffuse = Color3(1, 1, 1);
+  const double bound = 0.3 * lighting::kLightCullBudget;
+  for (int i = 0; i < 4; ++i) {
+    Light l;
+    l.type = LightType::point;
+    l.position = Vec3(0, 0, -20);
+    l.ambient = l.specular = Color3::Zero();
+    l.diffuse = Color3(float(bound), float(bound), float(bound));
+    s.lights.push_back(l);
+  }
+  const auto params = lighting::make_shade_params<double>(s, Eigen::Matrix4d::Identity(), m, true);
+  const lighting::EyeSphere sphere{Eigen::Vector3d(0, 0, -10), 1.0};
+  std::vector<bool> drop;
+  std::vector<lighting::CullCandidate> scratch;
+  lighting::lights_to_drop(params, sphere, lighting::kLightCullBudget, drop, scratch);
+  ASSERT_EQ(drop.size(), 4u);
+  EXPECT_EQ(std::count(drop.begin(), drop.end(), true), 3);
+  EXPECT_FALSE(drop[3]) << "ties are broken by light index";
+}
+
 }  // namespace
 }  // namespace facet
