@@ -334,7 +334,9 @@ TEST(RenderCancel, FrameWithHundredThousandLightsIsCancelled) {
       EXPECT_EQ(s.code(), ErrorCode::cancelled) << s.message();
       EXPECT_TRUE(stopped.load());
       EXPECT_EQ(after_stop.load(), 0) << "a report came after the one that said stop";
-      if (mode == ShadingMode::gouraud) EXPECT_TRUE(c.untouched()) << "cancelled in set-up: no pixel written";
+      if (mode == ShadingMode::gouraud) {
+        EXPECT_TRUE(c.untouched()) << "cancelled in set-up: no pixel written";
+      }
       EXPECT_TRUE(c.outside_pixels_untouched());
     }
   }
