@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "raster/assemble.hpp"
 #include "raster/tile_raster.hpp"
 #include "raster/triangle_setup.hpp"
 
@@ -21,7 +22,7 @@ struct P {
 
 P centre_of(int px, int py) { return {px * 256 + 128, py * 256 + 128}; }
 
-// Oriented and set up exactly as the renderer does it (see Renderer::Impl::emit).
+// Oriented and set up by the renderer's own set-up (place_triangle, nothing culled).
 std::optional<ScreenTriangle> setup(P a, P b, P c, int width, int height) {
   ScreenTriangle t{};
   const P v[3] = {a, b, c};
@@ -29,10 +30,8 @@ std::optional<ScreenTriangle> setup(P a, P b, P c, int width, int height) {
     t.x[k] = static_cast<std::int32_t>(v[k].x);
     t.y[k] = static_cast<std::int32_t>(v[k].y);
   }
-  const std::int64_t area2 = signed_area2(t);
-  if (area2 == 0) return std::nullopt;
-  if (area2 < 0) swap_vertices_1_2(t);
-  if (!finish_setup(t, width, height)) return std::nullopt;
+  bool swapped = false;
+  if (place_triangle(t, CullMode::none, false, false, {width, height}, swapped) != Placement::placed) return std::nullopt;
   return t;
 }
 
@@ -58,7 +57,8 @@ class Coverage {
     compute_planes(*t, 0);
     const ScreenTriangle* range = &*t;
     const std::uint32_t bin = 0;
-    simd::TileJob job{0, &range, &bin, 1, 0, 0, w_, h_, nullptr};
+    constexpr VaryingLayout kFlat = plan_varyings(LitAt::triangle, false);
+    simd::TileJob job{0, &range, &bin, 1, 0, 0, w_, h_, nullptr, &kFlat};
     simd::TileCounters counters;
     kernels_->raster(job, tile_.view({0, 0, 0, 1}), counters);
     std::uint64_t found = 0;

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "io/image_convert.hpp"
+#include "raster/assemble.hpp"
 #include "raster/tile_raster.hpp"
 #include "test_support.hpp"
 
@@ -25,7 +26,8 @@ class SimdRaster : public ::testing::TestWithParam<Isa> {
   const simd::Kernels* kernels_ = nullptr;
 };
 
-// A triangle set up as Renderer::Impl::emit does, at constant depth `z`, flat colour `rgb`.
+// A triangle placed by the renderer's own set-up (place_triangle, nothing culled), at constant
+// depth `z`, flat colour `rgb`.
 std::optional<ScreenTriangle> make_triangle(const std::int32_t (&x)[3], const std::int32_t (&y)[3], float z,
                                             int width, int height, float red = 1.0f) {
   ScreenTriangle t{};
@@ -34,10 +36,8 @@ std::optional<ScreenTriangle> make_triangle(const std::int32_t (&x)[3], const st
     t.z[k] = z;
     t.inv_w[k] = 1.0f;
   }
-  const std::int64_t area2 = signed_area2(t);
-  if (area2 == 0) return std::nullopt;
-  if (area2 < 0) swap_vertices_1_2(t);
-  if (!finish_setup(t, width, height)) return std::nullopt;
+  bool swapped = false;
+  if (place_triangle(t, CullMode::none, false, false, {width, height}, swapped) != Placement::placed) return std::nullopt;
   t.flat_rgb[0] = red;
   t.alpha = 1.0f;
   compute_planes(t, 0);
@@ -52,8 +52,9 @@ std::vector<float> raster_depth(const simd::Kernels& k, std::span<const ScreenTr
   std::vector<std::uint32_t> bin(triangles.size());
   for (std::size_t i = 0; i < bin.size(); ++i) bin[i] = static_cast<std::uint32_t>(i);
   const ScreenTriangle* range = triangles.data();
+  constexpr VaryingLayout kFlat = plan_varyings(LitAt::triangle, false);
   simd::TileJob job{static_cast<int>(shading), &range, bin.data(), bin.size(), rect.x0, rect.y0, rect.x1, rect.y1,
-                    nullptr};
+                    nullptr, &kFlat};
   k.raster(job, tile.view({0, 0, 0, 1}), counters);
   std::vector<float> depth(static_cast<std::size_t>(tile_size * tile_size), 1.0f);
   for (int y = 0; y < rect.y1 - rect.y0; ++y) {
@@ -160,10 +161,8 @@ TEST_P(SimdRaster, PlaneDepthAgreesWithBarycentricDepth) {
       t.z[k] = zd(rng);
       t.inv_w[k] = 1.0f;
     }
-    const std::int64_t area2 = signed_area2(t);
-    if (area2 == 0) continue;
-    if (area2 < 0) swap_vertices_1_2(t);
-    if (!finish_setup(t, 64, 64)) continue;
+    bool swapped = false;
+    if (place_triangle(t, CullMode::none, false, false, {64, 64}, swapped) != Placement::placed) continue;
     compute_planes(t, 0);
     const Plane& p = t.plane[kPlaneZ];
     const double gradient = std::abs(double(p.dx)) + std::abs(double(p.dy));

@@ -316,8 +316,8 @@ TEST(RenderThreads, CoincidentFacesInDifferentRangesKeepSubmissionOrder) {
         const std::vector<std::uint8_t> px = c.pixels();
         int first_wins = 0;
         for (std::size_t i = 0; i < px.size(); i += 4) {
-          const bool red = px[i] > 100 && px[i + 2] < 20, blue = px[i + 2] > 100 && px[i] < 20;
-          first_wins += red_first ? red : blue;
+          const bool is_red = px[i] > 100 && px[i + 2] < 20, is_blue = px[i + 2] > 100 && px[i] < 20;
+          first_wins += red_first ? is_red : is_blue;
         }
         EXPECT_EQ(first_wins, 96 * 64) << to_string(mode) << ", " << to_string(path) << ", " << threads << " threads, "
                                        << (red_first ? "red" : "blue") << " first";

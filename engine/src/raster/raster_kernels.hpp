@@ -14,6 +14,7 @@
 
 #include "facet/image.hpp"
 #include "raster/triangle_setup.hpp"
+#include "raster/varyings.hpp"
 
 namespace facet::raster {
 // Triangles are set up in parallel ranges; a bin entry names one as (range << 16) | index. A range
@@ -57,6 +58,7 @@ struct TileJob {
   std::size_t bin_size;
   int x0, y0, x1, y1;  // the tile's pixels in the image, [x0, x1) x [y0, y1)
   PhongSink* phong;  // for ShadingMode::phong
+  const VaryingLayout* varyings;  // where the planes of the colour (Gouraud) or position and normal (Phong) are
 };
 
 struct TileCounters {

@@ -134,8 +134,8 @@ struct TileKernel {
   // 33.0 ms counting whole batches as scalars, 26.4 ms with a separate instantiation for blocks that
   // are fully covered (no per-batch coverage work): 2.43 G pixels/s on 2 threads.
   template <int Mode>
-  static void triangle(const TileJob& job, const TileView& tv, const ScreenTriangle& t, PhongBatch& phong,
-                       TileCounters& counters) {
+  static void triangle(const TileJob& job, const TileView& tv, const ScreenTriangle& t, const int (&plane_of)[6],
+                       PhongBatch& phong, TileCounters& counters) {
     I tested(0), filled(0);                 // per lane, batches partly covered or partly passing
     std::uint64_t whole_tested = 0, whole_filled = 0;  // whole batches
     float* const planes[5] = {tv.plane[0], tv.plane[1], tv.plane[2], tv.plane[3], tv.plane[4]};
@@ -174,13 +174,13 @@ struct TileKernel {
       }
     }
 
-    // Planes.
+    // Planes: Gouraud's colour, or Phong's position then normal (where the job's layout put them).
     constexpr int kAttributes = Mode == 2 ? 6 : 3;
     PlaneEval z_plane, w_plane, attr[kAttributes];
     z_plane.set(t.plane[kPlaneZ]);
     if constexpr (Mode != 0) {
       w_plane.set(t.plane[kPlaneInvW]);
-      for (int a = 0; a < kAttributes; ++a) attr[a].set(t.plane[kPlaneAttr + a]);
+      for (int a = 0; a < kAttributes; ++a) attr[a].set(t.plane[kPlaneAttr + plane_of[a]]);
     }
     const double vx = double(t.x[0]) / kSubpixelOne, vy = double(t.y[0]) / kSubpixelOne;
     const F flat[4] = {F(t.flat_rgb[0]), F(t.flat_rgb[1]), F(t.flat_rgb[2]), F(t.alpha)};
@@ -305,6 +305,17 @@ struct TileKernel {
   static void raster(const TileJob& job, const TileView& tv, TileCounters& counters) {
     clear(job, tv);
     PhongBatch phong{job.phong, &tv};
+    // Attribute plane k of the kernel: colour components (Gouraud), or position then normal (Phong).
+    int plane_of[6] = {};
+    {
+      const std::int8_t* at = job.varyings->offset;
+      const int colour = at[static_cast<int>(Varying::front_color)];
+      const int position = at[static_cast<int>(Varying::eye_position)], normal = at[static_cast<int>(Varying::normal)];
+      for (int c = 0; c < 3; ++c) {
+        plane_of[c] = job.shading == 2 ? position + c : colour + c;
+        plane_of[3 + c] = job.shading == 2 ? normal + c : 0;
+      }
+    }
     for (std::size_t n = 0; n < job.bin_size; ++n) {
       if (n + 2 < job.bin_size) {  // the triangle after next: set-up wrote it long ago, so it is not in cache
         const std::uint32_t ahead = job.bin[n + 2];
@@ -316,13 +327,13 @@ struct TileKernel {
       const std::uint32_t entry = job.bin[n];
       const ScreenTriangle& t = job.ranges[entry >> kRangeShift][entry & kIndexMask];
       switch (job.shading) {
-        case 0: triangle<0>(job, tv, t, phong, counters); break;
-        case 1: triangle<1>(job, tv, t, phong, counters); break;
+        case 0: triangle<0>(job, tv, t, plane_of, phong, counters); break;
+        case 1: triangle<1>(job, tv, t, plane_of, phong, counters); break;
         default:
           if (phong.count > 0 && (t.object != phong.object || t.alpha != phong.alpha)) phong.flush();
           phong.object = t.object;
           phong.alpha = t.alpha;
-          triangle<2>(job, tv, t, phong, counters);
+          triangle<2>(job, tv, t, plane_of, phong, counters);
           break;
       }
     }

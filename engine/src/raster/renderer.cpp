@@ -17,10 +17,14 @@
 #include "common/parallel.hpp"
 #include "facet/render.hpp"
 #include "geometry/clip.hpp"
+#include "geometry/project.hpp"
 #include "lighting/point_shader.hpp"
 #include "lighting/setup.hpp"
+#include "raster/assemble.hpp"
+#include "raster/bins.hpp"
 #include "raster/tile_raster.hpp"
 #include "raster/triangle_setup.hpp"
+#include "raster/varyings.hpp"
 
 namespace facet {
 
@@ -36,7 +40,6 @@ const char* to_string(ShadingMode mode) noexcept {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using geometry::ClipVertex;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -79,13 +82,8 @@ Status check_options(const RenderOptions& o) {
   return {};
 }
 
-// Row-major 4x4 in float.
-struct Mat4Rows {
-  float m[16];
-};
-
-Mat4Rows to_rows(const Eigen::Matrix4d& d) {
-  Mat4Rows r{};
+geometry::Mat4Rows to_rows(const Eigen::Matrix4d& d) {
+  geometry::Mat4Rows r{};
   for (int i = 0; i < 16; ++i) r.m[i] = static_cast<float>(d(i / 4, i % 4));
   return r;
 }
@@ -139,30 +137,6 @@ Status check_frame_limits(const Scene& scene, const RenderOptions& options, int 
 }
 }  // namespace
 
-// What happened to the triangles of one set-up range (see FrameStats for each counter).
-struct TriangleCounts {
-  std::uint64_t in = 0, nonfinite = 0, outside = 0, clipped = 0, culled = 0, degenerate = 0, small = 0, drawn = 0,
-                bin_entries = 0;
-  void add_to(FrameStats& s) const {
-    s.triangles_in += in;
-    s.triangles_nonfinite += nonfinite;
-    s.triangles_outside += outside;
-    s.triangles_clipped += clipped;
-    s.triangles_culled += culled;
-    s.triangles_degenerate += degenerate;
-    s.triangles_small += small;
-    s.triangles_drawn += drawn;
-    s.bin_entries += bin_entries;
-  }
-};
-
-// What one set-up range produced besides its triangles: its bin entries (tile, index) in
-// triangle order, and its counters. Kept from frame to frame.
-struct RangeBinning {
-  std::vector<std::uint32_t> tile, index;
-  TriangleCounts counts;
-};
-
 struct Renderer::Impl {
   // Threads: this renderer's own arena, rebuilt only when the thread count changes.
   std::unique_ptr<parallel::Arena> arena;
@@ -174,20 +148,14 @@ struct Renderer::Impl {
   std::vector<raster::RasterCounters> tile_counters;
   // Frame-wide state, reused from frame to frame (capacity is kept).
   std::vector<std::vector<raster::ScreenTriangle>> range_triangles;
-  std::vector<RangeBinning> range_binning;
+  std::vector<raster::RangeBinning> range_binning;
   std::vector<const raster::ScreenTriangle*> range_data;
   std::size_t range_count = 0;
   std::vector<std::vector<std::uint32_t>> bins;
   std::vector<lighting::PointShader> shaders;  // one per object
   // Per vertex: outcodes, and for vertices inside the guard band the snapped screen position,
   // computed once instead of once per triangle that uses the vertex.
-  struct ScreenVertex {
-    std::int32_t x, y;
-    float z, inv_w;
-    std::uint8_t frustum, guard;  // frustum_outcode, clip_outcode
-    bool finite;                  // clip position finite
-    bool projected;               // guard == 0 and the projection is finite
-  };
+  using ScreenVertex = geometry::ScreenVertex;
   // What one object's set-up needs between its lighting and its assembly. One per arena slot:
   // small objects are set up whole by one task each, on that task's slot's scratch; large ones one
   // at a time, with their vertices and ranges spread over the threads, on slot 0's.
@@ -215,11 +183,10 @@ struct Renderer::Impl {
 
   // Frame constants.
   int width = 0, height = 0, tile_size = 64, tiles_x = 0, tiles_y = 0;
-  geometry::ClipPlanes planes{};
-  CullMode cull = CullMode::back;
   bool two_sided = false;
   bool simd_raster = true;  // the simd path rasterizes with the SIMD kernels
   ShadingMode shading = ShadingMode::gouraud;
+  raster::AssemblyFrame assembly;  // viewport, clip planes, face rules, varying layout, tile grid
   FrameStats stats;
   FrameStats last_stats;  // of the last successful render
   // Progress and cancellation (RenderOptions::progress): work units are vertex chunks, set-up
@@ -244,16 +211,6 @@ struct Renderer::Impl {
                       const Eigen::Matrix4d& proj, const LightingOptions& lighting, std::uint32_t object,
                       ObjectScratch& os, int slot);
   void assemble_object(const Mesh& mesh, std::uint32_t object, float alpha, const ObjectScratch& os, int slot);
-  void assemble_range(const Mesh& mesh, std::uint32_t object, float alpha, std::size_t begin, std::size_t end,
-                      std::size_t range, const ObjectScratch& os);
-  void emit(const ClipVertex (&v)[3], std::uint32_t object, const Color3& flat_front, const Color3& flat_back,
-            float alpha, std::size_t range, bool mirrored);
-  bool project(const ClipVertex& v, ScreenVertex& out) const;
-  void vertex_attributes(std::uint32_t vertex, float* a, const ObjectScratch& os) const;
-  bool place(raster::ScreenTriangle& t, TriangleCounts& counts, bool mirrored, bool& swapped) const;
-  void finish(raster::ScreenTriangle& t, std::uint32_t object, const Color3& flat_front, const Color3& flat_back,
-              float alpha, std::size_t range);
-  void merge_ranges();
 };
 
 Status check_render_options(const RenderOptions& options) noexcept {
@@ -391,13 +348,19 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   tile_size = options.tile_size;
   tiles_x = (width + tile_size - 1) / tile_size;
   tiles_y = (height + tile_size - 1) / tile_size;
-  cull = options.cull;
   two_sided = scene.two_sided;
   shading = options.shading;
   simd_raster = options.path == LightingPath::simd;
-  // |x/w| <= 2G/W - 1 keeps screen x within [-G, G] (likewise y).
-  planes.guard_x = 2.0f * raster::kGuardBandPixels / static_cast<float>(width) - 1.0f;
-  planes.guard_y = 2.0f * raster::kGuardBandPixels / static_cast<float>(height) - 1.0f;
+  assembly.viewport = {width, height};
+  assembly.planes = geometry::guard_band_planes(assembly.viewport);
+  assembly.cull = options.cull;
+  assembly.two_sided = two_sided;
+  assembly.layout = raster::plan_varyings(shading == ShadingMode::flat      ? raster::LitAt::triangle
+                                          : shading == ShadingMode::gouraud ? raster::LitAt::vertex
+                                                                            : raster::LitAt::pixel,
+                                          two_sided);
+  assembly.grid = {tile_size, tiles_x, tiles_y};
+  assembly.planes_needed = simd_raster;
 
   range_count = 0;  // counted below, per object
   bins.resize(static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y));
@@ -493,7 +456,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   // submission order) into its own pixels, so the image does not depend on the schedule.
   // Counters are kept per tile and added up in tile order afterwards.
   const auto merge_start = Clock::now();
-  merge_ranges();
+  raster::merge_ranges(range_binning, range_count, bins, stats);
   stats.seconds_geometry += seconds_since(merge_start);
   range_data.resize(range_count);
   for (std::size_t r = 0; r < range_count; ++r) range_data[r] = range_triangles[r].data();
@@ -501,7 +464,8 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
                               range_data.data(),
                               shaders,
                               options.clear_color,
-                              simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr};
+                              simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr,
+                              &assembly.layout};
   const int tile_count = tiles_x * tiles_y;
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});
   const auto raster_start = Clock::now();
@@ -606,24 +570,12 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
 
   os.mirrored = inst.model.cast<double>().topLeftCorner<3, 3>().determinant() < 0.0;
   // Clip-space positions.
-  const Mat4Rows mvp = to_rows(proj * view * inst.model.cast<double>());
+  const geometry::Mat4Rows mvp = to_rows(proj * view * inst.model.cast<double>());
   clip.resize(n);
   screen.resize(n);
   for_chunks(n, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      const Vec3& p = mesh.positions[i];
-      for (int row = 0; row < 4; ++row) {
-        const float* m = &mvp.m[4 * row];
-        clip[i][static_cast<std::size_t>(row)] = m[0] * p.x() + m[1] * p.y() + m[2] * p.z() + m[3];
-      }
-      const auto& c = clip[i];
-      ScreenVertex& sv = screen[i];
-      const ClipVertex v{c[0], c[1], c[2], c[3], {}};
-      sv.finite = std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(c[2]) && std::isfinite(c[3]);
-      sv.frustum = static_cast<std::uint8_t>(geometry::frustum_outcode(v));
-      sv.guard = static_cast<std::uint8_t>(geometry::clip_outcode(v, planes));
-      sv.projected = sv.finite && sv.guard == 0 && project(v, sv);
-    }
+    geometry::transform_vertices(mvp, mesh.positions.data(), r.begin(), r.end(), assembly.planes, assembly.viewport,
+                                 clip.data(), screen.data());
   });
 
   if (shading == ShadingMode::gouraud) {
@@ -686,219 +638,29 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
                                      int slot) {
   const std::size_t count = mesh.triangle_count();
   const std::size_t first = first_range[object];
+  const bool flat = shading == ShadingMode::flat;
+  raster::ObjectVertices vertices;
+  vertices.clip = os.clip;
+  vertices.screen = os.screen;
+  using raster::Varying;
+  auto source = [&](Varying v, const auto& values) {
+    vertices.varying[static_cast<int>(v)] = assembly.layout.has(v) ? values.data()->data() : nullptr;
+  };
+  source(Varying::front_color, os.front);
+  source(Varying::back_color, os.back);
+  source(Varying::eye_position, os.eye_p);
+  source(Varying::normal, os.eye_n);
+  vertices.flat_front = flat ? os.front.data() : nullptr;
+  vertices.flat_back = flat && two_sided ? os.back.data() : nullptr;
+  vertices.mirrored = os.mirrored;
+  vertices.object = object;
+  vertices.alpha = alpha;
   for_chunks(range_count_of(mesh), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
     for (std::size_t r = rs.begin(); r != rs.end(); ++r) {
-      assemble_range(mesh, object, alpha, r * kTriangleRange, std::min(count, (r + 1) * kTriangleRange), first + r, os);
+      raster::assemble_range(assembly, mesh, vertices, r * kTriangleRange, std::min(count, (r + 1) * kTriangleRange),
+                             range_triangles[first + r], range_binning[first + r]);
     }
   });
-}
-
-// Bins get each range's entries in range order, so every bin lists its triangles in submission
-// order whatever the schedule was.
-void Renderer::Impl::merge_ranges() {
-  for (std::size_t r = 0; r < range_count; ++r) {
-    const RangeBinning& rb = range_binning[r];
-    const auto high = static_cast<std::uint32_t>(r) << raster::kRangeShift;
-    for (std::size_t e = 0; e < rb.tile.size(); ++e) bins[rb.tile[e]].push_back(high | rb.index[e]);
-    rb.counts.add_to(stats);
-  }
-}
-
-void Renderer::Impl::assemble_range(const Mesh& mesh, std::uint32_t object, float alpha, std::size_t begin,
-                                    std::size_t end, std::size_t range, const ObjectScratch& os) {
-  const std::vector<ScreenVertex>& screen = os.screen;
-  const std::vector<Color3>&front = os.front, &back = os.back;
-  range_triangles[range].clear();
-  RangeBinning& out = range_binning[range];
-  out.tile.clear();
-  out.index.clear();
-  out.counts = TriangleCounts{};
-  TriangleCounts& counts = out.counts;
-  const int attribute_count = shading == ShadingMode::flat ? 0 : (shading == ShadingMode::phong || two_sided ? 6 : 3);
-  const Color3 none = Color3::Zero();
-  ClipVertex polygon[geometry::kMaxClippedVertices];
-  std::vector<raster::ScreenTriangle>& triangles = range_triangles[range];
-  for (std::size_t t = begin; t < end; ++t) {
-    ++counts.in;
-    const auto& tri = mesh.triangles[t];
-    const ScreenVertex* sv[3] = {&screen[tri[0]], &screen[tri[1]], &screen[tri[2]]};
-    if (!(sv[0]->finite && sv[1]->finite && sv[2]->finite)) {
-      ++counts.nonfinite;
-      continue;
-    }
-    if (sv[0]->frustum & sv[1]->frustum & sv[2]->frustum) {
-      ++counts.outside;
-      continue;
-    }
-    const Color3& flat_front = shading == ShadingMode::flat ? front[t] : none;
-    const Color3& flat_back = shading == ShadingMode::flat && two_sided ? back[t] : flat_front;
-    const std::uint32_t outcodes = sv[0]->guard | sv[1]->guard | sv[2]->guard;
-    if (outcodes == 0) {
-      // Inside the guard band (most triangles): the vertices' screen positions are already
-      // projected, and culled or degenerate triangles are dropped before any attribute is read.
-      if (!(sv[0]->projected && sv[1]->projected && sv[2]->projected)) {
-        ++counts.nonfinite;
-        continue;
-      }
-      raster::ScreenTriangle& st = triangles.emplace_back();
-      for (int k = 0; k < 3; ++k) {
-        st.x[k] = sv[k]->x, st.y[k] = sv[k]->y;
-        st.z[k] = sv[k]->z, st.inv_w[k] = sv[k]->inv_w;
-      }
-      bool swapped = false;
-      if (!place(st, counts, os.mirrored, swapped)) {
-        triangles.pop_back();
-        continue;
-      }
-      const std::uint32_t order[3] = {tri[0], swapped ? tri[2] : tri[1], swapped ? tri[1] : tri[2]};
-      for (int k = 0; k < 3; ++k) vertex_attributes(order[k], st.attr[k], os);
-      finish(st, object, flat_front, flat_back, alpha, range);
-      continue;
-    }
-    ClipVertex v[3];
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t i = tri[static_cast<std::size_t>(k)];
-      const auto& c = os.clip[i];
-      v[k].x = c[0];
-      v[k].y = c[1];
-      v[k].z = c[2];
-      v[k].w = c[3];
-      vertex_attributes(i, v[k].attr, os);
-    }
-    ++counts.clipped;
-    const int count = geometry::clip_triangle(v[0], v[1], v[2], outcodes, planes, attribute_count, polygon);
-    for (int i = 1; i + 1 < count; ++i) {
-      const ClipVertex piece[3] = {polygon[0], polygon[i], polygon[i + 1]};
-      emit(piece, object, flat_front, flat_back, alpha, range, os.mirrored);
-    }
-  }
-}
-
-// The interpolated attributes of a vertex: Gouraud colours (front, and back in a two-sided scene)
-// or Phong's eye-space position and normal; zeros for flat shading.
-void Renderer::Impl::vertex_attributes(std::uint32_t i, float* a, const ObjectScratch& os) const {
-  std::fill(a, a + geometry::kMaxAttributes, 0.0f);
-  if (shading == ShadingMode::gouraud) {
-    a[0] = os.front[i].x(), a[1] = os.front[i].y(), a[2] = os.front[i].z();
-    if (two_sided) a[3] = os.back[i].x(), a[4] = os.back[i].y(), a[5] = os.back[i].z();
-  } else if (shading == ShadingMode::phong) {
-    a[0] = os.eye_p[i].x(), a[1] = os.eye_p[i].y(), a[2] = os.eye_p[i].z();
-    a[3] = os.eye_n[i].x(), a[4] = os.eye_n[i].y(), a[5] = os.eye_n[i].z();
-  }
-}
-
-// Perspective divide and viewport: screen position snapped to fixed point, window depth, 1/w.
-// False if any of them is not finite.
-bool Renderer::Impl::project(const ClipVertex& v, ScreenVertex& out) const {
-  const float half_w = 0.5f * static_cast<float>(width), half_h = 0.5f * static_cast<float>(height);
-  const float g = raster::kGuardBandPixels;
-  const float inv_w = 1.0f / v.w;
-  float sx = (v.x * inv_w + 1.0f) * half_w;
-  float sy = (1.0f - v.y * inv_w) * half_h;
-  const float z = 0.5f * v.z * inv_w + 0.5f;
-  // After near clipping w >= near for real geometry; a hostile camera can still leave w at a
-  // subnormal (found by fuzz_render), so 1/w overflows. Such a piece is dropped, never cast.
-  if (!std::isfinite(sx) || !std::isfinite(sy) || !std::isfinite(z) || !std::isfinite(inv_w)) return false;
-  // Clipping keeps these inside the guard band up to rounding; the clamp makes overflow impossible.
-  sx = std::clamp(sx, -g, g);
-  sy = std::clamp(sy, -g, g);
-  out.x = static_cast<std::int32_t>(std::nearbyint(sx * float(raster::kSubpixelOne)));
-  out.y = static_cast<std::int32_t>(std::nearbyint(sy * float(raster::kSubpixelOne)));
-  out.z = std::clamp(z, 0.0f, 1.0f);
-  out.inv_w = inv_w;
-  return true;
-}
-
-// With the screen positions of `t` set: drops degenerate, culled and pixel-free triangles
-// (counting them), orients the rest clockwise (`swapped`: vertices 1 and 2 were exchanged, with
-// their z and 1/w; attributes are not set yet) and sets the coverage data.
-bool Renderer::Impl::place(raster::ScreenTriangle& t, TriangleCounts& counts, bool mirrored, bool& swapped) const {
-  const std::int64_t area2 = raster::signed_area2(t);
-  if (area2 == 0) {
-    ++counts.degenerate;
-    return false;
-  }
-  // Counter-clockwise in GL's y-up window is negative area in this y-down screen; a mirrored
-  // object's front faces wind clockwise.
-  t.back_facing = (area2 > 0) != mirrored;
-  if ((cull == CullMode::back && t.back_facing && !two_sided) || (cull == CullMode::front && !t.back_facing)) {
-    ++counts.culled;
-    return false;
-  }
-  swapped = area2 < 0;
-  if (swapped) {  // orient clockwise on screen
-    std::swap(t.x[1], t.x[2]);
-    std::swap(t.y[1], t.y[2]);
-    std::swap(t.z[1], t.z[2]);
-    std::swap(t.inv_w[1], t.inv_w[2]);
-  }
-  if (!raster::finish_setup(t, width, height)) {
-    ++counts.small;
-    return false;
-  }
-  return true;
-}
-
-// A placed triangle with its attributes: flat colour, back-side attributes, planes, and its bins.
-void Renderer::Impl::finish(raster::ScreenTriangle& t, std::uint32_t object, const Color3& flat_front,
-                            const Color3& flat_back, float alpha, std::size_t range) {
-  TriangleCounts& counts = range_binning[range].counts;
-  const bool use_back = t.back_facing && two_sided;
-  const Color3& flat = use_back ? flat_back : flat_front;
-  t.flat_rgb[0] = flat.x();
-  t.flat_rgb[1] = flat.y();
-  t.flat_rgb[2] = flat.z();
-  if (use_back) {
-    for (auto& a : t.attr) {
-      if (shading == ShadingMode::gouraud) {
-        a[0] = a[3], a[1] = a[4], a[2] = a[5];  // the back-side colours
-      } else if (shading == ShadingMode::phong) {
-        a[3] = -a[3], a[4] = -a[4], a[5] = -a[5];  // lit with -n
-      }
-    }
-  }
-  t.alpha = alpha;
-  t.object = object;
-  // Only the SIMD rasterizer reads the planes; the scalar one interpolates barycentrics.
-  if (simd_raster) {
-    raster::compute_planes(t, shading == ShadingMode::flat ? 0 : (shading == ShadingMode::phong ? 6 : 3));
-  }
-
-  RangeBinning& binning = range_binning[range];
-  const auto index = static_cast<std::uint32_t>(range_triangles[range].size() - 1);
-  ++counts.drawn;
-  for (int ty = t.min_py / tile_size; ty <= t.max_py / tile_size; ++ty) {
-    for (int tx = t.min_px / tile_size; tx <= t.max_px / tile_size; ++tx) {
-      binning.tile.push_back(static_cast<std::uint32_t>(ty * tiles_x + tx));
-      binning.index.push_back(index);
-      ++counts.bin_entries;
-    }
-  }
-}
-
-// A clipped piece: projected here (its vertices are new), then placed and finished.
-void Renderer::Impl::emit(const ClipVertex (&v)[3], std::uint32_t object, const Color3& flat_front,
-                          const Color3& flat_back, float alpha, std::size_t range, bool mirrored) {
-  TriangleCounts& counts = range_binning[range].counts;
-  std::vector<raster::ScreenTriangle>& triangles = range_triangles[range];
-  raster::ScreenTriangle& t = triangles.emplace_back();
-  for (int k = 0; k < 3; ++k) {
-    ScreenVertex sv{};
-    if (!project(v[k], sv)) {
-      ++counts.nonfinite;
-      triangles.pop_back();
-      return;
-    }
-    t.x[k] = sv.x, t.y[k] = sv.y, t.z[k] = sv.z, t.inv_w[k] = sv.inv_w;
-  }
-  bool swapped = false;
-  if (!place(t, counts, mirrored, swapped)) {
-    triangles.pop_back();
-    return;
-  }
-  const int order[3] = {0, swapped ? 2 : 1, swapped ? 1 : 2};
-  for (int k = 0; k < 3; ++k) std::copy(v[order[k]].attr, v[order[k]].attr + geometry::kMaxAttributes, t.attr[k]);
-  finish(t, object, flat_front, flat_back, alpha, range);
 }
 
 }  // namespace facet

@@ -123,7 +123,8 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
                    rect.y0,
                    rect.x1,
                    rect.y1,
-                   &sink};
+                   &sink,
+                   job.varyings};
   simd::TileCounters tc;
   job.kernels->raster(tj, tile.view(job.clear_color), tc);
   counters.tested += tc.tested;
@@ -146,6 +147,8 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
     }
   }
 
+  const int colour_at = job.varyings->at(Varying::front_color);
+  const int position_at = job.varyings->at(Varying::eye_position), normal_at = job.varyings->at(Varying::normal);
   PixelBatch batch(scratch);
   for (const std::uint32_t entry : bin) {
     const ScreenTriangle& t = job.ranges[entry >> kRangeShift][entry & kIndexMask];
@@ -182,9 +185,11 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
       const float w0 = m0 * inv_sum, w1 = m1 * inv_sum, w2 = m2 * inv_sum;
       auto interp = [&](int a) { return w0 * t.attr[0][a] + w1 * t.attr[1][a] + w2 * t.attr[2][a]; };
       if (job.shading == ShadingMode::gouraud) {
-        put(interp(0), interp(1), interp(2));
+        const int c = colour_at;
+        put(interp(c), interp(c + 1), interp(c + 2));
       } else {
-        batch.add(pixel, Vec3(interp(0), interp(1), interp(2)), Vec3(interp(3), interp(4), interp(5)));
+        const int p = position_at, n = normal_at;
+        batch.add(pixel, Vec3(interp(p), interp(p + 1), interp(p + 2)), Vec3(interp(n), interp(n + 1), interp(n + 2)));
         if (batch.full()) batch.flush(shading, t.alpha, tile, counters);
       }
     });

@@ -50,6 +50,7 @@ struct RasterJob {
   std::span<const lighting::PointShader> objects;  // per object, for per-pixel (Phong) lighting
   std::array<float, 4> clear_color;
   const simd::Kernels* kernels;  // the SIMD rasterizer of the chosen ISA; null: the scalar one
+  const VaryingLayout* varyings;  // the pass's layout of ScreenTriangle::attr and the attribute planes
 };
 
 // The SIMD rasterizer of an ISA (Isa::best resolved), or null if this CPU lacks it.

@@ -1,17 +1,8 @@
 #include "raster/triangle_setup.hpp"
 
 #include <algorithm>
-#include <utility>
 
 namespace facet::raster {
-
-void swap_vertices_1_2(ScreenTriangle& t) {
-  std::swap(t.x[1], t.x[2]);
-  std::swap(t.y[1], t.y[2]);
-  std::swap(t.z[1], t.z[2]);
-  std::swap(t.inv_w[1], t.inv_w[2]);
-  std::swap(t.attr[1], t.attr[2]);
-}
 
 bool finish_setup(ScreenTriangle& t, int width, int height) {
   const std::int64_t min_x = std::min({t.x[0], t.x[1], t.x[2]}), max_x = std::max({t.x[0], t.x[1], t.x[2]});

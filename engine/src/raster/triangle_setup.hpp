@@ -65,9 +65,6 @@ inline std::int64_t signed_area2(const ScreenTriangle& t) {
          (std::int64_t(t.x[2]) - t.x[0]) * (std::int64_t(t.y[1]) - t.y[0]);
 }
 
-// Swaps vertices 1 and 2 with everything attached to them (reverses the orientation).
-void swap_vertices_1_2(ScreenTriangle& t);
-
 // For a triangle with x, y set and signed_area2(t) > 0: sets area2, inv_area2, the top-left biases
 // and the covered pixel bounds clipped to a width x height viewport. False if no pixel centre of
 // the viewport can be covered.

@@ -1,0 +1,47 @@
+// Internal: from model space to the snapped screen. Vertices are transformed to clip space once,
+// classified against the frustum and the guard band, and, when inside the guard band, projected
+// and snapped once, instead of once per triangle that uses them.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "facet/types.hpp"
+#include "geometry/clip.hpp"
+
+namespace facet::geometry {
+
+// The pixel rectangle a pass draws into, [0, width) x [0, height), y down.
+struct Viewport {
+  int width = 0, height = 0;
+};
+
+// Clip planes for a viewport: |x/w| <= 2G/W - 1 keeps screen x within the guard band [-G, G]
+// (likewise y).
+ClipPlanes guard_band_planes(const Viewport& viewport) noexcept;
+
+// A vertex after projection, snapped to the raster's fixed point (raster/triangle_setup.hpp).
+struct ScreenVertex {
+  std::int32_t x, y;
+  float z, inv_w;
+  std::uint8_t frustum, guard;  // frustum_outcode, clip_outcode
+  bool finite;                  // clip position finite
+  bool projected;               // guard == 0 and the projection is finite
+};
+
+// Perspective divide and viewport: screen position snapped to fixed point, window depth, 1/w.
+// False if any of them is not finite.
+bool project(const ClipVertex& v, const Viewport& viewport, ScreenVertex& out) noexcept;
+
+// Row-major 4x4 in float: the model-view-projection matrix a pass transforms positions with.
+struct Mat4Rows {
+  float m[16];
+};
+
+// Clip-space positions, outcodes and (inside the guard band) screen positions of vertices
+// [begin, end).
+void transform_vertices(const Mat4Rows& mvp, const Vec3* positions, std::size_t begin, std::size_t end,
+                        const ClipPlanes& planes, const Viewport& viewport, std::array<float, 4>* clip,
+                        ScreenVertex* screen) noexcept;
+
+}  // namespace facet::geometry

@@ -1,0 +1,188 @@
+#include "raster/assemble.hpp"
+
+#include <algorithm>
+#include <utility>
+
+namespace facet::raster {
+
+using geometry::ClipVertex;
+using geometry::ScreenVertex;
+
+Placement place_triangle(ScreenTriangle& t, CullMode cull, bool two_sided, bool mirrored,
+                         const geometry::Viewport& viewport, bool& swapped) {
+  const std::int64_t area2 = signed_area2(t);
+  if (area2 == 0) return Placement::degenerate;
+  // Counter-clockwise in GL's y-up window is negative area in this y-down screen; a mirrored
+  // object's front faces wind clockwise.
+  t.back_facing = (area2 > 0) != mirrored;
+  if ((cull == CullMode::back && t.back_facing && !two_sided) || (cull == CullMode::front && !t.back_facing)) {
+    return Placement::culled;
+  }
+  swapped = area2 < 0;
+  if (swapped) {  // orient clockwise on screen
+    std::swap(t.x[1], t.x[2]);
+    std::swap(t.y[1], t.y[2]);
+    std::swap(t.z[1], t.z[2]);
+    std::swap(t.inv_w[1], t.inv_w[2]);
+  }
+  if (!finish_setup(t, viewport.width, viewport.height)) return Placement::no_pixel;
+  return Placement::placed;
+}
+
+namespace {
+
+// A back-facing triangle of a two-sided scene is drawn with its back face's values: the back colour
+// takes the front colour's place, the normal is negated (lit with -n).
+void select_face(const VaryingLayout& l, float (&attr)[3][geometry::kMaxAttributes]) {
+  for (auto& a : attr) {
+    if (l.has(Varying::back_color)) {
+      const int from = l.at(Varying::back_color), to = l.at(Varying::front_color);
+      for (int c = 0; c < kVaryingWidth; ++c) a[to + c] = a[from + c];
+    }
+    if (l.has(Varying::normal)) {
+      const int n = l.at(Varying::normal);
+      for (int c = 0; c < kVaryingWidth; ++c) a[n + c] = -a[n + c];
+    }
+  }
+}
+
+class RangeAssembler {
+ public:
+  RangeAssembler(const AssemblyFrame& frame, const ObjectVertices& object, std::vector<ScreenTriangle>& out,
+                 RangeBinning& binning)
+      : frame_(frame), object_(object), out_(out), binning_(binning), counts_(binning.counts) {}
+
+  void run(const Mesh& mesh, std::size_t begin, std::size_t end) {
+    const VaryingLayout& layout = frame_.layout;
+    const Color3 none = Color3::Zero();
+    ClipVertex polygon[geometry::kMaxClippedVertices];
+    for (std::size_t t = begin; t < end; ++t) {
+      ++counts_.in;
+      const auto& tri = mesh.triangles[t];
+      const ScreenVertex* sv[3] = {&object_.screen[tri[0]], &object_.screen[tri[1]], &object_.screen[tri[2]]};
+      if (!(sv[0]->finite && sv[1]->finite && sv[2]->finite)) {
+        ++counts_.nonfinite;
+        continue;
+      }
+      if (sv[0]->frustum & sv[1]->frustum & sv[2]->frustum) {
+        ++counts_.outside;
+        continue;
+      }
+      flat_front_ = object_.flat_front ? object_.flat_front[t] : none;
+      flat_back_ = object_.flat_back ? object_.flat_back[t] : flat_front_;
+      const std::uint32_t outcodes = sv[0]->guard | sv[1]->guard | sv[2]->guard;
+      if (outcodes == 0) {
+        // Inside the guard band (most triangles): the vertices' screen positions are already
+        // projected, and culled or degenerate triangles are dropped before any varying is read.
+        if (!(sv[0]->projected && sv[1]->projected && sv[2]->projected)) {
+          ++counts_.nonfinite;
+          continue;
+        }
+        ScreenTriangle& st = out_.emplace_back();
+        for (int k = 0; k < 3; ++k) {
+          st.x[k] = sv[k]->x, st.y[k] = sv[k]->y;
+          st.z[k] = sv[k]->z, st.inv_w[k] = sv[k]->inv_w;
+        }
+        bool swapped = false;
+        if (!place(st, swapped)) {
+          out_.pop_back();
+          continue;
+        }
+        const std::uint32_t order[3] = {tri[0], swapped ? tri[2] : tri[1], swapped ? tri[1] : tri[2]};
+        for (int k = 0; k < 3; ++k) gather(order[k], st.attr[k]);
+        finish(st);
+        continue;
+      }
+      ClipVertex v[3];
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t i = tri[static_cast<std::size_t>(k)];
+        const auto& c = object_.clip[i];
+        v[k].x = c[0];
+        v[k].y = c[1];
+        v[k].z = c[2];
+        v[k].w = c[3];
+        gather(i, v[k].attr);
+      }
+      ++counts_.clipped;
+      const int count = geometry::clip_triangle(v[0], v[1], v[2], outcodes, frame_.planes, layout.clipped, polygon);
+      for (int i = 1; i + 1 < count; ++i) emit(polygon[0], polygon[i], polygon[i + 1]);
+    }
+  }
+
+ private:
+  // The layout's varyings of vertex i; the rest of the block zero.
+  void gather(std::uint32_t i, float* a) const {
+    std::fill(a, a + geometry::kMaxAttributes, 0.0f);
+    for (int v = 0; v < kVaryingKinds; ++v) {
+      const int at = frame_.layout.offset[v];
+      if (at < 0) continue;
+      const float* src = object_.varying[v] + static_cast<std::size_t>(i) * kVaryingWidth;
+      for (int c = 0; c < kVaryingWidth; ++c) a[at + c] = src[c];
+    }
+  }
+
+  bool place(ScreenTriangle& t, bool& swapped) {
+    switch (place_triangle(t, frame_.cull, frame_.two_sided, object_.mirrored, frame_.viewport, swapped)) {
+      case Placement::placed: return true;
+      case Placement::degenerate: ++counts_.degenerate; return false;
+      case Placement::culled: ++counts_.culled; return false;
+      case Placement::no_pixel: ++counts_.small; return false;
+    }
+    return false;
+  }
+
+  // A placed triangle with its varyings: its face's values, planes, and its bins.
+  void finish(ScreenTriangle& t) {
+    const bool use_back = t.back_facing && frame_.two_sided;
+    const Color3& flat = use_back ? flat_back_ : flat_front_;
+    t.flat_rgb[0] = flat.x();
+    t.flat_rgb[1] = flat.y();
+    t.flat_rgb[2] = flat.z();
+    if (use_back) select_face(frame_.layout, t.attr);
+    t.alpha = object_.alpha;
+    t.object = object_.object;
+    if (frame_.planes_needed) compute_planes(t, frame_.layout.raster);
+    bin_triangle(t, static_cast<std::uint32_t>(out_.size() - 1), frame_.grid, binning_);
+  }
+
+  // A clipped piece: projected here (its vertices are new), then placed and finished.
+  void emit(const ClipVertex& a, const ClipVertex& b, const ClipVertex& c) {
+    const ClipVertex* v[3] = {&a, &b, &c};
+    ScreenTriangle& t = out_.emplace_back();
+    for (int k = 0; k < 3; ++k) {
+      ScreenVertex sv{};
+      if (!geometry::project(*v[k], frame_.viewport, sv)) {
+        ++counts_.nonfinite;
+        out_.pop_back();
+        return;
+      }
+      t.x[k] = sv.x, t.y[k] = sv.y, t.z[k] = sv.z, t.inv_w[k] = sv.inv_w;
+    }
+    bool swapped = false;
+    if (!place(t, swapped)) {
+      out_.pop_back();
+      return;
+    }
+    const int order[3] = {0, swapped ? 2 : 1, swapped ? 1 : 2};
+    for (int k = 0; k < 3; ++k) std::copy(v[order[k]]->attr, v[order[k]]->attr + geometry::kMaxAttributes, t.attr[k]);
+    finish(t);
+  }
+
+  const AssemblyFrame& frame_;
+  const ObjectVertices& object_;
+  std::vector<ScreenTriangle>& out_;
+  RangeBinning& binning_;
+  TriangleCounts& counts_;
+  Color3 flat_front_ = Color3::Zero(), flat_back_ = Color3::Zero();
+};
+
+}  // namespace
+
+void assemble_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVertices& object, std::size_t begin,
+                    std::size_t end, std::vector<ScreenTriangle>& out, RangeBinning& binning) {
+  out.clear();
+  binning.clear();
+  RangeAssembler(frame, object, out, binning).run(mesh, begin, end);
+}
+
+}  // namespace facet::raster

@@ -1,0 +1,61 @@
+// Internal: triangle assembly, the geometry stage between a pass's vertices and its bins. For one
+// set-up range of an object: drop non-finite and out-of-frustum triangles, clip the ones that cross
+// the near or far plane or the guard band, place the rest on screen (orientation, culling, bounds),
+// attach their varyings as the pass's VaryingLayout says, set up their planes and bin them.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "facet/mesh.hpp"
+#include "facet/render.hpp"
+#include "geometry/clip.hpp"
+#include "geometry/project.hpp"
+#include "raster/bins.hpp"
+#include "raster/triangle_setup.hpp"
+#include "raster/varyings.hpp"
+
+namespace facet::raster {
+
+// What a pass fixes for every triangle it assembles.
+struct AssemblyFrame {
+  geometry::Viewport viewport;
+  geometry::ClipPlanes planes{};
+  CullMode cull = CullMode::back;
+  bool two_sided = false;
+  VaryingLayout layout;
+  BinGrid grid;
+  bool planes_needed = true;  // the SIMD rasterizer reads the planes; the scalar one barycentrics
+};
+
+enum class Placement { placed, degenerate, culled, no_pixel };
+
+// With the screen positions (x, y, z, 1/w) of `t` set: decides whether it is drawn (non-zero area,
+// not culled, some pixel centre of the viewport in its bounds), marks it back-facing or not and
+// orients it clockwise on screen (`swapped`: vertices 1 and 2 were exchanged with their z and 1/w;
+// the caller orders the attributes likewise), and sets its coverage data (finish_setup).
+// Counter-clockwise in GL's y-up window is front-facing; a mirrored object's front faces wind the
+// other way. Culling uses CullMode; a two-sided scene culls no back face.
+Placement place_triangle(ScreenTriangle& t, CullMode cull, bool two_sided, bool mirrored,
+                         const geometry::Viewport& viewport, bool& swapped);
+
+// One object's vertices as the pass sees them.
+struct ObjectVertices {
+  std::span<const std::array<float, 4>> clip;         // clip-space positions
+  std::span<const geometry::ScreenVertex> screen;     // transform_vertices()
+  const float* varying[kVaryingKinds] = {};           // per varying of the layout: 3 floats per vertex
+  const Color3* flat_front = nullptr;                 // flat shading: a colour per triangle
+  const Color3* flat_back = nullptr;                  //   and its back face's in a two-sided scene
+  bool mirrored = false;                              // the model matrix has a negative determinant
+  std::uint32_t object = 0;
+  float alpha = 1.0f;
+};
+
+// Assembles triangles [begin, end) of `mesh` into `out` (cleared first) and their bin entries
+// (index = position in `out`) into `binning` (cleared first).
+void assemble_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVertices& object, std::size_t begin,
+                    std::size_t end, std::vector<ScreenTriangle>& out, RangeBinning& binning);
+
+}  // namespace facet::raster
