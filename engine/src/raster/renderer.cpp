@@ -169,7 +169,7 @@ struct Renderer::Impl {
     bool mirrored = false;
     // Capacity for any object of up to `vertices` vertices and `triangles` triangles in this
     // shading mode, so that whichever object a slot gets, set-up allocates nothing.
-    void reserve(std::size_t vertices, std::size_t triangles, ShadingMode mode, bool two_sided);
+    void reserve(std::size_t vertices, std::size_t triangles, ShadingMode mode, bool both_faces);
   };
   std::vector<ObjectScratch> object_scratch;
   // Per object: its first set-up range (ranges are numbered in object order, so bins do not
@@ -504,12 +504,12 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
 }
 
 void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t triangles, ShadingMode mode,
-                                            bool two_sided) {
+                                            bool both_faces) {
   clip.reserve(vertices);
   screen.reserve(vertices);
   if (mode == ShadingMode::gouraud) {
     front.reserve(vertices);
-    if (two_sided) back.reserve(vertices);
+    if (both_faces) back.reserve(vertices);
     return;
   }
   eye_p.reserve(vertices);
@@ -518,7 +518,7 @@ void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t tr
     centroid.reserve(triangles);
     face_normal.reserve(triangles);
     front.reserve(triangles);
-    if (two_sided) back.reserve(triangles);
+    if (both_faces) back.reserve(triangles);
   }
 }
 
