@@ -643,8 +643,9 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   vertices.clip = os.clip;
   vertices.screen = os.screen;
   using raster::Varying;
-  auto source = [&](Varying v, const auto& values) {
-    vertices.varying[static_cast<int>(v)] = assembly.layout.has(v) ? values.data()->data() : nullptr;
+  // Vec3 and Color3 are three packed floats (types.hpp); an empty array (a mesh without vertices) is null.
+  auto source = [&](Varying v, const std::vector<Vec3>& values) {
+    vertices.varying[static_cast<int>(v)] = assembly.layout.has(v) ? reinterpret_cast<const float*>(values.data()) : nullptr;
   };
   source(Varying::front_color, os.front);
   source(Varying::back_color, os.back);
