@@ -1,5 +1,6 @@
 // Procedural shapes: valid, outward winding that agrees with the normals, closed where they should
 // be, and the right size (volumes by the divergence theorem, against the analytic values).
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -50,6 +51,60 @@ void expect_winding_matches_normals(const Mesh& m) {
     ASSERT_GT(face.norm(), 0.0f);
     for (auto i : t) ASSERT_GT(face.normalized().dot(m.normals[i]), 0.0f) << "triangle wound against its normals";
   }
+}
+
+// Texture coordinates: one per vertex, in [0, 1], and no triangle flipped or collapsed in uv space
+// except where the mapping must degenerate (the sphere's poles, where the whole top row meets).
+void expect_uv_mapped(const Mesh& m, bool poles) {
+  ASSERT_EQ(m.uvs.size(), m.vertex_count());
+  for (const Vec2& uv : m.uvs) ASSERT_TRUE(uv.minCoeff() >= 0.0f && uv.maxCoeff() <= 1.0f) << uv.transpose();
+  double area = 0;
+  for (const auto& t : m.triangles) {
+    const Vec2 a = m.uvs[t[0]], b = m.uvs[t[1]], c = m.uvs[t[2]];
+    const double cross = double(b.x() - a.x()) * (c.y() - a.y()) - double(b.y() - a.y()) * (c.x() - a.x());
+    area += std::abs(cross) / 2;
+    if (!poles) ASSERT_NE(cross, 0.0);
+  }
+  (void)area;
+}
+
+TEST(MeshShapes, TextureCoordinates) {
+  const Mesh sphere = make_uv_sphere(1, 8, 4);
+  expect_uv_mapped(sphere, true);
+  // The seam: u = 0 and u = 1 at the same position (+x); v = 1 at the north pole.
+  bool seam0 = false, seam1 = false;
+  for (std::size_t i = 0; i < sphere.vertex_count(); ++i) {
+    if (sphere.positions[i] == Vec3(0, 1, 0)) EXPECT_EQ(sphere.uvs[i].y(), 1.0f);
+    if (sphere.positions[i].isApprox(Vec3(std::sqrt(0.5f), std::sqrt(0.5f), 0))) {
+      seam0 |= sphere.uvs[i].x() == 0.0f;
+      seam1 |= sphere.uvs[i].x() == 1.0f;
+    }
+    // Longitude: u = atan2(-z, x) / 2 pi away from the poles and the seam.
+    const Vec3& p = sphere.positions[i];
+    if (std::abs(p.y()) < 0.99f && sphere.uvs[i].x() > 0.0f && sphere.uvs[i].x() < 1.0f) {
+      double lon = std::atan2(-p.z(), p.x()) / (2 * kPi);
+      if (lon < 0) lon += 1;
+      EXPECT_NEAR(sphere.uvs[i].x(), lon, 1e-6);
+      EXPECT_NEAR(sphere.uvs[i].y(), 1.0 - std::acos(std::clamp(double(p.y()), -1.0, 1.0)) / kPi, 1e-6);
+    }
+  }
+  EXPECT_TRUE(seam0 && seam1);
+  const Mesh cube = make_cube(2, 3);
+  expect_uv_mapped(cube, false);
+  // Each face covers the unit square: its area in uv is 1.
+  double area = 0;
+  for (const auto& t : cube.triangles) {
+    const Vec2 a = cube.uvs[t[0]], b = cube.uvs[t[1]], c = cube.uvs[t[2]];
+    area += (double(b.x() - a.x()) * (c.y() - a.y()) - double(b.y() - a.y()) * (c.x() - a.x())) / 2;
+  }
+  EXPECT_NEAR(area, 6.0, 1e-6);  // positive: uv winds as the faces do seen from outside
+  const Mesh plane = make_plane(4, 2, 2);
+  expect_uv_mapped(plane, false);
+  for (std::size_t i = 0; i < plane.vertex_count(); ++i) {
+    EXPECT_FLOAT_EQ(plane.uvs[i].x(), plane.positions[i].x() / 4 + 0.5f);
+    EXPECT_FLOAT_EQ(plane.uvs[i].y(), 0.5f - plane.positions[i].z() / 2);
+  }
+  expect_uv_mapped(make_torus(1, 0.25f, 12, 6), false);
 }
 
 TEST(MeshShapes, SphereHasExactNormalsAndVolume) {

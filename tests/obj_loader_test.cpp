@@ -77,12 +77,123 @@ TEST(ObjLoader, MalformedFiles) {
   expect_error(std::string(kSquare) + "vn 0 0 1\nf 1//2 2//1 3//1\n", "test.obj:6:", "normal index 2 is out of range");
   expect_error("v 0 0 0\nhello world\n", "test.obj:2:", "unknown statement 'hello'");
   expect_error("v 0 abc 0\n", "test.obj:1:", "'v' value 2 is not a number: 'abc'");
-  expect_error("v 0 0\n", "test.obj:1:", "'v' expects 3 to 7 numbers, found 2");
+  expect_error("v 0 0\n", "test.obj:1:", "'v' expects 3 (x y z), 4 (x y z w) or 6 (x y z r g b) numbers, found 2");
+  expect_error("v 0 0 0 1 1\n", "test.obj:1:", "found 5");
+  expect_error("v 0 0 0 1 1 1 1\n", "test.obj:1:", "found 7");
+  // Vertex colours: every vertex or none, components in [0, 1].
+  expect_error("v 0 0 0 1 0 0\nv 1 0 0\n", "test.obj:2:", "vertex 2 has no colour (r g b) but vertex 1 has one");
+  expect_error("v 0 0 0\nv 1 0 0 1 0 0\n", "test.obj:2:", "vertex 2 has colour (r g b) but vertex 1 has none");
+  expect_error("v 0 0 0 1 0 1.5\n", "test.obj:1:", "'v' colour value 3 is outside [0, 1]: '1.5'");
+  expect_error("v 0 0 0 -0.1 0 1\n", "test.obj:1:", "'v' colour value 1 is outside [0, 1]");
+  // Texture coordinates: every corner or none.
+  expect_error(std::string(kSquare) + "vt 0 0\nf 1/1 2/1 3/1\nf 1 3 4\n", "test.obj:7:", "some face corners have a texture coordinate");
+  expect_error(std::string(kSquare) + "vt 0 0\nf 1/1 2 3/1\n", "test.obj:6:", "some face corners have a texture coordinate");
+  expect_error(std::string(kSquare) + "vt 0 0\nvn 0 0 1\nf 1//1 2/1/1 3/1/1\n", "test.obj:7:", "some face corners");
+  expect_error(std::string(kSquare) + "vt 0 nan\n", "test.obj:5:", "'vt' value 2 is not finite");
+  expect_error(std::string(kSquare) + "vt 0 0\nf 1/2 2/1 3/1\n", "test.obj:6:", "texture coordinate index 2 is out of range");
+  expect_error(std::string(kSquare) + "usemtl\nf 1 2 3\n", "test.obj:5:", "'usemtl' expects one material name");
+  expect_error(std::string(kSquare) + "f 1 2 3\nusemtl red\nf 1 3 4\n", "test.obj", "faces before the first 'usemtl'");
   expect_error(std::string(kSquare) + "f 1 2\n", "test.obj:5:", "a face needs at least 3 vertices");
   expect_error("", "test.obj:1:", "no faces");
   expect_error("# only a comment\n\n", "test.obj:3:", "no faces");
   expect_error(std::string(kSquare) + "f 1 2 3 \\\n 4\n", "test.obj:5:", "line continuations");
   expect_error(std::string("v 0 0 0\n\0\n", 10), "test.obj", "NUL");
+}
+
+TEST(ObjLoader, TextureCoordinatesSplitVerticesAtSeams) {
+  // Two triangles share the edge 1-3 in position but not in texture coordinates at vertex 3.
+  Result<Mesh> m = parse(std::string(kSquare) + "vt 0 0\nvt 1 0\nvt 1 1\nvt 0.5\nvt 0 1 7\n"
+                                                "f 1/1 2/2 3/3\nf 1/1 3/4 4/5\n");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  ASSERT_TRUE(validate_mesh(*m).ok());
+  ASSERT_EQ(m->uvs.size(), m->vertex_count());
+  EXPECT_EQ(m->vertex_count(), 5u);  // vertex 3 twice: (1, 1) and (0.5, 0)
+  const auto& t0 = m->triangles[0];
+  const auto& t1 = m->triangles[1];
+  EXPECT_EQ(m->uvs[t0[0]], Vec2(0, 0));
+  EXPECT_EQ(m->uvs[t0[1]], Vec2(1, 0));
+  EXPECT_EQ(m->uvs[t0[2]], Vec2(1, 1));
+  EXPECT_EQ(m->uvs[t1[1]], Vec2(0.5f, 0.0f));  // `vt u`: v defaults to 0
+  EXPECT_EQ(m->uvs[t1[2]], Vec2(0, 1));        // `vt u v w`: w is ignored
+  EXPECT_EQ(m->positions[t1[1]], m->positions[t0[2]]);
+  // The normals are still smooth across the seam: both copies of vertex 3 get the same one.
+  EXPECT_EQ(m->normals[t1[1]], m->normals[t0[2]]);
+  EXPECT_TRUE(m->colors.empty());
+  EXPECT_TRUE(m->groups.empty());
+}
+
+TEST(ObjLoader, CreaseSplitKeepsTextureCoordinatesAndColours) {
+  // A folded pair of triangles (90 deg): the crease splits the shared vertices; the copies keep
+  // their texture coordinates and colours.
+  Result<Mesh> m = parse("v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nv 0 0 1 0.5 0.5 0.5\n"
+                         "vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nf 1/1 2/2 3/3\nf 2/2 1/1 4/4\n");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  ASSERT_TRUE(validate_mesh(*m).ok());
+  EXPECT_EQ(m->vertex_count(), 6u);
+  ASSERT_EQ(m->uvs.size(), 6u);
+  ASSERT_EQ(m->colors.size(), 6u);
+  const auto& t0 = m->triangles[0];
+  const auto& t1 = m->triangles[1];
+  EXPECT_NE(t0[0], t1[1]);  // vertex 1 split by the crease
+  EXPECT_EQ(m->uvs[t1[1]], Vec2(0, 0));
+  EXPECT_EQ(m->colors[t1[1]], Color3(1, 0, 0));
+  EXPECT_EQ(m->uvs[t1[0]], Vec2(1, 0));
+  EXPECT_EQ(m->colors[t1[0]], Color3(0, 1, 0));
+  EXPECT_EQ(m->colors[t1[2]], Color3(0.5f, 0.5f, 0.5f));
+}
+
+TEST(ObjLoader, UsemtlRunsBecomeMaterialGroups) {
+  Result<Mesh> m = parse(std::string(kSquare) + "usemtl red\nf 1 2 3\nf 1 3 4\nusemtl blue\nf 1 2 4 3\n"
+                                                "g other\nusemtl red\nf 2 3 4\n");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  ASSERT_TRUE(validate_mesh(*m).ok());
+  ASSERT_EQ(m->triangle_count(), 5u);
+  ASSERT_EQ(m->groups.size(), 3u);
+  EXPECT_EQ(m->groups[0].material, "red");
+  EXPECT_EQ(m->groups[0].first_triangle, 0u);
+  EXPECT_EQ(m->groups[0].triangle_count, 2u);
+  EXPECT_EQ(m->groups[1].material, "blue");
+  EXPECT_EQ(m->groups[1].triangle_count, 2u);  // the quad
+  EXPECT_EQ(m->groups[2].material, "red");
+  EXPECT_EQ(m->groups[2].first_triangle, 4u);
+  // One material for the whole file is still a group.
+  Result<Mesh> one = parse(std::string(kSquare) + "usemtl red\nf 1 2 3\n");
+  ASSERT_TRUE(one.ok());
+  ASSERT_EQ(one->groups.size(), 1u);
+}
+
+TEST(ObjLoader, VertexColoursAndFourthCoordinate) {
+  Result<Mesh> c = parse("v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n");
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  ASSERT_EQ(c->colors.size(), 3u);
+  EXPECT_EQ(c->colors[c->triangles[0][1]], Color3(0, 1, 0));
+  Result<Mesh> w = parse("v 0 0 0 1\nv 1 0 0 2\nv 0 1 0 1\nf 1 2 3\n");  // x y z w: w ignored
+  ASSERT_TRUE(w.ok()) << w.status().message();
+  EXPECT_TRUE(w->colors.empty());
+  EXPECT_EQ(w->positions[w->triangles[0][1]], Vec3(1, 0, 0));
+}
+
+TEST(MeshValidation, OptionalArraysAndGroups) {
+  Mesh m = make_plane(1, 1, 1);
+  ASSERT_TRUE(validate_mesh(m).ok());
+  m.uvs.pop_back();
+  EXPECT_EQ(validate_mesh(m).field(), "mesh.uvs");
+  m.uvs.push_back(Vec2(std::nanf(""), 0));
+  EXPECT_EQ(validate_mesh(m).field(), "mesh.uvs[3]");
+  m.uvs.back() = Vec2(0, 0);
+  m.colors.assign(m.vertex_count(), Color3(1, 1, 1));
+  EXPECT_TRUE(validate_mesh(m).ok());
+  m.colors[1] = Color3(1, 2, 1);
+  EXPECT_EQ(validate_mesh(m).field(), "mesh.colors[1]");
+  m.colors[1] = Color3(1, 1, 1);
+  m.groups = {{"a", 0, 1}, {"b", 1, 1}};
+  EXPECT_TRUE(validate_mesh(m).ok());
+  m.groups = {{"a", 0, 1}, {"b", 2, 1}};
+  EXPECT_EQ(validate_mesh(m).field(), "mesh.groups[1]");
+  m.groups = {{"a", 0, 1}};
+  EXPECT_EQ(validate_mesh(m).field(), "mesh.groups");
+  m.groups = {{"a", 0, 0}, {"b", 0, 2}};
+  EXPECT_EQ(validate_mesh(m).field(), "mesh.groups[0]");
 }
 
 TEST(ObjLoader, MissingFileAndDirectory) {
@@ -116,6 +227,9 @@ TEST_P(RealModel, LoadsWithUsableNormals) {
     else ASSERT_NEAR(n.norm(), 1.0f, 1e-5f);
   }
   EXPECT_LT(zero, m->vertex_count() / 1000 + 1) << "almost every vertex must get a normal";
+  // spot.obj is UV-mapped (`f v/vt`); the others have no texture coordinates.
+  EXPECT_EQ(m->uvs.empty(), std::string(c.file) != "spot.obj");
+  for (const Vec2& uv : m->uvs) ASSERT_TRUE(uv.allFinite());
 }
 
 // Triangle counts: the models README gives faces; suzanne's 500 faces include quads.

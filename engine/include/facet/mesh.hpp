@@ -1,7 +1,8 @@
 // Triangle meshes: positions, per-vertex normals, counter-clockwise triangles (front faces wind
-// counter-clockwise seen from outside, as in OpenGL). Built from caller arrays, procedural shapes
-// or Wavefront OBJ. A Mesh owns its data; a valid mesh has one normal per position and every
-// index < vertex_count().
+// counter-clockwise seen from outside, as in OpenGL), and optionally texture coordinates, vertex
+// colours and material groups. Built from caller arrays, procedural shapes or Wavefront OBJ. A
+// Mesh owns its data; a valid mesh has one normal per position, no or one uv and colour per
+// position, every index < vertex_count() and groups that cover its triangles in order.
 #pragma once
 
 #include <array>
@@ -17,10 +18,23 @@ namespace facet {
 
 inline constexpr float kDefaultCreaseAngleDeg = 60.0f;
 
+// A run of triangles drawn with one material, named as the scene's materials are (OBJ `usemtl`).
+struct MaterialGroup {
+  std::string material;
+  std::uint32_t first_triangle = 0;
+  std::uint32_t triangle_count = 0;
+};
+
 struct Mesh {
   std::vector<Vec3> positions;
   std::vector<Vec3> normals;  // unit length, or zero where no normal can be defined
   std::vector<std::array<std::uint32_t, 3>> triangles;
+  // Optional per-vertex data: empty, or one entry per position.
+  std::vector<Vec2> uvs;        // texture coordinates; (0, 0) is the image's bottom-left corner, as in GL
+  std::vector<Color3> colors;   // linear RGB in [0, 1]; replaces the material's ambient and diffuse colour
+  // Optional: empty (the object's material for every triangle), or consecutive runs that cover
+  // every triangle in order. An object chooses whether to use them (scene.hpp, Object::materials).
+  std::vector<MaterialGroup> groups;
 
   std::size_t vertex_count() const noexcept { return positions.size(); }
   std::size_t triangle_count() const noexcept { return triangles.size(); }
@@ -45,6 +59,10 @@ void compute_vertex_normals(Mesh& mesh, float crease_angle_deg = kDefaultCreaseA
 
 // Procedural shapes, centred on the origin. Tessellation arguments are clamped to their minimum
 // (noted per shape) and to 4096 per axis.
+// Every shape has texture coordinates: sphere u = longitude / 360 deg from +x, counter-clockwise
+// seen from +y, v = 1 at the north pole to 0 at the south pole; cube 0..1 across each face; plane
+// 0..1 along +x and along -z; torus u around the y axis, v around the tube. Seams carry two
+// vertices (u = 0 and u = 1).
 Mesh make_uv_sphere(float radius, int segments, int rings);       // segments >= 3, rings >= 2; exact normals
 Mesh make_cube(float size, int subdivisions);                     // subdivisions >= 1 per edge; face normals
 Mesh make_plane(float size_x, float size_z, int subdivisions);    // in y = 0, normal +y
@@ -63,7 +81,10 @@ struct ObjOptions {
 
 // Wavefront OBJ through tinyobjloader: polygons of any corner count are triangulated as fans from
 // their first corner, `v`, `v/vt`, `v//vn`, `v/vt/vn` and negative (relative) indices are
-// accepted, all groups/objects are merged into one mesh and materials are ignored. Every number
+// accepted, and all groups/objects are merged into one mesh. Texture coordinates (`vt u [v]`,
+// when every corner has one), vertex colours (`v x y z r g b` on every `v` line, in [0, 1]) and
+// `usemtl` runs (Mesh::groups, named by material; `mtllib` files are not read: the scene names
+// the materials) are kept. Every number
 // is read by facet (correctly rounded); NaN, infinities and values outside a float's range are
 // errors. Errors name the file and line. Only regular files are read (not FIFOs or devices).
 Result<Mesh> load_obj(const std::string& path, const ObjOptions& options = {});

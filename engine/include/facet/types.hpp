@@ -6,6 +6,7 @@
 
 namespace facet {
 
+using Vec2 = Eigen::Matrix<float, 2, 1, Eigen::DontAlign>;  // texture coordinates (u, v)
 using Vec3 = Eigen::Vector3f;
 using Color3 = Eigen::Vector3f;  // linear RGB; components may exceed 1 (light intensities)
 // Unaligned on purpose: Eigen aligns fixed-size vectorisable types to the host's widest vector
@@ -14,6 +15,7 @@ using Color3 = Eigen::Vector3f;  // linear RGB; components may exceed 1 (light i
 // library (built for baseline x86-64) has. Unaligned, the layout is the same for any flags.
 using Mat4 = Eigen::Matrix<float, 4, 4, Eigen::DontAlign>;
 static_assert(sizeof(Mat4) == 64 && alignof(Mat4) == 4, "facet::Mat4 must not depend on compiler flags");
+static_assert(sizeof(Vec2) == 8 && alignof(Vec2) == 4, "facet::Vec2 must not depend on compiler flags");
 static_assert(sizeof(Vec3) == 12 && alignof(Vec3) == 4, "facet::Vec3 must not depend on compiler flags");
 
 }  // namespace facet

@@ -12,6 +12,17 @@ namespace facet {
 bool mesh_is_valid(const Mesh& mesh) noexcept {
   const std::size_t n = mesh.positions.size();
   if (n > std::numeric_limits<std::uint32_t>::max() || mesh.normals.size() != n) return false;
+  if ((!mesh.uvs.empty() && mesh.uvs.size() != n) || (!mesh.colors.empty() && mesh.colors.size() != n)) return false;
+  for (const Vec2& uv : mesh.uvs)
+    if (!uv.allFinite()) return false;
+  for (const Color3& c : mesh.colors)
+    if (!(c.minCoeff() >= 0.0f && c.maxCoeff() <= 1.0f)) return false;
+  std::uint64_t covered = 0;
+  for (const MaterialGroup& g : mesh.groups) {
+    if (g.first_triangle != covered || g.triangle_count == 0) return false;
+    covered += g.triangle_count;
+  }
+  if (!mesh.groups.empty() && covered != mesh.triangles.size()) return false;
   for (const auto& t : mesh.triangles)
     if (t[0] >= n || t[1] >= n || t[2] >= n) return false;
   return true;
@@ -27,6 +38,47 @@ Status validate_mesh(const Mesh& mesh, const std::string& field) {
     return {ErrorCode::invalid_argument, field + ".normals",
             field + ".normals: expected one normal per position (" + std::to_string(n) + "), found " +
                 std::to_string(mesh.normals.size())};
+  }
+  auto per_vertex = [&](const char* name, std::size_t size) -> Status {
+    if (size == 0 || size == n) return {};
+    const std::string f = field + "." + name;
+    return {ErrorCode::invalid_argument, f,
+            f + ": expected none or one per position (" + std::to_string(n) + "), found " + std::to_string(size)};
+  };
+  if (Status s = per_vertex("uvs", mesh.uvs.size()); !s.ok()) return s;
+  if (Status s = per_vertex("colors", mesh.colors.size()); !s.ok()) return s;
+  for (std::size_t i = 0; i < mesh.uvs.size(); ++i) {
+    if (!mesh.uvs[i].allFinite()) {
+      const std::string f = field + ".uvs[" + std::to_string(i) + "]";
+      return {ErrorCode::invalid_argument, f, f + ": texture coordinates must be finite"};
+    }
+  }
+  for (std::size_t i = 0; i < mesh.colors.size(); ++i) {
+    const Color3& c = mesh.colors[i];
+    if (!(c.minCoeff() >= 0.0f && c.maxCoeff() <= 1.0f)) {  // NaN fails both
+      const std::string f = field + ".colors[" + std::to_string(i) + "]";
+      return {ErrorCode::invalid_argument, f,
+              f + ": expected components in [0, 1], found (" + format_number(c[0]) + ", " + format_number(c[1]) + ", " +
+                  format_number(c[2]) + ")"};
+    }
+  }
+  std::uint64_t covered = 0;
+  for (std::size_t g = 0; g < mesh.groups.size(); ++g) {
+    const MaterialGroup& group = mesh.groups[g];
+    if (group.first_triangle != covered || group.triangle_count == 0) {
+      const std::string f = field + ".groups[" + std::to_string(g) + "]";
+      return {ErrorCode::invalid_argument, f,
+              f + ": groups must be non-empty runs that cover the triangles in order (expected first_triangle " +
+                  std::to_string(covered) + ", found " + std::to_string(group.first_triangle) + " with " +
+                  std::to_string(group.triangle_count) + " triangles)"};
+    }
+    covered += group.triangle_count;
+  }
+  if (!mesh.groups.empty() && covered != mesh.triangles.size()) {
+    const std::string f = field + ".groups";
+    return {ErrorCode::invalid_argument, f,
+            f + ": the groups cover " + std::to_string(covered) + " triangles, the mesh has " +
+                std::to_string(mesh.triangles.size())};
   }
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     for (std::uint32_t index : mesh.triangles[t]) {

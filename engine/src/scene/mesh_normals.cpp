@@ -134,6 +134,8 @@ void compute_vertex_normals(Mesh& mesh, float crease_angle_deg) {
       if (!found) {
         target = static_cast<std::uint32_t>(mesh.positions.size());
         mesh.positions.push_back(mesh.positions[v]);
+        if (!mesh.uvs.empty()) mesh.uvs.push_back(mesh.uvs[v]);
+        if (!mesh.colors.empty()) mesh.colors.push_back(mesh.colors[v]);
         new_normals.push_back(normal);
         extra_of[v].push_back(target);
       }

@@ -5,6 +5,9 @@
 // a line as a comment, so it once resolved indices the check never saw (found by fuzz_obj; the
 // input is in tests/data/fuzz/obj/). Every index it returns is bounds-checked again all the same.
 // Polygons are triangulated here, as fans from their first corner (exact for convex polygons).
+// Texture coordinates (`vt`), vertex colours (`v x y z r g b`) and material groups (`usemtl`) are
+// kept; each is all-or-nothing (every corner has a `vt`, every `v` a colour), and a file that
+// mixes is refused with the line of the first corner or vertex that breaks the rule.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -17,6 +20,7 @@
 #include <tiny_obj_loader.h>
 
 #include "common/format.hpp"
+#include "common/try.hpp"
 #include "facet/mesh.hpp"
 #include "io/file_access.hpp"
 
@@ -104,6 +108,7 @@ class ObjChecker {
         clean.append(line);
         clean.push_back('\n');
         origin_.push_back(line_no);
+        if (tok[0] == "f") face_group_.push_back(group_);
       }
       if (end == text.size()) break;
     }
@@ -113,6 +118,13 @@ class ObjChecker {
 
   const std::vector<float>& positions() const { return positions_; }
   const std::vector<float>& normals() const { return normals_; }
+  const std::vector<float>& texcoords() const { return texcoords_; }  // u v per `vt` line
+  const std::vector<float>& colors() const { return colors_; }        // r g b per `v` line, if any has one
+  // The material group of each face of the checked text, in order (an index into group_names());
+  // faces before any `usemtl` are in group 0, named "".
+  const std::vector<std::uint32_t>& face_groups() const { return face_group_; }
+  const std::vector<std::string>& group_names() const { return group_names_; }
+  bool has_texcoords() const { return corners_with_vt_ > 0; }
   // The line of the original text that line `clean_line` (1-based) of the checked text came from.
   std::size_t origin(std::size_t clean_line) const {
     return clean_line >= 1 && clean_line <= origin_.size() ? origin_[clean_line - 1] : 0;
@@ -142,11 +154,18 @@ class ObjChecker {
       }
       clean.push_back('\n');
       origin_.push_back(line_no);
+      face_group_.push_back(group_);
     }
   }
 
+  Status mixed_texcoords(std::size_t line_no) const {
+    return error(line_no, "some face corners have a texture coordinate (v/vt) and others not: give every corner "
+                          "one, or none");
+  }
+
+  // Checks that `tok` holds lo..hi numbers and keeps the first `keep_count` of them in `keep`.
   Status check_numbers(std::size_t line_no, const std::vector<std::string_view>& tok, std::size_t lo,
-                       std::size_t hi, std::vector<float>* keep = nullptr) {
+                       std::size_t hi, std::vector<float>* keep = nullptr, std::size_t keep_count = 0) {
     const std::size_t n = tok.size() - 1;
     if (n < lo || n > hi) {
       return error(line_no, quote(tok[0], 16) + " expects " + std::to_string(lo) +
@@ -162,7 +181,7 @@ class ObjChecker {
                                                              : " is not a number: ";
         return error(line_no, quote(tok[0], 16) + " value " + std::to_string(i) + why + quote(tok[i], 32));
       }
-      if (keep && i <= 3) keep->push_back(value);  // x y z; a w or a colour is not kept
+      if (keep && i <= keep_count) keep->push_back(value);
     }
     return {};
   }
@@ -191,15 +210,47 @@ class ObjChecker {
     const std::string_view k = tok[0];
     if (k == "v") {
       ++v_;
-      return check_numbers(line_no, tok, 3, 7, &positions_);  // x y z [w] or x y z r g b
+      // x y z, x y z w (w ignored) or x y z r g b.
+      const std::size_t n = tok.size() - 1;
+      if (n != 3 && n != 4 && n != 6) {
+        return error(line_no, "'v' expects 3 (x y z), 4 (x y z w) or 6 (x y z r g b) numbers, found " + std::to_string(n));
+      }
+      FACET_TRY(check_numbers(line_no, tok, n, n, &positions_, 3));
+      const bool colored = n == 6;
+      if (v_ == 1) first_v_colored_ = colored;
+      if (colored != first_v_colored_) {
+        return error(line_no, std::string("vertex ") + std::to_string(v_) + (colored ? " has" : " has no") +
+                                  " colour (r g b) but vertex 1 " + (colored ? "has none" : "has one") +
+                                  ": give every vertex a colour, or none");
+      }
+      for (std::size_t c = 4; colored && c <= 6; ++c) {
+        float value = 0.0f;
+        parse_float(tok[c], value);  // checked above
+        if (!(value >= 0.0f && value <= 1.0f)) {
+          return error(line_no, "'v' colour value " + std::to_string(c - 3) + " is outside [0, 1]: " + quote(tok[c], 32));
+        }
+        colors_.push_back(value);
+      }
+      return {};
     }
     if (k == "vn") {
       ++vn_;
-      return check_numbers(line_no, tok, 3, 3, &normals_);
+      return check_numbers(line_no, tok, 3, 3, &normals_, 3);
     }
     if (k == "vt") {
       ++vt_;
-      return check_numbers(line_no, tok, 1, 3);
+      const std::size_t at = texcoords_.size();
+      FACET_TRY(check_numbers(line_no, tok, 1, 3, &texcoords_, 2));  // u [v [w]]: w is ignored
+      if (texcoords_.size() == at + 1) texcoords_.push_back(0.0f);  // v defaults to 0
+      return {};
+    }
+    if (k == "usemtl") {
+      if (tok.size() != 2) return error(line_no, "'usemtl' expects one material name, found " + std::to_string(tok.size() - 1));
+      const std::string name(tok[1]);
+      const auto it = std::find(group_names_.begin(), group_names_.end(), name);
+      group_ = static_cast<std::uint32_t>(it - group_names_.begin());
+      if (it == group_names_.end()) group_names_.push_back(name);
+      return {};
     }
     if (k == "f") {
       if (tok.size() < 4) return error(line_no, "a face needs at least 3 vertices, found " + std::to_string(tok.size() - 1));
@@ -208,12 +259,23 @@ class ObjChecker {
         const auto s1 = c.find('/');
         const std::string_view vpart = c.substr(0, s1);
         if (Status s = check_index(line_no, vpart, "vertex", v_); !s.ok()) return s;
-        if (s1 == std::string_view::npos) continue;
+        if (s1 == std::string_view::npos) {
+          if (corners_with_vt_ > 0) return mixed_texcoords(line_no);
+          ++corners_without_vt_;
+          continue;
+        }
         const std::string_view rest = c.substr(s1 + 1);
         const auto s2 = rest.find('/');
+        if (rest.substr(0, s2).empty()) {
+          if (corners_with_vt_ > 0) return mixed_texcoords(line_no);
+          ++corners_without_vt_;
+        }
         const std::string_view tpart = rest.substr(0, s2);
-        if (!tpart.empty())
+        if (!tpart.empty()) {
           if (Status s = check_index(line_no, tpart, "texture coordinate", vt_); !s.ok()) return s;
+          if (corners_without_vt_ > 0) return mixed_texcoords(line_no);
+          ++corners_with_vt_;
+        }
         if (s2 == std::string_view::npos) continue;
         const std::string_view npart = rest.substr(s2 + 1);
         if (Status s = check_index(line_no, npart, "normal", vn_); !s.ok()) return s;
@@ -232,20 +294,28 @@ class ObjChecker {
 
   std::string source_;
   std::size_t v_ = 0, vn_ = 0, vt_ = 0, face_count_ = 0, statements_ = 0;
-  std::vector<float> positions_, normals_;
+  std::size_t corners_with_vt_ = 0, corners_without_vt_ = 0;
+  bool first_v_colored_ = false;
+  std::uint32_t group_ = 0;
+  std::vector<std::string> group_names_{""};
+  std::vector<std::uint32_t> face_group_;
+  std::vector<float> positions_, normals_, texcoords_, colors_;
   std::vector<std::size_t> origin_;
 };
 
-// Calls fn(corner_a, corner_b, corner_c) for the fan triangles of every face, in file order.
+// Calls fn(face, corner_a, corner_b, corner_c) for the fan triangles of every face, in file order
+// (`face` counts the faces of all shapes).
 template <class Fn>
 void for_each_fan_triangle(const std::vector<tinyobj::shape_t>& shapes, Fn fn) {
+  std::size_t face = 0;
   for (const auto& shape : shapes) {
     const auto& idx = shape.mesh.indices;
     std::size_t offset = 0;
     for (const unsigned int corners : shape.mesh.num_face_vertices) {
       if (offset + corners > idx.size()) return;  // inconsistent counts: stop rather than read past
-      for (unsigned int k = 1; k + 1 < corners; ++k) fn(idx[offset], idx[offset + k], idx[offset + k + 1]);
+      for (unsigned int k = 1; k + 1 < corners; ++k) fn(face, idx[offset], idx[offset + k], idx[offset + k + 1]);
       offset += corners;
+      ++face;
     }
   }
 }
@@ -259,72 +329,122 @@ Vec3 unit_normal(const Vec3& n) {
   return m / m.norm();
 }
 
-// Faces come from tinyobjloader, every number from the checker (`positions`, `normals`: xyz per
-// `v` and `vn` line, in file order), so tinyobjloader's reading of numbers is never used.
-Result<Mesh> build_mesh(const std::vector<float>& vertex_xyz, const std::vector<float>& normal_xyz,
-                        const tinyobj::attrib_t& attrib, const std::vector<tinyobj::shape_t>& shapes,
-                        const ObjOptions& options, const std::string& source_name) {
-  if (vertex_xyz.size() != attrib.vertices.size() || normal_xyz.size() != attrib.normals.size()) {
+struct CornerKey {
+  int v, t, n;
+  bool operator==(const CornerKey&) const = default;
+};
+struct CornerKeyHash {
+  std::size_t operator()(const CornerKey& k) const noexcept {
+    std::uint64_t h = 1469598103934665603ull;
+    for (int x : {k.v, k.t, k.n}) h = (h ^ static_cast<std::uint32_t>(x)) * 1099511628211ull;
+    return static_cast<std::size_t>(h);
+  }
+};
+
+// Faces come from tinyobjloader, every number from the checker (xyz per `v` and `vn` line, uv per
+// `vt` line, rgb per `v` line, in file order), so tinyobjloader's reading of numbers is never used.
+Result<Mesh> build_mesh(const ObjChecker& checked, const tinyobj::attrib_t& attrib,
+                        const std::vector<tinyobj::shape_t>& shapes, const ObjOptions& options,
+                        const std::string& source_name) {
+  const std::vector<float>& vertex_xyz = checked.positions();
+  const std::vector<float>& normal_xyz = checked.normals();
+  const std::vector<float>& texcoord_uv = checked.texcoords();
+  const std::vector<float>& vertex_rgb = checked.colors();
+  if (vertex_xyz.size() != attrib.vertices.size() || normal_xyz.size() != attrib.normals.size() ||
+      texcoord_uv.size() / 2 != attrib.texcoords.size() / 2) {
     return Status{ErrorCode::parse_error, "", source_name + ": tinyobjloader read " +
-                                                  std::to_string(attrib.vertices.size() / 3) + " vertices and " +
-                                                  std::to_string(attrib.normals.size() / 3) + " normals where facet read " +
-                                                  std::to_string(vertex_xyz.size() / 3) + " and " +
-                                                  std::to_string(normal_xyz.size() / 3)};
+                                                  std::to_string(attrib.vertices.size() / 3) + " vertices, " +
+                                                  std::to_string(attrib.normals.size() / 3) + " normals and " +
+                                                  std::to_string(attrib.texcoords.size() / 2) +
+                                                  " texture coordinates where facet read " +
+                                                  std::to_string(vertex_xyz.size() / 3) + ", " +
+                                                  std::to_string(normal_xyz.size() / 3) + " and " +
+                                                  std::to_string(texcoord_uv.size() / 2)};
   }
   // The check before parsing makes these impossible; a disagreement between it and tinyobjloader
   // must still never index out of bounds.
   const auto positions = static_cast<long long>(vertex_xyz.size() / 3);
   const auto normals = static_cast<long long>(normal_xyz.size() / 3);
+  const auto texcoords = static_cast<long long>(texcoord_uv.size() / 2);
+  const bool with_uv = checked.has_texcoords();
+  std::size_t faces = 0;
   for (const auto& shape : shapes) {
+    faces += shape.mesh.num_face_vertices.size();
     for (const auto& i : shape.mesh.indices) {
-      if (i.vertex_index < 0 || i.vertex_index >= positions || i.normal_index >= normals) {
+      if (i.vertex_index < 0 || i.vertex_index >= positions || i.normal_index >= normals ||
+          i.texcoord_index >= texcoords || (with_uv && i.texcoord_index < 0)) {
         return Status{ErrorCode::parse_error, "", source_name + ": a face index is out of range"};
       }
     }
+  }
+  if (faces != checked.face_groups().size()) {
+    return Status{ErrorCode::parse_error, "", source_name + ": tinyobjloader read " + std::to_string(faces) +
+                                                  " faces where facet read " + std::to_string(checked.face_groups().size())};
   }
   bool all_have_normals = true;
   for (const auto& shape : shapes)
     for (const auto& idx : shape.mesh.indices) all_have_normals &= idx.normal_index >= 0;
 
   Mesh mesh;
-  auto position = [&](std::size_t i) { return Vec3(vertex_xyz[3 * i], vertex_xyz[3 * i + 1], vertex_xyz[3 * i + 2]); };
-  if (all_have_normals) {
-    // The file decides: one vertex per distinct (position, normal) pair.
-    std::unordered_map<long long, std::uint32_t> vertex_of;
-    auto vertex = [&](const tinyobj::index_t& i) {
-      const long long key = static_cast<long long>(i.vertex_index) << 32 | static_cast<std::uint32_t>(i.normal_index);
-      auto [it, inserted] = vertex_of.try_emplace(key, static_cast<std::uint32_t>(mesh.positions.size()));
-      if (inserted) {
-        mesh.positions.push_back(position(static_cast<std::size_t>(i.vertex_index)));
-        const auto ni = static_cast<std::size_t>(i.normal_index);
-        mesh.normals.push_back(unit_normal(Vec3(normal_xyz[3 * ni], normal_xyz[3 * ni + 1], normal_xyz[3 * ni + 2])));
-      }
-      return it->second;
-    };
-    for_each_fan_triangle(shapes, [&](const tinyobj::index_t& a, const tinyobj::index_t& b, const tinyobj::index_t& c) {
-      const std::uint32_t ia = vertex(a), ib = vertex(b), ic = vertex(c);
-      mesh.triangles.push_back({ia, ib, ic});
-    });
-    return mesh;
+  // One vertex per distinct (position, texture coordinate, normal) triple the faces use, in order of
+  // first use; without texture coordinates or normals, in the order of the `v` lines (vertices no
+  // face uses are dropped: the bunny has 1,113, and lighting them would be wasted work).
+  const bool keyed = all_have_normals || with_uv;
+  std::unordered_map<CornerKey, std::uint32_t, CornerKeyHash> vertex_of;
+  std::vector<std::uint32_t> new_index;
+  auto add_vertex = [&](const tinyobj::index_t& i) {
+    const auto v = static_cast<std::size_t>(i.vertex_index);
+    mesh.positions.push_back(Vec3(vertex_xyz[3 * v], vertex_xyz[3 * v + 1], vertex_xyz[3 * v + 2]));
+    if (!vertex_rgb.empty()) mesh.colors.push_back(Color3(vertex_rgb[3 * v], vertex_rgb[3 * v + 1], vertex_rgb[3 * v + 2]));
+    if (with_uv) {
+      const auto t = static_cast<std::size_t>(i.texcoord_index);
+      mesh.uvs.push_back(Vec2(texcoord_uv[2 * t], texcoord_uv[2 * t + 1]));
+    }
+    if (all_have_normals) {
+      const auto n = static_cast<std::size_t>(i.normal_index);
+      mesh.normals.push_back(unit_normal(Vec3(normal_xyz[3 * n], normal_xyz[3 * n + 1], normal_xyz[3 * n + 2])));
+    }
+  };
+  auto vertex = [&](const tinyobj::index_t& i) -> std::uint32_t {
+    if (!keyed) return new_index[static_cast<std::size_t>(i.vertex_index)];
+    auto [it, inserted] = vertex_of.try_emplace(CornerKey{i.vertex_index, i.texcoord_index, i.normal_index}, static_cast<std::uint32_t>(mesh.positions.size()));
+    if (inserted) add_vertex(i);
+    return it->second;
+  };
+  if (!keyed) {
+    constexpr std::uint32_t kUnused = ~0u;
+    new_index.assign(vertex_xyz.size() / 3, kUnused);
+    for (const auto& shape : shapes)
+      for (const auto& idx : shape.mesh.indices) new_index[static_cast<std::size_t>(idx.vertex_index)] = 0;
+    for (std::size_t i = 0; i < new_index.size(); ++i) {
+      if (new_index[i] == kUnused) continue;
+      new_index[i] = static_cast<std::uint32_t>(mesh.positions.size());
+      add_vertex(tinyobj::index_t{static_cast<int>(i), -1, -1});
+    }
   }
-  // Vertices no face uses are dropped (the bunny has 1,113): lighting them would be wasted work.
-  const std::size_t n = vertex_xyz.size() / 3;
-  constexpr std::uint32_t kUnused = ~0u;
-  std::vector<std::uint32_t> new_index(n, kUnused);
-  for (const auto& shape : shapes)
-    for (const auto& idx : shape.mesh.indices) new_index[static_cast<std::size_t>(idx.vertex_index)] = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (new_index[i] == kUnused) continue;
-    new_index[i] = static_cast<std::uint32_t>(mesh.positions.size());
-    mesh.positions.push_back(position(i));
-  }
-  for_each_fan_triangle(shapes, [&](const tinyobj::index_t& a, const tinyobj::index_t& b, const tinyobj::index_t& c) {
-    mesh.triangles.push_back({new_index[static_cast<std::size_t>(a.vertex_index)],
-                              new_index[static_cast<std::size_t>(b.vertex_index)],
-                              new_index[static_cast<std::size_t>(c.vertex_index)]});
+  const std::vector<std::uint32_t>& face_group = checked.face_groups();
+  const std::vector<std::string>& group_names = checked.group_names();
+  for_each_fan_triangle(shapes, [&](std::size_t face, const tinyobj::index_t& a, const tinyobj::index_t& b,
+                                    const tinyobj::index_t& c) {
+    const std::uint32_t ia = vertex(a), ib = vertex(b), ic = vertex(c);
+    const auto t = static_cast<std::uint32_t>(mesh.triangles.size());
+    mesh.triangles.push_back({ia, ib, ic});
+    const std::string& name = group_names[face_group[face]];
+    if (mesh.groups.empty() || mesh.groups.back().material != name) mesh.groups.push_back({name, t, 0});
+    ++mesh.groups.back().triangle_count;
   });
-  mesh.normals.assign(mesh.positions.size(), Vec3::Zero());
-  compute_vertex_normals(mesh, options.crease_angle_deg);
+  // One group named "" (no usemtl): the mesh has no groups.
+  if (mesh.groups.size() == 1 && mesh.groups[0].material.empty()) mesh.groups.clear();
+  for (const MaterialGroup& g : mesh.groups) {
+    if (g.material.empty()) {
+      return Status{ErrorCode::parse_error, "", source_name + ": faces before the first 'usemtl' have no material, "
+                                                              "while later faces do: put a 'usemtl' before the first face"};
+    }
+  }
+  if (!all_have_normals) {
+    mesh.normals.assign(mesh.positions.size(), Vec3::Zero());
+    compute_vertex_normals(mesh, options.crease_angle_deg);
+  }
   return mesh;
 }
 
@@ -362,8 +482,7 @@ Result<Mesh> parse_obj(const std::string& text, const std::string& source_name, 
     // Index warnings mean tinyobjloader kept out-of-range indices; the check above should have
     // caught them, so treat any that remain as errors rather than trust the data.
     if (reader.Warning().find("out of bounds") != std::string::npos) return from_tinyobj(reader.Warning());
-    return build_mesh(checker.positions(), checker.normals(), reader.GetAttrib(), reader.GetShapes(), options,
-                      source_name);
+    return build_mesh(checker, reader.GetAttrib(), reader.GetShapes(), options, source_name);
   } catch (const std::bad_alloc&) {
     return Status{ErrorCode::out_of_memory, "", source_name + ": out of memory while loading"};
   } catch (const std::exception& e) {

@@ -1,7 +1,10 @@
 // Procedural shapes. All are built by one parametric-grid routine: a (nu+1) x (nv+1) lattice whose
 // quads (u,v) (u+1,v) (u+1,v+1) (u,v+1) wind counter-clockwise seen from the side the normal points
 // to. Triangles with two coincident corners (sphere poles) are skipped. Normals come from the model
-// (exact sphere and torus normals, flat cube faces), never from averaging.
+// (exact sphere and torus normals, flat cube faces), never from averaging. Texture coordinates:
+// sphere u = longitude / 360 deg (from +x, counter-clockwise seen from +y), v = 1 at the north pole
+// to 0 at the south pole; cube 0..1 across each face; plane 0..1 along x and along -z; torus
+// u around the y axis and v around the tube, each 0..1. Seams have two vertices (u = 0 and 1).
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -16,15 +19,17 @@ constexpr float kPi = std::numbers::pi_v<float>;
 
 int clamp_tessellation(int value, int minimum) { return std::clamp(value, minimum, kMaxTessellation); }
 
-// fn(u, v) -> std::pair<Vec3 position, Vec3 normal> for u in [0, nu], v in [0, nv].
-template <class Fn>
-void add_grid(Mesh& mesh, int nu, int nv, Fn fn) {
+// fn(u, v) -> std::pair<Vec3 position, Vec3 normal> for u in [0, nu], v in [0, nv]; uv(u, v) the
+// vertex's texture coordinates.
+template <class Fn, class Uv>
+void add_grid(Mesh& mesh, int nu, int nv, Fn fn, Uv uv) {
   const auto base = static_cast<std::uint32_t>(mesh.positions.size());
   for (int u = 0; u <= nu; ++u) {
     for (int v = 0; v <= nv; ++v) {
       auto [p, n] = fn(u, v);
       mesh.positions.push_back(p);
       mesh.normals.push_back(n);
+      mesh.uvs.push_back(uv(u, v));
     }
   }
   auto at = [&](int u, int v) { return base + static_cast<std::uint32_t>(u * (nv + 1) + v); };
@@ -41,14 +46,18 @@ void add_grid(Mesh& mesh, int nu, int nv, Fn fn) {
   }
 }
 
+float fraction(int i, int n) { return static_cast<float>(i) / static_cast<float>(n); }
+
 // A flat rectangle from `origin` spanning `edge_u` and `edge_v`; its normal is unit(edge_u x edge_v).
+// Texture coordinates run 0..1 along each edge.
 void add_flat_patch(Mesh& mesh, const Vec3& origin, const Vec3& edge_u, const Vec3& edge_v, int n) {
   const Vec3 normal = edge_u.cross(edge_v).normalized();
-  add_grid(mesh, n, n, [&](int u, int v) {
-    const float fu = static_cast<float>(u) / static_cast<float>(n);
-    const float fv = static_cast<float>(v) / static_cast<float>(n);
-    return std::pair<Vec3, Vec3>{origin + fu * edge_u + fv * edge_v, normal};
-  });
+  add_grid(
+      mesh, n, n,
+      [&](int u, int v) {
+        return std::pair<Vec3, Vec3>{origin + fraction(u, n) * edge_u + fraction(v, n) * edge_v, normal};
+      },
+      [&](int u, int v) { return Vec2(fraction(u, n), fraction(v, n)); });
 }
 
 }  // namespace
@@ -66,7 +75,7 @@ Mesh make_uv_sphere(float radius, int segments, int rings) {
     const float cos_phi = u == 0 ? 1.0f : (u == rings ? -1.0f : std::cos(phi));
     const Vec3 n(sin_phi * std::cos(theta), cos_phi, -sin_phi * std::sin(theta));
     return std::pair<Vec3, Vec3>{radius * n, n};
-  });
+  }, [&](int u, int v) { return Vec2(fraction(v, segments), 1.0f - fraction(u, rings)); });
   return mesh;
 }
 
@@ -105,7 +114,7 @@ Mesh make_torus(float major_radius, float minor_radius, int segments, int sides)
     const Vec3 n(std::cos(phi) * std::cos(theta), std::sin(phi), -std::cos(phi) * std::sin(theta));
     const Vec3 centre(major_radius * std::cos(theta), 0.0f, -major_radius * std::sin(theta));
     return std::pair<Vec3, Vec3>{centre + minor_radius * n, n};
-  });
+  }, [&](int u, int v) { return Vec2(fraction(u, segments), fraction(v, sides)); });
   return mesh;
 }
 
