@@ -6,6 +6,9 @@ find_package(TBB REQUIRED)                    # libtbb-dev
 find_package(nlohmann_json 3.10 REQUIRED)     # nlohmann-json3-dev
 find_package(tinyobjloader REQUIRED)          # libtinyobjloader-dev (shared library, no IMPLEMENTATION macro)
 find_package(PNG REQUIRED)                    # libpng-dev
+# stb_image decodes textures (PNG and JPEG); Debian's libstb.so holds the implementations.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)  # libstb-dev
 
 # Debian's xsimd 8.1 exports INTERFACE_LINK_LIBRARIES "xtl", a library nothing provides: linking
 # the target fails with `cannot find -lxtl` (shared/design/platform.md, trap 1). xsimd only needs

@@ -11,4 +11,5 @@
 #include "facet/scene.hpp"
 #include "facet/scene_file.hpp"
 #include "facet/status.hpp"
+#include "facet/texture.hpp"
 #include "facet/types.hpp"

@@ -15,6 +15,7 @@
 #include "facet/image.hpp"
 #include "raster/triangle_setup.hpp"
 #include "raster/varyings.hpp"
+#include "texture/sampler.hpp"
 
 namespace facet::raster {
 // Triangles are set up in parallel ranges; a bin entry names one as (range << 16) | index. A range
@@ -70,22 +71,30 @@ using RasterTileFunction = void (*)(const TileJob&, const TileView&, TileCounter
 using ResolveTileFunction = void (*)(const TileView&, int x0, int y0, int x1, int y1, const ImageView&,
                                      const DepthView*);
 
+// The ISA's texture sampler on planar streams: in = u, v, ds/dx, dt/dx, ds/dy, dt/dy; out = R, G, B, A.
+using SampleTextureFunction = void (*)(const texture::Sampler&, std::size_t count, const float* const* in,
+                                       float* const* out);
+
 struct Kernels {
   RasterTileFunction raster;
   ResolveTileFunction resolve;
+  SampleTextureFunction sample;
 };
 
 namespace sse2 {
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
+void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
 }  // namespace sse2
 namespace avx2 {
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
+void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
 }  // namespace avx2
 namespace avx512 {
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
+void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
 }  // namespace avx512
 
 }  // namespace facet::raster::simd

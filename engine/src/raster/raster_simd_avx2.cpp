@@ -7,6 +7,7 @@
 #endif
 
 #include "raster/raster_simd.hpp"
+#include "texture/sample_simd.hpp"
 
 namespace facet::raster::simd::avx2 {
 void raster_tile(const TileJob& job, const TileView& tile, TileCounters& counters) {
@@ -15,5 +16,8 @@ void raster_tile(const TileJob& job, const TileView& tile, TileCounters& counter
 void resolve_tile(const TileView& tile, int x0, int y0, int x1, int y1, const ImageView& color,
                   const DepthView* depth) {
   TileKernel<xsimd::fma3<xsimd::avx2>>::resolve(tile, x0, y0, x1, y1, color, depth);
+}
+void sample_texture(const texture::Sampler& sampler, std::size_t count, const float* const* in, float* const* out) {
+  texture::simd::SampleSimd<xsimd::fma3<xsimd::avx2>>::sample_streams(sampler, count, in, out);
 }
 }  // namespace facet::raster::simd::avx2

@@ -1,0 +1,179 @@
+// Internal: the SIMD texture sampler, a template on the xsimd architecture: the twin of
+// sample_scalar (sampler.cpp), the same IEEE float operations in the same order, with coordinates,
+// weights, LOD and filtering in SIMD lanes and the texel fetches per lane (the levels of a
+// trilinear sample may differ from lane to lane). Included only by the per-ISA raster files, each
+// compiled with -ffp-contract=off; everything is a template or in an unnamed namespace (platform.md,
+// trap 5).
+#pragma once
+
+#include <cfloat>
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+#include "texture/sampler.hpp"
+
+namespace facet::texture::simd {
+namespace {
+
+template <class Arch>
+struct SampleSimd {
+  using F = xsimd::batch<float, Arch>;
+  using I = xsimd::batch<std::int32_t, Arch>;
+  using U = xsimd::batch<std::uint32_t, Arch>;
+  static constexpr int W = static_cast<int>(F::size);
+
+  static F wrap_coordinate(const F& s, int wrap) {
+    if (wrap == static_cast<int>(TextureWrap::repeat)) {
+      const F r = s - xsimd::floor(s);
+      return xsimd::select((r >= F(0.0f)) & (r < F(1.0f)), r, F(0.0f));
+    }
+    if (wrap == static_cast<int>(TextureWrap::mirror)) {
+      const F r = s - F(2.0f) * xsimd::floor(s * F(0.5f));
+      return xsimd::select((r >= F(0.0f)) & (r < F(2.0f)), r, F(0.0f));
+    }
+    return xsimd::select(s > F(0.0f), xsimd::select(s < F(1.0f), s, F(1.0f)), F(0.0f));
+  }
+
+  static I fold(I i, const I& n, int wrap) {
+    if (wrap == static_cast<int>(TextureWrap::repeat)) {
+      i = xsimd::select(i < I(0), i + n, i);
+      return xsimd::select(i >= n, i - n, i);
+    }
+    if (wrap == static_cast<int>(TextureWrap::mirror)) {
+      const I two_n = n + n;
+      i = xsimd::select(i < I(0), i + two_n, i);
+      i = xsimd::select(i >= two_n, i - two_n, i);
+      return xsimd::select(i >= n, two_n - I(1) - i, i);
+    }
+    return xsimd::select(i < I(0), I(0), xsimd::select(i >= n, n - I(1), i));
+  }
+
+  static F log2_approx(const F& x) {
+    const I bits = xsimd::bitwise_cast<I>(x);
+    const I e = ((bits >> 23) & I(0xff)) - I(127);
+    const F m = xsimd::bitwise_cast<F>((bits & I(0x7fffff)) | I(0x3f800000)) - F(1.0f);
+    F p(0.04639481008052826f);
+    p = p * m + F(-0.19628861546516418f);
+    p = p * m + F(0.4176080822944641f);
+    p = p * m + F(-0.7096655964851379f);
+    p = p * m + F(1.4419656991958618f);
+    return xsimd::batch_cast<float>(e) + p * m;
+  }
+
+  static F lod(const Sampler& s, const F& dsdx, const F& dtdx, const F& dsdy, const F& dtdy) {
+    const F ax = dsdx * F(s.lod_width), bx = dtdx * F(s.lod_height);
+    const F ay = dsdy * F(s.lod_width), by = dtdy * F(s.lod_height);
+    const F px = ax * ax + bx * bx, py = ay * ay + by * by;
+    const F rho2 = xsimd::select(px > py, px, py);
+    const auto magnify = !(rho2 >= F(FLT_MIN));
+    const F safe = xsimd::select(magnify | (rho2 > F(FLT_MAX)), F(1.0f), rho2);
+    const F lambda = F(0.5f) * log2_approx(safe);
+    return xsimd::select(magnify, F(-1.0f), xsimd::select(rho2 > F(FLT_MAX), F(1000.0f), lambda));
+  }
+
+  // Level `level[lane]` of each lane, nearest or bilinear: RGBA in out[0..3].
+  static void sample_levels(const Sampler& s, const std::int32_t* level, bool linear, const F& u, const F& v, F* out) {
+    alignas(64) std::int32_t w[W], h[W];
+    alignas(64) float fw[W], fh[W];
+    for (int l = 0; l < W; ++l) {
+      const SamplerLevel& L = s.level[level[l]];
+      w[l] = L.width, h[l] = L.height, fw[l] = L.fwidth, fh[l] = L.fheight;
+    }
+    const I wi = I::load_aligned(w), hi = I::load_aligned(h);
+    const F rs = wrap_coordinate(u, s.wrap), rt = wrap_coordinate(v, s.wrap);
+    alignas(64) std::uint32_t t[4][W];
+    if (!linear) {
+      alignas(64) std::int32_t ii[W], jj[W];
+      fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rs * F::load_aligned(fw))), wi, s.wrap).store_aligned(ii);
+      fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rt * F::load_aligned(fh))), hi, s.wrap).store_aligned(jj);
+      for (int l = 0; l < W; ++l) {
+        const SamplerLevel& L = s.level[level[l]];
+        t[0][l] = L.texels[static_cast<std::size_t>(jj[l]) * static_cast<std::size_t>(L.width) + static_cast<std::size_t>(ii[l])];
+      }
+      const I t00 = xsimd::bitwise_cast<I>(U::load_aligned(t[0]));
+      for (int c = 0; c < 4; ++c) out[c] = xsimd::batch_cast<float>((t00 >> (8 * c)) & I(0xff)) * F(1.0f / 255.0f);
+      return;
+    }
+    const F x = rs * F::load_aligned(fw) - F(0.5f), y = rt * F::load_aligned(fh) - F(0.5f);
+    const F fx = xsimd::floor(x), fy = xsimd::floor(y);
+    const F a = x - fx, b = y - fy;
+    const I i0 = xsimd::batch_cast<std::int32_t>(fx), j0 = xsimd::batch_cast<std::int32_t>(fy);
+    alignas(64) std::int32_t ia[W], ib[W], ja[W], jb[W];
+    fold(i0, wi, s.wrap).store_aligned(ia);
+    fold(i0 + I(1), wi, s.wrap).store_aligned(ib);
+    fold(j0, hi, s.wrap).store_aligned(ja);
+    fold(j0 + I(1), hi, s.wrap).store_aligned(jb);
+    for (int l = 0; l < W; ++l) {
+      const SamplerLevel& L = s.level[level[l]];
+      const std::size_t row_a = static_cast<std::size_t>(ja[l]) * static_cast<std::size_t>(L.width);
+      const std::size_t row_b = static_cast<std::size_t>(jb[l]) * static_cast<std::size_t>(L.width);
+      t[0][l] = L.texels[row_a + static_cast<std::size_t>(ia[l])];
+      t[1][l] = L.texels[row_a + static_cast<std::size_t>(ib[l])];
+      t[2][l] = L.texels[row_b + static_cast<std::size_t>(ia[l])];
+      t[3][l] = L.texels[row_b + static_cast<std::size_t>(ib[l])];
+    }
+    const I t00 = xsimd::bitwise_cast<I>(U::load_aligned(t[0]));
+    const I t10 = xsimd::bitwise_cast<I>(U::load_aligned(t[1]));
+    const I t01 = xsimd::bitwise_cast<I>(U::load_aligned(t[2]));
+    const I t11 = xsimd::bitwise_cast<I>(U::load_aligned(t[3]));
+    const F ra = F(1.0f) - a, rb = F(1.0f) - b;
+    for (int c = 0; c < 4; ++c) {
+      auto ch = [c](const I& texel) { return xsimd::batch_cast<float>((texel >> (8 * c)) & I(0xff)); };
+      const F top = ch(t00) * ra + ch(t10) * a;
+      const F bottom = ch(t01) * ra + ch(t11) * a;
+      out[c] = (top * rb + bottom * b) * F(1.0f / 255.0f);
+    }
+  }
+
+  // RGBA at (u, v) with level of detail lambda (used only by trilinear textures).
+  static void sample(const Sampler& s, const F& u, const F& v, const F& lambda, F* out) {
+    alignas(64) std::int32_t level[W] = {};
+    if (s.filter != static_cast<int>(TextureFilter::trilinear)) {
+      sample_levels(s, level, s.filter != static_cast<int>(TextureFilter::nearest), u, v, out);
+      return;
+    }
+    // Lanes with lambda <= 0 (or NaN) magnify from level 0; lanes at or past the last level q
+    // read it alone (f = 0: c1 * 1 + c2 * 0 is c1 exactly, as the scalar twin returns it).
+    const int q = s.levels - 1;
+    const auto minify = lambda > F(0.0f);
+    const F l = xsimd::select(lambda < F(static_cast<float>(q)), lambda, F(static_cast<float>(q)));
+    const F d1 = xsimd::select(minify, xsimd::floor(l), F(0.0f));
+    const I k = xsimd::batch_cast<std::int32_t>(d1);
+    const auto single = !minify | (d1 >= F(static_cast<float>(q)));
+    const F f = xsimd::select(single, F(0.0f), l - d1);
+    alignas(64) std::int32_t next[W];
+    k.store_aligned(level);
+    xsimd::select(k >= I(q), k, k + I(1)).store_aligned(next);
+    F c1[4], c2[4];
+    sample_levels(s, level, true, u, v, c1);
+    if (xsimd::any(f != F(0.0f))) {
+      sample_levels(s, next, true, u, v, c2);
+    } else {
+      for (int c = 0; c < 4; ++c) c2[c] = F(0.0f);
+    }
+    for (int c = 0; c < 4; ++c) out[c] = c1[c] * (F(1.0f) - f) + c2[c] * f;
+  }
+
+  // `count` samples from planar inputs (u, v, ds/dx, dt/dx, ds/dy, dt/dy) to planar RGBA.
+  static void sample_streams(const Sampler& s, std::size_t count, const float* const* in, float* const* out) {
+    for (std::size_t i = 0; i < count; i += W) {
+      alignas(64) float lanes[6][W] = {};
+      const std::size_t n = count - i < static_cast<std::size_t>(W) ? count - i : static_cast<std::size_t>(W);
+      for (int k = 0; k < 6; ++k)
+        for (std::size_t l = 0; l < n; ++l) lanes[k][l] = in[k][i + l];
+      const F lambda = lod(s, F::load_aligned(lanes[2]), F::load_aligned(lanes[3]), F::load_aligned(lanes[4]),
+                           F::load_aligned(lanes[5]));
+      F rgba[4];
+      sample(s, F::load_aligned(lanes[0]), F::load_aligned(lanes[1]), lambda, rgba);
+      alignas(64) float result[W];
+      for (int c = 0; c < 4; ++c) {
+        rgba[c].store_aligned(result);
+        for (std::size_t l = 0; l < n; ++l) out[c][i + l] = result[l];
+      }
+    }
+  }
+};
+
+}  // namespace
+}  // namespace facet::texture::simd

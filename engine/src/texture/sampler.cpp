@@ -1,0 +1,178 @@
+// The scalar float sampler (the SIMD sampler's twin) and the double-precision reference sampler;
+// see sampler.hpp for the arithmetic both follow. Built with -ffp-contract=off, as the raster kernels.
+#include "texture/sampler.hpp"
+
+#include <cfloat>
+#include <cmath>
+#include <cstring>
+#include <type_traits>
+
+namespace facet::texture {
+namespace {
+
+constexpr int kRepeat = static_cast<int>(TextureWrap::repeat);
+constexpr int kMirror = static_cast<int>(TextureWrap::mirror);
+constexpr int kTrilinear = static_cast<int>(TextureFilter::trilinear);
+constexpr int kNearest = static_cast<int>(TextureFilter::nearest);
+constexpr float kInv255 = 1.0f / 255.0f;
+constexpr float kFarLod = 1000.0f;  // lambda for an infinite rho: past the last level
+
+// Degree-5 fit of log2(1 + m) on [0, 1) (weighted least squares; with the float rounding of the
+// result |error| < 2e-5, tests/texture_test.cpp).
+constexpr float kLog2[5] = {1.4419656991958618f, -0.7096655964851379f, 0.4176080822944641f, -0.19628861546516418f,
+                            0.04639481008052826f};
+
+template <class T>
+T wrap_coordinate(T s, int wrap) {
+  if (wrap == kRepeat) {
+    const T r = s - std::floor(s);
+    return r >= T(0) && r < T(1) ? r : T(0);
+  }
+  if (wrap == kMirror) {
+    const T r = s - T(2) * std::floor(s * T(0.5));
+    return r >= T(0) && r < T(2) ? r : T(0);
+  }
+  return s > T(0) ? (s < T(1) ? s : T(1)) : T(0);
+}
+
+int fold(int i, int n, int wrap) {
+  if (wrap == kRepeat) {
+    if (i < 0) i += n;
+    if (i >= n) i -= n;
+  } else if (wrap == kMirror) {
+    if (i < 0) i += 2 * n;
+    if (i >= 2 * n) i -= 2 * n;
+    if (i >= n) i = 2 * n - 1 - i;
+  } else {
+    i = i < 0 ? 0 : (i >= n ? n - 1 : i);
+  }
+  return i;
+}
+
+template <class T>
+T channel(std::uint32_t texel, int c) {
+  return static_cast<T>((texel >> (8 * c)) & 0xffu);
+}
+
+std::uint32_t texel_at(const SamplerLevel& l, int i, int j) {
+  return l.texels[static_cast<std::size_t>(j) * static_cast<std::size_t>(l.width) + static_cast<std::size_t>(i)];
+}
+
+// One level, nearest or bilinear, in T (float: the twin of the SIMD sampler; double: the reference).
+template <class T>
+std::array<T, 4> sample_level(const SamplerLevel& l, int wrap, bool linear, T s, T t) {
+  const T fw = static_cast<T>(l.fwidth), fh = static_cast<T>(l.fheight);
+  const T rs = wrap_coordinate(s, wrap), rt = wrap_coordinate(t, wrap);
+  std::array<T, 4> out{};
+  if (!linear) {
+    const int i = fold(static_cast<int>(std::floor(rs * fw)), l.width, wrap);
+    const int j = fold(static_cast<int>(std::floor(rt * fh)), l.height, wrap);
+    const std::uint32_t t00 = texel_at(l, i, j);
+    for (int c = 0; c < 4; ++c) {
+      if constexpr (std::is_same_v<T, float>) {
+        out[c] = channel<T>(t00, c) * kInv255;
+      } else {
+        out[c] = channel<T>(t00, c) / 255.0;
+      }
+    }
+    return out;
+  }
+  const T x = rs * fw - T(0.5), y = rt * fh - T(0.5);
+  const T fx = std::floor(x), fy = std::floor(y);
+  const T a = x - fx, b = y - fy;
+  const int i0 = static_cast<int>(fx), j0 = static_cast<int>(fy);
+  const int i1 = fold(i0 + 1, l.width, wrap), j1 = fold(j0 + 1, l.height, wrap);
+  const int ia = fold(i0, l.width, wrap), ja = fold(j0, l.height, wrap);
+  const std::uint32_t t00 = texel_at(l, ia, ja), t10 = texel_at(l, i1, ja);
+  const std::uint32_t t01 = texel_at(l, ia, j1), t11 = texel_at(l, i1, j1);
+  const T ra = T(1) - a, rb = T(1) - b;
+  for (int c = 0; c < 4; ++c) {
+    const T top = channel<T>(t00, c) * ra + channel<T>(t10, c) * a;
+    const T bottom = channel<T>(t01, c) * ra + channel<T>(t11, c) * a;
+    if constexpr (std::is_same_v<T, float>) {
+      out[c] = (top * rb + bottom * b) * kInv255;
+    } else {
+      out[c] = (top * rb + bottom * b) / 255.0;
+    }
+  }
+  return out;
+}
+
+template <class T>
+std::array<T, 4> sample(const Sampler& s, T u, T v, T lambda) {
+  if (s.filter != kTrilinear || !(lambda > T(0))) return sample_level<T>(s.level[0], s.wrap, s.filter != kNearest, u, v);
+  const int q = s.levels - 1;
+  const T l = lambda < T(q) ? lambda : T(q);
+  const T d1 = std::floor(l);
+  const int k = static_cast<int>(d1);
+  if (k >= q) return sample_level<T>(s.level[q], s.wrap, true, u, v);
+  const T f = l - d1;
+  const std::array<T, 4> c1 = sample_level<T>(s.level[k], s.wrap, true, u, v);
+  const std::array<T, 4> c2 = sample_level<T>(s.level[k + 1], s.wrap, true, u, v);
+  std::array<T, 4> out{};
+  for (int c = 0; c < 4; ++c) out[c] = c1[c] * (T(1) - f) + c2[c] * f;
+  return out;
+}
+
+}  // namespace
+
+Sampler make_sampler(const Texture& texture) noexcept {
+  Sampler s{};
+  s.filter = static_cast<std::int32_t>(texture.filter);
+  s.wrap = static_cast<std::int32_t>(texture.wrap);
+  s.levels = static_cast<std::int32_t>(texture.levels.size() < kMaxLevels ? texture.levels.size() : kMaxLevels);
+  s.lod_width = static_cast<float>(texture.width());
+  s.lod_height = static_cast<float>(texture.height());
+  for (int k = 0; k < s.levels; ++k) {
+    const TextureLevel& l = texture.levels[static_cast<std::size_t>(k)];
+    s.level[k] = {texture.texels.data() + l.offset, l.width, l.height, static_cast<float>(l.width),
+                  static_cast<float>(l.height)};
+  }
+  return s;
+}
+
+float log2_approx(float x) noexcept {
+  std::uint32_t bits = 0;
+  std::memcpy(&bits, &x, sizeof bits);
+  const int e = static_cast<int>(bits >> 23) - 127;
+  const std::uint32_t mbits = (bits & 0x7fffffu) | 0x3f800000u;
+  float m = 0.0f;
+  std::memcpy(&m, &mbits, sizeof m);
+  m = m - 1.0f;
+  float p = kLog2[4];
+  p = p * m + kLog2[3];
+  p = p * m + kLog2[2];
+  p = p * m + kLog2[1];
+  p = p * m + kLog2[0];
+  return static_cast<float>(e) + p * m;
+}
+
+float lod_scalar(const Sampler& s, float dsdx, float dtdx, float dsdy, float dtdy) noexcept {
+  const float ax = dsdx * s.lod_width, bx = dtdx * s.lod_height;
+  const float ay = dsdy * s.lod_width, by = dtdy * s.lod_height;
+  const float px = ax * ax + bx * bx, py = ay * ay + by * by;
+  const float rho2 = px > py ? px : py;
+  if (!(rho2 >= FLT_MIN)) return -1.0f;  // zero, subnormal or NaN: magnification
+  if (rho2 > FLT_MAX) return kFarLod;
+  return 0.5f * log2_approx(rho2);
+}
+
+double lod_reference(const Sampler& s, double dsdx, double dtdx, double dsdy, double dtdy) noexcept {
+  const double ax = dsdx * s.lod_width, bx = dtdx * s.lod_height;
+  const double ay = dsdy * s.lod_width, by = dtdy * s.lod_height;
+  const double px = ax * ax + bx * bx, py = ay * ay + by * by;
+  const double rho2 = px > py ? px : py;
+  if (!(rho2 >= FLT_MIN)) return -1.0;
+  if (rho2 > FLT_MAX) return kFarLod;
+  return 0.5 * std::log2(rho2);
+}
+
+std::array<float, 4> sample_scalar(const Sampler& s, float u, float v, float lambda) noexcept {
+  return sample<float>(s, u, v, lambda);
+}
+
+std::array<double, 4> sample_reference(const Sampler& s, double u, double v, double lambda) noexcept {
+  return sample<double>(s, u, v, lambda);
+}
+
+}  // namespace facet::texture

@@ -1,0 +1,59 @@
+// Internal: texture sampling. Three samplers with one definition (GL 2.1 §3.8.8):
+//  - sample_reference: double precision, exact log2; the oracle;
+//  - sample_scalar: float, the scalar rasterizer's; the twin of
+//  - the SIMD sampler (sample_simd.hpp, one instantiation per ISA), which does the same IEEE float
+//    operations in the same order, so both give the same bits (tests/texture_test.cpp).
+//
+// The float samplers' arithmetic, per coordinate s of a level n texels wide:
+//   wrap:    repeat r = s - floor(s) in [0, 1); mirror r = s - 2 floor(s / 2) in [0, 2);
+//            clamp r = min(max(s, 0), 1). Not finite, or outside that range: 0. The reduction is
+//            exact, so a coordinate of 1e7 is as exact as its float (whole numbers there: the
+//            texture is sampled at its corner, never NaN).
+//   nearest: i = floor(r n), then folded into [0, n) by the wrap mode;
+//   linear:  x = r n - 1/2, i0 = floor(x), i1 = i0 + 1, a = x - i0; both folded into [0, n)
+//            (repeat: modulo n; mirror: modulo 2n, then i >= n reads 2n - 1 - i; clamp: to the edge);
+//            c = ((t00 (1 - a) + t10 a) (1 - b) + (t01 (1 - a) + t11 a) b) / 255 per channel.
+//   LOD:     rho^2 = max((ds/dx w)^2 + (dt/dx h)^2, (ds/dy w)^2 + (dt/dy h)^2) from the derivatives
+//            of (s, t) in the pixel (w, h: level 0's size), lambda = log2(rho^2) / 2 (GL's
+//            isotropic rho = max of the two lengths). log2 in float is the exponent plus a
+//            degree-5 polynomial of the mantissa: |error| < 2e-5 (tested), so lambda is within
+//            1e-5 of exact. lambda <= 0: magnification, bilinear on level 0; else levels
+//            floor(lambda) and floor(lambda) + 1 (the last level alone past it), blended by the
+//            fraction. rho^2 zero or NaN: level 0; infinite: the last level.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "facet/texture.hpp"
+
+namespace facet::texture {
+
+inline constexpr int kMaxLevels = 15;  // 16384 = 2^14: levels 0..14
+
+// Plain data (the per-ISA kernels read it): one texture as the samplers see it.
+struct SamplerLevel {
+  const std::uint32_t* texels;
+  std::int32_t width, height;
+  float fwidth, fheight;
+};
+struct Sampler {
+  std::int32_t filter;  // TextureFilter as int
+  std::int32_t wrap;    // TextureWrap as int
+  std::int32_t levels;
+  float lod_width, lod_height;  // level 0's size, for rho
+  SamplerLevel level[kMaxLevels];
+};
+Sampler make_sampler(const Texture& texture) noexcept;
+
+// log2(x) as the float samplers compute it, for x normal and finite (the SIMD twin is in sample_simd.hpp).
+float log2_approx(float x) noexcept;
+// lambda from the derivatives, as the float samplers compute it.
+float lod_scalar(const Sampler& s, float dsdx, float dtdx, float dsdy, float dtdy) noexcept;
+double lod_reference(const Sampler& s, double dsdx, double dtdx, double dsdy, double dtdy) noexcept;
+
+// RGBA in [0, 1] at (s, t) with level of detail lambda (ignored unless trilinear).
+std::array<float, 4> sample_scalar(const Sampler& s, float u, float v, float lambda) noexcept;
+std::array<double, 4> sample_reference(const Sampler& s, double u, double v, double lambda) noexcept;
+
+}  // namespace facet::texture

@@ -1,0 +1,276 @@
+// Textures: decoding (stb_image, from Debian's libstb), the mipmap chain and validation.
+#include "facet/texture.hpp"
+
+#include <stb_image.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <memory>
+
+#include "common/format.hpp"
+#include "common/try.hpp"
+#include "io/file_access.hpp"
+
+namespace facet {
+namespace {
+
+Status invalid(const std::string& field, const std::string& what) {
+  return {ErrorCode::invalid_argument, field, field + ": " + what};
+}
+
+int level_count(int width, int height) {
+  int levels = 1;
+  for (int w = width, h = height; w > 1 || h > 1; w = std::max(1, w / 2), h = std::max(1, h / 2)) ++levels;
+  return levels;
+}
+
+// Bytes the texels of a texture need (all levels when trilinear).
+std::uint64_t texel_bytes(int width, int height, TextureFilter filter) {
+  std::uint64_t texels = 0;
+  int w = width, h = height;
+  for (int k = 0, n = filter == TextureFilter::trilinear ? level_count(width, height) : 1; k < n; ++k) {
+    texels += static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
+    w = std::max(1, w / 2), h = std::max(1, h / 2);
+  }
+  return 4 * texels;
+}
+
+Status check_budget(std::uint64_t bytes, const TextureOptions& options, const std::string& source) {
+  if (options.memory_budget_bytes != 0 && bytes > options.memory_budget_bytes) {
+    return {ErrorCode::out_of_memory, "memory_budget_bytes",
+            source + ": the texture needs " + std::to_string(bytes) + " bytes, more than the memory budget (" +
+                std::to_string(options.memory_budget_bytes) + " bytes)"};
+  }
+  return {};
+}
+
+// The weights with which the texels of a row of `from` texels fall into texel `i` of a row of
+// `to` texels: texel i covers [i * from / to, (i + 1) * from / to) of the larger row.
+struct Span {
+  int first = 0, last = 0;        // texels of the larger row, inclusive
+  float w_first = 1, w_last = 1;  // coverage of the first and last one (inner ones: 1)
+  float inv_size = 1;             // 1 / (from / to)
+};
+Span box_span(int i, int from, int to) {
+  Span s;
+  const double scale = double(from) / double(to);
+  const double a = i * scale, b = (i + 1) * scale;
+  s.first = static_cast<int>(std::floor(a));
+  s.last = std::min(from - 1, static_cast<int>(std::ceil(b)) - 1);
+  s.w_first = static_cast<float>(std::min(b, s.first + 1.0) - a);
+  s.w_last = s.last == s.first ? s.w_first : static_cast<float>(b - s.last);
+  s.inv_size = static_cast<float>(1.0 / scale);
+  return s;
+}
+
+float span_weight(const Span& s, int k) {
+  if (k == s.first) return s.w_first;
+  if (k == s.last) return s.w_last;
+  return 1.0f;
+}
+
+void build_level(const std::uint32_t* src, int sw, int sh, std::uint32_t* dst, int dw, int dh) {
+  std::vector<Span> xs(static_cast<std::size_t>(dw));
+  for (int i = 0; i < dw; ++i) xs[static_cast<std::size_t>(i)] = box_span(i, sw, dw);
+  for (int j = 0; j < dh; ++j) {
+    const Span ys = box_span(j, sh, dh);
+    for (int i = 0; i < dw; ++i) {
+      const Span& x = xs[static_cast<std::size_t>(i)];
+      float sum[4] = {0, 0, 0, 0};
+      for (int y = ys.first; y <= ys.last; ++y) {
+        const float wy = span_weight(ys, y);
+        for (int xx = x.first; xx <= x.last; ++xx) {
+          const float w = wy * span_weight(x, xx);
+          const std::uint32_t t = src[static_cast<std::size_t>(y) * static_cast<std::size_t>(sw) + static_cast<std::size_t>(xx)];
+          for (int c = 0; c < 4; ++c) sum[c] += w * static_cast<float>((t >> (8 * c)) & 0xffu);
+        }
+      }
+      std::uint32_t out = 0;
+      for (int c = 0; c < 4; ++c) {
+        const float v = sum[c] * x.inv_size * ys.inv_size;
+        const auto q = static_cast<std::uint32_t>(std::clamp(v + 0.5f, 0.0f, 255.0f));
+        out |= q << (8 * c);
+      }
+      dst[static_cast<std::size_t>(j) * static_cast<std::size_t>(dw) + static_cast<std::size_t>(i)] = out;
+    }
+  }
+}
+
+bool is_png(std::span<const std::uint8_t> b) {
+  static constexpr std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  return b.size() >= 8 && std::memcmp(b.data(), kSignature, 8) == 0;
+}
+bool is_jpeg(std::span<const std::uint8_t> b) { return b.size() >= 3 && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff; }
+
+struct StbFree {
+  void operator()(void* p) const { stbi_image_free(p); }
+};
+
+}  // namespace
+
+const char* to_string(TextureFilter filter) noexcept {
+  switch (filter) {
+    case TextureFilter::nearest: return "nearest";
+    case TextureFilter::bilinear: return "bilinear";
+    case TextureFilter::trilinear: return "trilinear";
+  }
+  return "?";
+}
+
+const char* to_string(TextureWrap wrap) noexcept {
+  switch (wrap) {
+    case TextureWrap::repeat: return "repeat";
+    case TextureWrap::clamp: return "clamp";
+    case TextureWrap::mirror: return "mirror";
+  }
+  return "?";
+}
+
+Result<Texture> make_texture(std::string name, int width, int height, std::span<const std::uint8_t> rgba8,
+                             const TextureOptions& options) {
+  if (width < 1 || height < 1 || width > kMaxTextureDimension || height > kMaxTextureDimension) {
+    return invalid("width", "a texture is 1 to " + std::to_string(kMaxTextureDimension) + " texels per side, found " +
+                                std::to_string(width) + " x " + std::to_string(height));
+  }
+  const std::uint64_t count = static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height);
+  if (rgba8.size() != 4 * count) {
+    return invalid("rgba8", "expected " + std::to_string(4 * count) + " bytes (" + std::to_string(width) + " x " +
+                                std::to_string(height) + " RGBA8), found " + std::to_string(rgba8.size()));
+  }
+  const int filter = static_cast<int>(options.filter), wrap = static_cast<int>(options.wrap);
+  if (filter < 0 || filter > 2) return invalid("filter", "unknown texture filter " + std::to_string(filter));
+  if (wrap < 0 || wrap > 2) return invalid("wrap", "unknown texture wrap mode " + std::to_string(wrap));
+  FACET_TRY(check_budget(texel_bytes(width, height, options.filter), options, "texture '" + name + "'"));
+  try {
+    Texture t;
+    t.name = std::move(name);
+    t.filter = options.filter;
+    t.wrap = options.wrap;
+    const int levels = options.filter == TextureFilter::trilinear ? level_count(width, height) : 1;
+    t.texels.resize(texel_bytes(width, height, options.filter) / 4);
+    std::size_t offset = 0;
+    for (int k = 0, w = width, h = height; k < levels; ++k, w = std::max(1, w / 2), h = std::max(1, h / 2)) {
+      t.levels.push_back({w, h, offset});
+      offset += static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+    }
+    // Level 0, bottom row first.
+    for (int j = 0; j < height; ++j) {
+      const std::uint8_t* row = rgba8.data() + static_cast<std::size_t>(height - 1 - j) * 4 * static_cast<std::size_t>(width);
+      std::uint32_t* out = t.texels.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(width);
+      for (int i = 0; i < width; ++i) {
+        const std::uint8_t* p = row + 4 * static_cast<std::size_t>(i);
+        out[i] = std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 | std::uint32_t{p[3]} << 24;
+      }
+    }
+    for (int k = 1; k < levels; ++k) {
+      const TextureLevel& a = t.levels[static_cast<std::size_t>(k - 1)];
+      const TextureLevel& b = t.levels[static_cast<std::size_t>(k)];
+      build_level(t.texels.data() + a.offset, a.width, a.height, t.texels.data() + b.offset, b.width, b.height);
+    }
+    return t;
+  } catch (const std::bad_alloc&) {
+    return Status{ErrorCode::out_of_memory, "", "texture '" + name + "': out of memory"};
+  }
+}
+
+Result<Texture> decode_texture(std::span<const std::uint8_t> bytes, const std::string& source_name, std::string name,
+                               const TextureOptions& options) {
+  auto fail = [&](ErrorCode code, const std::string& what) { return Status{code, "file", source_name + ": " + what}; };
+  const bool png = is_png(bytes), jpeg = !png && is_jpeg(bytes);
+  if (!png && !jpeg) return fail(ErrorCode::unsupported, "not a PNG or JPEG file (textures must be PNG or JPEG)");
+  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    return fail(ErrorCode::unsupported, "the file is larger than 2 GiB, more than the decoder takes");
+  }
+  const auto* data = bytes.data();
+  const int size = static_cast<int>(bytes.size());
+  int w = 0, h = 0, channels = 0;
+  if (!stbi_info_from_memory(data, size, &w, &h, &channels)) {
+    return fail(ErrorCode::parse_error, std::string("cannot read the ") + (png ? "PNG" : "JPEG") +
+                                            " header: " + stbi_failure_reason());
+  }
+  if (w < 1 || h < 1 || w > kMaxTextureDimension || h > kMaxTextureDimension) {
+    return fail(ErrorCode::unsupported, std::to_string(w) + " x " + std::to_string(h) + " texels: a texture is 1 to " +
+                                            std::to_string(kMaxTextureDimension) + " texels per side");
+  }
+  const bool sixteen = png && stbi_is_16_bit_from_memory(data, size);
+  const std::uint64_t pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
+  // The decoder's output and its working copy, then the texels.
+  const std::uint64_t decode_bytes = 2 * pixels * 4 * (sixteen ? 2 : 1);
+  FACET_TRY(check_budget(decode_bytes + texel_bytes(w, h, options.filter), options, source_name));
+  std::vector<std::uint8_t> rgba;
+  try {
+    rgba.resize(4 * pixels);
+  } catch (const std::bad_alloc&) {
+    return fail(ErrorCode::out_of_memory, "out of memory");
+  }
+  int dw = 0, dh = 0, dc = 0;
+  if (sixteen) {
+    std::unique_ptr<stbi_us, StbFree> p(stbi_load_16_from_memory(data, size, &dw, &dh, &dc, 4));
+    if (!p) {
+      const std::string why = stbi_failure_reason();
+      return fail(why == "outofmem" ? ErrorCode::out_of_memory : ErrorCode::parse_error, "cannot decode the PNG: " + why);
+    }
+    if (dw != w || dh != h) return fail(ErrorCode::parse_error, "the PNG's size changed while decoding");
+    // Nearest 8-bit value: round(v * 255 / 65535) = (v * 255 + 32767) / 65535, exact in integers.
+    for (std::uint64_t i = 0; i < 4 * pixels; ++i) {
+      rgba[i] = static_cast<std::uint8_t>((std::uint32_t{p.get()[i]} * 255u + 32767u) / 65535u);
+    }
+  } else {
+    std::unique_ptr<stbi_uc, StbFree> p(stbi_load_from_memory(data, size, &dw, &dh, &dc, 4));
+    if (!p) {
+      const std::string why = stbi_failure_reason();
+      return fail(why == "outofmem" ? ErrorCode::out_of_memory : ErrorCode::parse_error,
+                  std::string("cannot decode the ") + (png ? "PNG" : "JPEG") + ": " + why);
+    }
+    if (dw != w || dh != h) return fail(ErrorCode::parse_error, "the image's size changed while decoding");
+    std::memcpy(rgba.data(), p.get(), rgba.size());
+  }
+  Result<Texture> t = make_texture(std::move(name), w, h, rgba, options);
+  if (!t) return fail(t.status().code(), t.status().message());
+  return t;
+}
+
+Result<Texture> load_texture(const std::string& path, std::string name, const TextureOptions& options) {
+  Result<std::string> bytes =
+      io::read_file(path, "texture file", options.memory_budget_bytes == 0 ? io::kNoSizeLimit : options.memory_budget_bytes);
+  if (!bytes) return bytes.status();
+  return decode_texture({reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size()}, "'" + path + "'",
+                        std::move(name), options);
+}
+
+Status validate_texture(const Texture& t, const std::string& field) {
+  const int filter = static_cast<int>(t.filter), wrap = static_cast<int>(t.wrap);
+  if (filter < 0 || filter > 2) return invalid(field + ".filter", "unknown texture filter " + std::to_string(filter));
+  if (wrap < 0 || wrap > 2) return invalid(field + ".wrap", "unknown texture wrap mode " + std::to_string(wrap));
+  if (t.levels.empty()) return invalid(field + ".levels", "a texture needs at least level 0");
+  const int w = t.levels[0].width, h = t.levels[0].height;
+  if (w < 1 || h < 1 || w > kMaxTextureDimension || h > kMaxTextureDimension) {
+    return invalid(field + ".levels[0]", "a texture is 1 to " + std::to_string(kMaxTextureDimension) +
+                                             " texels per side, found " + std::to_string(w) + " x " + std::to_string(h));
+  }
+  const std::size_t expected_levels = t.filter == TextureFilter::trilinear ? static_cast<std::size_t>(level_count(w, h)) : 1;
+  if (t.levels.size() != expected_levels) {
+    return invalid(field + ".levels", std::string("a ") + to_string(t.filter) + " " + std::to_string(w) + " x " +
+                                          std::to_string(h) + " texture has " + std::to_string(expected_levels) +
+                                          " levels, found " + std::to_string(t.levels.size()));
+  }
+  std::size_t offset = 0;
+  for (std::size_t k = 0; k < t.levels.size(); ++k) {
+    const TextureLevel& l = t.levels[k];
+    const int ew = std::max(1, w >> k), eh = std::max(1, h >> k);
+    if (l.width != ew || l.height != eh || l.offset != offset) {
+      return invalid(field + ".levels[" + std::to_string(k) + "]",
+                     "expected " + std::to_string(ew) + " x " + std::to_string(eh) + " at texel " + std::to_string(offset));
+    }
+    offset += static_cast<std::size_t>(ew) * static_cast<std::size_t>(eh);
+  }
+  if (t.texels.size() != offset) {
+    return invalid(field + ".texels", "expected " + std::to_string(offset) + " texels, found " + std::to_string(t.texels.size()));
+  }
+  return {};
+}
+
+}  // namespace facet
