@@ -22,6 +22,7 @@
 #include "lighting/setup.hpp"
 #include "raster/assemble.hpp"
 #include "raster/bins.hpp"
+#include "raster/pass.hpp"
 #include "raster/tile_raster.hpp"
 #include "raster/triangle_setup.hpp"
 #include "raster/varyings.hpp"
@@ -181,12 +182,10 @@ struct Renderer::Impl {
   std::vector<std::size_t> first_range;
   std::vector<ObjectCounts> object_counts;
 
-  // Frame constants.
-  int width = 0, height = 0, tile_size = 64, tiles_x = 0, tiles_y = 0;
-  bool two_sided = false;
+  // The frame plan: its passes, run in order (capacity is kept), and the one running.
+  std::vector<raster::RenderPass> passes;
+  const raster::RenderPass* pass = nullptr;
   bool simd_raster = true;  // the simd path rasterizes with the SIMD kernels
-  ShadingMode shading = ShadingMode::gouraud;
-  raster::AssemblyFrame assembly;  // viewport, clip planes, face rules, varying layout, tile grid
   FrameStats stats;
   FrameStats last_stats;  // of the last successful render
   // Progress and cancellation (RenderOptions::progress): work units are vertex chunks, set-up
@@ -201,6 +200,7 @@ struct Renderer::Impl {
   RenderOptions config;   // for render(scene, color, ...)
 
   void render(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth);
+  void run_pass(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p);
   // Runs body(range, slot) over [0, n) in chunks of `grain`: spread over the arena's threads when
   // `slot` < 0, else all on the calling task's slot.
   template <class Body>
@@ -343,38 +343,35 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     w.tile.resize(options.tile_size);
     w.soa.reserve_padded(kVertexChunk);
   }
-  width = color.width;
-  height = color.height;
-  tile_size = options.tile_size;
-  tiles_x = (width + tile_size - 1) / tile_size;
-  tiles_y = (height + tile_size - 1) / tile_size;
-  two_sided = scene.two_sided;
-  shading = options.shading;
   simd_raster = options.path == LightingPath::simd;
-  assembly.viewport = {width, height};
-  assembly.planes = geometry::guard_band_planes(assembly.viewport);
-  assembly.cull = options.cull;
-  assembly.two_sided = two_sided;
-  assembly.layout = raster::plan_varyings(shading == ShadingMode::flat      ? raster::LitAt::triangle
-                                          : shading == ShadingMode::gouraud ? raster::LitAt::vertex
-                                                                            : raster::LitAt::pixel,
-                                          two_sided);
-  assembly.grid = {tile_size, tiles_x, tiles_y};
-  assembly.planes_needed = simd_raster;
+  passes.clear();
+  passes.push_back(raster::camera_pass(scene, options, color, depth, simd_raster));
+  for (const raster::RenderPass& p : passes) {
+    run_pass(scene, options, p);
+    if (cancelled.load(std::memory_order_relaxed)) break;
+  }
+  pass = nullptr;
+  stats.seconds_total = seconds_since(frame_start);
+}
 
+void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p) {
+  pass = &p;
+  const raster::AssemblyFrame& assembly = p.assembly;
+  const ShadingMode shading = p.shading;
+  const bool two_sided = p.two_sided();
+  const int tiles_x = p.tiles_x, tile_size = p.tile_size;
   range_count = 0;  // counted below, per object
-  bins.resize(static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y));
+  bins.resize(static_cast<std::size_t>(p.tile_count()));
   for (auto& bin : bins) bin.clear();
   shaders.resize(scene.objects.size());
 
-  const float aspect = scene.camera.aspect > 0.0f ? scene.camera.aspect : float(width) / float(height);
-  const Eigen::Matrix4d view = look_at_d(scene.camera);
-  const Eigen::Matrix4d proj = projection_matrix(scene.camera, aspect).cast<double>();
+  const Eigen::Matrix4d& view = p.view;
+  const Eigen::Matrix4d& proj = p.projection;
   LightingOptions lighting;
   lighting.path = options.path;
   lighting.isa = options.isa;
   lighting.pow_tier = options.pow_tier;
-  lighting.clamp = !(options.hdr && color.format == PixelFormat::rgba32f);
+  lighting.clamp = !(options.hdr && p.color->format == PixelFormat::rgba32f);
   lighting.cull_lights = options.cull_lights;
 
   // Set-up ranges, numbered in object order.
@@ -390,7 +387,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   }
   object_counts.assign(object_count, {});
   object_scratch.resize(workers.size());
-  work_total = static_cast<std::uint64_t>(tiles_x) * static_cast<std::uint64_t>(tiles_y) + range_count;
+  work_total = static_cast<std::uint64_t>(p.tile_count()) + range_count;
   for (const Instance& inst : scene.objects) {  // clip chunks, then lighting or centroid chunks
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
     work_total += (mesh.vertex_count() + kVertexChunk - 1) / kVertexChunk * 2 +
@@ -463,10 +460,10 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   const raster::RasterJob job{shading,
                               range_data.data(),
                               shaders,
-                              options.clear_color,
+                              p.clear_color,
                               simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr,
                               &assembly.layout};
-  const int tile_count = tiles_x * tiles_y;
+  const int tile_count = p.tile_count();
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});
   const auto raster_start = Clock::now();
   arena->parallel_for(tbb::blocked_range<int>(0, tile_count), [&](const tbb::blocked_range<int>& range, int slot) {
@@ -474,19 +471,19 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     for (int index = range.begin(); index != range.end(); ++index) {
       if (cancelled.load(std::memory_order_relaxed)) return;
       const int tx = index % tiles_x, ty = index / tiles_x;
-      const raster::TileRect rect{tx * tile_size, ty * tile_size, std::min(width, (tx + 1) * tile_size),
-                                  std::min(height, (ty + 1) * tile_size)};
+      const raster::TileRect rect{tx * tile_size, ty * tile_size, std::min(p.width(), (tx + 1) * tile_size),
+                                  std::min(p.height(), (ty + 1) * tile_size)};
       raster::RasterCounters& c = tile_counters[static_cast<std::size_t>(index)];
       const auto& bin = bins[static_cast<std::size_t>(index)];
       if (bin.empty()) {  // nothing to rasterize: the clear colour goes straight to the image
         const auto resolve_start = Clock::now();
-        raster::resolve_clear_tile(options.clear_color, rect, color, depth);
+        raster::resolve_clear_tile(p.clear_color, rect, *p.color, p.depth);
         c.seconds_resolve = seconds_since(resolve_start);
         continue;
       }
       raster::rasterize_tile(job, bin, rect, w.tile, w.soa, c);
       const auto resolve_start = Clock::now();
-      raster::resolve_tile(job, w.tile, rect, color, depth);
+      raster::resolve_tile(job, w.tile, rect, *p.color, p.depth);
       c.seconds_resolve = seconds_since(resolve_start);
       unit_done();
     }
@@ -500,8 +497,42 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   stats.vertices_lit += counters.shaded;
   stats.vertex_lights_evaluated += counters.light_pairs;
   stats.vertex_lights_skipped += counters.skipped_pairs;
-  stats.seconds_total = seconds_since(frame_start);
 }
+
+}  // namespace facet
+
+namespace facet::raster {
+
+RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth,
+                       bool planes_needed) {
+  RenderPass p;
+  const int width = color.width, height = color.height;
+  const float aspect = scene.camera.aspect > 0.0f ? scene.camera.aspect : float(width) / float(height);
+  p.view = look_at_d(scene.camera);
+  p.projection = projection_matrix(scene.camera, aspect).cast<double>();
+  p.shading = options.shading;
+  p.clear_color = options.clear_color;
+  p.tile_size = options.tile_size;
+  p.tiles_x = (width + p.tile_size - 1) / p.tile_size;
+  p.tiles_y = (height + p.tile_size - 1) / p.tile_size;
+  p.assembly.viewport = {width, height};
+  p.assembly.planes = geometry::guard_band_planes(p.assembly.viewport);
+  p.assembly.cull = options.cull;
+  p.assembly.two_sided = scene.two_sided;
+  p.assembly.layout = plan_varyings(options.shading == ShadingMode::flat      ? LitAt::triangle
+                                    : options.shading == ShadingMode::gouraud ? LitAt::vertex
+                                                                              : LitAt::pixel,
+                                    scene.two_sided);
+  p.assembly.grid = {p.tile_size, p.tiles_x, p.tiles_y};
+  p.assembly.planes_needed = planes_needed;
+  p.color = &color;
+  p.depth = depth;
+  return p;
+}
+
+}  // namespace facet::raster
+
+namespace facet {
 
 void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t triangles, ShadingMode mode,
                                             bool both_faces) {
@@ -550,6 +581,8 @@ void Renderer::Impl::set_up_object(const Scene& scene, std::uint32_t object, con
 void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, const Eigen::Matrix4d& view,
                                     const Eigen::Matrix4d& proj, const LightingOptions& lighting,
                                     std::uint32_t object, ObjectScratch& os, int slot) {
+  const ShadingMode shading = pass->shading;
+  const bool two_sided = pass->two_sided();
   const Mesh& mesh = scene.meshes[inst.mesh].mesh;
   const std::size_t n = mesh.vertex_count();
   const auto lighting_start = Clock::now();
@@ -574,7 +607,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   clip.resize(n);
   screen.resize(n);
   for_chunks(n, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int) {
-    geometry::transform_vertices(mvp, mesh.positions.data(), r.begin(), r.end(), assembly.planes, assembly.viewport,
+    geometry::transform_vertices(mvp, mesh.positions.data(), r.begin(), r.end(), pass->assembly.planes, pass->assembly.viewport,
                                  clip.data(), screen.data());
   });
 
@@ -636,16 +669,17 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
 
 void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, float alpha, const ObjectScratch& os,
                                      int slot) {
+  const bool two_sided = pass->two_sided();
   const std::size_t count = mesh.triangle_count();
   const std::size_t first = first_range[object];
-  const bool flat = shading == ShadingMode::flat;
+  const bool flat = pass->shading == ShadingMode::flat;
   raster::ObjectVertices vertices;
   vertices.clip = os.clip;
   vertices.screen = os.screen;
   using raster::Varying;
   // Vec3 and Color3 are three packed floats (types.hpp); an empty array (a mesh without vertices) is null.
   auto source = [&](Varying v, const std::vector<Vec3>& values) {
-    vertices.varying[static_cast<int>(v)] = assembly.layout.has(v) ? reinterpret_cast<const float*>(values.data()) : nullptr;
+    vertices.varying[static_cast<int>(v)] = pass->assembly.layout.has(v) ? reinterpret_cast<const float*>(values.data()) : nullptr;
   };
   source(Varying::front_color, os.front);
   source(Varying::back_color, os.back);
@@ -658,7 +692,7 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   vertices.alpha = alpha;
   for_chunks(range_count_of(mesh), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
     for (std::size_t r = rs.begin(); r != rs.end(); ++r) {
-      raster::assemble_range(assembly, mesh, vertices, r * kTriangleRange, std::min(count, (r + 1) * kTriangleRange),
+      raster::assemble_range(pass->assembly, mesh, vertices, r * kTriangleRange, std::min(count, (r + 1) * kTriangleRange),
                              range_triangles[first + r], range_binning[first + r]);
     }
   });
