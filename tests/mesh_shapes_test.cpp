@@ -63,7 +63,9 @@ void expect_uv_mapped(const Mesh& m, bool poles) {
     const Vec2 a = m.uvs[t[0]], b = m.uvs[t[1]], c = m.uvs[t[2]];
     const double cross = double(b.x() - a.x()) * (c.y() - a.y()) - double(b.y() - a.y()) * (c.x() - a.x());
     area += std::abs(cross) / 2;
-    if (!poles) ASSERT_NE(cross, 0.0);
+    if (!poles) {
+      ASSERT_NE(cross, 0.0);
+    }
   }
   (void)area;
 }
@@ -74,7 +76,9 @@ TEST(MeshShapes, TextureCoordinates) {
   // The seam: u = 0 and u = 1 at the same position (+x); v = 1 at the north pole.
   bool seam0 = false, seam1 = false;
   for (std::size_t i = 0; i < sphere.vertex_count(); ++i) {
-    if (sphere.positions[i] == Vec3(0, 1, 0)) EXPECT_EQ(sphere.uvs[i].y(), 1.0f);
+    if (sphere.positions[i] == Vec3(0, 1, 0)) {
+      EXPECT_EQ(sphere.uvs[i].y(), 1.0f);
+    }
     if (sphere.positions[i].isApprox(Vec3(std::sqrt(0.5f), std::sqrt(0.5f), 0))) {
       seam0 |= sphere.uvs[i].x() == 0.0f;
       seam1 |= sphere.uvs[i].x() == 1.0f;

@@ -140,7 +140,7 @@ struct SampleSimd {
     const F l = xsimd::select(lambda < F(static_cast<float>(q)), lambda, F(static_cast<float>(q)));
     const F d1 = xsimd::select(minify, xsimd::floor(l), F(0.0f));
     const I k = xsimd::batch_cast<std::int32_t>(d1);
-    const auto single = !minify | (d1 >= F(static_cast<float>(q)));
+    const auto single = (!minify) | (d1 >= F(static_cast<float>(q)));
     const F f = xsimd::select(single, F(0.0f), l - d1);
     alignas(64) std::int32_t next[W];
     k.store_aligned(level);
