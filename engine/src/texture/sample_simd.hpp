@@ -53,11 +53,11 @@ struct SampleSimd {
     const I bits = xsimd::bitwise_cast<I>(x);
     const I e = ((bits >> 23) & I(0xff)) - I(127);
     const F m = xsimd::bitwise_cast<F>((bits & I(0x7fffff)) | I(0x3f800000)) - F(1.0f);
-    F p(0.04639481008052826f);
-    p = p * m + F(-0.19628861546516418f);
-    p = p * m + F(0.4176080822944641f);
-    p = p * m + F(-0.7096655964851379f);
-    p = p * m + F(1.4419656991958618f);
+    F p(kLog2Poly[4]);
+    p = p * m + F(kLog2Poly[3]);
+    p = p * m + F(kLog2Poly[2]);
+    p = p * m + F(kLog2Poly[1]);
+    p = p * m + F(kLog2Poly[0]);
     return xsimd::batch_cast<float>(e) + p * m;
   }
 
@@ -69,7 +69,7 @@ struct SampleSimd {
     const auto magnify = !(rho2 >= F(FLT_MIN));
     const F safe = xsimd::select(magnify | (rho2 > F(FLT_MAX)), F(1.0f), rho2);
     const F lambda = F(0.5f) * log2_approx(safe);
-    return xsimd::select(magnify, F(-1.0f), xsimd::select(rho2 > F(FLT_MAX), F(1000.0f), lambda));
+    return xsimd::select(magnify, F(-1.0f), xsimd::select(rho2 > F(FLT_MAX), F(kFarLod), lambda));
   }
 
   // Level `level[lane]` of each lane, nearest or bilinear: RGBA in out[0..3].

@@ -15,12 +15,6 @@ constexpr int kMirror = static_cast<int>(TextureWrap::mirror);
 constexpr int kTrilinear = static_cast<int>(TextureFilter::trilinear);
 constexpr int kNearest = static_cast<int>(TextureFilter::nearest);
 constexpr float kInv255 = 1.0f / 255.0f;
-constexpr float kFarLod = 1000.0f;  // lambda for an infinite rho: past the last level
-
-// Degree-5 fit of log2(1 + m) on [0, 1) (weighted least squares; with the float rounding of the
-// result |error| < 2e-5, tests/texture_test.cpp).
-constexpr float kLog2[5] = {1.4419656991958618f, -0.7096655964851379f, 0.4176080822944641f, -0.19628861546516418f,
-                            0.04639481008052826f};
 
 template <class T>
 T wrap_coordinate(T s, int wrap) {
@@ -54,6 +48,16 @@ T channel(std::uint32_t texel, int c) {
   return static_cast<T>((texel >> (8 * c)) & 0xffu);
 }
 
+// 0..255 to 0..1: the float samplers multiply by the float 1/255 (as the SIMD twin), the reference divides.
+template <class T>
+T unit(T x) {
+  if constexpr (std::is_same_v<T, float>) {
+    return x * kInv255;
+  } else {
+    return x / 255.0;
+  }
+}
+
 std::uint32_t texel_at(const SamplerLevel& l, int i, int j) {
   return l.texels[static_cast<std::size_t>(j) * static_cast<std::size_t>(l.width) + static_cast<std::size_t>(i)];
 }
@@ -68,13 +72,7 @@ std::array<T, 4> sample_level(const SamplerLevel& l, int wrap, bool linear, T s,
     const int i = fold(static_cast<int>(std::floor(rs * fw)), l.width, wrap);
     const int j = fold(static_cast<int>(std::floor(rt * fh)), l.height, wrap);
     const std::uint32_t t00 = texel_at(l, i, j);
-    for (int c = 0; c < 4; ++c) {
-      if constexpr (std::is_same_v<T, float>) {
-        out[c] = channel<T>(t00, c) * kInv255;
-      } else {
-        out[c] = channel<T>(t00, c) / 255.0;
-      }
-    }
+    for (int c = 0; c < 4; ++c) out[c] = unit(channel<T>(t00, c));
     return out;
   }
   const T x = rs * fw - T(0.5), y = rt * fh - T(0.5);
@@ -89,11 +87,7 @@ std::array<T, 4> sample_level(const SamplerLevel& l, int wrap, bool linear, T s,
   for (int c = 0; c < 4; ++c) {
     const T top = channel<T>(t00, c) * ra + channel<T>(t10, c) * a;
     const T bottom = channel<T>(t01, c) * ra + channel<T>(t11, c) * a;
-    if constexpr (std::is_same_v<T, float>) {
-      out[c] = (top * rb + bottom * b) * kInv255;
-    } else {
-      out[c] = (top * rb + bottom * b) / 255.0;
-    }
+    out[c] = unit(top * rb + bottom * b);
   }
   return out;
 }
@@ -139,11 +133,11 @@ float log2_approx(float x) noexcept {
   float m = 0.0f;
   std::memcpy(&m, &mbits, sizeof m);
   m = m - 1.0f;
-  float p = kLog2[4];
-  p = p * m + kLog2[3];
-  p = p * m + kLog2[2];
-  p = p * m + kLog2[1];
-  p = p * m + kLog2[0];
+  float p = kLog2Poly[4];
+  p = p * m + kLog2Poly[3];
+  p = p * m + kLog2Poly[2];
+  p = p * m + kLog2Poly[1];
+  p = p * m + kLog2Poly[0];
   return static_cast<float>(e) + p * m;
 }
 

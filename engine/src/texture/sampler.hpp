@@ -31,6 +31,13 @@ namespace facet::texture {
 
 inline constexpr int kMaxLevels = 15;  // 16384 = 2^14: levels 0..14
 
+// Shared by the scalar and SIMD float samplers (plain constants: no inline code crosses ISA files).
+// Degree-5 fit of log2(1 + m) on [0, 1) (weighted least squares; with the float rounding of the
+// result |error| < 2e-5, tests/texture_test.cpp), highest power last.
+inline constexpr float kLog2Poly[5] = {1.4419656991958618f, -0.7096655964851379f, 0.4176080822944641f,
+                                       -0.19628861546516418f, 0.04639481008052826f};
+inline constexpr float kFarLod = 1000.0f;  // lambda for an infinite rho: past the last level
+
 // Plain data (the per-ISA kernels read it): one texture as the samplers see it.
 struct SamplerLevel {
   const std::uint32_t* texels;

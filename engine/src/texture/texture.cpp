@@ -143,14 +143,14 @@ Result<Texture> make_texture(std::string name, int width, int height, std::span<
   const int filter = static_cast<int>(options.filter), wrap = static_cast<int>(options.wrap);
   if (filter < 0 || filter > 2) return invalid("filter", "unknown texture filter " + std::to_string(filter));
   if (wrap < 0 || wrap > 2) return invalid("wrap", "unknown texture wrap mode " + std::to_string(wrap));
-  FACET_TRY(check_budget(texel_bytes(width, height, options.filter), options, "texture '" + name + "'"));
+  const std::uint64_t bytes = texel_bytes(width, height, options.filter);
+  FACET_TRY(check_budget(bytes, options, "texture '" + name + "'"));
   try {
     Texture t;
-    t.name = std::move(name);
     t.filter = options.filter;
     t.wrap = options.wrap;
     const int levels = options.filter == TextureFilter::trilinear ? level_count(width, height) : 1;
-    t.texels.resize(texel_bytes(width, height, options.filter) / 4);
+    t.texels.resize(static_cast<std::size_t>(bytes / 4));
     std::size_t offset = 0;
     for (int k = 0, w = width, h = height; k < levels; ++k, w = std::max(1, w / 2), h = std::max(1, h / 2)) {
       t.levels.push_back({w, h, offset});
@@ -170,6 +170,7 @@ Result<Texture> make_texture(std::string name, int width, int height, std::span<
       const TextureLevel& b = t.levels[static_cast<std::size_t>(k)];
       build_level(t.texels.data() + a.offset, a.width, a.height, t.texels.data() + b.offset, b.width, b.height);
     }
+    t.name = std::move(name);
     return t;
   } catch (const std::bad_alloc&) {
     return Status{ErrorCode::out_of_memory, "", "texture '" + name + "': out of memory"};
