@@ -5,6 +5,7 @@
 #include <numbers>
 #include <random>
 
+#include "lighting/point_shader.hpp"
 #include "test_support.hpp"
 
 namespace facet {
@@ -288,6 +289,135 @@ TEST(LightingThreads, CountOutsideItsRangeIsRefusedAndWritesNothing) {
     EXPECT_EQ(s.field(), "threads");
     ASSERT_EQ(out.front.size(), 3u);
     EXPECT_EQ(out.front[2], Color3(0.25f, 0.5f, 0.75f));
+  }
+}
+
+// --- Material inputs per point: vertex colours as the albedo (glColorMaterial(AMBIENT_AND_DIFFUSE))
+// and the specular sum as a separate secondary colour (GL_SEPARATE_SPECULAR_COLOR).
+
+// Gives every vertex of every object a random colour.
+void add_vertex_colours(Scene& scene, std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (NamedMesh& m : scene.meshes) {
+    m.mesh.colors.resize(m.mesh.vertex_count());
+    for (Color3& c : m.mesh.colors) c = Color3(u(rng), u(rng), u(rng));
+  }
+}
+
+// The oracle of colour material: vertex v with colour c lights as a one-vertex object whose
+// material has ambient = diffuse = c (the rest of the material unchanged).
+TEST(LightingColorMaterial, ReferenceEqualsAMaterialPerVertex) {
+  RandomScene gen(2026);
+  Scene scene = gen.scene(2, 300, 128.0f);
+  std::mt19937 rng(11);
+  add_vertex_colours(scene, rng);
+  LightingOptions ref;
+  ref.path = LightingPath::reference;
+  ref.clamp = false;  // compares the sums themselves
+  double worst = 0;
+  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+    VertexColors lit;
+    ASSERT_TRUE(light_instance(scene, o, ref, lit).ok());
+    const Mesh& mesh = scene.meshes[scene.objects[o].mesh].mesh;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+      Scene one = scene;
+      Mesh m;
+      m.positions = {mesh.positions[v]};
+      m.normals = {mesh.normals[v]};
+      one.meshes = {{"v", m}};
+      Material mat = scene.materials[scene.objects[o].material];
+      mat.ambient = mat.diffuse = mesh.colors[v];
+      one.materials = {mat};
+      one.objects = {Instance{0, 0, scene.objects[o].model}};
+      VertexColors expect;
+      ASSERT_TRUE(light_instance(one, 0, ref, expect).ok());
+      for (int ch = 0; ch < 3; ++ch) {
+        worst = std::max(worst, std::abs(double(lit.front[v][ch]) - double(expect.front[0][ch])) /
+                                    std::max(1.0, double(expect.front[0][ch])));
+      }
+    }
+  }
+  EXPECT_LE(worst, 1e-6) << "colour material against the same colour as the material";
+}
+
+// Every path and ISA against the reference with vertex colours: the bounds of the uniform case.
+TEST(LightingColorMaterial, EveryPathMatchesReference) {
+  RandomScene gen(77);
+  Scene scene = gen.scene(4, 5000, 256.0f);
+  std::mt19937 rng(3);
+  add_vertex_colours(scene, rng);
+  const Comparison s = compare_with_reference(scene, scalar_options(true), [](double) { return 1e-5; });
+  EXPECT_EQ(s.nan_count, 0u);
+  EXPECT_LE(s.max_error, 1e-5);
+  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+    if (!isa_supported(isa)) continue;
+    for (PowTier tier : {PowTier::automatic, PowTier::exact}) {
+      LightingOptions o;
+      o.path = LightingPath::simd;
+      o.isa = isa;
+      o.pow_tier = tier;
+      const Comparison c = compare_with_reference(scene, o, [](double) { return 0.0; });
+      EXPECT_EQ(c.nan_count, 0u);
+      EXPECT_EQ(c.out_of_range, 0u);
+      EXPECT_LE(c.max_error, tier == PowTier::exact ? 2e-6 : 3e-5) << to_string(isa) << " " << to_string(tier);
+      EXPECT_LE(c.max_delta8, 1) << to_string(isa) << " " << to_string(tier);
+    }
+  }
+}
+
+// Separate specular: the primary colour is what the material gives without its specular colour,
+// the secondary what it gives with only its specular colour (no emission, ambient or diffuse), on
+// every path and ISA (the shader's eye-space entry, as Phong pixels use it).
+TEST(LightingSeparateSpecular, SplitsIntoTheTwoHalvesOfTheMaterial) {
+  RandomScene gen(4711);
+  Scene scene = gen.scene(1, 2000, 128.0f);
+  const Material full = scene.materials[0];
+  Material no_specular = full, only_specular = full;
+  no_specular.specular = Color3::Zero();
+  only_specular.emissive = only_specular.ambient = only_specular.diffuse = Color3::Zero();
+  Scene dark = scene;  // the specular half sees no scene ambient
+  dark.global_ambient = Color3::Zero();
+  const Mesh& mesh = scene.meshes[0].mesh;
+  const std::size_t n = mesh.vertex_count();
+  std::vector<Vec3> p(n), nn(n);
+  for (std::size_t i = 0; i < n; ++i) p[i] = mesh.positions[i], nn[i] = mesh.normals[i];  // world = eye below
+  const Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
+  struct Path {
+    LightingPath path;
+    Isa isa;
+    PowTier tier;
+    double bound;
+  };
+  std::vector<Path> paths = {{LightingPath::reference, Isa::best, PowTier::automatic, 0.0},
+                             {LightingPath::scalar, Isa::best, PowTier::automatic, 1e-6}};
+  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+    if (!isa_supported(isa)) continue;
+    paths.push_back({LightingPath::simd, isa, PowTier::automatic, 1e-6});
+    paths.push_back({LightingPath::simd, isa, PowTier::exact, 1e-6});
+  }
+  for (const Path& path : paths) {
+    LightingOptions o;
+    o.path = path.path;
+    o.isa = path.isa;
+    o.pow_tier = path.tier;
+    lighting::LightingFeatures split;
+    split.separate_specular = true;
+    lighting::PointShader both, primary, secondary;
+    ASSERT_TRUE(both.prepare(scene, view, full, o, nullptr, split).ok());
+    ASSERT_TRUE(primary.prepare(scene, view, no_specular, o).ok());
+    ASSERT_TRUE(secondary.prepare(dark, view, only_specular, o).ok());
+    lighting::SoaScratch scratch;
+    std::vector<Color3> a(n), b(n), want_a(n), want_b(n);
+    both.shade_points(n, p.data(), nn.data(), a.data(), scratch, nullptr, b.data());
+    primary.shade_points(n, p.data(), nn.data(), want_a.data(), scratch);
+    secondary.shade_points(n, p.data(), nn.data(), want_b.data(), scratch);
+    double worst = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      worst = std::max<double>(worst, (a[i] - want_a[i]).cwiseAbs().maxCoeff());
+      worst = std::max<double>(worst, (b[i] - want_b[i]).cwiseAbs().maxCoeff());
+    }
+    // The halves are summed in another order than the one-material runs (ulps of float).
+    EXPECT_LE(worst, path.bound) << to_string(path.path) << " " << to_string(path.isa) << " " << to_string(path.tier);
   }
 }
 

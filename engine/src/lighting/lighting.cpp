@@ -89,7 +89,12 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
     const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model);
     lighting::PointShader shader;
-    if (Status s = shader.prepare(scene, view, scene.materials[inst.material], options, &bounds); !s.ok()) return s;
+    // A mesh with vertex colours lights them as the albedo (glColorMaterial(AMBIENT_AND_DIFFUSE)).
+    lighting::LightingFeatures features;
+    features.color_material = !mesh.colors.empty();
+    if (Status s = shader.prepare(scene, view, scene.materials[inst.material], options, &bounds, features); !s.ok()) {
+      return s;
+    }
     const std::size_t n = mesh.vertex_count();
     out.front.resize(n);
     if (scene.two_sided) {

@@ -10,7 +10,7 @@ namespace facet::lighting {
 
 void SoaScratch::reserve_padded(std::size_t count) {
   const std::size_t n = simd::padded(count);
-  for (auto* v : {&px, &py, &pz, &nx, &ny, &nz, &r, &g, &b}) {
+  for (auto* v : {&px, &py, &pz, &nx, &ny, &nz, &r, &g, &b, &ar, &ag, &ab, &sr, &sg, &sb}) {
     if (v->size() < n) v->resize(n);
   }
 }
@@ -82,10 +82,11 @@ simd::LightT<T> to_simd(const EyeLight<T>& L, PowTier tier) {
 }  // namespace
 
 Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
-                            const LightingOptions& options, const EyeSphere* bounds) {
+                            const LightingOptions& options, const EyeSphere* bounds, LightingFeatures features) {
   path_ = options.path;
+  features_ = features;
   // The frame plan decides once, in double, for every path, so all paths light the same lights.
-  make_shade_params(scene, view, material, options.clamp, reference_);
+  make_shade_params(scene, view, material, options.clamp, reference_, features);
   if (bounds && options.cull_lights) {
     lights_to_drop(reference_, *bounds, kLightCullBudget, drop_, candidates_);
   } else {
@@ -96,7 +97,7 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
   switch (path_) {
     case LightingPath::reference: break;
     case LightingPath::scalar:
-      make_shade_params(scene, view, material, options.clamp, scalar_);
+      make_shade_params(scene, view, material, options.clamp, scalar_, features);
       remove_lights(scalar_, drop);
       break;
     case LightingPath::simd: {
@@ -107,7 +108,7 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
                     to_string(best_isa()) + ")"};
       }
       simd_shade_ = kernels->shade;
-      make_shade_params(scene, view, material, options.clamp, scalar_);
+      make_shade_params(scene, view, material, options.clamp, scalar_, features);
       remove_lights(scalar_, drop);
       simd_lights_.clear();
       simd_lights_d_.clear();
@@ -120,6 +121,10 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
       }
       copy3(p.base, scalar_.base);
       copy3(p.base_d, reference_.base);
+      p.color_material = features.color_material ? 1 : 0;
+      copy3(p.scene_ambient, scalar_.scene_ambient);
+      copy3(p.scene_ambient_d, reference_.scene_ambient);
+      p.separate_specular = features.separate_specular ? 1 : 0;
       p.specular_pow = resolve_pow(scalar_.shininess, options.pow_tier);
       p.specular_on = material.specular.isZero() ? 0 : 1;
       p.local_viewer = scalar_.local_viewer ? 1 : 0;
@@ -145,10 +150,12 @@ namespace {
 constexpr std::size_t kSimdChunk = 2048;
 
 // Copies `count` (position, normal) pairs into padded SoA chunks (normals times `normal_sign`),
-// runs the kernel on each and writes the colours to `out`. The copies are SSE2 transposes
-// (soa.cpp): the Eigen per-vertex loop they replace took 28 % of a one-light pass (perf).
+// runs the kernel on each and writes the colours to `out` (albedo read and secondary written
+// when the params use them). The copies are SSE2 transposes (soa.cpp): the Eigen per-vertex loop
+// they replace took 28 % of a one-light pass (perf).
 void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd::Transform* xf, std::size_t count,
-              const Vec3* positions, const Vec3* normals, float normal_sign, Color3* out, SoaScratch& scratch) {
+              const Vec3* positions, const Vec3* normals, float normal_sign, const Color3* albedo, Color3* out,
+              Color3* secondary, SoaScratch& scratch) {
   scratch.reserve_padded(std::min(kSimdChunk, count));
   for (std::size_t start = 0; start < count; start += kSimdChunk) {
     const std::size_t n = std::min(kSimdChunk, count - start);
@@ -158,24 +165,34 @@ void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd:
     for (auto* v : {&scratch.px, &scratch.py, &scratch.pz, &scratch.nx, &scratch.ny, &scratch.nz})
       std::fill(v->begin() + static_cast<std::ptrdiff_t>(n), v->begin() + static_cast<std::ptrdiff_t>(padded),
                 0.0f);  // padding lanes: finite, no normal
-    const simd::Streams s{scratch.px.data(), scratch.py.data(), scratch.pz.data(), scratch.nx.data(),
-                          scratch.ny.data(), scratch.nz.data(), scratch.r.data(),  scratch.g.data(),
-                          scratch.b.data(),  padded};
+    simd::Streams s{scratch.px.data(), scratch.py.data(), scratch.pz.data(), scratch.nx.data(),
+                    scratch.ny.data(), scratch.nz.data(), scratch.r.data(),  scratch.g.data(),
+                    scratch.b.data(),  padded};
+    if (params.color_material) {
+      deinterleave3(albedo + start, n, 1.0f, scratch.ar.data(), scratch.ag.data(), scratch.ab.data());
+      for (auto* v : {&scratch.ar, &scratch.ag, &scratch.ab})
+        std::fill(v->begin() + static_cast<std::ptrdiff_t>(n), v->begin() + static_cast<std::ptrdiff_t>(padded), 0.0f);
+      s.ar = scratch.ar.data(), s.ag = scratch.ag.data(), s.ab = scratch.ab.data();
+    }
+    if (params.separate_specular) s.sr = scratch.sr.data(), s.sg = scratch.sg.data(), s.sb = scratch.sb.data();
     shade(params, xf, s);
     interleave3(scratch.r.data(), scratch.g.data(), scratch.b.data(), n, out + start);
+    if (params.separate_specular) interleave3(scratch.sr.data(), scratch.sg.data(), scratch.sb.data(), n, secondary + start);
   }
 }
 
 }  // namespace
 
 void PointShader::light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, bool back_side,
-                             std::size_t begin, std::size_t end, Color3* out, SoaScratch& scratch) const {
+                             std::size_t begin, std::size_t end, Color3* out, SoaScratch& scratch,
+                             Color3* secondary) const {
   switch (path_) {
     case LightingPath::reference:
-      lighting::light_mesh(reference_, make_eye_transform<double>(view, model), mesh, back_side, begin, end, out);
+      lighting::light_mesh(reference_, make_eye_transform<double>(view, model), mesh, back_side, begin, end, out,
+                           secondary);
       return;
     case LightingPath::scalar:
-      lighting::light_mesh(scalar_, make_eye_transform<float>(view, model), mesh, back_side, begin, end, out);
+      lighting::light_mesh(scalar_, make_eye_transform<float>(view, model), mesh, back_side, begin, end, out, secondary);
       return;
     case LightingPath::simd: break;
   }
@@ -189,17 +206,20 @@ void PointShader::light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, cons
   for (int k = 0; k < 9; ++k) xf.normal[k] = static_cast<float>(ed.normal[k]);
   const float sign = back_side ? -1.0f : 1.0f;
   run_simd(simd_shade_, simd_params_, &xf, end - begin, mesh.positions.data() + begin, mesh.normals.data() + begin, sign,
-           out + begin, scratch);
+           features_.color_material ? mesh.colors.data() + begin : nullptr, out + begin,
+           secondary ? secondary + begin : nullptr, scratch);
 }
 
 void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out,
-                               SoaScratch& scratch) const {
+                               SoaScratch& scratch, const Color3* albedo, Color3* secondary) const {
   switch (path_) {
-    case LightingPath::reference: lighting::shade_points(reference_, count, p_eye, n_eye, out); return;
-    case LightingPath::scalar: lighting::shade_points(scalar_, count, p_eye, n_eye, out); return;
+    case LightingPath::reference:
+      lighting::shade_points(reference_, count, p_eye, n_eye, albedo, out, secondary);
+      return;
+    case LightingPath::scalar: lighting::shade_points(scalar_, count, p_eye, n_eye, albedo, out, secondary); return;
     case LightingPath::simd: break;
   }
-  run_simd(simd_shade_, simd_params_, nullptr, count, p_eye, n_eye, 1.0f, out, scratch);
+  run_simd(simd_shade_, simd_params_, nullptr, count, p_eye, n_eye, 1.0f, albedo, out, secondary, scratch);
 }
 
 void PointShader::shade_soa(const simd::Streams& s) const {
@@ -209,13 +229,15 @@ void PointShader::shade_soa(const simd::Streams& s) const {
   }
   for (std::size_t i = 0; i < s.count; ++i) {  // the other paths, one point at a time
     const Vec3 p(s.px[i], s.py[i], s.pz[i]), n(s.nx[i], s.ny[i], s.nz[i]);
-    Color3 c;
+    const Color3 albedo = s.ar ? Color3(s.ar[i], s.ag[i], s.ab[i]) : Color3(1.0f, 1.0f, 1.0f);
+    Color3 c, spec;
     if (path_ == LightingPath::reference) {
-      lighting::shade_points(reference_, 1, &p, &n, &c);
+      lighting::shade_points(reference_, 1, &p, &n, &albedo, &c, &spec);
     } else {
-      lighting::shade_points(scalar_, 1, &p, &n, &c);
+      lighting::shade_points(scalar_, 1, &p, &n, &albedo, &c, &spec);
     }
     s.r[i] = c.x(), s.g[i] = c.y(), s.b[i] = c.z();
+    if (s.sr) s.sr[i] = spec.x(), s.sg[i] = spec.y(), s.sb[i] = spec.z();
   }
 }
 

@@ -19,6 +19,7 @@ namespace facet::lighting {
 // Structure-of-arrays buffers for the simd path, reused between calls.
 struct SoaScratch {
   std::vector<float> px, py, pz, nx, ny, nz, r, g, b;
+  std::vector<float> ar, ag, ab, sr, sg, sb;  // albedo in, secondary out (when the shader uses them)
   void reserve_padded(std::size_t count);
 };
 
@@ -28,26 +29,32 @@ class PointShader {
   // validated scene. With `bounds` (and options.cull_lights) the frame plan drops the lights that
   // cannot reach them (see lights_to_drop).
   Status prepare(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
-                 const LightingOptions& options, const EyeSphere* bounds = nullptr);
+                 const LightingOptions& options, const EyeSphere* bounds = nullptr, LightingFeatures features = {});
 
   // Lights mesh vertices [begin, end) through model -> eye into out[begin, end); `back_side`
   // lights them with negated normals. Each vertex's colour does not depend on the range it was
-  // lit in, so any split of the mesh gives the same bytes.
+  // lit in, so any split of the mesh gives the same bytes. With color_material the albedo is
+  // mesh.colors; with separate_specular the specular sum goes to secondary[begin, end).
   void light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, bool back_side, std::size_t begin,
-                  std::size_t end, Color3* out, SoaScratch& scratch) const;
+                  std::size_t end, Color3* out, SoaScratch& scratch, Color3* secondary = nullptr) const;
 
-  // Lights `count` eye-space points.
-  void shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out, SoaScratch& scratch) const;
+  // Lights `count` eye-space points (albedo read with color_material, secondary written with
+  // separate_specular).
+  void shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out, SoaScratch& scratch,
+                    const Color3* albedo = nullptr, Color3* secondary = nullptr) const;
 
   // Lights eye-space points given as padded structure-of-arrays streams (positions and normals in,
   // colours out; s.count a multiple of simd::kMaxLanes): what the SIMD rasterizer's Phong pixels use.
   void shade_soa(const simd::Streams& s) const;
+
+  const LightingFeatures& features() const { return features_; }
 
   std::size_t light_count() const;    // lights evaluated per point
   std::size_t culled_lights() const { return culled_; }  // enabled lights the frame plan dropped
 
  private:
   LightingPath path_ = LightingPath::scalar;
+  LightingFeatures features_;
   ShadeParams<float> scalar_;
   ShadeParams<double> reference_;
   std::vector<simd::Light> simd_lights_;     // float kernel

@@ -29,11 +29,18 @@ V3<T> v3(const Vec3d& v) {
 
 template <class T>
 void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Material& material, bool clamp,
-                       ShadeParams<T>& sp) {
-  const Vec3d am = material.ambient.cast<double>(), dm = material.diffuse.cast<double>(),
-              sm = material.specular.cast<double>();
+                       ShadeParams<T>& sp, LightingFeatures features) {
+  // With colour material the per-point albedo takes the place of a_m and d_m, applied after the sum.
+  const Vec3d am = features.color_material ? Vec3d(Vec3d::Ones()) : Vec3d(material.ambient.cast<double>());
+  const Vec3d dm = features.color_material ? Vec3d(Vec3d::Ones()) : Vec3d(material.diffuse.cast<double>());
+  const Vec3d sm = material.specular.cast<double>();
   sp.lights.clear();
-  sp.base = v3<T>(material.emissive.cast<double>() + am.cwiseProduct(scene.global_ambient.cast<double>()));
+  sp.color_material = features.color_material;
+  sp.separate_specular = features.separate_specular;
+  sp.scene_ambient = v3<T>(scene.global_ambient.cast<double>());
+  sp.base = features.color_material
+                ? v3<T>(material.emissive.cast<double>())
+                : v3<T>(material.emissive.cast<double>() + am.cwiseProduct(scene.global_ambient.cast<double>()));
   sp.shininess = T(material.shininess);
   sp.local_viewer = scene.viewer == ViewerMode::local;
   sp.clamp = clamp;
@@ -208,9 +215,9 @@ std::size_t remove_lights(ShadeParams<T>& params, const std::vector<bool>& drop)
 template std::size_t remove_lights<double>(ShadeParams<double>&, const std::vector<bool>&);
 template std::size_t remove_lights<float>(ShadeParams<float>&, const std::vector<bool>&);
 template void make_shade_params<double>(const Scene&, const Eigen::Matrix4d&, const Material&, bool,
-                                        ShadeParams<double>&);
+                                        ShadeParams<double>&, LightingFeatures);
 template void make_shade_params<float>(const Scene&, const Eigen::Matrix4d&, const Material&, bool,
-                                       ShadeParams<float>&);
+                                       ShadeParams<float>&, LightingFeatures);
 template EyeTransform<double> make_eye_transform<double>(const Eigen::Matrix4d&, const Mat4&);
 template EyeTransform<float> make_eye_transform<float>(const Eigen::Matrix4d&, const Mat4&);
 

@@ -13,15 +13,23 @@
 
 namespace facet::lighting {
 
+// What an object's lighting takes per point and gives back, decided by the frame plan (see
+// shade.hpp): a per-point albedo in place of the material's ambient and diffuse colours (the mesh's
+// vertex colours), and the specular sum as a separate secondary colour (for textures).
+struct LightingFeatures {
+  bool color_material = false;
+  bool separate_specular = false;
+};
+
 // Fills `out` (its light list keeps its capacity, so a steady frame allocates nothing).
 template <class T>
 void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Material& material, bool clamp,
-                       ShadeParams<T>& out);
+                       ShadeParams<T>& out, LightingFeatures features = {});
 template <class T>
 ShadeParams<T> make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
-                                 bool clamp) {
+                                 bool clamp, LightingFeatures features = {}) {
   ShadeParams<T> out;
-  make_shade_params(scene, view, material, clamp, out);
+  make_shade_params(scene, view, material, clamp, out, features);
   return out;
 }
 

@@ -5,6 +5,14 @@
 //
 //   colour = e_m + a_m a_scene + sum_i att_i spot_i [a_m a_i + (n.VP_i)+ d_m d_i + f_i (n.h_i)+^s s_m s_i]
 //
+// Two variations, decided per object by the frame plan (ShadeParams):
+//   - colour material (glColorMaterial(AMBIENT_AND_DIFFUSE)): a per-point albedo c replaces a_m and
+//     d_m, so the lights carry a_i and d_i alone and
+//       colour = e_m + c (a_scene + sum_i att_i spot_i [a_i + (n.VP_i)+ d_i]) + specular;
+//   - separate specular (GL_SEPARATE_SPECULAR_COLOR): the specular sum goes to its own output (the
+//     secondary colour, clamped on its own) instead of into the colour, so that a texture can
+//     modulate the rest and the highlight is added after it.
+//
 // Edge-case rules (public contract in facet/lighting.hpp): see light_contribution().
 #pragma once
 
@@ -61,7 +69,10 @@ struct EyeLight {
 
 template <class T>
 struct ShadeParams {
-  V3<T> base{};  // e_m + a_m a_scene
+  V3<T> base{};  // e_m + a_m a_scene; with colour_material: e_m
+  V3<T> scene_ambient{};  // colour_material only: a_scene (the albedo multiplies it)
+  bool color_material = false;      // albedo per point; lights carry a_i, d_i unmultiplied
+  bool separate_specular = false;   // specular to the secondary output
   T shininess = 0;
   bool local_viewer = true;
   bool clamp = true;
@@ -79,10 +90,11 @@ T spot_factor(const EyeLight<T>& L, T cos_angle) {
   return std::pow(t, L.spot_falloff);
 }
 
-// Adds light L's contribution at eye-space position p with unit (or zero) normal n.
+// Adds light L's contribution at eye-space position p with unit (or zero) normal n: all of it to
+// `colour`, or with `specular` its ambient and diffuse parts to `colour` and its specular to `specular`.
 template <class T>
 void light_contribution(const ShadeParams<T>& sp, const EyeLight<T>& L, V3<T> p, V3<T> n, V3<T> eye_dir,
-                        V3<T>& colour) {
+                        V3<T>& colour, V3<T>* specular) {
   V3<T> vp;
   T att = T(1);
   if (L.type == LightType::directional) {
@@ -107,20 +119,45 @@ void light_contribution(const ShadeParams<T>& sp, const EyeLight<T>& L, V3<T> p,
   V3<T> sum = L.ambient;
   if (n_dot_l > T(0)) {
     const T n_dot_h = clamp01(dot(n, normalize_or_zero(vp + eye_dir)));
-    sum = sum + n_dot_l * L.diffuse + std::pow(n_dot_h, sp.shininess) * L.specular;
+    if (specular) {
+      sum = sum + n_dot_l * L.diffuse;
+      *specular = *specular + att * (std::pow(n_dot_h, sp.shininess) * L.specular);
+    } else {
+      sum = sum + n_dot_l * L.diffuse + std::pow(n_dot_h, sp.shininess) * L.specular;
+    }
   }
   colour = colour + att * sum;
 }
 
+// The stored colour: clamped to [0, 1], or (HDR) kept >= 0 and finite as a float.
 template <class T>
-V3<T> shade_vertex(const ShadeParams<T>& sp, V3<T> p, V3<T> n_in) {
+V3<T> finish_colour(const ShadeParams<T>& sp, V3<T> c) {
+  if (sp.clamp) return {clamp01(c.x), clamp01(c.y), clamp01(c.z)};
+  auto hdr = [](T x) { return x > T(0) ? (x < std::numeric_limits<float>::max() ? x : T(std::numeric_limits<float>::max())) : T(0); };
+  return {hdr(c.x), hdr(c.y), hdr(c.z)};
+}
+
+// The colour at p with normal n_in; `albedo` is read with colour_material, `secondary` written
+// with separate_specular.
+template <class T>
+V3<T> shade_vertex(const ShadeParams<T>& sp, V3<T> p, V3<T> n_in, V3<T> albedo = {T(1), T(1), T(1)},
+                   V3<T>* secondary = nullptr) {
   const V3<T> n = normalize_or_zero(n_in);
   const V3<T> eye_dir = sp.local_viewer ? normalize_or_zero(V3<T>{-p.x, -p.y, -p.z}) : V3<T>{T(0), T(0), T(1)};
-  V3<T> colour = sp.base;
-  for (const EyeLight<T>& L : sp.lights) light_contribution(sp, L, p, n, eye_dir, colour);
-  if (sp.clamp) return {clamp01(colour.x), clamp01(colour.y), clamp01(colour.z)};
-  auto hdr = [](T x) { return x > T(0) ? (x < std::numeric_limits<float>::max() ? x : T(std::numeric_limits<float>::max())) : T(0); };
-  return {hdr(colour.x), hdr(colour.y), hdr(colour.z)};
+  if (!sp.color_material && !sp.separate_specular) {  // the common case, in one sum
+    V3<T> colour = sp.base;
+    for (const EyeLight<T>& L : sp.lights) light_contribution<T>(sp, L, p, n, eye_dir, colour, nullptr);
+    return finish_colour(sp, colour);
+  }
+  V3<T> colour = sp.color_material ? sp.scene_ambient : sp.base;
+  V3<T> specular{T(0), T(0), T(0)};
+  for (const EyeLight<T>& L : sp.lights) light_contribution(sp, L, p, n, eye_dir, colour, &specular);
+  if (sp.color_material) colour = sp.base + V3<T>{albedo.x * colour.x, albedo.y * colour.y, albedo.z * colour.z};
+  if (sp.separate_specular) {
+    if (secondary) *secondary = finish_colour(sp, specular);
+    return finish_colour(sp, colour);
+  }
+  return finish_colour(sp, colour + specular);
 }
 
 // Model -> eye transform in the kernel's precision: 3x4 affine for positions, 3x3 for normals
@@ -131,10 +168,11 @@ struct EyeTransform {
   T normal[9];
 };
 
-// Transforms and lights vertices [begin, end) of `mesh`; writes colour i to out[i].
+// Transforms and lights vertices [begin, end) of `mesh`; writes colour i to out[i] (and, with
+// separate_specular, the secondary colour to secondary[i]). colour_material reads mesh.colors.
 template <class T>
 void light_mesh(const ShadeParams<T>& sp, const EyeTransform<T>& xf, const Mesh& mesh, bool back_side,
-                std::size_t begin, std::size_t end, Color3* out) {
+                std::size_t begin, std::size_t end, Color3* out, Color3* secondary) {
   const T* m = xf.position;
   const T* nm = xf.normal;
   const T sign = back_side ? T(-1) : T(1);
@@ -145,29 +183,39 @@ void light_mesh(const ShadeParams<T>& sp, const EyeTransform<T>& xf, const Mesh&
                   m[8] * px + m[9] * py + m[10] * pz + m[11]};
     const V3<T> n{nm[0] * nx + nm[1] * ny + nm[2] * nz, nm[3] * nx + nm[4] * ny + nm[5] * nz,
                   nm[6] * nx + nm[7] * ny + nm[8] * nz};
-    const V3<T> c = shade_vertex(sp, p, n);
+    V3<T> albedo{T(1), T(1), T(1)}, spec{};
+    if (sp.color_material) albedo = {T(mesh.colors[i].x()), T(mesh.colors[i].y()), T(mesh.colors[i].z())};
+    const V3<T> c = shade_vertex(sp, p, n, albedo, &spec);
     out[i] = Color3(float(c.x), float(c.y), float(c.z));
+    if (sp.separate_specular) secondary[i] = Color3(float(spec.x), float(spec.y), float(spec.z));
   }
 }
 
 // Lights `count` points given in eye space (positions and normals, normals need not be unit):
-// the per-pixel (Phong) and per-centroid (flat) entry to the same kernel.
+// the per-pixel (Phong) and per-centroid (flat) entry to the same kernel. `albedo` is read with
+// colour_material, `secondary` written with separate_specular.
 template <class T>
-void shade_points(const ShadeParams<T>& sp, std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out) {
+void shade_points(const ShadeParams<T>& sp, std::size_t count, const Vec3* p_eye, const Vec3* n_eye,
+                  const Color3* albedo, Color3* out, Color3* secondary) {
   for (std::size_t i = 0; i < count; ++i) {
     const V3<T> p{T(p_eye[i].x()), T(p_eye[i].y()), T(p_eye[i].z())};
     const V3<T> n{T(n_eye[i].x()), T(n_eye[i].y()), T(n_eye[i].z())};
-    const V3<T> c = shade_vertex(sp, p, n);
+    V3<T> a{T(1), T(1), T(1)}, spec{};
+    if (sp.color_material) a = {T(albedo[i].x()), T(albedo[i].y()), T(albedo[i].z())};
+    const V3<T> c = shade_vertex(sp, p, n, a, &spec);
     out[i] = Color3(float(c.x), float(c.y), float(c.z));
+    if (sp.separate_specular) secondary[i] = Color3(float(spec.x), float(spec.y), float(spec.z));
   }
 }
 
 // Each precision is instantiated in exactly one file, with that file's compile flags.
 extern template void light_mesh<double>(const ShadeParams<double>&, const EyeTransform<double>&, const Mesh&, bool,
-                                        std::size_t, std::size_t, Color3*);
+                                        std::size_t, std::size_t, Color3*, Color3*);
 extern template void light_mesh<float>(const ShadeParams<float>&, const EyeTransform<float>&, const Mesh&, bool,
-                                       std::size_t, std::size_t, Color3*);
-extern template void shade_points<double>(const ShadeParams<double>&, std::size_t, const Vec3*, const Vec3*, Color3*);
-extern template void shade_points<float>(const ShadeParams<float>&, std::size_t, const Vec3*, const Vec3*, Color3*);
+                                       std::size_t, std::size_t, Color3*, Color3*);
+extern template void shade_points<double>(const ShadeParams<double>&, std::size_t, const Vec3*, const Vec3*,
+                                          const Color3*, Color3*, Color3*);
+extern template void shade_points<float>(const ShadeParams<float>&, std::size_t, const Vec3*, const Vec3*,
+                                         const Color3*, Color3*, Color3*);
 
 }  // namespace facet::lighting

@@ -148,6 +148,15 @@ B pow_unit_double(const B& x, float s) {
   return xsimd::select(x > B(0.0), xsimd::exp2(B(double(s)) * xsimd::log2(xsimd::select(x > B(0.0), x, B(1.0)))), B(0.0));
 }
 
+// The stored colour: clamped to [0, 1], or (HDR) kept >= 0 and finite as a float.
+template <class B>
+B finish(const Params& prm, const B& c) {
+  const B zero(0.0f);
+  if (prm.clamp) return fastmath::clamp01(c);
+  const B big(FLT_MAX);  // the float colour's limit, also for double lanes
+  return xsimd::select(c > zero, xsimd::min(c, big), zero);
+}
+
 template <class Arch, bool Exact, PowMethod Spec>
 void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
   static_assert(!Exact || Spec == PowMethod::one || Spec == PowMethod::exact, "the exact tier's methods");
@@ -157,12 +166,13 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
   const B zero(0.0f), one(1.0f);
   const LightT<T>* lights = nullptr;
   const T* base = nullptr;
+  const T* scene_ambient = nullptr;
   const T *xf_position = nullptr, *xf_normal = nullptr;
   if constexpr (Exact) {
-    lights = prm.lights_d, base = prm.base_d;
+    lights = prm.lights_d, base = prm.base_d, scene_ambient = prm.scene_ambient_d;
     if (xf) xf_position = xf->position_d, xf_normal = xf->normal_d;
   } else {
-    lights = prm.lights, base = prm.base;
+    lights = prm.lights, base = prm.base, scene_ambient = prm.scene_ambient;
     if (xf) xf_position = xf->position, xf_normal = xf->normal;
   }
   // Spot exponents keep a run-time method: float lanes take any tier's, double lanes the exact
@@ -189,7 +199,11 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
     }
     n = normalize_or_zero<Exact>(n);
     const V<B> eye = prm.local_viewer ? normalize_or_zero<Exact>(V<B>{-p.x, -p.y, -p.z}) : V<B>{zero, zero, one};
-    B r(base[0]), g(base[1]), b(base[2]);
+    // Colour material and separate specular keep the specular sum apart (spr, spg, spb).
+    const bool split = prm.color_material || prm.separate_specular;
+    const T* start = prm.color_material ? scene_ambient : base;
+    B r(start[0]), g(start[1]), b(start[2]);
+    B spr(0.0f), spg(0.0f), spb(0.0f);
 
     for (int li = 0; li < prm.light_count; ++li) {
       const LightT<T>& L = lights[li];
@@ -278,26 +292,40 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
             }
           }
           const B ks = xsimd::select(lit, pow_nh, zero);
-          sr = xsimd::fma(ks, B(L.specular[0]), sr);
-          sg = xsimd::fma(ks, B(L.specular[1]), sg);
-          sb = xsimd::fma(ks, B(L.specular[2]), sb);
+          if (split) {
+            const B aks = att * ks;
+            spr = xsimd::fma(aks, B(L.specular[0]), spr);
+            spg = xsimd::fma(aks, B(L.specular[1]), spg);
+            spb = xsimd::fma(aks, B(L.specular[2]), spb);
+          } else {
+            sr = xsimd::fma(ks, B(L.specular[0]), sr);
+            sg = xsimd::fma(ks, B(L.specular[1]), sg);
+            sb = xsimd::fma(ks, B(L.specular[2]), sb);
+          }
         }
       }
       r = xsimd::fma(att, sr, r);
       g = xsimd::fma(att, sg, g);
       b = xsimd::fma(att, sb, b);
     }
-    if (prm.clamp) {
-      r = fastmath::clamp01(r), g = fastmath::clamp01(g), b = fastmath::clamp01(b);
-    } else {
-      const B big(FLT_MAX);  // the float colour's limit, also for double lanes
-      r = xsimd::select(r > zero, xsimd::min(r, big), zero);
-      g = xsimd::select(g > zero, xsimd::min(g, big), zero);
-      b = xsimd::select(b > zero, xsimd::min(b, big), zero);
+    if (split) {
+      if (prm.color_material) {
+        // Albedo streams are float; in double lanes they are widened (load_unaligned converts).
+        r = xsimd::fma(B::load_unaligned(s.ar + i), r, B(base[0]));
+        g = xsimd::fma(B::load_unaligned(s.ag + i), g, B(base[1]));
+        b = xsimd::fma(B::load_unaligned(s.ab + i), b, B(base[2]));
+      }
+      if (prm.separate_specular) {
+        finish(prm, spr).store_unaligned(s.sr + i);
+        finish(prm, spg).store_unaligned(s.sg + i);
+        finish(prm, spb).store_unaligned(s.sb + i);
+      } else {
+        r += spr, g += spg, b += spb;
+      }
     }
-    r.store_unaligned(s.r + i);
-    g.store_unaligned(s.g + i);
-    b.store_unaligned(s.b + i);
+    finish(prm, r).store_unaligned(s.r + i);
+    finish(prm, g).store_unaligned(s.g + i);
+    finish(prm, b).store_unaligned(s.b + i);
   }
 }
 

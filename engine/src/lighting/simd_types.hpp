@@ -39,8 +39,13 @@ using Light = LightT<float>;
 using LightD = LightT<double>;
 
 struct Params {
-  float base[3] = {};  // e_m + a_m a_scene
+  float base[3] = {};  // e_m + a_m a_scene; with color_material: e_m
   double base_d[3] = {};
+  // Colour material (shade.hpp): Streams::ar/ag/ab multiply a_scene + the lights' ambient and diffuse.
+  int color_material = 0;
+  float scene_ambient[3] = {};
+  double scene_ambient_d[3] = {};
+  int separate_specular = 0;  // the specular sum goes to Streams::sr/sg/sb
   PowSpec specular_pow;
   int specular_on = 1;  // 0 when the material's specular colour is black
   int local_viewer = 1;
@@ -68,6 +73,8 @@ struct Streams {
   const float *px, *py, *pz, *nx, *ny, *nz;
   float *r, *g, *b;
   std::size_t count;
+  const float *ar = nullptr, *ag = nullptr, *ab = nullptr;  // albedo: read with Params::color_material
+  float *sr = nullptr, *sg = nullptr, *sb = nullptr;        // secondary: written with Params::separate_specular
 };
 
 using ShadeFunction = void (*)(const Params&, const Transform*, const Streams&);
