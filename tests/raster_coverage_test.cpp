@@ -54,11 +54,13 @@ class Coverage {
     }
     for (auto& z : t->z) z = 0.5f;
     for (auto& w : t->inv_w) w = 1.0f;
-    compute_planes(*t, 0);
+    compute_planes(*t, nullptr, 0);
     const ScreenTriangle* range = &*t;
     const std::uint32_t bin = 0;
-    constexpr VaryingLayout kFlat = plan_varyings(LitAt::triangle, false);
-    simd::TileJob job{0, &range, &bin, 1, 0, 0, w_, h_, nullptr, &kFlat};
+    simd::Draw draw;  // plain, flat: no varyings (the triangle is object 0)
+    draw.layout = plan_varyings(LitAt::triangle, false);
+    const simd::Fog fog;
+    simd::TileJob job{0, &range, &bin, 1, 0, 0, w_, h_, nullptr, &draw, &fog};
     simd::TileCounters counters;
     kernels_->raster(job, tile_.view({0, 0, 0, 1}), counters);
     std::uint64_t found = 0;

@@ -40,7 +40,7 @@ std::optional<ScreenTriangle> make_triangle(const std::int32_t (&x)[3], const st
   if (place_triangle(t, CullMode::none, false, false, {width, height}, swapped) != Placement::placed) return std::nullopt;
   t.flat_rgb[0] = red;
   t.alpha = 1.0f;
-  compute_planes(t, 0);
+  compute_planes(t, nullptr, 0);
   return t;
 }
 
@@ -52,9 +52,11 @@ std::vector<float> raster_depth(const simd::Kernels& k, std::span<const ScreenTr
   std::vector<std::uint32_t> bin(triangles.size());
   for (std::size_t i = 0; i < bin.size(); ++i) bin[i] = static_cast<std::uint32_t>(i);
   const ScreenTriangle* range = triangles.data();
-  constexpr VaryingLayout kFlat = plan_varyings(LitAt::triangle, false);
+  simd::Draw draw;  // plain, flat: no varyings (every triangle here is object 0)
+  draw.layout = plan_varyings(LitAt::triangle, false);
+  const simd::Fog fog;
   simd::TileJob job{static_cast<int>(shading), &range, bin.data(), bin.size(), rect.x0, rect.y0, rect.x1, rect.y1,
-                    nullptr, &kFlat};
+                    nullptr, &draw, &fog};
   k.raster(job, tile.view({0, 0, 0, 1}), counters);
   std::vector<float> depth(static_cast<std::size_t>(tile_size * tile_size), 1.0f);
   for (int y = 0; y < rect.y1 - rect.y0; ++y) {
@@ -163,7 +165,7 @@ TEST_P(SimdRaster, PlaneDepthAgreesWithBarycentricDepth) {
     }
     bool swapped = false;
     if (place_triangle(t, CullMode::none, false, false, {64, 64}, swapped) != Placement::placed) continue;
-    compute_planes(t, 0);
+    compute_planes(t, nullptr, 0);
     const Plane& p = t.plane[kPlaneZ];
     const double gradient = std::abs(double(p.dx)) + std::abs(double(p.dy));
     // Well shaped: every side at least 8 px and an area of at least 100 px^2.

@@ -1,6 +1,7 @@
 // Surface material of the classic (OpenGL 2.1 fixed-function) lighting model. Defaults are GL's.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "facet/types.hpp"
@@ -11,6 +12,37 @@ namespace facet {
 // tight highlights can be studied (the pow tiers are specified up to this bound).
 inline constexpr float kMaxShininess = 4096.0f;
 
+// How a texel combines with the lit (primary) colour: GL 2.1's texture environment (table 3.22,
+// RGBA texture; Cf, Af the fragment's colour and alpha, Ct, At the texel's):
+enum class TextureMode : std::uint8_t {
+  modulate,  // C = Cf Ct, A = Af At (GL's default: texture times light)
+  replace,   // C = Ct, A = At
+  decal,     // C = Cf (1 - At) + Ct At, A = Af
+  add,       // C = min(Cf + Ct, 1), A = Af At
+};
+
+// How a fragment combines with the colour already in the image (GL's blend factors, the same for
+// alpha as for colour; results saturate to [0, 1]). Cs, As: the fragment; Cd: the image.
+enum class BlendMode : std::uint8_t {
+  opaque,         // C = Cs
+  alpha,          // C = Cs As + Cd (1 - As)       (SRC_ALPHA, ONE_MINUS_SRC_ALPHA)
+  premultiplied,  // C = Cs + Cd (1 - As)          (ONE, ONE_MINUS_SRC_ALPHA)
+  add,            // C = Cs + Cd                   (ONE, ONE)
+  multiply,       // C = Cs Cd                     (DST_COLOR, ZERO)
+  subtract,       // C = Cd - Cs                   (reverse subtract, ONE, ONE)
+};
+
+// Whether the material's fragments write depth: `automatic` writes for opaque materials and not
+// for blended ones (they test depth but do not hide what is drawn after them).
+enum class DepthWrite : std::uint8_t { automatic, on, off };
+
+const char* to_string(TextureMode mode) noexcept;
+const char* to_string(BlendMode mode) noexcept;
+const char* to_string(DepthWrite mode) noexcept;
+
+// No texture (Material::diffuse_texture).
+inline constexpr std::int32_t kNoTexture = -1;
+
 struct Material {
   std::string name;
   Color3 emissive{0.0f, 0.0f, 0.0f};
@@ -18,7 +50,15 @@ struct Material {
   Color3 diffuse{0.8f, 0.8f, 0.8f};
   Color3 specular{0.0f, 0.0f, 0.0f};
   float shininess = 0.0f;  // Blinn-Phong exponent in [0, kMaxShininess]; 0^0 = 1 as in GL
-  float alpha = 1.0f;      // [0, 1], carried to the output's alpha channel
+  float alpha = 1.0f;      // [0, 1]: the fragment's alpha (blending, alpha test, the output's alpha)
+
+  // Surface (see docs/surfaces.md). A texture needs the mesh's uvs.
+  std::int32_t diffuse_texture = kNoTexture;  // index into Scene::textures
+  TextureMode texture_mode = TextureMode::modulate;
+  Vec2 uv_scale{1.0f, 1.0f};  // texture coordinates are multiplied by it; finite and non-zero
+  float alpha_cutoff = 0.0f;  // alpha test: fragments with alpha < cutoff are discarded; [0, 1], 0 = off
+  BlendMode blend = BlendMode::opaque;
+  DepthWrite depth_write = DepthWrite::automatic;
 };
 
 }  // namespace facet

@@ -12,6 +12,7 @@
 #include "facet/material.hpp"
 #include "facet/mesh.hpp"
 #include "facet/status.hpp"
+#include "facet/texture.hpp"
 #include "facet/types.hpp"
 
 namespace facet {
@@ -19,6 +20,24 @@ namespace facet {
 enum class ViewerMode {
   local,     // specular half-vector uses the true direction to the eye (GL_LIGHT_MODEL_LOCAL_VIEWER)
   infinite,  // uses (0, 0, 1) in eye space: cheaper, GL's default
+};
+
+// Fog (GL 2.1 §3.10) on the eye-space depth z of each pixel (its distance along the view axis),
+// factor f in [0, 1] (1: no fog), colour = f colour + (1 - f) fog colour, after texturing and
+// before blending; alpha is unchanged.
+enum class FogMode : std::uint8_t {
+  none,
+  linear,  // f = (end - z) / (end - start); start == end: 1 before it, 0 beyond
+  exp,     // f = e^(-density z)
+  exp2,    // f = e^(-(density z)^2)
+};
+const char* to_string(FogMode mode) noexcept;
+
+struct Fog {  // GL's defaults
+  FogMode mode = FogMode::none;
+  Color3 color{0.0f, 0.0f, 0.0f};
+  float start = 0.0f, end = 1.0f;  // linear: finite, start <= end
+  float density = 1.0f;            // exp, exp2: finite, >= 0
 };
 
 struct NamedMesh {
@@ -40,6 +59,8 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Instance> objects;
   std::vector<Light> lights;
+  std::vector<Texture> textures;  // Material::diffuse_texture indexes them
+  Fog fog;
   Color3 global_ambient{0.2f, 0.2f, 0.2f};
   Camera camera;
   ViewerMode viewer = ViewerMode::local;
@@ -55,6 +76,7 @@ Status validate_material(const Material& material, std::size_t index);
 Status validate_light(const Light& light, std::size_t index);
 Status validate_camera(const Camera& camera);
 Status validate_global_ambient(const Color3& ambient);
+Status validate_fog(const Fog& fog);
 
 // The built-in scene: procedural shapes only (spheres of shininess 8, 64 and 512, a cube, a torus
 // and a ground plane) lit by a directional light, a point light with attenuation, a GL spot light

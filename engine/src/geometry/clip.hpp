@@ -12,7 +12,7 @@
 
 namespace facet::geometry {
 
-inline constexpr int kMaxAttributes = 6;
+inline constexpr int kMaxAttributes = 14;
 
 struct ClipVertex {
   float x, y, z, w;

@@ -34,14 +34,16 @@ namespace {
 // A back-facing triangle of a two-sided scene is drawn with its back face's values: the back colour
 // takes the front colour's place, the normal is negated (lit with -n).
 void select_face(const VaryingLayout& l, float (&attr)[3][geometry::kMaxAttributes]) {
+  auto move = [&l](float* a, Varying from, Varying to) {
+    if (!l.has(from)) return;
+    for (int c = 0; c < width_of(from); ++c) a[l.at(to) + c] = a[l.at(from) + c];
+  };
   for (auto& a : attr) {
-    if (l.has(Varying::back_color)) {
-      const int from = l.at(Varying::back_color), to = l.at(Varying::front_color);
-      for (int c = 0; c < kVaryingWidth; ++c) a[to + c] = a[from + c];
-    }
+    move(a, Varying::back_color, Varying::front_color);
+    move(a, Varying::back_secondary, Varying::front_secondary);
     if (l.has(Varying::normal)) {
       const int n = l.at(Varying::normal);
-      for (int c = 0; c < kVaryingWidth; ++c) a[n + c] = -a[n + c];
+      for (int c = 0; c < width_of(Varying::normal); ++c) a[n + c] = -a[n + c];
     }
   }
 }
@@ -53,7 +55,7 @@ class RangeAssembler {
       : frame_(frame), object_(object), out_(out), binning_(binning), counts_(binning.counts) {}
 
   void run(const Mesh& mesh, std::size_t begin, std::size_t end) {
-    const VaryingLayout& layout = frame_.layout;
+    const VaryingLayout& layout = object_.layout;
     const Color3 none = Color3::Zero();
     ClipVertex polygon[geometry::kMaxClippedVertices];
     for (std::size_t t = begin; t < end; ++t) {
@@ -70,6 +72,8 @@ class RangeAssembler {
       }
       flat_front_ = object_.flat_front ? object_.flat_front[t] : none;
       flat_back_ = object_.flat_back ? object_.flat_back[t] : flat_front_;
+      spec_front_ = object_.flat_secondary_front ? object_.flat_secondary_front[t] : none;
+      spec_back_ = object_.flat_secondary_back ? object_.flat_secondary_back[t] : spec_front_;
       const std::uint32_t outcodes = sv[0]->guard | sv[1]->guard | sv[2]->guard;
       if (outcodes == 0) {
         // Inside the guard band (most triangles): the vertices' screen positions are already
@@ -89,8 +93,9 @@ class RangeAssembler {
           continue;
         }
         const std::uint32_t order[3] = {tri[0], swapped ? tri[2] : tri[1], swapped ? tri[1] : tri[2]};
-        for (int k = 0; k < 3; ++k) gather(order[k], st.attr[k]);
-        finish(st);
+        float attr[3][geometry::kMaxAttributes];
+        for (int k = 0; k < 3; ++k) gather(order[k], attr[k]);
+        finish(st, attr);
         continue;
       }
       ClipVertex v[3];
@@ -110,14 +115,14 @@ class RangeAssembler {
   }
 
  private:
-  // The layout's varyings of vertex i; the rest of the block zero.
+  // The layout's varyings of vertex i (the first layout.clipped floats; the rest is not read).
   void gather(std::uint32_t i, float* a) const {
-    std::fill(a, a + geometry::kMaxAttributes, 0.0f);
     for (int v = 0; v < kVaryingKinds; ++v) {
-      const int at = frame_.layout.offset[v];
+      const int at = object_.layout.offset[v];
       if (at < 0) continue;
-      const float* src = object_.varying[v] + static_cast<std::size_t>(i) * kVaryingWidth;
-      for (int c = 0; c < kVaryingWidth; ++c) a[at + c] = src[c];
+      const int width = kVaryingWidth[v];
+      const float* src = object_.varying[v] + static_cast<std::size_t>(i) * static_cast<std::size_t>(width);
+      for (int c = 0; c < width; ++c) a[at + c] = src[c];
     }
   }
 
@@ -132,16 +137,20 @@ class RangeAssembler {
   }
 
   // A placed triangle with its varyings: its face's values, planes, and its bins.
-  void finish(ScreenTriangle& t) {
+  void finish(ScreenTriangle& t, float (&attr)[3][geometry::kMaxAttributes]) {
     const bool use_back = t.back_facing && frame_.two_sided;
     const Color3& flat = use_back ? flat_back_ : flat_front_;
     t.flat_rgb[0] = flat.x();
     t.flat_rgb[1] = flat.y();
     t.flat_rgb[2] = flat.z();
-    if (use_back) select_face(frame_.layout, t.attr);
+    const Color3& spec = use_back ? spec_back_ : spec_front_;
+    t.flat_secondary[0] = spec.x();
+    t.flat_secondary[1] = spec.y();
+    t.flat_secondary[2] = spec.z();
+    if (use_back) select_face(object_.layout, attr);
     t.alpha = object_.alpha;
     t.object = object_.object;
-    if (frame_.planes_needed) compute_planes(t, frame_.layout.raster);
+    compute_planes(t, attr, object_.layout.raster);
     bin_triangle(t, static_cast<std::uint32_t>(out_.size() - 1), frame_.grid, binning_);
   }
 
@@ -164,8 +173,9 @@ class RangeAssembler {
       return;
     }
     const int order[3] = {0, swapped ? 2 : 1, swapped ? 1 : 2};
-    for (int k = 0; k < 3; ++k) std::copy(v[order[k]]->attr, v[order[k]]->attr + geometry::kMaxAttributes, t.attr[k]);
-    finish(t);
+    float attr[3][geometry::kMaxAttributes];
+    for (int k = 0; k < 3; ++k) std::copy(v[order[k]]->attr, v[order[k]]->attr + object_.layout.clipped, attr[k]);
+    finish(t, attr);
   }
 
   const AssemblyFrame& frame_;
@@ -174,6 +184,7 @@ class RangeAssembler {
   RangeBinning& binning_;
   TriangleCounts& counts_;
   Color3 flat_front_ = Color3::Zero(), flat_back_ = Color3::Zero();
+  Color3 spec_front_ = Color3::Zero(), spec_back_ = Color3::Zero();
 };
 
 }  // namespace

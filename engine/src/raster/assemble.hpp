@@ -25,9 +25,7 @@ struct AssemblyFrame {
   geometry::ClipPlanes planes{};
   CullMode cull = CullMode::back;
   bool two_sided = false;
-  VaryingLayout layout;
   BinGrid grid;
-  bool planes_needed = true;  // the SIMD rasterizer reads the planes; the scalar one barycentrics
 };
 
 enum class Placement { placed, degenerate, culled, no_pixel };
@@ -43,11 +41,14 @@ Placement place_triangle(ScreenTriangle& t, CullMode cull, bool two_sided, bool 
 
 // One object's vertices as the pass sees them.
 struct ObjectVertices {
+  VaryingLayout layout;                               // the draw's varyings (plan_varyings)
   std::span<const std::array<float, 4>> clip;         // clip-space positions
   std::span<const geometry::ScreenVertex> screen;     // transform_vertices()
-  const float* varying[kVaryingKinds] = {};           // per varying of the layout: 3 floats per vertex
+  const float* varying[kVaryingKinds] = {};           // per varying of the layout: width_of(v) floats per vertex
   const Color3* flat_front = nullptr;                 // flat shading: a colour per triangle
   const Color3* flat_back = nullptr;                  //   and its back face's in a two-sided scene
+  const Color3* flat_secondary_front = nullptr;       // flat, textured: the specular per triangle
+  const Color3* flat_secondary_back = nullptr;
   bool mirrored = false;                              // the model matrix has a negative determinant
   std::uint32_t object = 0;
   float alpha = 1.0f;

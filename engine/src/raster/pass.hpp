@@ -1,6 +1,6 @@
 // Internal: a render pass — one view of the scene into one set of targets, and everything the
 // frame decides once for it: the view and projection, the viewport and its tile grid, the face
-// rules, the shading mode, the varying layout (raster/varyings.hpp) and the clear colour. A frame
+// rules, the shading mode and the clear colour (each draw's varying layout is planned per object). A frame
 // is a list of passes run in order; today's frame is one pass, the camera's, into the caller's
 // colour and depth views (shadow maps and environment maps will be passes of their own, with
 // their own view and targets, on the same machinery).
@@ -23,7 +23,7 @@ struct RenderPass {
   ShadingMode shading = ShadingMode::gouraud;
   std::array<float, 4> clear_color{};
   int tile_size = 64, tiles_x = 0, tiles_y = 0;
-  AssemblyFrame assembly;  // viewport, clip planes, cull mode, two-sidedness, varying layout, tile grid
+  AssemblyFrame assembly;  // viewport, clip planes, cull mode, two-sidedness, tile grid
   // Targets: the caller's views (validated; depth may be null).
   const ImageView* color = nullptr;
   const DepthView* depth = nullptr;
@@ -35,8 +35,7 @@ struct RenderPass {
 };
 
 // The camera's pass: the scene's camera, the options' shading, culling, tile size and clear
-// colour, into `color` (and `depth`). `planes_needed`: the SIMD rasterizer reads attribute planes.
-RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth,
-                       bool planes_needed);
+// colour, into `color` (and `depth`).
+RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth);
 
 }  // namespace facet::raster

@@ -40,12 +40,51 @@ struct TileView {
   float clear[4];
 };
 
+// The pixel program of one draw (an object with one material), decided by the frame plan. A plain
+// draw (opaque, untextured, no alpha test, no fog, no vertex colours lit per pixel) runs the plain
+// kernels (flat colour, interpolated colour, or Phong lighting): what ran before surfaces existed.
+// Any other runs the surface program, GL 2.1's order (§3.8.13, §3.10, §4.1):
+//   interpolate -> sample the texture -> texture environment (primary colour and texel) -> add the
+//   secondary colour -> fog -> alpha test -> depth test and write -> blend -> store.
+enum : int { kEnvModulate = 0, kEnvReplace = 1, kEnvDecal = 2, kEnvAdd = 3 };
+enum : int { kBlendOpaque = 0, kBlendAlpha = 1, kBlendPremultiplied = 2, kBlendAdd = 3, kBlendMultiply = 4, kBlendSubtract = 5 };
+enum : int { kFogNone = 0, kFogLinear = 1, kFogExp = 2, kFogExp2 = 3 };
+
+struct Draw {
+  VaryingLayout layout;  // this draw's varyings (ScreenTriangle::attr and the attribute planes)
+  int program = 0;       // 0: plain; 1: the surface program
+  const texture::Sampler* texture = nullptr;  // null: untextured
+  int texture_env = kEnvModulate;
+  float uv_scale[2] = {1.0f, 1.0f};
+  float alpha_cutoff = 0.0f;  // alpha test: the fragment is kept when alpha >= cutoff (0: every fragment)
+  int blend = kBlendOpaque;
+  int depth_write = 1;
+  int clamp = 1;  // blend results saturate to [0, 1]; 0 (HDR float output): only below at 0
+};
+
+// Fog on the eye-space depth z = -z_eye = clip w (exact for facet's perspective projection: the
+// rasterizer interpolates 1/w, so z = 1 / (1/w) at each pixel). Factor f in [0, 1], 1 = no fog:
+//   linear f = (end - z) / (end - start)  (end == start: f = 1 for z < end, 0 beyond: a step);
+//   exp    f = e^(-density z);   exp2  f = e^(-(density z)^2);
+// colour = f colour + (1 - f) fog colour; alpha unchanged.
+struct Fog {
+  int mode = kFogNone;
+  float color[3] = {};
+  float start = 0.0f, end = 1.0f, density = 1.0f;
+  float scale = 1.0f;  // linear: 1 / (end - start), 0 when end == start
+};
+
 // Per-pixel (Phong) lighting: the kernel gathers the interpolated eye-space positions and normals
 // of visible pixels into these structure-of-arrays buffers (capacity kPhongCapacity), then asks
-// `shade` to light them with the shader of `object`; the colours come back in r, g, b.
+// `shade` to light them with the shader of `object`; the colours come back in r, g, b. Surface
+// draws also gather the albedo (vertex colours) and get the secondary colour back, and the pixel
+// program's inputs that do not depend on lighting: the texel (tr..ta) and the fog factor.
 inline constexpr int kPhongCapacity = 256;  // a multiple of the widest batch (16)
+inline constexpr int kPhongStreams = 20;
 struct PhongSink {
   float *px, *py, *pz, *nx, *ny, *nz, *r, *g, *b;
+  float *ar, *ag, *ab, *sr, *sg, *sb;  // albedo in, secondary out
+  float *tr, *tg, *tb, *ta, *fog;      // texel and fog factor (surface draws)
   std::uint32_t* pixel;  // tile-buffer index of each entry
   void* context;
   // `padded` is `count` rounded up to 16; entries [count, padded) hold zeros.
@@ -59,7 +98,8 @@ struct TileJob {
   std::size_t bin_size;
   int x0, y0, x1, y1;  // the tile's pixels in the image, [x0, x1) x [y0, y1)
   PhongSink* phong;  // for ShadingMode::phong
-  const VaryingLayout* varyings;  // where the planes of the colour (Gouraud) or position and normal (Phong) are
+  const Draw* draws;  // per ScreenTriangle::object
+  const Fog* fog;
 };
 
 struct TileCounters {

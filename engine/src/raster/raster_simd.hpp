@@ -24,6 +24,8 @@
 #include <xsimd/xsimd.hpp>
 
 #include "raster/raster_kernels.hpp"
+#include "raster/surface_program.hpp"
+#include "texture/sample_simd.hpp"
 
 namespace facet::raster::simd {
 namespace {
@@ -81,10 +83,12 @@ struct TileKernel {
   };
 
   // Gathers Phong pixels and lights them with one object's shader; entries are scattered back in
-  // the order they were added, so when a pixel appears twice the later triangle wins.
+  // the order they were added, so when a pixel appears twice the later triangle wins (or, for a
+  // blended draw, blends over the earlier one).
   struct PhongBatch {
     PhongSink* sink;
     const TileView* tile;
+    const TileJob* job;
     int count = 0;
     std::uint32_t object = 0;
     float alpha = 1.0f;
@@ -92,17 +96,47 @@ struct TileKernel {
     void flush() {
       if (count == 0) return;
       int padded = (count + 15) / 16 * 16;
-      for (int k = count; k < padded; ++k) {
-        sink->px[k] = sink->py[k] = sink->pz[k] = 0.0f;
-        sink->nx[k] = sink->ny[k] = sink->nz[k] = 0.0f;
+      PhongSink& s = *sink;
+      float* const streams[] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab, s.tr, s.tg, s.tb, s.ta, s.fog};
+      for (float* f : streams) {
+        for (int k = count; k < padded; ++k) f[k] = 0.0f;
       }
-      sink->shade(sink->context, object, static_cast<std::size_t>(count), static_cast<std::size_t>(padded));
+      s.shade(s.context, object, static_cast<std::size_t>(count), static_cast<std::size_t>(padded));
+      const Draw& d = job->draws[object];
+      if (!d.program) {
+        for (int k = 0; k < count; ++k) {
+          const std::uint32_t p = s.pixel[k];
+          tile->plane[0][p] = s.r[k];
+          tile->plane[1][p] = s.g[k];
+          tile->plane[2][p] = s.b[k];
+          tile->plane[3][p] = alpha;
+        }
+        count = 0;
+        return;
+      }
+      // The surface program's tail on the lit pixels, W at a time; the colour and alpha replace
+      // r, g, b and ta. Then blend and store in entry order.
+      // A textured draw's shader keeps the specular apart (separate specular); an untextured one sums it.
+      const bool textured = d.texture != nullptr, secondary = textured;
+      for (int k = 0; k < padded; k += W) {
+        const F p[3] = {F::load_unaligned(s.r + k), F::load_unaligned(s.g + k), F::load_unaligned(s.b + k)};
+        const F sec[3] = {F::load_unaligned(s.sr + k), F::load_unaligned(s.sg + k), F::load_unaligned(s.sb + k)};
+        const F t[4] = {F::load_unaligned(s.tr + k), F::load_unaligned(s.tg + k), F::load_unaligned(s.tb + k),
+                        F::load_unaligned(s.ta + k)};
+        const F f = F::load_unaligned(s.fog + k);
+        F c[4];
+        surface::shade_fragment(d, *job->fog, p, F(alpha), textured ? t : nullptr, secondary ? sec : nullptr, &f, c);
+        c[0].store_unaligned(s.r + k);
+        c[1].store_unaligned(s.g + k);
+        c[2].store_unaligned(s.b + k);
+        c[3].store_unaligned(s.ta + k);
+      }
       for (int k = 0; k < count; ++k) {
-        const std::uint32_t p = sink->pixel[k];
-        tile->plane[0][p] = sink->r[k];
-        tile->plane[1][p] = sink->g[k];
-        tile->plane[2][p] = sink->b[k];
-        tile->plane[3][p] = alpha;
+        const std::uint32_t p = s.pixel[k];
+        const float c[4] = {s.r[k], s.g[k], s.b[k], s.ta[k]};
+        float dst[4] = {tile->plane[0][p], tile->plane[1][p], tile->plane[2][p], tile->plane[3][p]};
+        surface::blend(d, c, dst);
+        for (int ch = 0; ch < 4; ++ch) tile->plane[ch][p] = dst[ch];
       }
       count = 0;
     }
@@ -125,6 +159,82 @@ struct TileKernel {
     for (int c = 0; c < 5; ++c) {
       for (int b = 0; b < kBatches; ++b) values[c].store_unaligned(tv.plane[c] + base + b * W);
     }
+  }
+
+  using Sampler = facet::texture::simd::SampleSimd<Arch>;
+
+  // The surface program on one batch whose coverage and depth test gave `pass` (raster_kernels.hpp,
+  // Draw): sample, alpha test, depth write, then the colour (Phong: gathered, finished at flush).
+  template <std::size_t N>
+  static void surface_batch(const TileJob& job, const Draw& d, const ScreenTriangle& t, const PlaneEval (&attr)[N],
+                            const float (&attr_o)[N], const PlaneEval& w_plane, float w_o, const F& fi, const F& fj,
+                            const F& z, BF pass, float* const (&planes)[5], std::size_t at, PhongBatch& phong,
+                            I& filled) {
+    const F cw = F(1.0f) / w_plane.at(w_o, fi, fj);  // clip w: the eye-space depth
+    auto value = [&](int a) { return attr[a].at(attr_o[a], fi, fj) * cw; };
+    F tex[4];
+    const F* texel = nullptr;
+    if (d.texture) {
+      // u = U / W' with U = u/w and W' = 1/w affine on screen: du/dx = (dU/dx - u dW'/dx) / W'.
+      const int uv = d.layout.at(Varying::uv);
+      const F u = value(uv), v = value(uv + 1);
+      const F dudx = (attr[uv].dx - u * w_plane.dx) * cw, dudy = (attr[uv].dy - u * w_plane.dy) * cw;
+      const F dvdx = (attr[uv + 1].dx - v * w_plane.dx) * cw, dvdy = (attr[uv + 1].dy - v * w_plane.dy) * cw;
+      const F su(d.uv_scale[0]), sv(d.uv_scale[1]);
+      const F lambda = Sampler::lod(*d.texture, su * dudx, sv * dvdx, su * dudy, sv * dvdy);
+      Sampler::sample(*d.texture, su * u, sv * v, lambda, tex);
+      texel = tex;
+    }
+    const F alpha(t.alpha);
+    pass = pass & (surface::fragment_alpha(d, alpha, texel) >= F(d.alpha_cutoff));  // the alpha test
+    if (!xsimd::any(pass)) return;
+    filled += xsimd::select(xsimd::bool_cast(pass), I(1), I(0));
+    float* depth = planes[4] + at;
+    if (d.depth_write) xsimd::select(pass, z, F::load_unaligned(depth)).store_unaligned(depth);
+    const F f = job.fog->mode != kFogNone ? surface::fog_factor(*job.fog, cw) : F(1.0f);
+    if (job.shading == 2) {  // Phong: light at flush
+      alignas(64) float values[14][W];
+      alignas(64) float mask[W];
+      const int position = d.layout.at(Varying::eye_position), normal = d.layout.at(Varying::normal);
+      const int albedo = d.layout.at(Varying::albedo);
+      for (int c = 0; c < 3; ++c) {
+        value(position + c).store_aligned(values[c]);
+        value(normal + c).store_aligned(values[3 + c]);
+        (albedo >= 0 ? value(albedo + c) : F(1.0f)).store_aligned(values[6 + c]);
+      }
+      for (int c = 0; c < 4; ++c) (texel ? tex[c] : F(1.0f)).store_aligned(values[9 + c]);
+      f.store_aligned(values[13]);
+      xsimd::select(pass, F(1.0f), F(0.0f)).store_aligned(mask);
+      PhongSink& s = *phong.sink;
+      float* const dst[14] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab, s.tr, s.tg, s.tb, s.ta, s.fog};
+      for (int lane = 0; lane < W; ++lane) {
+        if (mask[lane] == 0.0f) continue;
+        const int k = phong.count++;
+        for (int q = 0; q < 14; ++q) dst[q][k] = values[q][lane];
+        s.pixel[k] = static_cast<std::uint32_t>(at + static_cast<std::size_t>(lane));
+        if (phong.count == kPhongCapacity) phong.flush();
+      }
+      return;
+    }
+    F p[3], sec[3];
+    const F* secondary = nullptr;
+    if (job.shading == 0) {
+      for (int c = 0; c < 3; ++c) p[c] = F(t.flat_rgb[c]), sec[c] = F(t.flat_secondary[c]);
+      if (texel) secondary = sec;
+    } else {
+      const int colour = d.layout.at(Varying::front_color), second = d.layout.at(Varying::front_secondary);
+      for (int c = 0; c < 3; ++c) p[c] = value(colour + c);
+      if (second >= 0) {
+        for (int c = 0; c < 3; ++c) sec[c] = value(second + c);
+        secondary = sec;
+      }
+    }
+    F c[4];
+    surface::shade_fragment(d, *job.fog, p, alpha, texel, secondary, &f, c);
+    F old[4], out[4];
+    for (int ch = 0; ch < 4; ++ch) out[ch] = old[ch] = F::load_unaligned(planes[ch] + at);
+    surface::blend(d, c, out);
+    for (int ch = 0; ch < 4; ++ch) xsimd::select(pass, out[ch], old[ch]).store_unaligned(planes[ch] + at);
   }
 
   // Counters and plane pointers are locals: xsimd registers are may_alias vector types, so
@@ -174,11 +284,17 @@ struct TileKernel {
       }
     }
 
-    // Planes: Gouraud's colour, or Phong's position then normal (where the job's layout put them).
-    constexpr int kAttributes = Mode == 2 ? 6 : 3;
+    // Planes: Gouraud's colour, or Phong's position then normal (where the draw's layout put
+    // them); the surface program (Mode 3) evaluates every varying of its layout, in layout order.
+    constexpr int kAttributes = Mode == 3 ? geometry::kMaxAttributes : Mode == 2 ? 6 : 3;
+    const Draw& d = job.draws[t.object];
+    const int attributes = Mode == 3 ? d.layout.raster : kAttributes;
     PlaneEval z_plane, w_plane, attr[kAttributes];
     z_plane.set(t.plane[kPlaneZ]);
-    if constexpr (Mode != 0) {
+    if constexpr (Mode == 3) {
+      w_plane.set(t.plane[kPlaneInvW]);
+      for (int a = 0; a < attributes; ++a) attr[a].set(t.plane[kPlaneAttr + a]);
+    } else if constexpr (Mode != 0) {
       w_plane.set(t.plane[kPlaneInvW]);
       for (int a = 0; a < kAttributes; ++a) attr[a].set(t.plane[kPlaneAttr + plane_of[a]]);
     }
@@ -208,7 +324,7 @@ struct TileKernel {
         float w_o = 0.0f, attr_o[kAttributes] = {};
         if constexpr (Mode != 0) {
           w_o = w_plane.origin(cx, cy);
-          for (int a = 0; a < kAttributes; ++a) attr_o[a] = attr[a].origin(cx, cy);
+          for (int a = 0; a < attributes; ++a) attr_o[a] = attr[a].origin(cx, cy);
         }
 
         // One batch of W pixels; Full: the block is inside every edge and the tile's rectangle, so
@@ -244,6 +360,10 @@ struct TileKernel {
             tested += xsimd::select(cover_i, I(1), I(0));
           }
           if (!xsimd::any(pass)) return;
+          if constexpr (Mode == 3) {
+            surface_batch(job, d, t, attr, attr_o, w_plane, w_o, fi, fj, z, pass, planes, base + b * W, phong, filled);
+            return;
+          }
           const bool all = xsimd::all(pass);
           if (all) {
             whole_filled += W;
@@ -304,18 +424,11 @@ struct TileKernel {
 
   static void raster(const TileJob& job, const TileView& tv, TileCounters& counters) {
     clear(job, tv);
-    PhongBatch phong{job.phong, &tv};
-    // Attribute plane k of the kernel: colour components (Gouraud), or position then normal (Phong).
+    PhongBatch phong{job.phong, &tv, &job};
+    // Attribute plane k of the plain kernels: colour components (Gouraud), or position then normal
+    // (Phong), from the draw's layout (recomputed when the draw changes).
     int plane_of[6] = {};
-    {
-      const std::int8_t* at = job.varyings->offset;
-      const int colour = at[static_cast<int>(Varying::front_color)];
-      const int position = at[static_cast<int>(Varying::eye_position)], normal = at[static_cast<int>(Varying::normal)];
-      for (int c = 0; c < 3; ++c) {
-        plane_of[c] = job.shading == 2 ? position + c : colour + c;
-        plane_of[3 + c] = job.shading == 2 ? normal + c : 0;
-      }
-    }
+    std::uint32_t layout_of = ~0u;
     for (std::size_t n = 0; n < job.bin_size; ++n) {
       if (n + 2 < job.bin_size) {  // the triangle after next: set-up wrote it long ago, so it is not in cache
         const std::uint32_t ahead = job.bin[n + 2];
@@ -326,15 +439,28 @@ struct TileKernel {
       }
       const std::uint32_t entry = job.bin[n];
       const ScreenTriangle& t = job.ranges[entry >> kRangeShift][entry & kIndexMask];
+      const Draw& d = job.draws[t.object];
+      if (t.object != layout_of) {
+        layout_of = t.object;
+        const std::int8_t* at = d.layout.offset;
+        const int colour = at[static_cast<int>(Varying::front_color)];
+        const int position = at[static_cast<int>(Varying::eye_position)], normal = at[static_cast<int>(Varying::normal)];
+        for (int c = 0; c < 3; ++c) {
+          plane_of[c] = job.shading == 2 ? position + c : colour + c;
+          plane_of[3 + c] = job.shading == 2 ? normal + c : 0;
+        }
+      }
+      if (job.shading == 2 && phong.count > 0 && (t.object != phong.object || t.alpha != phong.alpha)) phong.flush();
+      phong.object = t.object;
+      phong.alpha = t.alpha;
+      if (d.program) {
+        triangle<3>(job, tv, t, plane_of, phong, counters);
+        continue;
+      }
       switch (job.shading) {
         case 0: triangle<0>(job, tv, t, plane_of, phong, counters); break;
         case 1: triangle<1>(job, tv, t, plane_of, phong, counters); break;
-        default:
-          if (phong.count > 0 && (t.object != phong.object || t.alpha != phong.alpha)) phong.flush();
-          phong.object = t.object;
-          phong.alpha = t.alpha;
-          triangle<2>(job, tv, t, plane_of, phong, counters);
-          break;
+        default: triangle<2>(job, tv, t, plane_of, phong, counters); break;
       }
     }
     phong.flush();

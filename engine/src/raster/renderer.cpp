@@ -26,6 +26,7 @@
 #include "raster/tile_raster.hpp"
 #include "raster/triangle_setup.hpp"
 #include "raster/varyings.hpp"
+#include "texture/sampler.hpp"
 
 namespace facet {
 
@@ -154,6 +155,10 @@ struct Renderer::Impl {
   std::size_t range_count = 0;
   std::vector<std::vector<std::uint32_t>> bins;
   std::vector<lighting::PointShader> shaders;  // one per object
+  std::vector<raster::simd::Draw> draws;               // one per object: its varyings and pixel program
+  std::vector<lighting::LightingFeatures> features;  // one per object: what its lighting takes and gives
+  std::vector<texture::Sampler> samplers;        // one per scene texture
+  raster::simd::Fog fog;
   // Per vertex: outcodes, and for vertices inside the guard band the snapped screen position,
   // computed once instead of once per triangle that uses the vertex.
   using ScreenVertex = geometry::ScreenVertex;
@@ -164,13 +169,14 @@ struct Renderer::Impl {
     std::vector<std::array<float, 4>> clip;
     std::vector<ScreenVertex> screen;
     std::vector<Color3> front, back;
+    std::vector<Color3> front_spec, back_spec, flat_albedo;  // textured: specular apart; flat: mean vertex colour
     std::vector<Vec3> eye_p, eye_n, centroid, face_normal;
     // The object's model matrix has a negative determinant (a mirror): its triangles wind the
     // other way on screen, so front and back swap (as in glTF, Direct3D and GL's glFrontFace).
     bool mirrored = false;
     // Capacity for any object of up to `vertices` vertices and `triangles` triangles in this
     // shading mode, so that whichever object a slot gets, set-up allocates nothing.
-    void reserve(std::size_t vertices, std::size_t triangles, ShadingMode mode, bool both_faces);
+    void reserve(std::size_t vertices, std::size_t triangles, ShadingMode mode, bool both_faces, bool surfaces);
   };
   std::vector<ObjectScratch> object_scratch;
   // Per object: its first set-up range (ranges are numbered in object order, so bins do not
@@ -201,6 +207,7 @@ struct Renderer::Impl {
 
   void render(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth);
   void run_pass(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p);
+  void plan_draws(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p);
   // Runs body(range, slot) over [0, n) in chunks of `grain`: spread over the arena's threads when
   // `slot` < 0, else all on the calling task's slot.
   template <class Body>
@@ -345,7 +352,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   }
   simd_raster = options.path == LightingPath::simd;
   passes.clear();
-  passes.push_back(raster::camera_pass(scene, options, color, depth, simd_raster));
+  passes.push_back(raster::camera_pass(scene, options, color, depth));
   for (const raster::RenderPass& p : passes) {
     run_pass(scene, options, p);
     if (cancelled.load(std::memory_order_relaxed)) break;
@@ -356,7 +363,6 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
 
 void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p) {
   pass = &p;
-  const raster::AssemblyFrame& assembly = p.assembly;
   const ShadingMode shading = p.shading;
   const bool two_sided = p.two_sided();
   const int tiles_x = p.tiles_x, tile_size = p.tile_size;
@@ -364,6 +370,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   bins.resize(static_cast<std::size_t>(p.tile_count()));
   for (auto& bin : bins) bin.clear();
   shaders.resize(scene.objects.size());
+  plan_draws(scene, options, p);
 
   const Eigen::Matrix4d& view = p.view;
   const Eigen::Matrix4d& proj = p.projection;
@@ -416,7 +423,8 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
     }
   }
   for (std::size_t slot = 0; slot < object_scratch.size(); ++slot) {
-    object_scratch[slot].reserve(slot == 0 ? all_v : small_v, slot == 0 ? all_t : small_t, shading, two_sided);
+    object_scratch[slot].reserve(slot == 0 ? all_v : small_v, slot == 0 ? all_t : small_t, shading, two_sided,
+                                 !scene.textures.empty());
   }
   for (std::size_t o = 0; o < object_count;) {
     if (!small(o)) {
@@ -462,7 +470,8 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
                               shaders,
                               p.clear_color,
                               simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr,
-                              &assembly.layout};
+                              draws.data(),
+                              &fog};
   const int tile_count = p.tile_count();
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});
   const auto raster_start = Clock::now();
@@ -503,8 +512,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
 
 namespace facet::raster {
 
-RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth,
-                       bool planes_needed) {
+RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth) {
   RenderPass p;
   const int width = color.width, height = color.height;
   const float aspect = scene.camera.aspect > 0.0f ? scene.camera.aspect : float(width) / float(height);
@@ -519,12 +527,7 @@ RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const I
   p.assembly.planes = geometry::guard_band_planes(p.assembly.viewport);
   p.assembly.cull = options.cull;
   p.assembly.two_sided = scene.two_sided;
-  p.assembly.layout = plan_varyings(options.shading == ShadingMode::flat      ? LitAt::triangle
-                                    : options.shading == ShadingMode::gouraud ? LitAt::vertex
-                                                                              : LitAt::pixel,
-                                    scene.two_sided);
   p.assembly.grid = {p.tile_size, p.tiles_x, p.tiles_y};
-  p.assembly.planes_needed = planes_needed;
   p.color = &color;
   p.depth = depth;
   return p;
@@ -535,13 +538,24 @@ RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const I
 namespace facet {
 
 void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t triangles, ShadingMode mode,
-                                            bool both_faces) {
+                                            bool both_faces, bool surfaces) {
   clip.reserve(vertices);
   screen.reserve(vertices);
   if (mode == ShadingMode::gouraud) {
     front.reserve(vertices);
     if (both_faces) back.reserve(vertices);
+    if (surfaces) {  // a textured object's specular, kept apart
+      front_spec.reserve(vertices);
+      if (both_faces) back_spec.reserve(vertices);
+    }
     return;
+  }
+  if (mode == ShadingMode::flat) {
+    flat_albedo.reserve(triangles);
+    if (surfaces) {
+      front_spec.reserve(triangles);
+      if (both_faces) back_spec.reserve(triangles);
+    }
   }
   eye_p.reserve(vertices);
   eye_n.reserve(vertices);
@@ -550,6 +564,52 @@ void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t tr
     face_normal.reserve(triangles);
     front.reserve(triangles);
     if (both_faces) back.reserve(triangles);
+  }
+}
+
+// The frame plan per object: what its lighting takes and gives, its varyings and its pixel
+// program. An untextured opaque material without alpha test or fog (and, lit per pixel, without
+// vertex colours) runs the plain kernels: exactly what ran before surfaces existed.
+void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p) {
+  samplers.resize(scene.textures.size());
+  for (std::size_t i = 0; i < scene.textures.size(); ++i) samplers[i] = texture::make_sampler(scene.textures[i]);
+  const Fog& f = scene.fog;
+  fog = raster::simd::Fog{};
+  fog.mode = static_cast<int>(f.mode);
+  for (int c = 0; c < 3; ++c) fog.color[c] = f.color[c];
+  fog.start = f.start, fog.end = f.end, fog.density = f.density;
+  fog.scale = f.end > f.start ? static_cast<float>(1.0 / (double(f.end) - double(f.start))) : 0.0f;
+  const bool clamp = !(options.hdr && p.color->format == PixelFormat::rgba32f);
+  const raster::LitAt lit = p.shading == ShadingMode::flat      ? raster::LitAt::triangle
+                            : p.shading == ShadingMode::gouraud ? raster::LitAt::vertex
+                                                                : raster::LitAt::pixel;
+  draws.resize(scene.objects.size());
+  features.resize(scene.objects.size());
+  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+    const Instance& inst = scene.objects[o];
+    const Material& m = scene.materials[inst.material];
+    const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    const bool textured = m.diffuse_texture != kNoTexture;
+    const bool colours = !mesh.colors.empty();
+    lighting::LightingFeatures& lf = features[o];
+    lf.color_material = colours;
+    lf.separate_specular = textured;
+    raster::SurfaceNeeds needs;
+    needs.secondary = textured && lit == raster::LitAt::vertex;
+    needs.albedo = colours && lit == raster::LitAt::pixel;
+    needs.uv = textured;
+    raster::simd::Draw& d = draws[o];
+    d = raster::simd::Draw{};
+    d.layout = raster::plan_varyings(lit, p.two_sided(), needs);
+    d.texture = textured ? &samplers[static_cast<std::size_t>(m.diffuse_texture)] : nullptr;
+    d.texture_env = static_cast<int>(m.texture_mode);
+    d.uv_scale[0] = m.uv_scale.x(), d.uv_scale[1] = m.uv_scale.y();
+    d.alpha_cutoff = m.alpha_cutoff;
+    d.blend = static_cast<int>(m.blend);
+    d.depth_write = m.depth_write == DepthWrite::on || (m.depth_write == DepthWrite::automatic && m.blend == BlendMode::opaque);
+    d.clamp = clamp ? 1 : 0;
+    d.program = textured || m.blend != BlendMode::opaque || m.alpha_cutoff > 0.0f || !d.depth_write ||
+                f.mode != FogMode::none || needs.albedo;
   }
 }
 
@@ -589,7 +649,8 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   lighting::PointShader& shader = shaders[object];
   const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model);
   // Options were checked in render(), so preparing cannot fail here.
-  (void)shader.prepare(scene, view, scene.materials[inst.material], lighting, &bounds);
+  const lighting::LightingFeatures& lf = features[object];
+  (void)shader.prepare(scene, view, scene.materials[inst.material], lighting, &bounds, lf);
   ObjectCounts& counts = object_counts[object];
   auto count_pairs = [&](std::size_t evaluations) {
     counts.vertices_lit += evaluations;
@@ -611,14 +672,23 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
                                  clip.data(), screen.data());
   });
 
+  const bool split = lf.separate_specular;
   if (shading == ShadingMode::gouraud) {
     front.resize(n);
     if (two_sided) back.resize(n);
+    if (split) {
+      os.front_spec.resize(n);
+      if (two_sided) os.back_spec.resize(n);
+    }
     // Vertex batches in parallel; a vertex's colour does not depend on its batch.
     for_chunks(n, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
       lighting::SoaScratch& soa = worker(chunk_slot).soa;
-      shader.light_mesh(mesh, view, inst.model, false, r.begin(), r.end(), front.data(), soa);
-      if (two_sided) shader.light_mesh(mesh, view, inst.model, true, r.begin(), r.end(), back.data(), soa);
+      shader.light_mesh(mesh, view, inst.model, false, r.begin(), r.end(), front.data(), soa,
+                        split ? os.front_spec.data() : nullptr);
+      if (two_sided) {
+        shader.light_mesh(mesh, view, inst.model, true, r.begin(), r.end(), back.data(), soa,
+                          split ? os.back_spec.data() : nullptr);
+      }
     });
     count_pairs(n * (two_sided ? 2 : 1));
     counts.seconds_lighting += seconds_since(lighting_start);
@@ -650,17 +720,27 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       centroid[t] = (a + b + c) / 3.0f;
       face_normal[t] = os.mirrored ? (c - a).cross(b - a) : (b - a).cross(c - a);
     }
-    auto shade = [&](std::vector<Color3>& out) {
+    if (lf.color_material) {  // the albedo at the centroid: the mean of the corners' colours
+      os.flat_albedo.resize(t_count);
+      for (std::size_t t = 0; t < t_count; ++t) {
+        const auto& tri = mesh.triangles[t];
+        os.flat_albedo[t] = (mesh.colors[tri[0]] + mesh.colors[tri[1]] + mesh.colors[tri[2]]) / 3.0f;
+      }
+    }
+    auto shade = [&](std::vector<Color3>& out, std::vector<Color3>& spec) {
       out.resize(t_count);
+      if (split) spec.resize(t_count);
       for_chunks(t_count, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
         shader.shade_points(r.size(), centroid.data() + r.begin(), face_normal.data() + r.begin(),
-                            out.data() + r.begin(), worker(chunk_slot).soa);
+                            out.data() + r.begin(), worker(chunk_slot).soa,
+                            lf.color_material ? os.flat_albedo.data() + r.begin() : nullptr,
+                            split ? spec.data() + r.begin() : nullptr);
       });
     };
-    shade(front);
+    shade(front, os.front_spec);
     if (two_sided) {
       for (auto& fn : face_normal) fn = -fn;
-      shade(back);
+      shade(back, os.back_spec);
     }
     count_pairs(t_count * (two_sided ? 2 : 1));
   }
@@ -674,19 +754,28 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   const std::size_t first = first_range[object];
   const bool flat = pass->shading == ShadingMode::flat;
   raster::ObjectVertices vertices;
+  const raster::simd::Draw& draw = draws[object];
+  const lighting::LightingFeatures& lf = features[object];
+  vertices.layout = draw.layout;
   vertices.clip = os.clip;
   vertices.screen = os.screen;
   using raster::Varying;
   // Vec3 and Color3 are three packed floats (types.hpp); an empty array (a mesh without vertices) is null.
-  auto source = [&](Varying v, const std::vector<Vec3>& values) {
-    vertices.varying[static_cast<int>(v)] = pass->assembly.layout.has(v) ? reinterpret_cast<const float*>(values.data()) : nullptr;
+  auto source = [&](Varying v, const auto& values) {
+    vertices.varying[static_cast<int>(v)] = draw.layout.has(v) ? reinterpret_cast<const float*>(values.data()) : nullptr;
   };
   source(Varying::front_color, os.front);
   source(Varying::back_color, os.back);
+  source(Varying::front_secondary, os.front_spec);
+  source(Varying::back_secondary, os.back_spec);
   source(Varying::eye_position, os.eye_p);
   source(Varying::normal, os.eye_n);
+  source(Varying::albedo, mesh.colors);
+  source(Varying::uv, mesh.uvs);
   vertices.flat_front = flat ? os.front.data() : nullptr;
   vertices.flat_back = flat && two_sided ? os.back.data() : nullptr;
+  vertices.flat_secondary_front = flat && lf.separate_specular ? os.front_spec.data() : nullptr;
+  vertices.flat_secondary_back = flat && two_sided && lf.separate_specular ? os.back_spec.data() : nullptr;
   vertices.mirrored = os.mirrored;
   vertices.object = object;
   vertices.alpha = alpha;

@@ -4,6 +4,8 @@
 #include <cstring>
 
 #include "io/image_convert.hpp"
+#include "raster/surface_program.hpp"
+#include "texture/sampler.hpp"
 
 namespace facet::raster {
 
@@ -13,7 +15,7 @@ void TileBuffers::resize(int tile_size) {
   storage.resize(5 * plane_size_ + 16);  // grows only; + slack for the alignment below
   const auto address = reinterpret_cast<std::uintptr_t>(storage.data());
   offset_ = ((64 - address % 64) % 64) / sizeof(float);
-  phong.resize(9 * static_cast<std::size_t>(simd::kPhongCapacity));
+  phong.resize(simd::kPhongStreams * static_cast<std::size_t>(simd::kPhongCapacity));
   phong_pixel.resize(simd::kPhongCapacity);
   touched.resize(static_cast<std::size_t>(tile_size / simd::kBlock) * static_cast<std::size_t>(tile_size / simd::kBlock));
 }
@@ -35,7 +37,8 @@ const simd::Kernels* simd_raster_kernels(Isa isa) noexcept {
 
 namespace {
 
-// Phong pixels of one triangle, lit in batches by the lighting kernel.
+// Phong pixels of one triangle, lit in batches by the lighting kernel; a surface draw's pixels
+// carry their albedo, texel and fog factor, and finish the pixel program after lighting.
 class PixelBatch {
  public:
   static constexpr int kCapacity = 64;
@@ -47,17 +50,36 @@ class PixelBatch {
     n_[count_] = n;
     ++count_;
   }
+  void add_surface(std::size_t index, const Vec3& p, const Vec3& n, const Color3& albedo, const float* texel, float fog) {
+    albedo_[count_] = albedo;
+    for (int c = 0; c < 4; ++c) texel_[count_][c] = texel ? texel[c] : 1.0f;
+    fog_[count_] = fog;
+    add(index, p, n);
+  }
   bool full() const { return count_ == kCapacity; }
 
-  void flush(const lighting::PointShader& shader, float alpha, TileBuffers& tile, RasterCounters& counters) {
+  void flush(const lighting::PointShader& shader, const simd::Draw& d, const simd::Fog& fog, float alpha,
+             TileBuffers& tile, RasterCounters& counters) {
     if (count_ == 0) return;
-    shader.shade_points(static_cast<std::size_t>(count_), p_, n_, out_, scratch_);
+    const bool textured = d.program && d.texture != nullptr;
+    shader.shade_points(static_cast<std::size_t>(count_), p_, n_, out_, scratch_, albedo_, textured ? spec_ : nullptr);
     for (int i = 0; i < count_; ++i) {
       const auto p = static_cast<std::size_t>(index_[i]);
-      tile.plane(0)[p] = out_[i].x();
-      tile.plane(1)[p] = out_[i].y();
-      tile.plane(2)[p] = out_[i].z();
-      tile.plane(3)[p] = alpha;
+      if (!d.program) {
+        tile.plane(0)[p] = out_[i].x();
+        tile.plane(1)[p] = out_[i].y();
+        tile.plane(2)[p] = out_[i].z();
+        tile.plane(3)[p] = alpha;
+        continue;
+      }
+      const float primary[3] = {out_[i].x(), out_[i].y(), out_[i].z()};
+      const float secondary[3] = {spec_[i].x(), spec_[i].y(), spec_[i].z()};
+      float c[4];
+      surface::shade_fragment(d, fog, primary, alpha, textured ? texel_[i] : nullptr, textured ? secondary : nullptr,
+                              &fog_[i], c);
+      float dst[4] = {tile.plane(0)[p], tile.plane(1)[p], tile.plane(2)[p], tile.plane(3)[p]};
+      surface::blend(d, c, dst);
+      for (int ch = 0; ch < 4; ++ch) tile.plane(ch)[p] = dst[ch];
     }
     counters.shaded += static_cast<std::uint64_t>(count_);
     counters.light_pairs += static_cast<std::uint64_t>(count_) * shader.light_count();
@@ -69,7 +91,9 @@ class PixelBatch {
   int count_ = 0;
   std::size_t index_[kCapacity];
   Vec3 p_[kCapacity], n_[kCapacity];
-  Color3 out_[kCapacity];
+  Color3 out_[kCapacity], spec_[kCapacity], albedo_[kCapacity];
+  float texel_[kCapacity][4];
+  float fog_[kCapacity];
   lighting::SoaScratch& scratch_;
 };
 
@@ -101,8 +125,11 @@ void shade_phong(void* context, std::uint32_t object, std::size_t count, std::si
   const lighting::PointShader& shader = c.job->objects[object];
   float* f = c.buffers;
   const std::size_t cap = simd::kPhongCapacity;
-  shader.shade_soa({f, f + cap, f + 2 * cap, f + 3 * cap, f + 4 * cap, f + 5 * cap, f + 6 * cap, f + 7 * cap,
-                    f + 8 * cap, padded});
+  lighting::simd::Streams streams{f, f + cap, f + 2 * cap, f + 3 * cap, f + 4 * cap, f + 5 * cap, f + 6 * cap, f + 7 * cap,
+                        f + 8 * cap, padded};
+  streams.ar = f + 9 * cap, streams.ag = f + 10 * cap, streams.ab = f + 11 * cap;
+  streams.sr = f + 12 * cap, streams.sg = f + 13 * cap, streams.sb = f + 14 * cap;
+  shader.shade_soa(streams);
   c.counters->shaded += count;
   c.counters->light_pairs += count * shader.light_count();
   c.counters->skipped_pairs += count * shader.culled_lights();
@@ -113,8 +140,14 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
   PhongContext context{&job, &counters, tile.phong.data()};
   float* f = tile.phong.data();
   const std::size_t cap = simd::kPhongCapacity;
-  simd::PhongSink sink{f,           f + cap,     f + 2 * cap, f + 3 * cap, f + 4 * cap,           f + 5 * cap,
-                       f + 6 * cap, f + 7 * cap, f + 8 * cap, tile.phong_pixel.data(), &context, shade_phong};
+  simd::PhongSink sink{};
+  float** slots[simd::kPhongStreams] = {&sink.px, &sink.py, &sink.pz, &sink.nx, &sink.ny, &sink.nz, &sink.r,
+                                        &sink.g,  &sink.b,  &sink.ar, &sink.ag, &sink.ab, &sink.sr, &sink.sg,
+                                        &sink.sb, &sink.tr, &sink.tg, &sink.tb, &sink.ta, &sink.fog};
+  for (int k = 0; k < simd::kPhongStreams; ++k) *slots[k] = f + static_cast<std::size_t>(k) * cap;
+  sink.pixel = tile.phong_pixel.data();
+  sink.context = &context;
+  sink.shade = shade_phong;
   simd::TileJob tj{static_cast<int>(job.shading),
                    job.ranges,
                    bin.data(),
@@ -124,7 +157,8 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
                    rect.x1,
                    rect.y1,
                    &sink,
-                   job.varyings};
+                   job.draws,
+                   job.fog};
   simd::TileCounters tc;
   job.kernels->raster(tj, tile.view(job.clear_color), tc);
   counters.tested += tc.tested;
@@ -147,8 +181,6 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
     }
   }
 
-  const int colour_at = job.varyings->at(Varying::front_color);
-  const int position_at = job.varyings->at(Varying::eye_position), normal_at = job.varyings->at(Varying::normal);
   PixelBatch batch(scratch);
   for (const std::uint32_t entry : bin) {
     const ScreenTriangle& t = job.ranges[entry >> kRangeShift][entry & kIndexMask];
@@ -157,6 +189,15 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
     if (x0 > x1 || y0 > y1) continue;
 
     const lighting::PointShader& shading = job.objects[t.object];
+    const simd::Draw& d = job.draws[t.object];
+    const VaryingLayout& layout = d.layout;
+    const int colour_at = layout.at(Varying::front_color), secondary_at = layout.at(Varying::front_secondary);
+    const int position_at = layout.at(Varying::eye_position), normal_at = layout.at(Varying::normal);
+    const int albedo_at = layout.at(Varying::albedo), uv_at = layout.at(Varying::uv);
+    const simd::Fog& fog = *job.fog;
+    // Attributes from the planes, as the SIMD kernels: a plane's value at the pixel centre in
+    // double, rounded to float, over the interpolated 1/w.
+    const double vx = double(t.x[0]) / kSubpixelOne, vy = double(t.y[0]) / kSubpixelOne;
     for_each_covered_pixel(t, x0, y0, x1, y1, [&](int x, int y, std::int64_t e0, std::int64_t e1, std::int64_t e2) {
       ++counters.tested;
       const float l0 = static_cast<float>(e0) * t.inv_area2;
@@ -167,6 +208,59 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
       const std::size_t pixel = tile.index(x - rect.x0, y - rect.y0);
       float* depth = tile.plane(4);
       if (!(z < depth[pixel])) return;  // depth test: LESS
+      const double cx = x + 0.5 - vx, cy = y + 0.5 - vy;
+      auto plane_at = [&](const Plane& q) { return static_cast<float>(q.at_v0 + q.dx * cx + q.dy * cy); };
+      const float inv_sum = 1.0f / plane_at(t.plane[kPlaneInvW]);  // clip w: the eye-space depth
+      auto interp = [&](int a) { return plane_at(t.plane[kPlaneAttr + a]) * inv_sum; };
+      if (d.program) {
+        // The surface program (raster_kernels.hpp, Draw), as the SIMD kernels run it.
+        float texel[4];
+        const float* tex = nullptr;
+        if (d.texture) {
+          // u = U / W' with U = u/w and W' = 1/w affine on screen: du/dx = (dU/dx - u dW'/dx) / W'.
+          const Plane& pw = t.plane[kPlaneInvW];
+          const Plane& pu = t.plane[kPlaneAttr + uv_at];
+          const Plane& pv = t.plane[kPlaneAttr + uv_at + 1];
+          const float u = interp(uv_at), v = interp(uv_at + 1);
+          const float dudx = (pu.dx - u * pw.dx) * inv_sum, dudy = (pu.dy - u * pw.dy) * inv_sum;
+          const float dvdx = (pv.dx - v * pw.dx) * inv_sum, dvdy = (pv.dy - v * pw.dy) * inv_sum;
+          const float su = d.uv_scale[0], sv = d.uv_scale[1];
+          const float lambda = texture::lod_scalar(*d.texture, su * dudx, sv * dvdx, su * dudy, sv * dvdy);
+          const auto sample = texture::sample_scalar(*d.texture, su * u, sv * v, lambda);
+          for (int c = 0; c < 4; ++c) texel[c] = sample[c];
+          tex = texel;
+        }
+        if (!(surface::fragment_alpha(d, t.alpha, tex) >= d.alpha_cutoff)) return;  // the alpha test
+        if (d.depth_write) depth[pixel] = z;
+        ++counters.filled;
+        const float f = fog.mode != simd::kFogNone ? surface::fog_factor(fog, inv_sum) : 1.0f;
+        if (job.shading == ShadingMode::phong) {
+          const Color3 albedo = albedo_at >= 0 ? Color3(interp(albedo_at), interp(albedo_at + 1), interp(albedo_at + 2))
+                                               : Color3(1.0f, 1.0f, 1.0f);
+          batch.add_surface(pixel, Vec3(interp(position_at), interp(position_at + 1), interp(position_at + 2)),
+                            Vec3(interp(normal_at), interp(normal_at + 1), interp(normal_at + 2)), albedo, tex, f);
+          if (batch.full()) batch.flush(shading, d, fog, t.alpha, tile, counters);
+          return;
+        }
+        float primary[3], secondary[3];
+        const float* sec = nullptr;
+        if (job.shading == ShadingMode::flat) {
+          for (int c = 0; c < 3; ++c) primary[c] = t.flat_rgb[c], secondary[c] = t.flat_secondary[c];
+          if (tex) sec = secondary;
+        } else {
+          for (int c = 0; c < 3; ++c) primary[c] = interp(colour_at + c);
+          if (secondary_at >= 0) {
+            for (int c = 0; c < 3; ++c) secondary[c] = interp(secondary_at + c);
+            sec = secondary;
+          }
+        }
+        float c[4];
+        surface::shade_fragment(d, fog, primary, t.alpha, tex, sec, &f, c);
+        float dst[4] = {tile.plane(0)[pixel], tile.plane(1)[pixel], tile.plane(2)[pixel], tile.plane(3)[pixel]};
+        surface::blend(d, c, dst);
+        for (int ch = 0; ch < 4; ++ch) tile.plane(ch)[pixel] = dst[ch];
+        return;
+      }
       depth[pixel] = z;
       ++counters.filled;
       auto put = [&](float r, float g, float b) {
@@ -177,23 +271,15 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
       };
       if (job.shading == ShadingMode::flat) {
         put(t.flat_rgb[0], t.flat_rgb[1], t.flat_rgb[2]);
-        return;
-      }
-      // Perspective-correct weights: (l_k / w_k) / sum(l_j / w_j).
-      const float m0 = l0 * t.inv_w[0], m1 = l1 * t.inv_w[1], m2 = l2 * t.inv_w[2];
-      const float inv_sum = 1.0f / (m0 + m1 + m2);
-      const float w0 = m0 * inv_sum, w1 = m1 * inv_sum, w2 = m2 * inv_sum;
-      auto interp = [&](int a) { return w0 * t.attr[0][a] + w1 * t.attr[1][a] + w2 * t.attr[2][a]; };
-      if (job.shading == ShadingMode::gouraud) {
-        const int c = colour_at;
-        put(interp(c), interp(c + 1), interp(c + 2));
+      } else if (job.shading == ShadingMode::gouraud) {
+        put(interp(colour_at), interp(colour_at + 1), interp(colour_at + 2));
       } else {
         const int p = position_at, n = normal_at;
         batch.add(pixel, Vec3(interp(p), interp(p + 1), interp(p + 2)), Vec3(interp(n), interp(n + 1), interp(n + 2)));
-        if (batch.full()) batch.flush(shading, t.alpha, tile, counters);
+        if (batch.full()) batch.flush(shading, d, fog, t.alpha, tile, counters);
       }
     });
-    batch.flush(shading, t.alpha, tile, counters);
+    batch.flush(shading, d, fog, t.alpha, tile, counters);
   }
 }
 

@@ -24,7 +24,7 @@ struct TileRect {
 struct TileBuffers {
   int size = 0;
   std::vector<float> storage;  // five planes of size * size floats, 64-byte aligned
-  std::vector<float> phong;    // Phong sink buffers: 9 x kPhongCapacity
+  std::vector<float> phong;    // Phong sink buffers: kPhongStreams x kPhongCapacity
   std::vector<std::uint32_t> phong_pixel;
   std::vector<std::uint8_t> touched;  // per block, for the SIMD kernels' lazy clear
   void resize(int tile_size);
@@ -50,7 +50,8 @@ struct RasterJob {
   std::span<const lighting::PointShader> objects;  // per object, for per-pixel (Phong) lighting
   std::array<float, 4> clear_color;
   const simd::Kernels* kernels;  // the SIMD rasterizer of the chosen ISA; null: the scalar one
-  const VaryingLayout* varyings;  // the pass's layout of ScreenTriangle::attr and the attribute planes
+  const simd::Draw* draws;        // per ScreenTriangle::object: its varying layout and pixel program
+  const simd::Fog* fog;
 };
 
 // The SIMD rasterizer of an ISA (Isa::best resolved), or null if this CPU lacks it.

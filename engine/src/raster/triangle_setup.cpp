@@ -24,7 +24,7 @@ bool finish_setup(ScreenTriangle& t, int width, int height) {
   return true;
 }
 
-void compute_planes(ScreenTriangle& t, int attribute_count) {
+void compute_planes(ScreenTriangle& t, const float (*attr)[geometry::kMaxAttributes], int attribute_count) {
   constexpr double kInvOne = 1.0 / kSubpixelOne;
   const double x10 = (double(t.x[1]) - t.x[0]) * kInvOne, y10 = (double(t.y[1]) - t.y[0]) * kInvOne;
   const double x20 = (double(t.x[2]) - t.x[0]) * kInvOne, y20 = (double(t.y[2]) - t.y[0]) * kInvOne;
@@ -38,10 +38,9 @@ void compute_planes(ScreenTriangle& t, int attribute_count) {
   set(t.plane[kPlaneZ], t.z[0], t.z[1], t.z[2]);
   set(t.plane[kPlaneInvW], t.inv_w[0], t.inv_w[1], t.inv_w[2]);
   for (int a = 0; a < attribute_count; ++a) {
-    set(t.plane[kPlaneAttr + a], double(t.attr[0][a]) * t.inv_w[0], double(t.attr[1][a]) * t.inv_w[1],
-        double(t.attr[2][a]) * t.inv_w[2]);
+    set(t.plane[kPlaneAttr + a], double(attr[0][a]) * t.inv_w[0], double(attr[1][a]) * t.inv_w[1],
+        double(attr[2][a]) * t.inv_w[2]);
   }
-  for (int a = attribute_count; a < geometry::kMaxAttributes; ++a) t.plane[kPlaneAttr + a] = Plane{0, 0, 0};
 }
 
 }  // namespace facet::raster

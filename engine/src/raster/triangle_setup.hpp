@@ -31,27 +31,30 @@ inline constexpr float kGuardBandPixels = 32768.0f;
 struct Plane {
   float at_v0, dx, dy;
 };
+// Attributes interpolated per pixel at most (VaryingLayout::raster: Phong's position, normal,
+// albedo and uv); clipping carries more (a two-sided draw's back-face values).
+inline constexpr int kMaxRasterAttributes = 11;
 // Planes of a triangle: depth, 1/w, then attribute a over w.
 inline constexpr int kPlaneZ = 0, kPlaneInvW = 1, kPlaneAttr = 2;
-inline constexpr int kPlaneCount = kPlaneAttr + geometry::kMaxAttributes;
+inline constexpr int kPlaneCount = kPlaneAttr + kMaxRasterAttributes;
 
-// Fields the SIMD rasterizer reads come first (three cache lines, prefetched ahead of use); the
-// scalar rasterizer also reads the rest.
+// Fields the rasterizers read come first (three cache lines, prefetched ahead of use); set-up
+// also uses the rest. Both rasterizers interpolate attributes from the planes.
 struct ScreenTriangle {
   std::int32_t x[3], y[3];  // fixed point, oriented (area2 > 0)
   std::int64_t bias[3];     // 0 on top-left edges, -1 on the others
   int min_px, min_py, max_px, max_py;  // covered pixel bounds, inclusive, inside the viewport
   float flat_rgb[3];
+  float flat_secondary[3];  // flat shading of a textured draw: the specular, added after the texture
   float alpha;
   std::uint32_t object;
   bool back_facing;
   Plane plane[kPlaneCount];  // set by compute_planes
-  // Scalar rasterizer and set-up only.
+  // Scalar rasterizer (coverage and depth) and set-up.
   std::int64_t area2;
   float inv_area2;
   float z[3];      // window depth, [0, 1]
   float inv_w[3];  // 1 / clip w, for perspective-correct interpolation
-  float attr[3][geometry::kMaxAttributes];
 };
 
 inline bool is_top_left(std::int64_t dx, std::int64_t dy) { return dy < 0 || (dy == 0 && dx > 0); }
@@ -70,9 +73,10 @@ inline std::int64_t signed_area2(const ScreenTriangle& t) {
 // the viewport can be covered.
 bool finish_setup(ScreenTriangle& t, int width, int height);
 
-// After finish_setup: the planes of depth, 1/w and the first `attribute_count` attributes over w,
-// from the snapped vertex positions (so they agree with the coverage test), computed in double.
-void compute_planes(ScreenTriangle& t, int attribute_count);
+// After finish_setup: the planes of depth, 1/w and the first `attribute_count` (at most
+// kMaxRasterAttributes) attributes over w, attr[k] being vertex k's, from the snapped vertex
+// positions (so they agree with the coverage test), computed in double.
+void compute_planes(ScreenTriangle& t, const float (*attr)[geometry::kMaxAttributes], int attribute_count);
 
 // Calls fn(x, y, e0, e1, e2) for every covered pixel of `t` in [x0, x1] x [y0, y1] (inclusive,
 // inside t's bounds), row by row, left to right; e_k are the unbiased edge values (barycentric

@@ -13,51 +13,72 @@
 #include <cstdint>
 
 #include "geometry/clip.hpp"
+#include "raster/triangle_setup.hpp"
 
 namespace facet::raster {
 
 enum class Varying : std::uint8_t {
-  front_color,   // Gouraud: the lit colour of the front face (RGB)
-  back_color,    // Gouraud, two-sided: the lit colour of the back face; moved to front_color by select_face
-  eye_position,  // Phong: eye-space position (xyz)
-  normal,        // Phong: eye-space normal (xyz), negated by select_face on back faces of a two-sided scene
+  front_color,      // Gouraud: the lit colour of the front face (RGB; the primary colour with a texture)
+  front_secondary,  // Gouraud with separate specular: the front face's specular (RGB)
+  eye_position,     // Phong: eye-space position (xyz)
+  normal,           // Phong: eye-space normal (xyz), negated by select_face on back faces of a two-sided scene
+  albedo,           // Phong with vertex colours: the colour-material albedo (RGB)
+  uv,               // textured: the mesh's texture coordinates (the pixel program applies uv_scale)
+  back_color,       // Gouraud, two-sided: the back face's colour; moved to front_color by select_face
+  back_secondary,   // Gouraud, two-sided, separate specular: moved to front_secondary by select_face
   count
 };
 inline constexpr int kVaryingKinds = static_cast<int>(Varying::count);
-// Every varying is three floats.
-inline constexpr int kVaryingWidth = 3;
+// Floats per varying: colours, positions and normals three, texture coordinates two.
+inline constexpr int kVaryingWidth[kVaryingKinds] = {3, 3, 3, 3, 3, 2, 3, 3};
+constexpr int width_of(Varying v) { return kVaryingWidth[static_cast<int>(v)]; }
 
 struct VaryingLayout {
-  std::int8_t offset[kVaryingKinds] = {-1, -1, -1, -1};  // first float of each varying, -1: absent
+  std::int8_t offset[kVaryingKinds] = {-1, -1, -1, -1, -1, -1, -1, -1};  // first float of each varying, -1: absent
   int clipped = 0;  // floats carried through clipping
   int raster = 0;   // floats interpolated per pixel (after select_face)
 
-  bool has(Varying v) const { return offset[static_cast<int>(v)] >= 0; }
-  int at(Varying v) const { return offset[static_cast<int>(v)]; }
+  constexpr bool has(Varying v) const { return offset[static_cast<int>(v)] >= 0; }
+  constexpr int at(Varying v) const { return offset[static_cast<int>(v)]; }
 };
 
 // Where lighting is evaluated: per triangle (flat: no varying, one colour per triangle), per vertex
 // (Gouraud: the front colour, and the back colour in a two-sided scene) or per pixel (Phong: eye
 // position and normal).
 enum class LitAt : std::uint8_t { triangle, vertex, pixel };
-constexpr VaryingLayout plan_varyings(LitAt lit, bool two_sided) {
+
+// What a draw's material and mesh add to the lighting's varyings.
+struct SurfaceNeeds {
+  bool secondary = false;  // separate specular (a texture modulates the primary colour only)
+  bool albedo = false;     // vertex colours, lit per pixel
+  bool uv = false;         // a texture
+};
+
+constexpr VaryingLayout plan_varyings(LitAt lit, bool two_sided, SurfaceNeeds needs = {}) {
   VaryingLayout l;
   auto add = [&l](Varying v) {
     l.offset[static_cast<int>(v)] = static_cast<std::int8_t>(l.clipped);
-    l.clipped += kVaryingWidth;
+    l.clipped += width_of(v);
   };
   if (lit == LitAt::vertex) {
     add(Varying::front_color);
-    l.raster = l.clipped;
-    if (two_sided) add(Varying::back_color);
+    if (needs.secondary) add(Varying::front_secondary);
   } else if (lit == LitAt::pixel) {
     add(Varying::eye_position);
     add(Varying::normal);
-    l.raster = l.clipped;
+    if (needs.albedo) add(Varying::albedo);
+  }
+  if (needs.uv) add(Varying::uv);
+  l.raster = l.clipped;
+  if (lit == LitAt::vertex && two_sided) {  // one face's values only: after `raster`
+    add(Varying::back_color);
+    if (needs.secondary) add(Varying::back_secondary);
   }
   return l;
 }
-static_assert(plan_varyings(LitAt::pixel, true).clipped <= geometry::kMaxAttributes);
-static_assert(plan_varyings(LitAt::vertex, true).clipped <= geometry::kMaxAttributes);
+static_assert(plan_varyings(LitAt::pixel, true, {true, true, true}).clipped <= geometry::kMaxAttributes);
+static_assert(plan_varyings(LitAt::pixel, true, {true, true, true}).raster <= kMaxRasterAttributes);
+static_assert(plan_varyings(LitAt::vertex, true, {true, true, true}).raster <= kMaxRasterAttributes);
+static_assert(plan_varyings(LitAt::vertex, true, {true, true, true}).clipped <= geometry::kMaxAttributes);
 
 }  // namespace facet::raster

@@ -24,6 +24,47 @@ const char* to_string(ErrorCode code) noexcept {
   return "unknown error";
 }
 
+const char* to_string(TextureMode mode) noexcept {
+  switch (mode) {
+    case TextureMode::modulate: return "modulate";
+    case TextureMode::replace: return "replace";
+    case TextureMode::decal: return "decal";
+    case TextureMode::add: return "add";
+  }
+  return "unknown";
+}
+
+const char* to_string(BlendMode mode) noexcept {
+  switch (mode) {
+    case BlendMode::opaque: return "opaque";
+    case BlendMode::alpha: return "alpha";
+    case BlendMode::premultiplied: return "premultiplied";
+    case BlendMode::add: return "add";
+    case BlendMode::multiply: return "multiply";
+    case BlendMode::subtract: return "subtract";
+  }
+  return "unknown";
+}
+
+const char* to_string(DepthWrite mode) noexcept {
+  switch (mode) {
+    case DepthWrite::automatic: return "auto";
+    case DepthWrite::on: return "on";
+    case DepthWrite::off: return "off";
+  }
+  return "unknown";
+}
+
+const char* to_string(FogMode mode) noexcept {
+  switch (mode) {
+    case FogMode::none: return "none";
+    case FogMode::linear: return "linear";
+    case FogMode::exp: return "exp";
+    case FogMode::exp2: return "exp2";
+  }
+  return "unknown";
+}
+
 namespace {
 
 constexpr float kDegToRad = std::numbers::pi_v<float> / 180.0f;
@@ -81,6 +122,21 @@ Status validate_material(const Material& m, const Field& f) {
   FACET_TRY(check_color(m.specular, f, "specular"));
   FACET_TRY(check_range(m.shininess, 0.0f, kMaxShininess, f, "shininess"));
   FACET_TRY(check_range(m.alpha, 0.0f, 1.0f, f, "alpha"));
+  FACET_TRY(check_range(m.alpha_cutoff, 0.0f, 1.0f, f, "alpha_cutoff"));
+  if (!m.uv_scale.allFinite() || m.uv_scale.x() == 0.0f || m.uv_scale.y() == 0.0f) {
+    return invalid(f("uv_scale"), "expected two finite non-zero numbers, found [" + format_number(m.uv_scale.x()) + ", " +
+                                      format_number(m.uv_scale.y()) + "]");
+  }
+  if (m.diffuse_texture < kNoTexture) {
+    return invalid(f("diffuse_texture"), "expected a texture index or -1 (none), found " + std::to_string(m.diffuse_texture));
+  }
+  if (static_cast<unsigned>(m.texture_mode) > static_cast<unsigned>(TextureMode::add)) {
+    return invalid(f("texture_mode"), "unknown texture mode");
+  }
+  if (static_cast<unsigned>(m.blend) > static_cast<unsigned>(BlendMode::subtract)) return invalid(f("blend"), "unknown blend mode");
+  if (static_cast<unsigned>(m.depth_write) > static_cast<unsigned>(DepthWrite::off)) {
+    return invalid(f("depth_write"), "unknown depth-write mode");
+  }
   return {};
 }
 
@@ -148,8 +204,20 @@ Status validate_global_ambient(const Color3& ambient) {
   return check_color(ambient, Field{"global_ambient", 0, false}, "");
 }
 
+Status validate_fog(const Fog& fog) {
+  const Field f{"fog", 0, false};
+  if (static_cast<unsigned>(fog.mode) > static_cast<unsigned>(FogMode::exp2)) return invalid(f("mode"), "unknown fog mode");
+  FACET_TRY(check_color(fog.color, f, "color"));
+  const float big = 3.0e38f;
+  FACET_TRY(check_range(fog.start, -big, big, f, "start"));
+  FACET_TRY(check_range(fog.end, fog.start, big, f, "end"));
+  FACET_TRY(check_range(fog.density, 0.0f, big, f, "density"));
+  return {};
+}
+
 Status validate_lighting_inputs(const Scene& scene) {
   FACET_TRY(validate_global_ambient(scene.global_ambient));
+  FACET_TRY(validate_fog(scene.fog));
   FACET_TRY(check_camera(scene.camera));
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
     FACET_TRY(validate_material(scene.materials[i], Field{"materials", i, true}));
@@ -177,6 +245,19 @@ Status validate_lighting_inputs(const Scene& scene) {
       return invalid(f("transform"), "expected an affine transform (last row 0 0 0 1)");
     }
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    const Material& material = scene.materials[inst.material];
+    if (material.diffuse_texture != kNoTexture) {
+      if (static_cast<std::size_t>(material.diffuse_texture) >= scene.textures.size()) {
+        return invalid(Field{"materials", inst.material, true}("diffuse_texture"),
+                       "texture index " + std::to_string(material.diffuse_texture) + " is out of range (" +
+                           std::to_string(scene.textures.size()) + " textures)");
+      }
+      if (mesh.uvs.size() != mesh.positions.size()) {
+        return invalid(f("material"), "materials[" + std::to_string(inst.material) +
+                                          "] is textured but meshes[" + std::to_string(inst.mesh) +
+                                          "] has no texture coordinates (uvs)");
+      }
+    }
     if (mesh.normals.size() != mesh.positions.size()) {
       return invalid(Field{"meshes", inst.mesh, true}("normals"),
                      "expected one normal per position (" + std::to_string(mesh.positions.size()) + "), found " +
@@ -187,6 +268,9 @@ Status validate_lighting_inputs(const Scene& scene) {
 }
 
 Status validate_scene(const Scene& scene) {
+  for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+    FACET_TRY(validate_texture(scene.textures[i], "textures[" + std::to_string(i) + "]"));
+  }
   for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
     const Mesh& mesh = scene.meshes[i].mesh;
     if (mesh_is_valid(mesh)) continue;  // the common case, checked without building a field name
