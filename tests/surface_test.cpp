@@ -1,0 +1,447 @@
+// Surfaces (issue 15): textures with GL's texture environments, vertex colours, blending, alpha
+// test, depth writes and fog, checked against values computed here from GL 2.1's formulas, and
+// the pictures' determinism (threads, ISAs) and scalar/SIMD agreement.
+#include <cmath>
+#include <cstring>
+
+#include "render_support.hpp"
+
+namespace facet {
+namespace {
+
+using test::Canvas;
+
+// A w x h texture from a function of the texel (i, j), bottom row first, RGBA8.
+template <class Fn>
+Texture texture_from(int w, int h, TextureFilter filter, Fn&& texel) {
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w * h) * 4);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const std::array<std::uint8_t, 4> c = texel(i, j);
+      std::memcpy(&rgba[static_cast<std::size_t>(j * w + i) * 4], c.data(), 4);
+    }
+  TextureOptions o;
+  o.filter = filter;
+  Result<Texture> t = make_texture("t", w, h, rgba, o);
+  EXPECT_TRUE(t.ok()) << t.status().message();
+  return std::move(*t);
+}
+
+// The quad of add_quad with texture coordinates 0..1 across it.
+void add_uvs(Scene& s) {
+  s.meshes.back().mesh.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
+}
+
+struct Pixel {
+  int r, g, b, a;
+};
+Pixel centre(Canvas& c) {
+  const int x = c.view().width / 2, y = c.view().height / 2;
+  return {c.byte(x, y, 0), c.byte(x, y, 1), c.byte(x, y, 2), c.byte(x, y, 3)};
+}
+int step(double v) { return static_cast<int>(std::lround(255.0 * std::clamp(v, 0.0, 1.0))); }
+
+Pixel render_centre(const Scene& s, LightingPath path, ShadingMode mode = ShadingMode::gouraud, Isa isa = Isa::best) {
+  Canvas c(32, 32);
+  RenderOptions o;
+  o.path = path;
+  o.isa = isa;
+  o.shading = mode;
+  o.clear_color = {0.25f, 0.5f, 0.75f, 1.0f};
+  Renderer r;
+  const Status st = r.render(s, o, c.view());
+  EXPECT_TRUE(st.ok()) << st.message();
+  return centre(c);
+}
+
+std::vector<std::pair<LightingPath, Isa>> every_path() {
+  std::vector<std::pair<LightingPath, Isa>> p = {{LightingPath::reference, Isa::best}, {LightingPath::scalar, Isa::best}};
+  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512})
+    if (isa_supported(isa)) p.push_back({LightingPath::simd, isa});
+  return p;
+}
+
+#define EXPECT_PIXEL_NEAR(p, er, eg, eb, ea)                                                            \
+  do {                                                                                                  \
+    EXPECT_NEAR((p).r, (er), 1);                                                                        \
+    EXPECT_NEAR((p).g, (eg), 1);                                                                        \
+    EXPECT_NEAR((p).b, (eb), 1);                                                                        \
+    EXPECT_NEAR((p).a, (ea), 1);                                                                        \
+  } while (0)
+
+// An emissive quad (primary colour E, alpha A) under a one-texel texture T: each environment's
+// result, on every path and shading mode.
+TEST(Surfaces, TextureEnvironmentsFollowGL) {
+  const Color3 e(0.8f, 0.4f, 0.2f);
+  const std::array<std::uint8_t, 4> t = {128, 255, 64, 102};  // alpha 0.4
+  const double T[4] = {128 / 255.0, 1.0, 64 / 255.0, 102 / 255.0};
+  const double A = 0.5;
+  for (TextureMode mode : {TextureMode::modulate, TextureMode::replace, TextureMode::decal, TextureMode::add}) {
+    Scene s = test::camera_scene();
+    s.textures.push_back(texture_from(1, 1, TextureFilter::bilinear, [&](int, int) { return t; }));
+    test::add_quad(s, -5, -5, 5, 5, -3, e);
+    add_uvs(s);
+    s.materials.back().diffuse_texture = 0;
+    s.materials.back().texture_mode = mode;
+    s.materials.back().alpha = static_cast<float>(A);
+    double c[4] = {};
+    for (int k = 0; k < 3; ++k) {
+      const double ek = e[k];
+      switch (mode) {
+        case TextureMode::modulate: c[k] = ek * T[k]; break;
+        case TextureMode::replace: c[k] = T[k]; break;
+        case TextureMode::decal: c[k] = ek * (1 - T[3]) + T[k] * T[3]; break;
+        case TextureMode::add: c[k] = std::min(1.0, ek + T[k]); break;
+      }
+    }
+    c[3] = mode == TextureMode::replace ? T[3] : mode == TextureMode::decal ? A : A * T[3];
+    for (auto [path, isa] : every_path()) {
+      for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+        SCOPED_TRACE(std::string(to_string(mode)) + " " + to_string(path) + " " + to_string(isa) + " " + to_string(shading));
+        const Pixel p = render_centre(s, path, shading, isa);
+        EXPECT_PIXEL_NEAR(p, step(c[0]), step(c[1]), step(c[2]), step(c[3]));
+      }
+    }
+  }
+}
+
+// Separate specular: the texture modulates emission + ambient + diffuse; the specular is added
+// after it, so a black texture still shows the highlight (GL_SEPARATE_SPECULAR_COLOR).
+TEST(Surfaces, SpecularIsAddedAfterTheTexture) {
+  Scene s = test::camera_scene();
+  s.textures.push_back(texture_from(1, 1, TextureFilter::nearest, [](int, int) {
+    return std::array<std::uint8_t, 4>{0, 0, 0, 255};
+  }));
+  test::add_quad(s, -5, -5, 5, 5, -3, Color3(0.5f, 0.5f, 0.5f));
+  add_uvs(s);
+  Material& m = s.materials.back();
+  m.diffuse_texture = 0;
+  m.diffuse = Color3(1, 1, 1);
+  m.specular = Color3(0.25f, 0.5f, 0.75f);
+  m.shininess = 0;  // n.h^0 = 1 wherever n.l > 0
+  Light l;  // towards the camera: n.l = 1
+  l.direction = Vec3(0, 0, -1);
+  s.lights.push_back(l);
+  for (auto [path, isa] : every_path()) {
+    for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+      SCOPED_TRACE(std::string(to_string(path)) + " " + to_string(isa) + " " + to_string(shading));
+      const Pixel p = render_centre(s, path, shading, isa);
+      EXPECT_PIXEL_NEAR(p, step(0.25), step(0.5), step(0.75), 255);
+    }
+  }
+}
+
+// Vertex colours replace the material's ambient and diffuse: a mesh whose vertices all carry c
+// renders as the same mesh with ambient = diffuse = c.
+TEST(Surfaces, VertexColoursActAsTheMaterialColour) {
+  Scene a = make_default_scene();
+  Scene b = a;
+  const Color3 c(0.9f, 0.3f, 0.5f);
+  for (std::size_t o = 0; o < a.objects.size(); ++o) {
+    Mesh& mesh = a.meshes[a.objects[o].mesh].mesh;
+    mesh.colors.assign(mesh.vertex_count(), c);
+    b.materials[b.objects[o].material].ambient = c;
+    b.materials[b.objects[o].material].diffuse = c;
+  }
+  for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+    for (auto [path, isa] : every_path()) {
+      SCOPED_TRACE(std::string(to_string(path)) + " " + to_string(isa) + " " + to_string(shading));
+      Canvas ca(160, 120), cb(160, 120);
+      RenderOptions o;
+      o.path = path;
+      o.isa = isa;
+      o.shading = shading;
+      Renderer r;
+      ASSERT_TRUE(r.render(a, o, ca.view()).ok());
+      ASSERT_TRUE(r.render(b, o, cb.view()).ok());
+      const auto pa = ca.pixels(), pb = cb.pixels();
+      int worst = 0;
+      for (std::size_t i = 0; i < pa.size(); ++i) worst = std::max(worst, std::abs(int(pa[i]) - int(pb[i])));
+      EXPECT_LE(worst, 1);
+    }
+  }
+}
+
+// Blending over an opaque red quad, every mode against its GL formula.
+TEST(Surfaces, BlendModesFollowGL) {
+  const Color3 dst(0.8f, 0.2f, 0.4f), src(0.3f, 0.6f, 0.9f);
+  const double As = 0.25, Ad = 1.0;
+  for (BlendMode mode : {BlendMode::alpha, BlendMode::premultiplied, BlendMode::add, BlendMode::multiply, BlendMode::subtract}) {
+    Scene s = test::camera_scene();
+    test::add_quad(s, -5, -5, 5, 5, -4, dst);
+    test::add_quad(s, -5, -5, 5, 5, -3, src);
+    s.materials.back().blend = mode;
+    s.materials.back().alpha = static_cast<float>(As);
+    double out[4] = {};
+    for (int k = 0; k < 4; ++k) {
+      const double cs = k < 3 ? src[k] : As, cd = k < 3 ? dst[k] : Ad;
+      switch (mode) {
+        case BlendMode::alpha: out[k] = cs * As + cd * (1 - As); break;
+        case BlendMode::premultiplied: out[k] = cs + cd * (1 - As); break;
+        case BlendMode::add: out[k] = cs + cd; break;
+        case BlendMode::multiply: out[k] = cs * cd; break;
+        case BlendMode::subtract: out[k] = cd - cs; break;
+        case BlendMode::opaque: out[k] = cs; break;
+      }
+    }
+    for (auto [path, isa] : every_path()) {
+      for (ShadingMode shading : {ShadingMode::gouraud, ShadingMode::phong}) {
+        SCOPED_TRACE(std::string(to_string(mode)) + " " + to_string(path) + " " + to_string(isa) + " " + to_string(shading));
+        const Pixel p = render_centre(s, path, shading, isa);
+        EXPECT_PIXEL_NEAR(p, step(out[0]), step(out[1]), step(out[2]), step(out[3]));
+      }
+    }
+  }
+}
+
+// Blended geometry tests depth but does not write it (by default): an opaque quad behind it drawn
+// afterwards still covers the pixel. With depth_write on, it hides the later quad.
+TEST(Surfaces, BlendedGeometryDoesNotWriteDepthByDefault) {
+  for (DepthWrite dw : {DepthWrite::automatic, DepthWrite::on}) {
+    Scene s = test::camera_scene();
+    test::add_quad(s, -5, -5, 5, 5, -3, Color3(1, 1, 1));
+    s.materials.back().blend = BlendMode::alpha;
+    s.materials.back().alpha = 0.5f;
+    s.materials.back().depth_write = dw;
+    test::add_quad(s, -5, -5, 5, 5, -4, Color3(0, 1, 0));  // behind, submitted after
+    for (auto [path, isa] : every_path()) {
+      SCOPED_TRACE(std::string(to_string(dw)) + " " + to_string(path) + " " + to_string(isa));
+      const Pixel p = render_centre(s, path, ShadingMode::gouraud, isa);
+      if (dw == DepthWrite::automatic) {
+        EXPECT_PIXEL_NEAR(p, 0, 255, 0, 255);
+      } else {  // white at 0.5 over the clear colour (0.25, 0.5, 0.75, 1)
+        EXPECT_PIXEL_NEAR(p, step(0.625), step(0.75), step(0.875), step(0.75));
+      }
+    }
+  }
+}
+
+// The alpha test keeps fragments with alpha >= cutoff: exactly at the cutoff is kept.
+TEST(Surfaces, AlphaTestKeepsAlphaAtTheCutoff) {
+  const std::uint8_t a8 = 128;
+  const float a = a8 / 255.0f;
+  for (float cutoff : {a, std::nextafter(a, 1.0f)}) {
+    Scene s = test::camera_scene();
+    s.textures.push_back(texture_from(1, 1, TextureFilter::nearest, [&](int, int) {
+      return std::array<std::uint8_t, 4>{255, 255, 255, a8};
+    }));
+    test::add_quad(s, -5, -5, 5, 5, -3, Color3(1, 0, 0));
+    add_uvs(s);
+    s.materials.back().diffuse_texture = 0;
+    s.materials.back().alpha_cutoff = cutoff;
+    for (auto [path, isa] : every_path()) {
+      for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+        SCOPED_TRACE(std::to_string(cutoff) + " " + to_string(path) + " " + to_string(isa) + " " + to_string(shading));
+        const Pixel p = render_centre(s, path, shading, isa);
+        if (cutoff == a) {
+          EXPECT_PIXEL_NEAR(p, 255, 0, 0, a8);
+        } else {
+          EXPECT_PIXEL_NEAR(p, step(0.25), step(0.5), step(0.75), 255);  // the clear colour
+        }
+      }
+    }
+  }
+}
+
+// Fog at a known eye depth (3): linear, exp and exp2 against their formulas; start = end is a step;
+// density 0 is no fog.
+TEST(Surfaces, FogFollowsGL) {
+  struct Case {
+    FogMode mode;
+    float start, end, density;
+    double f;
+  };
+  const double z = 3.0;
+  const Case cases[] = {{FogMode::linear, 1, 5, 1, (5 - z) / 4},  {FogMode::linear, 3.5, 3.5, 1, 1.0},
+                        {FogMode::linear, 2.5, 2.5, 1, 0.0},      {FogMode::exp, 0, 1, 0.3f, std::exp(-0.3 * z)},
+                        {FogMode::exp2, 0, 1, 0.3f, std::exp(-(0.3 * z) * (0.3 * z))}, {FogMode::exp, 0, 1, 0, 1.0}};
+  const Color3 e(0.9f, 0.1f, 0.5f), fog(0.2f, 0.6f, 1.0f);
+  for (const Case& c : cases) {
+    Scene s = test::camera_scene();
+    test::add_quad(s, -5, -5, 5, 5, -static_cast<float>(z), e);
+    s.fog.mode = c.mode;
+    s.fog.color = fog;
+    s.fog.start = c.start, s.fog.end = c.end, s.fog.density = c.density;
+    double want[3];
+    for (int k = 0; k < 3; ++k) want[k] = c.f * e[k] + (1 - c.f) * fog[k];
+    for (auto [path, isa] : every_path()) {
+      for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+        SCOPED_TRACE(std::string(to_string(c.mode)) + " " + std::to_string(c.start) + " " + to_string(path) + " " +
+                     to_string(isa) + " " + to_string(shading));
+        const Pixel p = render_centre(s, path, shading, isa);
+        EXPECT_PIXEL_NEAR(p, step(want[0]), step(want[1]), step(want[2]), 255);
+      }
+    }
+  }
+}
+
+// The done-when scene: a textured ground plane and sphere, an alpha-blended sphere and fog.
+Scene surfaces_scene() {
+  Scene s = make_default_scene();
+  s.textures.push_back(texture_from(64, 64, TextureFilter::trilinear, [](int i, int j) {
+    const bool dark = ((i / 8) + (j / 8)) % 2 == 0;
+    return std::array<std::uint8_t, 4>{static_cast<std::uint8_t>(dark ? 60 : 230), static_cast<std::uint8_t>(dark ? 90 : 220),
+                                       static_cast<std::uint8_t>(dark ? 40 : 200), 255};
+  }));
+  s.textures.push_back(texture_from(32, 16, TextureFilter::bilinear, [](int i, int j) {
+    return std::array<std::uint8_t, 4>{static_cast<std::uint8_t>(i * 8), static_cast<std::uint8_t>(j * 16), 200, 255};
+  }));
+  for (std::size_t o = 0; o < s.objects.size(); ++o) {
+    const std::string& name = s.meshes[s.objects[o].mesh].name;
+    Material& m = s.materials[s.objects[o].material];
+    if (name.find("plane") != std::string::npos || name.find("ground") != std::string::npos) {
+      m.diffuse_texture = 0;
+      m.uv_scale = Vec2(6, 6);
+    }
+  }
+  // One sphere textured, another blended (the built-in scene's first two spheres).
+  int spheres = 0;
+  for (std::size_t o = 0; o < s.objects.size(); ++o) {
+    if (s.meshes[s.objects[o].mesh].name.find("sphere") == std::string::npos) continue;
+    Material m = s.materials[s.objects[o].material];
+    if (spheres == 0) {
+      m.diffuse_texture = 1;
+    } else if (spheres == 1) {
+      m.blend = BlendMode::alpha;
+      m.alpha = 0.45f;
+    }
+    s.materials.push_back(m);
+    s.objects[o].material = static_cast<std::uint32_t>(s.materials.size() - 1);
+    ++spheres;
+  }
+  s.fog.mode = FogMode::linear;
+  s.fog.color = Color3(0.6f, 0.65f, 0.7f);
+  s.fog.start = 4;
+  s.fog.end = 30;
+  return s;
+}
+
+TEST(Surfaces, DoneWhenSceneUsesEveryFeature) {
+  const Scene s = surfaces_scene();
+  ASSERT_TRUE(validate_scene(s).ok()) << validate_scene(s).message();
+  int textured = 0, blended = 0;
+  for (const Instance& inst : s.objects) {
+    textured += s.materials[inst.material].diffuse_texture != kNoTexture;
+    blended += s.materials[inst.material].blend != BlendMode::opaque;
+  }
+  EXPECT_GE(textured, 2);
+  EXPECT_GE(blended, 1);
+}
+
+std::vector<std::uint8_t> render_pixels(const Scene& s, RenderOptions o, int w = 320, int h = 240) {
+  Canvas c(w, h);
+  Renderer r;
+  const Status st = r.render(s, o, c.view());
+  EXPECT_TRUE(st.ok()) << st.message();
+  EXPECT_TRUE(c.outside_pixels_untouched());
+  return c.pixels();
+}
+
+TEST(Surfaces, ByteIdenticalForAnyThreadCount) {
+  const Scene s = surfaces_scene();
+  for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+    for (LightingPath path : {LightingPath::scalar, LightingPath::simd}) {
+      RenderOptions o;
+      o.shading = shading;
+      o.path = path;
+      o.tile_size = 32;  // many tiles over the threads
+      o.threads = 1;
+      const auto one = render_pixels(s, o);
+      for (int threads : {2, 8}) {
+        o.threads = threads;
+        EXPECT_TRUE(render_pixels(s, o) == one) << to_string(shading) << " " << to_string(path) << " threads " << threads;
+      }
+    }
+    // Every ISA within a step of the others: the raster kernels do the same IEEE operations, but
+    // the lighting kernels contract a*b+c with FMA on avx2 and avx512 (shade_simd.hpp), which moves
+    // a few vertex colours by an ulp and so a few pixels by a step.
+    std::vector<std::uint8_t> first;
+    for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+      if (!isa_supported(isa)) continue;
+      RenderOptions o;
+      o.shading = shading;
+      o.isa = isa;
+      const auto pixels = render_pixels(s, o);
+      if (first.empty()) {
+        first = pixels;
+      } else {
+        int worst = 0;
+        for (std::size_t i = 0; i < pixels.size(); ++i) worst = std::max(worst, std::abs(int(pixels[i]) - int(first[i])));
+        EXPECT_LE(worst, 1) << to_string(shading) << " " << to_string(isa);
+      }
+    }
+  }
+}
+
+// Scalar and SIMD rasterizers run the same pixel program on the same planes: within a step, and
+// almost every pixel identical.
+TEST(Surfaces, SimdMatchesScalar) {
+  const Scene s = surfaces_scene();
+  for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+    RenderOptions a, b;
+    a.shading = b.shading = shading;
+    a.path = LightingPath::scalar;
+    b.path = LightingPath::simd;
+    const auto pa = render_pixels(s, a), pb = render_pixels(s, b);
+    int worst = 0;
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < pa.size(); ++i) {
+      const int d = std::abs(int(pa[i]) - int(pb[i]));
+      worst = std::max(worst, d);
+      differ += d != 0;
+    }
+    EXPECT_LE(worst, 2) << to_string(shading);
+    EXPECT_LE(differ, pa.size() / 100) << to_string(shading);
+  }
+}
+
+TEST(Surfaces, BadSurfaceInputIsRefusedWithItsField) {
+  auto expect_field = [](const Scene& s, const std::string& field) {
+    const Status st = validate_scene(s);
+    EXPECT_FALSE(st.ok()) << field;
+    EXPECT_EQ(st.field(), field) << st.message();
+  };
+  Scene base = test::camera_scene();
+  test::add_quad(base, -1, -1, 1, 1, -3, Color3(1, 1, 1));
+  add_uvs(base);
+  base.textures.push_back(texture_from(2, 2, TextureFilter::nearest, [](int, int) {
+    return std::array<std::uint8_t, 4>{1, 2, 3, 4};
+  }));
+  ASSERT_TRUE(validate_scene(base).ok());
+  Scene s = base;
+  s.materials[0].uv_scale = Vec2(0, 1);
+  expect_field(s, "materials[0].uv_scale");
+  s = base;
+  s.materials[0].uv_scale = Vec2(1, std::nanf(""));
+  expect_field(s, "materials[0].uv_scale");
+  s = base;
+  s.materials[0].diffuse_texture = 1;
+  expect_field(s, "materials[0].diffuse_texture");
+  s = base;
+  s.materials[0].diffuse_texture = 0;
+  s.meshes[0].mesh.uvs.clear();
+  expect_field(s, "objects[0].material");
+  s = base;
+  s.materials[0].alpha_cutoff = 1.5f;
+  expect_field(s, "materials[0].alpha_cutoff");
+  s = base;
+  s.fog.mode = FogMode::linear;
+  s.fog.start = 5, s.fog.end = 4;
+  expect_field(s, "fog.end");
+  s = base;
+  s.fog.density = -1;
+  expect_field(s, "fog.density");
+  s = base;
+  s.materials[0].blend = static_cast<BlendMode>(9);
+  expect_field(s, "materials[0].blend");
+  // Nothing is drawn: render refuses before touching a pixel.
+  s = base;
+  s.materials[0].diffuse_texture = 3;
+  Canvas c(16, 16);
+  Renderer r;
+  EXPECT_FALSE(r.render(s, RenderOptions{}, c.view()).ok());
+  EXPECT_TRUE(c.untouched());
+}
+
+}  // namespace
+}  // namespace facet
