@@ -188,5 +188,59 @@ TEST(SceneFile, SingularMatrixIsRejected) {
                3, "objects[0].transform", {"invertible"});
 }
 
+
+// --- Surfaces: textures, material surface fields and fog.
+
+TEST(SceneFile, SurfacesSceneLoads) {
+  Result<Scene> s = load_scene_file(test::data_dir() + "/scenes/surfaces.json");
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  ASSERT_EQ(s->textures.size(), 2u);
+  EXPECT_EQ(s->textures[0].name, "stone");
+  EXPECT_EQ(s->textures[0].filter, TextureFilter::trilinear);
+  EXPECT_EQ(s->textures[1].wrap, TextureWrap::mirror);
+  EXPECT_EQ(s->textures[0].levels[0].width, 64);
+  EXPECT_EQ(s->materials[0].diffuse_texture, 0);
+  EXPECT_EQ(s->materials[0].uv_scale, Vec2(8, 8));
+  EXPECT_EQ(s->materials[1].diffuse_texture, 1);
+  EXPECT_EQ(s->materials[2].blend, BlendMode::alpha);
+  EXPECT_EQ(s->materials[2].depth_write, DepthWrite::automatic);
+  EXPECT_EQ(s->materials[3].diffuse_texture, kNoTexture);
+  EXPECT_EQ(s->fog.mode, FogMode::linear);
+  EXPECT_EQ(s->fog.end, 28.0f);
+}
+
+TEST(SceneFile, SurfaceFieldsAndTheirErrors) {
+  const std::string tex = R"("textures": [ { "name": "t", "file": "textures/checker.png" } ],)";
+  const std::string mesh = R"("meshes": [ { "name": "q", "shape": "plane" } ], "objects": [ { "mesh": "q", "material": "m" } ])";
+  auto scene = [&](const std::string& material, const std::string& extra = "") {
+    return "{\n" + tex + "\n\"materials\": [\n" + material + "\n],\n" + extra + mesh + "\n}";
+  };
+  Result<Scene> ok = parse(scene(R"({ "name": "m", "diffuse_texture": "t", "texture_mode": "decal", "uv_scale": 2,
+    "alpha_cutoff": 0.5, "blend": "premultiplied", "depth_write": true })", R"("fog": { "mode": "exp2", "density": 0.1 },)"));
+  ASSERT_TRUE(ok.ok()) << ok.status().message();
+  EXPECT_EQ(ok->materials[0].texture_mode, TextureMode::decal);
+  EXPECT_EQ(ok->materials[0].uv_scale, Vec2(2, 2));
+  EXPECT_EQ(ok->materials[0].alpha_cutoff, 0.5f);
+  EXPECT_EQ(ok->materials[0].blend, BlendMode::premultiplied);
+  EXPECT_EQ(ok->materials[0].depth_write, DepthWrite::on);
+  EXPECT_EQ(ok->fog.mode, FogMode::exp2);
+  EXPECT_EQ(ok->fog.density, 0.1f);
+  // Each bad field: its line (3: the material) and its name.
+  expect_error(scene(R"({ "name": "m", "diffuse_texture": "nope" })"), 4, "materials[0].diffuse_texture", {"no texture named"});
+  expect_error(scene(R"({ "name": "m", "uv_scale": [0, 1] })"), 4, "materials[0].uv_scale", {"non-zero"});
+  expect_error(scene(R"({ "name": "m", "blend": "screen" })"), 4, "materials[0].blend", {"premultiplied"});
+  expect_error(scene(R"({ "name": "m", "texture_mode": "blend" })"), 4, "materials[0].texture_mode", {"modulate"});
+  expect_error(scene(R"({ "name": "m", "alpha_cutoff": 2 })"), 4, "materials[0].alpha_cutoff", {"[0, 1]"});
+  expect_error(scene(R"({ "name": "m" })", R"("fog": { "mode": "linear", "start": 5, "end": 1 },)" "\n"), 6, "fog.end", {});
+  expect_error(scene(R"({ "name": "m" })", R"("fog": { "start": 5 },)" "\n"), 6, "fog.mode", {"missing"});
+  // A texture file that is missing or not an image: the scene file's line, the field and the image's path.
+  expect_error(R"({ "textures": [ { "name": "t", "file": "textures/absent.png" } ] })", 1, "textures[0].file",
+               {"absent.png"});
+  expect_error(R"({ "textures": [ { "name": "t", "file": "obj/tetrahedron.obj" } ] })", 1, "textures[0].file",
+               {"tetrahedron.obj"});
+  expect_error(R"({ "textures": [ { "name": "t", "file": "textures/checker.png", "filter": "cubic" } ] })", 1,
+               "textures[0].filter", {"trilinear"});
+}
+
 }  // namespace
 }  // namespace facet

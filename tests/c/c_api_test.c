@@ -2,6 +2,7 @@
  * and check that bad arguments are refused with a message, before any byte is written. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "facet/facet.h"
@@ -120,6 +121,69 @@ int main(void) {
   light.type = (facet_light_type)-3;
   CHECK(facet_scene_add_light(scene, &light) == FACET_INVALID_ARGUMENT);
   CHECK(strstr(facet_scene_last_error(scene), "light.type") != NULL);
+
+  /* Surfaces: a quad with texture coordinates under a one-texel texture (GL_MODULATE of the
+   * emissive colour), alpha-blended over the clear colour, then fog. */
+  {
+    facet_scene* s = facet_scene_create();
+    const float quad[] = {-5, -5, -3, 5, -5, -3, 5, 5, -3, -5, 5, -3};
+    const uint32_t tris[] = {0, 1, 2, 0, 2, 3};
+    const float uvs[] = {0, 0, 1, 0, 1, 1, 0, 1};
+    const float bad_uvs[] = {0, 0, 1, 0, 1, 1, 0, NAN};
+    const unsigned char texel[4] = {255, 128, 0, 255};
+    uint32_t q = 9, tex = 9, mat = 9;
+    CHECK(facet_scene_add_mesh(s, quad, 4, NULL, tris, 2, &q) == FACET_OK);
+    CHECK(facet_scene_set_mesh_uvs(s, q, bad_uvs) == FACET_INVALID_ARGUMENT);
+    CHECK(strstr(facet_scene_last_error(s), "uvs") != NULL);
+    CHECK(facet_scene_set_mesh_uvs(s, q, uvs) == FACET_OK);
+    CHECK(facet_scene_add_texture_rgba8(s, texel, 1, 1, FACET_BILINEAR, FACET_WRAP_REPEAT, &tex) == FACET_OK && tex == 0);
+    CHECK(facet_scene_add_texture_rgba8(s, texel, 0, 1, FACET_BILINEAR, FACET_WRAP_REPEAT, NULL) == FACET_INVALID_ARGUMENT);
+    CHECK(facet_scene_load_texture(s, "/nonexistent/t.png", FACET_TRILINEAR, FACET_WRAP_CLAMP, NULL) == FACET_IO_ERROR);
+    CHECK(strstr(facet_scene_last_error(s), "t.png") != NULL);
+    facet_material sm = facet_material_default();
+    sm.ambient[0] = sm.ambient[1] = sm.ambient[2] = 0;
+    sm.diffuse[0] = sm.diffuse[1] = sm.diffuse[2] = 0;
+    sm.emissive[0] = sm.emissive[1] = sm.emissive[2] = 1;
+    sm.diffuse_texture = 5;
+    CHECK(facet_scene_add_material(s, &sm, NULL) == FACET_INVALID_ARGUMENT);
+    CHECK(strstr(facet_scene_last_error(s), "diffuse_texture") != NULL);
+    sm.diffuse_texture = (int32_t)tex;
+    sm.uv_scale[0] = 0;
+    CHECK(facet_scene_add_material(s, &sm, NULL) == FACET_INVALID_ARGUMENT);
+    CHECK(strstr(facet_scene_last_error(s), "uv_scale") != NULL);
+    sm.uv_scale[0] = 1;
+    sm.blend = FACET_BLEND_ALPHA;
+    sm.alpha = 0.5f;
+    CHECK(facet_scene_add_material(s, &sm, &mat) == FACET_OK);
+    CHECK(facet_scene_add_object(s, q, mat, NULL, NULL) == FACET_OK);
+    facet_camera cam = facet_camera_default();
+    cam.eye[0] = cam.eye[1] = cam.eye[2] = 0;
+    cam.target[0] = 0, cam.target[1] = 0, cam.target[2] = -1;
+    cam.vertical_fov_deg = 90;
+    CHECK(facet_scene_set_camera(s, &cam) == FACET_OK);
+    facet_render_config sc = facet_render_config_default();
+    sc.clear_color[0] = 0, sc.clear_color[1] = 0, sc.clear_color[2] = 1, sc.clear_color[3] = 1;
+    facet_renderer* sr = facet_renderer_create(&sc, &status);
+    CHECK(sr != NULL);
+    static unsigned char img[16 * 16 * 4];
+    CHECK(facet_render(sr, s, img, 16, 16, 16 * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
+    const unsigned char* c = img + 4 * (16 * 8 + 8);
+    /* (1, 128/255, 0) at alpha 0.5 over (0, 0, 1): (128, 64, 128) within a step. */
+    CHECK(abs(c[0] - 128) <= 1 && abs(c[1] - 64) <= 1 && abs(c[2] - 128) <= 1);
+    facet_fog fog = facet_fog_default();
+    CHECK(fog.mode == FACET_FOG_NONE);
+    fog.mode = FACET_FOG_LINEAR;
+    fog.start = 5, fog.end = 4;
+    CHECK(facet_scene_set_fog(s, &fog) == FACET_INVALID_ARGUMENT);
+    CHECK(strstr(facet_scene_last_error(s), "fog.end") != NULL);
+    fog.start = 0, fog.end = 6; /* depth 3: f = 0.5; fog colour black */
+    CHECK(facet_scene_set_fog(s, &fog) == FACET_OK);
+    CHECK(facet_render(sr, s, img, 16, 16, 16 * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
+    /* (0.5, 64/255, 0) at alpha 0.5 over (0, 0, 1): (64, 32, 128). */
+    CHECK(abs(c[0] - 64) <= 1 && abs(c[1] - 32) <= 1 && abs(c[2] - 128) <= 1);
+    facet_renderer_destroy(sr);
+    facet_scene_destroy(s);
+  }
 
   facet_renderer_destroy(renderer);
   facet_scene_destroy(scene);

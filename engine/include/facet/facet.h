@@ -38,6 +38,19 @@ typedef enum facet_path { FACET_PATH_REFERENCE = 0, FACET_PATH_SCALAR = 1, FACET
 typedef enum facet_isa { FACET_ISA_BEST = 0, FACET_ISA_SSE2 = 1, FACET_ISA_AVX2 = 2, FACET_ISA_AVX512 = 3 } facet_isa;
 typedef enum facet_cull { FACET_CULL_NONE = 0, FACET_CULL_BACK = 1, FACET_CULL_FRONT = 2 } facet_cull;
 typedef enum facet_light_type { FACET_DIRECTIONAL = 0, FACET_POINT = 1, FACET_SPOT = 2 } facet_light_type;
+/* Surfaces: see docs/surfaces.md (the C++ enums TextureFilter, TextureWrap, TextureMode, BlendMode,
+ * DepthWrite and FogMode, in the same order). */
+typedef enum facet_texture_filter { FACET_NEAREST = 0, FACET_BILINEAR = 1, FACET_TRILINEAR = 2 } facet_texture_filter;
+typedef enum facet_texture_wrap { FACET_WRAP_REPEAT = 0, FACET_WRAP_CLAMP = 1, FACET_WRAP_MIRROR = 2 } facet_texture_wrap;
+typedef enum facet_texture_mode {
+  FACET_MODULATE = 0, FACET_REPLACE = 1, FACET_DECAL = 2, FACET_ADD = 3
+} facet_texture_mode;
+typedef enum facet_blend {
+  FACET_BLEND_OPAQUE = 0, FACET_BLEND_ALPHA = 1, FACET_BLEND_PREMULTIPLIED = 2,
+  FACET_BLEND_ADD = 3, FACET_BLEND_MULTIPLY = 4, FACET_BLEND_SUBTRACT = 5
+} facet_blend;
+typedef enum facet_depth_write { FACET_DEPTH_WRITE_AUTO = 0, FACET_DEPTH_WRITE_ON = 1, FACET_DEPTH_WRITE_OFF = 2 } facet_depth_write;
+typedef enum facet_fog_mode { FACET_FOG_NONE = 0, FACET_FOG_LINEAR = 1, FACET_FOG_EXP = 2, FACET_FOG_EXP2 = 3 } facet_fog_mode;
 
 /* How a renderer renders. Start from facet_render_config_default(). */
 typedef struct facet_render_config {
@@ -62,7 +75,20 @@ typedef struct facet_material {
   float emissive[3], ambient[3], diffuse[3], specular[3];
   float shininess; /* [0, 4096] */
   float alpha;     /* [0, 1] */
+  int32_t diffuse_texture;         /* a facet_scene_add_texture* id, or -1 for none */
+  facet_texture_mode texture_mode; /* default FACET_MODULATE */
+  float uv_scale[2];               /* finite, non-zero; default 1, 1 */
+  float alpha_cutoff;              /* [0, 1]; alpha test, 0 = off */
+  facet_blend blend;               /* default FACET_BLEND_OPAQUE */
+  facet_depth_write depth_write;   /* default FACET_DEPTH_WRITE_AUTO: opaque writes, blended does not */
 } facet_material;
+
+typedef struct facet_fog {
+  facet_fog_mode mode;
+  float color[3];
+  float start, end; /* linear: start <= end */
+  float density;    /* exp, exp2: >= 0 */
+} facet_fog;
 
 typedef struct facet_light {
   facet_light_type type;
@@ -111,6 +137,17 @@ const char* facet_scene_last_error(const facet_scene* scene);
 facet_status facet_scene_add_mesh(facet_scene* scene, const float* positions, size_t vertex_count,
                                   const float* normals, const uint32_t* indices, size_t triangle_count,
                                   uint32_t* mesh_id);
+/* Per-vertex texture coordinates (2 floats per vertex, (0, 0) = the image's bottom-left corner) and
+ * colours (3 floats per vertex in [0, 1], used as the albedo in place of the material's ambient and
+ * diffuse colours) of a mesh; NULL removes them. The data is copied. */
+facet_status facet_scene_set_mesh_uvs(facet_scene* scene, uint32_t mesh_id, const float* uvs);
+facet_status facet_scene_set_mesh_colors(facet_scene* scene, uint32_t mesh_id, const float* rgb);
+/* A texture from RGBA8 texels (width x height, rows bottom first as glTexImage2D, 4 bytes per
+ * texel; copied), or from a PNG or JPEG file. Sides 1..16384. */
+facet_status facet_scene_add_texture_rgba8(facet_scene* scene, const uint8_t* rgba, int width, int height,
+                                           facet_texture_filter filter, facet_texture_wrap wrap, uint32_t* texture_id);
+facet_status facet_scene_load_texture(facet_scene* scene, const char* path, facet_texture_filter filter,
+                                      facet_texture_wrap wrap, uint32_t* texture_id);
 facet_status facet_scene_add_material(facet_scene* scene, const facet_material* material, uint32_t* material_id);
 /* model: 4x4 column-major model -> world matrix, or NULL for the identity. */
 facet_status facet_scene_add_object(facet_scene* scene, uint32_t mesh_id, uint32_t material_id,
@@ -118,6 +155,8 @@ facet_status facet_scene_add_object(facet_scene* scene, uint32_t mesh_id, uint32
 facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light);
 facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* camera);
 facet_status facet_scene_set_global_ambient(facet_scene* scene, const float rgb[3]);
+facet_fog facet_fog_default(void); /* no fog; GL's defaults otherwise */
+facet_status facet_scene_set_fog(facet_scene* scene, const facet_fog* fog);
 
 /* Renders into the caller's buffer: width x height pixels, rows stride_bytes apart, row 0 at the
  * top unless y_up. depth (width x height floats, depth_stride_bytes apart) and stats may be NULL.

@@ -132,6 +132,21 @@ facet_material facet_material_default(void) {
   }
   c.shininess = m.shininess;
   c.alpha = m.alpha;
+  c.diffuse_texture = m.diffuse_texture;
+  c.texture_mode = static_cast<facet_texture_mode>(m.texture_mode);
+  c.uv_scale[0] = m.uv_scale.x(), c.uv_scale[1] = m.uv_scale.y();
+  c.alpha_cutoff = m.alpha_cutoff;
+  c.blend = static_cast<facet_blend>(m.blend);
+  c.depth_write = static_cast<facet_depth_write>(m.depth_write);
+  return c;
+}
+
+facet_fog facet_fog_default(void) {
+  const facet::Fog f;
+  facet_fog c{};
+  c.mode = static_cast<facet_fog_mode>(f.mode);
+  for (int i = 0; i < 3; ++i) c.color[i] = f.color[i];
+  c.start = f.start, c.end = f.end, c.density = f.density;
   return c;
 }
 
@@ -229,7 +244,17 @@ facet_status facet_scene_add_material(facet_scene* scene, const facet_material* 
     m.specular = facet::Color3(vec3(material->specular));
     m.shininess = material->shininess;
     m.alpha = material->alpha;
+    m.diffuse_texture = material->diffuse_texture;
+    m.texture_mode = static_cast<facet::TextureMode>(material->texture_mode);
+    m.uv_scale = facet::Vec2(material->uv_scale[0], material->uv_scale[1]);
+    m.alpha_cutoff = material->alpha_cutoff;
+    m.blend = static_cast<facet::BlendMode>(material->blend);
+    m.depth_write = static_cast<facet::DepthWrite>(material->depth_write);
     const auto id = static_cast<std::uint32_t>(scene->scene.materials.size());
+    if (m.diffuse_texture != facet::kNoTexture &&
+        (m.diffuse_texture < 0 || static_cast<std::size_t>(m.diffuse_texture) >= scene->scene.textures.size())) {
+      return fail(scene->error, "material.diffuse_texture", "no such texture");
+    }
     // Checked now, so the error names this call's argument rather than the next render.
     if (facet::Status st = facet::validate_material(m, id); !st.ok()) return report(scene->error, st);
     m.name = "material" + std::to_string(id);
@@ -312,6 +337,107 @@ facet_status facet_scene_set_global_ambient(facet_scene* scene, const float rgb[
     if (facet::Status st = facet::validate_global_ambient(ambient); !st.ok()) return report(scene->error, st);
     scene->scene.global_ambient = ambient;
     return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_set_fog(facet_scene* scene, const facet_fog* fog) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!fog) return fail(scene->error, "fog", "null");
+    facet::Fog f;
+    f.mode = static_cast<facet::FogMode>(fog->mode);
+    f.color = facet::Color3(vec3(fog->color));
+    f.start = fog->start, f.end = fog->end, f.density = fog->density;
+    if (facet::Status st = facet::validate_fog(f); !st.ok()) return report(scene->error, st);
+    scene->scene.fog = f;
+    return report(scene->error, {});
+  });
+}
+
+namespace {
+// Per-vertex uvs (colours = false) or colours of mesh_id, validated as validate_mesh would.
+facet_status set_vertex_data(facet_scene* scene, uint32_t mesh_id, const float* data, bool colours) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (mesh_id >= scene->scene.meshes.size()) return fail(scene->error, "mesh_id", "no such mesh");
+    facet::Mesh& mesh = scene->scene.meshes[mesh_id].mesh;
+    facet::Mesh candidate;  // checked on a copy of the arrays' shape: a failure changes nothing
+    candidate.positions = mesh.positions;
+    candidate.normals = mesh.normals;
+    candidate.triangles = mesh.triangles;
+    const std::size_t n = data ? mesh.vertex_count() : 0;
+    if (colours) {
+      candidate.colors.resize(n);
+      for (std::size_t v = 0; v < n; ++v) candidate.colors[v] = facet::Color3(data[3 * v], data[3 * v + 1], data[3 * v + 2]);
+    } else {
+      candidate.uvs.resize(n);
+      for (std::size_t v = 0; v < n; ++v) candidate.uvs[v] = facet::Vec2(data[2 * v], data[2 * v + 1]);
+    }
+    if (facet::Status st = facet::validate_mesh(candidate, "meshes[" + std::to_string(mesh_id) + "]"); !st.ok()) {
+      return report(scene->error, st);
+    }
+    if (colours) {
+      mesh.colors = std::move(candidate.colors);
+    } else {
+      mesh.uvs = std::move(candidate.uvs);
+    }
+    return report(scene->error, {});
+  });
+}
+
+facet_status add_texture(facet_scene* scene, facet::Result<facet::Texture> texture, uint32_t* texture_id) {
+  if (!texture) return report(scene->error, texture.status());
+  const auto id = static_cast<std::uint32_t>(scene->scene.textures.size());
+  scene->scene.textures.push_back(std::move(*texture));
+  if (texture_id) *texture_id = id;
+  return report(scene->error, {});
+}
+
+facet::TextureOptions texture_options(facet_texture_filter filter, facet_texture_wrap wrap) {
+  facet::TextureOptions o;
+  o.filter = static_cast<facet::TextureFilter>(filter);
+  o.wrap = static_cast<facet::TextureWrap>(wrap);
+  return o;
+}
+}  // namespace
+
+facet_status facet_scene_set_mesh_uvs(facet_scene* scene, uint32_t mesh_id, const float* uvs) {
+  return set_vertex_data(scene, mesh_id, uvs, false);
+}
+
+facet_status facet_scene_set_mesh_colors(facet_scene* scene, uint32_t mesh_id, const float* rgb) {
+  return set_vertex_data(scene, mesh_id, rgb, true);
+}
+
+facet_status facet_scene_add_texture_rgba8(facet_scene* scene, const uint8_t* rgba, int width, int height,
+                                           facet_texture_filter filter, facet_texture_wrap wrap, uint32_t* texture_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!rgba) return fail(scene->error, "rgba", "null");
+    if (filter < FACET_NEAREST || filter > FACET_TRILINEAR) return fail(scene->error, "filter", "unknown texture filter");
+    if (wrap < FACET_WRAP_REPEAT || wrap > FACET_WRAP_MIRROR) return fail(scene->error, "wrap", "unknown wrap mode");
+    if (width < 1 || height < 1 || width > facet::kMaxTextureDimension || height > facet::kMaxTextureDimension) {
+      return fail(scene->error, "width", "a texture is 1 to 16384 texels per side");
+    }
+    const std::size_t bytes = 4 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    const auto id = static_cast<std::uint32_t>(scene->scene.textures.size());
+    return add_texture(scene,
+                       facet::make_texture("texture" + std::to_string(id), width, height,
+                                           std::span<const std::uint8_t>(rgba, bytes), texture_options(filter, wrap)),
+                       texture_id);
+  });
+}
+
+facet_status facet_scene_load_texture(facet_scene* scene, const char* path, facet_texture_filter filter,
+                                      facet_texture_wrap wrap, uint32_t* texture_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!path) return fail(scene->error, "path", "null");
+    if (filter < FACET_NEAREST || filter > FACET_TRILINEAR) return fail(scene->error, "filter", "unknown texture filter");
+    if (wrap < FACET_WRAP_REPEAT || wrap > FACET_WRAP_MIRROR) return fail(scene->error, "wrap", "unknown wrap mode");
+    const auto id = static_cast<std::uint32_t>(scene->scene.textures.size());
+    return add_texture(scene, facet::load_texture(path, "texture" + std::to_string(id), texture_options(filter, wrap)),
+                       texture_id);
   });
 }
 

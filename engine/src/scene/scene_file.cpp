@@ -69,8 +69,8 @@ class SceneReader {
       : source_(std::move(source)), lines_(lines), base_dir_(std::move(base_dir)), options_(options) {}
 
   Status read(const json& root, Scene& scene) {
-    FACET_TRY(expect_object(root, "", {"camera", "global_ambient", "viewer", "two_sided", "materials", "meshes",
-                                       "objects", "lights"}));
+    FACET_TRY(expect_object(root, "", {"camera", "global_ambient", "viewer", "two_sided", "textures", "materials",
+                                       "meshes", "objects", "lights", "fog"}));
     if (root.contains("camera")) FACET_TRY(read_camera(root["camera"], scene.camera));
     FACET_TRY(opt_color(root, "", "global_ambient", scene.global_ambient));
     if (root.contains("viewer")) {
@@ -79,9 +79,15 @@ class SceneReader {
       scene.viewer = mode == "local" ? ViewerMode::local : ViewerMode::infinite;
     }
     FACET_TRY(opt_bool(root, "", "two_sided", scene.two_sided));
+    auto add_texture = [&](const json& j, const std::string& p) {
+      Texture t;
+      FACET_TRY(read_texture(j, p, t));
+      scene.textures.push_back(std::move(t));
+      return Status{};
+    };
     auto add_material = [&](const json& j, const std::string& p) {
       Material m;
-      FACET_TRY(read_material(j, p, m));
+      FACET_TRY(read_material(j, p, scene, m));
       scene.materials.push_back(std::move(m));
       return Status{};
     };
@@ -108,7 +114,9 @@ class SceneReader {
       scene.lights.push_back(std::move(l));
       return Status{};
     };
+    FACET_TRY(read_list(root, "textures", add_texture));
     FACET_TRY(read_list(root, "materials", add_material));
+    if (root.contains("fog")) FACET_TRY(read_fog(root["fog"], scene.fog));
     FACET_TRY(read_list(root, "meshes", add_mesh));
     FACET_TRY(read_list(root, "objects", add_object));
     FACET_TRY(read_list(root, "lights", add_light));
@@ -261,15 +269,101 @@ class SceneReader {
     return opt_number(j, p, "far", c.far);
   }
 
-  Status read_material(const json& j, const std::string& p, Material& m) const {
-    FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "alpha"}));
+  Status read_material(const json& j, const std::string& p, const Scene& scene, Material& m) const {
+    FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "alpha",
+                                   "diffuse_texture", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write"}));
     FACET_TRY(opt_string(j, p, "name", m.name));
     FACET_TRY(opt_color(j, p, "emissive", m.emissive));
     FACET_TRY(opt_color(j, p, "ambient", m.ambient));
     FACET_TRY(opt_color(j, p, "diffuse", m.diffuse));
     FACET_TRY(opt_color(j, p, "specular", m.specular));
     FACET_TRY(opt_number(j, p, "shininess", m.shininess));
-    return opt_number(j, p, "alpha", m.alpha);
+    FACET_TRY(opt_number(j, p, "alpha", m.alpha));
+    if (j.contains("diffuse_texture")) {
+      std::uint32_t index = 0;
+      FACET_TRY(find_by_name(j, p, "diffuse_texture", scene.textures, "texture", index));
+      m.diffuse_texture = static_cast<std::int32_t>(index);
+    }
+    std::string mode;
+    if (j.contains("texture_mode")) {
+      FACET_TRY(read_enum(j["texture_mode"], child(p, "texture_mode"), {"modulate", "replace", "decal", "add"}, mode));
+      m.texture_mode = mode == "modulate" ? TextureMode::modulate
+                       : mode == "replace" ? TextureMode::replace
+                       : mode == "decal"   ? TextureMode::decal
+                                           : TextureMode::add;
+    }
+    if (j.contains("uv_scale")) {
+      const json& u = j["uv_scale"];
+      const std::string up = child(p, "uv_scale");
+      if (u.is_number()) {
+        float k = 1;
+        FACET_TRY(read_number(u, up, k));
+        m.uv_scale = Vec2(k, k);
+      } else {
+        if (!u.is_array() || u.size() != 2) return mismatch(up, "[su, sv] or one number", u);
+        FACET_TRY(read_number(u[0], up + "[0]", m.uv_scale.x()));
+        FACET_TRY(read_number(u[1], up + "[1]", m.uv_scale.y()));
+      }
+    }
+    FACET_TRY(opt_number(j, p, "alpha_cutoff", m.alpha_cutoff));
+    if (j.contains("blend")) {
+      FACET_TRY(read_enum(j["blend"], child(p, "blend"),
+                          {"opaque", "alpha", "premultiplied", "add", "multiply", "subtract"}, mode));
+      const BlendMode modes[] = {BlendMode::opaque, BlendMode::alpha, BlendMode::premultiplied,
+                                 BlendMode::add, BlendMode::multiply, BlendMode::subtract};
+      for (BlendMode b : modes)
+        if (mode == to_string(b)) m.blend = b;
+    }
+    if (j.contains("depth_write")) {
+      const json& d = j["depth_write"];
+      if (d.is_boolean()) {
+        m.depth_write = d.get<bool>() ? DepthWrite::on : DepthWrite::off;
+      } else {
+        FACET_TRY(read_enum(d, child(p, "depth_write"), {"auto"}, mode));
+        m.depth_write = DepthWrite::automatic;
+      }
+    }
+    return {};
+  }
+
+  // A texture file, resolved against the scene file's folder, decoded with its filter and wrap.
+  Status read_texture(const json& j, const std::string& p, Texture& out) const {
+    FACET_TRY(expect_object(j, p, {"name", "file", "filter", "wrap"}));
+    std::string name, file, mode;
+    FACET_TRY(opt_string(j, p, "name", name));
+    if (!j.contains("file")) return invalid(child(p, "file"), "missing: every texture names its image file");
+    FACET_TRY(opt_string(j, p, "file", file));
+    TextureOptions options;
+    options.memory_budget_bytes = options_.memory_budget_bytes;
+    if (j.contains("filter")) {
+      FACET_TRY(read_enum(j["filter"], child(p, "filter"), {"nearest", "bilinear", "trilinear"}, mode));
+      options.filter = mode == "nearest" ? TextureFilter::nearest : mode == "bilinear" ? TextureFilter::bilinear : TextureFilter::trilinear;
+    }
+    if (j.contains("wrap")) {
+      FACET_TRY(read_enum(j["wrap"], child(p, "wrap"), {"repeat", "clamp", "mirror"}, mode));
+      options.wrap = mode == "repeat" ? TextureWrap::repeat : mode == "clamp" ? TextureWrap::clamp : TextureWrap::mirror;
+    }
+    const std::filesystem::path resolved = std::filesystem::path(base_dir_) / file;
+    Result<Texture> t = load_texture(resolved.string(), name, options);
+    if (!t) return located(child(p, "file"), t.status().code(), child(p, "file") + ": " + t.status().message());
+    out = std::move(*t);
+    return {};
+  }
+
+  Status read_fog(const json& j, Fog& fog) const {
+    const std::string p = "fog";
+    FACET_TRY(expect_object(j, p, {"mode", "color", "start", "end", "density"}));
+    if (j.contains("mode")) {
+      std::string mode;
+      FACET_TRY(read_enum(j["mode"], child(p, "mode"), {"none", "linear", "exp", "exp2"}, mode));
+      fog.mode = mode == "none" ? FogMode::none : mode == "linear" ? FogMode::linear : mode == "exp" ? FogMode::exp : FogMode::exp2;
+    } else {
+      return invalid(child(p, "mode"), "missing: \"linear\", \"exp\", \"exp2\" or \"none\"");
+    }
+    FACET_TRY(opt_color(j, p, "color", fog.color));
+    FACET_TRY(opt_number(j, p, "start", fog.start));
+    FACET_TRY(opt_number(j, p, "end", fog.end));
+    return opt_number(j, p, "density", fog.density);
   }
 
   // Counts a mesh of `vertices` and `triangles` against the memory budget before it is made.
