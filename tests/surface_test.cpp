@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "io/srgb.hpp"
 #include "render_support.hpp"
 
 namespace facet {
@@ -441,6 +442,66 @@ TEST(Surfaces, BadSurfaceInputIsRefusedWithItsField) {
   Renderer r;
   EXPECT_FALSE(r.render(s, RenderOptions{}, c.view()).ok());
   EXPECT_TRUE(c.untouched());
+}
+
+
+// sRGB output: every float of [0, 1] at a fine spacing, and the floats around every threshold,
+// encode to the correctly rounded 8-bit value of the exact transfer function.
+double srgb_encode(double x) { return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055; }
+
+TEST(Srgb, EncodingIsCorrectlyRounded) {
+  SrgbTable t;
+  make_srgb_table(t);
+  auto exact = [](float x) {
+    return static_cast<int>(std::floor(std::clamp(srgb_encode(std::clamp<double>(x, 0, 1)), 0.0, 1.0) * 255.0 + 0.5));
+  };
+  int checked = 0;
+  for (int i = 0; i <= 1 << 20; ++i) {
+    const float x = static_cast<float>(i) / float(1 << 20);
+    ASSERT_EQ(srgb_unorm8(t.threshold, x), exact(x)) << x;
+    ++checked;
+  }
+  for (int k = 1; k < 256; ++k) {  // both sides of each threshold
+    const float at = t.threshold[k], below = std::nextafter(at, -1.0f);
+    EXPECT_EQ(srgb_unorm8(t.threshold, at), k);
+    EXPECT_EQ(srgb_unorm8(t.threshold, below), k - 1);
+    EXPECT_EQ(exact(at), k);
+    EXPECT_EQ(exact(below), k - 1);
+  }
+  EXPECT_EQ(srgb_unorm8(t.threshold, std::nanf("")), 0);
+  EXPECT_EQ(srgb_unorm8(t.threshold, -1.0f), 0);
+  EXPECT_EQ(srgb_unorm8(t.threshold, 7.0f), 255);
+  EXPECT_GT(checked, 1000000);
+}
+
+// Rendering with srgb: colour encoded, alpha linear, clear colour encoded, every path and format.
+TEST(Srgb, RenderEncodesColourNotAlpha) {
+  Scene s = test::camera_scene();
+  const Color3 e(0.02f, 0.2f, 0.7f);
+  test::add_quad(s, -1, -1, 1, 1, -3, e);
+  s.materials.back().alpha = 0.3f;
+  for (auto [path, isa] : every_path()) {
+    for (PixelFormat format : {PixelFormat::rgba8, PixelFormat::bgra8}) {
+      Canvas c(32, 32, format);
+      RenderOptions o;
+      o.path = path;
+      o.isa = isa;
+      o.srgb = true;
+      o.clear_color = {0.5f, 0.001f, 0.0f, 0.25f};
+      Renderer r;
+      ASSERT_TRUE(r.render(s, o, c.view()).ok());
+      const int red = format == PixelFormat::rgba8 ? 0 : 2, blue = 2 - red;
+      auto enc = [](double v) { return static_cast<int>(std::floor(srgb_encode(v) * 255.0 + 0.5)); };
+      SCOPED_TRACE(std::string(to_string(path)) + " " + to_string(isa));
+      EXPECT_EQ(c.byte(16, 16, red), enc(e.x()));
+      EXPECT_EQ(c.byte(16, 16, 1), enc(e.y()));
+      EXPECT_EQ(c.byte(16, 16, blue), enc(e.z()));
+      EXPECT_EQ(c.byte(16, 16, 3), 77);  // 0.3 * 255 + 0.5, linear
+      EXPECT_EQ(c.byte(0, 0, red), enc(0.5));
+      EXPECT_EQ(c.byte(0, 0, 1), enc(0.001));
+      EXPECT_EQ(c.byte(0, 0, 3), 64);
+    }
+  }
 }
 
 }  // namespace

@@ -29,6 +29,7 @@ constexpr const char* kRenderUsage =
     "  --cull C               back | front | none (default back)\n"
     "  --tile N               tile size in pixels, a multiple of 8 in [8, 256] (default 64)\n"
     "  --hdr                  keep unclamped lighting in .pfm output\n"
+    "  --srgb                 encode 8-bit output (.png) with the sRGB transfer function (exact)\n"
     "  --no-light-culling     light every object with every enabled light (turn the frame plan off)\n"
     "  --depth FILE.pfm       also write window-space depth (0 near .. 1 far)\n"
     "  --seconds S            render repeatedly for at least S seconds; report the mean frame time\n"
@@ -160,6 +161,8 @@ int run_render(int argc, char** argv) {
       options.tile_size = *v;
     } else if (arg == "--hdr") {
       options.hdr = true;
+    } else if (arg == "--srgb") {
+      options.srgb = true;
     } else if (arg == "--no-light-culling") {
       options.cull_lights = false;
     } else if (arg == "--depth") {

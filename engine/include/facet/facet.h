@@ -61,6 +61,7 @@ typedef struct facet_render_config {
   int tile_size;       /* 8..256, a multiple of 8 */
   int threads;         /* 0 = all cores, else 1..256; the image is the same for any value */
   float clear_color[4];
+  int srgb; /* non-zero: 8-bit output is sRGB-encoded (exactly rounded); alpha and float output stay linear */
   /* The most scratch memory one frame may take (estimated before allocating; a frame over it
    * fails with FACET_OUT_OF_MEMORY before any pixel is written); 0 = no limit. Default 4 GiB. */
   uint64_t memory_budget_bytes;

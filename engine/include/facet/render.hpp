@@ -58,6 +58,10 @@ struct RenderOptions {
   int threads = 0;
   std::array<float, 4> clear_color{0.0f, 0.0f, 0.0f, 1.0f};
   bool hdr = false;  // RGBA32F output keeps unclamped (>= 0) lighting; 8-bit output is always clamped
+  // 8-bit output encodes the linear colour with the sRGB transfer function (as GL_FRAMEBUFFER_SRGB),
+  // exactly: each channel is the correctly rounded 8-bit value. Alpha and float output stay linear.
+  // Off (GL's default), the lit values are written as they are.
+  bool srgb = false;
   bool cull_lights = true;  // the frame plan's per-object light culling (LightingOptions::cull_lights)
   // The most memory one frame may take in the renderer's own scratch (transformed vertices,
   // triangle records, bins, per-thread tiles; not the caller's scene or image), estimated from

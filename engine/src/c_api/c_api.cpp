@@ -95,6 +95,7 @@ bool to_options(const facet_render_config& c, facet::RenderOptions& o, std::stri
   o.tile_size = c.tile_size;
   o.threads = c.threads;
   for (int i = 0; i < 4; ++i) o.clear_color[static_cast<std::size_t>(i)] = c.clear_color[i];
+  o.srgb = c.srgb != 0;
   o.memory_budget_bytes = c.memory_budget_bytes;
   o.progress = nullptr;
   if (c.progress) {
@@ -117,6 +118,7 @@ facet_render_config facet_render_config_default(void) {
   c.tile_size = o.tile_size;
   c.threads = o.threads;
   for (int i = 0; i < 4; ++i) c.clear_color[i] = o.clear_color[static_cast<std::size_t>(i)];
+  c.srgb = o.srgb ? 1 : 0;
   c.memory_budget_bytes = o.memory_budget_bytes;
   c.progress = nullptr;
   c.progress_user = nullptr;

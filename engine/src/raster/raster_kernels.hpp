@@ -38,6 +38,7 @@ struct TileView {
   std::uint8_t* touched;
   int size;
   float clear[4];
+  const float* srgb = nullptr;  // resolve: SrgbTable::threshold (io/srgb.hpp) to encode 8-bit output; null: linear
 };
 
 // The pixel program of one draw (an object with one material), decided by the frame plan. A plain

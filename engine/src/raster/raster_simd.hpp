@@ -472,6 +472,16 @@ struct TileKernel {
     const float c = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
     return static_cast<std::uint32_t>(c * 255.0f + 0.5f);  // as to_unorm8 (io/image_convert.hpp)
   }
+  // A colour channel of 8-bit output: linear, or sRGB-encoded with the table's thresholds (the
+  // search of io/srgb.hpp, written here again: no inline function is shared across ISA files).
+  static std::uint32_t colour8(const TileView& tv, float v) {
+    if (!tv.srgb) return unorm8(v);
+    int k = 0;
+    for (int step = 128; step >= 1; step >>= 1) {
+      if (v >= tv.srgb[k + step]) k += step;
+    }
+    return static_cast<std::uint32_t>(k);
+  }
   static I unorm8(const F& v) {
     const F c = xsimd::select(v > F(0.0f), xsimd::min(v, F(1.0f)), F(0.0f));
     return xsimd::batch_cast<std::int32_t>(c * F(255.0f) + F(0.5f));  // truncation, as the cast above
@@ -484,8 +494,8 @@ struct TileKernel {
     const int width = x1 - x0;
     // RGBA8 and BGRA8 as little-endian words: channel c goes to byte shift[c] / 8.
     const int red_shift = color.format == PixelFormat::bgra8 ? 16 : 0, blue_shift = 16 - red_shift;
-    const std::uint32_t clear_word = (unorm8(tv.clear[0]) << red_shift) | (unorm8(tv.clear[1]) << 8) |
-                                     (unorm8(tv.clear[2]) << blue_shift) | (unorm8(tv.clear[3]) << 24);
+    const std::uint32_t clear_word = (colour8(tv, tv.clear[0]) << red_shift) | (colour8(tv, tv.clear[1]) << 8) |
+                                     (colour8(tv, tv.clear[2]) << blue_shift) | (unorm8(tv.clear[3]) << 24);
     const std::uint8_t clear_bytes[4] = {static_cast<std::uint8_t>(clear_word), static_cast<std::uint8_t>(clear_word >> 8),
                                          static_cast<std::uint8_t>(clear_word >> 16),
                                          static_cast<std::uint8_t>(clear_word >> 24)};
@@ -540,7 +550,7 @@ struct TileKernel {
         auto* dst = reinterpret_cast<std::uint32_t*>(row + 4 * static_cast<std::size_t>(x));
         int i = 0;
         if constexpr (W <= kBlock) {
-          if (n == kBlock) {
+          if (n == kBlock && !tv.srgb) {
             for (; i < kBlock; i += W) {
               const I word = (unorm8(F::load_unaligned(r + i)) << red_shift) |
                              (unorm8(F::load_unaligned(g + i)) << 8) |
@@ -551,7 +561,7 @@ struct TileKernel {
           }
         }
         for (; i < n; ++i) {
-          const std::uint32_t u = (unorm8(r[i]) << red_shift) | (unorm8(g[i]) << 8) | (unorm8(b[i]) << blue_shift) |
+          const std::uint32_t u = (colour8(tv, r[i]) << red_shift) | (colour8(tv, g[i]) << 8) | (colour8(tv, b[i]) << blue_shift) |
                                   (unorm8(a[i]) << 24);
           auto* d = reinterpret_cast<std::uint8_t*>(dst + i);
           d[0] = static_cast<std::uint8_t>(u), d[1] = static_cast<std::uint8_t>(u >> 8);

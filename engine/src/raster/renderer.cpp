@@ -18,6 +18,7 @@
 #include "facet/render.hpp"
 #include "geometry/clip.hpp"
 #include "geometry/project.hpp"
+#include "io/srgb.hpp"
 #include "lighting/point_shader.hpp"
 #include "lighting/setup.hpp"
 #include "raster/assemble.hpp"
@@ -159,6 +160,8 @@ struct Renderer::Impl {
   std::vector<lighting::LightingFeatures> features;  // one per object: what its lighting takes and gives
   std::vector<texture::Sampler> samplers;        // one per scene texture
   raster::simd::Fog fog;
+  SrgbTable srgb;  // made once per renderer (RenderOptions::srgb)
+  Impl() { make_srgb_table(srgb); }
   // Per vertex: outcodes, and for vertices inside the guard band the snapped screen position,
   // computed once instead of once per triangle that uses the vertex.
   using ScreenVertex = geometry::ScreenVertex;
@@ -471,7 +474,8 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
                               p.clear_color,
                               simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr,
                               draws.data(),
-                              &fog};
+                              &fog,
+                              options.srgb && p.color->format != PixelFormat::rgba32f ? srgb.threshold : nullptr};
   const int tile_count = p.tile_count();
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});
   const auto raster_start = Clock::now();
@@ -486,7 +490,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
       const auto& bin = bins[static_cast<std::size_t>(index)];
       if (bin.empty()) {  // nothing to rasterize: the clear colour goes straight to the image
         const auto resolve_start = Clock::now();
-        raster::resolve_clear_tile(p.clear_color, rect, *p.color, p.depth);
+        raster::resolve_clear_tile(p.clear_color, job.srgb, rect, *p.color, p.depth);
         c.seconds_resolve = seconds_since(resolve_start);
         continue;
       }

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "io/image_convert.hpp"
+#include "io/srgb.hpp"
 #include "raster/surface_program.hpp"
 #include "texture/sampler.hpp"
 
@@ -97,16 +98,19 @@ class PixelBatch {
   lighting::SoaScratch& scratch_;
 };
 
-// One RGBA float pixel in an output format (8-bit channels as to_unorm8; floats as they are).
-void store_pixel(const float* rgba, PixelFormat format, std::uint8_t* dst) {
+// One RGBA float pixel in an output format (8-bit channels as to_unorm8, or sRGB-encoded colour
+// with `srgb`; floats as they are).
+void store_pixel(const float* rgba, PixelFormat format, const float* srgb, std::uint8_t* dst) {
+  auto colour = [srgb](float v) { return srgb ? srgb_unorm8(srgb, v) : to_unorm8(v); };
   switch (format) {
     case PixelFormat::rgba8:
-      for (int c = 0; c < 4; ++c) dst[c] = to_unorm8(rgba[c]);
+      for (int c = 0; c < 3; ++c) dst[c] = colour(rgba[c]);
+      dst[3] = to_unorm8(rgba[3]);
       break;
     case PixelFormat::bgra8:
-      dst[0] = to_unorm8(rgba[2]);
-      dst[1] = to_unorm8(rgba[1]);
-      dst[2] = to_unorm8(rgba[0]);
+      dst[0] = colour(rgba[2]);
+      dst[1] = colour(rgba[1]);
+      dst[2] = colour(rgba[0]);
       dst[3] = to_unorm8(rgba[3]);
       break;
     case PixelFormat::rgba32f: std::memcpy(dst, rgba, 16); break;
@@ -286,7 +290,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
 void resolve_tile(const RasterJob& job, TileBuffers& tile, const TileRect& rect, const ImageView& color,
                   const DepthView* depth) {
   if (job.kernels) {
-    job.kernels->resolve(tile.view(job.clear_color), rect.x0, rect.y0, rect.x1, rect.y1, color, depth);
+    job.kernels->resolve(tile.view(job.clear_color, job.srgb), rect.x0, rect.y0, rect.x1, rect.y1, color, depth);
     return;
   }
   const std::size_t bpp = bytes_per_pixel(color.format);
@@ -298,7 +302,7 @@ void resolve_tile(const RasterJob& job, TileBuffers& tile, const TileRect& rect,
     for (int x = 0; x < n; ++x, dst += bpp) {
       const std::size_t p = tile.index(x, y - rect.y0);
       const float rgba[4] = {tile.plane(0)[p], tile.plane(1)[p], tile.plane(2)[p], tile.plane(3)[p]};
-      store_pixel(rgba, color.format, dst);
+      store_pixel(rgba, color.format, job.srgb, dst);
     }
     if (depth) {
       const int depth_row = depth->y_up ? depth->height - 1 - y : y;
@@ -309,12 +313,12 @@ void resolve_tile(const RasterJob& job, TileBuffers& tile, const TileRect& rect,
   }
 }
 
-void resolve_clear_tile(const std::array<float, 4>& clear_color, const TileRect& rect, const ImageView& color,
-                        const DepthView* depth) {
+void resolve_clear_tile(const std::array<float, 4>& clear_color, const float* srgb, const TileRect& rect,
+                        const ImageView& color, const DepthView* depth) {
   // One pixel in the output format, converted by the same code as resolve_tile.
   std::uint8_t pixel[16];
   const std::size_t bpp = bytes_per_pixel(color.format);
-  store_pixel(clear_color.data(), color.format, pixel);
+  store_pixel(clear_color.data(), color.format, srgb, pixel);
   const float far_depth = 1.0f;
   const std::size_t row_bytes = static_cast<std::size_t>(rect.x1 - rect.x0) * bpp;
   const std::uint8_t* first_color = nullptr;

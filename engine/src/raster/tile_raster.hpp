@@ -30,8 +30,9 @@ struct TileBuffers {
   void resize(int tile_size);
   float* plane(int c) { return storage.data() + offset_ + static_cast<std::size_t>(c) * plane_size_; }
   const float* plane(int c) const { return storage.data() + offset_ + static_cast<std::size_t>(c) * plane_size_; }
-  simd::TileView view(const std::array<float, 4>& clear) {
-    return {{plane(0), plane(1), plane(2), plane(3), plane(4)}, touched.data(), size, {clear[0], clear[1], clear[2], clear[3]}};
+  simd::TileView view(const std::array<float, 4>& clear, const float* srgb = nullptr) {
+    return {{plane(0), plane(1), plane(2), plane(3), plane(4)}, touched.data(), size, {clear[0], clear[1], clear[2], clear[3]},
+            srgb};
   }
   // Block-linear index of tile pixel (x, y).
   std::size_t index(int x, int y) const {
@@ -52,6 +53,7 @@ struct RasterJob {
   const simd::Kernels* kernels;  // the SIMD rasterizer of the chosen ISA; null: the scalar one
   const simd::Draw* draws;        // per ScreenTriangle::object: its varying layout and pixel program
   const simd::Fog* fog;
+  const float* srgb;              // SrgbTable::threshold when 8-bit output is sRGB-encoded, else null
 };
 
 // The SIMD rasterizer of an ISA (Isa::best resolved), or null if this CPU lacks it.
@@ -80,7 +82,7 @@ void resolve_tile(const RasterJob& job, TileBuffers& tile, const TileRect& rect,
 
 // A tile no triangle touches: writes the clear colour (converted exactly as resolve_tile would)
 // and far depth straight into the caller's views, without the tile buffers.
-void resolve_clear_tile(const std::array<float, 4>& clear_color, const TileRect& rect, const ImageView& color,
-                        const DepthView* depth);
+void resolve_clear_tile(const std::array<float, 4>& clear_color, const float* srgb, const TileRect& rect,
+                        const ImageView& color, const DepthView* depth);
 
 }  // namespace facet::raster
