@@ -470,6 +470,14 @@ int main(int argc, char** argv) {
     for (auto& [name, base] : bases) {
       // GL 2.1 caps shininess at 128 (the built-in scene has a 200): both renderers get 128.
       for (auto& m : base.materials) m.shininess = std::min(m.shininess, 128.0f);
+      // These are the lighting comparisons, held to the tight bounds: opaque and untextured (the
+      // surfaces cases below check textures and blending).
+      for (auto& m : base.materials) {
+        m.diffuse_texture = facet::kNoTexture;
+        m.blend = facet::BlendMode::opaque;
+        m.alpha = 1.0f;
+      }
+      base.textures.clear();
       facet::Vec3 c;
       float radius;
       bounds(base, c, radius);

@@ -79,7 +79,8 @@ Status validate_global_ambient(const Color3& ambient);
 Status validate_fog(const Fog& fog);
 
 // The built-in scene: procedural shapes only (spheres of shininess 8, 64 and 512, a cube, a torus
-// and a ground plane) lit by a directional light, a point light with attenuation, a GL spot light
+// and a ground plane with a procedural checkered texture; the shininess-512 sphere is alpha-blended
+// glass, drawn last) lit by a directional light, a point light with attenuation, a GL spot light
 // and a smooth-cone spot light. Needs no file.
 Scene make_default_scene();
 

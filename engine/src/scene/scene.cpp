@@ -1,5 +1,6 @@
 // Scene validation, camera matrices and the built-in default scene.
 #include <cmath>
+#include <new>
 #include <numbers>
 #include <string>
 
@@ -337,6 +338,31 @@ Scene make_default_scene() {
   torus.topLeftCorner<3, 3>() = Eigen::AngleAxisf(-0.35f, Vec3::UnitX()).toRotationMatrix();
   scene.objects.push_back({2, 3, torus});
   scene.objects.push_back({3, 4, Mat4::Identity()});
+
+  // Surfaces: a checkered stone texture on the ground (times its light, GL_MODULATE), and the
+  // glossy blue sphere made of tinted glass (alpha blended, drawn after the opaque objects).
+  {
+    constexpr int kSide = 64, kCell = 8;
+    std::vector<std::uint8_t> texels(4 * kSide * kSide);
+    for (int j = 0; j < kSide; ++j) {
+      for (int i = 0; i < kSide; ++i) {
+        const bool light = ((i / kCell) + (j / kCell)) % 2 == 1;
+        std::uint8_t* t = &texels[static_cast<std::size_t>(4 * (j * kSide + i))];
+        t[0] = light ? 235 : 120, t[1] = light ? 225 : 110, t[2] = light ? 200 : 95, t[3] = 255;
+      }
+    }
+    Result<Texture> stone = make_texture("stone", kSide, kSide, texels);
+    if (!stone) throw std::bad_alloc();  // a valid 64 x 64 texture fails only for memory
+    scene.textures.push_back(std::move(*stone));
+    Material& ground = scene.materials[4];
+    ground.diffuse_texture = 0;
+    ground.uv_scale = Vec2(6.0f, 6.0f);
+    Material& glass = scene.materials[2];
+    glass.blend = BlendMode::alpha;
+    glass.alpha = 0.55f;
+    // Blended objects go last: facet draws in submission order and does not sort them.
+    std::swap(scene.objects[2], scene.objects.back());
+  }
 
   Light sun;
   sun.name = "sun";
