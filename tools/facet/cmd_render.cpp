@@ -1,5 +1,7 @@
 // facet render: a scene into a PNG or PFM file, with statistics and throughput.
 #include <chrono>
+#include <array>
+#include <cstdlib>
 #include <filesystem>
 #include <vector>
 
@@ -30,6 +32,7 @@ constexpr const char* kRenderUsage =
     "  --tile N               tile size in pixels, a multiple of 8 in [8, 256] (default 64)\n"
     "  --hdr                  keep unclamped lighting in .pfm output\n"
     "  --srgb                 encode 8-bit output (.png) with the sRGB transfer function (exact)\n"
+    "  --clear R,G,B[,A]      the background colour, components in [0, 1] (default 0,0,0,1)\n"
     "  --no-light-culling     light every object with every enabled light (turn the frame plan off)\n"
     "  --depth FILE.pfm       also write window-space depth (0 near .. 1 far)\n"
     "  --seconds S            render repeatedly for at least S seconds; report the mean frame time\n"
@@ -163,6 +166,23 @@ int run_render(int argc, char** argv) {
       options.hdr = true;
     } else if (arg == "--srgb") {
       options.srgb = true;
+    } else if (arg == "--clear") {
+      const auto v = args.value(arg);
+      if (!v) return 2;
+      std::array<float, 4> c{0.0f, 0.0f, 0.0f, 1.0f};
+      std::size_t n = 0, start = 0;
+      bool ok = true;
+      while (ok && start <= v->size()) {
+        const std::size_t end = std::min(v->find(',', start), v->size());
+        const std::string part = v->substr(start, end - start);
+        char* stop = nullptr;
+        const float x = std::strtof(part.c_str(), &stop);
+        ok = n < 4 && !part.empty() && stop == part.c_str() + part.size() && x >= 0.0f && x <= 1.0f;
+        if (ok) c[n++] = x;
+        start = end + 1;
+      }
+      if (!ok || n < 3) return fail("--clear: expected R,G,B or R,G,B,A with components in [0, 1], found '" + *v + "'");
+      options.clear_color = c;
     } else if (arg == "--no-light-culling") {
       options.cull_lights = false;
     } else if (arg == "--depth") {
