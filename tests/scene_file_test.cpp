@@ -242,5 +242,24 @@ TEST(SceneFile, SurfaceFieldsAndTheirErrors) {
                "textures[0].filter", {"trilinear"});
 }
 
+
+TEST(SceneFile, MeshMaterialsComeFromTheObjGroups) {
+  const std::string text = R"({
+  "materials": [ { "name": "red", "emissive": [1, 0, 0] }, { "name": "green", "emissive": [0, 1, 0] } ],
+  "meshes": [ { "name": "q", "obj": "obj/two_materials.obj" } ],
+  "objects": [ { "mesh": "q", "mesh_materials": true } ]
+})";
+  Result<Scene> s = parse(text);
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  ASSERT_EQ(s->meshes[0].mesh.groups.size(), 2u);
+  EXPECT_TRUE(s->objects[0].mesh_materials);
+  std::string missing = text;
+  missing.replace(missing.find(R"("green")"), 7, R"("lime")");
+  expect_error(missing, 4, "objects[0].mesh_materials", {"'green'", "does not define"});
+  std::string both = text;
+  both.replace(both.find(R"("mesh_materials": true)"), 22, R"("mesh_materials": true, "material": "red")");
+  expect_error(both, 4, "objects[0].material", {"mesh_materials"});
+}
+
 }  // namespace
 }  // namespace facet

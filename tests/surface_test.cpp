@@ -504,5 +504,68 @@ TEST(Srgb, RenderEncodesColourNotAlpha) {
   }
 }
 
+
+// Per-face materials: each material group of a mesh draws with the scene material of its name.
+TEST(Surfaces, MeshMaterialGroupsDrawWithTheirOwnMaterials) {
+  Scene s = test::camera_scene();
+  test::add_quad(s, -5, -5, 5, 5, -3, Color3(1, 0, 0));  // triangles (0, 1, 2) lower right, (0, 2, 3) upper left
+  s.materials.back().name = "red";
+  Material green = s.materials.back();
+  green.name = "green";
+  green.emissive = Color3(0, 1, 0);
+  s.materials.push_back(green);
+  s.meshes.back().mesh.groups = {{"red", 0, 1}, {"green", 1, 1}};
+  s.objects.back().mesh_materials = true;
+  ASSERT_TRUE(validate_scene(s).ok()) << validate_scene(s).message();
+  for (auto [path, isa] : every_path()) {
+    for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+      SCOPED_TRACE(std::string(to_string(path)) + " " + to_string(isa) + " " + to_string(shading));
+      Canvas c(32, 32);
+      RenderOptions o;
+      o.path = path, o.isa = isa, o.shading = shading;
+      Renderer r;
+      ASSERT_TRUE(r.render(s, o, c.view()).ok());
+      EXPECT_EQ(c.byte(24, 24, 0), 255);  // lower right: red
+      EXPECT_EQ(c.byte(24, 24, 1), 0);
+      EXPECT_EQ(c.byte(8, 8, 0), 0);  // upper left: green
+      EXPECT_EQ(c.byte(8, 8, 1), 255);
+    }
+  }
+  Scene bad = s;
+  bad.meshes.back().mesh.groups[1].material = "blue";
+  EXPECT_EQ(validate_scene(bad).field(), "objects[0].mesh_materials");
+  EXPECT_NE(validate_scene(bad).message().find("'blue'"), std::string::npos) << validate_scene(bad).message();
+  bad = s;
+  bad.meshes.back().mesh.groups.clear();
+  EXPECT_EQ(validate_scene(bad).field(), "objects[0].mesh_materials");
+}
+
+// A mesh split into groups that all name its own material draws the same bytes as the whole mesh
+// (each group transforms and lights only the vertices its triangles use).
+TEST(Surfaces, GroupsOfOneMaterialDrawLikeTheWholeMesh) {
+  Scene whole = make_default_scene();
+  Scene split = whole;
+  for (std::size_t o = 0; o < split.objects.size(); ++o) {
+    Instance& inst = split.objects[o];
+    Mesh& mesh = split.meshes[inst.mesh].mesh;
+    if (!mesh.groups.empty()) continue;  // a mesh shared by several objects is split once
+    const auto t = static_cast<std::uint32_t>(mesh.triangle_count());
+    const std::string name = split.materials[inst.material].name;
+    mesh.groups = {{name, 0, t / 3}, {name, t / 3, t / 3}, {name, 2 * (t / 3), t - 2 * (t / 3)}};
+  }
+  for (std::size_t o = 0; o < split.objects.size(); ++o) {
+    Instance& inst = split.objects[o];
+    // Only objects whose mesh's groups name their own material (the first object of each mesh).
+    inst.mesh_materials = split.meshes[inst.mesh].mesh.groups[0].material == split.materials[inst.material].name;
+  }
+  for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+    for (LightingPath path : {LightingPath::scalar, LightingPath::simd}) {
+      RenderOptions o;
+      o.shading = shading, o.path = path, o.threads = 2;
+      EXPECT_TRUE(render_pixels(whole, o) == render_pixels(split, o)) << to_string(shading) << " " << to_string(path);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace facet

@@ -181,6 +181,33 @@ int main(void) {
     CHECK(facet_render(sr, s, img, 16, 16, 16 * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
     /* (0.5, 64/255, 0) at alpha 0.5 over (0, 0, 1): (64, 32, 128). */
     CHECK(abs(c[0] - 64) <= 1 && abs(c[1] - 32) <= 1 && abs(c[2] - 128) <= 1);
+    /* Per-face materials: the quad's first triangle (lower right) red, its second green. */
+    facet_scene* g = facet_scene_create();
+    uint32_t gq = 0, red = 0, green = 0;
+    CHECK(facet_scene_add_mesh(g, quad, 4, NULL, tris, 2, &gq) == FACET_OK);
+    facet_material gm = facet_material_default();
+    gm.ambient[0] = gm.ambient[1] = gm.ambient[2] = 0;
+    gm.diffuse[0] = gm.diffuse[1] = gm.diffuse[2] = 0;
+    gm.emissive[0] = 1;
+    CHECK(facet_scene_add_material(g, &gm, &red) == FACET_OK);
+    gm.emissive[0] = 0, gm.emissive[1] = 1;
+    CHECK(facet_scene_add_material(g, &gm, &green) == FACET_OK);
+    CHECK(facet_scene_add_object_with_mesh_materials(g, gq, NULL, NULL) == FACET_INVALID_ARGUMENT);
+    const uint32_t counts[2] = {1, 1}, too_many[2] = {2, 1}, ids[2] = {red, green}, bad_ids[2] = {red, 7};
+    CHECK(facet_scene_set_mesh_groups(g, gq, too_many, ids, 2) == FACET_INVALID_ARGUMENT);
+    CHECK(facet_scene_set_mesh_groups(g, gq, counts, bad_ids, 2) == FACET_INVALID_ARGUMENT);
+    CHECK(strstr(facet_scene_last_error(g), "material_ids") != NULL);
+    CHECK(facet_scene_set_mesh_groups(g, gq, counts, ids, 1) == FACET_INVALID_ARGUMENT); /* does not cover the mesh */
+    CHECK(facet_scene_set_mesh_groups(g, gq, counts, ids, 2) == FACET_OK);
+    CHECK(facet_scene_add_object_with_mesh_materials(g, gq, NULL, NULL) == FACET_OK);
+    CHECK(facet_scene_set_camera(g, &cam) == FACET_OK);
+    CHECK(facet_render(sr, g, img, 16, 16, 16 * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
+    const unsigned char* lower_right = img + 4 * (16 * 12 + 12);
+    const unsigned char* upper_left = img + 4 * (16 * 3 + 3);
+    CHECK(lower_right[0] == 255 && lower_right[1] == 0);
+    CHECK(upper_left[0] == 0 && upper_left[1] == 255);
+    facet_scene_destroy(g);
+
     facet_renderer_destroy(sr);
     facet_scene_destroy(s);
   }

@@ -150,9 +150,17 @@ facet_status facet_scene_add_texture_rgba8(facet_scene* scene, const uint8_t* rg
 facet_status facet_scene_load_texture(facet_scene* scene, const char* path, facet_texture_filter filter,
                                       facet_texture_wrap wrap, uint32_t* texture_id);
 facet_status facet_scene_add_material(facet_scene* scene, const facet_material* material, uint32_t* material_id);
+/* Per-face materials: the mesh's triangles in `group_count` consecutive runs, run g of
+ * triangle_counts[g] triangles drawn with material_ids[g] by objects added with
+ * facet_scene_add_object_with_mesh_materials. The counts must add up to the mesh's triangles. */
+facet_status facet_scene_set_mesh_groups(facet_scene* scene, uint32_t mesh_id, const uint32_t* triangle_counts,
+                                         const uint32_t* material_ids, size_t group_count);
 /* model: 4x4 column-major model -> world matrix, or NULL for the identity. */
 facet_status facet_scene_add_object(facet_scene* scene, uint32_t mesh_id, uint32_t material_id,
                                     const float* model, uint32_t* object_id);
+/* An object drawn with its mesh's groups' materials (facet_scene_set_mesh_groups). */
+facet_status facet_scene_add_object_with_mesh_materials(facet_scene* scene, uint32_t mesh_id, const float* model,
+                                                        uint32_t* object_id);
 facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light);
 facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* camera);
 facet_status facet_scene_set_global_ambient(facet_scene* scene, const float rgb[3]);

@@ -49,10 +49,14 @@ struct Instance {
   std::uint32_t mesh = 0;      // index into Scene::meshes
   std::uint32_t material = 0;  // index into Scene::materials
   Mat4 model = Mat4::Identity();  // model -> world; must be invertible
+  // Per-face materials: draw each of the mesh's material groups (Mesh::groups, OBJ `usemtl`) with
+  // the scene material of the group's name, instead of `material` for the whole mesh.
+  bool mesh_materials = false;
 };
 // One layout whatever the host's compiler flags (types.hpp): a host built with -mavx2 or
 // -march=native shares these structs with a library built for baseline x86-64.
-static_assert(sizeof(Instance) == 72 && alignof(Instance) == 4, "facet::Instance must not depend on compiler flags");
+static_assert(sizeof(Instance) == 76 && alignof(Instance) == 4, "facet::Instance must not depend on compiler flags");
+
 
 struct Scene {
   std::vector<NamedMesh> meshes;
@@ -68,6 +72,9 @@ struct Scene {
 };
 
 Status validate_scene(const Scene& scene);
+
+// The index of the scene material called `name` (the first, if several are), or -1.
+std::int64_t find_material(const Scene& scene, const std::string& name) noexcept;
 
 // Parts of validate_scene, for callers that build a scene piece by piece (the C API checks each
 // piece as it is added): the same checks and messages, naming materials[index], lights[index],

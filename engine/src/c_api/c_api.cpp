@@ -286,6 +286,60 @@ facet_status facet_scene_add_object(facet_scene* scene, uint32_t mesh_id, uint32
   });
 }
 
+facet_status facet_scene_add_object_with_mesh_materials(facet_scene* scene, uint32_t mesh_id, const float* model,
+                                                        uint32_t* object_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (mesh_id >= scene->scene.meshes.size()) return fail(scene->error, "mesh_id", "no such mesh");
+    if (scene->scene.meshes[mesh_id].mesh.groups.empty()) {
+      return fail(scene->error, "mesh_id", "the mesh has no groups (facet_scene_set_mesh_groups)");
+    }
+    facet::Instance inst;
+    inst.mesh = mesh_id;
+    inst.material = 0;  // not drawn: the groups name theirs (which exist, so there is a material 0)
+    inst.mesh_materials = true;
+    if (model) {
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) inst.model(r, c) = model[4 * c + r];
+    }
+    const auto id = static_cast<std::uint32_t>(scene->scene.objects.size());
+    scene->scene.objects.push_back(inst);
+    if (object_id) *object_id = id;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_set_mesh_groups(facet_scene* scene, uint32_t mesh_id, const uint32_t* triangle_counts,
+                                         const uint32_t* material_ids, size_t group_count) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (mesh_id >= scene->scene.meshes.size()) return fail(scene->error, "mesh_id", "no such mesh");
+    if (group_count > 0 && (!triangle_counts || !material_ids)) return fail(scene->error, "triangle_counts", "null");
+    facet::Mesh& mesh = scene->scene.meshes[mesh_id].mesh;
+    facet::Mesh candidate;  // checked on a copy of the arrays' shape: a failure changes nothing
+    candidate.positions = mesh.positions;
+    candidate.normals = mesh.normals;
+    candidate.triangles = mesh.triangles;
+    std::uint64_t first = 0;
+    for (std::size_t g = 0; g < group_count; ++g) {
+      if (material_ids[g] >= scene->scene.materials.size()) {
+        return fail(scene->error, "material_ids", "entry " + std::to_string(g) + ": no such material");
+      }
+      if (first + triangle_counts[g] > mesh.triangle_count()) {
+        return fail(scene->error, "triangle_counts", "the groups have more triangles than the mesh");
+      }
+      candidate.groups.push_back({scene->scene.materials[material_ids[g]].name, static_cast<std::uint32_t>(first),
+                                  triangle_counts[g]});
+      first += triangle_counts[g];
+    }
+    if (facet::Status st = facet::validate_mesh(candidate, "meshes[" + std::to_string(mesh_id) + "]"); !st.ok()) {
+      return report(scene->error, st);
+    }
+    mesh.groups = std::move(candidate.groups);
+    return report(scene->error, {});
+  });
+}
+
 facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light) {
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {

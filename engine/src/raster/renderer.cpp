@@ -112,7 +112,54 @@ constexpr std::size_t kSmallObjectVertices = 4096;
 constexpr std::size_t kSmallObjectTriangles = 8192;
 
 namespace {
-std::size_t range_count_of(const Mesh& mesh) { return (mesh.triangle_count() + kTriangleRange - 1) / kTriangleRange; }
+std::size_t ranges_of(std::size_t triangles) { return (triangles + kTriangleRange - 1) / kTriangleRange; }
+
+// The set-up ranges an object takes: one per kTriangleRange triangles of each of its draws.
+std::size_t object_ranges(const Scene& scene, const Instance& inst) {
+  const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+  if (!inst.mesh_materials) return ranges_of(mesh.triangle_count());
+  std::size_t n = 0;
+  for (const MaterialGroup& g : mesh.groups) n += ranges_of(g.triangle_count);
+  return n;
+}
+}  // namespace
+
+// One draw of the frame: a whole object, or one material group of an object drawn with its mesh's
+// materials (Instance::mesh_materials). Its triangles [first_triangle, end_triangle) use only the
+// vertices [first_vertex, end_vertex), the only ones it transforms and lights.
+struct DrawUnit {
+  std::uint32_t object = 0, material = 0;
+  std::size_t first_triangle = 0, end_triangle = 0, first_vertex = 0, end_vertex = 0;
+  std::size_t triangles() const { return end_triangle - first_triangle; }
+  std::size_t vertices() const { return end_vertex - first_vertex; }
+  std::size_t ranges() const { return ranges_of(triangles()); }
+};
+
+namespace {
+// The frame's draws, in object order and, within an object, group order (`units` keeps its capacity).
+void plan_units(const Scene& scene, std::vector<DrawUnit>& units) {
+  units.clear();
+  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+    const Instance& inst = scene.objects[o];
+    const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    if (!inst.mesh_materials) {
+      units.push_back({static_cast<std::uint32_t>(o), inst.material, 0, mesh.triangle_count(), 0, mesh.vertex_count()});
+      continue;
+    }
+    for (const MaterialGroup& g : mesh.groups) {  // validated: every name is a scene material
+      DrawUnit u{static_cast<std::uint32_t>(o), static_cast<std::uint32_t>(find_material(scene, g.material)),
+                 g.first_triangle, std::size_t{g.first_triangle} + g.triangle_count, mesh.vertex_count(), 0};
+      for (std::size_t t = u.first_triangle; t < u.end_triangle; ++t) {
+        for (std::uint32_t v : mesh.triangles[t]) {
+          u.first_vertex = std::min<std::size_t>(u.first_vertex, v);
+          u.end_vertex = std::max<std::size_t>(u.end_vertex, std::size_t{v} + 1);
+        }
+      }
+      if (u.end_vertex < u.first_vertex) u.first_vertex = u.end_vertex = 0;  // no triangles
+      units.push_back(u);
+    }
+  }
+}
 
 std::string mib(std::uint64_t bytes) {
   return std::to_string((bytes + (std::uint64_t{1} << 20) - 1) >> 20) + " MiB";
@@ -121,11 +168,11 @@ std::string mib(std::uint64_t bytes) {
 // The one check of the frame's limits, shared by render() and check_render().
 Status check_frame_limits(const Scene& scene, const RenderOptions& options, int width, int height) {
   std::size_t ranges = 0;
-  for (const Instance& inst : scene.objects) ranges += range_count_of(scene.meshes[inst.mesh].mesh);
+  for (const Instance& inst : scene.objects) ranges += object_ranges(scene, inst);
   if (ranges > kMaxRanges) {
     return {ErrorCode::unsupported, "objects",
             "objects: the frame needs " + std::to_string(ranges) + " set-up ranges, at most " +
-                std::to_string(kMaxRanges) + " fit in one frame (each object takes one range per " +
+                std::to_string(kMaxRanges) + " fit in one frame (each object, or material group, takes one range per " +
                 std::to_string(kTriangleRange) + " triangles, at least one: at most " + std::to_string(kMaxRanges) +
                 " objects and " + std::to_string(kMaxRanges * kTriangleRange) + " triangles)"};
   }
@@ -155,9 +202,10 @@ struct Renderer::Impl {
   std::vector<const raster::ScreenTriangle*> range_data;
   std::size_t range_count = 0;
   std::vector<std::vector<std::uint32_t>> bins;
-  std::vector<lighting::PointShader> shaders;  // one per object
-  std::vector<raster::simd::Draw> draws;               // one per object: its varyings and pixel program
-  std::vector<lighting::LightingFeatures> features;  // one per object: what its lighting takes and gives
+  std::vector<DrawUnit> units;                   // the frame's draws (objects, or their material groups)
+  std::vector<lighting::PointShader> shaders;  // one per draw
+  std::vector<raster::simd::Draw> draws;               // one per draw: its varyings and pixel program
+  std::vector<lighting::LightingFeatures> features;  // one per draw: what its lighting takes and gives
   std::vector<texture::Sampler> samplers;        // one per scene texture
   raster::simd::Fog fog;
   SrgbTable srgb;  // made once per renderer (RenderOptions::srgb)
@@ -211,10 +259,10 @@ struct Renderer::Impl {
   void render(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth);
   void run_pass(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p);
   void plan_draws(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p);
-  // Runs body(range, slot) over [0, n) in chunks of `grain`: spread over the arena's threads when
-  // `slot` < 0, else all on the calling task's slot.
+  // Runs body(range, slot) over [begin, end) in chunks of `grain`: spread over the arena's threads
+  // when `slot` < 0, else all on the calling task's slot.
   template <class Body>
-  void for_chunks(std::size_t n, std::size_t grain, int slot, const Body& body);
+  void for_chunks(std::size_t begin, std::size_t end, std::size_t grain, int slot, const Body& body);
   void set_up_object(const Scene& scene, std::uint32_t object, const Eigen::Matrix4d& view,
                      const Eigen::Matrix4d& proj, const LightingOptions& lighting, ObjectScratch& os, int slot);
   void prepare_object(const Scene& scene, const Instance& inst, const Eigen::Matrix4d& view,
@@ -369,10 +417,11 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   const ShadingMode shading = p.shading;
   const bool two_sided = p.two_sided();
   const int tiles_x = p.tiles_x, tile_size = p.tile_size;
-  range_count = 0;  // counted below, per object
+  range_count = 0;  // counted below, per draw
   bins.resize(static_cast<std::size_t>(p.tile_count()));
   for (auto& bin : bins) bin.clear();
-  shaders.resize(scene.objects.size());
+  plan_units(scene, units);
+  shaders.resize(units.size());
   plan_draws(scene, options, p);
 
   const Eigen::Matrix4d& view = p.view;
@@ -384,12 +433,12 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   lighting.clamp = !(options.hdr && p.color->format == PixelFormat::rgba32f);
   lighting.cull_lights = options.cull_lights;
 
-  // Set-up ranges, numbered in object order.
-  const std::size_t object_count = scene.objects.size();
+  // Set-up ranges, numbered in draw order.
+  const std::size_t object_count = units.size();
   first_range.resize(object_count);
   for (std::size_t o = 0; o < object_count; ++o) {
     first_range[o] = range_count;
-    range_count += range_count_of(scene.meshes[scene.objects[o].mesh].mesh);
+    range_count += units[o].ranges();
   }
   if (range_triangles.size() < range_count) {  // grows only with the scene
     range_triangles.resize(range_count);
@@ -398,16 +447,15 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   object_counts.assign(object_count, {});
   object_scratch.resize(workers.size());
   work_total = static_cast<std::uint64_t>(p.tile_count()) + range_count;
-  for (const Instance& inst : scene.objects) {  // clip chunks, then lighting or centroid chunks
-    const Mesh& mesh = scene.meshes[inst.mesh].mesh;
-    work_total += (mesh.vertex_count() + kVertexChunk - 1) / kVertexChunk * 2 +
-                  (mesh.triangle_count() + kVertexChunk - 1) / kVertexChunk * (two_sided ? 2 : 1);
+  for (const DrawUnit& u : units) {  // clip chunks, then lighting or centroid chunks
+    work_total += (u.vertices() + kVertexChunk - 1) / kVertexChunk * 2 +
+                  (u.triangles() + kVertexChunk - 1) / kVertexChunk * (two_sided ? 2 : 1);
   }
   // Runs of two or more small objects are set up side by side, one task per object (the built-in scene's six
   // objects took 1.6 ms of a 5.8 ms frame one after another on 2 threads). Larger objects are set
   // up one at a time with their chunks and ranges spread over the threads.
   auto small = [&](std::size_t o) {
-    const Mesh& mesh = scene.meshes[scene.objects[o].mesh].mesh;
+    const Mesh& mesh = scene.meshes[scene.objects[units[o].object].mesh].mesh;
     const std::size_t lit = shading == ShadingMode::flat ? mesh.triangle_count() : mesh.vertex_count();
     return lit <= kSmallObjectVertices && mesh.triangle_count() <= kSmallObjectTriangles;
   };
@@ -417,7 +465,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   // once then allocates nothing, whatever the schedule (tests/alloc).
   std::size_t small_v = 0, small_t = 0, all_v = 0, all_t = 0;
   for (std::size_t o = 0; o < object_count; ++o) {
-    const Mesh& mesh = scene.meshes[scene.objects[o].mesh].mesh;
+    const Mesh& mesh = scene.meshes[scene.objects[units[o].object].mesh].mesh;
     all_v = std::max(all_v, mesh.vertex_count());
     all_t = std::max(all_t, mesh.triangle_count());
     if (small(o)) {
@@ -450,7 +498,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
     });
     o = end;
   }
-  for (const ObjectCounts& c : object_counts) {  // in object order
+  for (const ObjectCounts& c : object_counts) {  // in draw order
     stats.vertices_lit += c.vertices_lit;
     stats.vertex_lights_evaluated += c.pairs_evaluated;
     stats.vertex_lights_skipped += c.pairs_skipped;
@@ -587,11 +635,11 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
   const raster::LitAt lit = p.shading == ShadingMode::flat      ? raster::LitAt::triangle
                             : p.shading == ShadingMode::gouraud ? raster::LitAt::vertex
                                                                 : raster::LitAt::pixel;
-  draws.resize(scene.objects.size());
-  features.resize(scene.objects.size());
-  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
-    const Instance& inst = scene.objects[o];
-    const Material& m = scene.materials[inst.material];
+  draws.resize(units.size());
+  features.resize(units.size());
+  for (std::size_t o = 0; o < units.size(); ++o) {
+    const Instance& inst = scene.objects[units[o].object];
+    const Material& m = scene.materials[units[o].material];
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
     const bool textured = m.diffuse_texture != kNoTexture;
     const bool colours = !mesh.colors.empty();
@@ -618,16 +666,16 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
 }
 
 template <class Body>
-void Renderer::Impl::for_chunks(std::size_t n, std::size_t grain, int slot, const Body& body) {
+void Renderer::Impl::for_chunks(std::size_t begin, std::size_t end, std::size_t grain, int slot, const Body& body) {
   auto unit = [&](const tbb::blocked_range<std::size_t>& r, int s) {
     if (cancelled.load(std::memory_order_relaxed)) return;
     body(r, s);
     unit_done();
   };
   if (slot < 0) {
-    arena->parallel_for(tbb::blocked_range<std::size_t>(0, n, grain), unit);
+    if (begin < end) arena->parallel_for(tbb::blocked_range<std::size_t>(begin, end, grain), unit);
   } else {
-    for (std::size_t b = 0; b < n; b += grain) unit(tbb::blocked_range<std::size_t>(b, std::min(n, b + grain), grain), slot);
+    for (std::size_t b = begin; b < end; b += grain) unit(tbb::blocked_range<std::size_t>(b, std::min(end, b + grain), grain), slot);
   }
 }
 
@@ -635,10 +683,11 @@ void Renderer::Impl::for_chunks(std::size_t n, std::size_t grain, int slot, cons
 void Renderer::Impl::set_up_object(const Scene& scene, std::uint32_t object, const Eigen::Matrix4d& view,
                                    const Eigen::Matrix4d& proj, const LightingOptions& lighting, ObjectScratch& os,
                                    int slot) {
-  const Instance& inst = scene.objects[object];
+  const DrawUnit& u = units[object];
+  const Instance& inst = scene.objects[u.object];
   prepare_object(scene, inst, view, proj, lighting, object, os, slot);
   const auto geometry_start = Clock::now();
-  assemble_object(scene.meshes[inst.mesh].mesh, object, scene.materials[inst.material].alpha, os, slot);
+  assemble_object(scene.meshes[inst.mesh].mesh, object, scene.materials[u.material].alpha, os, slot);
   object_counts[object].seconds_geometry += seconds_since(geometry_start);
 }
 
@@ -648,13 +697,15 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   const ShadingMode shading = pass->shading;
   const bool two_sided = pass->two_sided();
   const Mesh& mesh = scene.meshes[inst.mesh].mesh;
-  const std::size_t n = mesh.vertex_count();
+  const DrawUnit& unit = units[object];
+  // Arrays are indexed by the mesh's vertex and triangle numbers; a draw fills its own part.
+  const std::size_t n = mesh.vertex_count(), v0 = unit.first_vertex, v1 = unit.end_vertex;
   const auto lighting_start = Clock::now();
   lighting::PointShader& shader = shaders[object];
   const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model);
   // Options were checked in render(), so preparing cannot fail here.
   const lighting::LightingFeatures& lf = features[object];
-  (void)shader.prepare(scene, view, scene.materials[inst.material], lighting, &bounds, lf);
+  (void)shader.prepare(scene, view, scene.materials[unit.material], lighting, &bounds, lf);
   ObjectCounts& counts = object_counts[object];
   auto count_pairs = [&](std::size_t evaluations) {
     counts.vertices_lit += evaluations;
@@ -671,7 +722,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   const geometry::Mat4Rows mvp = to_rows(proj * view * inst.model.cast<double>());
   clip.resize(n);
   screen.resize(n);
-  for_chunks(n, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int) {
+  for_chunks(v0, v1, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int) {
     geometry::transform_vertices(mvp, mesh.positions.data(), r.begin(), r.end(), pass->assembly.planes, pass->assembly.viewport,
                                  clip.data(), screen.data());
   });
@@ -685,7 +736,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       if (two_sided) os.back_spec.resize(n);
     }
     // Vertex batches in parallel; a vertex's colour does not depend on its batch.
-    for_chunks(n, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
+    for_chunks(v0, v1, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
       lighting::SoaScratch& soa = worker(chunk_slot).soa;
       shader.light_mesh(mesh, view, inst.model, false, r.begin(), r.end(), front.data(), soa,
                         split ? os.front_spec.data() : nullptr);
@@ -694,7 +745,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
                           split ? os.back_spec.data() : nullptr);
       }
     });
-    count_pairs(n * (two_sided ? 2 : 1));
+    count_pairs((v1 - v0) * (two_sided ? 2 : 1));
     counts.seconds_lighting += seconds_since(lighting_start);
     return;
   }
@@ -703,7 +754,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   const auto xf = lighting::make_eye_transform<float>(view, inst.model);
   eye_p.resize(n);
   eye_n.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = v0; i < v1; ++i) {
     const Vec3& p = mesh.positions[i];
     const Vec3& nn = mesh.normals[i];
     const float* m = xf.position;
@@ -715,10 +766,10 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   }
   if (shading == ShadingMode::flat) {
     // One evaluation per triangle: the face normal (from the eye-space corners) at the centroid.
-    const std::size_t t_count = mesh.triangle_count();
+    const std::size_t t_count = mesh.triangle_count(), t0 = unit.first_triangle, t1 = unit.end_triangle;
     centroid.resize(t_count);
     face_normal.resize(t_count);
-    for (std::size_t t = 0; t < t_count; ++t) {
+    for (std::size_t t = t0; t < t1; ++t) {
       const auto& tri = mesh.triangles[t];
       const Vec3 &a = eye_p[tri[0]], &b = eye_p[tri[1]], &c = eye_p[tri[2]];
       centroid[t] = (a + b + c) / 3.0f;
@@ -726,7 +777,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
     }
     if (lf.color_material) {  // the albedo at the centroid: the mean of the corners' colours
       os.flat_albedo.resize(t_count);
-      for (std::size_t t = 0; t < t_count; ++t) {
+      for (std::size_t t = t0; t < t1; ++t) {
         const auto& tri = mesh.triangles[t];
         os.flat_albedo[t] = (mesh.colors[tri[0]] + mesh.colors[tri[1]] + mesh.colors[tri[2]]) / 3.0f;
       }
@@ -734,7 +785,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
     auto shade = [&](std::vector<Color3>& out, std::vector<Color3>& spec) {
       out.resize(t_count);
       if (split) spec.resize(t_count);
-      for_chunks(t_count, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
+      for_chunks(t0, t1, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
         shader.shade_points(r.size(), centroid.data() + r.begin(), face_normal.data() + r.begin(),
                             out.data() + r.begin(), worker(chunk_slot).soa,
                             lf.color_material ? os.flat_albedo.data() + r.begin() : nullptr,
@@ -743,10 +794,10 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
     };
     shade(front, os.front_spec);
     if (two_sided) {
-      for (auto& fn : face_normal) fn = -fn;
+      for (std::size_t t = t0; t < t1; ++t) face_normal[t] = -face_normal[t];
       shade(back, os.back_spec);
     }
-    count_pairs(t_count * (two_sided ? 2 : 1));
+    count_pairs((t1 - t0) * (two_sided ? 2 : 1));
   }
   counts.seconds_lighting += seconds_since(lighting_start);
 }
@@ -754,7 +805,6 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
 void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, float alpha, const ObjectScratch& os,
                                      int slot) {
   const bool two_sided = pass->two_sided();
-  const std::size_t count = mesh.triangle_count();
   const std::size_t first = first_range[object];
   const bool flat = pass->shading == ShadingMode::flat;
   raster::ObjectVertices vertices;
@@ -783,9 +833,11 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   vertices.mirrored = os.mirrored;
   vertices.object = object;
   vertices.alpha = alpha;
-  for_chunks(range_count_of(mesh), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
+  const DrawUnit& unit = units[object];
+  for_chunks(0, unit.ranges(), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
     for (std::size_t r = rs.begin(); r != rs.end(); ++r) {
-      raster::assemble_range(pass->assembly, mesh, vertices, r * kTriangleRange, std::min(count, (r + 1) * kTriangleRange),
+      const std::size_t begin = unit.first_triangle + r * kTriangleRange;
+      raster::assemble_range(pass->assembly, mesh, vertices, begin, std::min(unit.end_triangle, begin + kTriangleRange),
                              range_triangles[first + r], range_binning[first + r]);
     }
   });

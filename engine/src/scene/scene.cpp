@@ -246,8 +246,25 @@ Status validate_lighting_inputs(const Scene& scene) {
       return invalid(f("transform"), "expected an affine transform (last row 0 0 0 1)");
     }
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    if (inst.mesh_materials) {
+      if (mesh.groups.empty()) {
+        return invalid(f("mesh_materials"), "meshes[" + std::to_string(inst.mesh) + "] has no material groups");
+      }
+      for (std::size_t g = 0; g < mesh.groups.size(); ++g) {
+        const std::int64_t m = find_material(scene, mesh.groups[g].material);
+        if (m < 0) {
+          return invalid(f("mesh_materials"), "meshes[" + std::to_string(inst.mesh) + "].groups[" + std::to_string(g) +
+                                                  "] names material " + quote(mesh.groups[g].material, 40) +
+                                                  ", which the scene does not define");
+        }
+        if (scene.materials[static_cast<std::size_t>(m)].diffuse_texture != kNoTexture && mesh.uvs.size() != mesh.positions.size()) {
+          return invalid(f("mesh_materials"), "material " + quote(mesh.groups[g].material, 40) + " is textured but meshes[" +
+                                                  std::to_string(inst.mesh) + "] has no texture coordinates (uvs)");
+        }
+      }
+    }
     const Material& material = scene.materials[inst.material];
-    if (material.diffuse_texture != kNoTexture) {
+    if (material.diffuse_texture != kNoTexture && !inst.mesh_materials) {
       if (static_cast<std::size_t>(material.diffuse_texture) >= scene.textures.size()) {
         return invalid(Field{"materials", inst.material, true}("diffuse_texture"),
                        "texture index " + std::to_string(material.diffuse_texture) + " is out of range (" +
@@ -266,6 +283,13 @@ Status validate_lighting_inputs(const Scene& scene) {
     }
   }
   return {};
+}
+
+std::int64_t find_material(const Scene& scene, const std::string& name) noexcept {
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+    if (scene.materials[i].name == name) return static_cast<std::int64_t>(i);
+  }
+  return -1;
 }
 
 Status validate_scene(const Scene& scene) {

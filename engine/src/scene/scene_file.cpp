@@ -478,9 +478,21 @@ class SceneReader {
   }
 
   Status read_object(const json& j, const std::string& p, Scene& scene, Instance& inst) const {
-    FACET_TRY(expect_object(j, p, {"mesh", "material", "translate", "rotate_deg", "scale", "matrix"}));
+    FACET_TRY(expect_object(j, p, {"mesh", "material", "mesh_materials", "translate", "rotate_deg", "scale", "matrix"}));
     FACET_TRY(find_by_name(j, p, "mesh", scene.meshes, "mesh", inst.mesh));
-    if (j.contains("material")) {
+    FACET_TRY(opt_bool(j, p, "mesh_materials", inst.mesh_materials));
+    if (inst.mesh_materials && j.contains("material")) {
+      return invalid(child(p, "material"), "an object with \"mesh_materials\" takes its materials from its mesh's groups");
+    }
+    if (inst.mesh_materials) {
+      // The instance's own material is not drawn; any valid index will do.
+      if (scene.materials.empty()) {
+        Material m;
+        m.name = "default";
+        scene.materials.push_back(m);
+      }
+      inst.material = 0;
+    } else if (j.contains("material")) {
       FACET_TRY(find_by_name(j, p, "material", scene.materials, "material", inst.material));
     } else {
       // Objects without a material share one with GL's default values.
