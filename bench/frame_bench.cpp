@@ -4,6 +4,9 @@
 //       every layer passes the depth test (33 M pixels a frame), no lighting cost to speak of;
 //   BM_Fill/<variant>/phong:   4 full-screen layers lit per pixel (one point light);
 //   BM_Fill/<variant>/small:   200,000 random triangles of 1-16 pixels at 1920x1080;
+//   BM_Fill/<variant>/textured: the 16 Gouraud layers, each with a 256x256 trilinear texture
+//       (GL_MODULATE, minified), lit by a directional light (separate specular);
+//   BM_Fill/<variant>/blended:  the 16 Gouraud layers, each alpha-blended (alpha 0.5);
 //   BM_Frame/<variant>/<scene>/<size>: the built-in scene and each model scene of
 //       tests/data/scenes (skipped when ../shared/models is absent), Gouraud.
 // Variants: the scalar path (scalar lighting and rasterizer) and the simd path of each ISA this
@@ -19,43 +22,10 @@
 #include <vector>
 
 #include "facet/facet.hpp"
+#include "fill_scenes.hpp"
 #include "roofline.hpp"
 
 namespace {
-
-facet::Scene layers_scene(int layers, bool lit = false) {
-  facet::Scene s;
-  s.camera.eye = facet::Vec3(0, 0, 0);
-  s.camera.target = facet::Vec3(0, 0, -1);
-  s.camera.vertical_fov_deg = 90;
-  s.camera.far = 1000;
-  facet::Mesh quad;
-  quad.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
-  quad.normals.assign(4, facet::Vec3(0, 0, 1));
-  quad.triangles = {{0, 1, 2}, {0, 2, 3}};
-  s.meshes.push_back({"quad", quad});
-  facet::Material m;
-  m.emissive = facet::Color3(0.3f, 0.5f, 0.7f);
-  if (lit) {
-    m.emissive = facet::Color3(0.05f, 0.05f, 0.05f);
-    m.specular = facet::Color3(0.5f, 0.5f, 0.5f);
-    m.shininess = 24;
-    facet::Light l;
-    l.type = facet::LightType::point;
-    l.position = facet::Vec3(0.0f, 0.0f, 0.0f);
-    l.linear_attenuation = 0.01f;
-    s.lights.push_back(l);
-  }
-  s.materials.push_back(m);
-  for (int i = 0; i < layers; ++i) {  // back to front: every layer passes the depth test
-    const float z = -50.0f + float(i);
-    facet::Mat4 t = facet::Mat4::Identity();
-    t.topLeftCorner<3, 3>() *= -z * 2.0f;  // large enough to cover the view at that depth
-    t(2, 3) = z;
-    s.objects.push_back({0, 0, t});
-  }
-  return s;
-}
 
 // `count` random triangles of 1-16 pixels each over a 1920x1080 view at depth -10.
 facet::Scene small_triangles_scene(int count) {
@@ -156,13 +126,21 @@ void register_all() {
     o.isa = v.isa;
     const std::string prefix = std::string("/") + v.name + "/";
     add("BM_Fill" + prefix + "gouraud", [o](benchmark::State& state) {
-      static const facet::Scene scene = layers_scene(16);
+      static const facet::Scene scene = facet::bench::layers_scene(16);
+      run_frames(state, scene, o, 1920, 1080);
+    });
+    add("BM_Fill" + prefix + "textured", [o](benchmark::State& state) {
+      static const facet::Scene scene = facet::bench::layers_scene(16, false, facet::bench::Layers::textured);
+      run_frames(state, scene, o, 1920, 1080);
+    });
+    add("BM_Fill" + prefix + "blended", [o](benchmark::State& state) {
+      static const facet::Scene scene = facet::bench::layers_scene(16, false, facet::bench::Layers::blended);
       run_frames(state, scene, o, 1920, 1080);
     });
     facet::RenderOptions phong = o;
     phong.shading = facet::ShadingMode::phong;
     add("BM_Fill" + prefix + "phong", [phong](benchmark::State& state) {
-      static const facet::Scene scene = layers_scene(4, true);
+      static const facet::Scene scene = facet::bench::layers_scene(4, true);
       run_frames(state, scene, phong, 1920, 1080);
     });
     add("BM_Fill" + prefix + "small", [o](benchmark::State& state) {

@@ -3,7 +3,7 @@
 // (off-screen, into a caller buffer; Gouraud, depth test LESS, back faces culled) and by facet's
 // default path with the same thread count (llvmpipe: LP_NUM_THREADS, set before the first
 // context; facet: RenderOptions::threads). Reports ms per frame for each, the ratio, and the
-// image difference over the pixels either renderer covered: mean absolute difference, share
+// image difference over the pixels either renderer drew: mean absolute difference, share
 // within 2 steps, PSNR; writes both images.
 //
 // GL-compatible lighting: facet's model *is* GL 2.1's (emission + global ambient + per light
@@ -23,7 +23,8 @@
 // in float per pixel, and both round blends differently (8-bit framebuffer against float tiles).
 //
 //   facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick]
-//                     [--check] [SCENE.json ...]
+//                     [--check] [--filter TEXT] [SCENE.json ...]
+// --filter runs only the cases whose name contains TEXT (e.g. --filter fill_).
 // With no scene file: the built-in scene, the Stanford bunny (when ../shared/models is there) and
 // a 1M-triangle sphere, each with 1, 4 and 8 lights. --check exits 1 unless every comparison has
 // a mean difference <= 0.05 steps, >= 99.9 % of covered pixels within 2 steps and a PSNR >= 50 dB
@@ -44,6 +45,7 @@
 #include <vector>
 
 #include "facet/facet.hpp"
+#include "../fill_scenes.hpp"
 
 namespace {
 
@@ -54,6 +56,7 @@ struct Options {
   double seconds = 1.0;
   std::string out = "out/llvmpipe";
   bool quick = false, check = false;
+  std::string filter;  // run only the cases whose name contains it
   std::vector<std::string> scenes;
 };
 
@@ -376,7 +379,11 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
   double sum = 0, sq = 0;
   std::size_t within = 0, channels = 0;
   for (std::size_t i = 0; i < gl_depth.size(); ++i) {
-    if (!(gl_depth[i] < 1.0f || facet_depth[i] < 1.0f)) continue;
+    // Covered: either renderer wrote depth there, or changed the colour from the clear colour
+    // (blended geometry does not write depth).
+    const bool drawn = gl_pixels[4 * i] | gl_pixels[4 * i + 1] | gl_pixels[4 * i + 2] | facet_pixels[4 * i] |
+                       facet_pixels[4 * i + 1] | facet_pixels[4 * i + 2];
+    if (!(gl_depth[i] < 1.0f || facet_depth[i] < 1.0f || drawn)) continue;
     ++r.covered;
     int worst = 0;
     for (int c = 0; c < 3; ++c) {
@@ -433,8 +440,9 @@ int main(int argc, char** argv) {
     else if (a == "--out") opt.out = next();
     else if (a == "--quick") opt.quick = true;
     else if (a == "--check") opt.check = true;
+    else if (a == "--filter") opt.filter = next();
     else if (a == "-h" || a == "--help") {
-      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [SCENE.json ...]");
+      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--filter TEXT] [SCENE.json ...]");
       return 0;
     } else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "facet_vs_llvmpipe: unknown option %s\n", a.c_str());
@@ -510,6 +518,10 @@ int main(int argc, char** argv) {
     bounds(coloured, centre, radius);
     coloured.lights = light_set(4, centre, radius);  // the built-in lights have ranges (not GL 2.1)
     cases.emplace_back("vertex_colours", std::move(coloured));
+    // Fill rate with surfaces: the frame benchmarks' 16 full-screen layers (bench/fill_scenes.hpp).
+    cases.emplace_back("fill_gouraud", facet::bench::layers_scene(16));
+    cases.emplace_back("fill_textured", facet::bench::layers_scene(16, false, facet::bench::Layers::textured));
+    cases.emplace_back("fill_blended", facet::bench::layers_scene(16, false, facet::bench::Layers::blended));
   } else {
     for (const std::string& path : opt.scenes) {
       auto s = facet::load_scene_file(path);
@@ -527,6 +539,7 @@ int main(int argc, char** argv) {
               "mean diff", "within 2", "PSNR dB", "pixels by largest difference: 0 / 1 / 2 / 3-4 / 5-8 / >8 steps");
   bool ok = true;
   for (auto& [name, scene] : cases) {
+    if (!opt.filter.empty() && name.find(opt.filter) == std::string::npos) continue;
     if (const std::string why = gl_incompatibility(scene); !why.empty()) {
       std::printf("%-22s skipped: %s\n", name.c_str(), why.c_str());
       continue;

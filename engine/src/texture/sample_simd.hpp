@@ -9,6 +9,9 @@
 #include <cfloat>
 #include <cstdint>
 
+#include <immintrin.h>
+#include <type_traits>
+
 #include <xsimd/xsimd.hpp>
 
 #include "texture/sampler.hpp"
@@ -72,51 +75,64 @@ struct SampleSimd {
     return xsimd::select(magnify, F(-1.0f), xsimd::select(rho2 > F(FLT_MAX), F(kFarLod), lambda));
   }
 
-  // Level `level[lane]` of each lane, nearest or bilinear: RGBA in out[0..3].
-  static void sample_levels(const Sampler& s, const std::int32_t* level, bool linear, const F& u, const F& v, F* out) {
-    alignas(64) std::int32_t w[W], h[W];
-    alignas(64) float fw[W], fh[W];
-    for (int l = 0; l < W; ++l) {
-      const SamplerLevel& L = s.level[level[l]];
-      w[l] = L.width, h[l] = L.height, fw[l] = L.fwidth, fh[l] = L.fheight;
+  // Level `level` (per lane) of each lane, nearest or bilinear: RGBA in out[0..3]. The level's
+  // size and the texels come from the Sampler's tables with gathers (avx2 and avx512 have them;
+  // xsimd emulates them on sse2): the same integers as the scalar twin's per-lane reads.
+  // 32-bit gathers: the hardware's on avx2 and avx512 (xsimd 8.1 falls back to element inserts
+  // for avx512bw), element loads on sse2.
+  static I gather(const std::int32_t* base, const I& index) {
+    using A = typename F::arch_type;
+    if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+      return I(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), __mmask16(0xffff), index, base, 4));
+    } else if constexpr (std::is_base_of_v<xsimd::avx2, A>) {
+      return I(_mm256_i32gather_epi32(base, index, 4));
+    } else {
+      alignas(64) std::int32_t at[W], out[W];
+      index.store_aligned(at);
+      for (int l = 0; l < W; ++l) out[l] = base[at[l]];
+      return I::load_aligned(out);
     }
-    const I wi = I::load_aligned(w), hi = I::load_aligned(h);
+  }
+  static F gather(const float* base, const I& index) {
+    return xsimd::bitwise_cast<F>(gather(reinterpret_cast<const std::int32_t*>(base), index));
+  }
+  static I texels_at(const Sampler& s, const I& index) {
+    return gather(reinterpret_cast<const std::int32_t*>(s.texels), index);
+  }
+  // The level's size and first texel per lane: broadcast when every lane reads the same level
+  // (the common case: a level changes over many pixels), gathered otherwise.
+  struct LevelLanes {
+    I wi, hi, base;
+    F fw, fh;
+  };
+  static LevelLanes level_lanes(const Sampler& s, const I& level) {
+    const std::int32_t k = level.get(0);
+    if (xsimd::all(level == I(k))) {
+      return {I(s.width[k]), I(s.height[k]), I(s.offset[k]), F(s.fwidth[k]), F(s.fheight[k])};
+    }
+    return {gather(s.width, level), gather(s.height, level), gather(s.offset, level), gather(s.fwidth, level),
+            gather(s.fheight, level)};
+  }
+  static void sample_levels(const Sampler& s, const I& level, bool linear, const F& u, const F& v, F* out) {
+    const LevelLanes lanes = level_lanes(s, level);
+    const I &wi = lanes.wi, &hi = lanes.hi, &base = lanes.base;
+    const F &fw = lanes.fw, &fh = lanes.fh;
     const F rs = wrap_coordinate(u, s.wrap), rt = wrap_coordinate(v, s.wrap);
-    alignas(64) std::uint32_t t[4][W];
     if (!linear) {
-      alignas(64) std::int32_t ii[W], jj[W];
-      fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rs * F::load_aligned(fw))), wi, s.wrap).store_aligned(ii);
-      fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rt * F::load_aligned(fh))), hi, s.wrap).store_aligned(jj);
-      for (int l = 0; l < W; ++l) {
-        const SamplerLevel& L = s.level[level[l]];
-        t[0][l] = L.texels[static_cast<std::size_t>(jj[l]) * static_cast<std::size_t>(L.width) + static_cast<std::size_t>(ii[l])];
-      }
-      const I t00 = xsimd::bitwise_cast<I>(U::load_aligned(t[0]));
+      const I ii = fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rs * fw)), wi, s.wrap);
+      const I jj = fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rt * fh)), hi, s.wrap);
+      const I t00 = texels_at(s, base + jj * wi + ii);
       for (int c = 0; c < 4; ++c) out[c] = xsimd::batch_cast<float>((t00 >> (8 * c)) & I(0xff)) * F(1.0f / 255.0f);
       return;
     }
-    const F x = rs * F::load_aligned(fw) - F(0.5f), y = rt * F::load_aligned(fh) - F(0.5f);
+    const F x = rs * fw - F(0.5f), y = rt * fh - F(0.5f);
     const F fx = xsimd::floor(x), fy = xsimd::floor(y);
     const F a = x - fx, b = y - fy;
     const I i0 = xsimd::batch_cast<std::int32_t>(fx), j0 = xsimd::batch_cast<std::int32_t>(fy);
-    alignas(64) std::int32_t ia[W], ib[W], ja[W], jb[W];
-    fold(i0, wi, s.wrap).store_aligned(ia);
-    fold(i0 + I(1), wi, s.wrap).store_aligned(ib);
-    fold(j0, hi, s.wrap).store_aligned(ja);
-    fold(j0 + I(1), hi, s.wrap).store_aligned(jb);
-    for (int l = 0; l < W; ++l) {
-      const SamplerLevel& L = s.level[level[l]];
-      const std::size_t row_a = static_cast<std::size_t>(ja[l]) * static_cast<std::size_t>(L.width);
-      const std::size_t row_b = static_cast<std::size_t>(jb[l]) * static_cast<std::size_t>(L.width);
-      t[0][l] = L.texels[row_a + static_cast<std::size_t>(ia[l])];
-      t[1][l] = L.texels[row_a + static_cast<std::size_t>(ib[l])];
-      t[2][l] = L.texels[row_b + static_cast<std::size_t>(ia[l])];
-      t[3][l] = L.texels[row_b + static_cast<std::size_t>(ib[l])];
-    }
-    const I t00 = xsimd::bitwise_cast<I>(U::load_aligned(t[0]));
-    const I t10 = xsimd::bitwise_cast<I>(U::load_aligned(t[1]));
-    const I t01 = xsimd::bitwise_cast<I>(U::load_aligned(t[2]));
-    const I t11 = xsimd::bitwise_cast<I>(U::load_aligned(t[3]));
+    const I ia = fold(i0, wi, s.wrap), ib = fold(i0 + I(1), wi, s.wrap);
+    const I row_a = base + fold(j0, hi, s.wrap) * wi, row_b = base + fold(j0 + I(1), hi, s.wrap) * wi;
+    const I t00 = texels_at(s, row_a + ia), t10 = texels_at(s, row_a + ib);
+    const I t01 = texels_at(s, row_b + ia), t11 = texels_at(s, row_b + ib);
     const F ra = F(1.0f) - a, rb = F(1.0f) - b;
     for (int c = 0; c < 4; ++c) {
       auto ch = [c](const I& texel) { return xsimd::batch_cast<float>((texel >> (8 * c)) & I(0xff)); };
@@ -128,9 +144,8 @@ struct SampleSimd {
 
   // RGBA at (u, v) with level of detail lambda (used only by trilinear textures).
   static void sample(const Sampler& s, const F& u, const F& v, const F& lambda, F* out) {
-    alignas(64) std::int32_t level[W] = {};
     if (s.filter != static_cast<int>(TextureFilter::trilinear)) {
-      sample_levels(s, level, s.filter != static_cast<int>(TextureFilter::nearest), u, v, out);
+      sample_levels(s, I(0), s.filter != static_cast<int>(TextureFilter::nearest), u, v, out);
       return;
     }
     // Lanes with lambda <= 0 (or NaN) magnify from level 0; lanes at or past the last level q
@@ -142,11 +157,9 @@ struct SampleSimd {
     const I k = xsimd::batch_cast<std::int32_t>(d1);
     const auto single = (!minify) | (d1 >= F(static_cast<float>(q)));
     const F f = xsimd::select(single, F(0.0f), l - d1);
-    alignas(64) std::int32_t next[W];
-    k.store_aligned(level);
-    xsimd::select(k >= I(q), k, k + I(1)).store_aligned(next);
+    const I next = xsimd::select(k >= I(q), k, k + I(1));
     F c1[4], c2[4];
-    sample_levels(s, level, true, u, v, c1);
+    sample_levels(s, k, true, u, v, c1);
     if (xsimd::any(f != F(0.0f))) {
       sample_levels(s, next, true, u, v, c2);
     } else {

@@ -121,7 +121,10 @@ Sampler make_sampler(const Texture& texture) noexcept {
     const TextureLevel& l = texture.levels[static_cast<std::size_t>(k)];
     s.level[k] = {texture.texels.data() + l.offset, l.width, l.height, static_cast<float>(l.width),
                   static_cast<float>(l.height)};
+    s.width[k] = l.width, s.height[k] = l.height, s.offset[k] = static_cast<std::int32_t>(l.offset);
+    s.fwidth[k] = static_cast<float>(l.width), s.fheight[k] = static_cast<float>(l.height);
   }
+  s.texels = texture.texels.data();
   return s;
 }
 

@@ -50,6 +50,11 @@ struct Sampler {
   std::int32_t levels;
   float lod_width, lod_height;  // level 0's size, for rho
   SamplerLevel level[kMaxLevels];
+  // The same per level as tables, for the SIMD sampler's gathers: every level's texels lie in one
+  // array from `texels` (level 0), level k's from texel offset[k] (< 2^31: 16384^2 * 4/3).
+  const std::uint32_t* texels;
+  std::int32_t width[kMaxLevels], height[kMaxLevels], offset[kMaxLevels];
+  float fwidth[kMaxLevels], fheight[kMaxLevels];
 };
 Sampler make_sampler(const Texture& texture) noexcept;
 
