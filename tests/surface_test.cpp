@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "io/srgb.hpp"
+#include "texture/sampler.hpp"
 #include "render_support.hpp"
 
 namespace facet {
@@ -563,6 +564,52 @@ TEST(Surfaces, GroupsOfOneMaterialDrawLikeTheWholeMesh) {
       RenderOptions o;
       o.shading = shading, o.path = path, o.threads = 2;
       EXPECT_TRUE(render_pixels(whole, o) == render_pixels(split, o)) << to_string(shading) << " " << to_string(path);
+    }
+  }
+}
+
+
+// Stability: texture coordinates of 1e7 (float spacing 1 there: the texture's corner, documented),
+// derivatives of zero (every corner the same uv) and of infinity (a textured quad seen edge-on), a
+// fully transparent blended object: finite output, and the transparent object changes nothing.
+TEST(Surfaces, StableAtHugeUvsZeroAndInfiniteDerivatives) {
+  Scene s = test::camera_scene();
+  s.textures.push_back(texture_from(16, 16, TextureFilter::trilinear, [](int i, int j) {
+    return std::array<std::uint8_t, 4>{static_cast<std::uint8_t>(16 * i), static_cast<std::uint8_t>(16 * j), 99, 255};
+  }));
+  test::add_quad(s, -5, -5, 0, 5, -3, Color3(1, 1, 1));  // left half: uvs of 1e7
+  s.meshes.back().mesh.uvs = {Vec2(1e7f, -1e7f), Vec2(1e7f + 1, -1e7f), Vec2(1e7f + 1, -1e7f + 1), Vec2(1e7f, -1e7f + 1)};
+  s.materials.back().diffuse_texture = 0;
+  test::add_quad(s, 0, -5, 5, 5, -3, Color3(1, 1, 1));  // right half: one uv everywhere
+  s.meshes.back().mesh.uvs.assign(4, Vec2(0.53f, 0.47f));
+  s.materials.back().diffuse_texture = 0;
+  test::add_quad(s, -1, -1, 1, 1, -2, Color3(1, 1, 1));  // edge-on: rotated to contain the view ray
+  add_uvs(s);
+  s.materials.back().diffuse_texture = 0;
+  Mat4 edge = Mat4::Identity();
+  edge.topLeftCorner<3, 3>() = Eigen::AngleAxisf(1.5707963f, Vec3::UnitY()).toRotationMatrix();
+  edge(2, 3) = -2.5f;
+  s.objects.back().model = edge;
+  s.objects.back().material = static_cast<std::uint32_t>(s.materials.size() - 1);
+  Scene with_ghost = s;
+  test::add_quad(with_ghost, -5, -5, 5, 5, -2, Color3(1, 0, 1));  // in front of everything, invisible
+  with_ghost.materials.back().blend = BlendMode::alpha;
+  with_ghost.materials.back().alpha = 0.0f;
+  for (auto [path, isa] : every_path()) {
+    for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+      SCOPED_TRACE(std::string(to_string(path)) + " " + to_string(isa) + " " + to_string(shading));
+      RenderOptions o;
+      o.path = path, o.isa = isa, o.shading = shading;
+      Canvas f(64, 64, PixelFormat::rgba32f);
+      Renderer r;
+      ASSERT_TRUE(r.render(s, o, f.view()).ok());
+      for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x)
+          for (int c = 0; c < 4; ++c) ASSERT_TRUE(std::isfinite(f.channel_f(x, y, c))) << x << " " << y;
+      // One uv everywhere: exactly the texel there at level 0 (bilinear between texel centres).
+      const auto want = texture::sample_reference(texture::make_sampler(s.textures[0]), 0.53, 0.47, -1.0);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(f.channel_f(56, 32, c), want[static_cast<std::size_t>(c)], 1e-5);
+      EXPECT_TRUE(render_pixels(s, o, 64, 64) == render_pixels(with_ghost, o, 64, 64));
     }
   }
 }
