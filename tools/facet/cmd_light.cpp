@@ -220,13 +220,24 @@ int run_check(int argc, char** argv) {
   Result<Scene> scene = load_scene_file(scene_path, load);
   if (!scene) return fail(scene.status().message());
   if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(scene_path + ": " + s.message());
-  std::size_t triangles = 0;
-  for (const auto& obj : scene->objects) triangles += scene->meshes[obj.mesh].mesh.triangle_count();
+  std::size_t triangles = 0, blended = 0, textured = 0;
+  for (const auto& obj : scene->objects) {
+    triangles += scene->meshes[obj.mesh].mesh.triangle_count();
+    blended += scene->materials[obj.material].blend != BlendMode::opaque;
+    textured += scene->materials[obj.material].diffuse_texture != kNoTexture;
+  }
+  std::uint64_t texels = 0;
+  for (const auto& t : scene->textures) texels += t.texels.size();
   std::printf("%s: ok — %zu meshes, %zu materials, %zu objects (%zu vertices, %zu triangles), %zu lights; a %d x %d "
               "frame needs about %llu MiB\n",
               scene_path.c_str(), scene->meshes.size(), scene->materials.size(), scene->objects.size(),
               scene_vertices(*scene), triangles, scene->lights.size(), width, height,
               static_cast<unsigned long long>((estimate_frame_bytes(*scene, options, width, height) + (1u << 20) - 1) >> 20));
+  if (!scene->textures.empty() || blended > 0 || scene->fog.mode != FogMode::none) {
+    std::printf("  surfaces: %zu textures (%llu KiB with their mipmaps), %zu textured and %zu blended objects, fog %s\n",
+                scene->textures.size(), static_cast<unsigned long long>((4 * texels + 1023) / 1024), textured, blended,
+                to_string(scene->fog.mode));
+  }
   return 0;
 }
 

@@ -1,15 +1,50 @@
 // Fuzzes the JSON scene parser; accepted scenes must validate and, unless check_render refuses
 // them (frame limits, memory budget) with the very message render() then gives, render into a
 // small guarded image. Loads run under a 256 MiB budget, so no input can take more than that in
-// meshes (the fuzzer's RSS limit is 3 GiB). (OBJ paths resolve in a directory that does not
-// exist: they fail as missing files.)
+// meshes (the fuzzer's RSS limit is 3 GiB). (OBJ and image paths resolve in a directory that
+// does not exist: they fail as missing files.)
+//
+// Textures as bytes: an input "JSON \0 IMAGE" also decodes IMAGE (PNG or JPEG, under a 64 MiB
+// budget) with decode_texture; a refusal must name the image; a decoded texture must validate, and
+// is then put on every material of the scene (when every object's mesh has texture coordinates),
+// so the decoders' output goes through the samplers and the pixel program.
 #include "fuzz_support.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string text(reinterpret_cast<const char*>(data), size);
+  const std::string input(reinterpret_cast<const char*>(data), size);
+  const std::size_t split = input.find('\0');
+  const std::string text = input.substr(0, split);
   facet::LoadOptions load;
   load.memory_budget_bytes = std::uint64_t{256} << 20;
-  const facet::Result<facet::Scene> scene = facet::parse_scene_json(text, "fuzz.json", "/nonexistent-facet-fuzz", load);
+  facet::Result<facet::Scene> scene = facet::parse_scene_json(text, "fuzz.json", "/nonexistent-facet-fuzz", load);
+  if (split != std::string::npos) {
+    const auto* image = reinterpret_cast<const std::uint8_t*>(input.data() + split + 1);
+    facet::TextureOptions options;
+    options.filter = static_cast<facet::TextureFilter>(size % 3);
+    options.wrap = static_cast<facet::TextureWrap>((size / 3) % 3);
+    options.memory_budget_bytes = std::uint64_t{64} << 20;
+    facet::Result<facet::Texture> texture =
+        facet::decode_texture(std::span<const std::uint8_t>(image, size - split - 1), "fuzz-image", "fuzz", options);
+    if (!texture.ok()) {
+      if (texture.status().message().find("fuzz-image") == std::string::npos) {
+        facet::fuzz::broken("an image error that does not name the image");
+      }
+    } else {
+      if (!facet::validate_texture(*texture).ok()) facet::fuzz::broken("decode_texture returned an invalid texture");
+      if (scene.ok()) {
+        bool uvs = true;
+        for (const auto& o : scene->objects) {
+          const facet::Mesh& m = scene->meshes[o.mesh].mesh;
+          uvs = uvs && m.uvs.size() == m.positions.size();
+        }
+        const auto index = static_cast<std::int32_t>(scene->textures.size());
+        scene->textures.push_back(std::move(*texture));
+        if (uvs) {
+          for (auto& m : scene->materials) m.diffuse_texture = index;
+        }
+      }
+    }
+  }
   if (!scene.ok()) {
     if (scene.status().message().rfind("fuzz.json", 0) != 0) facet::fuzz::broken("an error that does not name the file");
     return 0;
