@@ -52,7 +52,13 @@ class RangeAssembler {
  public:
   RangeAssembler(const AssemblyFrame& frame, const ObjectVertices& object, std::vector<ScreenTriangle>& out,
                  RangeBinning& binning)
-      : frame_(frame), object_(object), out_(out), binning_(binning), counts_(binning.counts) {}
+      : frame_(frame), object_(object), out_(out), binning_(binning), counts_(binning.counts) {
+    // The layout's varyings once, as (source, offset, width): gather() copies only those.
+    for (int v = 0; v < kVaryingKinds; ++v) {
+      const int at = object_.layout.offset[v];
+      if (at >= 0) sources_[source_count_++] = {object_.varying[v], at, kVaryingWidth[v]};
+    }
+  }
 
   void run(const Mesh& mesh, std::size_t begin, std::size_t end) {
     const VaryingLayout& layout = object_.layout;
@@ -117,12 +123,15 @@ class RangeAssembler {
  private:
   // The layout's varyings of vertex i (the first layout.clipped floats; the rest is not read).
   void gather(std::uint32_t i, float* a) const {
-    for (int v = 0; v < kVaryingKinds; ++v) {
-      const int at = object_.layout.offset[v];
-      if (at < 0) continue;
-      const int width = kVaryingWidth[v];
-      const float* src = object_.varying[v] + static_cast<std::size_t>(i) * static_cast<std::size_t>(width);
-      for (int c = 0; c < width; ++c) a[at + c] = src[c];
+    for (int k = 0; k < source_count_; ++k) {
+      const Source& src = sources_[k];
+      const float* from = src.values + static_cast<std::size_t>(i) * static_cast<std::size_t>(src.width);
+      float* to = a + src.offset;
+      if (src.width == 3) {
+        to[0] = from[0], to[1] = from[1], to[2] = from[2];
+      } else {
+        for (int c = 0; c < src.width; ++c) to[c] = from[c];
+      }
     }
   }
 
@@ -183,6 +192,12 @@ class RangeAssembler {
   std::vector<ScreenTriangle>& out_;
   RangeBinning& binning_;
   TriangleCounts& counts_;
+  struct Source {
+    const float* values;
+    int offset, width;
+  };
+  Source sources_[kVaryingKinds] = {};
+  int source_count_ = 0;
   Color3 flat_front_ = Color3::Zero(), flat_back_ = Color3::Zero();
   Color3 spec_front_ = Color3::Zero(), spec_back_ = Color3::Zero();
 };

@@ -450,9 +450,11 @@ struct TileKernel {
           plane_of[3 + c] = job.shading == 2 ? normal + c : 0;
         }
       }
-      if (job.shading == 2 && phong.count > 0 && (t.object != phong.object || t.alpha != phong.alpha)) phong.flush();
-      phong.object = t.object;
-      phong.alpha = t.alpha;
+      if (job.shading == 2) {
+        if (phong.count > 0 && (t.object != phong.object || t.alpha != phong.alpha)) phong.flush();
+        phong.object = t.object;
+        phong.alpha = t.alpha;
+      }
       if (d.program) {
         triangle<3>(job, tv, t, plane_of, phong, counters);
         continue;
