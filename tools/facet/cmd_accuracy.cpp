@@ -13,7 +13,12 @@
 //     normal; then facet's flat, Gouraud and Phong images at several tessellation levels: PSNR and
 //     largest error over the pixels inside the silhouettes (covered in both images, and not on an
 //     edge of either).
+//  4. Texture filters: nearest, bilinear and trilinear samples of a 256x256 texture at random
+//     coordinates (repeat wrap, -3..4) and derivatives (level of detail -2..7), by the scalar
+//     sampler and each ISA's SIMD sampler, against the double-precision reference sampler: max
+//     and mean error in 8-bit steps, and samples per second on one thread.
 // Output: a table, or JSON (--json FILE) and CSV (--csv FILE).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -27,6 +32,8 @@
 #include "common/format.hpp"
 #include "common/look_at.hpp"
 #include "lighting/point_shader.hpp"
+#include "raster/tile_raster.hpp"
+#include "texture/sampler.hpp"
 
 namespace facet::cli {
 namespace {
@@ -39,7 +46,7 @@ constexpr const char* kUsage =
     "against a ray-cast reference of exact spheres.\n"
     "\n"
     "options:\n"
-    "  --only PART    vertices | pow | images (default: all three)\n"
+    "  --only PART    vertices | pow | images | textures (default: all four)\n"
     "  --quick        fewer vertices (10^4) and tessellation levels, for tests\n"
     "  --json FILE    write all results as JSON\n"
     "  --csv FILE     write all results as CSV (one row per measurement)\n"
@@ -57,6 +64,7 @@ struct Row {
   long nans = 0;
   double psnr_db = 0;     // images
   double ms_per_frame = 0;  // images: the same frame on the default path (simd, best ISA), 1 thread
+  double rate = 0;          // textures: samples per second, 1 thread
   std::string verdict;    // "ok" or what failed
 };
 
@@ -628,6 +636,101 @@ Status image_accuracy(bool quick, std::vector<Row>& rows) {
   return {};
 }
 
+// 4. Texture filters against the reference sampler (see the header).
+void texture_accuracy(bool quick, std::vector<Row>& rows) {
+  constexpr int kSide = 256;
+  std::mt19937 rng(1234);
+  std::vector<std::uint8_t> rgba(4 * kSide * kSide);
+  for (std::size_t i = 0; i < rgba.size(); ++i) {  // smooth bands plus noise: every filter has work to do
+    const std::size_t texel = i / 4;
+    const double x = double(texel % kSide), y = double(texel / kSide);
+    const double v = 127.5 + 80 * std::sin(x * 0.21 + double(i % 4)) * std::cos(y * 0.13) + double(rng() % 40) - 20;
+    rgba[i] = static_cast<std::uint8_t>(std::clamp(v, 0.0, 255.0));
+  }
+  const std::size_t n = quick ? 16384 : 262144;
+  std::vector<float> in[6];
+  for (auto& v : in) v.resize(n);
+  std::uniform_real_distribution<float> coord(-3.0f, 4.0f), lod(-2.0f, 7.0f), angle(0.0f, 6.2831853f);
+  for (std::size_t i = 0; i < n; ++i) {
+    in[0][i] = coord(rng), in[1][i] = coord(rng);
+    const float scale = std::exp2(lod(rng)) / kSide, a = angle(rng);  // |d(s w, t h)| = 2^lod
+    in[2][i] = scale * std::cos(a), in[3][i] = scale * std::sin(a);
+    in[4][i] = -scale * std::sin(a), in[5][i] = scale * std::cos(a);
+  }
+  struct Filter {
+    TextureFilter filter;
+    const char* name;
+  };
+  for (const Filter f : {Filter{TextureFilter::nearest, "nearest"}, Filter{TextureFilter::bilinear, "bilinear"},
+                         Filter{TextureFilter::trilinear, "trilinear"}}) {
+    TextureOptions options;
+    options.filter = f.filter;
+    const Result<Texture> t = make_texture("accuracy", kSide, kSide, rgba, options);
+    if (!t) continue;
+    const texture::Sampler sampler = texture::make_sampler(*t);
+    std::vector<double> ref(4 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double lambda = texture::lod_reference(sampler, in[2][i], in[3][i], in[4][i], in[5][i]);
+      const auto c = texture::sample_reference(sampler, in[0][i], in[1][i], lambda);
+      for (int k = 0; k < 4; ++k) ref[4 * i + static_cast<std::size_t>(k)] = c[static_cast<std::size_t>(k)];
+    }
+    std::vector<float> out[4];
+    for (auto& v : out) v.resize(n);
+    float* const outs[4] = {out[0].data(), out[1].data(), out[2].data(), out[3].data()};
+    const float* const ins[6] = {in[0].data(), in[1].data(), in[2].data(), in[3].data(), in[4].data(), in[5].data()};
+    auto measure = [&](const std::string& method, const auto& run) {
+      run();
+      Row r;
+      r.kind = "texture";
+      r.method = method;
+      r.item = f.name;
+      double sum = 0;
+      std::size_t over_one = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 4; ++k) {
+          const double e = std::abs(double(out[k][i]) - ref[4 * i + static_cast<std::size_t>(k)]) * 255.0;
+          if (std::isnan(e)) ++r.nans;
+          r.max_lsb = std::max(r.max_lsb, e);
+          sum += e;
+          over_one += e > 1.0;
+        }
+      }
+      r.mean_lsb = sum / double(4 * n);
+      int reps = 0;
+      const auto start = std::chrono::steady_clock::now();
+      double seconds = 0;
+      do {
+        run();
+        ++reps;
+        seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      } while (seconds < (quick ? 0.02 : 0.2));
+      r.rate = double(n) * reps / seconds;
+      // Contract (docs/textures.md): bilinear and trilinear within a step; nearest picks the
+      // reference's texel but for coordinates within float rounding of a texel border.
+      if (r.nans) {
+        r.verdict = "NaN";
+      } else if (f.filter == TextureFilter::nearest) {
+        r.verdict = double(over_one) <= 1e-3 * double(4 * n) ? "ok" : "nearest: too many other texels";
+      } else {
+        r.verdict = r.max_lsb <= 1.0 ? "ok" : "over 1 step";
+      }
+      rows.push_back(r);
+    };
+    measure("scalar", [&] {
+      for (std::size_t i = 0; i < n; ++i) {
+        const float lambda = texture::lod_scalar(sampler, in[2][i], in[3][i], in[4][i], in[5][i]);
+        const auto c = texture::sample_scalar(sampler, in[0][i], in[1][i], lambda);
+        for (int k = 0; k < 4; ++k) out[k][i] = c[static_cast<std::size_t>(k)];
+      }
+    });
+    for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+      const raster::simd::Kernels* k = raster::simd_raster_kernels(isa);
+      if (!k) continue;
+      measure(std::string("simd ") + to_string(isa), [&] { k->sample(sampler, n, ins, outs); });
+    }
+  }
+}
+
 void write_json(std::ostream& o, const std::vector<Row>& rows) {
   o << "{\n  \"machine\": \"" << json_escape(to_string(best_isa())) << "\",\n  \"rows\": [\n";
   for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -635,18 +738,18 @@ void write_json(std::ostream& o, const std::vector<Row>& rows) {
     o << "    {\"kind\": \"" << r.kind << "\", \"method\": \"" << json_escape(r.method) << "\", \"item\": \""
       << json_escape(r.item) << "\", \"max_lsb\": " << number(r.max_lsb) << ", \"mean_lsb\": " << number(r.mean_lsb)
       << ", \"max_step\": " << r.max_step << ", \"nans\": " << r.nans << ", \"psnr_db\": " << number(r.psnr_db) << ", \"ms_per_frame\": " << number(r.ms_per_frame)
-      << ", \"verdict\": \"" << json_escape(r.verdict) << "\"}" << (i + 1 < rows.size() ? "," : "") << "\n";
+      << ", \"rate\": " << number(r.rate) << ", \"verdict\": \"" << json_escape(r.verdict) << "\"}" << (i + 1 < rows.size() ? "," : "") << "\n";
   }
   o << "  ]\n}\n";
 }
 
 void write_csv(std::ostream& o, const std::vector<Row>& rows) {
-  o << "kind,method,item,max_lsb,mean_lsb,max_step,nans,psnr_db,ms_per_frame,verdict\n";
+  o << "kind,method,item,max_lsb,mean_lsb,max_step,nans,psnr_db,ms_per_frame,rate,verdict\n";
   auto q = [](const std::string& s) { return "\"" + s + "\""; };
   for (const Row& r : rows) {
     o << r.kind << "," << q(r.method) << "," << q(r.item) << "," << number(r.max_lsb) << "," << number(r.mean_lsb)
       << "," << r.max_step << "," << r.nans << "," << number(r.psnr_db) << "," << number(r.ms_per_frame) << ","
-      << q(r.verdict) << "\n";
+      << number(r.rate) << "," << q(r.verdict) << "\n";
   }
 }
 
@@ -663,7 +766,9 @@ int run_accuracy(int argc, char** argv) {
     } else if (arg == "--only") {
       const auto v = args.value(arg);
       if (!v) return 2;
-      if (*v != "vertices" && *v != "pow" && *v != "images") return fail("--only: expected vertices, pow or images, found '" + *v + "'");
+      if (*v != "vertices" && *v != "pow" && *v != "images" && *v != "textures") {
+        return fail("--only: expected vertices, pow, images or textures, found '" + *v + "'");
+      }
       only = *v;
     } else if (arg == "--quick") {
       quick = true;
@@ -685,6 +790,7 @@ int run_accuracy(int argc, char** argv) {
   if (only.empty() || only == "images") {
     if (Status s = image_accuracy(quick, rows); !s.ok()) return fail(s.message());
   }
+  if (only.empty() || only == "textures") texture_accuracy(quick, rows);
 
   int failures = 0;
   std::printf("%-9s %-28s %-36s %9s %9s %5s %5s %8s  %s\n", "kind", "method", "case", "max LSB", "mean LSB", "step",
@@ -694,9 +800,11 @@ int run_accuracy(int argc, char** argv) {
     failures += bad;
     // The pow sweep has hundreds of rows: print only its failures and the worst per method.
     if (r.kind == "pow" && !bad) continue;
-    std::printf("%-9s %-28s %-36s %9.3g %9.3g %5d %5ld %8s  %s\n", r.kind.c_str(), r.method.c_str(), r.item.c_str(),
+    std::printf("%-9s %-28s %-36s %9.3g %9.3g %5d %5ld %8s  %s", r.kind.c_str(), r.method.c_str(), r.item.c_str(),
                 r.max_lsb, r.mean_lsb, r.max_step, r.nans, r.kind == "image" ? number(r.psnr_db).c_str() : "",
                 r.verdict.c_str());
+    if (r.kind == "texture") std::printf(" (%.1f M samples/s)", r.rate / 1e6);
+    std::printf("\n");
   }
   std::printf("%zu measurements, %d outside their contract%s\n", rows.size(), failures,
               failures ? " (see the verdicts above)" : "");

@@ -70,7 +70,7 @@ for b in bench_rows(lighting):
         continue
     points.append((b["vertex_lights/s"], max(err, FLOOR), label, method))
 
-fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(14, 6))
+fig, (ax1, ax2, ax3) = plt.subplots(1, 3, figsize=(21, 6))
 for x, y, label, method in points:
     isa = "reference" if method == "reference" else ("scalar" if method == "scalar" else method.split("_")[1])
     tier = method.split("_")[2] if method.startswith("simd_") else "auto"
@@ -119,6 +119,23 @@ ax2.set_ylabel("mean error inside silhouettes vs ray-cast spheres (8-bit steps)"
 ax2.set_title("Shading modes x tessellation (labels: sphere segments)")
 ax2.legend(fontsize=8)
 ax2.grid(True, which="both", alpha=0.2)
+texture_points = [r for r in accuracy if r["kind"] == "texture" and r.get("rate")]
+FILTER_COLOURS = {"nearest": "#1f77b4", "bilinear": "#ff7f0e", "trilinear": "#2ca02c"}
+ISA_MARKERS = {"scalar": "o", "sse2": "s", "avx2": "^", "avx512": "D"}
+for r in texture_points:
+    isa = r["method"].split()[-1]
+    ax3.scatter(r["rate"] / 1e6, max(r["max_lsb"], FLOOR), color=FILTER_COLOURS.get(r["item"], "black"),
+                marker=ISA_MARKERS.get(isa, "x"), s=60, zorder=3)
+ax3.set_yscale("log")
+ax3.set_xlabel("texture samples per second (millions, 1 thread, 256x256, random LOD -2..7)")
+ax3.set_ylabel("largest error vs the double-precision reference sampler (8-bit steps)")
+ax3.set_title("Texture filters: scalar and SIMD samplers")
+ax3.axhline(1.0, color="#bbbbbb", lw=0.8, ls=":")
+ax3.annotate("contract: 1 step", (0, 1.0), textcoords="offset points", xytext=(4, 4), fontsize=7, color="#666666")
+handles = [plt.Line2D([], [], color=c, marker="o", ls="", label=k) for k, c in FILTER_COLOURS.items()]
+handles += [plt.Line2D([], [], color="black", marker=m, ls="", label=k) for k, m in ISA_MARKERS.items()]
+ax3.legend(handles=handles, fontsize=8, loc="upper right")
+ax3.grid(True, which="both", alpha=0.2)
 fig.suptitle("facet: speed against accuracy", fontsize=13)
 fig.tight_layout()
 save(fig, "speed_vs_accuracy")
