@@ -397,6 +397,33 @@ TEST(Surfaces, SimdMatchesScalar) {
   }
 }
 
+// The SIMD kernels run opaque GL_MODULATE textured Gouraud draws without fog through a specialised
+// program (raster_simd.hpp, modulate_batch). Fog whose factor is exactly 1 everywhere (a linear
+// step at 1e6: f = 1, so c * 1 + fog * 0 = c) sends the same draws through the general program;
+// the pictures must be the same bytes, on every ISA and for every texture filter.
+TEST(Surfaces, SpecialisedModulateProgramEqualsTheGeneralOne) {
+  for (TextureFilter filter : {TextureFilter::nearest, TextureFilter::bilinear, TextureFilter::trilinear}) {
+    Scene fast = surfaces_scene();
+    fast.fog = Fog{};
+    if (filter != TextureFilter::trilinear) {  // every texture single-level (the last one is bilinear)
+      Texture single = fast.textures.back();
+      single.filter = filter;
+      for (Texture& t : fast.textures) t = single;
+    }
+    Scene general = fast;
+    general.fog.mode = FogMode::linear;
+    general.fog.start = general.fog.end = 1e6f;
+    for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+      if (!isa_supported(isa)) continue;
+      RenderOptions o;
+      o.shading = ShadingMode::gouraud;
+      o.path = LightingPath::simd;
+      o.isa = isa;
+      EXPECT_TRUE(render_pixels(fast, o) == render_pixels(general, o)) << to_string(isa) << " " << to_string(filter);
+    }
+  }
+}
+
 TEST(Surfaces, BadSurfaceInputIsRefusedWithItsField) {
   auto expect_field = [](const Scene& s, const std::string& field) {
     const Status st = validate_scene(s);
