@@ -233,7 +233,7 @@ TEST_P(TextureSampler, SimdMatchesItsScalarTwinBitForBit) {
   if (!isa_supported(GetParam())) GTEST_SKIP() << "this CPU does not have " << to_string(GetParam());
   const raster::simd::Kernels* kernels = raster::simd_raster_kernels(GetParam());
   ASSERT_NE(kernels, nullptr);
-  const int sizes[][2] = {{1, 1}, {1, 7}, {16, 16}, {5, 3}, {64, 32}, {16384, 1}};
+  const int sizes[][2] = {{1, 1}, {1, 7}, {2, 2}, {3, 5}, {16, 16}, {5, 3}, {64, 32}, {16384, 1}};
   for (const auto& size : sizes) {
     for (TextureFilter filter : {TextureFilter::nearest, TextureFilter::bilinear, TextureFilter::trilinear}) {
       for (TextureWrap wrap : {TextureWrap::repeat, TextureWrap::clamp, TextureWrap::mirror}) {
