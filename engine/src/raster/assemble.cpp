@@ -8,16 +8,21 @@ namespace facet::raster {
 using geometry::ClipVertex;
 using geometry::ScreenVertex;
 
-Placement place_triangle(ScreenTriangle& t, CullMode cull, bool two_sided, bool mirrored,
-                         const geometry::Viewport& viewport, bool& swapped) {
-  const std::int64_t area2 = signed_area2(t);
+Placement orient(std::int64_t area2, CullMode cull, bool two_sided, bool mirrored, bool& back_facing) {
   if (area2 == 0) return Placement::degenerate;
   // Counter-clockwise in GL's y-up window is negative area in this y-down screen; a mirrored
   // object's front faces wind clockwise.
-  t.back_facing = (area2 > 0) != mirrored;
-  if ((cull == CullMode::back && t.back_facing && !two_sided) || (cull == CullMode::front && !t.back_facing)) {
+  back_facing = (area2 > 0) != mirrored;
+  if ((cull == CullMode::back && back_facing && !two_sided) || (cull == CullMode::front && !back_facing)) {
     return Placement::culled;
   }
+  return Placement::placed;
+}
+
+Placement place_triangle(ScreenTriangle& t, CullMode cull, bool two_sided, bool mirrored,
+                         const geometry::Viewport& viewport, bool& swapped) {
+  const std::int64_t area2 = signed_area2(t);
+  if (const Placement p = orient(area2, cull, two_sided, mirrored, t.back_facing); p != Placement::placed) return p;
   swapped = area2 < 0;
   if (swapped) {  // orient clockwise on screen
     std::swap(t.x[1], t.x[2]);
@@ -86,6 +91,15 @@ class RangeAssembler {
         // projected, and culled or degenerate triangles are dropped before any varying is read.
         if (!(sv[0]->projected && sv[1]->projected && sv[2]->projected)) {
           ++counts_.nonfinite;
+          continue;
+        }
+        // Degenerate and culled triangles (half of a closed mesh) are dropped here, before a
+        // record is made for them (place_triangle repeats this test on the record: the same result).
+        bool back_facing = false;
+        const Placement early = orient(signed_area2(sv[0]->x, sv[0]->y, sv[1]->x, sv[1]->y, sv[2]->x, sv[2]->y),
+                                       frame_.cull, frame_.two_sided, object_.mirrored, back_facing);
+        if (early != Placement::placed) {
+          ++(early == Placement::culled ? counts_.culled : counts_.degenerate);
           continue;
         }
         ScreenTriangle& st = out_.emplace_back();

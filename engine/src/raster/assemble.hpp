@@ -38,6 +38,9 @@ enum class Placement { placed, degenerate, culled, no_pixel };
 // other way. Culling uses CullMode; a two-sided scene culls no back face.
 Placement place_triangle(ScreenTriangle& t, CullMode cull, bool two_sided, bool mirrored,
                          const geometry::Viewport& viewport, bool& swapped);
+// The orientation step of place_triangle alone, from a snapped triangle's signed_area2:
+// degenerate, culled, or placed (not yet known to cover a pixel) with `back_facing` set.
+Placement orient(std::int64_t area2, CullMode cull, bool two_sided, bool mirrored, bool& back_facing);
 
 // One object's vertices as the pass sees them.
 struct ObjectVertices {

@@ -63,9 +63,12 @@ inline bool is_top_left(std::int64_t dx, std::int64_t dy) { return dy < 0 || (dy
 inline std::int64_t floor_div(std::int64_t a, std::int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
 // Twice the signed area of the snapped triangle: > 0 clockwise on the y-down screen.
+inline std::int64_t signed_area2(std::int32_t x0, std::int32_t y0, std::int32_t x1, std::int32_t y1, std::int32_t x2,
+                                 std::int32_t y2) {
+  return (std::int64_t(x1) - x0) * (std::int64_t(y2) - y0) - (std::int64_t(x2) - x0) * (std::int64_t(y1) - y0);
+}
 inline std::int64_t signed_area2(const ScreenTriangle& t) {
-  return (std::int64_t(t.x[1]) - t.x[0]) * (std::int64_t(t.y[2]) - t.y[0]) -
-         (std::int64_t(t.x[2]) - t.x[0]) * (std::int64_t(t.y[1]) - t.y[0]);
+  return signed_area2(t.x[0], t.y[0], t.x[1], t.y[1], t.x[2], t.y[2]);
 }
 
 // For a triangle with x, y set and signed_area2(t) > 0: sets area2, inv_area2, the top-left biases
