@@ -8,17 +8,6 @@ namespace facet::raster {
 using geometry::ClipVertex;
 using geometry::ScreenVertex;
 
-Placement orient(std::int64_t area2, CullMode cull, bool two_sided, bool mirrored, bool& back_facing) {
-  if (area2 == 0) return Placement::degenerate;
-  // Counter-clockwise in GL's y-up window is negative area in this y-down screen; a mirrored
-  // object's front faces wind clockwise.
-  back_facing = (area2 > 0) != mirrored;
-  if ((cull == CullMode::back && back_facing && !two_sided) || (cull == CullMode::front && !back_facing)) {
-    return Placement::culled;
-  }
-  return Placement::placed;
-}
-
 Placement place_triangle(ScreenTriangle& t, CullMode cull, bool two_sided, bool mirrored,
                          const geometry::Viewport& viewport, bool& swapped) {
   const std::int64_t area2 = signed_area2(t);

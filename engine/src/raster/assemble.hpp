@@ -40,7 +40,16 @@ Placement place_triangle(ScreenTriangle& t, CullMode cull, bool two_sided, bool 
                          const geometry::Viewport& viewport, bool& swapped);
 // The orientation step of place_triangle alone, from a snapped triangle's signed_area2:
 // degenerate, culled, or placed (not yet known to cover a pixel) with `back_facing` set.
-Placement orient(std::int64_t area2, CullMode cull, bool two_sided, bool mirrored, bool& back_facing);
+inline Placement orient(std::int64_t area2, CullMode cull, bool two_sided, bool mirrored, bool& back_facing) {
+  if (area2 == 0) return Placement::degenerate;
+  // Counter-clockwise in GL's y-up window is negative area in this y-down screen; a mirrored
+  // object's front faces wind clockwise.
+  back_facing = (area2 > 0) != mirrored;
+  if ((cull == CullMode::back && back_facing && !two_sided) || (cull == CullMode::front && !back_facing)) {
+    return Placement::culled;
+  }
+  return Placement::placed;
+}
 
 // One object's vertices as the pass sees them.
 struct ObjectVertices {
