@@ -362,6 +362,68 @@ TEST(RenderStats, CountsAddUp) {
   EXPECT_GT(st.seconds_total, 0.0);
 }
 
+// Gouraud lights only the vertices of triangles that may be drawn; the image is the same bytes as
+// with every vertex lit, for every path, cull mode, two-sided lighting, a mirrored object, a
+// camera inside the scene (clipped triangles) and one looking half away (triangles off screen).
+TEST(RenderStats, LightingOnlyDrawableVerticesChangesNoByte) {
+  struct Variant {
+    const char* name;
+    CullMode cull;
+    bool two_sided, mirror, inside, away, through_near = false;
+  };
+  const Variant variants[] = {{"back", CullMode::back, false, false, false, false},
+                              {"front", CullMode::front, false, false, false, false},
+                              {"none", CullMode::none, false, false, false, false},
+                              {"two-sided", CullMode::back, true, false, false, false},
+                              {"mirrored", CullMode::back, false, true, false, false},
+                              {"inside", CullMode::back, false, false, true, false},
+                              {"away", CullMode::back, false, false, false, true},
+                              {"through the near plane", CullMode::back, false, false, false, false, true}};
+  std::vector<std::pair<LightingPath, Isa>> paths = {{LightingPath::reference, Isa::best}, {LightingPath::scalar, Isa::best}};
+  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512})
+    if (isa_supported(isa)) paths.push_back({LightingPath::simd, isa});
+  for (const Variant& v : variants) {
+    Scene s = make_default_scene();
+    s.two_sided = v.two_sided;
+    if (v.mirror) {
+      Mat4 flip = Mat4::Identity();
+      flip(0, 0) = -1.0f;
+      for (Instance& inst : s.objects) inst.model = inst.model * flip;
+    }
+    if (v.through_near) {  // a lit quad of its own from behind the eye to the far side: only clipped triangles
+      const Vec3 e = s.camera.eye, d = (s.camera.target - s.camera.eye).normalized();
+      const Vec3 side = d.cross(s.camera.up).normalized(), below = e - s.camera.up.normalized() * 0.5f;
+      Mesh m;
+      m.positions = {below - d * 5.0f - side * 5.0f, below - d * 5.0f + side * 5.0f, below + d * 30.0f + side * 5.0f,
+                     below + d * 30.0f - side * 5.0f};
+      m.normals.assign(4, s.camera.up.normalized());
+      m.triangles = {{0, 1, 2}, {0, 2, 3}};
+      s.meshes.push_back({"through", m});
+      s.objects.push_back({static_cast<std::uint32_t>(s.meshes.size() - 1), 0, Mat4::Identity()});
+    }
+    if (v.inside) s.camera.eye = s.camera.target + (s.camera.eye - s.camera.target) * 0.15f;
+    if (v.away) s.camera.target = s.camera.target + (s.camera.target - s.camera.eye).cross(s.camera.up).normalized() * 4.0f;
+    for (const auto& [path, isa] : paths) {
+      SCOPED_TRACE(std::string(v.name) + " " + to_string(path) + " " + to_string(isa));
+      RenderOptions o;
+      o.cull = v.cull;
+      o.path = path;
+      o.isa = isa;
+      Canvas drawn_only(160, 120), every(160, 120);
+      FrameStats a, b;
+      ASSERT_TRUE(render(s, drawn_only.view(), &a, o).ok());
+      o.light_every_vertex = true;
+      ASSERT_TRUE(render(s, every.view(), &b, o).ok());
+      EXPECT_TRUE(drawn_only.pixels() == every.pixels());
+      EXPECT_EQ(b.vertices_skipped, 0u);
+      EXPECT_EQ(a.vertices_lit + a.vertices_skipped, b.vertices_lit);
+      EXPECT_EQ(a.triangles_drawn, b.triangles_drawn);
+      if (v.through_near) EXPECT_GT(a.triangles_clipped, 0u);
+      if (v.cull != CullMode::none && !v.two_sided) EXPECT_GT(a.vertices_skipped, b.vertices_lit / 8);
+    }
+  }
+}
+
 // --- The classic Gouraud failure: a point light close to the middle of a large quad.
 
 TEST(RenderShading, GouraudMissesTheHighlightPhongFindsIt) {

@@ -34,6 +34,8 @@ constexpr const char* kRenderUsage =
     "  --srgb                 encode 8-bit output (.png) with the sRGB transfer function (exact)\n"
     "  --clear R,G,B[,A]      the background colour, components in [0, 1] (default 0,0,0,1)\n"
     "  --no-light-culling     light every object with every enabled light (turn the frame plan off)\n"
+    "  --light-every-vertex   Gouraud: also light vertices that only culled or off-screen triangles use\n"
+    "                         (the image is the same; for measurements)\n"
     "  --depth FILE.pfm       also write window-space depth (0 near .. 1 far)\n"
     "  --seconds S            render repeatedly for at least S seconds; report the mean frame time\n"
     "  --stats                print what the frame did and how long each stage took\n"
@@ -54,9 +56,10 @@ void print_stats_text(const FrameStats& s, int frames, double seconds) {
               (unsigned long long)s.triangles_clipped, (unsigned long long)s.triangles_degenerate,
               (unsigned long long)s.triangles_small,
               (unsigned long long)s.triangles_nonfinite, (unsigned long long)s.bin_entries);
-  std::printf("  lighting    %llu evaluations (vertices, centroids or pixels); %llu vertex-light pairs evaluated, "
-              "%llu skipped by the frame plan\n",
-              (unsigned long long)s.vertices_lit, (unsigned long long)s.vertex_lights_evaluated,
+  std::printf("  lighting    %llu evaluations (vertices, centroids or pixels), %llu vertices not lit (no drawable "
+              "triangle uses them); %llu vertex-light pairs evaluated, %llu skipped by the frame plan\n",
+              (unsigned long long)s.vertices_lit, (unsigned long long)s.vertices_skipped,
+              (unsigned long long)s.vertex_lights_evaluated,
               (unsigned long long)s.vertex_lights_skipped);
   std::printf("  pixels      %llu tested, %llu filled\n", (unsigned long long)s.pixels_tested,
               (unsigned long long)s.pixels_filled);
@@ -75,7 +78,7 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               "\"triangles_in\": %llu, \"triangles_drawn\": %llu, \"triangles_culled\": %llu, "
               "\"triangles_outside\": %llu, \"triangles_clipped\": %llu, \"triangles_degenerate\": %llu, "
               "\"triangles_small\": %llu, "
-              "\"triangles_nonfinite\": %llu, \"bin_entries\": %llu, \"vertices_lit\": %llu, "
+              "\"triangles_nonfinite\": %llu, \"bin_entries\": %llu, \"vertices_lit\": %llu, \"vertices_skipped\": %llu, "
               "\"vertex_lights_evaluated\": %llu, \"vertex_lights_skipped\": %llu, "
               "\"pixels_tested\": %llu, \"pixels_filled\": %llu, \"seconds_lighting\": %.6g, "
               "\"seconds_geometry\": %.6g, \"seconds_raster\": %.6g, \"seconds_resolve\": %.6g, "
@@ -87,7 +90,8 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               (unsigned long long)s.triangles_outside, (unsigned long long)s.triangles_clipped,
               (unsigned long long)s.triangles_degenerate, (unsigned long long)s.triangles_small,
               (unsigned long long)s.triangles_nonfinite, (unsigned long long)s.bin_entries,
-              (unsigned long long)s.vertices_lit, (unsigned long long)s.vertex_lights_evaluated,
+              (unsigned long long)s.vertices_lit, (unsigned long long)s.vertices_skipped,
+              (unsigned long long)s.vertex_lights_evaluated,
               (unsigned long long)s.vertex_lights_skipped, (unsigned long long)s.pixels_tested, (unsigned long long)s.pixels_filled, s.seconds_lighting,
               s.seconds_geometry, s.seconds_raster, s.seconds_resolve, s.seconds_total, frames, per_frame,
               double(s.vertices_lit) / per_frame, double(s.pixels_filled) / per_frame);
@@ -185,6 +189,8 @@ int run_render(int argc, char** argv) {
       options.clear_color = c;
     } else if (arg == "--no-light-culling") {
       options.cull_lights = false;
+    } else if (arg == "--light-every-vertex") {
+      options.light_every_vertex = true;
     } else if (arg == "--depth") {
       const auto v = args.value(arg);
       if (!v) return 2;

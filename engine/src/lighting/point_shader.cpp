@@ -152,32 +152,45 @@ constexpr std::size_t kSimdChunk = 2048;
 // Copies `count` (position, normal) pairs into padded SoA chunks (normals times `normal_sign`),
 // runs the kernel on each and writes the colours to `out` (albedo read and secondary written
 // when the params use them). The copies are SSE2 transposes (soa.cpp): the Eigen per-vertex loop
-// they replace took 28 % of a one-light pass (perf).
+// they replace took 28 % of a one-light pass (perf). With `index`, element i of every array is
+// element index[i] (a gather in, a scatter out).
 void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd::Transform* xf, std::size_t count,
               const Vec3* positions, const Vec3* normals, float normal_sign, const Color3* albedo, Color3* out,
-              Color3* secondary, SoaScratch& scratch) {
+              Color3* secondary, SoaScratch& scratch, const std::uint32_t* index = nullptr) {
   scratch.reserve_padded(std::min(kSimdChunk, count));
   for (std::size_t start = 0; start < count; start += kSimdChunk) {
     const std::size_t n = std::min(kSimdChunk, count - start);
     const std::size_t padded = simd::padded(n);
-    deinterleave3(positions + start, n, 1.0f, scratch.px.data(), scratch.py.data(), scratch.pz.data());
-    deinterleave3(normals + start, n, normal_sign, scratch.nx.data(), scratch.ny.data(), scratch.nz.data());
-    for (auto* v : {&scratch.px, &scratch.py, &scratch.pz, &scratch.nx, &scratch.ny, &scratch.nz})
-      std::fill(v->begin() + static_cast<std::ptrdiff_t>(n), v->begin() + static_cast<std::ptrdiff_t>(padded),
-                0.0f);  // padding lanes: finite, no normal
+    auto in = [&](const Vec3* src, float scale, std::vector<float>& x, std::vector<float>& y, std::vector<float>& z) {
+      if (index) {
+        deinterleave3(src, index + start, n, scale, x.data(), y.data(), z.data());
+      } else {
+        deinterleave3(src + start, n, scale, x.data(), y.data(), z.data());
+      }
+      for (auto* v : {&x, &y, &z})
+        std::fill(v->begin() + static_cast<std::ptrdiff_t>(n), v->begin() + static_cast<std::ptrdiff_t>(padded),
+                  0.0f);  // padding lanes: finite, no normal
+    };
+    auto result = [&](const std::vector<float>& x, const std::vector<float>& y, const std::vector<float>& z, Vec3* dst) {
+      if (index) {
+        interleave3(x.data(), y.data(), z.data(), n, index + start, dst);
+      } else {
+        interleave3(x.data(), y.data(), z.data(), n, dst + start);
+      }
+    };
+    in(positions, 1.0f, scratch.px, scratch.py, scratch.pz);
+    in(normals, normal_sign, scratch.nx, scratch.ny, scratch.nz);
     simd::Streams s{scratch.px.data(), scratch.py.data(), scratch.pz.data(), scratch.nx.data(),
                     scratch.ny.data(), scratch.nz.data(), scratch.r.data(),  scratch.g.data(),
                     scratch.b.data(),  padded};
     if (params.color_material) {
-      deinterleave3(albedo + start, n, 1.0f, scratch.ar.data(), scratch.ag.data(), scratch.ab.data());
-      for (auto* v : {&scratch.ar, &scratch.ag, &scratch.ab})
-        std::fill(v->begin() + static_cast<std::ptrdiff_t>(n), v->begin() + static_cast<std::ptrdiff_t>(padded), 0.0f);
+      in(albedo, 1.0f, scratch.ar, scratch.ag, scratch.ab);
       s.ar = scratch.ar.data(), s.ag = scratch.ag.data(), s.ab = scratch.ab.data();
     }
     if (params.separate_specular) s.sr = scratch.sr.data(), s.sg = scratch.sg.data(), s.sb = scratch.sb.data();
     shade(params, xf, s);
-    interleave3(scratch.r.data(), scratch.g.data(), scratch.b.data(), n, out + start);
-    if (params.separate_specular) interleave3(scratch.sr.data(), scratch.sg.data(), scratch.sb.data(), n, secondary + start);
+    result(scratch.r, scratch.g, scratch.b, out);
+    if (params.separate_specular) result(scratch.sr, scratch.sg, scratch.sb, secondary);
   }
 }
 
@@ -185,14 +198,15 @@ void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd:
 
 void PointShader::light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, bool back_side,
                              std::size_t begin, std::size_t end, Color3* out, SoaScratch& scratch,
-                             Color3* secondary) const {
+                             Color3* secondary, const std::uint32_t* index) const {
   switch (path_) {
     case LightingPath::reference:
       lighting::light_mesh(reference_, make_eye_transform<double>(view, model), mesh, back_side, begin, end, out,
-                           secondary);
+                           secondary, index);
       return;
     case LightingPath::scalar:
-      lighting::light_mesh(scalar_, make_eye_transform<float>(view, model), mesh, back_side, begin, end, out, secondary);
+      lighting::light_mesh(scalar_, make_eye_transform<float>(view, model), mesh, back_side, begin, end, out, secondary,
+                           index);
       return;
     case LightingPath::simd: break;
   }
@@ -205,9 +219,14 @@ void PointShader::light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, cons
   for (int k = 0; k < 12; ++k) xf.position[k] = static_cast<float>(ed.position[k]);
   for (int k = 0; k < 9; ++k) xf.normal[k] = static_cast<float>(ed.normal[k]);
   const float sign = back_side ? -1.0f : 1.0f;
+  const Color3* albedo = features_.color_material ? mesh.colors.data() : nullptr;
+  if (index) {
+    run_simd(simd_shade_, simd_params_, &xf, end - begin, mesh.positions.data(), mesh.normals.data(), sign, albedo, out,
+             secondary, scratch, index + begin);
+    return;
+  }
   run_simd(simd_shade_, simd_params_, &xf, end - begin, mesh.positions.data() + begin, mesh.normals.data() + begin, sign,
-           features_.color_material ? mesh.colors.data() + begin : nullptr, out + begin,
-           secondary ? secondary + begin : nullptr, scratch);
+           albedo ? albedo + begin : nullptr, out + begin, secondary ? secondary + begin : nullptr, scratch);
 }
 
 void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out,

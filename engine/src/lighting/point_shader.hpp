@@ -34,9 +34,11 @@ class PointShader {
   // Lights mesh vertices [begin, end) through model -> eye into out[begin, end); `back_side`
   // lights them with negated normals. Each vertex's colour does not depend on the range it was
   // lit in, so any split of the mesh gives the same bytes. With color_material the albedo is
-  // mesh.colors; with separate_specular the specular sum goes to secondary[begin, end).
+  // mesh.colors; with separate_specular the specular sum goes to secondary[begin, end). With
+  // `index`, lights vertices index[begin, end) instead (out and secondary still indexed by vertex).
   void light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, bool back_side, std::size_t begin,
-                  std::size_t end, Color3* out, SoaScratch& scratch, Color3* secondary = nullptr) const;
+                  std::size_t end, Color3* out, SoaScratch& scratch, Color3* secondary = nullptr,
+                  const std::uint32_t* index = nullptr) const;
 
   // Lights `count` eye-space points (albedo read with color_material, secondary written with
   // separate_specular).

@@ -45,6 +45,18 @@ void deinterleave3(const Vec3* src, std::size_t n, float scale, float* x, float*
   for (; i < n; ++i, s += 3) x[i] = scale * s[0], y[i] = scale * s[1], z[i] = scale * s[2];
 }
 
+void deinterleave3(const Vec3* src, const std::uint32_t* index, std::size_t n, float scale, float* x, float* y,
+                   float* z) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& v = src[index[i]];
+    x[i] = scale * v.x(), y[i] = scale * v.y(), z[i] = scale * v.z();
+  }
+}
+
+void interleave3(const float* x, const float* y, const float* z, std::size_t n, const std::uint32_t* index, Vec3* dst) {
+  for (std::size_t i = 0; i < n; ++i) dst[index[i]] = Vec3(x[i], y[i], z[i]);
+}
+
 void interleave3(const float* x, const float* y, const float* z, std::size_t n, Vec3* dst) {
   float* d = n ? dst->data() : nullptr;
   std::size_t i = 0;

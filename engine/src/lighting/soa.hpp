@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #include "facet/mesh.hpp"
 
@@ -15,6 +16,11 @@ void deinterleave3(const Vec3* src, std::size_t n, float scale, float* x, float*
 
 // dst[i] = (x[i], y[i], z[i]) for i < n.
 void interleave3(const float* x, const float* y, const float* z, std::size_t n, Vec3* dst);
+
+// The same through an index: x[i] = scale * src[index[i]].x(), and dst[index[i]] = (x[i], y[i], z[i]).
+void deinterleave3(const Vec3* src, const std::uint32_t* index, std::size_t n, float scale, float* x, float* y,
+                   float* z);
+void interleave3(const float* x, const float* y, const float* z, std::size_t n, const std::uint32_t* index, Vec3* dst);
 
 // Largest (p - c)^2 over the points, computed in float. NaN points are left out; an infinite
 // coordinate, or a difference too large to square in float, gives +Inf.

@@ -60,6 +60,15 @@ class RangeAssembler {
     ClipVertex polygon[geometry::kMaxClippedVertices];
     for (std::size_t t = begin; t < end; ++t) {
       ++counts_.in;
+      if (object_.triangle_class) {
+        switch (object_.triangle_class[t]) {
+          case TriangleClass::nonfinite: ++counts_.nonfinite; continue;
+          case TriangleClass::outside: ++counts_.outside; continue;
+          case TriangleClass::degenerate: ++counts_.degenerate; continue;
+          case TriangleClass::culled: ++counts_.culled; continue;
+          default: break;  // the tests below give the same answers again
+        }
+      }
       const auto& tri = mesh.triangles[t];
       const ScreenVertex* sv[3] = {&object_.screen[tri[0]], &object_.screen[tri[1]], &object_.screen[tri[2]]};
       if (!(sv[0]->finite && sv[1]->finite && sv[2]->finite)) {

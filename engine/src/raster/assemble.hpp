@@ -51,6 +51,24 @@ inline Placement orient(std::int64_t area2, CullMode cull, bool two_sided, bool 
   return Placement::placed;
 }
 
+// What assembly will do with a triangle, judged from its vertices' transform_vertices() results
+// alone, by the tests assemble_range makes first: drop it (and why), or go on (to_clip: it crosses
+// the guard band; may_draw: it may still cover no pixel centre).
+enum class TriangleClass : std::uint8_t { may_draw, to_clip, nonfinite, outside, degenerate, culled };
+inline TriangleClass classify(const AssemblyFrame& frame, bool mirrored, const geometry::ScreenVertex& a,
+                              const geometry::ScreenVertex& b, const geometry::ScreenVertex& c) {
+  if (!(a.finite && b.finite && c.finite)) return TriangleClass::nonfinite;
+  if (a.frustum & b.frustum & c.frustum) return TriangleClass::outside;
+  if (a.guard | b.guard | c.guard) return TriangleClass::to_clip;
+  if (!(a.projected && b.projected && c.projected)) return TriangleClass::nonfinite;
+  bool back_facing = false;
+  switch (orient(signed_area2(a.x, a.y, b.x, b.y, c.x, c.y), frame.cull, frame.two_sided, mirrored, back_facing)) {
+    case Placement::degenerate: return TriangleClass::degenerate;
+    case Placement::culled: return TriangleClass::culled;
+    default: return TriangleClass::may_draw;
+  }
+}
+
 // One object's vertices as the pass sees them.
 struct ObjectVertices {
   VaryingLayout layout;                               // the draw's varyings (plan_varyings)
@@ -62,6 +80,9 @@ struct ObjectVertices {
   const Color3* flat_secondary_front = nullptr;       // flat, textured: the specular per triangle
   const Color3* flat_secondary_back = nullptr;
   bool mirrored = false;                              // the model matrix has a negative determinant
+  // Optional, per mesh triangle: classify()'s result, computed before lighting (the frame lights
+  // only the vertices of triangles that may be drawn); assembly then drops the others unread.
+  const TriangleClass* triangle_class = nullptr;
   std::uint32_t object = 0;
   float alpha = 1.0f;
 };

@@ -222,6 +222,11 @@ struct Renderer::Impl {
     std::vector<Color3> front, back;
     std::vector<Color3> front_spec, back_spec, flat_albedo;  // textured: specular apart; flat: mean vertex colour
     std::vector<Vec3> eye_p, eye_n, centroid, face_normal;
+    // Gouraud: per triangle its raster::classify() result; 1 for a vertex of a triangle that may
+    // be drawn (or clipped); per vertex chunk the list of those vertices (at the chunk's offset).
+    std::vector<raster::TriangleClass> triangle_class;
+    std::vector<std::uint8_t> drawn;
+    std::vector<std::uint32_t> lit_index;
     // The object's model matrix has a negative determinant (a mirror): its triangles wind the
     // other way on screen, so front and back swap (as in glTF, Direct3D and GL's glFrontFace).
     bool mirrored = false;
@@ -233,7 +238,7 @@ struct Renderer::Impl {
   // Per object: its first set-up range (ranges are numbered in object order, so bins do not
   // depend on which objects ran in parallel) and its counters, added up in object order.
   struct ObjectCounts {
-    std::uint64_t vertices_lit = 0, pairs_evaluated = 0, pairs_skipped = 0;
+    std::uint64_t vertices_lit = 0, vertices_skipped = 0, pairs_evaluated = 0, pairs_skipped = 0;
     double seconds_lighting = 0, seconds_geometry = 0;
   };
   std::vector<std::size_t> first_range;
@@ -243,6 +248,7 @@ struct Renderer::Impl {
   std::vector<raster::RenderPass> passes;
   const raster::RenderPass* pass = nullptr;
   bool simd_raster = true;  // the simd path rasterizes with the SIMD kernels
+  bool light_every_vertex = false;  // RenderOptions::light_every_vertex
   FrameStats stats;
   FrameStats last_stats;  // of the last successful render
   // Progress and cancellation (RenderOptions::progress): work units are vertex chunks, set-up
@@ -432,6 +438,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   lighting.pow_tier = options.pow_tier;
   lighting.clamp = !(options.hdr && p.color->format == PixelFormat::rgba32f);
   lighting.cull_lights = options.cull_lights;
+  light_every_vertex = options.light_every_vertex;
 
   // Set-up ranges, numbered in draw order.
   const std::size_t object_count = units.size();
@@ -450,6 +457,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   for (const DrawUnit& u : units) {  // clip chunks, then lighting or centroid chunks
     work_total += (u.vertices() + kVertexChunk - 1) / kVertexChunk * 2 +
                   (u.triangles() + kVertexChunk - 1) / kVertexChunk * (two_sided ? 2 : 1);
+    if (shading == ShadingMode::gouraud && !light_every_vertex) work_total += (u.triangles() + kVertexChunk - 1) / kVertexChunk;
   }
   // Runs of two or more small objects are set up side by side, one task per object (the built-in scene's six
   // objects took 1.6 ms of a 5.8 ms frame one after another on 2 threads). Larger objects are set
@@ -500,6 +508,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   }
   for (const ObjectCounts& c : object_counts) {  // in draw order
     stats.vertices_lit += c.vertices_lit;
+    stats.vertices_skipped += c.vertices_skipped;
     stats.vertex_lights_evaluated += c.pairs_evaluated;
     stats.vertex_lights_skipped += c.pairs_skipped;
     stats.seconds_lighting += c.seconds_lighting;
@@ -594,6 +603,9 @@ void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t tr
   clip.reserve(vertices);
   screen.reserve(vertices);
   if (mode == ShadingMode::gouraud) {
+    drawn.reserve(vertices);
+    triangle_class.reserve(triangles);
+    lit_index.reserve(vertices);
     front.reserve(vertices);
     if (both_faces) back.reserve(vertices);
     if (surfaces) {  // a textured object's specular, kept apart
@@ -735,17 +747,55 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       os.front_spec.resize(n);
       if (two_sided) os.back_spec.resize(n);
     }
-    // Vertex batches in parallel; a vertex's colour does not depend on its batch.
+    // Only the vertices of triangles that may be drawn are lit (the others' colours are never
+    // read): marked from the triangles in parallel (relaxed stores of the same value), then
+    // listed per vertex chunk. A vertex's colour does not depend on its batch or its neighbours,
+    // so the image is the same as with every vertex lit.
+    const std::uint32_t* index = nullptr;
+    std::atomic<std::size_t> listed{v1 - v0};
+    if (!light_every_vertex) {
+      std::vector<std::uint8_t>& drawn = os.drawn;
+      drawn.resize(n);
+      os.lit_index.resize(n);
+      std::fill(drawn.begin() + static_cast<std::ptrdiff_t>(v0), drawn.begin() + static_cast<std::ptrdiff_t>(v1), 0);
+      os.triangle_class.resize(mesh.triangle_count());
+      const bool mirrored = os.mirrored;
+      for_chunks(unit.first_triangle, unit.end_triangle, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int) {
+        for (std::size_t t = r.begin(); t != r.end(); ++t) {
+          const auto& tri = mesh.triangles[t];
+          const raster::TriangleClass c =
+              raster::classify(pass->assembly, mirrored, screen[tri[0]], screen[tri[1]], screen[tri[2]]);
+          os.triangle_class[t] = c;
+          if (c != raster::TriangleClass::may_draw && c != raster::TriangleClass::to_clip) continue;
+          for (const std::uint32_t v : tri) std::atomic_ref<std::uint8_t>(drawn[v]).store(1, std::memory_order_relaxed);
+        }
+      });
+      listed = 0;
+      index = os.lit_index.data();
+    }
     for_chunks(v0, v1, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
       lighting::SoaScratch& soa = worker(chunk_slot).soa;
-      shader.light_mesh(mesh, view, inst.model, false, r.begin(), r.end(), front.data(), soa,
-                        split ? os.front_spec.data() : nullptr);
+      std::size_t begin = r.begin(), end = r.end();
+      if (index) {  // this chunk's drawn vertices, listed from its own offset
+        std::uint32_t* list = os.lit_index.data() + begin;
+        std::size_t count = 0;
+        for (std::size_t v = begin; v != end; ++v) {
+          list[count] = static_cast<std::uint32_t>(v);
+          count += os.drawn[v];
+        }
+        end = begin + count;
+        listed.fetch_add(count, std::memory_order_relaxed);
+      }
+      shader.light_mesh(mesh, view, inst.model, false, begin, end, front.data(), soa,
+                        split ? os.front_spec.data() : nullptr, index);
       if (two_sided) {
-        shader.light_mesh(mesh, view, inst.model, true, r.begin(), r.end(), back.data(), soa,
-                          split ? os.back_spec.data() : nullptr);
+        shader.light_mesh(mesh, view, inst.model, true, begin, end, back.data(), soa,
+                          split ? os.back_spec.data() : nullptr, index);
       }
     });
-    count_pairs((v1 - v0) * (two_sided ? 2 : 1));
+    const std::size_t lit_vertices = listed.load(std::memory_order_relaxed);
+    counts.vertices_skipped += (v1 - v0 - lit_vertices) * (two_sided ? 2 : 1);
+    count_pairs(lit_vertices * (two_sided ? 2 : 1));
     counts.seconds_lighting += seconds_since(lighting_start);
     return;
   }
@@ -833,6 +883,7 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   vertices.mirrored = os.mirrored;
   vertices.object = object;
   vertices.alpha = alpha;
+  if (pass->shading == ShadingMode::gouraud && !light_every_vertex) vertices.triangle_class = os.triangle_class.data();
   const DrawUnit& unit = units[object];
   for_chunks(0, unit.ranges(), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
     for (std::size_t r = rs.begin(); r != rs.end(); ++r) {
