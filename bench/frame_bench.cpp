@@ -12,7 +12,8 @@
 // Variants: the scalar path (scalar lighting and rasterizer) and the simd path of each ISA this
 // CPU has; the model scenes and 1280x720 run on the best ISA only.
 // Counters: frames/s, pixels_filled/s, vertices_lit/s and bw_share, the bytes of the output
-// image written per second over the triad bandwidth measured at start (bench/roofline.hpp).
+// image written per second over the triad bandwidth measured at start (bench/roofline.hpp), and
+// the mean per-stage times of a frame (lighting_ms, geometry_ms, tiles_ms; FrameStats).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -63,6 +64,7 @@ void run_frames(benchmark::State& state, const facet::Scene& scene, facet::Rende
   const facet::ImageView view{pixels.data(), w, h, static_cast<std::size_t>(w) * 4, facet::PixelFormat::rgba8, false};
   facet::Renderer renderer;
   facet::FrameStats stats;
+  double lighting = 0, geometry = 0, tiles = 0;  // seconds, summed over frames
   const auto start = std::chrono::steady_clock::now();
   for (auto _ : state) {
     const facet::Status s = renderer.render(scene, options, view, nullptr, &stats);
@@ -71,6 +73,7 @@ void run_frames(benchmark::State& state, const facet::Scene& scene, facet::Rende
       return;
     }
     benchmark::DoNotOptimize(pixels.data());
+    lighting += stats.seconds_lighting, geometry += stats.seconds_geometry, tiles += stats.seconds_raster;
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   using benchmark::Counter;
@@ -78,6 +81,12 @@ void run_frames(benchmark::State& state, const facet::Scene& scene, facet::Rende
   state.counters["pixels_filled/s"] = Counter(double(stats.pixels_filled), Counter::kIsIterationInvariantRate);
   state.counters["vertices_lit/s"] = Counter(double(stats.vertices_lit), Counter::kIsIterationInvariantRate);
   state.counters["threads"] = stats.threads;
+  // Per-stage milliseconds a frame (FrameStats; lighting and geometry are thread time summed over
+  // objects set up side by side, tiles is wall time).
+  const double frames = double(state.iterations());
+  state.counters["lighting_ms"] = 1e3 * lighting / frames;
+  state.counters["geometry_ms"] = 1e3 * geometry / frames;
+  state.counters["tiles_ms"] = 1e3 * tiles / frames;
   state.counters["bw_share"] = double(state.iterations()) * double(pixels.size()) / seconds /
                                facet::bench::roofline().triad_bytes_per_s;
   state.SetLabel(std::to_string(w) + "x" + std::to_string(h) + ", " + std::to_string(stats.threads) + " threads");
