@@ -362,8 +362,8 @@ TEST(RenderStats, CountsAddUp) {
   EXPECT_GT(st.seconds_total, 0.0);
 }
 
-// Gouraud lights only the vertices of triangles that may be drawn; the image is the same bytes as
-// with every vertex lit, for every path, cull mode, two-sided lighting, a mirrored object, a
+// Gouraud lights only the vertices of triangles that may be drawn, flat only those triangles; the
+// image is the same bytes as with everything lit, for both, every path, cull mode, two-sided lighting, a mirrored object, a
 // camera inside the scene (clipped triangles) and one looking half away (triangles off screen).
 TEST(RenderStats, LightingOnlyDrawableVerticesChangesNoByte) {
   struct Variant {
@@ -404,22 +404,25 @@ TEST(RenderStats, LightingOnlyDrawableVerticesChangesNoByte) {
     if (v.inside) s.camera.eye = s.camera.target + (s.camera.eye - s.camera.target) * 0.15f;
     if (v.away) s.camera.target = s.camera.target + (s.camera.target - s.camera.eye).cross(s.camera.up).normalized() * 4.0f;
     for (const auto& [path, isa] : paths) {
-      SCOPED_TRACE(std::string(v.name) + " " + to_string(path) + " " + to_string(isa));
-      RenderOptions o;
-      o.cull = v.cull;
-      o.path = path;
-      o.isa = isa;
-      Canvas drawn_only(160, 120), every(160, 120);
-      FrameStats a, b;
-      ASSERT_TRUE(render(s, drawn_only.view(), &a, o).ok());
-      o.light_every_vertex = true;
-      ASSERT_TRUE(render(s, every.view(), &b, o).ok());
-      EXPECT_TRUE(drawn_only.pixels() == every.pixels());
-      EXPECT_EQ(b.vertices_skipped, 0u);
-      EXPECT_EQ(a.vertices_lit + a.vertices_skipped, b.vertices_lit);
-      EXPECT_EQ(a.triangles_drawn, b.triangles_drawn);
-      if (v.through_near) EXPECT_GT(a.triangles_clipped, 0u);
-      if (v.cull != CullMode::none && !v.two_sided) EXPECT_GT(a.vertices_skipped, b.vertices_lit / 8);
+      for (ShadingMode shading : {ShadingMode::gouraud, ShadingMode::flat}) {
+        SCOPED_TRACE(std::string(v.name) + " " + to_string(path) + " " + to_string(isa) + " " + to_string(shading));
+        RenderOptions o;
+        o.shading = shading;
+        o.cull = v.cull;
+        o.path = path;
+        o.isa = isa;
+        Canvas drawn_only(160, 120), every(160, 120);
+        FrameStats a, b;
+        ASSERT_TRUE(render(s, drawn_only.view(), &a, o).ok());
+        o.light_every_vertex = true;
+        ASSERT_TRUE(render(s, every.view(), &b, o).ok());
+        EXPECT_TRUE(drawn_only.pixels() == every.pixels());
+        EXPECT_EQ(b.vertices_skipped, 0u);
+        EXPECT_EQ(a.vertices_lit + a.vertices_skipped, b.vertices_lit);
+        EXPECT_EQ(a.triangles_drawn, b.triangles_drawn);
+        if (v.through_near) EXPECT_GT(a.triangles_clipped, 0u);
+        if (v.cull != CullMode::none && !v.two_sided) EXPECT_GT(a.vertices_skipped, b.vertices_lit / 8);
+      }
     }
   }
 }

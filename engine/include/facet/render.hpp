@@ -64,8 +64,9 @@ struct RenderOptions {
   bool srgb = false;
   bool cull_lights = true;  // the frame plan's per-object light culling (LightingOptions::cull_lights)
   // Gouraud lights only the vertices of triangles that can be drawn (not culled, degenerate,
-  // non-finite or outside the frustum); true lights every vertex. The image is the same bytes
-  // either way (FrameStats::vertices_skipped counts the difference); true is for measurements.
+  // non-finite or outside the frustum), flat only those triangles; true lights every vertex (or
+  // triangle). The image is the same bytes either way (FrameStats::vertices_skipped counts the
+  // difference); true is for measurements.
   bool light_every_vertex = false;
   // The most memory one frame may take in the renderer's own scratch (transformed vertices,
   // triangle records, bins, per-thread tiles; not the caller's scene or image), estimated from
@@ -93,7 +94,8 @@ struct FrameStats {
   std::uint64_t triangles_drawn = 0;      // pieces set up and binned
   std::uint64_t bin_entries = 0;          // (triangle, tile) pairs
   std::uint64_t vertices_lit = 0;         // lighting evaluations: vertices, centroids or pixels
-  std::uint64_t vertices_skipped = 0;     // vertices not lit: no triangle that can be drawn uses them
+  std::uint64_t vertices_skipped = 0;     // not lit: vertices (Gouraud) no drawable triangle uses, or
+                                          // triangles (flat) that cannot be drawn
   std::uint64_t vertex_lights_evaluated = 0;  // (evaluation, light) pairs computed
   std::uint64_t vertex_lights_skipped = 0;    // pairs the frame plan skipped (lights culled per object)
   std::uint64_t pixels_tested = 0;        // covered pixels that were depth-tested

@@ -626,6 +626,8 @@ void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t tr
   if (mode == ShadingMode::flat) {
     centroid.reserve(triangles);
     face_normal.reserve(triangles);
+    triangle_class.reserve(triangles);
+    lit_index.reserve(triangles);
     front.reserve(triangles);
     if (both_faces) back.reserve(triangles);
   }
@@ -832,22 +834,60 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
         os.flat_albedo[t] = (mesh.colors[tri[0]] + mesh.colors[tri[1]] + mesh.colors[tri[2]]) / 3.0f;
       }
     }
-    auto shade = [&](std::vector<Color3>& out, std::vector<Color3>& spec) {
-      out.resize(t_count);
-      if (split) spec.resize(t_count);
-      for_chunks(t0, t1, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
-        shader.shade_points(r.size(), centroid.data() + r.begin(), face_normal.data() + r.begin(),
-                            out.data() + r.begin(), worker(chunk_slot).soa,
-                            lf.color_material ? os.flat_albedo.data() + r.begin() : nullptr,
-                            split ? spec.data() + r.begin() : nullptr);
-      });
-    };
-    shade(front, os.front_spec);
-    if (two_sided) {
-      for (std::size_t t = t0; t < t1; ++t) face_normal[t] = -face_normal[t];
-      shade(back, os.back_spec);
+    front.resize(t_count);
+    if (two_sided) back.resize(t_count);
+    if (split) {
+      os.front_spec.resize(t_count);
+      if (two_sided) os.back_spec.resize(t_count);
     }
-    count_pairs((t1 - t0) * (two_sided ? 2 : 1));
+    // Only triangles that may be drawn are lit (unless light_every_vertex): per chunk, their
+    // centroids, normals and albedos are moved to the front of the chunk's part of the arrays,
+    // lit there, and each colour moved back to its triangle, last first (triangle t_k >= slot k,
+    // so no colour is overwritten before it is moved). A point's colour does not depend on its
+    // place in a batch, so the colours are those of lighting every triangle.
+    if (!light_every_vertex) {
+      os.triangle_class.resize(t_count);
+      os.lit_index.resize(t_count);
+    }
+    std::atomic<std::size_t> listed{0};
+    for_chunks(t0, t1, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
+      const std::size_t begin = r.begin();
+      std::size_t count = r.size();
+      std::uint32_t* list = light_every_vertex ? nullptr : os.lit_index.data() + begin;
+      if (list) {
+        count = 0;
+        for (std::size_t t = begin; t != r.end(); ++t) {
+          const auto& tri = mesh.triangles[t];
+          const raster::TriangleClass c =
+              raster::classify(pass->assembly, os.mirrored, screen[tri[0]], screen[tri[1]], screen[tri[2]]);
+          os.triangle_class[t] = c;
+          if (c != raster::TriangleClass::may_draw && c != raster::TriangleClass::to_clip) continue;
+          const std::size_t k = begin + count++;
+          list[k - begin] = static_cast<std::uint32_t>(t);
+          centroid[k] = centroid[t], face_normal[k] = face_normal[t];
+          if (lf.color_material) os.flat_albedo[k] = os.flat_albedo[t];
+        }
+      }
+      listed.fetch_add(count, std::memory_order_relaxed);
+      auto shade = [&](std::vector<Color3>& out, std::vector<Color3>& spec) {
+        shader.shade_points(count, centroid.data() + begin, face_normal.data() + begin, out.data() + begin,
+                            worker(chunk_slot).soa, lf.color_material ? os.flat_albedo.data() + begin : nullptr,
+                            split ? spec.data() + begin : nullptr);
+        if (!list) return;
+        for (std::size_t k = count; k-- > 0;) {
+          out[list[k]] = out[begin + k];
+          if (split) spec[list[k]] = spec[begin + k];
+        }
+      };
+      shade(front, os.front_spec);
+      if (two_sided) {
+        for (std::size_t k = begin; k != begin + count; ++k) face_normal[k] = -face_normal[k];
+        shade(back, os.back_spec);
+      }
+    });
+    const std::size_t lit_triangles = listed.load(std::memory_order_relaxed);
+    counts.vertices_skipped += (t1 - t0 - lit_triangles) * (two_sided ? 2 : 1);
+    count_pairs(lit_triangles * (two_sided ? 2 : 1));
   }
   counts.seconds_lighting += seconds_since(lighting_start);
 }
@@ -883,7 +923,7 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   vertices.mirrored = os.mirrored;
   vertices.object = object;
   vertices.alpha = alpha;
-  if (pass->shading == ShadingMode::gouraud && !light_every_vertex) vertices.triangle_class = os.triangle_class.data();
+  if (pass->shading != ShadingMode::phong && !light_every_vertex) vertices.triangle_class = os.triangle_class.data();
   const DrawUnit& unit = units[object];
   for_chunks(0, unit.ranges(), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
     for (std::size_t r = rs.begin(); r != rs.end(); ++r) {
