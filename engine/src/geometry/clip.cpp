@@ -29,17 +29,6 @@ ClipVertex intersect(const ClipVertex& inside, const ClipVertex& outside, float 
 
 }  // namespace
 
-std::uint32_t clip_outcode(const ClipVertex& v, const ClipPlanes& planes) noexcept {
-  std::uint32_t code = 0;
-  for (int k = 0; k < 6; ++k) code |= (plane_distance(v, k, planes) < 0.0f ? 1u : 0u) << k;
-  return code;
-}
-
-std::uint32_t frustum_outcode(const ClipVertex& v) noexcept {
-  return (v.w + v.z < 0.0f ? 1u : 0u) | (v.w - v.z < 0.0f ? 2u : 0u) | (v.w + v.x < 0.0f ? 4u : 0u) |
-         (v.w - v.x < 0.0f ? 8u : 0u) | (v.w + v.y < 0.0f ? 16u : 0u) | (v.w - v.y < 0.0f ? 32u : 0u);
-}
-
 int clip_triangle(const ClipVertex& a, const ClipVertex& b, const ClipVertex& c, std::uint32_t outcode_union,
                   const ClipPlanes& planes, int attribute_count, ClipVertex* out) noexcept {
   ClipVertex buffer[2][kMaxClippedVertices];

@@ -30,10 +30,21 @@ struct ClipPlanes {
 };
 
 // Bit k set: the vertex is outside clip plane k (0 near, 1 far, 2..5 guard band -x +x -y +y).
-std::uint32_t clip_outcode(const ClipVertex& v, const ClipPlanes& planes) noexcept;
+inline std::uint32_t clip_outcode(float x, float y, float z, float w, const ClipPlanes& p) noexcept {
+  return (w + z < 0.0f ? 1u : 0u) | (w - z < 0.0f ? 2u : 0u) | (p.guard_x * w + x < 0.0f ? 4u : 0u) |
+         (p.guard_x * w - x < 0.0f ? 8u : 0u) | (p.guard_y * w + y < 0.0f ? 16u : 0u) |
+         (p.guard_y * w - y < 0.0f ? 32u : 0u);
+}
+inline std::uint32_t clip_outcode(const ClipVertex& v, const ClipPlanes& planes) noexcept {
+  return clip_outcode(v.x, v.y, v.z, v.w, planes);
+}
 // Bit k set: outside frustum plane k (0 near, 1 far, 2..5 viewport -x +x -y +y). A triangle whose
 // three vertices share a bit is entirely outside.
-std::uint32_t frustum_outcode(const ClipVertex& v) noexcept;
+inline std::uint32_t frustum_outcode(float x, float y, float z, float w) noexcept {
+  return (w + z < 0.0f ? 1u : 0u) | (w - z < 0.0f ? 2u : 0u) | (w + x < 0.0f ? 4u : 0u) | (w - x < 0.0f ? 8u : 0u) |
+         (w + y < 0.0f ? 16u : 0u) | (w - y < 0.0f ? 32u : 0u);
+}
+inline std::uint32_t frustum_outcode(const ClipVertex& v) noexcept { return frustum_outcode(v.x, v.y, v.z, v.w); }
 
 // Clips triangle (a, b, c) against the planes in `outcode_union`; writes the polygon (a fan) to
 // `out` and returns its vertex count (0 if nothing is left). `attribute_count` attributes are

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <immintrin.h>
+
 #include "raster/triangle_setup.hpp"
 
 namespace facet::geometry {
@@ -12,24 +14,37 @@ ClipPlanes guard_band_planes(const Viewport& viewport) noexcept {
           2.0f * raster::kGuardBandPixels / static_cast<float>(viewport.height) - 1.0f};
 }
 
-bool project(const ClipVertex& v, const Viewport& viewport, ScreenVertex& out) noexcept {
+namespace {
+
+// x rounded to the nearest integer in the current rounding mode (ties to even by default), as
+// std::nearbyint then a cast: cvtss2si rounds by MXCSR as nearbyintf does, without a libm call.
+// |x| <= 2^23 here (clamped to the guard band), well inside int32.
+std::int32_t round_to_int(float x) noexcept { return _mm_cvtss_si32(_mm_set_ss(x)); }
+
+bool project_xyzw(float x, float y, float zc, float w, const Viewport& viewport, ScreenVertex& out) noexcept {
   const float half_w = 0.5f * static_cast<float>(viewport.width), half_h = 0.5f * static_cast<float>(viewport.height);
   const float g = raster::kGuardBandPixels;
-  const float inv_w = 1.0f / v.w;
-  float sx = (v.x * inv_w + 1.0f) * half_w;
-  float sy = (1.0f - v.y * inv_w) * half_h;
-  const float z = 0.5f * v.z * inv_w + 0.5f;
+  const float inv_w = 1.0f / w;
+  float sx = (x * inv_w + 1.0f) * half_w;
+  float sy = (1.0f - y * inv_w) * half_h;
+  const float z = 0.5f * zc * inv_w + 0.5f;
   // After near clipping w >= near for real geometry; a hostile camera can still leave w at a
   // subnormal (found by fuzz_render), so 1/w overflows. Such a piece is dropped, never cast.
   if (!std::isfinite(sx) || !std::isfinite(sy) || !std::isfinite(z) || !std::isfinite(inv_w)) return false;
   // Clipping keeps these inside the guard band up to rounding; the clamp makes overflow impossible.
   sx = std::clamp(sx, -g, g);
   sy = std::clamp(sy, -g, g);
-  out.x = static_cast<std::int32_t>(std::nearbyint(sx * float(raster::kSubpixelOne)));
-  out.y = static_cast<std::int32_t>(std::nearbyint(sy * float(raster::kSubpixelOne)));
+  out.x = round_to_int(sx * float(raster::kSubpixelOne));
+  out.y = round_to_int(sy * float(raster::kSubpixelOne));
   out.z = std::clamp(z, 0.0f, 1.0f);
   out.inv_w = inv_w;
   return true;
+}
+
+}  // namespace
+
+bool project(const ClipVertex& v, const Viewport& viewport, ScreenVertex& out) noexcept {
+  return project_xyzw(v.x, v.y, v.z, v.w, viewport, out);
 }
 
 void transform_vertices(const Mat4Rows& mvp, const Vec3* positions, std::size_t begin, std::size_t end,
@@ -43,11 +58,10 @@ void transform_vertices(const Mat4Rows& mvp, const Vec3* positions, std::size_t 
     }
     const auto& c = clip[i];
     ScreenVertex& sv = screen[i];
-    const ClipVertex v{c[0], c[1], c[2], c[3], {}};
     sv.finite = std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(c[2]) && std::isfinite(c[3]);
-    sv.frustum = static_cast<std::uint8_t>(frustum_outcode(v));
-    sv.guard = static_cast<std::uint8_t>(clip_outcode(v, planes));
-    sv.projected = sv.finite && sv.guard == 0 && project(v, viewport, sv);
+    sv.frustum = static_cast<std::uint8_t>(frustum_outcode(c[0], c[1], c[2], c[3]));
+    sv.guard = static_cast<std::uint8_t>(clip_outcode(c[0], c[1], c[2], c[3], planes));
+    sv.projected = sv.finite && sv.guard == 0 && project_xyzw(c[0], c[1], c[2], c[3], viewport, sv);
   }
 }
 
