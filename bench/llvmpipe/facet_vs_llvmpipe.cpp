@@ -23,8 +23,12 @@
 // in float per pixel, and both round blends differently (8-bit framebuffer against float tiles).
 //
 //   facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick]
-//                     [--check] [--filter TEXT] [SCENE.json ...]
-// --filter runs only the cases whose name contains TEXT (e.g. --filter fill_).
+//                     [--check] [--filter TEXT] [--json FILE] [SCENE.json ...]
+// --lights N gives scene files N of the built-in cases' lights (GL 2.1-expressible: scene files may
+// use smooth cones or light ranges, which GL 2.1 lacks) and caps shininess at 128.
+// --filter runs only the cases whose name contains TEXT (e.g. --filter fill_). --json writes the
+// rows to FILE as well (one object per case: name, triangles, facet_ms, llvmpipe_ms, ratio,
+// mean_diff, within2, psnr, threads, width, height), for tools/charts.
 // With no scene file: the built-in scene, the Stanford bunny (when ../shared/models is there) and
 // a 1M-triangle sphere, each with 1, 4 and 8 lights. --check exits 1 unless every comparison has
 // a mean difference <= 0.05 steps, >= 99.9 % of covered pixels within 2 steps and a PSNR >= 50 dB
@@ -57,6 +61,8 @@ struct Options {
   std::string out = "out/llvmpipe";
   bool quick = false, check = false;
   std::string filter;  // run only the cases whose name contains it
+  std::string json;    // also write the rows there
+  int lights = 0;      // > 0: scene files get this many of the built-in cases' GL 2.1 lights instead of theirs
   std::vector<std::string> scenes;
 };
 
@@ -441,8 +447,10 @@ int main(int argc, char** argv) {
     else if (a == "--quick") opt.quick = true;
     else if (a == "--check") opt.check = true;
     else if (a == "--filter") opt.filter = next();
+    else if (a == "--json") opt.json = next();
+    else if (a == "--lights") opt.lights = std::atoi(next());
     else if (a == "-h" || a == "--help") {
-      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--filter TEXT] [SCENE.json ...]");
+      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--filter TEXT] [--json FILE] [--lights N] [SCENE.json ...]");
       return 0;
     } else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "facet_vs_llvmpipe: unknown option %s\n", a.c_str());
@@ -451,8 +459,9 @@ int main(int argc, char** argv) {
       opt.scenes.push_back(a);
     }
   }
-  if (opt.threads < 1 || opt.threads > 64 || opt.width < 1 || opt.height < 1 || opt.width > 8192 || opt.height > 8192) {
-    std::fprintf(stderr, "facet_vs_llvmpipe: --threads 1..64, sizes 1..8192\n");
+  if (opt.threads < 1 || opt.threads > 64 || opt.width < 1 || opt.height < 1 || opt.width > 8192 || opt.height > 8192 ||
+      opt.lights < 0 || opt.lights > 8) {
+    std::fprintf(stderr, "facet_vs_llvmpipe: --threads 1..64, sizes 1..8192, --lights 0..8\n");
     return 2;
   }
   // llvmpipe reads its thread count when the first context is created (this program's own
@@ -529,6 +538,13 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "%s\n", s.status().message().c_str());
         return 2;
       }
+      if (opt.lights > 0) {  // GL 2.1-expressible lights and shininess, as the built-in cases
+        facet::Vec3 c;
+        float radius;
+        bounds(*s, c, radius);
+        s->lights = light_set(opt.lights, c, radius);
+        for (auto& m : s->materials) m.shininess = std::min(m.shininess, 128.0f);
+      }
       cases.emplace_back(std::filesystem::path(path).stem().string(), *s);
     }
   }
@@ -538,6 +554,7 @@ int main(int argc, char** argv) {
   std::printf("%-22s %10s %12s %12s %8s %10s %10s %9s   %s\n", "scene", "triangles", "facet ms", "llvmpipe ms", "ratio",
               "mean diff", "within 2", "PSNR dB", "pixels by largest difference: 0 / 1 / 2 / 3-4 / 5-8 / >8 steps");
   bool ok = true;
+  std::string json = "[";
   for (auto& [name, scene] : cases) {
     if (!opt.filter.empty() && name.find(opt.filter) == std::string::npos) continue;
     if (const std::string why = gl_incompatibility(scene); !why.empty()) {
@@ -552,6 +569,14 @@ int main(int argc, char** argv) {
       std::printf(" %.2f%%", r.covered ? 100.0 * double(r.histogram[k]) / double(r.covered) : 0.0);
     }
     std::printf("\n");
+    char row[512];
+    std::snprintf(row, sizeof row,
+                  "%s\n  {\"name\": \"%s\", \"triangles\": %zu, \"facet_ms\": %.4f, \"llvmpipe_ms\": %.4f, "
+                  "\"ratio\": %.4f, \"mean_diff\": %.4f, \"within2\": %.6f, \"psnr\": %.2f, \"threads\": %d, "
+                  "\"width\": %d, \"height\": %d}",
+                  json.size() > 1 ? "," : "", r.name.c_str(), r.triangles, r.facet_ms, r.gl_ms, r.gl_ms / r.facet_ms,
+                  r.mean_diff, r.within2, std::isfinite(r.psnr) ? r.psnr : 999.0, opt.threads, opt.width, opt.height);
+    json += row;
     if (r.surfaces) {
       if (r.mean_diff > 1.0 || r.within2 < 0.97) ok = false;
     } else if (r.mean_diff > 0.05 || r.within2 < 0.999 || r.psnr < 50.0) {
@@ -563,6 +588,13 @@ int main(int argc, char** argv) {
   std::printf("\nGL: %s, %s; ratio = llvmpipe ms / facet ms; images in %s/\n", renderer ? renderer : "?",
               version ? version : "?", opt.out.c_str());
   OSMesaDestroyContext(ctx);
+  if (!opt.json.empty()) {
+    std::FILE* f = std::fopen(opt.json.c_str(), "w");
+    if (!f || std::fprintf(f, "%s\n]\n", json.c_str()) < 0 || std::fclose(f) != 0) {
+      std::fprintf(stderr, "facet_vs_llvmpipe: cannot write %s\n", opt.json.c_str());
+      return 2;
+    }
+  }
   if (opt.check && !ok) {
     std::fprintf(stderr, "facet_vs_llvmpipe: a lighting comparison exceeds a mean of 0.05 steps, has < 99.9%% within 2 "
                          "steps or a PSNR below 50 dB, or a surfaces comparison a mean of 1 step or < 97%% within 2\n");

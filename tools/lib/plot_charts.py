@@ -223,6 +223,33 @@ ax.grid(True, axis="y", alpha=0.3)
 fig.tight_layout()
 save(fig, "thread_scaling")
 
+# --- 4. ms per frame against triangles, facet and llvmpipe ------------------------------------------
+charts = ["speed_vs_accuracy", "scalar_vs_simd", "thread_scaling"]
+rows = []
+for name in ("llvmpipe.json", "llvmpipe_models.json"):
+    if os.path.exists(os.path.join(OUT, name)):
+        rows += [r for r in load(name) if not r["name"].startswith("fill_")]  # fills: pixel-bound, 32 triangles
+if rows:
+    fig, ax = plt.subplots(figsize=(9, 6))
+    ax.scatter([r["triangles"] for r in rows], [r["facet_ms"] for r in rows], color="#9467bd", label="facet (simd, best ISA)")
+    ax.scatter([r["triangles"] for r in rows], [r["llvmpipe_ms"] for r in rows], color="#7f7f7f", marker="s",
+               label="llvmpipe (Mesa)")
+    for r in rows:
+        ax.plot([r["triangles"]] * 2, [r["facet_ms"], r["llvmpipe_ms"]], color="#cccccc", lw=0.8, zorder=0)
+        ax.annotate(f"{r['name']} {r['ratio']:.1f}x", (r["triangles"], r["facet_ms"]), textcoords="offset points",
+                    xytext=(4, -10), fontsize=6)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("triangles")
+    ax.set_ylabel("ms per frame")
+    ax.set_title(f"Whole frames, {rows[0]['width']}x{rows[0]['height']}, {rows[0]['threads']} threads each "
+                 "(labels: llvmpipe ms / facet ms)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    save(fig, "frames_vs_triangles")
+    charts.append("frames_vs_triangles")
+
 # --- summary -----------------------------------------------------------------------------------------
 ctx = lighting["context"]
 points_rate = {}  # (method, threads) -> row, for 4 point lights on 64 Ki vertices
@@ -258,4 +285,4 @@ if phong:
 with open(os.path.join(OUT, "summary.md"), "w") as f:
     f.write("\n".join(lines) + "\n")
 print("\n".join(lines))
-print("charts:", ", ".join(os.path.join(OUT, n + ".png") for n in ("speed_vs_accuracy", "scalar_vs_simd", "thread_scaling")))
+print("charts:", ", ".join(os.path.join(OUT, n + ".png") for n in charts))
