@@ -222,8 +222,9 @@ struct Renderer::Impl {
     std::vector<Color3> front, back;
     std::vector<Color3> front_spec, back_spec, flat_albedo;  // textured: specular apart; flat: mean vertex colour
     std::vector<Vec3> eye_p, eye_n, centroid, face_normal;
-    // Gouraud: per triangle its raster::classify() result; 1 for a vertex of a triangle that may
-    // be drawn (or clipped); per vertex chunk the list of those vertices (at the chunk's offset).
+    // Gouraud and flat: per triangle its raster::classify() result. Gouraud: 1 for a vertex of a
+    // triangle that may be drawn (or clipped), and per vertex chunk the list of those vertices (at
+    // the chunk's offset); flat: per triangle chunk the list of its triangles that may be drawn.
     std::vector<raster::TriangleClass> triangle_class;
     std::vector<std::uint8_t> drawn;
     std::vector<std::uint32_t> lit_index;
