@@ -420,8 +420,12 @@ TEST(RenderStats, LightingOnlyDrawableVerticesChangesNoByte) {
         EXPECT_EQ(b.vertices_skipped, 0u);
         EXPECT_EQ(a.vertices_lit + a.vertices_skipped, b.vertices_lit);
         EXPECT_EQ(a.triangles_drawn, b.triangles_drawn);
-        if (v.through_near) EXPECT_GT(a.triangles_clipped, 0u);
-        if (v.cull != CullMode::none && !v.two_sided) EXPECT_GT(a.vertices_skipped, b.vertices_lit / 8);
+        if (v.through_near) {
+          EXPECT_GT(a.triangles_clipped, 0u);
+        }
+        if (v.cull != CullMode::none && !v.two_sided) {
+          EXPECT_GT(a.vertices_skipped, b.vertices_lit / 8);
+        }
       }
     }
   }

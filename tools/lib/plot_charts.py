@@ -228,7 +228,8 @@ charts = ["speed_vs_accuracy", "scalar_vs_simd", "thread_scaling"]
 rows = []
 for name in ("llvmpipe.json", "llvmpipe_models.json"):
     if os.path.exists(os.path.join(OUT, name)):
-        rows += [r for r in load(name) if not r["name"].startswith("fill_")]  # fills: pixel-bound, 32 triangles
+        # fills are pixel-bound (32 triangles); of the 1/4/8-light cases only the 4-light ones (one point each)
+        rows += [r for r in load(name) if not r["name"].startswith("fill_") and not r["name"].endswith(("_1lights", "_8lights"))]
 if rows:
     fig, ax = plt.subplots(figsize=(9, 6))
     ax.scatter([r["triangles"] for r in rows], [r["facet_ms"] for r in rows], color="#9467bd", label="facet (simd, best ISA)")
