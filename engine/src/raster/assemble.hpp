@@ -55,18 +55,25 @@ inline Placement orient(std::int64_t area2, CullMode cull, bool two_sided, bool 
 // alone, by the tests assemble_range makes first: drop it (and why), or go on (to_clip: it crosses
 // the guard band; may_draw: it may still cover no pixel centre).
 enum class TriangleClass : std::uint8_t { may_draw, to_clip, nonfinite, outside, degenerate, culled };
+// Every test is evaluated and the first failing one picked without branches (selects): facing is
+// a coin toss per triangle of a closed mesh, and a mispredicted branch per triangle cost more than
+// the arithmetic. The x, y of a vertex that was not projected are read but do not matter.
 inline TriangleClass classify(const AssemblyFrame& frame, bool mirrored, const geometry::ScreenVertex& a,
                               const geometry::ScreenVertex& b, const geometry::ScreenVertex& c) {
-  if (!(a.finite && b.finite && c.finite)) return TriangleClass::nonfinite;
-  if (a.frustum & b.frustum & c.frustum) return TriangleClass::outside;
-  if (a.guard | b.guard | c.guard) return TriangleClass::to_clip;
-  if (!(a.projected && b.projected && c.projected)) return TriangleClass::nonfinite;
-  bool back_facing = false;
-  switch (orient(signed_area2(a.x, a.y, b.x, b.y, c.x, c.y), frame.cull, frame.two_sided, mirrored, back_facing)) {
-    case Placement::degenerate: return TriangleClass::degenerate;
-    case Placement::culled: return TriangleClass::culled;
-    default: return TriangleClass::may_draw;
-  }
+  const bool finite = a.finite & b.finite & c.finite;
+  const bool outside = (a.frustum & b.frustum & c.frustum) != 0;
+  const bool clip = (a.guard | b.guard | c.guard) != 0;
+  const bool projected = a.projected & b.projected & c.projected;
+  const std::int64_t area2 = signed_area2(a.x, a.y, b.x, b.y, c.x, c.y);
+  const bool back_facing = (area2 > 0) != mirrored;  // as orient()
+  const bool culled = (frame.cull == CullMode::back && back_facing && !frame.two_sided) ||
+                      (frame.cull == CullMode::front && !back_facing);
+  TriangleClass k = culled ? TriangleClass::culled : TriangleClass::may_draw;
+  k = area2 == 0 ? TriangleClass::degenerate : k;
+  k = projected ? k : TriangleClass::nonfinite;
+  k = clip ? TriangleClass::to_clip : k;
+  k = outside ? TriangleClass::outside : k;
+  return finite ? k : TriangleClass::nonfinite;
 }
 
 // One object's vertices as the pass sees them.

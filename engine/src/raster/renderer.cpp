@@ -764,13 +764,18 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       os.triangle_class.resize(mesh.triangle_count());
       const bool mirrored = os.mirrored;
       for_chunks(unit.first_triangle, unit.end_triangle, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int) {
+        alignas(64) std::uint8_t ignored = 0;  // this task's own
         for (std::size_t t = r.begin(); t != r.end(); ++t) {
           const auto& tri = mesh.triangles[t];
           const raster::TriangleClass c =
               raster::classify(pass->assembly, mirrored, screen[tri[0]], screen[tri[1]], screen[tri[2]]);
           os.triangle_class[t] = c;
-          if (c != raster::TriangleClass::may_draw && c != raster::TriangleClass::to_clip) continue;
-          for (const std::uint32_t v : tri) std::atomic_ref<std::uint8_t>(drawn[v]).store(1, std::memory_order_relaxed);
+          // Marks without a branch on the class: a dropped triangle writes to `ignored` instead.
+          const bool keep = c == raster::TriangleClass::may_draw || c == raster::TriangleClass::to_clip;
+          for (const std::uint32_t v : tri) {
+            std::uint8_t* mark = keep ? &drawn[v] : &ignored;
+            std::atomic_ref<std::uint8_t>(*mark).store(1, std::memory_order_relaxed);
+          }
         }
       });
       listed = 0;
