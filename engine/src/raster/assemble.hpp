@@ -40,15 +40,17 @@ Placement place_triangle(ScreenTriangle& t, CullMode cull, bool two_sided, bool 
                          const geometry::Viewport& viewport, bool& swapped);
 // The orientation step of place_triangle alone, from a snapped triangle's signed_area2:
 // degenerate, culled, or placed (not yet known to cover a pixel) with `back_facing` set.
+// Counter-clockwise in GL's y-up window is negative area in this y-down screen; a mirrored
+// object's front faces wind clockwise.
+inline bool is_back_facing(std::int64_t area2, bool mirrored) { return (area2 > 0) != mirrored; }
+// Culling uses CullMode; a two-sided scene culls no back face.
+inline bool is_culled(CullMode cull, bool two_sided, bool back_facing) {
+  return (cull == CullMode::back && back_facing && !two_sided) || (cull == CullMode::front && !back_facing);
+}
 inline Placement orient(std::int64_t area2, CullMode cull, bool two_sided, bool mirrored, bool& back_facing) {
   if (area2 == 0) return Placement::degenerate;
-  // Counter-clockwise in GL's y-up window is negative area in this y-down screen; a mirrored
-  // object's front faces wind clockwise.
-  back_facing = (area2 > 0) != mirrored;
-  if ((cull == CullMode::back && back_facing && !two_sided) || (cull == CullMode::front && !back_facing)) {
-    return Placement::culled;
-  }
-  return Placement::placed;
+  back_facing = is_back_facing(area2, mirrored);
+  return is_culled(cull, two_sided, back_facing) ? Placement::culled : Placement::placed;
 }
 
 // What assembly will do with a triangle, judged from its vertices' transform_vertices() results
@@ -65,9 +67,7 @@ inline TriangleClass classify(const AssemblyFrame& frame, bool mirrored, const g
   const bool clip = (a.guard | b.guard | c.guard) != 0;
   const bool projected = a.projected & b.projected & c.projected;
   const std::int64_t area2 = signed_area2(a.x, a.y, b.x, b.y, c.x, c.y);
-  const bool back_facing = (area2 > 0) != mirrored;  // as orient()
-  const bool culled = (frame.cull == CullMode::back && back_facing && !frame.two_sided) ||
-                      (frame.cull == CullMode::front && !back_facing);
+  const bool culled = is_culled(frame.cull, frame.two_sided, is_back_facing(area2, mirrored));
   TriangleClass k = culled ? TriangleClass::culled : TriangleClass::may_draw;
   k = area2 == 0 ? TriangleClass::degenerate : k;
   k = projected ? k : TriangleClass::nonfinite;

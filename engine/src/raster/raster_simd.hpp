@@ -165,6 +165,21 @@ struct TileKernel {
 
   // The surface program on one batch whose coverage and depth test gave `pass` (raster_kernels.hpp,
   // Draw): sample, alpha test, depth write, then the colour (Phong: gathered, finished at flush).
+  // The draw's texture at the batch's pixels (RGBA in tex): perspective-correct uv and its
+  // derivatives, the LOD, the sample. cw: the interpolated clip w (1 / W').
+  template <std::size_t N>
+  static void texture_batch(const Draw& d, const PlaneEval (&attr)[N], const float (&attr_o)[N], const PlaneEval& w_plane,
+                            const F& cw, const F& fi, const F& fj, F (&tex)[4]) {
+    // u = U / W' with U = u/w and W' = 1/w affine on screen: du/dx = (dU/dx - u dW'/dx) / W'.
+    const int uv = d.layout.at(Varying::uv);
+    const F u = attr[uv].at(attr_o[uv], fi, fj) * cw, v = attr[uv + 1].at(attr_o[uv + 1], fi, fj) * cw;
+    const F dudx = (attr[uv].dx - u * w_plane.dx) * cw, dudy = (attr[uv].dy - u * w_plane.dy) * cw;
+    const F dvdx = (attr[uv + 1].dx - v * w_plane.dx) * cw, dvdy = (attr[uv + 1].dy - v * w_plane.dy) * cw;
+    const F su(d.uv_scale[0]), sv(d.uv_scale[1]);
+    const F lambda = Sampler::lod(*d.texture, su * dudx, sv * dvdx, su * dudy, sv * dvdy);
+    Sampler::sample(*d.texture, su * u, sv * v, lambda, tex);
+  }
+
   template <std::size_t N>
   static void surface_batch(const TileJob& job, const Draw& d, const ScreenTriangle& t, const PlaneEval (&attr)[N],
                             const float (&attr_o)[N], const PlaneEval& w_plane, float w_o, const F& fi, const F& fj,
@@ -175,14 +190,7 @@ struct TileKernel {
     F tex[4];
     const F* texel = nullptr;
     if (d.texture) {
-      // u = U / W' with U = u/w and W' = 1/w affine on screen: du/dx = (dU/dx - u dW'/dx) / W'.
-      const int uv = d.layout.at(Varying::uv);
-      const F u = value(uv), v = value(uv + 1);
-      const F dudx = (attr[uv].dx - u * w_plane.dx) * cw, dudy = (attr[uv].dy - u * w_plane.dy) * cw;
-      const F dvdx = (attr[uv + 1].dx - v * w_plane.dx) * cw, dvdy = (attr[uv + 1].dy - v * w_plane.dy) * cw;
-      const F su(d.uv_scale[0]), sv(d.uv_scale[1]);
-      const F lambda = Sampler::lod(*d.texture, su * dudx, sv * dvdx, su * dudy, sv * dvdy);
-      Sampler::sample(*d.texture, su * u, sv * v, lambda, tex);
+      texture_batch(d, attr, attr_o, w_plane, cw, fi, fj, tex);
       texel = tex;
     }
     const F alpha(t.alpha);
@@ -252,19 +260,13 @@ struct TileKernel {
                              const F& z, BF pass, float* const (&planes)[5], std::size_t at, I& filled) {
     const F cw = F(1.0f) / w_plane.at(w_o, fi, fj);
     auto value = [&](int a) { return attr[a].at(attr_o[a], fi, fj) * cw; };
-    const int uv = d.layout.at(Varying::uv);
-    const F u = value(uv), v = value(uv + 1);
-    const F dudx = (attr[uv].dx - u * w_plane.dx) * cw, dudy = (attr[uv].dy - u * w_plane.dy) * cw;
-    const F dvdx = (attr[uv + 1].dx - v * w_plane.dx) * cw, dvdy = (attr[uv + 1].dy - v * w_plane.dy) * cw;
-    const F su(d.uv_scale[0]), sv(d.uv_scale[1]);
-    const F lambda = Sampler::lod(*d.texture, su * dudx, sv * dvdx, su * dudy, sv * dvdy);
     F tex[4];
-    Sampler::sample(*d.texture, su * u, sv * v, lambda, tex);
+    texture_batch(d, attr, attr_o, w_plane, cw, fi, fj, tex);
     filled += xsimd::select(xsimd::bool_cast(pass), I(1), I(0));
     const bool all = xsimd::all(pass);
-    auto put = [&](int c, const F& value) {
+    auto put = [&](int c, const F& x) {
       float* dst = planes[c] + at;
-      (all ? value : xsimd::select(pass, value, F::load_unaligned(dst))).store_unaligned(dst);
+      (all ? x : xsimd::select(pass, x, F::load_unaligned(dst))).store_unaligned(dst);
     };
     if (d.depth_write) put(4, z);
     const int colour = d.layout.at(Varying::front_color), second = d.layout.at(Varying::front_secondary);

@@ -755,7 +755,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
     // listed per vertex chunk. A vertex's colour does not depend on its batch or its neighbours,
     // so the image is the same as with every vertex lit.
     const std::uint32_t* index = nullptr;
-    std::atomic<std::size_t> listed{v1 - v0};
+    std::atomic<std::size_t> listed{0};  // vertices lit
     if (!light_every_vertex) {
       std::vector<std::uint8_t>& drawn = os.drawn;
       drawn.resize(n);
@@ -778,7 +778,6 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
           }
         }
       });
-      listed = 0;
       index = os.lit_index.data();
     }
     for_chunks(v0, v1, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
@@ -792,8 +791,8 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
           count += os.drawn[v];
         }
         end = begin + count;
-        listed.fetch_add(count, std::memory_order_relaxed);
       }
+      listed.fetch_add(end - begin, std::memory_order_relaxed);
       shader.light_mesh(mesh, view, inst.model, false, begin, end, front.data(), soa,
                         split ? os.front_spec.data() : nullptr, index);
       if (two_sided) {
