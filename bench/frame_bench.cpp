@@ -13,7 +13,8 @@
 // CPU has; the model scenes and 1280x720 run on the best ISA only.
 // Counters: frames/s, pixels_filled/s, vertices_lit/s and bw_share, the bytes of the output
 // image written per second over the triad bandwidth measured at start (bench/roofline.hpp), and
-// the mean per-stage times of a frame (lighting_ms, geometry_ms, tiles_ms; FrameStats).
+// the mean per-stage times of a frame (lighting_ms, geometry_ms, tiles_ms; FrameStats), and the
+// resolve's thread time (resolve_ms) with its share of the image-store rate (resolve_share).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -64,7 +65,7 @@ void run_frames(benchmark::State& state, const facet::Scene& scene, facet::Rende
   const facet::ImageView view{pixels.data(), w, h, static_cast<std::size_t>(w) * 4, facet::PixelFormat::rgba8, false};
   facet::Renderer renderer;
   facet::FrameStats stats;
-  double lighting = 0, geometry = 0, tiles = 0;  // seconds, summed over frames
+  double lighting = 0, geometry = 0, tiles = 0, resolve = 0;  // seconds, summed over frames
   const auto start = std::chrono::steady_clock::now();
   for (auto _ : state) {
     const facet::Status s = renderer.render(scene, options, view, nullptr, &stats);
@@ -74,6 +75,7 @@ void run_frames(benchmark::State& state, const facet::Scene& scene, facet::Rende
     }
     benchmark::DoNotOptimize(pixels.data());
     lighting += stats.seconds_lighting, geometry += stats.seconds_geometry, tiles += stats.seconds_raster;
+    resolve += stats.seconds_resolve;
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   using benchmark::Counter;
@@ -87,6 +89,13 @@ void run_frames(benchmark::State& state, const facet::Scene& scene, facet::Rende
   state.counters["lighting_ms"] = 1e3 * lighting / frames;
   state.counters["geometry_ms"] = 1e3 * geometry / frames;
   state.counters["tiles_ms"] = 1e3 * tiles / frames;
+  // Resolve: thread time a frame, and the image bytes it wrote per second of it over the rate of
+  // filling the same image with plain stores (roofline image_store; 1 = at memory speed).
+  state.counters["resolve_ms"] = 1e3 * resolve / frames;
+  if (resolve > 0) {
+    state.counters["resolve_share"] =
+        frames * double(pixels.size()) / resolve / facet::bench::roofline().image_store_bytes_per_s;
+  }
   state.counters["bw_share"] = double(state.iterations()) * double(pixels.size()) / seconds /
                                facet::bench::roofline().triad_bytes_per_s;
   state.SetLabel(std::to_string(w) + "x" + std::to_string(h) + ", " + std::to_string(stats.threads) + " threads");

@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <immintrin.h>
@@ -20,6 +21,7 @@ namespace facet::bench {
 struct Roofline {
   double read_bytes_per_s = 0;   // sum of a 128 MiB array
   double triad_bytes_per_s = 0;  // 3 x 48 MiB arrays, counting 3 x 4 bytes per element
+  double image_store_bytes_per_s = 0;  // filling one 1920x1080 RGBA8 image (8 MB) with 32-byte stores
   double peak_flops = 0;         // fused multiply-add = 2 flops
 };
 
@@ -49,6 +51,13 @@ __attribute__((target("avx2,fma"))) inline double fma_loop_avx2(long iterations)
   _mm256_storeu_ps(out, s);
   benchmark::DoNotOptimize(out);
   return double(iterations) * 10 * 8 * 2;
+}
+
+inline void fill_image(std::uint32_t* p, std::size_t n, std::uint32_t value) {
+  const __m128i v = _mm_set1_epi32(static_cast<int>(value));
+  std::size_t i = 0;
+  for (; i + 4 <= n; i += 4) _mm_storeu_si128(reinterpret_cast<__m128i*>(p + i), v);
+  for (; i < n; ++i) p[i] = value;
 }
 
 inline double fma_loop_sse2(long iterations) {
@@ -90,6 +99,17 @@ inline Roofline measure() {
     r.triad_bytes_per_s = double(3 * n * sizeof(float)) / s;
   }
   {
+    // What a resolve at memory speed would reach: the frame benchmarks' output image, written
+    // whole (it is the size a resolve writes each frame, so it may sit in a large last-level cache).
+    std::vector<std::uint32_t> image(std::size_t(1920) * 1080, 0u);
+    std::uint32_t value = 1;
+    const double s = best_seconds([&] {
+      fill_image(image.data(), image.size(), value++);
+      benchmark::DoNotOptimize(image.data());
+    }, 20);
+    r.image_store_bytes_per_s = double(image.size() * sizeof(std::uint32_t)) / s;
+  }
+  {
     const long iterations = 20'000'000;
     const bool avx2 = isa_supported(Isa::avx2);
     double flops = 0;
@@ -112,6 +132,7 @@ inline void add_roofline_context() {
   const Roofline& r = roofline();
   benchmark::AddCustomContext("roofline_read_GB/s", std::to_string(r.read_bytes_per_s / 1e9));
   benchmark::AddCustomContext("roofline_triad_GB/s", std::to_string(r.triad_bytes_per_s / 1e9));
+  benchmark::AddCustomContext("roofline_image_store_GB/s", std::to_string(r.image_store_bytes_per_s / 1e9));
   benchmark::AddCustomContext("roofline_peak_GFLOP/s", std::to_string(r.peak_flops / 1e9));
 }
 

@@ -195,36 +195,58 @@ TEST_P(SimdRaster, PlaneDepthAgreesWithBarycentricDepth) {
 
 // The SIMD resolve quantises each pixel to 8 bits itself (TileKernel::unorm8, in the ISA's
 // template). Byte for byte, it must agree with to_unorm8 applied to the same pixel resolved as
-// float: rendered twice, as RGBA8 and as (non-HDR) RGBA32F, every channel of every pixel, for lit
+// float: rendered twice, as 8-bit and as (non-HDR) RGBA32F, every channel of every pixel, for lit
 // pixels in both interpolating modes and for the clear colour in untouched blocks. The clear
-// colour sits on rounding boundaries (k + 0.5) / 255 and just below them.
+// colour sits on rounding boundaries (k + 0.5) / 255 and just below them. Both 8-bit layouts, both
+// orientations, rows at an odd address, and a width of whole blocks (the fast resolve,
+// TileKernel::resolve_unorm8, on avx512 16 pixels at a time) and one of a partial block (the
+// general resolve).
 TEST_P(SimdRaster, ResolveQuantisesExactlyLikeToUnorm8) {
   Scene scene = make_default_scene();
   for (ShadingMode shading : {ShadingMode::gouraud, ShadingMode::phong}) {
     for (float nudge : {0.0f, -1e-7f}) {
-      RenderOptions o;
-      o.path = LightingPath::simd;
-      o.isa = GetParam();
-      o.shading = shading;
-      o.threads = 1;
-      o.clear_color = {100.5f / 255.0f + nudge, 0.5f / 255.0f + nudge, 254.5f / 255.0f + nudge, 1.0f};
-      const int w = 96, h = 64;
-      std::vector<std::uint8_t> bytes(static_cast<std::size_t>(w) * h * 4);
-      std::vector<float> floats(static_cast<std::size_t>(w) * h * 4);
-      const ImageView as_bytes{bytes.data(), w, h, static_cast<std::size_t>(w) * 4, PixelFormat::rgba8, false};
-      const ImageView as_floats{reinterpret_cast<std::uint8_t*>(floats.data()), w, h, static_cast<std::size_t>(w) * 16,
-                                PixelFormat::rgba32f, false};
-      Renderer r(o);
-      ASSERT_TRUE(r.render(scene, as_bytes).ok());
-      ASSERT_TRUE(r.render(scene, as_floats).ok());
-      int mismatches = 0, lit = 0;
-      for (std::size_t k = 0; k < bytes.size(); ++k) {
-        if (bytes[k] != to_unorm8(floats[k])) ++mismatches;
-        if (k % 4 == 0 && floats[k] != o.clear_color[0]) ++lit;
+      for (PixelFormat format : {PixelFormat::rgba8, PixelFormat::bgra8}) {
+        for (bool y_up : {false, true}) {
+          for (std::size_t offset : {0, 1}) {
+            for (int w : {96, 91}) {
+              RenderOptions o;
+              o.path = LightingPath::simd;
+              o.isa = GetParam();
+              o.shading = shading;
+              o.threads = 1;
+              o.clear_color = {100.5f / 255.0f + nudge, 0.5f / 255.0f + nudge, 254.5f / 255.0f + nudge, 1.0f};
+              const int h = 64;
+              const std::string what = std::string(to_string(shading)) + " nudge " + std::to_string(nudge) + " " +
+                                       to_string(format) + (y_up ? " y-up" : "") + " offset " +
+                                       std::to_string(offset) + " width " + std::to_string(w);
+              std::vector<std::uint8_t> storage(static_cast<std::size_t>(w) * h * 4 + offset);
+              std::uint8_t* bytes = storage.data() + offset;
+              std::vector<float> floats(static_cast<std::size_t>(w) * h * 4);
+              const ImageView as_bytes{bytes, w, h, static_cast<std::size_t>(w) * 4, format, y_up};
+              const ImageView as_floats{reinterpret_cast<std::uint8_t*>(floats.data()), w, h,
+                                        static_cast<std::size_t>(w) * 16, PixelFormat::rgba32f, false};
+              Renderer r(o);
+              ASSERT_TRUE(r.render(scene, as_bytes).ok());
+              ASSERT_TRUE(r.render(scene, as_floats).ok());
+              int mismatches = 0, lit = 0;
+              for (int y = 0; y < h; ++y) {
+                const std::uint8_t* row = bytes + static_cast<std::size_t>(y_up ? h - 1 - y : y) * w * 4;
+                for (int x = 0; x < w; ++x) {
+                  const float* px = floats.data() + (static_cast<std::size_t>(y) * w + x) * 4;
+                  for (int c = 0; c < 4; ++c) {
+                    const int byte = format == PixelFormat::bgra8 && c != 1 && c != 3 ? 2 - c : c;
+                    if (row[4 * x + byte] != to_unorm8(px[c])) ++mismatches;
+                  }
+                  if (px[0] != o.clear_color[0]) ++lit;
+                }
+              }
+              EXPECT_EQ(mismatches, 0) << what;
+              EXPECT_GT(lit, w * h / 10) << "the scene must cover part of the image";
+              EXPECT_LT(lit, w * h) << "and leave some of the clear colour";
+            }
+          }
+        }
       }
-      EXPECT_EQ(mismatches, 0) << to_string(shading) << " nudge " << nudge;
-      EXPECT_GT(lit, w * h / 10) << "the scene must cover part of the image";
-      EXPECT_LT(lit, w * h) << "and leave some of the clear colour";
     }
   }
 }
