@@ -4,11 +4,14 @@
 //    with the scalar 64-bit one everywhere, including |edge deltas| near 2^24);
 //  - depth from the screen-space planes against the barycentric depth of the scalar path;
 //  - block-linear tile layout, lazy clear and resolve: every format, orientation and odd size.
+#include <cstring>
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
 
 #include "io/image_convert.hpp"
+#include "geometry/project.hpp"
 #include "raster/assemble.hpp"
 #include "raster/tile_raster.hpp"
 #include "test_support.hpp"
@@ -246,6 +249,69 @@ TEST_P(SimdRaster, ResolveQuantisesExactlyLikeToUnorm8) {
             }
           }
         }
+      }
+    }
+  }
+}
+
+// The ISA's vertex transform (Kernels::transform) against geometry::transform_vertices, bit for
+// bit: clip positions, outcodes, the finite and projected flags and, where projected, the snapped
+// position, depth and 1/w (coverage is decided by them). Vertices in front of, behind and on the
+// camera plane, on and across the frustum and guard band, far outside, huge, infinite and NaN,
+// through a perspective and a random matrix, in ranges that start and end off the batch width.
+TEST_P(SimdRaster, VertexTransformIsTheScalarOneBitForBit) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::vector<Vec3> positions;
+  const float specials[] = {0.0f, -0.0f, 1e-30f, 1e30f, -1e30f, 3e38f, std::numeric_limits<float>::infinity(),
+                            -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()};
+  for (float s : specials) {
+    positions.emplace_back(s, 0.5f, -5.0f);
+    positions.emplace_back(0.5f, s, -5.0f);
+    positions.emplace_back(0.5f, 0.5f, s);
+  }
+  for (int i = 0; i < 4000; ++i) {
+    const float scale = std::pow(10.0f, 4.0f * unit(rng));  // 1e-4 .. 1e4
+    positions.emplace_back(scale * unit(rng), scale * unit(rng), scale * unit(rng));
+  }
+  for (int i = 0; i < 500; ++i) positions.emplace_back(unit(rng), unit(rng), 0.1f * unit(rng));  // around the near plane
+  Camera camera;
+  camera.eye = Vec3(0, 0, 0);
+  camera.target = Vec3(0, 0, -1);
+  camera.near = 0.1f;
+  camera.far = 100.0f;
+  const Eigen::Matrix4d view_proj = (projection_matrix(camera, 16.0f / 9.0f) * view_matrix(camera)).cast<double>();
+  geometry::Mat4Rows perspective{}, random{};
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      perspective.m[4 * r + c] = static_cast<float>(view_proj(r, c));
+      random.m[4 * r + c] = 3.0f * unit(rng);
+    }
+  }
+  const geometry::Viewport viewport{1920, 1080};
+  const geometry::ClipPlanes planes = geometry::guard_band_planes(viewport);
+  for (const geometry::Mat4Rows& mvp : {perspective, random}) {
+    for (auto [begin, end] : {std::pair<std::size_t, std::size_t>{0, positions.size()}, {3, positions.size() - 5}, {1, 2}}) {
+      std::vector<std::array<float, 4>> clip_a(positions.size()), clip_b(positions.size());
+      std::vector<geometry::ScreenVertex> screen_a(positions.size()), screen_b(positions.size());
+      geometry::transform_vertices(mvp, positions.data(), begin, end, planes, viewport, clip_a.data(), screen_a.data());
+      kernels_->transform(mvp, positions.data()->data(), begin, end, planes, viewport, clip_b.data(), screen_b.data());
+      int mismatches = 0, projected = 0, outside = 0;
+      for (std::size_t i = begin; i < end; ++i) {
+        const geometry::ScreenVertex &a = screen_a[i], &b = screen_b[i];
+        bool same = std::memcmp(clip_a[i].data(), clip_b[i].data(), sizeof clip_a[i]) == 0 && a.finite == b.finite &&
+                    a.frustum == b.frustum && a.guard == b.guard && a.projected == b.projected;
+        if (same && a.projected) {
+          same = a.x == b.x && a.y == b.y && std::memcmp(&a.z, &b.z, 4) == 0 && std::memcmp(&a.inv_w, &b.inv_w, 4) == 0;
+        }
+        if (!same && ++mismatches <= 3) ADD_FAILURE() << "vertex " << i << " (" << positions[i].transpose() << ")";
+        projected += a.projected ? 1 : 0;
+        outside += a.finite && a.guard != 0 ? 1 : 0;
+      }
+      EXPECT_EQ(mismatches, 0) << "range " << begin << ".." << end;
+      if (end - begin > 1000) {
+        EXPECT_GT(projected, 100) << "the test must project vertices";
+        EXPECT_GT(outside, 100) << "and have vertices outside the guard band";
       }
     }
   }

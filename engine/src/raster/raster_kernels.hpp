@@ -9,10 +9,12 @@
 // it skip the edge tests, only blocks on an edge test their pixels.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
 #include "facet/image.hpp"
+#include "geometry/project.hpp"
 #include "raster/triangle_setup.hpp"
 #include "raster/varyings.hpp"
 #include "texture/sampler.hpp"
@@ -116,23 +118,35 @@ using ResolveTileFunction = void (*)(const TileView&, int x0, int y0, int x1, in
 using SampleTextureFunction = void (*)(const texture::Sampler&, std::size_t count, const float* const* in,
                                        float* const* out);
 
+// geometry::transform_vertices on the ISA (bit-identical to it); positions are xyz triples.
+using TransformFunction = void (*)(const geometry::Mat4Rows&, const float* positions, std::size_t begin, std::size_t end,
+                                   const geometry::ClipPlanes&, const geometry::Viewport&, std::array<float, 4>* clip,
+                                   geometry::ScreenVertex* screen);
+
 struct Kernels {
   RasterTileFunction raster;
   ResolveTileFunction resolve;
   SampleTextureFunction sample;
+  TransformFunction transform;
 };
 
 namespace sse2 {
+void transform_vertices(const geometry::Mat4Rows&, const float*, std::size_t, std::size_t, const geometry::ClipPlanes&,
+                        const geometry::Viewport&, std::array<float, 4>*, geometry::ScreenVertex*);
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
 }  // namespace sse2
 namespace avx2 {
+void transform_vertices(const geometry::Mat4Rows&, const float*, std::size_t, std::size_t, const geometry::ClipPlanes&,
+                        const geometry::Viewport&, std::array<float, 4>*, geometry::ScreenVertex*);
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
 }  // namespace avx2
 namespace avx512 {
+void transform_vertices(const geometry::Mat4Rows&, const float*, std::size_t, std::size_t, const geometry::ClipPlanes&,
+                        const geometry::Viewport&, std::array<float, 4>*, geometry::ScreenVertex*);
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);

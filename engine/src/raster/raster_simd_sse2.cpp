@@ -6,10 +6,16 @@
 #error "raster kernels must be compiled with -ffp-contract=off (byte-identical images on every ISA)"
 #endif
 
+#include "geometry/transform_simd.hpp"
 #include "raster/raster_simd.hpp"
 #include "texture/sample_simd.hpp"
 
 namespace facet::raster::simd::sse2 {
+void transform_vertices(const geometry::Mat4Rows& mvp, const float* positions, std::size_t begin, std::size_t end,
+                        const geometry::ClipPlanes& planes, const geometry::Viewport& viewport, std::array<float, 4>* clip,
+                        geometry::ScreenVertex* screen) {
+  geometry::simd::Transform<xsimd::sse2>::run(mvp, positions, begin, end, planes, viewport, clip, screen);
+}
 void raster_tile(const TileJob& job, const TileView& tile, TileCounters& counters) {
   TileKernel<xsimd::sse2>::raster(job, tile, counters);
 }

@@ -249,6 +249,7 @@ struct Renderer::Impl {
   std::vector<raster::RenderPass> passes;
   const raster::RenderPass* pass = nullptr;
   bool simd_raster = true;  // the simd path rasterizes with the SIMD kernels
+  const raster::simd::Kernels* simd_kernels = nullptr;  // its ISA's, when simd_raster
   bool light_every_vertex = false;  // RenderOptions::light_every_vertex
   FrameStats stats;
   FrameStats last_stats;  // of the last successful render
@@ -409,6 +410,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     w.soa.reserve_padded(kVertexChunk);
   }
   simd_raster = options.path == LightingPath::simd;
+  simd_kernels = simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr;
   passes.clear();
   passes.push_back(raster::camera_pass(scene, options, color, depth));
   for (const raster::RenderPass& p : passes) {
@@ -530,7 +532,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
                               range_data.data(),
                               shaders,
                               p.clear_color,
-                              simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr,
+                              simd_kernels,
                               draws.data(),
                               &fog,
                               options.srgb && p.color->format != PixelFormat::rgba32f ? srgb.threshold : nullptr};
@@ -737,9 +739,17 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   const geometry::Mat4Rows mvp = to_rows(proj * view * inst.model.cast<double>());
   clip.resize(n);
   screen.resize(n);
+  // The simd path transforms with its ISA's kernel (bit-identical to the scalar function).
+  static_assert(sizeof(Vec3) == 3 * sizeof(float), "the kernels read positions as xyz triples");
+  const raster::simd::TransformFunction transform = simd_kernels ? simd_kernels->transform : nullptr;
   for_chunks(v0, v1, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int) {
-    geometry::transform_vertices(mvp, mesh.positions.data(), r.begin(), r.end(), pass->assembly.planes, pass->assembly.viewport,
-                                 clip.data(), screen.data());
+    if (transform) {
+      transform(mvp, mesh.positions.data()->data(), r.begin(), r.end(), pass->assembly.planes, pass->assembly.viewport,
+                clip.data(), screen.data());
+    } else {
+      geometry::transform_vertices(mvp, mesh.positions.data(), r.begin(), r.end(), pass->assembly.planes,
+                                   pass->assembly.viewport, clip.data(), screen.data());
+    }
   });
 
   const bool split = lf.separate_specular;
