@@ -172,7 +172,7 @@ TEST_P(SimdRaster, PlaneDepthAgreesWithBarycentricDepth) {
     const Plane& p = t.plane[kPlaneZ];
     const double gradient = std::abs(double(p.dx)) + std::abs(double(p.dy));
     // Well shaped: every side at least 8 px and an area of at least 100 px^2.
-    bool good = double(t.area2) / 65536.0 / 2 >= 100;
+    bool good = double(signed_area2(t)) / 65536.0 / 2 >= 100;
     for (int k = 0; k < 3; ++k) {
       const double dx = (t.x[(k + 1) % 3] - t.x[k]) / 256.0, dy = (t.y[(k + 1) % 3] - t.y[k]) / 256.0;
       good = good && std::hypot(dx, dy) >= 8;
@@ -183,7 +183,7 @@ TEST_P(SimdRaster, PlaneDepthAgreesWithBarycentricDepth) {
     for_each_covered_pixel(t, t.min_px, t.min_py, t.max_px, t.max_py,
                            [&](int x, int y, std::int64_t e0, std::int64_t e1, std::int64_t e2) {
                              const double exact = (double(e0) * t.z[0] + double(e1) * t.z[1] + double(e2) * t.z[2]) /
-                                                  double(t.area2);
+                                                  double(signed_area2(t));
                              const double err = std::abs(depth[static_cast<std::size_t>(y * 64 + x)] - exact);
                              worst_scaled = std::max(worst_scaled, err / (1.0 + 80.0 * gradient));
                              if (good) worst_well_shaped = std::max(worst_well_shaped, err);

@@ -474,9 +474,12 @@ struct TileKernel {
       if (n + 2 < job.bin_size) {  // the triangle after next: set-up wrote it long ago, so it is not in cache
         const std::uint32_t ahead = job.bin[n + 2];
         const auto* p = reinterpret_cast<const char*>(&job.ranges[ahead >> kRangeShift][ahead & kIndexMask]);
-        __builtin_prefetch(p);
+        __builtin_prefetch(p);  // a plain Gouraud triangle's kernel data: its first two lines (triangle_setup.hpp)
         __builtin_prefetch(p + 64);
-        __builtin_prefetch(p + 128);
+        if (job.shading != 1) {  // flat colour, Phong's six attributes
+          __builtin_prefetch(p + 128);
+          __builtin_prefetch(p + 192);
+        }
       }
       const std::uint32_t entry = job.bin[n];
       const ScreenTriangle& t = job.ranges[entry >> kRangeShift][entry & kIndexMask];

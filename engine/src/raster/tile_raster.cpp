@@ -205,11 +205,12 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
     // Attributes from the planes, as the SIMD kernels: a plane's value at the pixel centre in
     // double, rounded to float, over the interpolated 1/w.
     const double vx = double(t.x[0]) / kSubpixelOne, vy = double(t.y[0]) / kSubpixelOne;
+    const float inv_area2 = static_cast<float>(1.0 / static_cast<double>(signed_area2(t)));
     for_each_covered_pixel(t, x0, y0, x1, y1, [&](int x, int y, std::int64_t e0, std::int64_t e1, std::int64_t e2) {
       ++counters.tested;
-      const float l0 = static_cast<float>(e0) * t.inv_area2;
-      const float l1 = static_cast<float>(e1) * t.inv_area2;
-      const float l2 = static_cast<float>(e2) * t.inv_area2;
+      const float l0 = static_cast<float>(e0) * inv_area2;
+      const float l1 = static_cast<float>(e1) * inv_area2;
+      const float l2 = static_cast<float>(e2) * inv_area2;
       float z = l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2];
       z = z > 0.0f ? (z < 1.0f ? z : 1.0f) : 0.0f;
       const std::size_t pixel = tile.index(x - rect.x0, y - rect.y0);

@@ -19,8 +19,6 @@ bool finish_setup(ScreenTriangle& t, int width, int height) {
     const int a = (k + 1) % 3, b = (k + 2) % 3;
     t.bias[k] = is_top_left(std::int64_t(t.x[b]) - t.x[a], std::int64_t(t.y[b]) - t.y[a]) ? 0 : -1;
   }
-  t.area2 = signed_area2(t);
-  t.inv_area2 = static_cast<float>(1.0 / static_cast<double>(t.area2));
   return true;
 }
 

@@ -40,22 +40,25 @@ inline constexpr int kPlaneCount = kPlaneAttr + kMaxRasterAttributes;
 
 // Fields the rasterizers read come first (three cache lines, prefetched ahead of use); set-up
 // also uses the rest. Both rasterizers interpolate attributes from the planes.
-struct ScreenTriangle {
+// One set-up triangle. The SIMD tile kernel reads the first fields (positions, bounds, draw,
+// top-left bias, then the planes it interpolates: depth, 1/w, the first attributes): they come
+// first, and records are 64-byte aligned, so a Gouraud triangle's kernel data is its first two
+// cache lines (112 bytes). The scalar rasterizer's data comes last (its area from signed_area2).
+struct alignas(64) ScreenTriangle {
   std::int32_t x[3], y[3];  // fixed point, oriented (area2 > 0)
-  std::int64_t bias[3];     // 0 on top-left edges, -1 on the others
   int min_px, min_py, max_px, max_py;  // covered pixel bounds, inclusive, inside the viewport
-  float flat_rgb[3];
-  float flat_secondary[3];  // flat shading of a textured draw: the specular, added after the texture
   float alpha;
   std::uint32_t object;
+  std::int8_t bias[3];  // 0 on top-left edges, -1 on the others
   bool back_facing;
   Plane plane[kPlaneCount];  // set by compute_planes
+  float flat_rgb[3];
+  float flat_secondary[3];  // flat shading of a textured draw: the specular, added after the texture
   // Scalar rasterizer (coverage and depth) and set-up.
-  std::int64_t area2;
-  float inv_area2;
   float z[3];      // window depth, [0, 1]
   float inv_w[3];  // 1 / clip w, for perspective-correct interpolation
 };
+static_assert(sizeof(ScreenTriangle) == 256, "four cache lines; the kernel's fields in the first two");
 
 inline bool is_top_left(std::int64_t dx, std::int64_t dy) { return dy < 0 || (dy == 0 && dx > 0); }
 
