@@ -91,6 +91,33 @@ int main(void) {
   CHECK(pixels[0] == 0 && pixels[1] == 0 && pixels[2] == 255 && pixels[3] == 255);
   CHECK(depth[W * (H / 2) + W / 2] < 1.0f && depth[0] == 1.0f);
   for (size_t i = 0; i < GUARD; ++i) CHECK(buffer[i] == 0xA5 && buffer[sizeof buffer - 1 - i] == 0xA5);
+  /* Every triangle is accounted for; the closed octahedron's back half is culled, and the
+   * vertices only back faces use are not lit. */
+  CHECK(stats.triangles_in == stats.triangles_drawn + stats.triangles_culled + stats.triangles_outside +
+                                  stats.triangles_degenerate + stats.triangles_small + stats.triangles_nonfinite);
+  CHECK(stats.triangles_culled == 4 && stats.bin_entries >= stats.triangles_drawn);
+  CHECK(stats.pixels_tested >= stats.pixels_filled && stats.vertex_lights_evaluated >= stats.vertices_lit);
+  CHECK(stats.seconds_lighting >= 0.0 && stats.seconds_geometry >= 0.0 && stats.seconds_raster > 0.0 &&
+        stats.seconds_resolve >= 0.0 && stats.seconds_total >= stats.seconds_raster);
+  /* facet computed the normals per face, so each triangle has its own three vertices: the four
+   * culled faces' twelve are not lit. */
+  CHECK(stats.vertices_lit == 12 && stats.vertices_skipped == 12);
+
+  /* Lighting every vertex: the same bytes, nothing skipped. */
+  {
+    static unsigned char first[W * H * 4];
+    memcpy(first, pixels, sizeof first);
+    facet_render_config every = config;
+    every.light_every_vertex = 1;
+    facet_renderer* r2 = facet_renderer_create(&every, &status);
+    CHECK(r2 != NULL && status == FACET_OK);
+    facet_frame_stats s2;
+    memset(&s2, 0xFF, sizeof s2);
+    CHECK(facet_render(r2, scene, pixels, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, &s2) == FACET_OK);
+    CHECK(memcmp(first, pixels, sizeof first) == 0);
+    CHECK(s2.vertices_skipped == 0 && s2.vertices_lit == 24);
+    facet_renderer_destroy(r2);
+  }
 
   /* A memory budget the frame exceeds: out of memory, before a byte is written. */
   memset(buffer, 0xA5, sizeof buffer);
@@ -118,6 +145,16 @@ int main(void) {
   config = facet_render_config_default();
   config.shading = (facet_shading)9;
   CHECK(facet_renderer_create(&config, &status) == NULL && status == FACET_INVALID_ARGUMENT);
+  config = facet_render_config_default();
+  CHECK(config.pow_tier == FACET_POW_AUTO && config.cull_lights == 1 && config.light_every_vertex == 0 && config.hdr == 0);
+  config.pow_tier = (facet_pow_tier)5;
+  CHECK(facet_renderer_create(&config, &status) == NULL && status == FACET_INVALID_ARGUMENT);
+  config.pow_tier = FACET_POW_SCHLICK;
+  {
+    facet_renderer* schlick = facet_renderer_create(&config, &status);
+    CHECK(schlick != NULL && status == FACET_OK);
+    facet_renderer_destroy(schlick);
+  }
   light.type = (facet_light_type)-3;
   CHECK(facet_scene_add_light(scene, &light) == FACET_INVALID_ARGUMENT);
   CHECK(strstr(facet_scene_last_error(scene), "light.type") != NULL);

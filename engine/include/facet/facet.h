@@ -52,6 +52,15 @@ typedef enum facet_blend {
 typedef enum facet_depth_write { FACET_DEPTH_WRITE_AUTO = 0, FACET_DEPTH_WRITE_ON = 1, FACET_DEPTH_WRITE_OFF = 2 } facet_depth_write;
 typedef enum facet_fog_mode { FACET_FOG_NONE = 0, FACET_FOG_LINEAR = 1, FACET_FOG_EXP = 2, FACET_FOG_EXP2 = 3 } facet_fog_mode;
 
+/* How the simd path evaluates x^s (specular shininess, spot exponent); see docs. */
+typedef enum facet_pow_tier {
+  FACET_POW_AUTO = 0,    /* per exponent, the cheapest tier within 1 step of 8-bit output */
+  FACET_POW_EXACT = 1,   /* full-precision exp2(s log2 x) */
+  FACET_POW_FAST = 2,    /* polynomial log2/exp2: 8-bit output within 1 step */
+  FACET_POW_INTEGER = 3, /* repeated squaring; whole exponents <= 256 only (others use exact) */
+  FACET_POW_SCHLICK = 4  /* Schlick's rational lobe: a different specular model */
+} facet_pow_tier;
+
 /* How a renderer renders. Start from facet_render_config_default(). */
 typedef struct facet_render_config {
   facet_shading shading;
@@ -70,6 +79,13 @@ typedef struct facet_render_config {
    * pixels may be partly written if the tiles had started). */
   int (*progress)(void* user, double done);
   void* progress_user;
+  facet_pow_tier pow_tier; /* simd path only; default FACET_POW_AUTO */
+  int hdr;                 /* non-zero: RGBA32F output keeps unclamped (>= 0) lighting */
+  int cull_lights;         /* non-zero (default): skip lights that cannot reach an object */
+  /* non-zero: light every vertex (flat: every triangle), not only those of triangles that can be
+   * drawn; the image is the same bytes either way (facet_frame_stats.vertices_skipped counts the
+   * difference). Default 0; for measurements. */
+  int light_every_vertex;
 } facet_render_config;
 
 typedef struct facet_material {
@@ -107,10 +123,20 @@ typedef struct facet_camera {
   float near_plane, far_plane;
 } facet_camera;
 
+/* What a frame did (FrameStats in the C++ API, which documents each counter). */
 typedef struct facet_frame_stats {
   uint64_t triangles_in, triangles_drawn, vertices_lit, pixels_filled;
   double seconds_total;
   int threads;
+  /* where the triangles that were not drawn went */
+  uint64_t triangles_culled, triangles_clipped, triangles_outside, triangles_degenerate, triangles_small,
+      triangles_nonfinite;
+  uint64_t bin_entries;
+  uint64_t vertices_skipped; /* vertices (flat: triangles) not lit: no drawable triangle uses them */
+  uint64_t vertex_lights_evaluated, vertex_lights_skipped;
+  uint64_t pixels_tested;
+  /* per stage: lighting and geometry summed over objects, raster wall time, resolve summed over threads */
+  double seconds_lighting, seconds_geometry, seconds_raster, seconds_resolve;
 } facet_frame_stats;
 
 typedef struct facet_renderer facet_renderer;

@@ -88,6 +88,14 @@ bool to_options(const facet_render_config& c, facet::RenderOptions& o, std::stri
                                       facet::LightingPath::simd};
   const facet::Isa isa[] = {facet::Isa::best, facet::Isa::sse2, facet::Isa::avx2, facet::Isa::avx512};
   const facet::CullMode cull[] = {facet::CullMode::none, facet::CullMode::back, facet::CullMode::front};
+  const long pow_i = raw(c.pow_tier);
+  if (pow_i < FACET_POW_AUTO || pow_i > FACET_POW_SCHLICK) return fail(error, "config.pow_tier", "unknown pow tier"), false;
+  const facet::PowTier pow[] = {facet::PowTier::automatic, facet::PowTier::exact, facet::PowTier::fast,
+                                facet::PowTier::integer, facet::PowTier::schlick};
+  o.pow_tier = pow[pow_i];
+  o.hdr = c.hdr != 0;
+  o.cull_lights = c.cull_lights != 0;
+  o.light_every_vertex = c.light_every_vertex != 0;
   o.shading = shading[shading_i];
   o.path = path[path_i];
   o.isa = isa[isa_i];
@@ -122,6 +130,10 @@ facet_render_config facet_render_config_default(void) {
   c.memory_budget_bytes = o.memory_budget_bytes;
   c.progress = nullptr;
   c.progress_user = nullptr;
+  c.pow_tier = FACET_POW_AUTO;
+  c.hdr = o.hdr ? 1 : 0;
+  c.cull_lights = o.cull_lights ? 1 : 0;
+  c.light_every_vertex = o.light_every_vertex ? 1 : 0;
   return c;
 }
 
@@ -518,6 +530,21 @@ facet_status facet_render(facet_renderer* renderer, const facet_scene* scene, vo
       stats->pixels_filled = s.pixels_filled;
       stats->seconds_total = s.seconds_total;
       stats->threads = s.threads;
+      stats->triangles_culled = s.triangles_culled;
+      stats->triangles_clipped = s.triangles_clipped;
+      stats->triangles_outside = s.triangles_outside;
+      stats->triangles_degenerate = s.triangles_degenerate;
+      stats->triangles_small = s.triangles_small;
+      stats->triangles_nonfinite = s.triangles_nonfinite;
+      stats->bin_entries = s.bin_entries;
+      stats->vertices_skipped = s.vertices_skipped;
+      stats->vertex_lights_evaluated = s.vertex_lights_evaluated;
+      stats->vertex_lights_skipped = s.vertex_lights_skipped;
+      stats->pixels_tested = s.pixels_tested;
+      stats->seconds_lighting = s.seconds_lighting;
+      stats->seconds_geometry = s.seconds_geometry;
+      stats->seconds_raster = s.seconds_raster;
+      stats->seconds_resolve = s.seconds_resolve;
     }
     return report(renderer->error, status);
   });
