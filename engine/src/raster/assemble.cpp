@@ -1,6 +1,7 @@
 #include "raster/assemble.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <utility>
 
 namespace facet::raster {
@@ -55,9 +56,6 @@ class RangeAssembler {
   }
 
   void run(const Mesh& mesh, std::size_t begin, std::size_t end) {
-    const VaryingLayout& layout = object_.layout;
-    const Color3 none = Color3::Zero();
-    ClipVertex polygon[geometry::kMaxClippedVertices];
     for (std::size_t t = begin; t < end; ++t) {
       ++counts_.in;
       if (object_.triangle_class) {
@@ -79,10 +77,7 @@ class RangeAssembler {
         ++counts_.outside;
         continue;
       }
-      flat_front_ = object_.flat_front ? object_.flat_front[t] : none;
-      flat_back_ = object_.flat_back ? object_.flat_back[t] : flat_front_;
-      spec_front_ = object_.flat_secondary_front ? object_.flat_secondary_front[t] : none;
-      spec_back_ = object_.flat_secondary_back ? object_.flat_secondary_back[t] : spec_front_;
+      set_flat(t);
       const std::uint32_t outcodes = sv[0]->guard | sv[1]->guard | sv[2]->guard;
       if (outcodes == 0) {
         // Inside the guard band (most triangles): the vertices' screen positions are already
@@ -110,29 +105,118 @@ class RangeAssembler {
           out_.pop_back();
           continue;
         }
-        const std::uint32_t order[3] = {tri[0], swapped ? tri[2] : tri[1], swapped ? tri[1] : tri[2]};
-        float attr[3][geometry::kMaxAttributes];
-        for (int k = 0; k < 3; ++k) gather(order[k], attr[k]);
-        finish(st, attr);
+        finish_placed(tri, st, static_cast<std::uint32_t>(out_.size() - 1), swapped);
         continue;
       }
-      ClipVertex v[3];
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t i = tri[static_cast<std::size_t>(k)];
-        const auto& c = object_.clip[i];
-        v[k].x = c[0];
-        v[k].y = c[1];
-        v[k].z = c[2];
-        v[k].w = c[3];
-        gather(i, v[k].attr);
-      }
       ++counts_.clipped;
-      const int count = geometry::clip_triangle(v[0], v[1], v[2], outcodes, frame_.planes, layout.clipped, polygon);
-      for (int i = 1; i + 1 < count; ++i) emit(polygon[0], polygon[i], polygon[i + 1]);
+      clip(tri, outcodes);
+    }
+  }
+
+  // Two phases (assemble.hpp): the records of triangles that can be drawn, without varyings, and
+  // the marks of their vertices; then, in triangle order, their varyings, and the clipped ones.
+  void place_all(const Mesh& mesh, std::size_t begin, std::size_t end, PendingTriangles& pending, std::uint8_t* drawn) {
+    pending.triangle.clear();
+    pending.kind.clear();
+    auto keep = [&](std::size_t t, PendingTriangles::Kind kind) {
+      pending.triangle.push_back(static_cast<std::uint32_t>(t));
+      pending.kind.push_back(kind);
+      for (const std::uint32_t v : mesh.triangles[t]) std::atomic_ref<std::uint8_t>(drawn[v]).store(1, std::memory_order_relaxed);
+    };
+    for (std::size_t t = begin; t < end; ++t) {
+      ++counts_.in;
+      const auto& tri = mesh.triangles[t];
+      const ScreenVertex* sv[3] = {&object_.screen[tri[0]], &object_.screen[tri[1]], &object_.screen[tri[2]]};
+      if (!(sv[0]->finite && sv[1]->finite && sv[2]->finite)) {
+        ++counts_.nonfinite;
+        continue;
+      }
+      if (sv[0]->frustum & sv[1]->frustum & sv[2]->frustum) {
+        ++counts_.outside;
+        continue;
+      }
+      if ((sv[0]->guard | sv[1]->guard | sv[2]->guard) != 0) {
+        ++counts_.clipped;
+        keep(t, PendingTriangles::clip);
+        continue;
+      }
+      if (!(sv[0]->projected && sv[1]->projected && sv[2]->projected)) {
+        ++counts_.nonfinite;
+        continue;
+      }
+      bool back_facing = false;
+      const Placement early = orient(signed_area2(sv[0]->x, sv[0]->y, sv[1]->x, sv[1]->y, sv[2]->x, sv[2]->y),
+                                     frame_.cull, frame_.two_sided, object_.mirrored, back_facing);
+      if (early != Placement::placed) {
+        ++(early == Placement::culled ? counts_.culled : counts_.degenerate);
+        continue;
+      }
+      ScreenTriangle& st = out_.emplace_back();
+      for (int k = 0; k < 3; ++k) {
+        st.x[k] = sv[k]->x, st.y[k] = sv[k]->y;
+        st.z[k] = sv[k]->z, st.inv_w[k] = sv[k]->inv_w;
+      }
+      bool swapped = false;
+      if (!place(st, swapped)) {
+        out_.pop_back();
+        continue;
+      }
+      keep(t, swapped ? PendingTriangles::placed_swapped : PendingTriangles::placed);
+    }
+  }
+  void finish_all(const Mesh& mesh, const PendingTriangles& pending) {
+    std::uint32_t record = 0;  // the placed triangles' records come first, in order
+    for (std::size_t i = 0; i < pending.triangle.size(); ++i) {
+      const std::size_t t = pending.triangle[i];
+      const auto& tri = mesh.triangles[t];
+      set_flat(t);
+      if (pending.kind[i] == PendingTriangles::clip) {
+        const ScreenVertex* sv[3] = {&object_.screen[tri[0]], &object_.screen[tri[1]], &object_.screen[tri[2]]};
+        clip(tri, sv[0]->guard | sv[1]->guard | sv[2]->guard);
+        continue;
+      }
+      finish_placed(tri, out_[record], record, pending.kind[i] == PendingTriangles::placed_swapped);
+      ++record;
     }
   }
 
  private:
+  // Triangle t's flat colours (flat shading; zero otherwise).
+  void set_flat(std::size_t t) {
+    const Color3 none = Color3::Zero();
+    flat_front_ = object_.flat_front ? object_.flat_front[t] : none;
+    flat_back_ = object_.flat_back ? object_.flat_back[t] : flat_front_;
+    spec_front_ = object_.flat_secondary_front ? object_.flat_secondary_front[t] : none;
+    spec_back_ = object_.flat_secondary_back ? object_.flat_secondary_back[t] : spec_front_;
+  }
+
+  // A placed triangle's varyings in its on-screen vertex order, then finish().
+  void finish_placed(const std::array<std::uint32_t, 3>& tri, ScreenTriangle& st, std::uint32_t index, bool swapped) {
+    const std::uint32_t order[3] = {tri[0], swapped ? tri[2] : tri[1], swapped ? tri[1] : tri[2]};
+    float attr[3][geometry::kMaxAttributes];
+    for (int k = 0; k < 3; ++k) gather(order[k], attr[k]);
+    finish(st, index, attr);
+  }
+
+  // A triangle crossing the guard band or the near or far plane: clipped in clip space, its
+  // pieces projected, placed and finished.
+  void clip(const std::array<std::uint32_t, 3>& tri, std::uint32_t outcodes) {
+    ClipVertex v[3];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t i = tri[static_cast<std::size_t>(k)];
+      const auto& c = object_.clip[i];
+      v[k].x = c[0];
+      v[k].y = c[1];
+      v[k].z = c[2];
+      v[k].w = c[3];
+      gather(i, v[k].attr);
+    }
+    ClipVertex polygon[geometry::kMaxClippedVertices];
+    const int count =
+        geometry::clip_triangle(v[0], v[1], v[2], outcodes, frame_.planes, object_.layout.clipped, polygon);
+    for (int i = 1; i + 1 < count; ++i) emit(polygon[0], polygon[i], polygon[i + 1]);
+  }
+
   // The layout's varyings of vertex i (the first layout.clipped floats; the rest is not read).
   void gather(std::uint32_t i, float* a) const {
     for (int k = 0; k < source_count_; ++k) {
@@ -157,8 +241,9 @@ class RangeAssembler {
     return false;
   }
 
-  // A placed triangle with its varyings: its face's values, planes, and its bins.
-  void finish(ScreenTriangle& t, float (&attr)[3][geometry::kMaxAttributes]) {
+  // A placed triangle (record `index` of the range) with its varyings: its face's values, planes,
+  // and its bins.
+  void finish(ScreenTriangle& t, std::uint32_t index, float (&attr)[3][geometry::kMaxAttributes]) {
     const bool use_back = t.back_facing && frame_.two_sided;
     const Color3& flat = use_back ? flat_back_ : flat_front_;
     t.flat_rgb[0] = flat.x();
@@ -172,7 +257,7 @@ class RangeAssembler {
     t.alpha = object_.alpha;
     t.object = object_.object;
     compute_planes(t, attr, object_.layout.raster);
-    bin_triangle(t, static_cast<std::uint32_t>(out_.size() - 1), frame_.grid, binning_);
+    bin_triangle(t, index, frame_.grid, binning_);
   }
 
   // A clipped piece: projected here (its vertices are new), then placed and finished.
@@ -196,7 +281,7 @@ class RangeAssembler {
     const int order[3] = {0, swapped ? 2 : 1, swapped ? 1 : 2};
     float attr[3][geometry::kMaxAttributes];
     for (int k = 0; k < 3; ++k) std::copy(v[order[k]]->attr, v[order[k]]->attr + object_.layout.clipped, attr[k]);
-    finish(t, attr);
+    finish(t, static_cast<std::uint32_t>(out_.size() - 1), attr);
   }
 
   const AssemblyFrame& frame_;
@@ -221,6 +306,19 @@ void assemble_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVe
   out.clear();
   binning.clear();
   RangeAssembler(frame, object, out, binning).run(mesh, begin, end);
+}
+
+void place_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVertices& object, std::size_t begin,
+                 std::size_t end, std::vector<ScreenTriangle>& out, RangeBinning& binning, PendingTriangles& pending,
+                 std::uint8_t* drawn) {
+  out.clear();
+  binning.clear();
+  RangeAssembler(frame, object, out, binning).place_all(mesh, begin, end, pending, drawn);
+}
+
+void finish_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVertices& object,
+                  std::vector<ScreenTriangle>& out, RangeBinning& binning, const PendingTriangles& pending) {
+  RangeAssembler(frame, object, out, binning).finish_all(mesh, pending);
 }
 
 }  // namespace facet::raster

@@ -99,4 +99,22 @@ struct ObjectVertices {
 void assemble_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVertices& object, std::size_t begin,
                     std::size_t end, std::vector<ScreenTriangle>& out, RangeBinning& binning);
 
+// The same in two phases, so that only the vertices of drawn triangles need lighting (Gouraud):
+// place_range() makes the records of the range's triangles that can be drawn, without their
+// varyings (no varying is read), lists them and the triangles to clip in `pending`, and marks
+// their vertices in `drawn` (relaxed atomic stores of 1: ranges run in parallel); finish_range(),
+// once those vertices are lit, attaches the varyings, sets up the planes and bins them, and clips
+// the others, in triangle order: the same bins and counters as assemble_range (the clipped
+// pieces' records come after the placed triangles' in `out`, which changes no bin's order).
+struct PendingTriangles {
+  enum Kind : std::uint8_t { placed, placed_swapped, clip };
+  std::vector<std::uint32_t> triangle;  // mesh triangle numbers, in order
+  std::vector<Kind> kind;
+};
+void place_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVertices& object, std::size_t begin,
+                 std::size_t end, std::vector<ScreenTriangle>& out, RangeBinning& binning, PendingTriangles& pending,
+                 std::uint8_t* drawn);
+void finish_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVertices& object,
+                  std::vector<ScreenTriangle>& out, RangeBinning& binning, const PendingTriangles& pending);
+
 }  // namespace facet::raster

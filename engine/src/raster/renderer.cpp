@@ -199,6 +199,7 @@ struct Renderer::Impl {
   // Frame-wide state, reused from frame to frame (capacity is kept).
   std::vector<std::vector<raster::ScreenTriangle>> range_triangles;
   std::vector<raster::RangeBinning> range_binning;
+  std::vector<raster::PendingTriangles> range_pending;  // Gouraud lit only where drawn: between the assembly's phases
   std::vector<const raster::ScreenTriangle*> range_data;
   std::size_t range_count = 0;
   std::vector<std::vector<std::uint32_t>> bins;
@@ -222,9 +223,9 @@ struct Renderer::Impl {
     std::vector<Color3> front, back;
     std::vector<Color3> front_spec, back_spec, flat_albedo;  // textured: specular apart; flat: mean vertex colour
     std::vector<Vec3> eye_p, eye_n, centroid, face_normal;
-    // Gouraud and flat: per triangle its raster::classify() result. Gouraud: 1 for a vertex of a
-    // triangle that may be drawn (or clipped), and per vertex chunk the list of those vertices (at
-    // the chunk's offset); flat: per triangle chunk the list of its triangles that may be drawn.
+    // Flat: per triangle its raster::classify() result, and per triangle chunk the list of its
+    // triangles that may be drawn. Gouraud: 1 for a vertex of a triangle that may be drawn (or
+    // clipped; marked by raster::place_range), and per vertex chunk the list of those vertices.
     std::vector<raster::TriangleClass> triangle_class;
     std::vector<std::uint8_t> drawn;
     std::vector<std::uint32_t> lit_index;
@@ -453,6 +454,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   if (range_triangles.size() < range_count) {  // grows only with the scene
     range_triangles.resize(range_count);
     range_binning.resize(range_count);
+    range_pending.resize(range_count);
   }
   object_counts.assign(object_count, {});
   object_scratch.resize(workers.size());
@@ -460,7 +462,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   for (const DrawUnit& u : units) {  // clip chunks, then lighting or centroid chunks
     work_total += (u.vertices() + kVertexChunk - 1) / kVertexChunk * 2 +
                   (u.triangles() + kVertexChunk - 1) / kVertexChunk * (two_sided ? 2 : 1);
-    if (shading == ShadingMode::gouraud && !light_every_vertex) work_total += (u.triangles() + kVertexChunk - 1) / kVertexChunk;
+    if (shading == ShadingMode::gouraud && !light_every_vertex) work_total += u.ranges();  // the placing phase
   }
   // Runs of two or more small objects are set up side by side, one task per object (the built-in scene's six
   // objects took 1.6 ms of a 5.8 ms frame one after another on 2 threads). Larger objects are set
@@ -607,7 +609,6 @@ void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t tr
   screen.reserve(vertices);
   if (mode == ShadingMode::gouraud) {
     drawn.reserve(vertices);
-    triangle_class.reserve(triangles);
     lit_index.reserve(vertices);
     front.reserve(vertices);
     if (both_faces) back.reserve(vertices);
@@ -761,9 +762,10 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       if (two_sided) os.back_spec.resize(n);
     }
     // Only the vertices of triangles that may be drawn are lit (the others' colours are never
-    // read): marked from the triangles in parallel (relaxed stores of the same value), then
-    // listed per vertex chunk. A vertex's colour does not depend on its batch or its neighbours,
-    // so the image is the same as with every vertex lit.
+    // read): the first phase of assembly places the triangles without their varyings and marks
+    // their vertices (raster::place_range, ranges in parallel), then they are listed per vertex
+    // chunk. A vertex's colour does not depend on its batch or its neighbours, so the image is
+    // the same as with every vertex lit; assemble_object() finishes the placed triangles.
     const std::uint32_t* index = nullptr;
     std::atomic<std::size_t> listed{0};  // vertices lit
     if (!light_every_vertex) {
@@ -771,21 +773,18 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       drawn.resize(n);
       os.lit_index.resize(n);
       std::fill(drawn.begin() + static_cast<std::ptrdiff_t>(v0), drawn.begin() + static_cast<std::ptrdiff_t>(v1), 0);
-      os.triangle_class.resize(mesh.triangle_count());
-      const bool mirrored = os.mirrored;
-      for_chunks(unit.first_triangle, unit.end_triangle, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int) {
-        alignas(64) std::uint8_t ignored = 0;  // this task's own
-        for (std::size_t t = r.begin(); t != r.end(); ++t) {
-          const auto& tri = mesh.triangles[t];
-          const raster::TriangleClass c =
-              raster::classify(pass->assembly, mirrored, screen[tri[0]], screen[tri[1]], screen[tri[2]]);
-          os.triangle_class[t] = c;
-          // Marks without a branch on the class: a dropped triangle writes to `ignored` instead.
-          const bool keep = c == raster::TriangleClass::may_draw || c == raster::TriangleClass::to_clip;
-          for (const std::uint32_t v : tri) {
-            std::uint8_t* mark = keep ? &drawn[v] : &ignored;
-            std::atomic_ref<std::uint8_t>(*mark).store(1, std::memory_order_relaxed);
-          }
+      raster::ObjectVertices placing;  // what the first phase reads: positions and winding
+      placing.clip = clip;
+      placing.screen = screen;
+      placing.mirrored = os.mirrored;
+      placing.object = object;
+      const std::size_t first = first_range[object];
+      for_chunks(0, unit.ranges(), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
+        for (std::size_t r = rs.begin(); r != rs.end(); ++r) {
+          const std::size_t begin = unit.first_triangle + r * kTriangleRange;
+          raster::place_range(pass->assembly, mesh, placing, begin, std::min(unit.end_triangle, begin + kTriangleRange),
+                              range_triangles[first + r], range_binning[first + r], range_pending[first + r],
+                              drawn.data());
         }
       });
       index = os.lit_index.data();
@@ -938,10 +937,17 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   vertices.mirrored = os.mirrored;
   vertices.object = object;
   vertices.alpha = alpha;
-  if (pass->shading != ShadingMode::phong && !light_every_vertex) vertices.triangle_class = os.triangle_class.data();
+  // Gouraud lit only where drawn: the second phase of the assembly prepare_object() began.
+  const bool placed = pass->shading == ShadingMode::gouraud && !light_every_vertex;
+  if (flat && !light_every_vertex) vertices.triangle_class = os.triangle_class.data();
   const DrawUnit& unit = units[object];
   for_chunks(0, unit.ranges(), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
     for (std::size_t r = rs.begin(); r != rs.end(); ++r) {
+      if (placed) {
+        raster::finish_range(pass->assembly, mesh, vertices, range_triangles[first + r], range_binning[first + r],
+                             range_pending[first + r]);
+        continue;
+      }
       const std::size_t begin = unit.first_triangle + r * kTriangleRange;
       raster::assemble_range(pass->assembly, mesh, vertices, begin, std::min(unit.end_triangle, begin + kTriangleRange),
                              range_triangles[first + r], range_binning[first + r]);
