@@ -24,7 +24,7 @@ P centre_of(int px, int py) { return {px * 256 + 128, py * 256 + 128}; }
 
 // Oriented and set up by the renderer's own set-up (place_triangle, nothing culled).
 std::optional<ScreenTriangle> setup(P a, P b, P c, int width, int height) {
-  ScreenTriangle t{};
+  ScreenTriangle t = ScreenTriangle::zeroed();
   const P v[3] = {a, b, c};
   for (int k = 0; k < 3; ++k) {
     t.x[k] = static_cast<std::int32_t>(v[k].x);

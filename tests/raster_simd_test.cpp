@@ -33,7 +33,7 @@ class SimdRaster : public ::testing::TestWithParam<Isa> {
 // depth `z`, flat colour `rgb`.
 std::optional<ScreenTriangle> make_triangle(const std::int32_t (&x)[3], const std::int32_t (&y)[3], float z,
                                             int width, int height, float red = 1.0f) {
-  ScreenTriangle t{};
+  ScreenTriangle t = ScreenTriangle::zeroed();
   for (int k = 0; k < 3; ++k) {
     t.x[k] = x[k], t.y[k] = y[k];
     t.z[k] = z;
@@ -160,7 +160,7 @@ TEST_P(SimdRaster, PlaneDepthAgreesWithBarycentricDepth) {
   double worst_scaled = 0, worst_well_shaped = 0;
   std::size_t well_shaped = 0;
   for (int round = 0; round < 2000; ++round) {
-    ScreenTriangle t{};
+    ScreenTriangle t = ScreenTriangle::zeroed();
     for (int k = 0; k < 3; ++k) {
       t.x[k] = coord(rng), t.y[k] = coord(rng);
       t.z[k] = zd(rng);
