@@ -13,6 +13,10 @@ Placement place_triangle(ScreenTriangle& t, CullMode cull, bool two_sided, bool 
                          const geometry::Viewport& viewport, bool& swapped) {
   const std::int64_t area2 = signed_area2(t);
   if (const Placement p = orient(area2, cull, two_sided, mirrored, t.back_facing); p != Placement::placed) return p;
+  return place_oriented(t, area2, viewport, swapped);
+}
+
+Placement place_oriented(ScreenTriangle& t, std::int64_t area2, const geometry::Viewport& viewport, bool& swapped) {
   swapped = area2 < 0;
   if (swapped) {  // orient clockwise on screen
     std::swap(t.x[1], t.x[2]);
@@ -145,8 +149,8 @@ class RangeAssembler {
         continue;
       }
       bool back_facing = false;
-      const Placement early = orient(signed_area2(sv[0]->x, sv[0]->y, sv[1]->x, sv[1]->y, sv[2]->x, sv[2]->y),
-                                     frame_.cull, frame_.two_sided, object_.mirrored, back_facing);
+      const std::int64_t area2 = signed_area2(sv[0]->x, sv[0]->y, sv[1]->x, sv[1]->y, sv[2]->x, sv[2]->y);
+      const Placement early = orient(area2, frame_.cull, frame_.two_sided, object_.mirrored, back_facing);
       if (early != Placement::placed) {
         ++(early == Placement::culled ? counts_.culled : counts_.degenerate);
         continue;
@@ -156,8 +160,10 @@ class RangeAssembler {
         st.x[k] = sv[k]->x, st.y[k] = sv[k]->y;
         st.z[k] = sv[k]->z, st.inv_w[k] = sv[k]->inv_w;
       }
+      st.back_facing = back_facing;
       bool swapped = false;
-      if (!place(st, swapped)) {
+      if (place_oriented(st, area2, frame_.viewport, swapped) != Placement::placed) {  // no pixel centre
+        ++counts_.small;
         out_.pop_back();
         continue;
       }
