@@ -62,15 +62,6 @@ class RangeAssembler {
   void run(const Mesh& mesh, std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
       ++counts_.in;
-      if (object_.triangle_class) {
-        switch (object_.triangle_class[t]) {
-          case TriangleClass::nonfinite: ++counts_.nonfinite; continue;
-          case TriangleClass::outside: ++counts_.outside; continue;
-          case TriangleClass::degenerate: ++counts_.degenerate; continue;
-          case TriangleClass::culled: ++counts_.culled; continue;
-          default: break;  // the tests below give the same answers again
-        }
-      }
       const auto& tri = mesh.triangles[t];
       const ScreenVertex* sv[3] = {&object_.screen[tri[0]], &object_.screen[tri[1]], &object_.screen[tri[2]]};
       if (!(sv[0]->finite && sv[1]->finite && sv[2]->finite)) {
@@ -125,6 +116,7 @@ class RangeAssembler {
     auto keep = [&](std::size_t t, PendingTriangles::Kind kind) {
       pending.triangle.push_back(static_cast<std::uint32_t>(t));
       pending.kind.push_back(kind);
+      if (!drawn) return;
       for (const std::uint32_t v : mesh.triangles[t]) std::atomic_ref<std::uint8_t>(drawn[v]).store(1, std::memory_order_relaxed);
     };
     for (std::size_t t = begin; t < end; ++t) {

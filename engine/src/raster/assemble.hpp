@@ -56,29 +56,6 @@ inline Placement orient(std::int64_t area2, CullMode cull, bool two_sided, bool 
   return is_culled(cull, two_sided, back_facing) ? Placement::culled : Placement::placed;
 }
 
-// What assembly will do with a triangle, judged from its vertices' transform_vertices() results
-// alone, by the tests assemble_range makes first: drop it (and why), or go on (to_clip: it crosses
-// the guard band; may_draw: it may still cover no pixel centre).
-enum class TriangleClass : std::uint8_t { may_draw, to_clip, nonfinite, outside, degenerate, culled };
-// Every test is evaluated and the first failing one picked without branches (selects): facing is
-// a coin toss per triangle of a closed mesh, and a mispredicted branch per triangle cost more than
-// the arithmetic. The x, y of a vertex that was not projected are read but do not matter.
-inline TriangleClass classify(const AssemblyFrame& frame, bool mirrored, const geometry::ScreenVertex& a,
-                              const geometry::ScreenVertex& b, const geometry::ScreenVertex& c) {
-  const bool finite = a.finite & b.finite & c.finite;
-  const bool outside = (a.frustum & b.frustum & c.frustum) != 0;
-  const bool clip = (a.guard | b.guard | c.guard) != 0;
-  const bool projected = a.projected & b.projected & c.projected;
-  const std::int64_t area2 = signed_area2(a.x, a.y, b.x, b.y, c.x, c.y);
-  const bool culled = is_culled(frame.cull, frame.two_sided, is_back_facing(area2, mirrored));
-  TriangleClass k = culled ? TriangleClass::culled : TriangleClass::may_draw;
-  k = area2 == 0 ? TriangleClass::degenerate : k;
-  k = projected ? k : TriangleClass::nonfinite;
-  k = clip ? TriangleClass::to_clip : k;
-  k = outside ? TriangleClass::outside : k;
-  return finite ? k : TriangleClass::nonfinite;
-}
-
 // One object's vertices as the pass sees them.
 struct ObjectVertices {
   VaryingLayout layout;                               // the draw's varyings (plan_varyings)
@@ -90,9 +67,6 @@ struct ObjectVertices {
   const Color3* flat_secondary_front = nullptr;       // flat, textured: the specular per triangle
   const Color3* flat_secondary_back = nullptr;
   bool mirrored = false;                              // the model matrix has a negative determinant
-  // Optional, per mesh triangle: classify()'s result, computed before lighting (the frame lights
-  // only the vertices of triangles that may be drawn); assembly then drops the others unread.
-  const TriangleClass* triangle_class = nullptr;
   std::uint32_t object = 0;
   float alpha = 1.0f;
 };
@@ -102,10 +76,11 @@ struct ObjectVertices {
 void assemble_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVertices& object, std::size_t begin,
                     std::size_t end, std::vector<ScreenTriangle>& out, RangeBinning& binning);
 
-// The same in two phases, so that only the vertices of drawn triangles need lighting (Gouraud):
+// The same in two phases, so that only the vertices (flat: the triangles) that are drawn need lighting:
 // place_range() makes the records of the range's triangles that can be drawn, without their
 // varyings (no varying is read), lists them and the triangles to clip in `pending`, and marks
-// their vertices in `drawn` (relaxed atomic stores of 1: ranges run in parallel); finish_range(),
+// their vertices in `drawn` when it is not null (relaxed atomic stores of 1: ranges run in
+// parallel; flat shading lights the listed triangles instead); finish_range(),
 // once those vertices are lit, attaches the varyings, sets up the planes and bins them, and clips
 // the others, in triangle order: the same bins and counters as assemble_range (the clipped
 // pieces' records come after the placed triangles' in `out`, which changes no bin's order).

@@ -223,10 +223,8 @@ struct Renderer::Impl {
     std::vector<Color3> front, back;
     std::vector<Color3> front_spec, back_spec, flat_albedo;  // textured: specular apart; flat: mean vertex colour
     std::vector<Vec3> eye_p, eye_n, centroid, face_normal;
-    // Flat: per triangle its raster::classify() result, and per triangle chunk the list of its
-    // triangles that may be drawn. Gouraud: 1 for a vertex of a triangle that may be drawn (or
-    // clipped; marked by raster::place_range), and per vertex chunk the list of those vertices.
-    std::vector<raster::TriangleClass> triangle_class;
+    // Gouraud: 1 for a vertex of a triangle that may be drawn (or clipped; marked by
+    // raster::place_range), and per vertex chunk the list of those vertices.
     std::vector<std::uint8_t> drawn;
     std::vector<std::uint32_t> lit_index;
     // The object's model matrix has a negative determinant (a mirror): its triangles wind the
@@ -277,6 +275,9 @@ struct Renderer::Impl {
   void prepare_object(const Scene& scene, const Instance& inst, const Eigen::Matrix4d& view,
                       const Eigen::Matrix4d& proj, const LightingOptions& lighting, std::uint32_t object,
                       ObjectScratch& os, int slot);
+  // The first phase of assembly over the object's ranges (raster::place_range): its triangles
+  // that can be drawn, in range_pending, and (Gouraud) their vertices marked in `drawn`.
+  void place_object(const Mesh& mesh, std::uint32_t object, const ObjectScratch& os, std::uint8_t* drawn, int slot);
   void assemble_object(const Mesh& mesh, std::uint32_t object, float alpha, const ObjectScratch& os, int slot);
 };
 
@@ -462,7 +463,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   for (const DrawUnit& u : units) {  // clip chunks, then lighting or centroid chunks
     work_total += (u.vertices() + kVertexChunk - 1) / kVertexChunk * 2 +
                   (u.triangles() + kVertexChunk - 1) / kVertexChunk * (two_sided ? 2 : 1);
-    if (shading == ShadingMode::gouraud && !light_every_vertex) work_total += u.ranges();  // the placing phase
+    if (shading != ShadingMode::phong && !light_every_vertex) work_total += u.ranges();  // the placing phase
   }
   // Runs of two or more small objects are set up side by side, one task per object (the built-in scene's six
   // objects took 1.6 ms of a 5.8 ms frame one after another on 2 threads). Larger objects are set
@@ -630,8 +631,6 @@ void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t tr
   if (mode == ShadingMode::flat) {
     centroid.reserve(triangles);
     face_normal.reserve(triangles);
-    triangle_class.reserve(triangles);
-    lit_index.reserve(triangles);
     front.reserve(triangles);
     if (both_faces) back.reserve(triangles);
   }
@@ -773,20 +772,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       drawn.resize(n);
       os.lit_index.resize(n);
       std::fill(drawn.begin() + static_cast<std::ptrdiff_t>(v0), drawn.begin() + static_cast<std::ptrdiff_t>(v1), 0);
-      raster::ObjectVertices placing;  // what the first phase reads: positions and winding
-      placing.clip = clip;
-      placing.screen = screen;
-      placing.mirrored = os.mirrored;
-      placing.object = object;
-      const std::size_t first = first_range[object];
-      for_chunks(0, unit.ranges(), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
-        for (std::size_t r = rs.begin(); r != rs.end(); ++r) {
-          const std::size_t begin = unit.first_triangle + r * kTriangleRange;
-          raster::place_range(pass->assembly, mesh, placing, begin, std::min(unit.end_triangle, begin + kTriangleRange),
-                              range_triangles[first + r], range_binning[first + r], range_pending[first + r],
-                              drawn.data());
-        }
-      });
+      place_object(mesh, object, os, drawn.data(), slot);
       index = os.lit_index.data();
     }
     for_chunks(v0, v1, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
@@ -854,32 +840,26 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       os.front_spec.resize(t_count);
       if (two_sided) os.back_spec.resize(t_count);
     }
-    // Only triangles that may be drawn are lit (unless light_every_vertex): per chunk, their
-    // centroids, normals and albedos are moved to the front of the chunk's part of the arrays,
-    // lit there, and each colour moved back to its triangle, last first (triangle t_k >= slot k,
-    // so no colour is overwritten before it is moved). A point's colour does not depend on its
-    // place in a batch, so the colours are those of lighting every triangle.
-    if (!light_every_vertex) {
-      os.triangle_class.resize(t_count);
-      os.lit_index.resize(t_count);
-    }
+    // Only triangles that may be drawn are lit (unless light_every_vertex): the first phase of
+    // assembly lists them per range (raster::place_range); per range their centroids, normals
+    // and albedos are moved to the front of the range's part of the arrays, lit there, and each
+    // colour moved back to its triangle, last first (triangle t_k >= slot k, so no colour is
+    // overwritten before it is moved). A point's colour does not depend on its place in a batch,
+    // so the colours are those of lighting every triangle.
+    if (!light_every_vertex) place_object(mesh, object, os, nullptr, slot);
     std::atomic<std::size_t> listed{0};
-    for_chunks(t0, t1, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
-      const std::size_t begin = r.begin();
-      std::size_t count = r.size();
-      std::uint32_t* list = light_every_vertex ? nullptr : os.lit_index.data() + begin;
-      if (list) {
-        count = 0;
-        for (std::size_t t = begin; t != r.end(); ++t) {
-          const auto& tri = mesh.triangles[t];
-          const raster::TriangleClass c =
-              raster::classify(pass->assembly, os.mirrored, screen[tri[0]], screen[tri[1]], screen[tri[2]]);
-          os.triangle_class[t] = c;
-          if (c != raster::TriangleClass::may_draw && c != raster::TriangleClass::to_clip) continue;
-          const std::size_t k = begin + count++;
-          list[k - begin] = static_cast<std::uint32_t>(t);
-          centroid[k] = centroid[t], face_normal[k] = face_normal[t];
-          if (lf.color_material) os.flat_albedo[k] = os.flat_albedo[t];
+    const std::size_t first = first_range[object];
+    // Triangles [begin, end): lit whole, or (a set-up range) only those the first phase listed.
+    auto light = [&](std::size_t begin, std::size_t end, const raster::PendingTriangles* pending, int chunk_slot) {
+      std::size_t count = end - begin;
+      const std::uint32_t* list = nullptr;
+      if (pending) {
+        list = pending->triangle.data();
+        count = pending->triangle.size();
+        for (std::size_t k = 0; k < count; ++k) {
+          const std::size_t t = list[k];
+          centroid[begin + k] = centroid[t], face_normal[begin + k] = face_normal[t];
+          if (lf.color_material) os.flat_albedo[begin + k] = os.flat_albedo[t];
         }
       }
       listed.fetch_add(count, std::memory_order_relaxed);
@@ -898,12 +878,42 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
         for (std::size_t k = begin; k != begin + count; ++k) face_normal[k] = -face_normal[k];
         shade(back, os.back_spec);
       }
-    });
+    };
+    if (light_every_vertex) {
+      for_chunks(t0, t1, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
+        light(r.begin(), r.end(), nullptr, chunk_slot);
+      });
+    } else {
+      for_chunks(0, unit.ranges(), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int chunk_slot) {
+        for (std::size_t r = rs.begin(); r != rs.end(); ++r) {
+          const std::size_t begin = t0 + r * kTriangleRange;
+          light(begin, std::min(t1, begin + kTriangleRange), &range_pending[first + r], chunk_slot);
+        }
+      });
+    }
     const std::size_t lit_triangles = listed.load(std::memory_order_relaxed);
     counts.vertices_skipped += (t1 - t0 - lit_triangles) * (two_sided ? 2 : 1);
     count_pairs(lit_triangles * (two_sided ? 2 : 1));
   }
   counts.seconds_lighting += seconds_since(lighting_start);
+}
+
+void Renderer::Impl::place_object(const Mesh& mesh, std::uint32_t object, const ObjectScratch& os, std::uint8_t* drawn,
+                                  int slot) {
+  raster::ObjectVertices placing;  // what the first phase reads: positions and winding
+  placing.clip = os.clip;
+  placing.screen = os.screen;
+  placing.mirrored = os.mirrored;
+  placing.object = object;
+  const std::size_t first = first_range[object];
+  const DrawUnit& unit = units[object];
+  for_chunks(0, unit.ranges(), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
+    for (std::size_t r = rs.begin(); r != rs.end(); ++r) {
+      const std::size_t begin = unit.first_triangle + r * kTriangleRange;
+      raster::place_range(pass->assembly, mesh, placing, begin, std::min(unit.end_triangle, begin + kTriangleRange),
+                          range_triangles[first + r], range_binning[first + r], range_pending[first + r], drawn);
+    }
+  });
 }
 
 void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, float alpha, const ObjectScratch& os,
@@ -937,9 +947,8 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   vertices.mirrored = os.mirrored;
   vertices.object = object;
   vertices.alpha = alpha;
-  // Gouraud lit only where drawn: the second phase of the assembly prepare_object() began.
-  const bool placed = pass->shading == ShadingMode::gouraud && !light_every_vertex;
-  if (flat && !light_every_vertex) vertices.triangle_class = os.triangle_class.data();
+  // Gouraud and flat lit only where drawn: the second phase of the assembly prepare_object() began.
+  const bool placed = pass->shading != ShadingMode::phong && !light_every_vertex;
   const DrawUnit& unit = units[object];
   for_chunks(0, unit.ranges(), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
     for (std::size_t r = rs.begin(); r != rs.end(); ++r) {
