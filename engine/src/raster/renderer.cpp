@@ -199,7 +199,7 @@ struct Renderer::Impl {
   // Frame-wide state, reused from frame to frame (capacity is kept).
   std::vector<std::vector<raster::ScreenTriangle>> range_triangles;
   std::vector<raster::RangeBinning> range_binning;
-  std::vector<raster::PendingTriangles> range_pending;  // Gouraud lit only where drawn: between the assembly's phases
+  std::vector<raster::PendingTriangles> range_pending;  // Gouraud and flat lit only where drawn: between the assembly phases
   std::vector<const raster::ScreenTriangle*> range_data;
   std::size_t range_count = 0;
   std::vector<std::vector<std::uint32_t>> bins;
