@@ -409,7 +409,8 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   stats.threads = arena_threads;
   for (WorkerScratch& w : workers) {  // grows only when the tile size or the chunk size grows
     w.tile.resize(options.tile_size);
-    w.soa.reserve_padded(kVertexChunk);
+    // The most points one lighting call takes: a vertex chunk, or a set-up range's triangles (flat).
+    w.soa.reserve_padded(std::max(kVertexChunk, kTriangleRange));
   }
   simd_raster = options.path == LightingPath::simd;
   simd_kernels = simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr;
