@@ -295,13 +295,14 @@ std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& opti
   const auto sat_mul = [](U a, U b) { return b != 0 && a > ~U{0} / b ? ~U{0} : a * b; };
   // Per vertex: clip position, screen vertex, front and back colour, eye position and normal.
   const U per_vertex = 16 + 24 + 2 * 12 + 2 * 12;
-  // Per triangle: its record and its bin entries (one tile each, for unclipped small triangles);
-  // for flat shading also its centroid, face normal and two colours (4 x 12 bytes).
+  // Per triangle: its record, its entry between the set-up's two phases (4 + 1 bytes) and its
+  // bin entries (one tile each, for unclipped small triangles); for flat shading also its
+  // centroid, face normal and two colours (4 x 12 bytes).
   U bytes = 0, max_vertices = 0, max_triangles = 0;
   for (const Instance& inst : scene.objects) {
     if (inst.mesh >= scene.meshes.size()) continue;
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
-    bytes = sat_add(bytes, sat_mul(mesh.triangle_count(), sizeof(raster::ScreenTriangle) + 3 * 4));
+    bytes = sat_add(bytes, sat_mul(mesh.triangle_count(), sizeof(raster::ScreenTriangle) + 5 + 3 * 4));
     max_vertices = std::max<U>(max_vertices, mesh.vertex_count());
     max_triangles = std::max<U>(max_triangles, mesh.triangle_count());
   }
