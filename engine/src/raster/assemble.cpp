@@ -59,55 +59,6 @@ class RangeAssembler {
     }
   }
 
-  void run(const Mesh& mesh, std::size_t begin, std::size_t end) {
-    for (std::size_t t = begin; t < end; ++t) {
-      ++counts_.in;
-      const auto& tri = mesh.triangles[t];
-      const ScreenVertex* sv[3] = {&object_.screen[tri[0]], &object_.screen[tri[1]], &object_.screen[tri[2]]};
-      if (!(sv[0]->finite && sv[1]->finite && sv[2]->finite)) {
-        ++counts_.nonfinite;
-        continue;
-      }
-      if (sv[0]->frustum & sv[1]->frustum & sv[2]->frustum) {
-        ++counts_.outside;
-        continue;
-      }
-      set_flat(t);
-      const std::uint32_t outcodes = sv[0]->guard | sv[1]->guard | sv[2]->guard;
-      if (outcodes == 0) {
-        // Inside the guard band (most triangles): the vertices' screen positions are already
-        // projected, and culled or degenerate triangles are dropped before any varying is read.
-        if (!(sv[0]->projected && sv[1]->projected && sv[2]->projected)) {
-          ++counts_.nonfinite;
-          continue;
-        }
-        // Degenerate and culled triangles (half of a closed mesh) are dropped here, before a
-        // record is made for them (place_triangle repeats this test on the record: the same result).
-        bool back_facing = false;
-        const Placement early = orient(signed_area2(sv[0]->x, sv[0]->y, sv[1]->x, sv[1]->y, sv[2]->x, sv[2]->y),
-                                       frame_.cull, frame_.two_sided, object_.mirrored, back_facing);
-        if (early != Placement::placed) {
-          ++(early == Placement::culled ? counts_.culled : counts_.degenerate);
-          continue;
-        }
-        ScreenTriangle& st = out_.emplace_back();
-        for (int k = 0; k < 3; ++k) {
-          st.x[k] = sv[k]->x, st.y[k] = sv[k]->y;
-          st.z[k] = sv[k]->z, st.inv_w[k] = sv[k]->inv_w;
-        }
-        bool swapped = false;
-        if (!place(st, swapped)) {
-          out_.pop_back();
-          continue;
-        }
-        finish_placed(tri, st, static_cast<std::uint32_t>(out_.size() - 1), swapped);
-        continue;
-      }
-      ++counts_.clipped;
-      clip(tri, outcodes);
-    }
-  }
-
   // Two phases (assemble.hpp): the records of triangles that can be drawn, without varyings, and
   // the marks of their vertices; then, in triangle order, their varyings, and the clipped ones.
   void place_all(const Mesh& mesh, std::size_t begin, std::size_t end, PendingTriangles& pending, std::uint8_t* drawn) {
@@ -300,10 +251,12 @@ class RangeAssembler {
 }  // namespace
 
 void assemble_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVertices& object, std::size_t begin,
-                    std::size_t end, std::vector<ScreenTriangle>& out, RangeBinning& binning) {
+                    std::size_t end, std::vector<ScreenTriangle>& out, RangeBinning& binning, PendingTriangles& pending) {
   out.clear();
   binning.clear();
-  RangeAssembler(frame, object, out, binning).run(mesh, begin, end);
+  RangeAssembler assembler(frame, object, out, binning);
+  assembler.place_all(mesh, begin, end, pending, nullptr);
+  assembler.finish_all(mesh, pending);
 }
 
 void place_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVertices& object, std::size_t begin,

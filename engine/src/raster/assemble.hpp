@@ -71,19 +71,15 @@ struct ObjectVertices {
   float alpha = 1.0f;
 };
 
-// Assembles triangles [begin, end) of `mesh` into `out` (cleared first) and their bin entries
-// (index = position in `out`) into `binning` (cleared first).
-void assemble_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVertices& object, std::size_t begin,
-                    std::size_t end, std::vector<ScreenTriangle>& out, RangeBinning& binning);
-
-// The same in two phases, so that only the vertices (flat: the triangles) that are drawn need lighting:
-// place_range() makes the records of the range's triangles that can be drawn, without their
-// varyings (no varying is read), lists them and the triangles to clip in `pending`, and marks
-// their vertices in `drawn` when it is not null (relaxed atomic stores of 1: ranges run in
-// parallel; flat shading lights the listed triangles instead); finish_range(),
-// once those vertices are lit, attaches the varyings, sets up the planes and bins them, and clips
-// the others, in triangle order: the same bins and counters as assemble_range (the clipped
-// pieces' records come after the placed triangles' in `out`, which changes no bin's order).
+// Triangle assembly in two phases, so that only the vertices (flat: the triangles) that are
+// drawn need lighting: place_range() makes the records of the range's triangles that can be
+// drawn, without their varyings (no varying is read), lists them and the triangles to clip in
+// `pending`, and marks their vertices in `drawn` when it is not null (relaxed atomic stores of 1:
+// ranges run in parallel; flat shading lights the listed triangles instead); finish_range(), once
+// those vertices are lit, attaches the varyings, sets up the planes and bins them (index =
+// position in `out`), and clips the others, in triangle order, so bins list triangles in
+// submission order (the clipped pieces' records follow the placed triangles' in `out`, which
+// changes no bin's order). Counters go to `binning`; place_range clears `out` and `binning`.
 struct PendingTriangles {
   enum Kind : std::uint8_t { placed, placed_swapped, clip };
   std::vector<std::uint32_t> triangle;  // mesh triangle numbers, in order
@@ -94,5 +90,9 @@ void place_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVerti
                  std::uint8_t* drawn);
 void finish_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVertices& object,
                   std::vector<ScreenTriangle>& out, RangeBinning& binning, const PendingTriangles& pending);
+// Both phases at once, for draws whose lighting does not depend on what is drawn (Phong lights
+// pixels; RenderOptions::light_every_vertex).
+void assemble_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVertices& object, std::size_t begin,
+                    std::size_t end, std::vector<ScreenTriangle>& out, RangeBinning& binning, PendingTriangles& pending);
 
 }  // namespace facet::raster

@@ -199,7 +199,7 @@ struct Renderer::Impl {
   // Frame-wide state, reused from frame to frame (capacity is kept).
   std::vector<std::vector<raster::ScreenTriangle>> range_triangles;
   std::vector<raster::RangeBinning> range_binning;
-  std::vector<raster::PendingTriangles> range_pending;  // Gouraud and flat lit only where drawn: between the assembly phases
+  std::vector<raster::PendingTriangles> range_pending;  // per range: between the assembly phases
   std::vector<const raster::ScreenTriangle*> range_data;
   std::size_t range_count = 0;
   std::vector<std::vector<std::uint32_t>> bins;
@@ -961,7 +961,7 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
       }
       const std::size_t begin = unit.first_triangle + r * kTriangleRange;
       raster::assemble_range(pass->assembly, mesh, vertices, begin, std::min(unit.end_triangle, begin + kTriangleRange),
-                             range_triangles[first + r], range_binning[first + r]);
+                             range_triangles[first + r], range_binning[first + r], range_pending[first + r]);
     }
   });
 }
