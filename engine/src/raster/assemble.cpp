@@ -64,54 +64,19 @@ class RangeAssembler {
   void place_all(const Mesh& mesh, std::size_t begin, std::size_t end, PendingTriangles& pending, std::uint8_t* drawn) {
     pending.triangle.clear();
     pending.kind.clear();
-    auto keep = [&](std::size_t t, PendingTriangles::Kind kind) {
-      pending.triangle.push_back(static_cast<std::uint32_t>(t));
-      pending.kind.push_back(kind);
-      if (!drawn) return;
-      for (const std::uint32_t v : mesh.triangles[t]) std::atomic_ref<std::uint8_t>(drawn[v]).store(1, std::memory_order_relaxed);
-    };
-    for (std::size_t t = begin; t < end; ++t) {
-      ++counts_.in;
-      const auto& tri = mesh.triangles[t];
-      const ScreenVertex* sv[3] = {&object_.screen[tri[0]], &object_.screen[tri[1]], &object_.screen[tri[2]]};
-      if (!(sv[0]->finite && sv[1]->finite && sv[2]->finite)) {
-        ++counts_.nonfinite;
-        continue;
+    std::size_t t = begin;
+    static_assert(sizeof(mesh.triangles[0]) == 3 * sizeof(std::uint32_t), "triangles are read as index triples");
+    if (frame_.place && object_.screen.size() < kMaxGatheredVertices) {
+      const bool cull_back = frame_.cull == CullMode::back && !frame_.two_sided;
+      const simd::PlaceParams params{frame_.viewport.width, frame_.viewport.height, cull_back,
+                                     frame_.cull == CullMode::front, object_.mirrored};
+      simd::PlaceGroup group;
+      for (; t + simd::kPlaceGroup <= end; t += simd::kPlaceGroup) {
+        frame_.place(mesh.triangles[t].data(), object_.screen.data(), params, group);
+        for (int lane = 0; lane < simd::kPlaceGroup; ++lane) take(mesh, group, lane, t + lane, pending, drawn);
       }
-      if (sv[0]->frustum & sv[1]->frustum & sv[2]->frustum) {
-        ++counts_.outside;
-        continue;
-      }
-      if ((sv[0]->guard | sv[1]->guard | sv[2]->guard) != 0) {
-        ++counts_.clipped;
-        keep(t, PendingTriangles::clip);
-        continue;
-      }
-      if (!(sv[0]->projected && sv[1]->projected && sv[2]->projected)) {
-        ++counts_.nonfinite;
-        continue;
-      }
-      bool back_facing = false;
-      const std::int64_t area2 = signed_area2(sv[0]->x, sv[0]->y, sv[1]->x, sv[1]->y, sv[2]->x, sv[2]->y);
-      const Placement early = orient(area2, frame_.cull, frame_.two_sided, object_.mirrored, back_facing);
-      if (early != Placement::placed) {
-        ++(early == Placement::culled ? counts_.culled : counts_.degenerate);
-        continue;
-      }
-      ScreenTriangle& st = out_.emplace_back();
-      for (int k = 0; k < 3; ++k) {
-        st.x[k] = sv[k]->x, st.y[k] = sv[k]->y;
-        st.z[k] = sv[k]->z, st.inv_w[k] = sv[k]->inv_w;
-      }
-      st.back_facing = back_facing;
-      bool swapped = false;
-      if (place_oriented(st, area2, frame_.viewport, swapped) != Placement::placed) {  // no pixel centre
-        ++counts_.small;
-        out_.pop_back();
-        continue;
-      }
-      keep(t, swapped ? PendingTriangles::placed_swapped : PendingTriangles::placed);
     }
+    for (; t < end; ++t) place_one(mesh, t, pending, drawn);
   }
   void finish_all(const Mesh& mesh, const PendingTriangles& pending) {
     std::uint32_t record = 0;  // the placed triangles' records come first, in order
@@ -130,6 +95,96 @@ class RangeAssembler {
   }
 
  private:
+  // The placing kernel gathers 32-bit words, five a screen vertex (raster_kernels.hpp).
+  static constexpr std::size_t kMaxGatheredVertices = (std::size_t{1} << 31) / 5;
+
+  void keep(const Mesh& mesh, std::size_t t, PendingTriangles::Kind kind, PendingTriangles& pending,
+            std::uint8_t* drawn) {
+    pending.triangle.push_back(static_cast<std::uint32_t>(t));
+    pending.kind.push_back(kind);
+    if (!drawn) return;
+    for (const std::uint32_t v : mesh.triangles[t]) std::atomic_ref<std::uint8_t>(drawn[v]).store(1, std::memory_order_relaxed);
+  }
+
+  // Triangle t of the mesh, the scalar twin of the placing kernel.
+  void place_one(const Mesh& mesh, std::size_t t, PendingTriangles& pending, std::uint8_t* drawn) {
+    ++counts_.in;
+    const auto& tri = mesh.triangles[t];
+    const ScreenVertex* sv[3] = {&object_.screen[tri[0]], &object_.screen[tri[1]], &object_.screen[tri[2]]};
+    if (!(sv[0]->finite && sv[1]->finite && sv[2]->finite)) {
+      ++counts_.nonfinite;
+      return;
+    }
+    if (sv[0]->frustum & sv[1]->frustum & sv[2]->frustum) {
+      ++counts_.outside;
+      return;
+    }
+    if ((sv[0]->guard | sv[1]->guard | sv[2]->guard) != 0) {
+      ++counts_.clipped;
+      keep(mesh, t, PendingTriangles::clip, pending, drawn);
+      return;
+    }
+    if (!(sv[0]->projected && sv[1]->projected && sv[2]->projected)) {
+      ++counts_.nonfinite;
+      return;
+    }
+    bool back_facing = false;
+    const std::int64_t area2 = signed_area2(sv[0]->x, sv[0]->y, sv[1]->x, sv[1]->y, sv[2]->x, sv[2]->y);
+    const Placement early = orient(area2, frame_.cull, frame_.two_sided, object_.mirrored, back_facing);
+    if (early != Placement::placed) {
+      ++(early == Placement::culled ? counts_.culled : counts_.degenerate);
+      return;
+    }
+    ScreenTriangle& st = out_.emplace_back();
+    for (int k = 0; k < 3; ++k) {
+      st.x[k] = sv[k]->x, st.y[k] = sv[k]->y;
+      st.z[k] = sv[k]->z, st.inv_w[k] = sv[k]->inv_w;
+    }
+    st.back_facing = back_facing;
+    bool swapped = false;
+    if (place_oriented(st, area2, frame_.viewport, swapped) != Placement::placed) {  // no pixel centre
+      ++counts_.small;
+      out_.pop_back();
+      return;
+    }
+    keep(mesh, t, swapped ? PendingTriangles::placed_swapped : PendingTriangles::placed, pending, drawn);
+  }
+
+  // Lane `lane` of a placing kernel's group, triangle t: counted, and its record made if placed.
+  void take(const Mesh& mesh, const simd::PlaceGroup& g, int lane, std::size_t t, PendingTriangles& pending,
+            std::uint8_t* drawn) {
+    using Fate = simd::PlaceGroup::Fate;
+    const auto fate = static_cast<Fate>(g.fate[lane]);
+    if (fate == Fate::scalar) {
+      place_one(mesh, t, pending, drawn);
+      return;
+    }
+    ++counts_.in;
+    switch (fate) {
+      case Fate::nonfinite: ++counts_.nonfinite; return;
+      case Fate::outside: ++counts_.outside; return;
+      case Fate::clip:
+        ++counts_.clipped;
+        keep(mesh, t, PendingTriangles::clip, pending, drawn);
+        return;
+      case Fate::culled: ++counts_.culled; return;
+      case Fate::degenerate: ++counts_.degenerate; return;
+      case Fate::small: ++counts_.small; return;
+      default: break;
+    }
+    ScreenTriangle& st = out_.emplace_back();
+    for (int k = 0; k < 3; ++k) {
+      st.x[k] = g.x[k][lane], st.y[k] = g.y[k][lane];
+      st.z[k] = g.z[k][lane], st.inv_w[k] = g.inv_w[k][lane];
+      st.bias[k] = static_cast<std::int8_t>(g.bias[k][lane]);
+    }
+    st.min_px = g.min_px[lane], st.min_py = g.min_py[lane];
+    st.max_px = g.max_px[lane], st.max_py = g.max_py[lane];
+    st.back_facing = g.back_facing[lane] != 0;
+    keep(mesh, t, fate == Fate::placed_swapped ? PendingTriangles::placed_swapped : PendingTriangles::placed, pending,
+         drawn);
+  }
+
   // Triangle t's flat colours (flat shading; zero otherwise).
   void set_flat(std::size_t t) {
     const Color3 none = Color3::Zero();

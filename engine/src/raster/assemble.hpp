@@ -14,6 +14,7 @@
 #include "geometry/clip.hpp"
 #include "geometry/project.hpp"
 #include "raster/bins.hpp"
+#include "raster/raster_kernels.hpp"
 #include "raster/triangle_setup.hpp"
 #include "raster/varyings.hpp"
 
@@ -26,6 +27,8 @@ struct AssemblyFrame {
   CullMode cull = CullMode::back;
   bool two_sided = false;
   BinGrid grid;
+  // The ISA's placing kernel (the simd path), or null: the scalar twin places every triangle.
+  simd::PlaceFunction place = nullptr;
 };
 
 enum class Placement { placed, degenerate, culled, no_pixel };

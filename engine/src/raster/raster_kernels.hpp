@@ -123,16 +123,43 @@ using TransformFunction = void (*)(const geometry::Mat4Rows&, const float* posit
                                    const geometry::ClipPlanes&, const geometry::Viewport&, std::array<float, 4>* clip,
                                    geometry::ScreenVertex* screen);
 
+// Placing (raster/assemble.hpp) kPlaceGroup triangles at a time: each triangle's fate, and for
+// the placed ones their oriented screen vertices, covered pixel bounds, top-left biases and facing,
+// exactly as the scalar twin (RangeAssembler's per-triangle placing) computes them. Lanes the
+// kernel does not decide (an edge spanning 2^15 sub-pixels or more, see place_simd.hpp) are
+// `scalar`: the caller places those triangles with the scalar code.
+inline constexpr int kPlaceGroup = 16;
+struct PlaceGroup {
+  enum Fate : std::int32_t { nonfinite, outside, clip, culled, degenerate, small, placed, placed_swapped, scalar };
+  alignas(64) std::int32_t fate[kPlaceGroup];
+  alignas(64) std::int32_t x[3][kPlaceGroup], y[3][kPlaceGroup];  // oriented (area2 > 0)
+  alignas(64) float z[3][kPlaceGroup], inv_w[3][kPlaceGroup];
+  alignas(64) std::int32_t min_px[kPlaceGroup], min_py[kPlaceGroup], max_px[kPlaceGroup], max_py[kPlaceGroup];
+  alignas(64) std::int32_t bias[3][kPlaceGroup];  // 0 or -1
+  alignas(64) std::int32_t back_facing[kPlaceGroup];  // 0 or 1
+};
+struct PlaceParams {
+  int width, height;                  // the viewport
+  bool cull_back, cull_front;         // which facing is culled (CullMode and two-sidedness folded in)
+  bool mirrored;                      // the object's front faces wind clockwise on screen
+};
+// `triangles`: kPlaceGroup vertex-index triples; `screen`: the object's screen vertices, fewer than
+// 2^31 / 5 of them (gathers index 32-bit words).
+using PlaceFunction = void (*)(const std::uint32_t* triangles, const geometry::ScreenVertex* screen,
+                               const PlaceParams&, PlaceGroup&);
+
 struct Kernels {
   RasterTileFunction raster;
   ResolveTileFunction resolve;
   SampleTextureFunction sample;
   TransformFunction transform;
+  PlaceFunction place;
 };
 
 namespace sse2 {
 void transform_vertices(const geometry::Mat4Rows&, const float*, std::size_t, std::size_t, const geometry::ClipPlanes&,
                         const geometry::Viewport&, std::array<float, 4>*, geometry::ScreenVertex*);
+void place_triangles(const std::uint32_t*, const geometry::ScreenVertex*, const PlaceParams&, PlaceGroup&);
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
@@ -140,6 +167,7 @@ void sample_texture(const texture::Sampler&, std::size_t, const float* const*, f
 namespace avx2 {
 void transform_vertices(const geometry::Mat4Rows&, const float*, std::size_t, std::size_t, const geometry::ClipPlanes&,
                         const geometry::Viewport&, std::array<float, 4>*, geometry::ScreenVertex*);
+void place_triangles(const std::uint32_t*, const geometry::ScreenVertex*, const PlaceParams&, PlaceGroup&);
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
@@ -147,6 +175,7 @@ void sample_texture(const texture::Sampler&, std::size_t, const float* const*, f
 namespace avx512 {
 void transform_vertices(const geometry::Mat4Rows&, const float*, std::size_t, std::size_t, const geometry::ClipPlanes&,
                         const geometry::Viewport&, std::array<float, 4>*, geometry::ScreenVertex*);
+void place_triangles(const std::uint32_t*, const geometry::ScreenVertex*, const PlaceParams&, PlaceGroup&);
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);

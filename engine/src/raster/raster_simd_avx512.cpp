@@ -7,6 +7,7 @@
 #endif
 
 #include "geometry/transform_simd.hpp"
+#include "raster/place_simd.hpp"
 #include "raster/raster_simd.hpp"
 #include "texture/sample_simd.hpp"
 
@@ -15,6 +16,10 @@ void transform_vertices(const geometry::Mat4Rows& mvp, const float* positions, s
                         const geometry::ClipPlanes& planes, const geometry::Viewport& viewport, std::array<float, 4>* clip,
                         geometry::ScreenVertex* screen) {
   geometry::simd::Transform<xsimd::avx512bw>::run(mvp, positions, begin, end, planes, viewport, clip, screen);
+}
+void place_triangles(const std::uint32_t* triangles, const geometry::ScreenVertex* screen, const PlaceParams& params,
+                     PlaceGroup& out) {
+  Place<xsimd::avx512bw>::run(triangles, screen, params, out);
 }
 void raster_tile(const TileJob& job, const TileView& tile, TileCounters& counters) {
   TileKernel<xsimd::avx512bw>::raster(job, tile, counters);

@@ -417,6 +417,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   simd_kernels = simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr;
   passes.clear();
   passes.push_back(raster::camera_pass(scene, options, color, depth));
+  passes.back().assembly.place = simd_kernels ? simd_kernels->place : nullptr;
   for (const raster::RenderPass& p : passes) {
     run_pass(scene, options, p);
     if (cancelled.load(std::memory_order_relaxed)) break;
