@@ -44,7 +44,7 @@ struct TileKernel {
   struct Lanes {
     alignas(64) float fi[kBlockPixels], fj[kBlockPixels];
     alignas(64) std::int32_t ii[kBlockPixels], jj[kBlockPixels];
-    alignas(64) std::int32_t bit0[16], bit1[16], bit2[16], row1[16];  // batch 0: masks of i's bits, j == 1
+    alignas(64) std::int32_t bit0[16], bit1[16], bit2[16];  // batch 0 on sse2: masks of i's bits
   };
   static const Lanes& lanes() {
     static constexpr Lanes l = [] {
@@ -57,7 +57,6 @@ struct TileKernel {
         r.bit0[q] = (q % kBlock) & 1 ? -1 : 0;
         r.bit1[q] = (q % kBlock) & 2 ? -1 : 0;
         r.bit2[q] = (q % kBlock) & 4 ? -1 : 0;
-        r.row1[q] = q / kBlock == 1 ? -1 : 0;
       }
       return r;
     }();
@@ -315,9 +314,17 @@ struct TileKernel {
         hi[k] = lmax0((kBlock - 1) * sa) + lmax0((kBlock - 1) * sb);
         a32[k] = static_cast<std::int32_t>(A);
         b32[k] = static_cast<std::int32_t>(B);
-        // A i for i in 0..7 from i's bits (no 32-bit multiply on sse2), + B on the second row (avx512).
-        lane_ab[k] = (I(a32[k]) & I::load_aligned(L.bit0)) + (I(a32[k] * 2) & I::load_aligned(L.bit1)) +
-                     (I(a32[k] * 4) & I::load_aligned(L.bit2)) + (I(b32[k]) & I::load_aligned(L.row1));
+        // A i + B j, |A i| < 2^27: the 32-bit multiply on avx2 and avx512 (avx2's batch 0 is row 0,
+        // j = 0); on sse2, which has none, A i from i's bits.
+        if constexpr (W == 16) {
+          lane_ab[k] = I(_mm512_add_epi32(_mm512_mullo_epi32(I(a32[k]), I::load_aligned(L.ii)),
+                                          _mm512_mullo_epi32(I(b32[k]), I::load_aligned(L.jj))));
+        } else if constexpr (W == 8) {
+          lane_ab[k] = I(_mm256_mullo_epi32(I(a32[k]), I::load_aligned(L.ii)));
+        } else {
+          lane_ab[k] = (I(a32[k]) & I::load_aligned(L.bit0)) + (I(a32[k] * 2) & I::load_aligned(L.bit1)) +
+                       (I(a32[k] * 4) & I::load_aligned(L.bit2));
+        }
       }
     }
 
