@@ -263,3 +263,54 @@ TEST(SceneFile, MeshMaterialsComeFromTheObjGroups) {
 
 }  // namespace
 }  // namespace facet
+
+namespace facet {
+namespace {
+
+TEST(SceneFile, ShadowsAreRead) {
+  const Result<Scene> s = parse(R"({
+    "meshes": [ { "name": "m", "shape": "cube" } ],
+    "objects": [ { "mesh": "m", "cast_shadows": false }, { "mesh": "m", "receive_shadows": false } ],
+    "lights": [ { "type": "directional", "shadow": { "method": "raycast", "bias": { "normal": 0.01 } } },
+                { "type": "point", "shadow": { "method": "none", "resolution": 512, "filter": "pcf5x5",
+                                               "bias": { "constant": 0.001, "slope": 2 } } },
+                { "type": "point" } ] })");
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  EXPECT_FALSE(s->objects[0].cast_shadows);
+  EXPECT_TRUE(s->objects[0].receive_shadows);
+  EXPECT_TRUE(s->objects[1].cast_shadows);
+  EXPECT_FALSE(s->objects[1].receive_shadows);
+  EXPECT_EQ(s->lights[0].shadow.method, ShadowMethod::raycast);
+  EXPECT_FLOAT_EQ(s->lights[0].shadow.bias.normal, 0.01f);
+  EXPECT_EQ(s->lights[1].shadow.method, ShadowMethod::none);
+  EXPECT_EQ(s->lights[1].shadow.resolution, 512);
+  EXPECT_EQ(s->lights[1].shadow.filter, ShadowFilter::pcf5x5);
+  EXPECT_FLOAT_EQ(s->lights[1].shadow.bias.constant, 0.001f);
+  EXPECT_FLOAT_EQ(s->lights[1].shadow.bias.slope, 2.0f);
+  EXPECT_EQ(s->lights[2].shadow.method, ShadowMethod::none);  // the default: no shadows
+  EXPECT_EQ(s->lights[2].shadow.resolution, 2048);
+  EXPECT_EQ(s->lights[2].shadow.filter, ShadowFilter::pcf3x3);
+}
+
+TEST(SceneFile, BadShadowsNameTheField) {
+  expect_error(R"({ "lights": [ { "type": "point", "shadow": { "method": "stencil" } } ] })", 1, "lights[0].shadow.method",
+               {"raycast"});
+  expect_error(R"({ "lights": [ { "type": "point", "shadow": { "resolution": 64 } } ] })", 1, "lights[0].shadow.method",
+               {"missing"});
+  expect_error(R"({ "lights": [ { "type": "point", "shadow": { "method": "raycast", "resolution": 8 } } ] })", 1,
+               "lights[0].shadow.resolution", {"16"});
+  expect_error(R"({ "lights": [ { "type": "point", "shadow": { "method": "raycast", "filter": "pcf4x4" } } ] })", 1,
+               "lights[0].shadow.filter", {"pcf3x3"});
+  expect_error(R"({ "lights": [ { "type": "point", "shadow": { "method": "raycast", "bias": { "normal": -1 } } } ] })",
+               1, "lights[0].shadow.bias.normal", {"[0, 1]"});
+  expect_error(R"({ "lights": [ { "type": "point", "shadow": { "method": "raycast", "blur": 1 } } ] })", 1,
+               "lights[0].shadow", {"blur"});
+  // Not implemented yet: refused with the reason, not drawn without shadows.
+  expect_error(R"({ "lights": [ { "type": "point", "shadow": { "method": "map" } } ] })", 1, "lights[0].shadow.method",
+               {"not implemented yet"});
+  expect_error(R"({ "meshes": [ { "name": "m", "shape": "cube" } ],
+                    "objects": [ { "mesh": "m", "cast_shadows": 1 } ] })", 2, "objects[0].cast_shadows", {"true or false"});
+}
+
+}  // namespace
+}  // namespace facet

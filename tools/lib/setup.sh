@@ -8,7 +8,7 @@ facet_packages=(
   g++ cmake ninja-build pkg-config
   libeigen3-dev libxsimd-dev libtbb-dev
   libgtest-dev libbenchmark-dev
-  libtinyobjloader-dev nlohmann-json3-dev libpng-dev libstb-dev
+  libtinyobjloader-dev nlohmann-json3-dev libpng-dev libstb-dev libembree-dev
 )
 
 # Extra packages for one command may be given as arguments (tools/charts: python3-matplotlib).

@@ -19,6 +19,31 @@ enum class SpotShape {
   smooth_cone,
 };
 
+// Shadows of one light (docs/shadows.md). `raycast` is exact: a shadow ray per shaded point
+// through Intel Embree; `map` and `volume` are not implemented yet and are refused by validation.
+enum class ShadowMethod { none, map, volume, raycast };
+enum class ShadowFilter { none, pcf2x2, pcf3x3, pcf5x5 };
+const char* to_string(ShadowMethod method) noexcept;
+const char* to_string(ShadowFilter filter) noexcept;
+
+// Enabled lights with shadows per scene at most.
+inline constexpr int kMaxShadowedLights = 8;
+
+struct ShadowBias {
+  float constant = 0.0f;  // map: depth offset in [0, 1] window depth units
+  float slope = 0.0f;     // map: times the depth slope
+  // The shaded point moves this far along its normal before its visibility is decided, as a
+  // fraction of the radius of the sphere bounding the shadow casters (every method).
+  float normal = 1e-4f;
+};
+
+struct Shadow {
+  ShadowMethod method = ShadowMethod::none;  // none: the light casts no shadows
+  int resolution = 2048;                     // map: texels a side, [16, 16384]
+  ShadowFilter filter = ShadowFilter::pcf3x3;  // map
+  ShadowBias bias;
+};
+
 struct Light {
   std::string name;
   LightType type = LightType::directional;
@@ -46,6 +71,8 @@ struct Light {
   float spot_inner_deg = 30.0f;   // smooth_cone: 0 <= inner <= outer <= 90
   float spot_outer_deg = 45.0f;
   float spot_falloff = 2.0f;      // smooth_cone: exponent of the ramp, [0, kMaxShininess]
+
+  Shadow shadow;  // what blocks this light's diffuse and specular terms (its ambient term is never blocked)
 };
 
 }  // namespace facet

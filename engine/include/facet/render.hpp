@@ -106,6 +106,8 @@ struct FrameStats {
   double seconds_geometry = 0;  // transform, clip, project, set up, bin
   double seconds_raster = 0;    // wall time of the tile loop: coverage, depth, shading, resolve (all threads)
   double seconds_resolve = 0;   // of which resolving tiles into the caller's image, summed over threads
+  double seconds_shadows = 0;   // building the shadow casters' ray-cast hierarchy (ray-cast shadows)
+  std::uint64_t shadow_casters = 0;  // triangles that can cast shadows (ray-cast shadows)
   int threads = 0;              // worker threads the frame really had (the request, capped; see RenderOptions)
   double seconds_total = 0;
 };

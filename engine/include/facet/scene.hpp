@@ -52,6 +52,10 @@ struct Instance {
   // Per-face materials: draw each of the mesh's material groups (Mesh::groups, OBJ `usemtl`) with
   // the scene material of the group's name, instead of `material` for the whole mesh.
   bool mesh_materials = false;
+  // Shadows (Light::shadow): whether this object blocks shadowed lights, and whether its pixels
+  // can be in shadow.
+  bool cast_shadows = true;
+  bool receive_shadows = true;
 };
 // One layout whatever the host's compiler flags (types.hpp): a host built with -mavx2 or
 // -march=native shares these structs with a library built for baseline x86-64.

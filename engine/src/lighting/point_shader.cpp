@@ -76,13 +76,15 @@ simd::LightT<T> to_simd(const EyeLight<T>& L, PowTier tier) {
   copy3(s.ambient, L.ambient);
   copy3(s.diffuse, L.diffuse);
   copy3(s.specular, L.specular);
+  s.shadow = L.shadow;
   return s;
 }
 
 }  // namespace
 
 Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
-                            const LightingOptions& options, const EyeSphere* bounds, LightingFeatures features) {
+                            const LightingOptions& options, const EyeSphere* bounds, LightingFeatures features,
+                            const shadow::RayCaster* caster) {
   path_ = options.path;
   features_ = features;
   // The frame plan decides once, in double, for every path, so all paths light the same lights.
@@ -94,11 +96,29 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
   }
   const std::vector<bool>& drop = drop_;
   culled_ = remove_lights(reference_, drop);
+  // Shadow slots, in light order (every path's list holds the same lights in the same order).
+  caster_ = caster;
+  shadow_slots_ = 0;
+  for (EyeLight<double>& L : reference_.lights) {
+    const Shadow& sh = scene.lights[static_cast<std::size_t>(L.scene_light)].shadow;
+    L.shadow = -1;
+    if (!caster || sh.method != ShadowMethod::raycast || shadow_slots_ == kMaxShadowedLights) continue;
+    shadow::RayCaster::Target& t = targets_[shadow_slots_];
+    t.directional = L.type == LightType::directional;
+    const V3<double>& at = t.directional ? L.to_light : L.position;
+    t.x = static_cast<float>(at.x), t.y = static_cast<float>(at.y), t.z = static_cast<float>(at.z);
+    offsets_[shadow_slots_] = sh.bias.normal * caster->radius();
+    L.shadow = shadow_slots_++;
+  }
+  auto same_slots = [this](ShadeParams<float>& params) {
+    for (std::size_t i = 0; i < params.lights.size(); ++i) params.lights[i].shadow = reference_.lights[i].shadow;
+  };
   switch (path_) {
     case LightingPath::reference: break;
     case LightingPath::scalar:
       make_shade_params(scene, view, material, options.clamp, scalar_, features);
       remove_lights(scalar_, drop);
+      same_slots(scalar_);
       break;
     case LightingPath::simd: {
       const SimdKernels* kernels = simd_kernels(options.isa);
@@ -110,6 +130,7 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
       simd_shade_ = kernels->shade;
       make_shade_params(scene, view, material, options.clamp, scalar_, features);
       remove_lights(scalar_, drop);
+      same_slots(scalar_);
       simd_lights_.clear();
       simd_lights_d_.clear();
       simd::Params& p = simd_params_;
@@ -154,10 +175,15 @@ constexpr std::size_t kSimdChunk = 2048;
 // when the params use them). The copies are SSE2 transposes (soa.cpp): the Eigen per-vertex loop
 // they replace took 28 % of a one-light pass (perf). With `index`, element i of every array is
 // element index[i] (a gather in, a scatter out).
+// `visibility` (shadowed lights): slot k's value for point i at visibility[k * count + i].
 void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd::Transform* xf, std::size_t count,
               const Vec3* positions, const Vec3* normals, float normal_sign, const Color3* albedo, Color3* out,
-              Color3* secondary, SoaScratch& scratch, const std::uint32_t* index = nullptr) {
+              Color3* secondary, SoaScratch& scratch, const std::uint32_t* index = nullptr,
+              const float* visibility = nullptr, int slots = 0) {
   scratch.reserve_padded(std::min(kSimdChunk, count));
+  const std::size_t chunk_stride = simd::padded(std::min(kSimdChunk, count));
+  const std::size_t visibility_at = static_cast<std::size_t>(slots) * count;  // the chunk copies follow the input
+  const float* slot_streams[kMaxShadowedLights] = {};
   for (std::size_t start = 0; start < count; start += kSimdChunk) {
     const std::size_t n = std::min(kSimdChunk, count - start);
     const std::size_t padded = simd::padded(n);
@@ -188,6 +214,15 @@ void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd:
       s.ar = scratch.ar.data(), s.ag = scratch.ag.data(), s.ab = scratch.ab.data();
     }
     if (params.separate_specular) s.sr = scratch.sr.data(), s.sg = scratch.sg.data(), s.sb = scratch.sb.data();
+    if (slots > 0) {  // each slot's chunk, padded with 1 (lit)
+      for (int k = 0; k < slots; ++k) {
+        float* dst = scratch.visibility.data() + visibility_at + static_cast<std::size_t>(k) * chunk_stride;
+        std::copy_n(visibility + static_cast<std::size_t>(k) * count + start, n, dst);
+        std::fill(dst + n, dst + padded, 1.0f);
+        slot_streams[k] = dst;
+      }
+      s.visibility = slot_streams;
+    }
     shade(params, xf, s);
     result(scratch.r, scratch.g, scratch.b, out);
     if (params.separate_specular) result(scratch.sr, scratch.sg, scratch.sb, secondary);
@@ -229,19 +264,49 @@ void PointShader::light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, cons
            albedo ? albedo + begin : nullptr, out + begin, secondary ? secondary + begin : nullptr, scratch);
 }
 
-void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out,
-                               SoaScratch& scratch, const Color3* albedo, Color3* secondary) const {
-  switch (path_) {
-    case LightingPath::reference:
-      lighting::shade_points(reference_, count, p_eye, n_eye, albedo, out, secondary);
-      return;
-    case LightingPath::scalar: lighting::shade_points(scalar_, count, p_eye, n_eye, albedo, out, secondary); return;
-    case LightingPath::simd: break;
+void PointShader::find_visibility(std::size_t count, const float* px, const float* py, const float* pz,
+                                  const float* nx, const float* ny, const float* nz, std::size_t stride,
+                                  float* visibility) const {
+  for (int k = 0; k < shadow_slots_; ++k) {
+    caster_->visibility(targets_[k], offsets_[k], count, px, py, pz, nx, ny, nz, stride,
+                        visibility + static_cast<std::size_t>(k) * count);
   }
-  run_simd(simd_shade_, simd_params_, nullptr, count, p_eye, n_eye, 1.0f, albedo, out, secondary, scratch);
 }
 
-void PointShader::shade_soa(const simd::Streams& s) const {
+void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out,
+                               SoaScratch& scratch, const Color3* albedo, Color3* secondary) const {
+  const float* visibility = nullptr;
+  if (shadow_slots_ > 0) {
+    // The points' visibility, then (simd path) room for its padded chunk copies.
+    const std::size_t slots = static_cast<std::size_t>(shadow_slots_);
+    const std::size_t need = slots * (count + simd::padded(std::min(kSimdChunk, count)));
+    if (scratch.visibility.size() < need) scratch.visibility.resize(need);
+    const float* p = p_eye->data();
+    const float* n = n_eye->data();
+    find_visibility(count, p, p + 1, p + 2, n, n + 1, n + 2, 3, scratch.visibility.data());
+    visibility = scratch.visibility.data();
+  }
+  switch (path_) {
+    case LightingPath::reference:
+      lighting::shade_points(reference_, count, p_eye, n_eye, albedo, out, secondary, visibility, shadow_slots_);
+      return;
+    case LightingPath::scalar:
+      lighting::shade_points(scalar_, count, p_eye, n_eye, albedo, out, secondary, visibility, shadow_slots_);
+      return;
+    case LightingPath::simd: break;
+  }
+  run_simd(simd_shade_, simd_params_, nullptr, count, p_eye, n_eye, 1.0f, albedo, out, secondary, scratch, nullptr,
+           visibility, shadow_slots_);
+}
+
+void PointShader::shade_soa(const simd::Streams& streams, float* visibility) const {
+  simd::Streams s = streams;
+  const float* slot_streams[kMaxShadowedLights] = {};
+  if (shadow_slots_ > 0) {
+    find_visibility(s.count, s.px, s.py, s.pz, s.nx, s.ny, s.nz, 1, visibility);
+    for (int k = 0; k < shadow_slots_; ++k) slot_streams[k] = visibility + static_cast<std::size_t>(k) * s.count;
+    s.visibility = slot_streams;
+  }
   if (path_ == LightingPath::simd) {
     simd_shade_(simd_params_, nullptr, s);
     return;
@@ -249,11 +314,13 @@ void PointShader::shade_soa(const simd::Streams& s) const {
   for (std::size_t i = 0; i < s.count; ++i) {  // the other paths, one point at a time
     const Vec3 p(s.px[i], s.py[i], s.pz[i]), n(s.nx[i], s.ny[i], s.nz[i]);
     const Color3 albedo = s.ar ? Color3(s.ar[i], s.ag[i], s.ab[i]) : Color3(1.0f, 1.0f, 1.0f);
+    float vis[kMaxShadowedLights];
+    for (int k = 0; k < shadow_slots_; ++k) vis[k] = slot_streams[k][i];
     Color3 c, spec;
     if (path_ == LightingPath::reference) {
-      lighting::shade_points(reference_, 1, &p, &n, &albedo, &c, &spec);
+      lighting::shade_points(reference_, 1, &p, &n, &albedo, &c, &spec, vis, shadow_slots_);
     } else {
-      lighting::shade_points(scalar_, 1, &p, &n, &albedo, &c, &spec);
+      lighting::shade_points(scalar_, 1, &p, &n, &albedo, &c, &spec, vis, shadow_slots_);
     }
     s.r[i] = c.x(), s.g[i] = c.y(), s.b[i] = c.z();
     if (s.sr) s.sr[i] = spec.x(), s.sg[i] = spec.y(), s.sb[i] = spec.z();

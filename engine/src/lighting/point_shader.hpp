@@ -13,6 +13,7 @@
 #include "lighting/setup.hpp"
 #include "lighting/shade.hpp"
 #include "lighting/simd_types.hpp"
+#include "shadow/raycast.hpp"
 
 namespace facet::lighting {
 
@@ -20,6 +21,7 @@ namespace facet::lighting {
 struct SoaScratch {
   std::vector<float> px, py, pz, nx, ny, nz, r, g, b;
   std::vector<float> ar, ag, ab, sr, sg, sb;  // albedo in, secondary out (when the shader uses them)
+  std::vector<float> visibility;              // shadowed lights: per slot, per point
   void reserve_padded(std::size_t count);
 };
 
@@ -28,8 +30,12 @@ class PointShader {
   // Fails (unsupported) if options.isa is not available on this CPU; nothing else can fail for a
   // validated scene. With `bounds` (and options.cull_lights) the frame plan drops the lights that
   // cannot reach them (see lights_to_drop).
+  // With `caster` (an object that receives shadows in a frame with ray-cast shadows), the lights
+  // whose Light::shadow says raycast are shadowed: shade_points and shade_soa find each point's
+  // visibility of them first (up to kMaxShadowedLights).
   Status prepare(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
-                 const LightingOptions& options, const EyeSphere* bounds = nullptr, LightingFeatures features = {});
+                 const LightingOptions& options, const EyeSphere* bounds = nullptr, LightingFeatures features = {},
+                 const shadow::RayCaster* caster = nullptr);
 
   // Lights mesh vertices [begin, end) through model -> eye into out[begin, end); `back_side`
   // lights them with negated normals. Each vertex's colour does not depend on the range it was
@@ -47,7 +53,9 @@ class PointShader {
 
   // Lights eye-space points given as padded structure-of-arrays streams (positions and normals in,
   // colours out; s.count a multiple of simd::kMaxLanes): what the SIMD rasterizer's Phong pixels use.
-  void shade_soa(const simd::Streams& s) const;
+  // With shadowed lights, `visibility` holds shadow_slots() * s.count floats of scratch.
+  void shade_soa(const simd::Streams& s, float* visibility = nullptr) const;
+  int shadow_slots() const { return shadow_slots_; }
 
   const LightingFeatures& features() const { return features_; }
 
@@ -64,6 +72,14 @@ class PointShader {
   simd::Params simd_params_;
   simd::ShadeFunction simd_shade_ = nullptr;
   std::size_t culled_ = 0;
+  // Shadows: the caster and, per slot, the light's target in eye space and the normal offset.
+  const shadow::RayCaster* caster_ = nullptr;
+  int shadow_slots_ = 0;
+  shadow::RayCaster::Target targets_[kMaxShadowedLights];
+  float offsets_[kMaxShadowedLights] = {};
+  // visibility[k * count + i]: point i's visibility of slot k's light (stride as RayCaster).
+  void find_visibility(std::size_t count, const float* px, const float* py, const float* pz, const float* nx,
+                       const float* ny, const float* nz, std::size_t stride, float* visibility) const;
   std::vector<bool> drop_;                // frame-plan scratch, kept between frames
   std::vector<CullCandidate> candidates_;
 };

@@ -45,9 +45,11 @@ void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Ma
   sp.local_viewer = scene.viewer == ViewerMode::local;
   sp.clamp = clamp;
   const Eigen::Matrix3d rot = view.topLeftCorner<3, 3>();
-  for (const Light& light : scene.lights) {
+  for (std::size_t index = 0; index < scene.lights.size(); ++index) {
+    const Light& light = scene.lights[index];
     if (!light.enabled) continue;
     EyeLight<T> L;
+    L.scene_light = static_cast<int>(index);
     L.type = light.type;
     L.ambient = v3<T>(am.cwiseProduct(light.ambient.cast<double>()));
     L.diffuse = v3<T>(dm.cwiseProduct(light.diffuse.cast<double>()));

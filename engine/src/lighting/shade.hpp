@@ -37,6 +37,8 @@ template <class T> T dot(V3<T> a, V3<T> b) { return a.x * b.x + a.y * b.y + a.z 
 
 // Vectors shorter than this (or non-finite) have no direction and normalise to zero.
 template <class T> inline constexpr T kMinLength = T(1e-6);
+// Shadowed lights at most (facet::kMaxShadowedLights): the visibility streams a point carries.
+using facet::kMaxShadowedLights;
 // Floor of the attenuation denominator, so a light at the vertex with k0 = 0 stays finite.
 template <class T> inline constexpr T kMinAttenuationDenominator = T(1e-6);
 
@@ -65,6 +67,10 @@ struct EyeLight {
   T cos_cutoff = -1, spot_exponent = 0;
   T cos_outer = -1, inv_cone_span = 0, spot_falloff = 0;  // smooth_cone; inv_cone_span 0 = hard edge
   V3<T> ambient{}, diffuse{}, specular{};  // a_m a_i, d_m d_i, s_m s_i
+  int scene_light = -1;  // index in Scene::lights
+  // Shadowed: the slot of this light's visibility per point (0 in shadow, 1 lit), which multiplies
+  // its diffuse and specular terms (never its ambient term); -1: never shadowed.
+  int shadow = -1;
 };
 
 template <class T>
@@ -94,7 +100,7 @@ T spot_factor(const EyeLight<T>& L, T cos_angle) {
 // `colour`, or with `specular` its ambient and diffuse parts to `colour` and its specular to `specular`.
 template <class T>
 void light_contribution(const ShadeParams<T>& sp, const EyeLight<T>& L, V3<T> p, V3<T> n, V3<T> eye_dir,
-                        V3<T>& colour, V3<T>* specular) {
+                        V3<T>& colour, V3<T>* specular, const float* visibility = nullptr) {
   V3<T> vp;
   T att = T(1);
   if (L.type == LightType::directional) {
@@ -119,11 +125,16 @@ void light_contribution(const ShadeParams<T>& sp, const EyeLight<T>& L, V3<T> p,
   V3<T> sum = L.ambient;
   if (n_dot_l > T(0)) {
     const T n_dot_h = clamp01(dot(n, normalize_or_zero(vp + eye_dir)));
+    T kd = n_dot_l, ks = std::pow(n_dot_h, sp.shininess);
+    if (L.shadow >= 0 && visibility) {
+      const T v = T(visibility[L.shadow]);
+      kd *= v, ks *= v;
+    }
     if (specular) {
-      sum = sum + n_dot_l * L.diffuse;
-      *specular = *specular + att * (std::pow(n_dot_h, sp.shininess) * L.specular);
+      sum = sum + kd * L.diffuse;
+      *specular = *specular + att * (ks * L.specular);
     } else {
-      sum = sum + n_dot_l * L.diffuse + std::pow(n_dot_h, sp.shininess) * L.specular;
+      sum = sum + kd * L.diffuse + ks * L.specular;
     }
   }
   colour = colour + att * sum;
@@ -139,19 +150,20 @@ V3<T> finish_colour(const ShadeParams<T>& sp, V3<T> c) {
 
 // The colour at p with normal n_in; `albedo` is read with colour_material, `secondary` written
 // with separate_specular.
+// `visibility`: per shadow slot (EyeLight::shadow), this point's visibility of that light.
 template <class T>
 V3<T> shade_vertex(const ShadeParams<T>& sp, V3<T> p, V3<T> n_in, V3<T> albedo = {T(1), T(1), T(1)},
-                   V3<T>* secondary = nullptr) {
+                   V3<T>* secondary = nullptr, const float* visibility = nullptr) {
   const V3<T> n = normalize_or_zero(n_in);
   const V3<T> eye_dir = sp.local_viewer ? normalize_or_zero(V3<T>{-p.x, -p.y, -p.z}) : V3<T>{T(0), T(0), T(1)};
   if (!sp.color_material && !sp.separate_specular) {  // the common case, in one sum
     V3<T> colour = sp.base;
-    for (const EyeLight<T>& L : sp.lights) light_contribution<T>(sp, L, p, n, eye_dir, colour, nullptr);
+    for (const EyeLight<T>& L : sp.lights) light_contribution<T>(sp, L, p, n, eye_dir, colour, nullptr, visibility);
     return finish_colour(sp, colour);
   }
   V3<T> colour = sp.color_material ? sp.scene_ambient : sp.base;
   V3<T> specular{T(0), T(0), T(0)};
-  for (const EyeLight<T>& L : sp.lights) light_contribution(sp, L, p, n, eye_dir, colour, &specular);
+  for (const EyeLight<T>& L : sp.lights) light_contribution(sp, L, p, n, eye_dir, colour, &specular, visibility);
   if (sp.color_material) colour = sp.base + V3<T>{albedo.x * colour.x, albedo.y * colour.y, albedo.z * colour.z};
   if (sp.separate_specular) {
     if (secondary) *secondary = finish_colour(sp, specular);
@@ -196,16 +208,20 @@ void light_mesh(const ShadeParams<T>& sp, const EyeTransform<T>& xf, const Mesh&
 
 // Lights `count` points given in eye space (positions and normals, normals need not be unit):
 // the per-pixel (Phong) and per-centroid (flat) entry to the same kernel. `albedo` is read with
-// colour_material, `secondary` written with separate_specular.
+// colour_material, `secondary` written with separate_specular. `visibility` (with shadowed
+// lights): point i's visibility of the light in shadow slot k is visibility[k * count + i].
 template <class T>
 void shade_points(const ShadeParams<T>& sp, std::size_t count, const Vec3* p_eye, const Vec3* n_eye,
-                  const Color3* albedo, Color3* out, Color3* secondary) {
+                  const Color3* albedo, Color3* out, Color3* secondary, const float* visibility = nullptr,
+                  int shadow_slots = 0) {
   for (std::size_t i = 0; i < count; ++i) {
+    float vis[kMaxShadowedLights];
+    for (int k = 0; k < shadow_slots; ++k) vis[k] = visibility[static_cast<std::size_t>(k) * count + i];
     const V3<T> p{T(p_eye[i].x()), T(p_eye[i].y()), T(p_eye[i].z())};
     const V3<T> n{T(n_eye[i].x()), T(n_eye[i].y()), T(n_eye[i].z())};
     V3<T> a{T(1), T(1), T(1)}, spec{};
     if (sp.color_material) a = {T(albedo[i].x()), T(albedo[i].y()), T(albedo[i].z())};
-    const V3<T> c = shade_vertex(sp, p, n, a, &spec);
+    const V3<T> c = shade_vertex(sp, p, n, a, &spec, shadow_slots > 0 ? vis : nullptr);
     out[i] = Color3(float(c.x), float(c.y), float(c.z));
     if (sp.separate_specular) secondary[i] = Color3(float(spec.x), float(spec.y), float(spec.z));
   }
@@ -217,8 +233,8 @@ extern template void light_mesh<double>(const ShadeParams<double>&, const EyeTra
 extern template void light_mesh<float>(const ShadeParams<float>&, const EyeTransform<float>&, const Mesh&, bool,
                                        std::size_t, std::size_t, Color3*, Color3*, const std::uint32_t*);
 extern template void shade_points<double>(const ShadeParams<double>&, std::size_t, const Vec3*, const Vec3*,
-                                          const Color3*, Color3*, Color3*);
+                                          const Color3*, Color3*, Color3*, const float*, int);
 extern template void shade_points<float>(const ShadeParams<float>&, std::size_t, const Vec3*, const Vec3*,
-                                         const Color3*, Color3*, Color3*);
+                                         const Color3*, Color3*, Color3*, const float*, int);
 
 }  // namespace facet::lighting

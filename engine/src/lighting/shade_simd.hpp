@@ -265,8 +265,13 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
       const B n_dot_l = dot3(n, vp);
       const auto lit = n_dot_l > zero;
       B sr = B(L.ambient[0]), sg = B(L.ambient[1]), sb = B(L.ambient[2]);
+      // A shadowed light's visibility at each point (1 lit, 0 in shadow); only its diffuse and
+      // specular terms are blocked.
+      const bool shadowed = L.shadow >= 0 && s.visibility;
+      const B vis = shadowed ? B::load_unaligned(s.visibility[L.shadow] + i) : one;
       if (xsimd::any(lit)) {
-        const B kd = xsimd::select(lit, n_dot_l, zero);
+        B kd = xsimd::select(lit, n_dot_l, zero);
+        if (shadowed) kd *= vis;
         sr = xsimd::fma(kd, B(L.diffuse[0]), sr);
         sg = xsimd::fma(kd, B(L.diffuse[1]), sg);
         sb = xsimd::fma(kd, B(L.diffuse[2]), sb);
@@ -291,7 +296,8 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
               pow_nh = pow_fixed<Spec>(n_dot_h, prm.specular_pow);
             }
           }
-          const B ks = xsimd::select(lit, pow_nh, zero);
+          B ks = xsimd::select(lit, pow_nh, zero);
+          if (shadowed) ks *= vis;
           if (split) {
             const B aks = att * ks;
             spr = xsimd::fma(aks, B(L.specular[0]), spr);

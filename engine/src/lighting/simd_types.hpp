@@ -34,6 +34,7 @@ struct LightT {
   T cos_cutoff = -1, cos_outer = -1, inv_cone_span = 0;
   PowSpec spot_pow;
   T ambient[3] = {}, diffuse[3] = {}, specular[3] = {};  // already times the material's
+  int shadow = -1;  // shadowed: Streams::visibility[shadow] multiplies the diffuse and specular terms
 };
 using Light = LightT<float>;
 using LightD = LightT<double>;
@@ -75,6 +76,8 @@ struct Streams {
   std::size_t count;
   const float *ar = nullptr, *ag = nullptr, *ab = nullptr;  // albedo: read with Params::color_material
   float *sr = nullptr, *sg = nullptr, *sb = nullptr;        // secondary: written with Params::separate_specular
+  // Shadowed lights (Light::shadow >= 0): per shadow slot, each point's visibility of that light.
+  const float* const* visibility = nullptr;
 };
 
 using ShadeFunction = void (*)(const Params&, const Transform*, const Streams&);

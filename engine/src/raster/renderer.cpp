@@ -22,6 +22,7 @@
 #include "lighting/point_shader.hpp"
 #include "lighting/setup.hpp"
 #include "raster/assemble.hpp"
+#include "shadow/raycast.hpp"
 #include "raster/bins.hpp"
 #include "raster/pass.hpp"
 #include "raster/tile_raster.hpp"
@@ -191,6 +192,10 @@ struct Renderer::Impl {
   // Threads: this renderer's own arena, rebuilt only when the thread count changes.
   std::unique_ptr<parallel::Arena> arena;
   int arena_threads = 0;
+  // Ray-cast shadows: the frame's casters (built in the arena when a light casts ray-cast shadows).
+  shadow::RayCaster caster;
+  const shadow::RayCaster* frame_caster = nullptr;  // this frame's, or null
+  Status frame_status;  // a failure inside the arena (the casters' build)
   // One per arena slot (tbb::this_task_arena::current_thread_index()), sized on the calling
   // thread before any parallel loop, so that no task ever allocates.
   std::vector<WorkerScratch> workers;
@@ -329,6 +334,14 @@ Status check_render(const Scene& scene, const RenderOptions& options, int width,
     }
     if (Status s = check_options(options); !s.ok()) return s;
     if (Status s = validate_scene(scene); !s.ok()) return s;
+    for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+      const Light& l = scene.lights[i];
+      if (l.enabled && l.shadow.method != ShadowMethod::none && options.shading != ShadingMode::phong) {
+        const std::string field = "lights[" + std::to_string(i) + "].shadow";
+        return {ErrorCode::unsupported, field,
+                field + ": shadows are drawn in Phong shading only so far (RenderOptions::shading, --shading phong)"};
+      }
+    }
     return check_frame_limits(scene, options, width, height);
   } catch (const std::bad_alloc&) {
     return {ErrorCode::out_of_memory, "scene", "out of memory while checking the scene"};
@@ -389,7 +402,9 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
     impl_->cancelled.store(false);
     impl_->work_done.store(0);
     impl_->progress_reported = 0;
+    impl_->frame_status = {};
     impl_->arena->execute([&] { impl_->render(scene, options, color, depth); });
+    if (!impl_->frame_status.ok()) return impl_->frame_status;
     if (impl_->cancelled.load()) {
       return {ErrorCode::cancelled, "options.progress", "options.progress: the frame was cancelled"};
     }
@@ -418,6 +433,19 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   passes.clear();
   passes.push_back(raster::camera_pass(scene, options, color, depth));
   passes.back().assembly.place = simd_kernels ? simd_kernels->place : nullptr;
+  // Ray-cast shadows: the casters as Embree sees them, built here, in this renderer's arena.
+  frame_caster = nullptr;
+  const bool raycast = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
+    return l.enabled && l.shadow.method == ShadowMethod::raycast;
+  });
+  if (raycast) {
+    const auto start = Clock::now();
+    frame_status = caster.build(scene, passes.back().view);
+    stats.seconds_shadows = seconds_since(start);
+    stats.shadow_casters = caster.triangle_count();
+    if (!frame_status.ok()) return;
+    frame_caster = &caster;
+  }
   for (const raster::RenderPass& p : passes) {
     run_pass(scene, options, p);
     if (cancelled.load(std::memory_order_relaxed)) break;
@@ -725,7 +753,8 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model);
   // Options were checked in render(), so preparing cannot fail here.
   const lighting::LightingFeatures& lf = features[object];
-  (void)shader.prepare(scene, view, scene.materials[unit.material], lighting, &bounds, lf);
+  (void)shader.prepare(scene, view, scene.materials[unit.material], lighting, &bounds, lf,
+                       inst.receive_shadows ? frame_caster : nullptr);
   ObjectCounts& counts = object_counts[object];
   auto count_pairs = [&](std::size_t evaluations) {
     counts.vertices_lit += evaluations;

@@ -16,7 +16,8 @@ void TileBuffers::resize(int tile_size) {
   storage.resize(5 * plane_size_ + 16);  // grows only; + slack for the alignment below
   const auto address = reinterpret_cast<std::uintptr_t>(storage.data());
   offset_ = ((64 - address % 64) % 64) / sizeof(float);
-  phong.resize(simd::kPhongStreams * static_cast<std::size_t>(simd::kPhongCapacity));
+  // The sink's streams, then the shadowed lights' visibility of its pixels.
+  phong.resize((simd::kPhongStreams + lighting::kMaxShadowedLights) * static_cast<std::size_t>(simd::kPhongCapacity));
   phong_pixel.resize(simd::kPhongCapacity);
   touched.resize(static_cast<std::size_t>(tile_size / simd::kBlock) * static_cast<std::size_t>(tile_size / simd::kBlock));
 }
@@ -136,7 +137,7 @@ void shade_phong(void* context, std::uint32_t object, std::size_t count, std::si
                         f + 8 * cap, padded};
   streams.ar = f + 9 * cap, streams.ag = f + 10 * cap, streams.ab = f + 11 * cap;
   streams.sr = f + 12 * cap, streams.sg = f + 13 * cap, streams.sb = f + 14 * cap;
-  shader.shade_soa(streams);
+  shader.shade_soa(streams, f + simd::kPhongStreams * cap);
   c.counters->shaded += count;
   c.counters->light_pairs += count * shader.light_count();
   c.counters->skipped_pairs += count * shader.culled_lights();

@@ -56,6 +56,26 @@ const char* to_string(DepthWrite mode) noexcept {
   return "unknown";
 }
 
+const char* to_string(ShadowMethod method) noexcept {
+  switch (method) {
+    case ShadowMethod::none: return "none";
+    case ShadowMethod::map: return "map";
+    case ShadowMethod::volume: return "volume";
+    case ShadowMethod::raycast: return "raycast";
+  }
+  return "unknown";
+}
+
+const char* to_string(ShadowFilter filter) noexcept {
+  switch (filter) {
+    case ShadowFilter::none: return "none";
+    case ShadowFilter::pcf2x2: return "pcf2x2";
+    case ShadowFilter::pcf3x3: return "pcf3x3";
+    case ShadowFilter::pcf5x5: return "pcf5x5";
+  }
+  return "unknown";
+}
+
 const char* to_string(FogMode mode) noexcept {
   switch (mode) {
     case FogMode::none: return "none";
@@ -141,7 +161,34 @@ Status validate_material(const Material& m, const Field& f) {
   return {};
 }
 
+Status validate_shadow(const Shadow& s, const Field& f) {
+  switch (s.method) {
+    case ShadowMethod::none:
+    case ShadowMethod::raycast: break;
+    case ShadowMethod::map:
+    case ShadowMethod::volume:
+      return {ErrorCode::unsupported, f("shadow.method"),
+              f("shadow.method") + ": \"" + to_string(s.method) + "\" is not implemented yet; \"raycast\" is (or \"none\")"};
+    default: return invalid(f("shadow.method"), "unknown shadow method");
+  }
+  if (!(s.resolution >= 16 && s.resolution <= 16384)) {
+    return invalid(f("shadow.resolution"), "expected an integer in [16, 16384], found " + std::to_string(s.resolution));
+  }
+  switch (s.filter) {
+    case ShadowFilter::none:
+    case ShadowFilter::pcf2x2:
+    case ShadowFilter::pcf3x3:
+    case ShadowFilter::pcf5x5: break;
+    default: return invalid(f("shadow.filter"), "unknown filter");
+  }
+  FACET_TRY(check_range(s.bias.constant, 0.0f, 1.0f, f, "shadow.bias.constant"));
+  FACET_TRY(check_range(s.bias.slope, 0.0f, 1e6f, f, "shadow.bias.slope"));
+  FACET_TRY(check_range(s.bias.normal, 0.0f, 1.0f, f, "shadow.bias.normal"));
+  return {};
+}
+
 Status validate_light(const Light& l, const Field& f) {
+  FACET_TRY(validate_shadow(l.shadow, f));
   FACET_TRY(check_color(l.ambient, f, "ambient"));
   FACET_TRY(check_color(l.diffuse, f, "diffuse"));
   FACET_TRY(check_color(l.specular, f, "specular"));
@@ -223,8 +270,13 @@ Status validate_lighting_inputs(const Scene& scene) {
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
     FACET_TRY(validate_material(scene.materials[i], Field{"materials", i, true}));
   }
+  int shadowed = 0;
   for (std::size_t i = 0; i < scene.lights.size(); ++i) {
     FACET_TRY(validate_light(scene.lights[i], Field{"lights", i, true}));
+    if (scene.lights[i].enabled && scene.lights[i].shadow.method != ShadowMethod::none && ++shadowed > kMaxShadowedLights) {
+      return invalid(Field{"lights", i, true}("shadow"),
+                     "at most " + std::to_string(kMaxShadowedLights) + " enabled lights can cast shadows");
+    }
   }
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const Instance& inst = scene.objects[i];

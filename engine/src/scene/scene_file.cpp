@@ -478,9 +478,12 @@ class SceneReader {
   }
 
   Status read_object(const json& j, const std::string& p, Scene& scene, Instance& inst) const {
-    FACET_TRY(expect_object(j, p, {"mesh", "material", "mesh_materials", "translate", "rotate_deg", "scale", "matrix"}));
+    FACET_TRY(expect_object(j, p, {"mesh", "material", "mesh_materials", "translate", "rotate_deg", "scale", "matrix",
+                                   "cast_shadows", "receive_shadows"}));
     FACET_TRY(find_by_name(j, p, "mesh", scene.meshes, "mesh", inst.mesh));
     FACET_TRY(opt_bool(j, p, "mesh_materials", inst.mesh_materials));
+    FACET_TRY(opt_bool(j, p, "cast_shadows", inst.cast_shadows));
+    FACET_TRY(opt_bool(j, p, "receive_shadows", inst.receive_shadows));
     if (inst.mesh_materials && j.contains("material")) {
       return invalid(child(p, "material"), "an object with \"mesh_materials\" takes its materials from its mesh's groups");
     }
@@ -543,7 +546,7 @@ class SceneReader {
 
   Status read_light(const json& j, const std::string& p, Light& l) const {
     FACET_TRY(expect_object(j, p, {"name", "type", "enabled", "position", "direction", "ambient", "diffuse",
-                                   "specular", "attenuation", "range", "spot"}));
+                                   "specular", "attenuation", "range", "spot", "shadow"}));
     FACET_TRY(opt_string(j, p, "name", l.name));
     if (!j.contains("type")) return invalid(child(p, "type"), "missing: \"directional\", \"point\" or \"spot\"");
     std::string type;
@@ -587,6 +590,36 @@ class SceneReader {
       FACET_TRY(opt_number(s, sp, "inner_deg", l.spot_inner_deg));
       FACET_TRY(opt_number(s, sp, "outer_deg", l.spot_outer_deg));
       FACET_TRY(opt_number(s, sp, "falloff", l.spot_falloff));
+    }
+    if (j.contains("shadow")) FACET_TRY(read_shadow(j["shadow"], child(p, "shadow"), l.shadow));
+    return {};
+  }
+
+  Status read_shadow(const json& s, const std::string& p, Shadow& shadow) const {
+    FACET_TRY(expect_object(s, p, {"method", "resolution", "filter", "bias"}));
+    if (!s.contains("method")) return invalid(child(p, "method"), "missing: \"raycast\", \"map\", \"volume\" or \"none\"");
+    std::string method;
+    FACET_TRY(read_enum(s["method"], child(p, "method"), {"none", "map", "volume", "raycast"}, method));
+    shadow.method = method == "none"     ? ShadowMethod::none
+                    : method == "map"    ? ShadowMethod::map
+                    : method == "volume" ? ShadowMethod::volume
+                                         : ShadowMethod::raycast;
+    FACET_TRY(opt_int(s, p, "resolution", 16, 16384, shadow.resolution));
+    if (s.contains("filter")) {
+      std::string filter;
+      FACET_TRY(read_enum(s["filter"], child(p, "filter"), {"none", "pcf2x2", "pcf3x3", "pcf5x5"}, filter));
+      shadow.filter = filter == "none"     ? ShadowFilter::none
+                      : filter == "pcf2x2" ? ShadowFilter::pcf2x2
+                      : filter == "pcf3x3" ? ShadowFilter::pcf3x3
+                                           : ShadowFilter::pcf5x5;
+    }
+    if (s.contains("bias")) {
+      const json& b = s["bias"];
+      const std::string bp = child(p, "bias");
+      FACET_TRY(expect_object(b, bp, {"constant", "slope", "normal"}));
+      FACET_TRY(opt_number(b, bp, "constant", shadow.bias.constant));
+      FACET_TRY(opt_number(b, bp, "slope", shadow.bias.slope));
+      FACET_TRY(opt_number(b, bp, "normal", shadow.bias.normal));
     }
     return {};
   }

@@ -1,0 +1,136 @@
+#include "shadow/raycast.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <embree3/rtcore.h>
+
+namespace facet::shadow {
+
+void record_error(void* user, int code, const char* message) {
+  auto* caster = static_cast<RayCaster*>(user);
+  if (caster->error_code_ == 0) {  // keep the first
+    caster->error_code_ = code;
+    caster->error_ = message ? message : "";
+  }
+}
+
+namespace {
+
+void on_error(void* user, RTCError code, const char* message) { record_error(user, static_cast<int>(code), message); }
+
+}  // namespace
+
+RayCaster::~RayCaster() { release(); }
+
+void RayCaster::release() noexcept {
+  if (scene_) rtcReleaseScene(static_cast<RTCScene>(scene_));
+  if (device_) rtcReleaseDevice(static_cast<RTCDevice>(device_));
+  scene_ = nullptr;
+  device_ = nullptr;
+  triangles_ = 0;
+}
+
+Status RayCaster::build(const Scene& scene, const Eigen::Matrix4d& view) {
+  if (scene_) {
+    rtcReleaseScene(static_cast<RTCScene>(scene_));
+    scene_ = nullptr;
+  }
+  triangles_ = 0;
+  radius_ = 0.0f;
+  error_code_ = 0;
+  error_.clear();
+  if (!device_) {
+    // No "threads=" setting: it would install a process-wide tbb::global_control.
+    RTCDevice device = rtcNewDevice("verbose=0");
+    if (!device) return {ErrorCode::out_of_memory, "", "shadows: could not create the Embree device"};
+    rtcSetDeviceErrorFunction(device, on_error, this);
+    device_ = device;
+  }
+  auto failed = [this](const char* what) -> Status {
+    const ErrorCode code = error_code_ == RTC_ERROR_OUT_OF_MEMORY ? ErrorCode::out_of_memory : ErrorCode::unsupported;
+    return {code, "", std::string("shadows: ") + what + (error_.empty() ? "" : ": " + error_)};
+  };
+  auto* device = static_cast<RTCDevice>(device_);
+  RTCScene rs = rtcNewScene(device);
+  if (!rs) return failed("could not create the Embree scene");
+  scene_ = rs;
+  rtcSetSceneFlags(rs, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(rs, RTC_BUILD_QUALITY_MEDIUM);
+  Eigen::AlignedBox3d bounds;
+  for (const Instance& inst : scene.objects) {
+    if (!inst.cast_shadows) continue;
+    const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    if (mesh.triangles.empty()) continue;
+    const Eigen::Matrix4d mv = view * inst.model.cast<double>();
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    if (!g) return failed("could not create a geometry");
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                           3 * sizeof(float), mesh.positions.size()));
+    auto* t = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(std::uint32_t), mesh.triangles.size()));
+    if (!v || !t) {
+      rtcReleaseGeometry(g);
+      return failed("could not allocate the casters' buffers");
+    }
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+      const Eigen::Vector4d e = mv * mesh.positions[i].cast<double>().homogeneous();
+      for (int c = 0; c < 3; ++c) v[3 * i + c] = static_cast<float>(e[c]);
+      if (e.head<3>().allFinite()) bounds.extend(e.head<3>());
+    }
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+      for (int c = 0; c < 3; ++c) t[3 * i + c] = mesh.triangles[i][static_cast<std::size_t>(c)];
+    }
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(rs, g);
+    rtcReleaseGeometry(g);
+    triangles_ += mesh.triangles.size();
+  }
+  rtcCommitScene(rs);
+  if (error_code_ != 0) return failed("building the casters' hierarchy failed");
+  if (!bounds.isEmpty()) radius_ = static_cast<float>(0.5 * bounds.diagonal().norm());
+  return {};
+}
+
+void RayCaster::visibility(const Target& target, float offset, std::size_t count, const float* px, const float* py,
+                           const float* pz, const float* nx, const float* ny, const float* nz, std::size_t stride,
+                           float* visible) const {
+  if (!scene_ || triangles_ == 0) {
+    for (std::size_t i = 0; i < count; ++i) visible[i] = 1.0f;
+    return;
+  }
+  auto* rs = static_cast<RTCScene>(scene_);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::size_t at = i * stride;
+    const float n2 = nx[at] * nx[at] + ny[at] * ny[at] + nz[at] * nz[at];
+    const float scale = n2 > 1e-12f ? offset / std::sqrt(n2) : 0.0f;  // the offset along the unit normal
+    RTCRay ray;
+    ray.org_x = px[at] + scale * nx[at];
+    ray.org_y = py[at] + scale * ny[at];
+    ray.org_z = pz[at] + scale * nz[at];
+    if (target.directional) {
+      ray.dir_x = target.x, ray.dir_y = target.y, ray.dir_z = target.z;
+      ray.tfar = std::numeric_limits<float>::infinity();
+    } else {  // the segment to the light: t in [0, 1)
+      ray.dir_x = target.x - ray.org_x, ray.dir_y = target.y - ray.org_y, ray.dir_z = target.z - ray.org_z;
+      ray.tfar = 1.0f;
+    }
+    ray.tnear = 0.0f;
+    ray.time = 0.0f;
+    ray.mask = 0xffffffffu;
+    ray.id = 0;
+    ray.flags = 0;
+    const bool finite = std::isfinite(ray.org_x) && std::isfinite(ray.org_y) && std::isfinite(ray.org_z) &&
+                        std::isfinite(ray.dir_x) && std::isfinite(ray.dir_y) && std::isfinite(ray.dir_z);
+    if (!finite) {  // no ray to cast: not shadowed (the lighting of such a point is zero or undefined anyway)
+      visible[i] = 1.0f;
+      continue;
+    }
+    rtcOccluded1(rs, &context, &ray);
+    visible[i] = ray.tfar == -std::numeric_limits<float>::infinity() ? 0.0f : 1.0f;
+  }
+}
+
+}  // namespace facet::shadow

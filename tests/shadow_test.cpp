@@ -1,0 +1,213 @@
+// Shadows (issue 17): ray-cast shadows through Embree against the analytic shadow of a sphere on
+// a plane, the shadowed light's terms (ambient kept, diffuse and specular blocked), the object
+// flags, determinism over threads, and the refusals (methods not implemented yet, Gouraud).
+#include <cmath>
+#include <cstring>
+
+#include <Eigen/Dense>
+
+#include "render_support.hpp"
+
+namespace facet {
+namespace {
+
+using test::Canvas;
+
+constexpr int kSize = 96;
+const Vec3 kCentre(0.0f, 1.5f, 0.0f);
+constexpr float kRadius = 1.0f;
+
+// A plane seen from above, a sphere over it, one directional light at 45 degrees that casts
+// ray-cast shadows; Phong, no specular.
+Scene sphere_over_plane() {
+  Scene s;
+  s.meshes.push_back({"plane", make_plane(8.0f, 8.0f, 4)});
+  s.meshes.push_back({"ball", make_uv_sphere(kRadius, 96, 48)});
+  Material m;
+  m.ambient = Color3(1, 1, 1);
+  m.diffuse = Color3(1, 1, 1);
+  m.specular = Color3(0, 0, 0);
+  s.materials.push_back(m);
+  s.objects.push_back(Instance{0, 0});
+  Instance ball{1, 0};
+  ball.model.block<3, 1>(0, 3) = kCentre;
+  s.objects.push_back(ball);
+  Light sun;
+  sun.type = LightType::directional;
+  sun.direction = Vec3(1, -1, 0).normalized();
+  sun.diffuse = Color3(0.8f, 0.8f, 0.8f);
+  sun.specular = Color3(0, 0, 0);
+  sun.shadow.method = ShadowMethod::raycast;
+  s.lights.push_back(sun);
+  s.global_ambient = Color3(0.2f, 0.2f, 0.2f);
+  s.camera.eye = Vec3(0, 12, 0);
+  s.camera.target = Vec3(0, 0, 0);
+  s.camera.up = Vec3(0, 0, -1);
+  s.camera.vertical_fov_deg = 40.0f;
+  s.camera.near = 1.0f;
+  s.camera.far = 30.0f;
+  return s;
+}
+
+std::vector<std::uint8_t> render(const Scene& s, int threads = 0, LightingPath path = LightingPath::simd,
+                                 Isa isa = Isa::best, Status* status = nullptr) {
+  Canvas c(kSize, kSize);
+  RenderOptions o;
+  o.shading = ShadingMode::phong;
+  o.threads = threads;
+  o.path = path;
+  o.isa = isa;
+  Renderer r;
+  const Status st = r.render(s, o, c.view());
+  if (status) *status = st;
+  else EXPECT_TRUE(st.ok()) << st.message();
+  std::vector<std::uint8_t> out(static_cast<std::size_t>(kSize * kSize * 4));
+  for (int y = 0; y < kSize; ++y) std::memcpy(&out[static_cast<std::size_t>(y * kSize * 4)], c.row(y), kSize * 4);
+  return out;
+}
+
+// Where the view ray through pixel (x, y)'s centre meets the plane y = 0, and how far (in world
+// units, measured on the plane) that point is from the edge of the sphere's exact shadow
+// (negative inside), and whether the sphere hides it from the camera.
+struct PlanePoint {
+  Vec3 p;
+  double shadow_margin;
+  bool behind_sphere;
+};
+PlanePoint plane_point(const Scene& s, int x, int y) {
+  const Eigen::Matrix4d vp = (projection_matrix(s.camera, 1.0f) * view_matrix(s.camera)).cast<double>();
+  const Eigen::Matrix4d inv = vp.inverse();
+  const double nx = 2.0 * (x + 0.5) / kSize - 1.0, ny = 1.0 - 2.0 * (y + 0.5) / kSize;
+  Eigen::Vector4d a = inv * Eigen::Vector4d(nx, ny, -1, 1), b = inv * Eigen::Vector4d(nx, ny, 1, 1);
+  const Eigen::Vector3d o = a.head<3>() / a.w(), e = b.head<3>() / b.w();
+  const Eigen::Vector3d d = (e - o).normalized();
+  const double t = -o.y() / d.y();
+  const Eigen::Vector3d p = o + t * d;
+  const Eigen::Vector3d c = kCentre.cast<double>();
+  // Shadow: the line from p towards the light passes within kRadius of the centre. Its distance
+  // to the centre minus the radius, scaled to the plane (the shadow is stretched by 1 / cos 45).
+  const Eigen::Vector3d to_light = -s.lights[0].direction.cast<double>().normalized();
+  const Eigen::Vector3d w = c - p;
+  const double along = w.dot(to_light);
+  const double dist = along > 0 ? (w - along * to_light).norm() : w.norm();
+  const Eigen::Vector3d wc = c - o;
+  const double view_dist = (wc - wc.dot(d) * d).norm();
+  return {p.cast<float>(), (dist - kRadius) * std::sqrt(2.0), view_dist < kRadius + 0.05};
+}
+
+TEST(Shadows, RaycastMatchesTheSpheresExactShadow) {
+  Scene s = sphere_over_plane();
+  const std::vector<std::uint8_t> shadowed = render(s);
+  Scene unshadowed_scene = s;
+  unshadowed_scene.lights[0].shadow.method = ShadowMethod::none;
+  const std::vector<std::uint8_t> lit = render(unshadowed_scene);
+  Scene dark_scene = s;
+  dark_scene.lights[0].enabled = false;
+  const std::vector<std::uint8_t> dark = render(dark_scene);
+  const double pixel = 8.0 / kSize * 1.2;  // a pixel's footprint on the plane, with room for the view's slant
+  int in_shadow = 0, in_light = 0, wrong = 0;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      const PlanePoint pp = plane_point(s, x, y);
+      if (pp.behind_sphere || std::abs(pp.p.x()) > 3.9f || std::abs(pp.p.z()) > 3.9f) continue;
+      const std::size_t at = static_cast<std::size_t>(y * kSize + x) * 4;
+      const bool equals_dark = std::memcmp(&shadowed[at], &dark[at], 3) == 0;
+      const bool equals_lit = std::memcmp(&shadowed[at], &lit[at], 3) == 0;
+      ASSERT_NE(std::memcmp(&lit[at], &dark[at], 3), 0) << "the light must reach the plane at " << x << ", " << y;
+      if (pp.shadow_margin < -pixel) {
+        ++in_shadow;
+        if (!equals_dark && ++wrong <= 5) ADD_FAILURE() << "lit inside the shadow at pixel " << x << ", " << y;
+      } else if (pp.shadow_margin > pixel) {
+        ++in_light;
+        if (!equals_lit && ++wrong <= 5) ADD_FAILURE() << "shadowed outside the shadow at pixel " << x << ", " << y;
+      } else {
+        EXPECT_TRUE(equals_dark || equals_lit) << "a pixel is either lit or in shadow: " << x << ", " << y;
+      }
+    }
+  }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GT(in_shadow, 200);
+  EXPECT_GT(in_light, 2000);
+}
+
+TEST(Shadows, SameBytesForEveryThreadCountAndPath) {
+  const Scene s = sphere_over_plane();
+  const std::vector<std::uint8_t> one = render(s, 1);
+  EXPECT_EQ(render(s, 2), one);
+  EXPECT_EQ(render(s, 3), one);
+  EXPECT_EQ(render(s, 8), one);
+  // The lighting paths differ in the last bit of their arithmetic, not in what is shadowed.
+  for (const LightingPath path : {LightingPath::reference, LightingPath::scalar}) {
+    const std::vector<std::uint8_t> other = render(s, 2, path);
+    int far = 0;
+    for (std::size_t i = 0; i < one.size(); ++i) far += std::abs(int(one[i]) - int(other[i])) > 1 ? 1 : 0;
+    EXPECT_EQ(far, 0) << "path " << int(path);
+  }
+}
+
+TEST(Shadows, ObjectFlagsAndLitPointsAreExact) {
+  const Scene s = sphere_over_plane();
+  Scene none = s;
+  none.lights[0].shadow.method = ShadowMethod::none;
+  const std::vector<std::uint8_t> unshadowed = render(none);
+  // Nothing casts: every point sees the light, and visibility 1 changes no bit.
+  Scene no_casters = s;
+  for (Instance& i : no_casters.objects) i.cast_shadows = false;
+  EXPECT_EQ(render(no_casters), unshadowed);
+  // Nothing receives: the same.
+  Scene no_receivers = s;
+  for (Instance& i : no_receivers.objects) i.receive_shadows = false;
+  EXPECT_EQ(render(no_receivers), unshadowed);
+  // Only the sphere casts and only the plane receives: still the shadow on the plane.
+  Scene split = s;
+  split.objects[0].cast_shadows = false;
+  split.objects[1].receive_shadows = false;
+  EXPECT_EQ(render(split), render(s));
+}
+
+TEST(Shadows, AmbientTermIsNotBlocked) {
+  Scene s = sphere_over_plane();
+  s.lights[0].ambient = Color3(0.3f, 0.3f, 0.3f);
+  const std::vector<std::uint8_t> img = render(s);
+  // A pixel inside the shadow (world (2.2, 0, 0)) keeps the light's ambient term: brighter than
+  // the scene's ambient alone (0.2 -> 51), equal to ambient + light ambient (0.5 -> 128).
+  int found = 0;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      const PlanePoint pp = plane_point(s, x, y);
+      if (pp.behind_sphere || pp.shadow_margin > -0.3) continue;
+      const std::size_t at = static_cast<std::size_t>(y * kSize + x) * 4;
+      EXPECT_NEAR(img[at], 128, 1) << x << ", " << y;
+      ++found;
+    }
+  }
+  EXPECT_GT(found, 50);
+}
+
+TEST(Shadows, RefusedWhereNotDrawnYet) {
+  Scene s = sphere_over_plane();
+  Canvas c(16, 16);
+  RenderOptions o;
+  o.shading = ShadingMode::gouraud;
+  Renderer r;
+  Status st = r.render(s, o, c.view());
+  EXPECT_EQ(st.code(), ErrorCode::unsupported);
+  EXPECT_NE(st.message().find("lights[0].shadow"), std::string::npos) << st.message();
+  EXPECT_TRUE(c.untouched());
+  s.lights[0].shadow.method = ShadowMethod::map;
+  o.shading = ShadingMode::phong;
+  st = r.render(s, o, c.view());
+  EXPECT_EQ(st.code(), ErrorCode::unsupported);
+  EXPECT_NE(st.message().find("not implemented yet"), std::string::npos) << st.message();
+  EXPECT_TRUE(c.untouched());
+  // At most kMaxShadowedLights lights cast shadows.
+  s.lights.assign(kMaxShadowedLights + 1, s.lights[0]);
+  for (Light& l : s.lights) l.shadow.method = ShadowMethod::raycast;
+  st = r.render(s, o, c.view());
+  EXPECT_EQ(st.code(), ErrorCode::invalid_argument);
+  EXPECT_NE(st.message().find("at most"), std::string::npos) << st.message();
+  EXPECT_TRUE(c.untouched());
+}
+
+}  // namespace
+}  // namespace facet
