@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # facet's command line and files: a FIFO is refused at once (never blocks), -o into a missing
 # directory fails without creating it, and a write cut short by `ulimit -f` keeps the old file
-# byte for byte and leaves no temporary file.   usage: cli_files_test.sh FACET GOLDEN.png WORKDIR
+# byte for byte and leaves no temporary file; check and render report ray-cast shadows.   usage: cli_files_test.sh FACET GOLDEN.png WORKDIR
 set -u
 facet="$1" golden="$2" work="$3"
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
@@ -24,4 +24,13 @@ for ext in png pfm; do
   check "the old .$ext file is intact" '[ "$(cat old.$ext)" = "the old output" ]'
   check "no temporary file is left (.$ext)" '[ "$(ls | grep -c "^old\.$ext\.")" -eq 0 ]'
 done
+
+# Shadows: facet check and facet render know where they are drawn.
+shadows="$(cd "$(dirname "$golden")/../scenes" && pwd)/shadows.json"
+out=$("$facet" check "$shadows" --shading phong 2>&1); rc=$?
+check "check reports the shadowed lights (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"shadows: 2 lights (sun raycast, spot raycast)"* ]]'
+out=$("$facet" check "$shadows" 2>&1); rc=$?
+check "check refuses shadows in Gouraud shading (exit $rc: $out)" '[ $rc -eq 2 ] && [[ "$out" == *"lights[0].shadow"*"--shading phong"* ]]'
+out=$("$facet" render "$shadows" --shading phong --width 64 --height 48 --stats -o shadows.png 2>&1); rc=$?
+check "render draws ray-cast shadows (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"shadows     ray-cast: 4108 caster triangles"* ]] && [ -s shadows.png ]'
 exit $failed

@@ -31,6 +31,7 @@ constexpr const char* kCheckUsage =
     "\n"
     "options:\n"
     "  --width W, --height H   the image size to check for (default 1280 x 720)\n"
+    "  --shading MODE          flat, gouraud (default) or phong, as for 'facet render'\n"
     "  --memory-budget-mb M    as for 'facet render' (default 4096; 0 = no limit)\n";
 
 struct PathResult {
@@ -206,6 +207,13 @@ int run_check(int argc, char** argv) {
       const auto v = args.int_value(arg, 0, 1 << 30);
       if (!v) return 2;
       options.memory_budget_bytes = static_cast<std::uint64_t>(*v) << 20;
+    } else if (arg == "--shading") {
+      const auto v = args.value(arg);
+      if (!v) return 2;
+      if (*v == "flat") options.shading = ShadingMode::flat;
+      else if (*v == "gouraud") options.shading = ShadingMode::gouraud;
+      else if (*v == "phong") options.shading = ShadingMode::phong;
+      else return fail("--shading: unknown mode '" + *v + "' (flat, gouraud or phong)");
     } else if (!arg.empty() && arg[0] == '-') {
       return fail("check: unknown option '" + arg + "' (see 'facet check --help')");
     } else if (scene_path.empty()) {
@@ -233,6 +241,19 @@ int run_check(int argc, char** argv) {
               scene_path.c_str(), scene->meshes.size(), scene->materials.size(), scene->objects.size(),
               scene_vertices(*scene), triangles, scene->lights.size(), width, height,
               static_cast<unsigned long long>((estimate_frame_bytes(*scene, options, width, height) + (1u << 20) - 1) >> 20));
+  std::size_t shadowed = 0, casters = 0, receivers = 0;
+  std::string methods;
+  for (const auto& l : scene->lights) {
+    if (!l.enabled || l.shadow.method == ShadowMethod::none) continue;
+    ++shadowed;
+    methods += std::string(methods.empty() ? "" : ", ") + (l.name.empty() ? "(unnamed)" : l.name) + " " +
+               to_string(l.shadow.method);
+  }
+  for (const auto& obj : scene->objects) casters += obj.cast_shadows, receivers += obj.receive_shadows;
+  if (shadowed > 0) {
+    std::printf("  shadows: %zu lights (%s), %zu casting and %zu receiving objects\n", shadowed,
+                methods.c_str(), casters, receivers);
+  }
   if (!scene->textures.empty() || blended > 0 || scene->fog.mode != FogMode::none) {
     std::printf("  surfaces: %zu textures (%llu KiB with their mipmaps), %zu textured and %zu blended objects, fog %s\n",
                 scene->textures.size(), static_cast<unsigned long long>((4 * texels + 1023) / 1024), textured, blended,

@@ -107,6 +107,21 @@ typedef struct facet_fog {
   float density;    /* exp, exp2: >= 0 */
 } facet_fog;
 
+/* Shadows of a light (facet::Shadow; docs/shadows.md). MAP and VOLUME are not implemented yet:
+ * facet_scene_add_light refuses them with FACET_UNSUPPORTED. Shadows are drawn in Phong shading. */
+typedef enum facet_shadow_method {
+  FACET_SHADOW_NONE = 0,
+  FACET_SHADOW_MAP = 1,
+  FACET_SHADOW_VOLUME = 2,
+  FACET_SHADOW_RAYCAST = 3 /* exact: a shadow ray per shaded point (Intel Embree) */
+} facet_shadow_method;
+typedef enum facet_shadow_filter {
+  FACET_SHADOW_FILTER_NONE = 0,
+  FACET_SHADOW_PCF2X2 = 1,
+  FACET_SHADOW_PCF3X3 = 2,
+  FACET_SHADOW_PCF5X5 = 3
+} facet_shadow_filter;
+
 typedef struct facet_light {
   facet_light_type type;
   float position[3];  /* point, spot: world space */
@@ -115,6 +130,14 @@ typedef struct facet_light {
   float constant_attenuation, linear_attenuation, quadratic_attenuation;
   float spot_cutoff_deg; /* spot: [0, 90] or 180 */
   float spot_exponent;
+  /* Shadows; default FACET_SHADOW_NONE, resolution 2048, PCF3X3, bias 0, 0 and normal 1e-4 (a
+   * fraction of the casters' bounding radius). */
+  facet_shadow_method shadow_method;
+  int shadow_resolution;     /* map: [16, 16384] */
+  facet_shadow_filter shadow_filter;
+  float shadow_bias_constant; /* map: [0, 1] */
+  float shadow_bias_slope;    /* map: >= 0 */
+  float shadow_bias_normal;   /* [0, 1] */
 } facet_light;
 
 typedef struct facet_camera {
@@ -188,6 +211,9 @@ facet_status facet_scene_add_object(facet_scene* scene, uint32_t mesh_id, uint32
 facet_status facet_scene_add_object_with_mesh_materials(facet_scene* scene, uint32_t mesh_id, const float* model,
                                                         uint32_t* object_id);
 facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light);
+/* Whether an object blocks shadowed lights (cast) and can be in shadow (receive); both default
+ * to non-zero. */
+facet_status facet_scene_set_object_shadows(facet_scene* scene, uint32_t object_id, int cast, int receive);
 facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* camera);
 facet_status facet_scene_set_global_ambient(facet_scene* scene, const float rgb[3]);
 facet_fog facet_fog_default(void); /* no fog; GL's defaults otherwise */

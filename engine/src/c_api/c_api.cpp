@@ -177,6 +177,12 @@ facet_light facet_light_default(void) {
   c.quadratic_attenuation = l.quadratic_attenuation;
   c.spot_cutoff_deg = l.spot_cutoff_deg;
   c.spot_exponent = l.spot_exponent;
+  c.shadow_method = static_cast<facet_shadow_method>(l.shadow.method);
+  c.shadow_resolution = l.shadow.resolution;
+  c.shadow_filter = static_cast<facet_shadow_filter>(l.shadow.filter);
+  c.shadow_bias_constant = l.shadow.bias.constant;
+  c.shadow_bias_slope = l.shadow.bias.slope;
+  c.shadow_bias_normal = l.shadow.bias.normal;
   return c;
 }
 
@@ -352,6 +358,26 @@ facet_status facet_scene_set_mesh_groups(facet_scene* scene, uint32_t mesh_id, c
   });
 }
 
+static_assert(static_cast<int>(facet::ShadowMethod::raycast) == FACET_SHADOW_RAYCAST &&
+              static_cast<int>(facet::ShadowMethod::map) == FACET_SHADOW_MAP &&
+              static_cast<int>(facet::ShadowMethod::volume) == FACET_SHADOW_VOLUME);
+static_assert(static_cast<int>(facet::ShadowFilter::pcf5x5) == FACET_SHADOW_PCF5X5 &&
+              static_cast<int>(facet::ShadowFilter::pcf2x2) == FACET_SHADOW_PCF2X2);
+
+facet_status facet_scene_set_object_shadows(facet_scene* scene, uint32_t object_id, int cast, int receive) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (object_id >= scene->scene.objects.size()) {
+      return fail(scene->error, "object_id",
+                  "no object " + std::to_string(object_id) + " (" + std::to_string(scene->scene.objects.size()) + " objects)");
+    }
+    facet::Instance& inst = scene->scene.objects[object_id];
+    inst.cast_shadows = cast != 0;
+    inst.receive_shadows = receive != 0;
+    return report(scene->error, {});
+  });
+}
+
 facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light) {
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
@@ -371,6 +397,17 @@ facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light)
     l.quadratic_attenuation = light->quadratic_attenuation;
     l.spot_cutoff_deg = light->spot_cutoff_deg;
     l.spot_exponent = light->spot_exponent;
+    const long method = raw(light->shadow_method), filter = raw(light->shadow_filter);
+    if (method < FACET_SHADOW_NONE || method > FACET_SHADOW_RAYCAST) {
+      return fail(scene->error, "light.shadow_method", "unknown shadow method");
+    }
+    if (filter < FACET_SHADOW_FILTER_NONE || filter > FACET_SHADOW_PCF5X5) {
+      return fail(scene->error, "light.shadow_filter", "unknown shadow filter");
+    }
+    l.shadow.method = static_cast<facet::ShadowMethod>(method);
+    l.shadow.filter = static_cast<facet::ShadowFilter>(filter);
+    l.shadow.resolution = light->shadow_resolution;
+    l.shadow.bias = {light->shadow_bias_constant, light->shadow_bias_slope, light->shadow_bias_normal};
     if (facet::Status st = facet::validate_light(l, scene->scene.lights.size()); !st.ok()) {
       return report(scene->error, st);
     }

@@ -323,6 +323,19 @@ std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& opti
   bytes = sat_add(bytes, sat_mul(slots, 5 * tile * tile * 4 + 64 * 1024));
   const U tiles = (static_cast<U>(std::max(width, 1)) / tile + 1) * (static_cast<U>(std::max(height, 1)) / tile + 1);
   bytes = sat_add(bytes, sat_mul(tiles, 64));
+  // Ray-cast shadows: Embree's copy of the casters (12 bytes a vertex and a triangle's indices)
+  // and its hierarchy (allowed 96 bytes a triangle), and the per-thread visibility scratch.
+  const bool raycast = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
+    return l.enabled && l.shadow.method == ShadowMethod::raycast;
+  });
+  if (raycast) {
+    for (const Instance& inst : scene.objects) {
+      if (inst.mesh >= scene.meshes.size() || !inst.cast_shadows) continue;
+      const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+      bytes = sat_add(bytes, sat_add(sat_mul(mesh.vertex_count(), 12), sat_mul(mesh.triangle_count(), 12 + 96)));
+    }
+    bytes = sat_add(bytes, sat_mul(slots, U(kMaxShadowedLights) * (kVertexChunk + kTriangleRange) * 8));
+  }
   return bytes;
 }
 
