@@ -211,3 +211,30 @@ TEST(Shadows, RefusedWhereNotDrawnYet) {
 
 }  // namespace
 }  // namespace facet
+
+namespace facet {
+namespace {
+
+// Casters with huge, NaN and infinite coordinates, and degenerate triangles, some of them drawn
+// (clipped) so that shaded points lie beyond what Embree accepts (|coordinate| > 1.8e18: its
+// assertion aborted the process before such rays were left uncast): no crash, no hang, the same
+// bytes on every thread count.
+TEST(Shadows, HostileCastersAreHarmless) {
+  Scene s = sphere_over_plane();
+  Mesh junk;
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  junk.positions = {Vec3(0, 2, 0),     Vec3(1e30f, 2, 0), Vec3(0, 2, 1e30f), Vec3(nan, 2, 0), Vec3(1, 2, 1),
+                    Vec3(inf, 2, -inf), Vec3(0.5f, 2, 0.5f), Vec3(0.5f, 2, 0.5f), Vec3(-1e30f, -1e30f, 3)};
+  junk.triangles = {{0, 1, 2}, {0, 3, 4}, {5, 4, 0}, {6, 7, 0}, {8, 1, 2}, {6, 6, 6}};
+  junk.normals.assign(junk.positions.size(), Vec3(0, 1, 0));
+  s.meshes.push_back({"junk", junk});
+  s.objects.push_back(Instance{2, 0});
+  Status st;
+  const std::vector<std::uint8_t> one = render(s, 1, LightingPath::simd, Isa::best, &st);
+  ASSERT_TRUE(st.ok()) << st.message();  // such meshes are valid: their bad triangles are dropped
+  EXPECT_EQ(render(s, 2), one);
+  EXPECT_EQ(render(s, 8), one);
+}
+
+}  // namespace
+}  // namespace facet

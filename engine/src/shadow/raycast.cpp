@@ -18,6 +18,9 @@ void record_error(void* user, int code, const char* message) {
 
 namespace {
 
+// Rays Embree accepts: |origin|, |direction| per coordinate below its FLT_LARGE (1.844e18).
+constexpr float kMaxRayCoordinate = 1e18f;
+
 void on_error(void* user, RTCError code, const char* message) { record_error(user, static_cast<int>(code), message); }
 
 }  // namespace
@@ -128,9 +131,12 @@ void RayCaster::visibility(const Target& target, float offset, std::size_t count
       } else {  // the segment to the light: t in [0, 1]
         dx = target.x - ox, dy = target.y - oy, dz = target.z - oz, tfar = 1.0f;
       }
-      const bool finite = std::isfinite(ox) && std::isfinite(oy) && std::isfinite(oz) && std::isfinite(dx) &&
-                          std::isfinite(dy) && std::isfinite(dz);
-      if (!finite) continue;  // no ray to cast: not shadowed (such a point's lighting is zero or undefined)
+      // Embree takes rays whose origin and direction are within +-1.844e18 per coordinate (it
+      // asserts otherwise: Debian's build aborts). Others are not cast: the point counts as lit.
+      const float big = kMaxRayCoordinate;
+      const bool castable = std::abs(ox) <= big && std::abs(oy) <= big && std::abs(oz) <= big && std::abs(dx) <= big &&
+                            std::abs(dy) <= big && std::abs(dz) <= big;  // false for NaN too
+      if (!castable) continue;
       valid[l] = -1;
       rays.org_x[l] = ox, rays.org_y[l] = oy, rays.org_z[l] = oz;
       rays.dir_x[l] = dx, rays.dir_y[l] = dy, rays.dir_z[l] = dz;
