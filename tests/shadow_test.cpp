@@ -86,9 +86,13 @@ PlanePoint plane_point(const Scene& s, int x, int y) {
   const Eigen::Vector3d c = kCentre.cast<double>();
   // Shadow: the line from p towards the light passes within kRadius of the centre. Its distance
   // to the centre minus the radius, scaled to the plane (the shadow is stretched by 1 / cos 45).
-  const Eigen::Vector3d to_light = -s.lights[0].direction.cast<double>().normalized();
+  const Light& light = s.lights[0];
+  const bool directional = light.type == LightType::directional;
+  const Eigen::Vector3d to_light = directional ? Eigen::Vector3d(-light.direction.cast<double>().normalized())
+                                               : Eigen::Vector3d((light.position.cast<double>() - p).normalized());
+  const double reach = directional ? 1e300 : (light.position.cast<double>() - p).norm();
   const Eigen::Vector3d w = c - p;
-  const double along = w.dot(to_light);
+  const double along = std::min(w.dot(to_light), reach);
   const double dist = along > 0 ? (w - along * to_light).norm() : w.norm();
   const Eigen::Vector3d wc = c - o;
   const double view_dist = (wc - wc.dot(d) * d).norm();
@@ -128,6 +132,48 @@ TEST(Shadows, RaycastMatchesTheSpheresExactShadow) {
   EXPECT_EQ(wrong, 0);
   EXPECT_GT(in_shadow, 200);
   EXPECT_GT(in_light, 2000);
+}
+
+// The same with a spot light above and beside the sphere: its cone covers part of the plane;
+// outside the cone no ray is cast (the light gives nothing there), inside the shadow is exact.
+TEST(Shadows, SpotLightMatchesTheSpheresExactShadow) {
+  Scene s = sphere_over_plane();
+  Light& spot = s.lights[0];
+  spot.type = LightType::spot;
+  spot.position = Vec3(-2.0f, 4.5f, 0.0f);
+  spot.direction = Vec3(0.8f, -1.0f, 0.0f).normalized();
+  spot.spot_shape = SpotShape::smooth_cone;
+  spot.spot_inner_deg = 30.0f;
+  spot.spot_outer_deg = 40.0f;
+  const std::vector<std::uint8_t> shadowed = render(s);
+  Scene unshadowed_scene = s;
+  unshadowed_scene.lights[0].shadow.method = ShadowMethod::none;
+  const std::vector<std::uint8_t> lit = render(unshadowed_scene);
+  Scene dark_scene = s;
+  dark_scene.lights[0].enabled = false;
+  const std::vector<std::uint8_t> dark = render(dark_scene);
+  const double pixel = 8.0 / kSize * 2.0;  // the point light's shadow stretches more on the plane
+  int in_shadow = 0, wrong = 0;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      const PlanePoint pp = plane_point(s, x, y);
+      if (pp.behind_sphere || std::abs(pp.p.x()) > 3.9f || std::abs(pp.p.z()) > 3.9f) continue;
+      const std::size_t at = static_cast<std::size_t>(y * kSize + x) * 4;
+      if (std::memcmp(&lit[at], &dark[at], 3) == 0) continue;  // outside the cone: nothing to shadow
+      const bool equals_dark = std::memcmp(&shadowed[at], &dark[at], 3) == 0;
+      const bool equals_lit = std::memcmp(&shadowed[at], &lit[at], 3) == 0;
+      if (pp.shadow_margin < -pixel) {
+        ++in_shadow;
+        if (!equals_dark && ++wrong <= 5) ADD_FAILURE() << "lit inside the shadow at pixel " << x << ", " << y;
+      } else if (pp.shadow_margin > pixel) {
+        if (!equals_lit && ++wrong <= 5) ADD_FAILURE() << "shadowed outside the shadow at pixel " << x << ", " << y;
+      }
+    }
+  }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GT(in_shadow, 100);
+  // Outside the cone the image is the unshadowed one: skipping rays there changes no byte.
+  EXPECT_EQ(std::memcmp(shadowed.data(), lit.data(), 4), 0);
 }
 
 TEST(Shadows, SameBytesForEveryThreadCountAndPath) {

@@ -108,6 +108,15 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
     const V3<double>& at = t.directional ? L.to_light : L.position;
     t.x = static_cast<float>(at.x), t.y = static_cast<float>(at.y), t.z = static_cast<float>(at.z);
     offsets_[shadow_slots_] = sh.bias.normal * caster->radius();
+    if (L.type == LightType::spot) {  // where the cone ends (SpotShape's zero), for skipping rays
+      t.spot = true;
+      t.axis_x = static_cast<float>(L.spot_axis.x), t.axis_y = static_cast<float>(L.spot_axis.y);
+      t.axis_z = static_cast<float>(L.spot_axis.z);
+      const bool cone = L.spot_shape == SpotShape::smooth_cone || L.has_cone;
+      t.cos_outer = !cone ? -2.0f
+                          : static_cast<float>(L.spot_shape == SpotShape::smooth_cone ? L.cos_outer : L.cos_cutoff);
+    }
+    if (L.inv_range > 0.0) t.range = static_cast<float>(1.0 / L.inv_range);
     L.shadow = shadow_slots_++;
   }
   auto same_slots = [this](ShadeParams<float>& params) {
