@@ -60,6 +60,13 @@ std::optional<PowTier> parse_pow_tier(const std::string& name) {
   return std::nullopt;
 }
 
+std::optional<ShadingMode> parse_shading(const std::string& name) {
+  if (name == "flat") return ShadingMode::flat;
+  if (name == "gouraud") return ShadingMode::gouraud;
+  if (name == "phong") return ShadingMode::phong;
+  return std::nullopt;
+}
+
 std::string describe_path(LightingPath path, Isa isa, PowTier tier) {
   if (path != LightingPath::simd) return to_string(path);
   return std::string("simd ") + to_string(isa == Isa::best ? best_isa() : isa) + " (pow " + to_string(tier) + ")";

@@ -36,6 +36,7 @@ class Args {
 std::optional<LightingPath> parse_path(const std::string& name);
 std::optional<Isa> parse_isa(const std::string& name);  // "auto" -> Isa::best
 std::optional<PowTier> parse_pow_tier(const std::string& name);
+std::optional<ShadingMode> parse_shading(const std::string& name);  // flat, gouraud, phong
 // "reference", "scalar", or "simd avx512 (pow auto)" with `best` resolved.
 std::string describe_path(LightingPath path, Isa isa, PowTier tier);
 

@@ -210,10 +210,9 @@ int run_check(int argc, char** argv) {
     } else if (arg == "--shading") {
       const auto v = args.value(arg);
       if (!v) return 2;
-      if (*v == "flat") options.shading = ShadingMode::flat;
-      else if (*v == "gouraud") options.shading = ShadingMode::gouraud;
-      else if (*v == "phong") options.shading = ShadingMode::phong;
-      else return fail("--shading: unknown mode '" + *v + "' (flat, gouraud or phong)");
+      const auto mode = parse_shading(*v);
+      if (!mode) return fail("--shading: unknown mode '" + *v + "' (flat, gouraud or phong)");
+      options.shading = *mode;
     } else if (!arg.empty() && arg[0] == '-') {
       return fail("check: unknown option '" + arg + "' (see 'facet check --help')");
     } else if (scene_path.empty()) {

@@ -128,10 +128,9 @@ int run_render(int argc, char** argv) {
     } else if (arg == "--shading") {
       const auto v = args.value(arg);
       if (!v) return 2;
-      if (*v == "flat") options.shading = ShadingMode::flat;
-      else if (*v == "gouraud") options.shading = ShadingMode::gouraud;
-      else if (*v == "phong") options.shading = ShadingMode::phong;
-      else return fail("--shading: unknown mode '" + *v + "' (flat, gouraud or phong)");
+      const auto mode = parse_shading(*v);
+      if (!mode) return fail("--shading: unknown mode '" + *v + "' (flat, gouraud or phong)");
+      options.shading = *mode;
     } else if (arg == "--path") {
       const auto v = args.value(arg);
       if (!v) return 2;

@@ -21,6 +21,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "common/gather_simd.hpp"
 #include "geometry/project.hpp"
 #include "raster/raster_kernels.hpp"
 #include "raster/triangle_setup.hpp"
@@ -39,18 +40,7 @@ struct Place {
   static_assert(offsetof(geometry::ScreenVertex, guard) == 17 && offsetof(geometry::ScreenVertex, finite) == 18 &&
                 offsetof(geometry::ScreenVertex, projected) == 19 && sizeof(bool) == 1);
 
-  static I gather(const std::int32_t* base, const I& index) {
-    if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
-      return I(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), __mmask16(0xffff), index, base, 4));
-    } else if constexpr (std::is_base_of_v<xsimd::avx2, Arch>) {
-      return I(_mm256_i32gather_epi32(base, index, 4));
-    } else {
-      alignas(64) std::int32_t at[W], out[W];
-      index.store_aligned(at);
-      for (int l = 0; l < W; ++l) out[l] = base[at[l]];
-      return I::load_aligned(out);
-    }
-  }
+  static I gather(const std::int32_t* base, const I& index) { return simd_util::gather32<Arch>(base, index); }
   // The low 32 bits of a * b (exact when the product fits, as here).
   static I mul(const I& a, const I& b) {
     if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {

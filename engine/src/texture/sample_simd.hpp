@@ -14,6 +14,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "common/gather_simd.hpp"
 #include "texture/sampler.hpp"
 
 namespace facet::texture::simd {
@@ -78,20 +79,8 @@ struct SampleSimd {
   // Level `level` (per lane) of each lane, nearest or bilinear: RGBA in out[0..3]. The level's
   // size and the texels come from the Sampler's tables with gathers (avx2 and avx512 have them;
   // xsimd emulates them on sse2): the same integers as the scalar twin's per-lane reads.
-  // 32-bit gathers: the hardware's on avx2 and avx512 (xsimd 8.1 falls back to element inserts
-  // for avx512bw), element loads on sse2.
   static I gather(const std::int32_t* base, const I& index) {
-    using A = typename F::arch_type;
-    if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
-      return I(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), __mmask16(0xffff), index, base, 4));
-    } else if constexpr (std::is_base_of_v<xsimd::avx2, A>) {
-      return I(_mm256_i32gather_epi32(base, index, 4));
-    } else {
-      alignas(64) std::int32_t at[W], out[W];
-      index.store_aligned(at);
-      for (int l = 0; l < W; ++l) out[l] = base[at[l]];
-      return I::load_aligned(out);
-    }
+    return simd_util::gather32<typename F::arch_type>(base, index);
   }
   static F gather(const float* base, const I& index) {
     return xsimd::bitwise_cast<F>(gather(reinterpret_cast<const std::int32_t*>(base), index));
