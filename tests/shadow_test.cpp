@@ -272,3 +272,47 @@ TEST(Shadows, HostileCastersAreHarmless) {
 
 }  // namespace
 }  // namespace facet
+
+#include "shadow/raycast.hpp"
+
+namespace facet {
+namespace {
+
+// The caster's queries on their own: points and directions beyond what Embree accepts (it asserts
+// and aborts on rays with coordinates past 1.8e18) are not cast and count as lit; a point under a
+// square is shadowed, one beside it is not; a stray far vertex does not change the radius.
+TEST(Shadows, RayCasterQueriesAreSafe) {
+  Scene s;
+  Mesh square;
+  square.positions = {Vec3(-1, 1, -1), Vec3(1, 1, -1), Vec3(1, 1, 1), Vec3(-1, 1, 1), Vec3(1e30f, 0, 0)};
+  square.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 4, 0}};
+  square.normals.assign(square.positions.size(), Vec3(0, 1, 0));
+  s.meshes.push_back({"square", square});
+  s.materials.push_back(Material{});
+  s.objects.push_back(Instance{0, 0});
+  shadow::RayCaster caster;
+  ASSERT_TRUE(caster.build(s, Eigen::Matrix4d::Identity()).ok());
+  EXPECT_EQ(caster.triangle_count(), 3u);
+  EXPECT_NEAR(caster.radius(), std::sqrt(2.0f), 1e-5f);  // the flat square's half diagonal: the 1e30 vertex is left out
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  const float px[] = {0, 3, 1e30f, 0, nan, 0, 0}, py[] = {0, 0, 0, -1e25f, 0, inf, 0}, pz[] = {0, 0, 0, 0, 0, 0, 1e19f};
+  const float nx[7] = {}, ny[] = {1, 1, 1, 1, 1, 1, 1}, nz[7] = {};
+  float visible[7];
+  shadow::RayCaster::Target up;
+  up.directional = true, up.y = 1.0f;
+  caster.visibility(up, 0.0f, 7, px, py, pz, nx, ny, nz, 1, visible);
+  EXPECT_EQ(visible[0], 0.0f);  // under the square
+  EXPECT_EQ(visible[1], 1.0f);  // beside it
+  for (int i = 2; i < 7; ++i) EXPECT_EQ(visible[i], 1.0f) << "point " << i << " is not castable: lit";
+  shadow::RayCaster::Target lamp;  // a point light above the square, and one at 1e30
+  lamp.y = 5.0f;
+  caster.visibility(lamp, 0.0f, 2, px, py, pz, nx, ny, nz, 1, visible);
+  EXPECT_EQ(visible[0], 0.0f);
+  EXPECT_EQ(visible[1], 1.0f);
+  lamp.y = 1e30f;
+  caster.visibility(lamp, 0.0f, 2, px, py, pz, nx, ny, nz, 1, visible);
+  EXPECT_EQ(visible[0], 1.0f);  // the segment's direction is beyond Embree's range: not cast
+}
+
+}  // namespace
+}  // namespace facet

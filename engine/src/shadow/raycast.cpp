@@ -104,7 +104,9 @@ Status RayCaster::build(const Scene& scene, const Eigen::Matrix4d& view) {
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
       const Eigen::Vector4d e = mv * mesh.positions[i].cast<double>().homogeneous();
       for (int c = 0; c < 3; ++c) v[3 * i + c] = static_cast<float>(e[c]);
-      if (e.head<3>().allFinite()) bounds.extend(e.head<3>());
+      // The radius counts what Embree keeps: a vertex beyond the rays' range makes its triangles
+      // invalid there (and one stray vertex must not blow the normal offset up).
+      if (e.head<3>().allFinite() && e.head<3>().cwiseAbs().maxCoeff() <= kMaxRayCoordinate) bounds.extend(e.head<3>());
     }
     for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
       for (int c = 0; c < 3; ++c) t[3 * i + c] = mesh.triangles[i][static_cast<std::size_t>(c)];

@@ -36,7 +36,8 @@ class RayCaster {
   Status build(const Scene& scene, const Eigen::Matrix4d& view);
   bool empty() const noexcept { return triangles_ == 0; }
   std::size_t triangle_count() const noexcept { return triangles_; }
-  // Radius of a sphere around the casters (eye space): the unit of ShadowBias::normal.
+  // Radius of a sphere around the casters' vertices within +-1e18 (eye space): the unit of
+  // ShadowBias::normal.
   float radius() const noexcept { return radius_; }
 
   // A light as the queries see it, in eye space: a position (point, spot) or the unit direction
