@@ -294,6 +294,13 @@ Status check_render_options(const RenderOptions& options) noexcept {
   }
 }
 
+// Whether some enabled light of `scene` casts ray-cast shadows.
+static bool casts_raycast_shadows(const Scene& scene) {
+  return std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
+           return l.enabled && l.shadow.method == ShadowMethod::raycast;
+         });
+}
+
 std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& options, int width, int height) noexcept {
   using U = std::uint64_t;
   const auto sat_add = [](U a, U b) { return a > ~U{0} - b ? ~U{0} : a + b; };
@@ -325,9 +332,7 @@ std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& opti
   bytes = sat_add(bytes, sat_mul(tiles, 64));
   // Ray-cast shadows: Embree's copy of the casters (12 bytes a vertex and a triangle's indices)
   // and its hierarchy (allowed 96 bytes a triangle), and the per-thread visibility scratch.
-  const bool raycast = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
-    return l.enabled && l.shadow.method == ShadowMethod::raycast;
-  });
+  const bool raycast = casts_raycast_shadows(scene);
   if (raycast) {
     for (const Instance& inst : scene.objects) {
       if (inst.mesh >= scene.meshes.size() || !inst.cast_shadows) continue;
@@ -441,6 +446,13 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     // The most points one lighting call takes: a vertex chunk, or a set-up range's triangles (flat).
     w.soa.reserve_padded(std::max(kVertexChunk, kTriangleRange));
   }
+  const bool raycast = casts_raycast_shadows(scene);
+  if (raycast) {  // the shadowed lights' visibility of a lighting call's points, and its padded copies
+    const std::size_t points = lighting::simd::padded(std::max(kVertexChunk, kTriangleRange));
+    for (WorkerScratch& w : workers) {
+      if (w.soa.visibility.size() < 2 * kMaxShadowedLights * points) w.soa.visibility.resize(2 * kMaxShadowedLights * points);
+    }
+  }
   simd_raster = options.path == LightingPath::simd;
   simd_kernels = simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr;
   passes.clear();
@@ -448,9 +460,6 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   passes.back().assembly.place = simd_kernels ? simd_kernels->place : nullptr;
   // Ray-cast shadows: the casters as Embree sees them, built here, in this renderer's arena.
   frame_caster = nullptr;
-  const bool raycast = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
-    return l.enabled && l.shadow.method == ShadowMethod::raycast;
-  });
   if (raycast) {
     const auto start = Clock::now();
     frame_status = caster.build(scene, passes.back().view);
