@@ -102,9 +102,10 @@ PlanePoint plane_point(const Scene& s, int x, int y) {
 // Renders `s` with its light's shadows, without them, and with the light off, and compares each
 // plane pixel with the sphere's exact shadow: more than `margin` (world units on the plane)
 // inside it the pixel must be the light-off one, more than `margin` outside it the unshadowed
-// one, byte for byte; in between either. Pixels the light does not reach (lit = dark) are
-// skipped. Returns the pixels checked in shadow and in light.
-std::pair<int, int> compare_with_exact_shadow(const Scene& s, double margin) {
+// one, byte for byte; in between either (`hard`), or (a filtered map) anything between the two.
+// Pixels the light does not reach (lit = dark) are skipped. Returns the pixels checked in shadow
+// and in light.
+std::pair<int, int> compare_with_exact_shadow(const Scene& s, double margin, bool hard = true) {
   const std::vector<std::uint8_t> shadowed = render(s);
   Scene unshadowed_scene = s;
   unshadowed_scene.lights[0].shadow.method = ShadowMethod::none;
@@ -127,8 +128,13 @@ std::pair<int, int> compare_with_exact_shadow(const Scene& s, double margin) {
       } else if (pp.shadow_margin > margin) {
         ++in_light;
         if (!equals_lit && ++wrong <= 5) ADD_FAILURE() << "shadowed outside the shadow at pixel " << x << ", " << y;
-      } else {
+      } else if (hard) {
         EXPECT_TRUE(equals_dark || equals_lit) << "a pixel is either lit or in shadow: " << x << ", " << y;
+      } else {
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_GE(shadowed[at + c], std::min(dark[at + c], lit[at + c]) - 1) << x << ", " << y;
+          EXPECT_LE(shadowed[at + c], std::max(dark[at + c], lit[at + c]) + 1) << x << ", " << y;
+        }
       }
     }
   }
@@ -228,7 +234,7 @@ TEST(Shadows, RefusedWhereNotDrawnYet) {
   EXPECT_EQ(st.code(), ErrorCode::unsupported);
   EXPECT_NE(st.message().find("lights[0].shadow"), std::string::npos) << st.message();
   EXPECT_TRUE(c.untouched());
-  s.lights[0].shadow.method = ShadowMethod::map;
+  s.lights[0].shadow.method = ShadowMethod::volume;
   o.shading = ShadingMode::phong;
   st = r.render(s, o, c.view());
   EXPECT_EQ(st.code(), ErrorCode::unsupported);
@@ -312,6 +318,350 @@ TEST(Shadows, RayCasterQueriesAreSafe) {
   lamp.y = 1e30f;
   caster.visibility(lamp, 0.0f, 2, px, py, pz, nx, ny, nz, 1, visible);
   EXPECT_EQ(visible[0], 1.0f);  // the segment's direction is beyond Embree's range: not cast
+}
+
+}  // namespace
+}  // namespace facet
+
+// Shadow maps (shadow/map.hpp): the same sphere over a plane with a map for a directional, a spot
+// and a point light (cube), each filter, against the sphere's exact shadow; determinism; what
+// happens with nothing to cast; and the stability cases of issue 17, each named.
+namespace facet {
+namespace {
+
+Scene with_map(Scene s, ShadowFilter filter = ShadowFilter::pcf3x3, int resolution = 2048) {
+  for (Light& l : s.lights) {
+    l.shadow.method = ShadowMethod::map;
+    l.shadow.filter = filter;
+    l.shadow.resolution = resolution;
+  }
+  return s;
+}
+
+Scene spot_over_sphere() {
+  Scene s = sphere_over_plane();
+  Light& spot = s.lights[0];
+  spot.type = LightType::spot;
+  spot.position = Vec3(-2.0f, 4.5f, 0.0f);
+  spot.direction = Vec3(0.8f, -1.0f, 0.0f).normalized();
+  spot.spot_shape = SpotShape::smooth_cone;
+  spot.spot_inner_deg = 30.0f;
+  spot.spot_outer_deg = 40.0f;
+  return s;
+}
+
+Scene point_over_sphere() {
+  Scene s = sphere_over_plane();
+  Light& lamp = s.lights[0];
+  lamp.type = LightType::point;
+  lamp.position = Vec3(-2.5f, 4.0f, 0.3f);
+  return s;
+}
+
+// The world size of one of the map's texels on the plane near the shadow, a generous bound for
+// these scenes (the directional map spans at most the plane's 8 x 8 units; the spot and cube faces
+// are at most 7 units from the shadow, with a field of view of at most 2 x 45 degrees, widened).
+double texel_bound(const Light& l) {
+  const double r = l.shadow.resolution;
+  return l.type == LightType::directional ? 11.4 / r : 2.0 * 7.0 * 1.1 / r;
+}
+
+// How far the map's shadow edge may lie from the exact one on the plane: a pixel's footprint, and
+// the filter's reach and the bias (normal, and the slope term at 45 degrees), in texels, stretched
+// by the light's slant on the plane (at most 2x here).
+double map_margin(const Light& l) {
+  const double taps[] = {1, 2, 3, 5}, radius = taps[static_cast<int>(l.shadow.filter)] / 2.0 + 0.5;
+  const double reach = radius * (1.0 + l.shadow.bias.normal + l.shadow.bias.slope + l.shadow.bias.constant);
+  return 8.0 / kSize * 1.2 + 2.0 * reach * texel_bound(l);
+}
+
+TEST(ShadowMaps, MatchTheSpheresExactShadow) {
+  for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
+    for (const ShadowFilter filter : {ShadowFilter::none, ShadowFilter::pcf2x2, ShadowFilter::pcf3x3, ShadowFilter::pcf5x5}) {
+      for (const int resolution : {256, 2048}) {
+        const Scene s = with_map(base, filter, resolution);
+        SCOPED_TRACE(std::to_string(static_cast<int>(s.lights[0].type)) + " " + to_string(filter) + " " + std::to_string(resolution));
+        const auto [in_shadow, in_light] = compare_with_exact_shadow(s, map_margin(s.lights[0]), filter == ShadowFilter::none);
+        EXPECT_GT(in_shadow, resolution == 256 ? 20 : 60);
+        EXPECT_GT(in_light, 500);
+      }
+    }
+  }
+}
+
+TEST(ShadowMaps, SameBytesForEveryThreadCountAndPath) {
+  for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
+    const Scene s = with_map(base);
+    const std::vector<std::uint8_t> one = render(s, 1);
+    EXPECT_EQ(render(s, 2), one);
+    EXPECT_EQ(render(s, 3), one);
+    EXPECT_EQ(render(s, 8), one);
+    for (const LightingPath path : {LightingPath::reference, LightingPath::scalar}) {
+      const std::vector<std::uint8_t> other = render(s, 2, path);
+      int far = 0;
+      for (std::size_t i = 0; i < one.size(); ++i) far += std::abs(int(one[i]) - int(other[i])) > 1 ? 1 : 0;
+      EXPECT_EQ(far, 0) << "path " << int(path);
+    }
+  }
+}
+
+TEST(ShadowMaps, NothingToCastIsTheUnshadowedImage) {
+  for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
+    const Scene s = with_map(base);
+    Scene none = s;
+    none.lights[0].shadow.method = ShadowMethod::none;
+    const std::vector<std::uint8_t> unshadowed = render(none);
+    Scene no_casters = s;
+    for (Instance& i : no_casters.objects) i.cast_shadows = false;
+    EXPECT_EQ(render(no_casters), unshadowed);
+    Scene no_receivers = s;
+    for (Instance& i : no_receivers.objects) i.receive_shadows = false;
+    EXPECT_EQ(render(no_receivers), unshadowed);
+  }
+}
+
+}  // namespace
+}  // namespace facet
+
+namespace facet {
+namespace {
+
+// Renders `s` with shadow maps and with ray-cast shadows (the exact reference) and compares them:
+// every pixel farther than `band` pixels from a ray-cast shadow edge (a pixel whose ray-cast
+// visibility differs from a neighbour's) has the ray-cast image's bytes. Returns the pixels in
+// ray-cast shadow and how many pixels were compared.
+struct Agreement {
+  int shadowed = 0, compared = 0, wrong = 0;
+};
+Agreement compare_with_raycast(const Scene& s, int band, ShadowFilter filter = ShadowFilter::pcf3x3) {
+  Scene ray = s, map = with_map(s, filter), none = s;
+  for (Light& l : ray.lights) l.shadow.method = ShadowMethod::raycast;
+  for (Light& l : none.lights) l.shadow.method = ShadowMethod::none;
+  const std::vector<std::uint8_t> exact = render(ray), approx = render(map), unshadowed = render(none);
+  auto in_shadow = [&](int x, int y) {
+    const std::size_t at = static_cast<std::size_t>(y * kSize + x) * 4;
+    return std::memcmp(&exact[at], &unshadowed[at], 3) != 0;
+  };
+  Agreement a;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      const bool here = in_shadow(x, y);
+      a.shadowed += here ? 1 : 0;
+      bool near_edge = false;
+      for (int dy = -band; dy <= band && !near_edge; ++dy) {
+        for (int dx = -band; dx <= band; ++dx) {
+          const int u = x + dx, v = y + dy;
+          if (u >= 0 && v >= 0 && u < kSize && v < kSize && in_shadow(u, v) != here) {
+            near_edge = true;
+            break;
+          }
+        }
+      }
+      if (near_edge) continue;
+      ++a.compared;
+      const std::size_t at = static_cast<std::size_t>(y * kSize + x) * 4;
+      if (std::memcmp(&exact[at], &approx[at], 3) != 0 && ++a.wrong <= 5) {
+        ADD_FAILURE() << "pixel " << x << ", " << y << " (ray-cast " << (here ? "shadowed" : "lit") << ")";
+      }
+    }
+  }
+  EXPECT_EQ(a.wrong, 0);
+  return a;
+}
+
+// A plane alone, casting and receiving, under a light at `elevation` degrees: no pixel may shadow
+// itself (the image is the unshadowed one, byte for byte), with every filter.
+TEST(ShadowMaps, NoAcneOnALitPlaneFrom2To89Degrees) {
+  Scene s = sphere_over_plane();
+  s.objects.pop_back();  // the plane alone
+  for (const double elevation : {2.0, 5.0, 10.0, 20.0, 30.0, 45.0, 60.0, 75.0, 85.0, 89.0}) {
+    const double e = elevation * 3.14159265358979 / 180.0;
+    for (const ShadowFilter filter : {ShadowFilter::none, ShadowFilter::pcf2x2, ShadowFilter::pcf3x3, ShadowFilter::pcf5x5}) {
+      Scene sun = s;
+      sun.lights[0].direction = Vec3(float(-std::cos(e) * 0.8), float(-std::sin(e)), float(-std::cos(e) * 0.6));
+      Scene none = sun;
+      none.lights[0].shadow.method = ShadowMethod::none;
+      // The spot light at the same elevation seen from the plane's centre, 6 units away.
+      Scene spot = spot_over_sphere();
+      spot.objects.pop_back();
+      spot.lights[0].spot_outer_deg = 60.0f;
+      spot.lights[0].position = Vec3(float(6 * std::cos(e)), float(6 * std::sin(e)), 0.0f);
+      spot.lights[0].direction = -spot.lights[0].position.normalized();
+      Scene spot_none = spot;
+      spot_none.lights[0].shadow.method = ShadowMethod::none;
+      SCOPED_TRACE(std::to_string(elevation) + " degrees, " + to_string(filter));
+      EXPECT_EQ(render(with_map(sun, filter)), render(none));
+      EXPECT_EQ(render(with_map(spot, filter)), render(spot_none));
+    }
+  }
+  // A point light just over the plane lights it at every elevation from 90 degrees (below it) to
+  // a few degrees (the plane's corners); a cube map of six faces.
+  Scene lamp = point_over_sphere();
+  lamp.objects.pop_back();
+  lamp.lights[0].position = Vec3(0.3f, 0.25f, -0.2f);
+  Scene lamp_none = lamp;
+  lamp_none.lights[0].shadow.method = ShadowMethod::none;
+  for (const ShadowFilter filter : {ShadowFilter::none, ShadowFilter::pcf2x2, ShadowFilter::pcf3x3, ShadowFilter::pcf5x5}) {
+    EXPECT_EQ(render(with_map(lamp, filter)), render(lamp_none)) << to_string(filter);
+  }
+}
+
+// A ray from the camera through pixel (x, y)'s centre: origin and unit direction.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> view_ray(const Scene& s, int x, int y) {
+  const Eigen::Matrix4d inv = (projection_matrix(s.camera, 1.0f) * view_matrix(s.camera)).cast<double>().inverse();
+  const double nx = 2.0 * (x + 0.5) / kSize - 1.0, ny = 1.0 - 2.0 * (y + 0.5) / kSize;
+  const Eigen::Vector4d a = inv * Eigen::Vector4d(nx, ny, -1, 1), b = inv * Eigen::Vector4d(nx, ny, 1, 1);
+  const Eigen::Vector3d o = a.head<3>() / a.w();
+  return {o, (b.head<3>() / b.w() - o).normalized()};
+}
+
+// Peter-panning: a unit cube standing on the plane, lit at 45 degrees with a 2048^2 map; the
+// shadow must reach the cube's foot: every plane pixel seen beside the cube's shadowed side, more
+// than one pixel's footprint from the contact line and inside the exact shadow, is in shadow.
+TEST(ShadowMaps, ContactShadowGapAtMostOnePixel) {
+  for (const ShadowFilter filter : {ShadowFilter::none, ShadowFilter::pcf2x2, ShadowFilter::pcf3x3, ShadowFilter::pcf5x5}) {
+    Scene s = sphere_over_plane();
+    s.meshes[1] = {"cube", make_cube(1.0f, 1)};
+    s.objects[1].model = Mat4::Identity();
+    s.objects[1].model(1, 3) = 0.5f;  // standing on the plane: x, z in [-0.5, 0.5], y in [0, 1]
+    s.lights[0].direction = Vec3(-1, -1, 0).normalized();  // from +x: the shadow lies over x in [-1.5, -0.5]
+    s.camera.eye = Vec3(-4.0f, 3.0f, 1.5f);
+    s.camera.target = Vec3(-0.8f, 0.0f, 0.0f);
+    s.camera.up = Vec3(0, 1, 0);
+    s.camera.vertical_fov_deg = 30.0f;
+    Scene dark = s;
+    dark.lights[0].enabled = false;
+    const std::vector<std::uint8_t> img = render(with_map(s, filter)), off = render(dark);
+    int checked = 0, gaps = 0;
+    for (int y = 0; y < kSize; ++y) {
+      for (int x = 0; x < kSize; ++x) {
+        auto hit = [&](int px, int py) {
+          const auto [o, d] = view_ray(s, px, py);
+          return Eigen::Vector3d(o + (-o.y() / d.y()) * d);
+        };
+        const Eigen::Vector3d p = hit(x, y);
+        // Seen beside the cube's shadowed side (not through the cube: the view ray stays in x < -0.5).
+        if (!(p.x() < -0.5 && p.x() > -1.45 && std::abs(p.z()) < 0.45)) continue;
+        const double footprint = std::max((hit(x + 1, y) - p).norm(), (hit(x, y + 1) - p).norm());
+        if (p.x() > -0.5 - footprint) continue;  // within a pixel of the contact line
+        const std::size_t at = static_cast<std::size_t>(y * kSize + x) * 4;
+        ++checked;
+        if (std::memcmp(&img[at], &off[at], 3) != 0 && ++gaps <= 5) {
+          ADD_FAILURE() << to_string(filter) << ": lit at pixel " << x << ", " << y << ", plane x " << p.x();
+        }
+      }
+    }
+    EXPECT_GT(checked, 100);
+    EXPECT_EQ(gaps, 0) << to_string(filter);
+  }
+}
+
+// A point light inside the bounding box of a caster: a floor and a ceiling in one mesh, the light
+// between them over a sphere; the cube map's near plane cannot sit at the box.
+TEST(ShadowMaps, LightInsideACastersBoundingBox) {
+  Scene s = point_over_sphere();
+  Mesh room = make_plane(8.0f, 8.0f, 4);
+  const std::size_t n = room.positions.size();
+  for (std::size_t i = 0; i < n; ++i) {  // the ceiling: the floor raised to y = 4, facing down
+    room.positions.push_back(room.positions[i] + Vec3(0, 4, 0));
+    room.normals.push_back(Vec3(0, -1, 0));
+    if (!room.uvs.empty()) room.uvs.push_back(room.uvs[i]);
+  }
+  const std::size_t t = room.triangles.size();
+  for (std::size_t i = 0; i < t; ++i) {
+    const auto& tri = room.triangles[i];
+    room.triangles.push_back({static_cast<std::uint32_t>(tri[0] + n), static_cast<std::uint32_t>(tri[2] + n),
+                              static_cast<std::uint32_t>(tri[1] + n)});
+  }
+  s.meshes[0] = {"room", room};
+  s.lights[0].position = Vec3(-1.0f, 3.0f, 0.2f);
+  s.camera.eye = Vec3(0, 3.5f, 6.0f);  // between floor and ceiling, looking at the floor
+  s.camera.target = Vec3(0, 0, 0);
+  s.camera.up = Vec3(0, 1, 0);
+  s.camera.vertical_fov_deg = 60.0f;
+  const Agreement a = compare_with_raycast(s, 2);
+  EXPECT_GT(a.shadowed, 100);
+  EXPECT_GT(a.compared, kSize * kSize / 2);
+}
+
+// A spot light whose nearest caster lies at the map's near plane: a small square just in front of
+// the light throws a large shadow on the plane.
+TEST(ShadowMaps, SpotLightAtTheNearPlane) {
+  Scene s = spot_over_sphere();
+  Mesh square = make_plane(0.1f, 0.1f, 1);
+  s.meshes[1] = {"square", square};
+  Light& spot = s.lights[0];
+  spot.position = Vec3(0.0f, 5.0f, 0.0f);
+  spot.direction = Vec3(0.0f, -1.0f, 0.0f);
+  s.objects[1].model = Mat4::Identity();
+  s.objects[1].model(1, 3) = 4.99f;  // 1 cm under the light: the map's near plane
+  const Agreement a = compare_with_raycast(s, 2);
+  EXPECT_GT(a.shadowed, 300);
+}
+
+// A directional light along the camera's up vector (and along the world's y axis, the map's
+// default up): the map's orientation must not degenerate.
+TEST(ShadowMaps, DirectionalLightAlongTheCamerasUp) {
+  Scene s = sphere_over_plane();
+  s.camera.eye = Vec3(0.0f, 6.0f, 9.0f);
+  s.camera.up = Vec3(0, 1, 0);
+  s.lights[0].direction = Vec3(0, -1, 0);
+  const Agreement a = compare_with_raycast(s, 2);
+  EXPECT_GT(a.shadowed, 100);
+}
+
+// A point light whose shadow falls exactly along the border of two cube faces, and along a corner
+// of three: no seam (the faces are wider than 90 degrees by the filter's reach).
+TEST(ShadowMaps, PointLightOnACubeFaceBorder) {
+  for (const Vec3 way : {Vec3(1, -1, 0), Vec3(1, -1, 1), Vec3(0, -1, 1)}) {
+    Scene s = point_over_sphere();
+    s.lights[0].position = Vec3(-1.5f, 3.5f, -1.0f);
+    s.objects[1].model.block<3, 1>(0, 3) = s.lights[0].position + 1.6f * way.normalized();
+    s.objects[1].model.block<3, 3>(0, 0) = Eigen::Matrix3f::Identity() * 0.5f;
+    const Agreement a = compare_with_raycast(s, 2);
+    EXPECT_GT(a.shadowed, 30) << way.transpose();
+  }
+}
+
+// A scene of zero extent: every caster vertex at one point. Nothing can be drawn into a map, and
+// nothing is shadowed; no division by a zero extent.
+TEST(ShadowMaps, ZeroExtentScene) {
+  for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
+    Scene s = with_map(base);
+    for (Vec3& p : s.meshes[1].mesh.positions) p = Vec3(0.0f, 0.0f, 0.0f);
+    s.objects[0].cast_shadows = false;
+    Scene none = s;
+    none.lights[0].shadow.method = ShadowMethod::none;
+    EXPECT_EQ(render(s), render(none));
+    Scene all = s;  // the point alone, at the light itself
+    all.objects[1].model.block<3, 1>(0, 3) = all.lights[0].type == LightType::directional ? Vec3(0, 0, 0) : all.lights[0].position;
+    Scene all_none = all;
+    all_none.lights[0].shadow.method = ShadowMethod::none;
+    EXPECT_EQ(render(all), render(all_none));
+  }
+}
+
+// A million caster triangles (a finely divided sphere): the map draws them through the same tile
+// pipeline; the shadow agrees with the ray-cast one.
+TEST(ShadowMaps, AMillionCasters) {
+  Scene s = sphere_over_plane();
+  s.meshes[1] = {"ball", make_uv_sphere(kRadius, 1000, 500)};
+  ASSERT_GE(s.meshes[1].mesh.triangle_count(), 990000u);
+  const Agreement a = compare_with_raycast(s, 2);
+  EXPECT_GT(a.shadowed, 200);
+}
+
+// Casters entirely outside the view still cast into it: the directional map is fitted to the
+// casters within the view's footprint across the light, not to the view.
+TEST(ShadowMaps, CastersOutsideTheView) {
+  for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
+    Scene s = base;
+    s.camera.target = Vec3(1.5f, 0.0f, 0.0f);
+    s.camera.eye = Vec3(1.5f, 4.0f, 0.0f);  // sees x in about [0, 3]: the sphere at x = 0 is outside
+    s.objects[1].model.block<3, 1>(0, 3) = Vec3(-0.6f, 2.0f, 0.0f);
+    const Agreement a = compare_with_raycast(s, 2);
+    EXPECT_GT(a.shadowed, 20);
+  }
 }
 
 }  // namespace

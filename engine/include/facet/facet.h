@@ -107,11 +107,11 @@ typedef struct facet_fog {
   float density;    /* exp, exp2: >= 0 */
 } facet_fog;
 
-/* Shadows of a light (facet::Shadow; docs/shadows.md). MAP and VOLUME are not implemented yet:
- * facet_scene_add_light refuses them with FACET_UNSUPPORTED. Shadows are drawn in Phong shading. */
+/* Shadows of a light (facet::Shadow; docs/shadows.md). VOLUME is not implemented yet:
+ * facet_scene_add_light refuses it with FACET_UNSUPPORTED. Shadows are drawn in Phong shading. */
 typedef enum facet_shadow_method {
   FACET_SHADOW_NONE = 0,
-  FACET_SHADOW_MAP = 1,
+  FACET_SHADOW_MAP = 1, /* a shadow map: spot one face, directional one fitted face, point a cube */
   FACET_SHADOW_VOLUME = 2,
   FACET_SHADOW_RAYCAST = 3 /* exact: a shadow ray per shaded point (Intel Embree) */
 } facet_shadow_method;
@@ -130,14 +130,15 @@ typedef struct facet_light {
   float constant_attenuation, linear_attenuation, quadratic_attenuation;
   float spot_cutoff_deg; /* spot: [0, 90] or 180 */
   float spot_exponent;
-  /* Shadows; default FACET_SHADOW_NONE, resolution 2048, PCF3X3, bias 0, 0 and normal 1e-4 (a
-   * fraction of the casters' bounding radius). */
+  /* Shadows; default FACET_SHADOW_NONE, resolution 2048, PCF3X3, bias constant 0, slope 0 and
+   * normal 1.5. Biases in [0, 1e4], in the method's unit (facet::ShadowBias): map, the filter's
+   * radius in texels at the point; raycast, 1e-4 of the casters' bounding radius. */
   facet_shadow_method shadow_method;
-  int shadow_resolution;     /* map: [16, 16384] */
+  int shadow_resolution;     /* map: texels a side, [16, 16384] */
   facet_shadow_filter shadow_filter;
-  float shadow_bias_constant; /* map: [0, 1] */
-  float shadow_bias_slope;    /* map: >= 0 */
-  float shadow_bias_normal;   /* [0, 1] */
+  float shadow_bias_constant; /* map: towards the light */
+  float shadow_bias_slope;    /* map: towards the light, times tan(normal, light) */
+  float shadow_bias_normal;   /* along the normal */
 } facet_light;
 
 typedef struct facet_camera {

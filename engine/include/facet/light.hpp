@@ -20,8 +20,11 @@ enum class SpotShape {
 };
 
 // Shadows of one light (docs/shadows.md). `raycast` is exact: a shadow ray per shaded point
-// through Intel Embree; `map` and `volume` are not implemented yet and are refused by validation.
+// through Intel Embree; `map` draws a shadow map (spot: one perspective face; directional: one
+// orthographic face fitted to the casters; point: a cube of six faces) and looks each point up in
+// it, filtered; `volume` is not implemented yet and is refused by validation.
 enum class ShadowMethod { none, map, volume, raycast };
+// A map's filter: the nearest texel, or N x N texels (bilinear-weighted comparisons).
 enum class ShadowFilter { none, pcf2x2, pcf3x3, pcf5x5 };
 const char* to_string(ShadowMethod method) noexcept;
 const char* to_string(ShadowFilter filter) noexcept;
@@ -29,17 +32,21 @@ const char* to_string(ShadowFilter filter) noexcept;
 // Enabled lights with shadows per scene at most.
 inline constexpr int kMaxShadowedLights = 8;
 
+// How far a shaded point moves before its visibility is decided, in the method's unit. `map`: the
+// filter's radius at the point (half the filter's width plus half a texel, in texels of the map
+// there: 1 texel for none, 1.5 for pcf2x2, 2 for pcf3x3, 3 for pcf5x5), so a bias that clears
+// one filter clears all; `raycast`: 1e-4 of the radius of the sphere around the shadow casters.
+// A plane moved 1 unit along its normal clears its own map at any angle to the light; the
+// default 1.5 leaves room for rounding. Each in [0, 1e4].
 struct ShadowBias {
-  float constant = 0.0f;  // map: depth offset in [0, 1] window depth units
-  float slope = 0.0f;     // map: times the depth slope
-  // The shaded point moves this far along its normal before its visibility is decided, as a
-  // fraction of the radius of the sphere bounding the shadow casters (every method).
-  float normal = 1e-4f;
+  float constant = 0.0f;  // map: towards the light
+  float slope = 0.0f;     // map: towards the light, times the tangent of the angle between normal and light (capped at 10)
+  float normal = 1.5f;    // every method: along the point's normal
 };
 
 struct Shadow {
   ShadowMethod method = ShadowMethod::none;  // none: the light casts no shadows
-  int resolution = 2048;                     // map: texels a side, [16, 16384]
+  int resolution = 2048;                     // map: texels a side (each face), [16, 16384]
   ShadowFilter filter = ShadowFilter::pcf3x3;  // map
   ShadowBias bias;
 };

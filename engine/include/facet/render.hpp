@@ -106,8 +106,12 @@ struct FrameStats {
   double seconds_geometry = 0;  // transform, clip, project, set up, bin
   double seconds_raster = 0;    // wall time of the tile loop: coverage, depth, shading, resolve (all threads)
   double seconds_resolve = 0;   // of which resolving tiles into the caller's image, summed over threads
-  double seconds_shadows = 0;   // building the shadow casters' ray-cast hierarchy (ray-cast shadows)
-  std::uint64_t shadow_casters = 0;  // triangles that can cast shadows (ray-cast shadows)
+  // Shadows: building the casters' ray-cast hierarchy, and fitting and drawing the shadow maps
+  // (their depth-only passes); the lookups are part of the lighting of pixels (seconds_raster).
+  double seconds_shadows = 0;
+  std::uint64_t shadow_casters = 0;     // triangles that can cast shadows (ray-cast shadows, shadow maps)
+  std::uint64_t shadow_map_texels = 0;  // texels of the frame's shadow maps (every face)
+  std::uint64_t shadow_map_pixels = 0;  // of which written by casters (depth test passed)
   int threads = 0;              // worker threads the frame really had (the request, capped; see RenderOptions)
   double seconds_total = 0;
 };

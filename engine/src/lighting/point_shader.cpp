@@ -84,7 +84,7 @@ simd::LightT<T> to_simd(const EyeLight<T>& L, PowTier tier) {
 
 Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
                             const LightingOptions& options, const EyeSphere* bounds, LightingFeatures features,
-                            const shadow::RayCaster* caster) {
+                            const shadow::FrameShadows* shadows) {
   path_ = options.path;
   features_ = features;
   // The frame plan decides once, in double, for every path, so all paths light the same lights.
@@ -97,17 +97,21 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
   const std::vector<bool>& drop = drop_;
   culled_ = remove_lights(reference_, drop);
   // Shadow slots, in light order (every path's list holds the same lights in the same order).
-  caster_ = caster;
+  caster_ = shadows ? shadows->caster : nullptr;
   shadow_slots_ = 0;
   for (EyeLight<double>& L : reference_.lights) {
-    const Shadow& sh = scene.lights[static_cast<std::size_t>(L.scene_light)].shadow;
+    const std::size_t light = static_cast<std::size_t>(L.scene_light);
+    const Shadow& sh = scene.lights[light].shadow;
     L.shadow = -1;
-    if (!caster || sh.method != ShadowMethod::raycast || shadow_slots_ == kMaxShadowedLights) continue;
-    shadow::RayCaster::Target& t = targets_[shadow_slots_];
+    if (!shadows || shadow_slots_ == kMaxShadowedLights) continue;
+    const shadow::ShadowMap* map = sh.method == ShadowMethod::map ? shadows->map_of(light) : nullptr;
+    if (!map && !(sh.method == ShadowMethod::raycast && caster_)) continue;  // no shadow, or nothing casts one
+    maps_[shadow_slots_] = map;
+    shadow::LightTarget& t = targets_[shadow_slots_];
     t.directional = L.type == LightType::directional;
     const V3<double>& at = t.directional ? L.to_light : L.position;
     t.x = static_cast<float>(at.x), t.y = static_cast<float>(at.y), t.z = static_cast<float>(at.z);
-    offsets_[shadow_slots_] = sh.bias.normal * caster->radius();
+    offsets_[shadow_slots_] = map ? 0.0f : sh.bias.normal * 1e-4f * caster_->radius();  // ray-cast: 1e-4 radii
     if (L.type == LightType::spot) {  // where the cone ends (SpotShape's zero), for skipping rays
       t.spot = true;
       t.axis_x = static_cast<float>(L.spot_axis.x), t.axis_y = static_cast<float>(L.spot_axis.y);
@@ -277,8 +281,12 @@ void PointShader::find_visibility(std::size_t count, const float* px, const floa
                                   const float* nx, const float* ny, const float* nz, std::size_t stride,
                                   float* visibility) const {
   for (int k = 0; k < shadow_slots_; ++k) {
-    caster_->visibility(targets_[k], offsets_[k], count, px, py, pz, nx, ny, nz, stride,
-                        visibility + static_cast<std::size_t>(k) * count);
+    float* out = visibility + static_cast<std::size_t>(k) * count;
+    if (maps_[k]) {
+      maps_[k]->visibility(targets_[k], count, px, py, pz, nx, ny, nz, stride, out);
+    } else {
+      caster_->visibility(targets_[k], offsets_[k], count, px, py, pz, nx, ny, nz, stride, out);
+    }
   }
 }
 

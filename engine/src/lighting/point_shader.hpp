@@ -13,7 +13,7 @@
 #include "lighting/setup.hpp"
 #include "lighting/shade.hpp"
 #include "lighting/simd_types.hpp"
-#include "shadow/raycast.hpp"
+#include "shadow/frame.hpp"
 
 namespace facet::lighting {
 
@@ -30,12 +30,12 @@ class PointShader {
   // Fails (unsupported) if options.isa is not available on this CPU; nothing else can fail for a
   // validated scene. With `bounds` (and options.cull_lights) the frame plan drops the lights that
   // cannot reach them (see lights_to_drop).
-  // With `caster` (an object that receives shadows in a frame with ray-cast shadows), the lights
-  // whose Light::shadow says raycast are shadowed: shade_points and shade_soa find each point's
-  // visibility of them first (up to kMaxShadowedLights).
+  // With `shadows` (an object that receives shadows), the lights the frame shadows (ray-cast, or
+  // with a shadow map that holds casters) are shadowed: shade_points and shade_soa find each
+  // point's visibility of them first (up to kMaxShadowedLights).
   Status prepare(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
                  const LightingOptions& options, const EyeSphere* bounds = nullptr, LightingFeatures features = {},
-                 const shadow::RayCaster* caster = nullptr);
+                 const shadow::FrameShadows* shadows = nullptr);
 
   // Lights mesh vertices [begin, end) through model -> eye into out[begin, end); `back_side`
   // lights them with negated normals. Each vertex's colour does not depend on the range it was
@@ -72,10 +72,12 @@ class PointShader {
   simd::Params simd_params_;
   simd::ShadeFunction simd_shade_ = nullptr;
   std::size_t culled_ = 0;
-  // Shadows: the caster and, per slot, the light's target in eye space and the normal offset.
+  // Shadows: per slot, the light's target in eye space and what answers for it: its map, or the
+  // caster with the normal offset.
   const shadow::RayCaster* caster_ = nullptr;
   int shadow_slots_ = 0;
-  shadow::RayCaster::Target targets_[kMaxShadowedLights];
+  shadow::LightTarget targets_[kMaxShadowedLights];
+  const shadow::ShadowMap* maps_[kMaxShadowedLights] = {};
   float offsets_[kMaxShadowedLights] = {};
   // visibility[k * count + i]: point i's visibility of slot k's light (stride as RayCaster).
   void find_visibility(std::size_t count, const float* px, const float* py, const float* pz, const float* nx,

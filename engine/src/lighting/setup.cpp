@@ -93,6 +93,31 @@ EyeTransform<T> make_eye_transform(const Eigen::Matrix4d& view, const Mat4& mode
 
 namespace {
 
+
+// Largest squared distance from `c` to a finite vertex. A float pass with packed arithmetic
+// (soa.cpp) first: 0.3 ns per vertex against 2.4 ns for the scalar double loop. Its result is
+// inflated by 1e-5 relative, far above its rounding (a few float ulps on each square and sum), so
+// the sphere still holds every vertex. An infinite result (a non-finite vertex, or a difference
+// too large to square in float) sends the mesh to the double loop, which leaves non-finite
+// vertices out by the comparison's order (NaN and Inf fail it).
+double farthest_squared(const std::vector<Vec3>& positions, const Eigen::Vector3d& c) {
+  const float cf[3] = {float(c.x()), float(c.y()), float(c.z())};
+  if (Eigen::Vector3d(cf[0], cf[1], cf[2]) == c) {  // so the float distances are to `c` itself
+    const double r2 = farthest_squared_float(positions.data(), positions.size(), cf);
+    if (r2 <= 1e38) return r2 * (1 + 1e-5);
+  }
+  const double cx = c.x(), cy = c.y(), cz = c.z();
+  double r2 = 0;
+  for (const Vec3& p : positions) {
+    const double dx = double(p.x()) - cx, dy = double(p.y()) - cy, dz = double(p.z()) - cz;
+    const double q = dx * dx + dy * dy + dz * dz;
+    r2 = q > r2 && q <= std::numeric_limits<double>::max() ? q : r2;
+  }
+  return r2;
+}
+
+}  // namespace
+
 // Model-space box of the finite vertices, or false when there is none. The common case (every
 // coordinate finite) runs as a flat pass over the xyz floats with twelve independent min/max
 // accumulators, which the compiler turns into packed minps/maxps (three registers cover four
@@ -138,30 +163,6 @@ bool finite_box(const std::vector<Vec3>& positions, Eigen::Vector3d& lo_out, Eig
   lo_out = lo3, hi_out = hi3;
   return lo3.x() <= hi3.x();
 }
-
-// Largest squared distance from `c` to a finite vertex. A float pass with packed arithmetic
-// (soa.cpp) first: 0.3 ns per vertex against 2.4 ns for the scalar double loop. Its result is
-// inflated by 1e-5 relative, far above its rounding (a few float ulps on each square and sum), so
-// the sphere still holds every vertex. An infinite result (a non-finite vertex, or a difference
-// too large to square in float) sends the mesh to the double loop, which leaves non-finite
-// vertices out by the comparison's order (NaN and Inf fail it).
-double farthest_squared(const std::vector<Vec3>& positions, const Eigen::Vector3d& c) {
-  const float cf[3] = {float(c.x()), float(c.y()), float(c.z())};
-  if (Eigen::Vector3d(cf[0], cf[1], cf[2]) == c) {  // so the float distances are to `c` itself
-    const double r2 = farthest_squared_float(positions.data(), positions.size(), cf);
-    if (r2 <= 1e38) return r2 * (1 + 1e-5);
-  }
-  const double cx = c.x(), cy = c.y(), cz = c.z();
-  double r2 = 0;
-  for (const Vec3& p : positions) {
-    const double dx = double(p.x()) - cx, dy = double(p.y()) - cy, dz = double(p.z()) - cz;
-    const double q = dx * dx + dy * dy + dz * dz;
-    r2 = q > r2 && q <= std::numeric_limits<double>::max() ? q : r2;
-  }
-  return r2;
-}
-
-}  // namespace
 
 EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model) {
   // Centre of the model-space box, radius to its farthest finite vertex; then into eye space,

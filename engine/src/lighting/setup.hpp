@@ -43,6 +43,9 @@ struct EyeSphere {
 };
 EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model);
 
+// Model-space box of the mesh's finite vertices, or false when it has none.
+bool finite_box(const std::vector<Vec3>& positions, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
+
 // The frame plan's light culling for one object, decided once (in double) for every path: marks
 // the point and spot lights that cannot reach the sphere (range window: exactly zero there) and
 // then, smallest bound first, lights whose largest possible contribution there is so small that

@@ -68,7 +68,8 @@ struct EyeLight {
   T cos_outer = -1, inv_cone_span = 0, spot_falloff = 0;  // smooth_cone; inv_cone_span 0 = hard edge
   V3<T> ambient{}, diffuse{}, specular{};  // a_m a_i, d_m d_i, s_m s_i
   int scene_light = -1;  // index in Scene::lights
-  // Shadowed: the slot of this light's visibility per point (0 in shadow, 1 lit), which multiplies
+  // Shadowed: the slot of this light's visibility per point (0 in shadow, 1 lit, a filtered shadow
+  // map's edge between), which multiplies
   // its diffuse and specular terms (never its ambient term); -1: never shadowed.
   int shadow = -1;
 };

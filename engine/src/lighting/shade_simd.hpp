@@ -265,7 +265,8 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
       const B n_dot_l = dot3(n, vp);
       const auto lit = n_dot_l > zero;
       B sr = B(L.ambient[0]), sg = B(L.ambient[1]), sb = B(L.ambient[2]);
-      // A shadowed light's visibility at each point (1 lit, 0 in shadow); only its diffuse and
+      // A shadowed light's visibility at each point (1 lit, 0 in shadow, between on a filtered
+      // edge); only its diffuse and
       // specular terms are blocked.
       const bool shadowed = L.shadow >= 0 && s.visibility;
       const B vis = shadowed ? B::load_unaligned(s.visibility[L.shadow] + i) : one;

@@ -2,8 +2,8 @@
 // frame decides once for it: the view and projection, the viewport and its tile grid, the face
 // rules, the shading mode and the clear colour (each draw's varying layout is planned per object). A frame
 // is a list of passes run in order; today's frame is one pass, the camera's, into the caller's
-// colour and depth views (shadow maps and environment maps will be passes of their own, with
-// their own view and targets, on the same machinery).
+// colour and depth views, after a depth-only pass per shadow-map face (environment maps will be
+// passes of their own too, on the same machinery).
 #pragma once
 
 #include <array>
@@ -24,9 +24,13 @@ struct RenderPass {
   std::array<float, 4> clear_color{};
   int tile_size = 64, tiles_x = 0, tiles_y = 0;
   AssemblyFrame assembly;  // viewport, clip planes, cull mode, two-sidedness, tile grid
-  // Targets: the caller's views (validated; depth may be null).
+  // Targets: the caller's views (validated; depth may be null), or, for a depth-only pass, a depth
+  // view alone (a shadow map's face).
   const ImageView* color = nullptr;
   const DepthView* depth = nullptr;
+  // Depth only (shadow maps): the objects that cast shadows, no lighting, no varying, flat
+  // rasterization into the depth target alone; no face is culled.
+  bool depth_only = false;
 
   int width() const { return assembly.viewport.width; }
   int height() const { return assembly.viewport.height; }
@@ -37,5 +41,9 @@ struct RenderPass {
 // The camera's pass: the scene's camera, the options' shading, culling, tile size and clear
 // colour, into `color` (and `depth`).
 RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth);
+
+// A depth-only pass from `view` and `projection` into `depth` (a square shadow-map face).
+RenderPass depth_pass(const Eigen::Matrix4d& view, const Eigen::Matrix4d& projection, const DepthView& depth,
+                      int tile_size);
 
 }  // namespace facet::raster

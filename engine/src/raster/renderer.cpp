@@ -22,6 +22,8 @@
 #include "lighting/point_shader.hpp"
 #include "lighting/setup.hpp"
 #include "raster/assemble.hpp"
+#include "shadow/frame.hpp"
+#include "shadow/map.hpp"
 #include "shadow/raycast.hpp"
 #include "raster/bins.hpp"
 #include "raster/pass.hpp"
@@ -137,11 +139,13 @@ struct DrawUnit {
 };
 
 namespace {
-// The frame's draws, in object order and, within an object, group order (`units` keeps its capacity).
-void plan_units(const Scene& scene, std::vector<DrawUnit>& units) {
+// The frame's draws, in object order and, within an object, group order (`units` keeps its
+// capacity); a depth-only pass draws only the objects that cast shadows.
+void plan_units(const Scene& scene, bool casters_only, std::vector<DrawUnit>& units) {
   units.clear();
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     const Instance& inst = scene.objects[o];
+    if (casters_only && !inst.cast_shadows) continue;
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
     if (!inst.mesh_materials) {
       units.push_back({static_cast<std::uint32_t>(o), inst.material, 0, mesh.triangle_count(), 0, mesh.vertex_count()});
@@ -195,6 +199,14 @@ struct Renderer::Impl {
   // Ray-cast shadows: the frame's casters (built in the arena when a light casts ray-cast shadows).
   shadow::RayCaster caster;
   const shadow::RayCaster* frame_caster = nullptr;  // this frame's, or null
+  bool has_shadows = false;  // some light is shadowed this frame (frame_shadows applies)
+  // Shadow maps: one per scene light (planned and drawn when the light has one), the casters'
+  // bounds they are fitted to, the depth views their passes write, and what the lighting reads.
+  std::vector<shadow::ShadowMap> maps;
+  std::vector<const shadow::ShadowMap*> frame_maps;  // per scene light: its map this frame, or null
+  std::vector<DepthView> map_views;
+  shadow::CasterBounds caster_bounds;
+  shadow::FrameShadows frame_shadows;
   Status frame_status;  // a failure inside the arena (the casters' build)
   // One per arena slot (tbb::this_task_arena::current_thread_index()), sized on the calling
   // thread before any parallel loop, so that no task ever allocates.
@@ -271,6 +283,9 @@ struct Renderer::Impl {
   void render(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth);
   void run_pass(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p);
   void plan_draws(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p);
+  // Progress units of a pass: its tiles, set-up ranges and vertex chunks.
+  std::uint64_t pass_work(const Scene& scene, const raster::RenderPass& p);
+  std::vector<DrawUnit> work_units;  // pass_work's scratch
   // Runs body(range, slot) over [begin, end) in chunks of `grain`: spread over the arena's threads
   // when `slot` < 0, else all on the calling task's slot.
   template <class Body>
@@ -294,11 +309,37 @@ Status check_render_options(const RenderOptions& options) noexcept {
   }
 }
 
-// Whether some enabled light of `scene` casts ray-cast shadows.
+// Whether some enabled light of `scene` casts ray-cast shadows; shadows from a map.
 static bool casts_raycast_shadows(const Scene& scene) {
   return std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
            return l.enabled && l.shadow.method == ShadowMethod::raycast;
          });
+}
+static bool casts_map_shadows(const Scene& scene) {
+  return std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
+           return l.enabled && l.shadow.method == ShadowMethod::map;
+         });
+}
+
+// World-space boxes of the objects that cast shadows (their finite vertices' model-space boxes,
+// corners through the model matrix).
+static void bound_casters(const Scene& scene, shadow::CasterBounds& out) {
+  out.lo.clear();
+  out.hi.clear();
+  for (const Instance& inst : scene.objects) {
+    const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    Eigen::Vector3d lo, hi;
+    if (!inst.cast_shadows || mesh.triangles.empty() || !lighting::finite_box(mesh.positions, lo, hi)) continue;
+    const Eigen::Matrix4d model = inst.model.cast<double>();
+    Eigen::AlignedBox3d box;
+    for (int k = 0; k < 8; ++k) {
+      const Eigen::Vector3d c((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
+      box.extend((model * c.homogeneous()).head<3>());
+    }
+    if (!box.min().allFinite() || !box.max().allFinite()) continue;
+    out.lo.push_back(box.min());
+    out.hi.push_back(box.max());
+  }
 }
 
 std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& options, int width, int height) noexcept {
@@ -339,6 +380,17 @@ std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& opti
       const Mesh& mesh = scene.meshes[inst.mesh].mesh;
       bytes = sat_add(bytes, sat_add(sat_mul(mesh.vertex_count(), 12), sat_mul(mesh.triangle_count(), 12 + 96)));
     }
+  }
+  // Shadow maps: their depth images (every face) and their passes' bins; and the per-thread
+  // visibility scratch of every shadowed light.
+  bool maps = false;
+  for (const Light& l : scene.lights) {
+    if (!l.enabled || l.shadow.method != ShadowMethod::map) continue;
+    maps = true;
+    const U texels = static_cast<U>(shadow::ShadowMap::bytes(l)) / 4;
+    bytes = sat_add(bytes, sat_add(texels * 4, (texels / (tile * tile) + 6) * 64));
+  }
+  if (raycast || maps) {
     bytes = sat_add(bytes, sat_mul(slots, U(kMaxShadowedLights) * (kVertexChunk + kTriangleRange) * 8));
   }
   return bytes;
@@ -364,6 +416,21 @@ Status check_render(const Scene& scene, const RenderOptions& options, int width,
   } catch (const std::bad_alloc&) {
     return {ErrorCode::out_of_memory, "scene", "out of memory while checking the scene"};
   }
+}
+
+std::uint64_t Renderer::Impl::pass_work(const Scene& scene, const raster::RenderPass& p) {
+  plan_units(scene, p.depth_only, work_units);
+  std::uint64_t work = static_cast<std::uint64_t>(p.tile_count());
+  const bool placed = !p.depth_only && p.shading != ShadingMode::phong && !light_every_vertex;
+  for (const DrawUnit& u : work_units) {  // ranges, clip chunks, then lighting or centroid chunks
+    work += u.ranges() + (u.vertices() + kVertexChunk - 1) / kVertexChunk;
+    if (!p.depth_only) {
+      work += (u.vertices() + kVertexChunk - 1) / kVertexChunk +
+              (u.triangles() + kVertexChunk - 1) / kVertexChunk * (p.two_sided() ? 2 : 1);
+    }
+    if (placed) work += u.ranges();  // the placing phase
+  }
+  return work;
 }
 
 void Renderer::Impl::unit_done() {
@@ -447,29 +514,65 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     w.soa.reserve_padded(std::max(kVertexChunk, kTriangleRange));
   }
   const bool raycast = casts_raycast_shadows(scene);
-  if (raycast) {  // the shadowed lights' visibility of a lighting call's points, and its padded copies
+  if (raycast || casts_map_shadows(scene)) {  // the shadowed lights' visibility of a lighting call's points, and its padded copies
     const std::size_t points = lighting::simd::padded(std::max(kVertexChunk, kTriangleRange));
     for (WorkerScratch& w : workers) {
       if (w.soa.visibility.size() < 2 * kMaxShadowedLights * points) w.soa.visibility.resize(2 * kMaxShadowedLights * points);
     }
   }
+  light_every_vertex = options.light_every_vertex;
   simd_raster = options.path == LightingPath::simd;
   simd_kernels = simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr;
   passes.clear();
-  passes.push_back(raster::camera_pass(scene, options, color, depth));
-  passes.back().assembly.place = simd_kernels ? simd_kernels->place : nullptr;
+  raster::RenderPass camera = raster::camera_pass(scene, options, color, depth);
+  camera.assembly.place = simd_kernels ? simd_kernels->place : nullptr;
+  // Shadow maps: fitted to the casters and the camera, then one depth-only pass per face, before
+  // the camera's pass.
+  frame_maps.assign(scene.lights.size(), nullptr);
+  bool any_map = false;
+  if (casts_map_shadows(scene)) {
+    const auto start = Clock::now();
+    bound_casters(scene, caster_bounds);
+    if (maps.size() < scene.lights.size()) maps.resize(scene.lights.size());
+    map_views.clear();
+    map_views.reserve(6 * kMaxShadowedLights);  // validated: the passes' pointers stay put
+    for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+      const Light& light = scene.lights[l];
+      if (!light.enabled || light.shadow.method != ShadowMethod::map || map_views.size() + 6 > map_views.capacity()) continue;
+      shadow::ShadowMap& map = maps[l];
+      map.plan(light, caster_bounds, camera.view, camera.projection);
+      if (map.empty()) continue;  // nothing can shade a visible point: the light is not shadowed
+      frame_maps[l] = &map;
+      any_map = true;
+      for (int f = 0; f < map.face_count(); ++f) {
+        map_views.push_back(map.depth_view(f));
+        passes.push_back(raster::depth_pass(map.face_view(f), map.face_projection(f), map_views.back(), options.tile_size));
+        passes.back().assembly.place = camera.assembly.place;
+        stats.shadow_map_texels += static_cast<std::uint64_t>(map.resolution()) * static_cast<std::uint64_t>(map.resolution());
+      }
+    }
+    stats.seconds_shadows += seconds_since(start);
+  }
+  passes.push_back(camera);
   // Ray-cast shadows: the casters as Embree sees them, built here, in this renderer's arena.
   frame_caster = nullptr;
   if (raycast) {
     const auto start = Clock::now();
-    frame_status = caster.build(scene, passes.back().view);
-    stats.seconds_shadows = seconds_since(start);
+    frame_status = caster.build(scene, camera.view);
+    stats.seconds_shadows += seconds_since(start);
     stats.shadow_casters = caster.triangle_count();
     if (!frame_status.ok()) return;
     frame_caster = &caster;
   }
+  frame_shadows = {frame_caster, frame_maps};
+  has_shadows = frame_caster || any_map;
+  work_total = 0;
+  for (const raster::RenderPass& p : passes) work_total += pass_work(scene, p);
+  work_total = std::max<std::uint64_t>(work_total, 1);
   for (const raster::RenderPass& p : passes) {
+    const auto start = Clock::now();
     run_pass(scene, options, p);
+    if (p.depth_only) stats.seconds_shadows += seconds_since(start);
     if (cancelled.load(std::memory_order_relaxed)) break;
   }
   pass = nullptr;
@@ -484,7 +587,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   range_count = 0;  // counted below, per draw
   bins.resize(static_cast<std::size_t>(p.tile_count()));
   for (auto& bin : bins) bin.clear();
-  plan_units(scene, units);
+  plan_units(scene, p.depth_only, units);
   shaders.resize(units.size());
   plan_draws(scene, options, p);
 
@@ -494,7 +597,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   lighting.path = options.path;
   lighting.isa = options.isa;
   lighting.pow_tier = options.pow_tier;
-  lighting.clamp = !(options.hdr && p.color->format == PixelFormat::rgba32f);
+  lighting.clamp = !(options.hdr && p.color && p.color->format == PixelFormat::rgba32f);
   lighting.cull_lights = options.cull_lights;
   light_every_vertex = options.light_every_vertex;
 
@@ -512,12 +615,6 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   }
   object_counts.assign(object_count, {});
   object_scratch.resize(workers.size());
-  work_total = static_cast<std::uint64_t>(p.tile_count()) + range_count;
-  for (const DrawUnit& u : units) {  // clip chunks, then lighting or centroid chunks
-    work_total += (u.vertices() + kVertexChunk - 1) / kVertexChunk * 2 +
-                  (u.triangles() + kVertexChunk - 1) / kVertexChunk * (two_sided ? 2 : 1);
-    if (shading != ShadingMode::phong && !light_every_vertex) work_total += u.ranges();  // the placing phase
-  }
   // Runs of two or more small objects are set up side by side, one task per object (the built-in scene's six
   // objects took 1.6 ms of a 5.8 ms frame one after another on 2 threads). Larger objects are set
   // up one at a time with their chunks and ranges spread over the threads.
@@ -566,6 +663,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
     o = end;
   }
   for (const ObjectCounts& c : object_counts) {  // in draw order
+    if (p.depth_only) break;  // a shadow map's set-up counts as the shadows' time
     stats.vertices_lit += c.vertices_lit;
     stats.vertices_skipped += c.vertices_skipped;
     stats.vertex_lights_evaluated += c.pairs_evaluated;
@@ -581,7 +679,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   // Counters are kept per tile and added up in tile order afterwards.
   const auto merge_start = Clock::now();
   raster::merge_ranges(range_binning, range_count, bins, stats);
-  stats.seconds_geometry += seconds_since(merge_start);
+  if (!p.depth_only) stats.seconds_geometry += seconds_since(merge_start);
   range_data.resize(range_count);
   for (std::size_t r = 0; r < range_count; ++r) range_data[r] = range_triangles[r].data();
   const raster::RasterJob job{shading,
@@ -591,7 +689,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
                               simd_kernels,
                               draws.data(),
                               &fog,
-                              options.srgb && p.color->format != PixelFormat::rgba32f ? srgb.threshold : nullptr};
+                              options.srgb && p.color && p.color->format != PixelFormat::rgba32f ? srgb.threshold : nullptr};
   const int tile_count = p.tile_count();
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});
   const auto raster_start = Clock::now();
@@ -604,6 +702,16 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
                                   std::min(p.height(), (ty + 1) * tile_size)};
       raster::RasterCounters& c = tile_counters[static_cast<std::size_t>(index)];
       const auto& bin = bins[static_cast<std::size_t>(index)];
+      if (p.depth_only) {  // a shadow map's face: depth alone
+        if (bin.empty()) {
+          raster::resolve_clear_depth(rect, *p.depth);
+        } else {
+          raster::rasterize_tile(job, bin, rect, w.tile, w.soa, c);
+          raster::resolve_depth_tile(job, w.tile, rect, *p.depth);
+        }
+        unit_done();
+        continue;
+      }
       if (bin.empty()) {  // nothing to rasterize: the clear colour goes straight to the image
         const auto resolve_start = Clock::now();
         raster::resolve_clear_tile(p.clear_color, job.srgb, rect, *p.color, p.depth);
@@ -620,6 +728,10 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   stats.seconds_raster = seconds_since(raster_start);
   raster::RasterCounters counters;
   for (const raster::RasterCounters& c : tile_counters) counters += c;  // in tile order
+  if (p.depth_only) {
+    stats.shadow_map_pixels += counters.filled;
+    return;
+  }
   stats.seconds_resolve = counters.seconds_resolve;
   stats.pixels_tested = counters.tested;
   stats.pixels_filled = counters.filled;
@@ -631,6 +743,25 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
 }  // namespace facet
 
 namespace facet::raster {
+
+RenderPass depth_pass(const Eigen::Matrix4d& view, const Eigen::Matrix4d& projection, const DepthView& depth,
+                      int tile_size) {
+  RenderPass p;
+  p.view = view;
+  p.projection = projection;
+  p.shading = ShadingMode::flat;
+  p.depth_only = true;
+  p.tile_size = tile_size;
+  p.tiles_x = (depth.width + tile_size - 1) / tile_size;
+  p.tiles_y = (depth.height + tile_size - 1) / tile_size;
+  p.assembly.viewport = {depth.width, depth.height};
+  p.assembly.planes = geometry::guard_band_planes(p.assembly.viewport);
+  p.assembly.cull = CullMode::none;
+  p.assembly.two_sided = true;
+  p.assembly.grid = {p.tile_size, p.tiles_x, p.tiles_y};
+  p.depth = &depth;
+  return p;
+}
 
 RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth) {
   RenderPass p;
@@ -701,7 +832,7 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
   for (int c = 0; c < 3; ++c) fog.color[c] = f.color[c];
   fog.start = f.start, fog.end = f.end, fog.density = f.density;
   fog.scale = f.end > f.start ? static_cast<float>(1.0 / (double(f.end) - double(f.start))) : 0.0f;
-  const bool clamp = !(options.hdr && p.color->format == PixelFormat::rgba32f);
+  const bool clamp = !(options.hdr && p.color && p.color->format == PixelFormat::rgba32f);
   const raster::LitAt lit = p.shading == ShadingMode::flat      ? raster::LitAt::triangle
                             : p.shading == ShadingMode::gouraud ? raster::LitAt::vertex
                                                                 : raster::LitAt::pixel;
@@ -722,6 +853,7 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
     needs.uv = textured;
     raster::simd::Draw& d = draws[o];
     d = raster::simd::Draw{};
+    if (p.depth_only) continue;  // no varying, no program: depth alone (every caster is opaque)
     d.layout = raster::plan_varyings(lit, p.two_sided(), needs);
     d.texture = textured ? &samplers[static_cast<std::size_t>(m.diffuse_texture)] : nullptr;
     d.texture_env = static_cast<int>(m.texture_mode);
@@ -771,23 +903,8 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   // Arrays are indexed by the mesh's vertex and triangle numbers; a draw fills its own part.
   const std::size_t n = mesh.vertex_count(), v0 = unit.first_vertex, v1 = unit.end_vertex;
   const auto lighting_start = Clock::now();
-  lighting::PointShader& shader = shaders[object];
-  const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model);
-  // Options were checked in render(), so preparing cannot fail here.
-  const lighting::LightingFeatures& lf = features[object];
-  (void)shader.prepare(scene, view, scene.materials[unit.material], lighting, &bounds, lf,
-                       inst.receive_shadows ? frame_caster : nullptr);
-  ObjectCounts& counts = object_counts[object];
-  auto count_pairs = [&](std::size_t evaluations) {
-    counts.vertices_lit += evaluations;
-    counts.pairs_evaluated += evaluations * shader.light_count();
-    counts.pairs_skipped += evaluations * shader.culled_lights();
-  };
   std::vector<std::array<float, 4>>& clip = os.clip;
   std::vector<ScreenVertex>& screen = os.screen;
-  std::vector<Color3>&front = os.front, &back = os.back;
-  std::vector<Vec3>&eye_p = os.eye_p, &eye_n = os.eye_n, &centroid = os.centroid, &face_normal = os.face_normal;
-
   os.mirrored = inst.model.cast<double>().topLeftCorner<3, 3>().determinant() < 0.0;
   // Clip-space positions.
   const geometry::Mat4Rows mvp = to_rows(proj * view * inst.model.cast<double>());
@@ -805,6 +922,23 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
                                    pass->assembly.viewport, clip.data(), screen.data());
     }
   });
+
+  if (pass->depth_only) return;  // a shadow map: positions are all it needs
+
+  lighting::PointShader& shader = shaders[object];
+  const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model);
+  // Options were checked in render(), so preparing cannot fail here.
+  const lighting::LightingFeatures& lf = features[object];
+  (void)shader.prepare(scene, view, scene.materials[unit.material], lighting, &bounds, lf,
+                       inst.receive_shadows && has_shadows ? &frame_shadows : nullptr);
+  ObjectCounts& counts = object_counts[object];
+  auto count_pairs = [&](std::size_t evaluations) {
+    counts.vertices_lit += evaluations;
+    counts.pairs_evaluated += evaluations * shader.light_count();
+    counts.pairs_skipped += evaluations * shader.culled_lights();
+  };
+  std::vector<Color3>&front = os.front, &back = os.back;
+  std::vector<Vec3>&eye_p = os.eye_p, &eye_n = os.eye_n, &centroid = os.centroid, &face_normal = os.face_normal;
 
   const bool split = lf.separate_specular;
   if (shading == ShadingMode::gouraud) {
@@ -1002,7 +1136,7 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   vertices.object = object;
   vertices.alpha = alpha;
   // Gouraud and flat lit only where drawn: the second phase of the assembly prepare_object() began.
-  const bool placed = pass->shading != ShadingMode::phong && !light_every_vertex;
+  const bool placed = !pass->depth_only && pass->shading != ShadingMode::phong && !light_every_vertex;
   const DrawUnit& unit = units[object];
   for_chunks(0, unit.ranges(), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
     for (std::size_t r = rs.begin(); r != rs.end(); ++r) {

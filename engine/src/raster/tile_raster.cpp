@@ -356,4 +356,27 @@ void resolve_clear_tile(const std::array<float, 4>& clear_color, const float* sr
   }
 }
 
+namespace {
+float* depth_row(const DepthView& depth, int y) {
+  const int row = depth.y_up ? depth.height - 1 - y : y;
+  return reinterpret_cast<float*>(reinterpret_cast<std::uint8_t*>(depth.data) + static_cast<std::size_t>(row) * depth.stride_bytes);
+}
+}  // namespace
+
+void resolve_depth_tile(const RasterJob& job, const TileBuffers& tile, const TileRect& rect, const DepthView& depth) {
+  const int blocks_per_row = tile.size / simd::kBlock;
+  for (int y = rect.y0; y < rect.y1; ++y) {
+    float* out = depth_row(depth, y);
+    for (int x = rect.x0; x < rect.x1; ++x) {
+      const int tx = x - rect.x0, ty = y - rect.y0;
+      const bool touched = !job.kernels || tile.touched[static_cast<std::size_t>((ty / simd::kBlock) * blocks_per_row + tx / simd::kBlock)];
+      out[x] = touched ? tile.plane(4)[tile.index(tx, ty)] : 1.0f;
+    }
+  }
+}
+
+void resolve_clear_depth(const TileRect& rect, const DepthView& depth) {
+  for (int y = rect.y0; y < rect.y1; ++y) std::fill(depth_row(depth, y) + rect.x0, depth_row(depth, y) + rect.x1, 1.0f);
+}
+
 }  // namespace facet::raster

@@ -80,6 +80,12 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
 void resolve_tile(const RasterJob& job, TileBuffers& tile, const TileRect& rect, const ImageView& color,
                   const DepthView* depth);
 
+// A depth-only pass's tile: its depth into `depth` (far depth where no triangle was drawn; the
+// SIMD kernels clear a block only when a triangle first reaches it).
+void resolve_depth_tile(const RasterJob& job, const TileBuffers& tile, const TileRect& rect, const DepthView& depth);
+// A depth-only pass's tile no triangle touches: far depth.
+void resolve_clear_depth(const TileRect& rect, const DepthView& depth);
+
 // A tile no triangle touches: writes the clear colour (converted exactly as resolve_tile would)
 // and far depth straight into the caller's views, without the tile buffers.
 void resolve_clear_tile(const std::array<float, 4>& clear_color, const float* srgb, const TileRect& rect,

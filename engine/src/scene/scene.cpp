@@ -164,11 +164,11 @@ Status validate_material(const Material& m, const Field& f) {
 Status validate_shadow(const Shadow& s, const Field& f) {
   switch (s.method) {
     case ShadowMethod::none:
-    case ShadowMethod::raycast: break;
     case ShadowMethod::map:
+    case ShadowMethod::raycast: break;
     case ShadowMethod::volume:
       return {ErrorCode::unsupported, f("shadow.method"),
-              f("shadow.method") + ": \"" + to_string(s.method) + "\" is not implemented yet; \"raycast\" is (or \"none\")"};
+              f("shadow.method") + ": \"volume\" is not implemented yet; \"map\" and \"raycast\" are (or \"none\")"};
     default: return invalid(f("shadow.method"), "unknown shadow method");
   }
   if (!(s.resolution >= 16 && s.resolution <= 16384)) {
@@ -181,9 +181,9 @@ Status validate_shadow(const Shadow& s, const Field& f) {
     case ShadowFilter::pcf5x5: break;
     default: return invalid(f("shadow.filter"), "unknown filter");
   }
-  FACET_TRY(check_range(s.bias.constant, 0.0f, 1.0f, f, "shadow.bias.constant"));
-  FACET_TRY(check_range(s.bias.slope, 0.0f, 1e6f, f, "shadow.bias.slope"));
-  FACET_TRY(check_range(s.bias.normal, 0.0f, 1.0f, f, "shadow.bias.normal"));
+  FACET_TRY(check_range(s.bias.constant, 0.0f, 1e4f, f, "shadow.bias.constant"));
+  FACET_TRY(check_range(s.bias.slope, 0.0f, 1e4f, f, "shadow.bias.slope"));
+  FACET_TRY(check_range(s.bias.normal, 0.0f, 1e4f, f, "shadow.bias.normal"));
   return {};
 }
 

@@ -21,30 +21,6 @@ namespace {
 // Rays Embree accepts: |origin|, |direction| per coordinate below its FLT_LARGE (1.844e18).
 constexpr float kMaxRayCoordinate = 1e18f;
 
-// False only where the light surely gives nothing: the point faces away from it (n . l below
-// -1e-4 |n| |l|, far beyond the lighting kernels' rounding, which decides n . l > 0 on normalised
-// vectors), lies outside a spot light's cone (cosine below cos_outer - 1e-4) or beyond its range
-// (by 0.01 %). Elsewhere a ray is cast, so the skipped points cannot change a pixel.
-bool lit_at(const RayCaster::Target& t, float px, float py, float pz, float nx, float ny, float nz) {
-  double lx, ly, lz;
-  if (t.directional) {
-    lx = t.x, ly = t.y, lz = t.z;
-  } else {
-    lx = double(t.x) - px, ly = double(t.y) - py, lz = double(t.z) - pz;
-  }
-  const double l2 = lx * lx + ly * ly + lz * lz, n2 = double(nx) * nx + double(ny) * ny + double(nz) * nz;
-  if (!(l2 > 0.0 && n2 > 0.0 && l2 < 1e300 && n2 < 1e300)) return true;  // no direction (or not finite): cast
-  const double length = std::sqrt(l2);
-  if (nx * lx + ny * ly + nz * lz < -1e-4 * std::sqrt(n2) * length) return false;
-  if (t.directional) return true;
-  if (t.range > 0.0f && length > 1.0001 * t.range) return false;
-  if (t.spot) {
-    const double cos_angle = -(lx * t.axis_x + ly * t.axis_y + lz * t.axis_z) / length;
-    if (cos_angle < double(t.cos_outer) - 1e-4) return false;
-  }
-  return true;
-}
-
 void on_error(void* user, RTCError code, const char* message) { record_error(user, static_cast<int>(code), message); }
 
 }  // namespace
@@ -157,7 +133,7 @@ void RayCaster::visibility(const Target& target, float offset, std::size_t count
       } else {  // the segment to the light: t in [0, 1]
         dx = target.x - ox, dy = target.y - oy, dz = target.z - oz, tfar = 1.0f;
       }
-      if (!lit_at(target, px[at], py[at], pz[at], nx[at], ny[at], nz[at])) continue;
+      if (!may_be_lit(target, px[at], py[at], pz[at], nx[at], ny[at], nz[at])) continue;
       // Embree takes rays whose origin and direction are within +-1.844e18 per coordinate (it
       // asserts otherwise: Debian's build aborts). Others are not cast: the point counts as lit.
       const float big = kMaxRayCoordinate;

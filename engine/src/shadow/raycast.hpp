@@ -20,6 +20,7 @@
 
 #include "facet/scene.hpp"
 #include "facet/status.hpp"
+#include "shadow/target.hpp"
 
 namespace facet::shadow {
 
@@ -40,23 +41,12 @@ class RayCaster {
   // ShadowBias::normal.
   float radius() const noexcept { return radius_; }
 
-  // A light as the queries see it, in eye space: a position (point, spot) or the unit direction
-  // towards a directional light.
-  struct Target {
-    bool directional = false;
-    float x = 0, y = 0, z = 0;
-    // Where the light cannot reach (its visibility does not matter there, so no ray is cast): a
-    // spot light's cone (unit axis, the way the light travels; outside when the cosine to the axis
-    // is below cos_outer) and a range (0 = none).
-    bool spot = false;
-    float axis_x = 0, axis_y = 0, axis_z = 0, cos_outer = -1;
-    float range = 0;
-  };
+  using Target = LightTarget;
   // visible[i] = 1 if point i (eye space p, normal n, moved by `offset` times the unit normal)
-  // sees the target, else 0. Points the light clearly cannot light (facing away from it by more
-  // than rounding, outside its cone or range) get 1 without a ray: their diffuse and specular
-  // terms are zero whatever their visibility. Point i's coordinates are px[i * stride] (likewise the others):
-  // stride 1 for structure-of-arrays streams, 3 for xyz triples.
+  // sees the target, else 0. Points the light clearly cannot light (may_be_lit) get 1 without a
+  // ray: their diffuse and specular terms are zero whatever their visibility. Point i's
+  // coordinates are px[i * stride] (likewise the others): stride 1 for structure-of-arrays
+  // streams, 3 for xyz triples.
   void visibility(const Target& target, float offset, std::size_t count, const float* px, const float* py,
                   const float* pz, const float* nx, const float* ny, const float* nz, std::size_t stride,
                   float* visible) const;

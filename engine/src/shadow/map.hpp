@@ -1,0 +1,85 @@
+// Internal: shadow maps (shadow buffers). A light's map is one depth image per face, rendered
+// from the light by depth-only passes of the renderer's own tile pipeline (raster/pass.hpp), and
+// a lookup that decides a shaded point's visibility of the light from it:
+//   - a directional light: one orthographic face looking along the light, fitted to the box of
+//     the casters' bounds in light space, cut to the light-space footprint of the camera's
+//     frustum (a caster outside that footprint cannot shade a visible point; casters behind the
+//     camera still cast);
+//   - a spot light: one perspective face from the light along its axis, its field of view the
+//     outer cone (plus the filter's margin); cones wider than 75 degrees use a cube;
+//   - a point light: a cube of six perspective faces (omni), each a little wider than 90 degrees
+//     so that a filter's footprint never leaves its face (no seams at face borders).
+// Depth range: from the casters' bounds (near at least far / 1000). A point's depth is compared
+// with the stored depth after the point moves towards the light and along its normal by the
+// light's ShadowBias, in filter radii at the point (facet/light.hpp); a filter of N x N texels (N = 2, 3, 5)
+// averages (N - 1)^2 bilinear 2x2 comparisons (GL's LINEAR depth compare), so visibility varies
+// smoothly as the point moves. Texels outside the map count as lit: the fit keeps every caster
+// that matters inside it.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "facet/image.hpp"
+#include "facet/light.hpp"
+#include "shadow/target.hpp"
+
+namespace facet::shadow {
+
+// World-space boxes of the casters of a frame (objects with cast_shadows), one per object with a
+// finite vertex: what the maps are fitted to.
+struct CasterBounds {
+  std::vector<Eigen::Vector3d> lo, hi;
+  bool empty() const { return lo.empty(); }
+};
+
+class ShadowMap {
+ public:
+  enum class Kind { orthographic, perspective, cube };
+
+  // Plans the map of `light` (enabled, shadow.method == map) for a frame: its faces' views and
+  // projections fitted to `casters` and the camera (`camera_view`: world -> eye,
+  // `camera_projection`), and their depth images (resolution^2 floats each, allocated here).
+  // After plan(), empty() when no caster can shade a visible point: no pass runs and every point
+  // is lit.
+  void plan(const Light& light, const CasterBounds& casters, const Eigen::Matrix4d& camera_view,
+            const Eigen::Matrix4d& camera_projection);
+  bool empty() const { return faces_ == 0; }
+  Kind kind() const { return kind_; }
+  int resolution() const { return resolution_; }
+  int face_count() const { return faces_; }
+  const Eigen::Matrix4d& face_view(int f) const { return face_[f].view; }              // world -> light eye
+  const Eigen::Matrix4d& face_projection(int f) const { return face_[f].projection; }  // light eye -> clip
+  // The face's depth image as the depth-only pass writes it (window depth in [0, 1], y down).
+  DepthView depth_view(int f);
+  const float* depth(int f) const { return face_[f].depth.data(); }
+  // Bytes a map of `light` takes (its faces' depth images).
+  static std::size_t bytes(const Light& light);
+
+  // visible[i] in [0, 1]: how much of the filter's footprint around point i (camera eye space p,
+  // normal n, coordinates px[i * stride] and so on) sees the light. Points the light clearly
+  // cannot light (may_be_lit) get 1 without a lookup.
+  void visibility(const LightTarget& target, std::size_t count, const float* px, const float* py, const float* pz,
+                  const float* nx, const float* ny, const float* nz, std::size_t stride, float* visible) const;
+
+ private:
+  struct Face {
+    Eigen::Matrix4d view = Eigen::Matrix4d::Identity(), projection = Eigen::Matrix4d::Identity();
+    Eigen::Matrix4d from_eye = Eigen::Matrix4d::Identity();  // camera eye -> light eye
+    std::vector<float> depth;
+  };
+  double lookup(const Face& f, const Eigen::Vector3d& p) const;  // light-eye point: filtered visibility
+  Kind kind_ = Kind::orthographic;
+  int faces_ = 0, resolution_ = 0, taps_ = 1;
+  double reach_ = 1.0;  // the filter's radius in texels: the unit of the bias
+  ShadowBias bias_;
+  double tan_half_ = 1.0;  // perspective and cube faces: tangent of half the field of view
+  double texel_ = 0.0;     // orthographic: world size of a texel (the larger side)
+  Eigen::Matrix4d eye_to_world_ = Eigen::Matrix4d::Identity();
+  Eigen::Vector3d light_eye_ = Eigen::Vector3d::Zero();  // cube: the light in camera eye space
+  Face face_[6];
+};
+
+}  // namespace facet::shadow
