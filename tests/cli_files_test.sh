@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # facet's command line and files: a FIFO is refused at once (never blocks), -o into a missing
 # directory fails without creating it, and a write cut short by `ulimit -f` keeps the old file
-# byte for byte and leaves no temporary file; check and render report ray-cast shadows.   usage: cli_files_test.sh FACET GOLDEN.png WORKDIR
+# byte for byte and leaves no temporary file; check and render report ray-cast shadows and shadow maps.   usage: cli_files_test.sh FACET GOLDEN.png WORKDIR
 set -u
 facet="$1" golden="$2" work="$3"
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
@@ -32,5 +32,10 @@ check "check reports the shadowed lights (exit $rc: $out)" '[ $rc -eq 0 ] && [[ 
 out=$("$facet" check "$shadows" 2>&1); rc=$?
 check "check refuses shadows in Gouraud shading (exit $rc: $out)" '[ $rc -eq 2 ] && [[ "$out" == *"lights[0].shadow"*"--shading phong"* ]]'
 out=$("$facet" render "$shadows" --shading phong --width 64 --height 48 --stats -o shadows.png 2>&1); rc=$?
-check "render draws ray-cast shadows (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"shadows     ray-cast: 4108 caster triangles"* ]] && [ -s shadows.png ]'
+check "render draws ray-cast shadows (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"shadows     4108 caster triangles"* ]] && [ -s shadows.png ]'
+maps="$(dirname "$shadows")/shadow_maps.json"
+out=$("$facet" check "$maps" --shading phong 2>&1); rc=$?
+check "check reports the shadow maps (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"sun map 2048^2 pcf3x3, spot map 1024^2 pcf5x5, lamp map 2048^2 pcf2x2 cube"* ]]'
+out=$("$facet" render "$maps" --shading phong --width 64 --height 48 --stats -o maps.png 2>&1); rc=$?
+check "render draws shadow maps (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"maps: 30.41 M texels"* ]] && [ -s maps.png ]'
 exit $failed

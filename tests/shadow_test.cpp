@@ -666,3 +666,104 @@ TEST(ShadowMaps, CastersOutsideTheView) {
 
 }  // namespace
 }  // namespace facet
+
+#include <random>
+
+#include "raster/tile_raster.hpp"
+#include "shadow/map.hpp"
+
+namespace facet {
+namespace {
+
+// The SIMD shadow-map lookup of every ISA against its scalar twin, bit for bit: the three kinds
+// of map, every filter, random depths, and points anywhere (outside the map, behind the light,
+// on face borders, with zero, NaN and infinite coordinates and normals), stride 1 and 3.
+TEST(ShadowMaps, SimdLookupIsTheScalarOneBitForBit) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> coord(-6.0f, 6.0f), unit(0.0f, 1.0f);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  shadow::CasterBounds casters;
+  casters.lo = {Eigen::Vector3d(-4, 0, -4), Eigen::Vector3d(-1, 0.5, -1)};
+  casters.hi = {Eigen::Vector3d(4, 0, 4), Eigen::Vector3d(1, 2.5, 1)};
+  const Scene base = sphere_over_plane();
+  const Eigen::Matrix4d view = view_matrix(base.camera).cast<double>();
+  const Eigen::Matrix4d projection = projection_matrix(base.camera, 1.0f).cast<double>();
+  int compared = 0;
+  for (const Scene& s : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
+    for (const ShadowFilter filter : {ShadowFilter::none, ShadowFilter::pcf2x2, ShadowFilter::pcf3x3, ShadowFilter::pcf5x5}) {
+      Light light = s.lights[0];
+      light.shadow.method = ShadowMethod::map;
+      light.shadow.filter = filter;
+      light.shadow.resolution = 64;
+      light.shadow.bias.slope = 0.5f;  // every bias term in play
+      light.shadow.bias.constant = 0.25f;
+      shadow::ShadowMap map;
+      map.plan(light, casters, view, projection);
+      ASSERT_FALSE(map.empty());
+      for (int f = 0; f < map.face_count(); ++f) {
+        const DepthView d = map.depth_view(f);
+        for (int y = 0; y < d.height; ++y) {
+          for (int x = 0; x < d.width; ++x) {  // blocks of 8 x 8 texels: casters near the light or none
+            std::mt19937 block(static_cast<unsigned>(f * 4096 + (y / 8) * 64 + x / 8));
+            d.data[y * d.width + x] = block() % 3 == 0 ? 1.0f : 0.1f * unit(rng);
+          }
+        }
+      }
+      constexpr std::size_t kPoints = 1000;
+      std::vector<float> p(6 * kPoints);
+      for (std::size_t i = 0; i < kPoints; ++i) {
+        const Eigen::Vector4d world(coord(rng), coord(rng) * 0.5f + 1.5f, coord(rng), 1.0);
+        const Eigen::Vector4d eye = view * world;
+        for (int c = 0; c < 3; ++c) p[6 * i + c] = static_cast<float>(eye[c]), p[6 * i + 3 + c] = coord(rng);
+      }
+      const float odd[][6] = {{0, 0, 0, 0, 0, 0},  {nan, 0, -5, 0, 1, 0}, {0, inf, -5, 0, 1, 0}, {0, 0, -5, nan, 1, 0},
+                              {1e20f, 0, -5, 0, 1, 0}, {0, 0, -5, 1e20f, 0, 0}, {0, 0, 5, 0, 1, 0}};
+      for (std::size_t k = 0; k < std::size(odd); ++k) std::copy_n(odd[k], 6, &p[6 * k]);
+      auto run = [&](shadow::MapVisibilityFunction kernel, bool soa) {
+        map.set_kernel(kernel);
+        std::vector<float> out(kPoints);
+        if (soa) {
+          std::vector<float> streams(6 * kPoints);
+          for (std::size_t i = 0; i < kPoints; ++i) {
+            for (int c = 0; c < 6; ++c) streams[static_cast<std::size_t>(c) * kPoints + i] = p[6 * i + c];
+          }
+          const float* q = streams.data();
+          map.visibility(kPoints, q, q + kPoints, q + 2 * kPoints, q + 3 * kPoints, q + 4 * kPoints, q + 5 * kPoints, 1,
+                         out.data());
+        } else {
+          std::vector<float> xyz(3 * kPoints), nrm(3 * kPoints);
+          for (std::size_t i = 0; i < kPoints; ++i) {
+            for (int c = 0; c < 3; ++c) xyz[3 * i + c] = p[6 * i + c], nrm[3 * i + c] = p[6 * i + 3 + c];
+          }
+          map.visibility(kPoints, xyz.data(), xyz.data() + 1, xyz.data() + 2, nrm.data(), nrm.data() + 1, nrm.data() + 2,
+                         3, out.data());
+        }
+        return out;
+      };
+      const std::vector<float> scalar = run(nullptr, true);
+      EXPECT_EQ(run(nullptr, false), scalar);
+      int partial = 0, shadowed = 0;
+      for (float v : scalar) {
+        partial += v > 0.0f && v < 1.0f;
+        shadowed += v == 0.0f;
+      }
+      EXPECT_GT(shadowed, 10);
+      if (filter != ShadowFilter::none) EXPECT_GT(partial, 10);
+      for (const Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+        const raster::simd::Kernels* k = raster::simd_raster_kernels(isa);
+        if (!k) continue;
+        for (const bool soa : {true, false}) {
+          const std::vector<float> simd = run(k->shadow_map, soa);
+          ASSERT_EQ(simd.size(), scalar.size());
+          EXPECT_EQ(std::memcmp(simd.data(), scalar.data(), simd.size() * sizeof(float)), 0)
+              << to_string(isa) << " " << to_string(filter) << " kind " << int(map.kind());
+          ++compared;
+        }
+      }
+    }
+  }
+  EXPECT_GE(compared, 12 * 2);
+}
+
+}  // namespace
+}  // namespace facet

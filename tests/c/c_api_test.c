@@ -304,7 +304,12 @@ int main(void) {
     side.shadow_method = method;
     CHECK(facet_scene_add_light(sh, &side) == FACET_OK);
     CHECK(facet_scene_set_object_shadows(sh, square_object, 1, 1) == FACET_OK);
-    CHECK(facet_render(r, sh, img, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
+    facet_frame_stats shadow_stats;
+    CHECK(facet_render(r, sh, img, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, &shadow_stats) == FACET_OK);
+    CHECK(shadow_stats.shadow_casters == 4 && shadow_stats.seconds_shadows > 0.0);
+    CHECK(method == FACET_SHADOW_MAP ? shadow_stats.shadow_map_texels == 2u * 2048u * 2048u &&
+                                           shadow_stats.shadow_map_pixels > 0
+                                     : shadow_stats.shadow_map_texels == 0);
     CHECK(facet_scene_set_object_shadows(sh, square_object, 0, 1) == FACET_OK);
     CHECK(facet_render(r, sh, unshadowed, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
     int darker = 0, brighter = 0;

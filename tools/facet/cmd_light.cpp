@@ -247,6 +247,10 @@ int run_check(int argc, char** argv) {
     ++shadowed;
     methods += std::string(methods.empty() ? "" : ", ") + (l.name.empty() ? "(unnamed)" : l.name) + " " +
                to_string(l.shadow.method);
+    if (l.shadow.method == ShadowMethod::map) {
+      methods += " " + std::to_string(l.shadow.resolution) + "^2 " + to_string(l.shadow.filter) +
+                 (shadow_map_faces(l) == 6 ? " cube" : "");
+    }
   }
   for (const auto& obj : scene->objects) casters += obj.cast_shadows, receivers += obj.receive_shadows;
   if (shadowed > 0) {

@@ -64,8 +64,13 @@ void print_stats_text(const FrameStats& s, int frames, double seconds) {
   std::printf("  pixels      %llu tested, %llu filled\n", (unsigned long long)s.pixels_tested,
               (unsigned long long)s.pixels_filled);
   if (s.shadow_casters > 0 || s.seconds_shadows > 0) {
-    std::printf("  shadows     ray-cast: %llu caster triangles, hierarchy built in %.3f ms\n",
+    std::printf("  shadows     %llu caster triangles, %.3f ms (ray-cast hierarchy, shadow maps fitted and drawn)",
                 (unsigned long long)s.shadow_casters, 1e3 * s.seconds_shadows);
+    if (s.shadow_map_texels > 0) {
+      std::printf("; maps: %.2f M texels, %.2f M written by casters", double(s.shadow_map_texels) / 1e6,
+                  double(s.shadow_map_pixels) / 1e6);
+    }
+    std::printf("\n");
   }
   std::printf("  time (ms)   lighting %.3f, geometry %.3f, tiles %.3f (resolve %.3f of thread time), frame %.3f\n",
               1e3 * s.seconds_lighting, 1e3 * s.seconds_geometry, 1e3 * s.seconds_raster, 1e3 * s.seconds_resolve,
@@ -86,7 +91,8 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               "\"vertex_lights_evaluated\": %llu, \"vertex_lights_skipped\": %llu, "
               "\"pixels_tested\": %llu, \"pixels_filled\": %llu, \"seconds_lighting\": %.6g, "
               "\"seconds_geometry\": %.6g, \"seconds_raster\": %.6g, \"seconds_resolve\": %.6g, "
-              "\"shadow_casters\": %llu, \"seconds_shadows\": %.6g, "
+              "\"shadow_casters\": %llu, \"seconds_shadows\": %.6g, \"shadow_map_texels\": %llu, "
+              "\"shadow_map_pixels\": %llu, "
               "\"seconds_frame\": %.6g, \"frames\": %d, \"mean_seconds_per_frame\": %.6g, "
               "\"vertices_lit_per_s\": %.6g, \"pixels_filled_per_s\": %.6g}\n",
               w, h, to_string(o.shading), describe_path(o.path, o.isa, o.pow_tier).c_str(), s.threads,
@@ -99,7 +105,8 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               (unsigned long long)s.vertex_lights_evaluated,
               (unsigned long long)s.vertex_lights_skipped, (unsigned long long)s.pixels_tested, (unsigned long long)s.pixels_filled, s.seconds_lighting,
               s.seconds_geometry, s.seconds_raster, s.seconds_resolve, (unsigned long long)s.shadow_casters,
-              s.seconds_shadows, s.seconds_total, frames, per_frame,
+              s.seconds_shadows, (unsigned long long)s.shadow_map_texels, (unsigned long long)s.shadow_map_pixels,
+              s.seconds_total, frames, per_frame,
               double(s.vertices_lit) / per_frame, double(s.pixels_filled) / per_frame);
 }
 

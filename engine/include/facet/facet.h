@@ -161,6 +161,10 @@ typedef struct facet_frame_stats {
   uint64_t pixels_tested;
   /* per stage: lighting and geometry summed over objects, raster wall time, resolve summed over threads */
   double seconds_lighting, seconds_geometry, seconds_raster, seconds_resolve;
+  /* shadows: the ray-cast hierarchy and the shadow maps' passes; caster triangles; the maps'
+   * texels (every face) and how many of them casters wrote */
+  double seconds_shadows;
+  uint64_t shadow_casters, shadow_map_texels, shadow_map_pixels;
 } facet_frame_stats;
 
 typedef struct facet_renderer facet_renderer;

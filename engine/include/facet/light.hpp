@@ -82,4 +82,8 @@ struct Light {
   Shadow shadow;  // what blocks this light's diffuse and specular terms (its ambient term is never blocked)
 };
 
+// How many faces a light's shadow map has: 6 (a cube) for point lights and for spot lights whose
+// cone is wider than 75 degrees (half-angle), else 1.
+int shadow_map_faces(const Light& light) noexcept;
+
 }  // namespace facet

@@ -582,6 +582,10 @@ facet_status facet_render(facet_renderer* renderer, const facet_scene* scene, vo
       stats->seconds_geometry = s.seconds_geometry;
       stats->seconds_raster = s.seconds_raster;
       stats->seconds_resolve = s.seconds_resolve;
+      stats->seconds_shadows = s.seconds_shadows;
+      stats->shadow_casters = s.shadow_casters;
+      stats->shadow_map_texels = s.shadow_map_texels;
+      stats->shadow_map_pixels = s.shadow_map_pixels;
     }
     return report(renderer->error, status);
   });

@@ -283,7 +283,7 @@ void PointShader::find_visibility(std::size_t count, const float* px, const floa
   for (int k = 0; k < shadow_slots_; ++k) {
     float* out = visibility + static_cast<std::size_t>(k) * count;
     if (maps_[k]) {
-      maps_[k]->visibility(targets_[k], count, px, py, pz, nx, ny, nz, stride, out);
+      maps_[k]->visibility(count, px, py, pz, nx, ny, nz, stride, out);
     } else {
       caster_->visibility(targets_[k], offsets_[k], count, px, py, pz, nx, ny, nz, stride, out);
     }

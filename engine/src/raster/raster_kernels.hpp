@@ -17,6 +17,7 @@
 #include "geometry/project.hpp"
 #include "raster/triangle_setup.hpp"
 #include "raster/varyings.hpp"
+#include "shadow/map_lookup.hpp"
 #include "texture/sampler.hpp"
 
 namespace facet::raster {
@@ -154,6 +155,7 @@ struct Kernels {
   SampleTextureFunction sample;
   TransformFunction transform;
   PlaceFunction place;
+  shadow::MapVisibilityFunction shadow_map;
 };
 
 namespace sse2 {
@@ -163,6 +165,8 @@ void place_triangles(const std::uint32_t*, const geometry::ScreenVertex*, const 
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
+void shadow_map(const shadow::MapLookup&, std::size_t, const float*, const float*, const float*, const float*,
+                const float*, const float*, std::size_t, float*);
 }  // namespace sse2
 namespace avx2 {
 void transform_vertices(const geometry::Mat4Rows&, const float*, std::size_t, std::size_t, const geometry::ClipPlanes&,
@@ -171,6 +175,8 @@ void place_triangles(const std::uint32_t*, const geometry::ScreenVertex*, const 
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
+void shadow_map(const shadow::MapLookup&, std::size_t, const float*, const float*, const float*, const float*,
+                const float*, const float*, std::size_t, float*);
 }  // namespace avx2
 namespace avx512 {
 void transform_vertices(const geometry::Mat4Rows&, const float*, std::size_t, std::size_t, const geometry::ClipPlanes&,
@@ -179,6 +185,8 @@ void place_triangles(const std::uint32_t*, const geometry::ScreenVertex*, const 
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
+void shadow_map(const shadow::MapLookup&, std::size_t, const float*, const float*, const float*, const float*,
+                const float*, const float*, std::size_t, float*);
 }  // namespace avx512
 
 }  // namespace facet::raster::simd

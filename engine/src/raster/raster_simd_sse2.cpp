@@ -9,6 +9,7 @@
 #include "geometry/transform_simd.hpp"
 #include "raster/place_simd.hpp"
 #include "raster/raster_simd.hpp"
+#include "shadow/map_simd.hpp"
 #include "texture/sample_simd.hpp"
 
 namespace facet::raster::simd::sse2 {
@@ -30,5 +31,9 @@ void resolve_tile(const TileView& tile, int x0, int y0, int x1, int y1, const Im
 }
 void sample_texture(const texture::Sampler& sampler, std::size_t count, const float* const* in, float* const* out) {
   texture::simd::SampleSimd<xsimd::sse2>::sample_streams(sampler, count, in, out);
+}
+void shadow_map(const shadow::MapLookup& map, std::size_t count, const float* px, const float* py, const float* pz,
+                const float* nx, const float* ny, const float* nz, std::size_t stride, float* visible) {
+  shadow::simd::MapSimd<xsimd::sse2>::run(map, count, px, py, pz, nx, ny, nz, stride, visible);
 }
 }  // namespace facet::raster::simd::sse2

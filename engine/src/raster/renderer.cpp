@@ -542,6 +542,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
       shadow::ShadowMap& map = maps[l];
       map.plan(light, caster_bounds, camera.view, camera.projection);
       if (map.empty()) continue;  // nothing can shade a visible point: the light is not shadowed
+      map.set_kernel(simd_kernels ? simd_kernels->shadow_map : nullptr);
       frame_maps[l] = &map;
       any_map = true;
       for (int f = 0; f < map.face_count(); ++f) {
@@ -550,6 +551,9 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
         passes.back().assembly.place = camera.assembly.place;
         stats.shadow_map_texels += static_cast<std::uint64_t>(map.resolution()) * static_cast<std::uint64_t>(map.resolution());
       }
+    }
+    for (const Instance& inst : scene.objects) {
+      if (inst.cast_shadows) stats.shadow_casters += scene.meshes[inst.mesh].mesh.triangle_count();
     }
     stats.seconds_shadows += seconds_since(start);
   }

@@ -24,11 +24,14 @@ void TileBuffers::resize(int tile_size) {
 
 const simd::Kernels* simd_raster_kernels(Isa isa) noexcept {
   static constexpr simd::Kernels sse2{simd::sse2::raster_tile, simd::sse2::resolve_tile, simd::sse2::sample_texture,
-                                            simd::sse2::transform_vertices, simd::sse2::place_triangles};
+                                            simd::sse2::transform_vertices, simd::sse2::place_triangles,
+                                            simd::sse2::shadow_map};
   static constexpr simd::Kernels avx2{simd::avx2::raster_tile, simd::avx2::resolve_tile, simd::avx2::sample_texture,
-                                            simd::avx2::transform_vertices, simd::avx2::place_triangles};
+                                            simd::avx2::transform_vertices, simd::avx2::place_triangles,
+                                            simd::avx2::shadow_map};
   static constexpr simd::Kernels avx512{simd::avx512::raster_tile, simd::avx512::resolve_tile, simd::avx512::sample_texture,
-                                            simd::avx512::transform_vertices, simd::avx512::place_triangles};
+                                            simd::avx512::transform_vertices, simd::avx512::place_triangles,
+                                            simd::avx512::shadow_map};
   if (isa == Isa::best) isa = best_isa();
   if (!isa_supported(isa)) return nullptr;
   switch (isa) {
@@ -365,12 +368,18 @@ float* depth_row(const DepthView& depth, int y) {
 
 void resolve_depth_tile(const RasterJob& job, const TileBuffers& tile, const TileRect& rect, const DepthView& depth) {
   const int blocks_per_row = tile.size / simd::kBlock;
+  const float* plane = tile.plane(4);
   for (int y = rect.y0; y < rect.y1; ++y) {
     float* out = depth_row(depth, y);
-    for (int x = rect.x0; x < rect.x1; ++x) {
-      const int tx = x - rect.x0, ty = y - rect.y0;
+    const int ty = y - rect.y0;
+    for (int x = rect.x0; x < rect.x1; x += simd::kBlock) {  // a block's row at a time
+      const int tx = x - rect.x0, width = std::min(simd::kBlock, rect.x1 - x);
       const bool touched = !job.kernels || tile.touched[static_cast<std::size_t>((ty / simd::kBlock) * blocks_per_row + tx / simd::kBlock)];
-      out[x] = touched ? tile.plane(4)[tile.index(tx, ty)] : 1.0f;
+      if (touched) {
+        std::memcpy(out + x, plane + tile.index(tx, ty), static_cast<std::size_t>(width) * sizeof(float));
+      } else {
+        std::fill(out + x, out + x + width, 1.0f);
+      }
     }
   }
 }

@@ -9,12 +9,13 @@
 
 namespace facet::shadow {
 
-namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 // Cones wider than this (half-angle, degrees) get a cube: a single perspective face would spend
 // most of its texels far off the axis.
 constexpr double kWidestSpotFace = 75.0;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
 // The near plane stays at least this fraction of the far plane (window depth keeps its precision).
 constexpr double kNearFraction = 1e-3;
 // The slope bias's tangent is capped (grazing light would push points through thin casters).
@@ -84,29 +85,25 @@ bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 
 std::size_t ShadowMap::bytes(const Light& light) {
   const auto r = static_cast<std::size_t>(std::clamp(light.shadow.resolution, 16, 16384));
-  const bool cube = light.type == LightType::point ||
-                    (light.type == LightType::spot &&
-                     (light.spot_shape == SpotShape::smooth_cone ? light.spot_outer_deg : light.spot_cutoff_deg) >
-                         kWidestSpotFace);
-  return (cube ? 6 : 1) * r * r * sizeof(float);
+  return static_cast<std::size_t>(shadow_map_faces(light)) * r * r * sizeof(float);
 }
 
 DepthView ShadowMap::depth_view(int f) {
-  Face& face = face_[f];
-  return {face.depth.data(), resolution_, resolution_, static_cast<std::size_t>(resolution_) * sizeof(float), false};
+  const std::size_t texels = static_cast<std::size_t>(resolution_) * static_cast<std::size_t>(resolution_);
+  return {depth_.data() + static_cast<std::size_t>(f) * texels, resolution_, resolution_,
+          static_cast<std::size_t>(resolution_) * sizeof(float), false};
 }
 
 void ShadowMap::plan(const Light& light, const CasterBounds& casters, const Eigen::Matrix4d& camera_view,
                      const Eigen::Matrix4d& camera_projection) {
   faces_ = 0;
   resolution_ = light.shadow.resolution;
-  taps_ = taps_of(light.shadow.filter);
-  reach_ = 0.5 * taps_ + 0.5;
-  bias_ = light.shadow.bias;
-  eye_to_world_ = camera_view.inverse();
+  const int taps = taps_of(light.shadow.filter);
+  const Eigen::Matrix4d eye_to_world = camera_view.inverse();
+  double texel = 0.0, tan_half = 1.0;
   if (casters.empty()) return;
   // Margin of the perspective faces: the filter's reach plus a texel, on each side.
-  const double margin = std::floor(0.5 * taps_) + 2.0;
+  const double margin = std::floor(0.5 * taps) + 2.0;
   const double widen = resolution_ / (resolution_ - 2.0 * margin);
   const Eigen::Vector3d position = light.position.cast<double>();
   const double cone = light.spot_shape == SpotShape::smooth_cone ? light.spot_outer_deg : light.spot_cutoff_deg;
@@ -143,9 +140,9 @@ void ShadowMap::plan(const Light& light, const CasterBounds& casters, const Eige
     Face& f = face_[0];
     f.view = view;
     f.projection = orthographic(lo.x(), hi.x(), lo.y(), hi.y(), -box.max().z() - z_pad, -box.min().z() + z_pad);
-    texel_ = std::max(hi.x() - lo.x(), hi.y() - lo.y()) / resolution_;
+    texel = std::max(hi.x() - lo.x(), hi.y() - lo.y()) / resolution_;
     faces_ = 1;
-  } else if (light.type == LightType::spot && cone <= kWidestSpotFace) {
+  } else if (shadow_map_faces(light) == 1) {  // a spot light
     kind_ = Kind::perspective;
     const Eigen::Vector3d forward = light.direction.cast<double>().normalized();
     const Eigen::Matrix4d view = look_along(position, forward, up_for(forward));
@@ -159,10 +156,10 @@ void ShadowMap::plan(const Light& light, const CasterBounds& casters, const Eige
     if (!finite_positive(far)) return;  // every caster behind the light
     far *= 1.0 + 1e-3;
     near = std::max(near * (1.0 - 1e-3), far * kNearFraction);
-    tan_half_ = std::tan(cone * kPi / 180.0) * widen;
+    tan_half = std::tan(cone * kPi / 180.0) * widen;
     Face& f = face_[0];
     f.view = view;
-    f.projection = perspective(tan_half_, near, far);
+    f.projection = perspective(tan_half, near, far);
     faces_ = 1;
   } else {  // a point light, or a wide spot light: six faces along the world axes
     kind_ = Kind::cube;
@@ -176,7 +173,7 @@ void ShadowMap::plan(const Light& light, const CasterBounds& casters, const Eige
     if (!finite_positive(far)) return;
     far *= 1.0 + 1e-3;
     near = std::max(near * (1.0 - 1e-3), far * kNearFraction);
-    tan_half_ = widen;  // 45 degrees, widened
+    tan_half = widen;  // 45 degrees, widened
     // +x, -x, +y, -y, +z, -z (GL's order), each with an up vector off its axis.
     static const double kAxes[6][6] = {{1, 0, 0, 0, -1, 0},  {-1, 0, 0, 0, -1, 0}, {0, 1, 0, 0, 0, 1},
                                        {0, -1, 0, 0, 0, -1}, {0, 0, 1, 0, -1, 0},  {0, 0, -1, 0, -1, 0}};
@@ -184,89 +181,136 @@ void ShadowMap::plan(const Light& light, const CasterBounds& casters, const Eige
       Face& f = face_[k];
       f.view = look_along(position, Eigen::Vector3d(kAxes[k][0], kAxes[k][1], kAxes[k][2]),
                           Eigen::Vector3d(kAxes[k][3], kAxes[k][4], kAxes[k][5]));
-      f.projection = perspective(tan_half_, near, far);
+      f.projection = perspective(tan_half, near, far);
     }
-    light_eye_ = (camera_view * position.homogeneous()).head<3>();
     faces_ = 6;
   }
-  const auto texels = static_cast<std::size_t>(resolution_) * static_cast<std::size_t>(resolution_);
+  depth_.resize(static_cast<std::size_t>(faces_) * static_cast<std::size_t>(resolution_) *
+                static_cast<std::size_t>(resolution_));
+  // What the lookup kernels read, in float.
+  MapLookup& m = lookup_;
+  m = MapLookup{};
+  m.kind = kind_ == Kind::orthographic ? MapLookup::orthographic
+           : kind_ == Kind::perspective ? MapLookup::perspective
+                                        : MapLookup::cube;
+  m.resolution = resolution_;
+  m.taps = taps;
+  m.depth = depth_.data();
   for (int k = 0; k < faces_; ++k) {
-    Face& f = face_[k];
-    f.from_eye = f.view * eye_to_world_;
-    f.depth.resize(texels);
+    const Eigen::Matrix4d to_clip = face_[k].projection * face_[k].view * eye_to_world;
+    for (int i = 0; i < 16; ++i) m.to_clip[k][i] = static_cast<float>(to_clip(i / 4, i % 4));
   }
+  m.texel = static_cast<float>(texel);
+  m.texel_per_w = static_cast<float>(2.0 * tan_half / resolution_);
+  m.reach = static_cast<float>(0.5 * taps + 0.5);
+  m.bias_normal = light.shadow.bias.normal;
+  m.bias_constant = light.shadow.bias.constant;
+  m.bias_slope = light.shadow.bias.slope;
+  m.directional = light.type == LightType::directional ? 1 : 0;
+  const Eigen::Vector3d at = light.type == LightType::directional
+                                 ? Eigen::Vector3d(-(camera_view.topLeftCorner<3, 3>() * light.direction.cast<double>()).normalized())
+                                 : Eigen::Vector3d((camera_view * position.homogeneous()).head<3>());
+  for (int c = 0; c < 3; ++c) m.light[c] = static_cast<float>(at[c]);
+  for (int i = 0; i < 9; ++i) m.eye_to_world[i] = static_cast<float>(eye_to_world(i / 3, i % 3));
 }
 
-double ShadowMap::lookup(const Face& f, const Eigen::Vector3d& q) const {
-  const Eigen::Vector4d c = f.projection * q.homogeneous();
-  if (!(c.w() > 0.0)) return 1.0;  // behind a perspective face's light: no caster there
-  const double inv_w = 1.0 / c.w();
-  const double n = resolution_;
-  const double u = (c.x() * inv_w + 1.0) * 0.5 * n, v = (1.0 - c.y() * inv_w) * 0.5 * n;
-  const double z = std::clamp(0.5 * c.z() * inv_w + 0.5, 0.0, 1.0);
-  if (!std::isfinite(u) || !std::isfinite(v) || !std::isfinite(z)) return 1.0;
-  auto lit = [&](double x, double y) -> double {  // texel (x, y): outside the map, nothing casts
-    if (x < 0.0 || y < 0.0 || x >= n || y >= n) return 1.0;
-    const std::size_t at = static_cast<std::size_t>(y) * static_cast<std::size_t>(resolution_) + static_cast<std::size_t>(x);
-    return z <= double(f.depth[at]) ? 1.0 : 0.0;
-  };
-  if (taps_ == 1) return lit(std::floor(u), std::floor(v));
-  // N x N texels from the first; weights 1 - f, 1, ..., 1, f per axis, over (N - 1)^2.
-  const double shift = 0.5 + 0.5 * (taps_ - 2);
-  const double x0 = std::floor(u - shift), y0 = std::floor(v - shift);
-  const double fx = (u - shift) - x0, fy = (v - shift) - y0;
-  double sum = 0.0;
-  for (int j = 0; j < taps_; ++j) {
-    const double wy = j == 0 ? 1.0 - fy : j == taps_ - 1 ? fy : 1.0;
-    double row = 0.0;
-    for (int i = 0; i < taps_; ++i) {
-      const double wx = i == 0 ? 1.0 - fx : i == taps_ - 1 ? fx : 1.0;
-      row += wx * lit(x0 + i, y0 + j);
-    }
-    sum += wy * row;
+void ShadowMap::visibility(std::size_t count, const float* px, const float* py, const float* pz, const float* nx,
+                           const float* ny, const float* nz, std::size_t stride, float* visible) const {
+  if (faces_ == 0) {
+    for (std::size_t i = 0; i < count; ++i) visible[i] = 1.0f;
+    return;
   }
-  const double norm = double(taps_ - 1) * double(taps_ - 1);
-  return sum / norm;
+  (kernel_ ? kernel_ : map_visibility_scalar)(lookup_, count, px, py, pz, nx, ny, nz, stride, visible);
 }
 
-void ShadowMap::visibility(const LightTarget& t, std::size_t count, const float* px, const float* py, const float* pz,
-                           const float* nx, const float* ny, const float* nz, std::size_t stride, float* visible) const {
+// The scalar twin of the SIMD lookup (map_simd.hpp): the same float operations in the same
+// order. Moved d along its normal, a plane at angle t to the light clears its own depth by
+// d / cos t along the ray, where the filter's taps within r of the point see it at most r tan t
+// nearer: d = r sin t suffices, so a normal bias of one filter radius clears any angle.
+void map_visibility_scalar(const MapLookup& m, std::size_t count, const float* px, const float* py, const float* pz,
+                           const float* nx, const float* ny, const float* nz, std::size_t stride, float* visible) {
+  const int n = m.resolution;
   for (std::size_t i = 0; i < count; ++i) {
     const std::size_t at = i * stride;
-    visible[i] = 1.0f;
-    if (faces_ == 0 || !may_be_lit(t, px[at], py[at], pz[at], nx[at], ny[at], nz[at])) continue;
-    const Eigen::Vector3d p(px[at], py[at], pz[at]);
-    Eigen::Vector3d n(nx[at], ny[at], nz[at]);
-    Eigen::Vector3d l = t.directional ? Eigen::Vector3d(t.x, t.y, t.z) : Eigen::Vector3d(t.x, t.y, t.z) - p;
-    const double n_len = n.norm(), l_len = l.norm();
-    if (!(n_len > 0.0) || !(l_len > 0.0) || !p.allFinite() || !std::isfinite(n_len) || !std::isfinite(l_len)) continue;
-    n /= n_len, l /= l_len;
-    // The face, and the size of one of its texels at the point.
-    const Face* f = &face_[0];
-    double texel = texel_;
-    if (kind_ != Kind::orthographic) {
-      if (kind_ == Kind::cube) {  // the major axis of the way from the light, in world space (ties: x, y, z)
-        const Eigen::Vector3d d = eye_to_world_.topLeftCorner<3, 3>() * (p - light_eye_);
-        const Eigen::Vector3d a = d.cwiseAbs();
-        const int axis = a.x() >= a.y() && a.x() >= a.z() ? 0 : a.y() >= a.z() ? 1 : 2;
-        f = &face_[2 * axis + (d[axis] < 0.0 ? 1 : 0)];
-      }
-      const double depth = -(f->from_eye * p.homogeneous()).z();
-      texel = 2.0 * std::max(depth, 0.0) * tan_half_ / resolution_;
+    const float x = px[at], y = py[at], z = pz[at], a = nx[at], b = ny[at], c = nz[at];
+    const float lx = m.directional ? m.light[0] : m.light[0] - x;
+    const float ly = m.directional ? m.light[1] : m.light[1] - y;
+    const float lz = m.directional ? m.light[2] : m.light[2] - z;
+    const float n2 = (a * a + b * b) + c * c, l2 = (lx * lx + ly * ly) + lz * lz;
+    bool valid = n2 > 0.0f && l2 > 0.0f && n2 < 1e30f && l2 < 1e30f && (x - x) == 0.0f && (y - y) == 0.0f &&
+                 (z - z) == 0.0f;
+    const float inv_n = 1.0f / std::sqrt(n2), inv_l = 1.0f / std::sqrt(l2);
+    float cos_nl = (((a * lx + b * ly) + c * lz) * inv_n) * inv_l;
+    cos_nl = std::min(std::max(cos_nl, 0.0f), 1.0f);
+    const float sin_nl = std::sqrt(std::max(1.0f - cos_nl * cos_nl, 0.0f));
+    const float tan_nl = std::min(sin_nl / cos_nl, 10.0f);
+    int face = 0;
+    if (m.kind == MapLookup::cube) {
+      const float dx = x - m.light[0], dy = y - m.light[1], dz = z - m.light[2];
+      const float* r = m.eye_to_world;
+      const float w[3] = {(r[0] * dx + r[1] * dy) + r[2] * dz, (r[3] * dx + r[4] * dy) + r[5] * dz,
+                          (r[6] * dx + r[7] * dy) + r[8] * dz};
+      const float ax = std::abs(w[0]), ay = std::abs(w[1]), az = std::abs(w[2]);
+      const int axis = ax >= ay && ax >= az ? 0 : ay >= az ? 1 : 2;
+      face = 2 * axis + (w[axis] < 0.0f ? 1 : 0);
     }
-    // Bias, in filter radii at the point: along the normal, and towards the light (constant, and
-    // the slope term: tan of the angle between normal and light, capped). Moved d along its
-    // normal, a plane at angle t to the light clears its own depth by d / cos t along the ray,
-    // where the filter's taps within r of the point see it at most r tan t nearer: d = r sin t
-    // suffices, so d = r clears every angle.
-    const double cos_nl = std::clamp(n.dot(l), 0.0, 1.0);
-    const double tan_nl = cos_nl > 0.0 ? std::min(std::sqrt(1.0 - cos_nl * cos_nl) / cos_nl, kMaxSlope) : kMaxSlope;
-    texel *= reach_;
-    const Eigen::Vector3d moved =
-        p + texel * (double(bias_.normal) * n + (double(bias_.constant) + double(bias_.slope) * tan_nl) * l);
-    const Eigen::Vector3d q = (f->from_eye * moved.homogeneous()).head<3>();
-    visible[i] = static_cast<float>(lookup(*f, q));
+    const float* row = m.to_clip[face];
+    float cc[4];
+    for (int r = 0; r < 4; ++r) cc[r] = ((row[4 * r] * x + row[4 * r + 1] * y) + row[4 * r + 2] * z) + row[4 * r + 3];
+    const float texel = m.kind == MapLookup::orthographic ? m.reach * m.texel : m.reach * (m.texel_per_w * std::max(cc[3], 0.0f));
+    const float along_n = (texel * m.bias_normal) * inv_n;
+    const float along_l = (texel * (m.bias_constant + m.bias_slope * tan_nl)) * inv_l;
+    const float o0 = along_n * a + along_l * lx, o1 = along_n * b + along_l * ly, o2 = along_n * c + along_l * lz;
+    for (int r = 0; r < 4; ++r) cc[r] = cc[r] + ((row[4 * r] * o0 + row[4 * r + 1] * o1) + row[4 * r + 2] * o2);
+    valid = valid && cc[3] > 0.0f;
+    const float inv_w = 1.0f / cc[3];
+    const float half = 0.5f * static_cast<float>(n);
+    const float u = (cc[0] * inv_w + 1.0f) * half, v = (1.0f - cc[1] * inv_w) * half;
+    const float depth = std::min(std::max(0.5f * (cc[2] * inv_w) + 0.5f, 0.0f), 1.0f);
+    const float shift = m.taps == 1 ? 0.0f : 0.5f * static_cast<float>(m.taps) - 0.5f;
+    const float su = u - shift, sv = v - shift;
+    const float fu = std::floor(su), fv = std::floor(sv);
+    valid = valid && fu > -1e9f && fu < 1e9f && fv > -1e9f && fv < 1e9f;
+    if (!valid) {
+      visible[i] = 1.0f;
+      continue;
+    }
+    const int x0 = static_cast<int>(fu), y0 = static_cast<int>(fv);
+    const float fx = su - fu, fy = sv - fv;
+    const float* texels = m.depth + static_cast<std::size_t>(face) * static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+    // Lit where the texel is outside the map (nothing casts there) or not nearer than the point.
+    auto lit = [&](int tx, int ty) {
+      if (tx < 0 || tx >= n || ty < 0 || ty >= n) return true;
+      return depth <= texels[static_cast<std::size_t>(ty) * static_cast<std::size_t>(n) + static_cast<std::size_t>(tx)];
+    };
+    if (m.taps == 1) {
+      visible[i] = lit(x0, y0) ? 1.0f : 0.0f;
+      continue;
+    }
+    const int last = m.taps - 1;
+    float sum = 0.0f;
+    for (int j = 0; j <= last; ++j) {
+      float r = 0.0f;
+      for (int k = 0; k <= last; ++k) {
+        const float w = k == 0 ? 1.0f - fx : k == last ? fx : 1.0f;
+        r = r + (lit(x0 + k, y0 + j) ? w : 0.0f);
+      }
+      const float wy = j == 0 ? 1.0f - fy : j == last ? fy : 1.0f;
+      sum = sum + wy * r;
+    }
+    visible[i] = sum / static_cast<float>(last * last);
   }
 }
 
 }  // namespace facet::shadow
+
+namespace facet {
+
+int shadow_map_faces(const Light& light) noexcept {
+  if (light.type == LightType::directional) return 1;
+  if (light.type == LightType::point) return 6;
+  const double cone = light.spot_shape == SpotShape::smooth_cone ? light.spot_outer_deg : light.spot_cutoff_deg;
+  return cone > shadow::kWidestSpotFace ? 6 : 1;
+}
+
+}  // namespace facet

@@ -24,6 +24,7 @@
 
 #include "facet/image.hpp"
 #include "facet/light.hpp"
+#include "shadow/map_lookup.hpp"
 #include "shadow/target.hpp"
 
 namespace facet::shadow {
@@ -54,32 +55,26 @@ class ShadowMap {
   const Eigen::Matrix4d& face_projection(int f) const { return face_[f].projection; }  // light eye -> clip
   // The face's depth image as the depth-only pass writes it (window depth in [0, 1], y down).
   DepthView depth_view(int f);
-  const float* depth(int f) const { return face_[f].depth.data(); }
+  // The lookup kernel: an ISA's (the simd path), or null for the scalar twin.
+  void set_kernel(MapVisibilityFunction kernel) { kernel_ = kernel; }
   // Bytes a map of `light` takes (its faces' depth images).
   static std::size_t bytes(const Light& light);
 
   // visible[i] in [0, 1]: how much of the filter's footprint around point i (camera eye space p,
-  // normal n, coordinates px[i * stride] and so on) sees the light. Points the light clearly
-  // cannot light (may_be_lit) get 1 without a lookup.
-  void visibility(const LightTarget& target, std::size_t count, const float* px, const float* py, const float* pz,
-                  const float* nx, const float* ny, const float* nz, std::size_t stride, float* visible) const;
+  // normal n, coordinates px[i * stride] and so on) sees the light (map_lookup.hpp).
+  void visibility(std::size_t count, const float* px, const float* py, const float* pz, const float* nx,
+                  const float* ny, const float* nz, std::size_t stride, float* visible) const;
 
  private:
   struct Face {
     Eigen::Matrix4d view = Eigen::Matrix4d::Identity(), projection = Eigen::Matrix4d::Identity();
-    Eigen::Matrix4d from_eye = Eigen::Matrix4d::Identity();  // camera eye -> light eye
-    std::vector<float> depth;
   };
-  double lookup(const Face& f, const Eigen::Vector3d& p) const;  // light-eye point: filtered visibility
   Kind kind_ = Kind::orthographic;
-  int faces_ = 0, resolution_ = 0, taps_ = 1;
-  double reach_ = 1.0;  // the filter's radius in texels: the unit of the bias
-  ShadowBias bias_;
-  double tan_half_ = 1.0;  // perspective and cube faces: tangent of half the field of view
-  double texel_ = 0.0;     // orthographic: world size of a texel (the larger side)
-  Eigen::Matrix4d eye_to_world_ = Eigen::Matrix4d::Identity();
-  Eigen::Vector3d light_eye_ = Eigen::Vector3d::Zero();  // cube: the light in camera eye space
+  int faces_ = 0, resolution_ = 0;
   Face face_[6];
+  std::vector<float> depth_;  // the faces' depth images, one after another
+  MapLookup lookup_;
+  MapVisibilityFunction kernel_ = nullptr;
 };
 
 }  // namespace facet::shadow
