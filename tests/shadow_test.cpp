@@ -767,3 +767,36 @@ TEST(ShadowMaps, SimdLookupIsTheScalarOneBitForBit) {
 
 }  // namespace
 }  // namespace facet
+
+namespace facet {
+namespace {
+
+// A renderer keeps its shadow maps from frame to frame (a tile no caster reaches is cleared once):
+// frames after a moved caster, a new resolution or a new tile size are the bytes a fresh
+// renderer draws.
+TEST(ShadowMaps, AReusedRendererDrawsWhatAFreshOneDraws) {
+  auto draw = [](Renderer& r, const Scene& s, int tile_size) {
+    Canvas c(kSize, kSize);
+    RenderOptions o;
+    o.shading = ShadingMode::phong;
+    o.tile_size = tile_size;
+    EXPECT_TRUE(r.render(s, o, c.view()).ok());
+    return c.pixels();
+  };
+  for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
+    const Scene a = with_map(base, ShadowFilter::pcf3x3, 512);
+    Scene moved = a;
+    moved.objects[1].model.block<3, 1>(0, 3) = Vec3(1.0f, 1.2f, -1.0f);
+    Scene finer = moved;
+    finer.lights[0].shadow.resolution = 1024;
+    Renderer reused;
+    draw(reused, a, 64);
+    for (const auto& [scene, tile] : {std::pair<const Scene*, int>{&moved, 64}, {&finer, 64}, {&a, 32}, {&moved, 128}}) {
+      Renderer fresh;
+      EXPECT_EQ(draw(reused, *scene, tile), draw(fresh, *scene, tile)) << "tile " << tile;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace facet

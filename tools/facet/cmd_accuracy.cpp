@@ -17,6 +17,11 @@
 //     coordinates (repeat wrap, -3..4) and derivatives (level of detail -2..7), by the scalar
 //     sampler and each ISA's SIMD sampler, against the double-precision reference sampler: max
 //     and mean error in 8-bit steps, and samples per second on one thread.
+//  5. Shadows: a sphere and a cube on a plane under one light at a time (directional, spot,
+//     point), each shadow method against ray-cast shadows (exact visibility): per method x
+//     resolution x filter, the share of receiver pixels (pixels the light reaches) whose colour
+//     differs from the ray-cast image by more than one step, how far (in pixels) the farthest of
+//     them lies from a ray-cast shadow edge, PSNR against the ray-cast image, and ms per frame.
 // Output: a table, or JSON (--json FILE) and CSV (--csv FILE).
 #include <algorithm>
 #include <chrono>
@@ -46,7 +51,7 @@ constexpr const char* kUsage =
     "against a ray-cast reference of exact spheres.\n"
     "\n"
     "options:\n"
-    "  --only PART    vertices | pow | images | textures (default: all four)\n"
+    "  --only PART    vertices | pow | images | textures | shadows (default: all five)\n"
     "  --quick        fewer vertices (10^4) and tessellation levels, for tests\n"
     "  --json FILE    write all results as JSON\n"
     "  --csv FILE     write all results as CSV (one row per measurement)\n"
@@ -65,6 +70,8 @@ struct Row {
   double psnr_db = 0;     // images
   double ms_per_frame = 0;  // images: the same frame on the default path (simd, best ISA), 1 thread
   double rate = 0;          // textures: samples per second, 1 thread
+  double share = 0;         // shadows: share of receiver pixels that differ from ray-cast shadows
+  double edge_px = 0;       // shadows: the farthest of them from a ray-cast shadow edge, pixels
   std::string verdict;    // "ok" or what failed
 };
 
@@ -731,6 +738,202 @@ void texture_accuracy(bool quick, std::vector<Row>& rows) {
   }
 }
 
+// 5. Shadows against ray-cast shadows (see the header).
+Scene shadow_scene(LightType type) {
+  Scene s;
+  s.meshes.push_back({"ground", make_plane(16.0f, 16.0f, 8)});
+  s.meshes.push_back({"ball", make_uv_sphere(1.0f, 96, 48)});
+  s.meshes.push_back({"box", make_cube(1.0f, 1)});
+  Material ground, red, blue;
+  ground.ambient = ground.diffuse = Color3(0.8f, 0.8f, 0.8f);
+  red.ambient = red.diffuse = Color3(0.8f, 0.15f, 0.1f);
+  blue.ambient = blue.diffuse = Color3(0.2f, 0.3f, 0.8f);
+  for (Material* m : {&ground, &red, &blue}) m->specular = Color3(0.3f, 0.3f, 0.3f), m->shininess = 24.0f;
+  s.materials = {ground, red, blue};
+  s.objects.push_back(Instance{0, 0});
+  Instance ball{1, 1}, box{2, 2};
+  ball.model.block<3, 1>(0, 3) = Vec3(-0.8f, 1.3f, 0.0f);
+  box.model = (Eigen::Translation3f(1.6f, 0.5f, 0.6f) * Eigen::AngleAxisf(0.5236f, Vec3::UnitY())).matrix();
+  s.objects.push_back(ball);
+  s.objects.push_back(box);
+  Light l;
+  l.type = type;
+  l.diffuse = Color3(0.8f, 0.8f, 0.8f);
+  l.specular = Color3(0.5f, 0.5f, 0.5f);
+  if (type == LightType::directional) {
+    l.direction = Vec3(-0.5f, -1.0f, -0.3f).normalized();
+  } else if (type == LightType::spot) {
+    l.position = Vec3(2.5f, 5.0f, 2.5f);
+    l.direction = Vec3(-0.45f, -1.0f, -0.45f).normalized();
+    l.spot_shape = SpotShape::smooth_cone;
+    l.spot_inner_deg = 30.0f;
+    l.spot_outer_deg = 40.0f;
+  } else {
+    l.position = Vec3(-2.6f, 2.2f, 1.6f);
+  }
+  s.lights.push_back(l);
+  s.global_ambient = Color3(0.1f, 0.1f, 0.12f);
+  s.camera.eye = Vec3(0.0f, 3.5f, 8.0f);
+  s.camera.target = Vec3(0.0f, 0.6f, 0.0f);
+  s.camera.vertical_fov_deg = 45.0f;
+  s.camera.near = 0.1f;
+  s.camera.far = 60.0f;
+  return s;
+}
+
+// The map contract: every pixel that differs from the ray-cast image lies within this many
+// pixels (of a 640-pixel-wide image) of a ray-cast shadow edge or an object's outline. A map's
+// shadow edge moves by the filter's reach and the bias, a few texels, which light at grazing
+// angles stretches over several pixels; and at 1024^2 and finer at most 1.5 % of the receivers
+// differ.
+double map_edge_contract(int resolution, int taps) { return 8.0 + (taps + 1) * 2048.0 / resolution; }
+
+Status shadow_accuracy(bool quick, std::vector<Row>& rows) {
+  const int w = quick ? 320 : 640, h = quick ? 180 : 360;
+  struct Kind {
+    LightType type;
+    const char* name;
+  };
+  for (const Kind kind : {Kind{LightType::directional, "directional"}, Kind{LightType::spot, "spot"},
+                          Kind{LightType::point, "point"}}) {
+    const Scene base = shadow_scene(kind.type);
+    auto render = [&](const Scene& s, double* ms) -> Result<std::vector<std::uint8_t>> {
+      std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w * h * 4));
+      RenderOptions o;
+      o.shading = ShadingMode::phong;
+      o.threads = 1;
+      const ImageView view{rgba.data(), w, h, static_cast<std::size_t>(w) * 4, PixelFormat::rgba8, false};
+      Renderer r(o);
+      if (Status st = r.render(s, view); !st.ok()) return st;
+      if (ms) {  // the same frame again, one thread: its time with this method
+        const int repeats = quick ? 2 : 6;
+        const auto t0 = std::chrono::steady_clock::now();
+        for (int i = 0; i < repeats; ++i) (void)r.render(s, view);
+        *ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / repeats;
+      }
+      return rgba;
+    };
+    auto with = [&](ShadowMethod method, int resolution, ShadowFilter filter) {
+      Scene s = base;
+      s.lights[0].shadow.method = method;
+      s.lights[0].shadow.resolution = resolution;
+      s.lights[0].shadow.filter = filter;
+      return s;
+    };
+    Scene off = base;
+    off.lights[0].enabled = false;
+    double ray_ms = 0;
+    const auto exact = render(with(ShadowMethod::raycast, 2048, ShadowFilter::none), &ray_ms);
+    const auto lit = render(base, nullptr), dark = render(off, nullptr);
+    if (!exact) return exact.status();
+    if (!lit) return lit.status();
+    if (!dark) return dark.status();
+    const std::size_t n = static_cast<std::size_t>(w * h);
+    auto differ = [](const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b, std::size_t i, int tol) {
+      for (int c = 0; c < 3; ++c) {
+        if (std::abs(int(a[4 * i + c]) - int(b[4 * i + c])) > tol) return true;
+      }
+      return false;
+    };
+    // Which object each pixel shows: the scene unlit, each object glowing in its own colour.
+    Scene ids = base;
+    ids.lights[0].enabled = false;
+    ids.global_ambient = Color3(0, 0, 0);
+    for (std::size_t m = 0; m < ids.materials.size(); ++m) {
+      ids.materials[m].ambient = Color3(0, 0, 0);
+      ids.materials[m].emissive = Color3(m == 0 ? 1.0f : 0.0f, m == 1 ? 1.0f : 0.0f, m == 2 ? 1.0f : 0.0f);
+    }
+    const auto object = render(ids, nullptr);
+    if (!object) return object.status();
+    std::vector<std::uint8_t> receiver(n), shadowed(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      receiver[i] = differ(*lit, *dark, i, 0);
+      shadowed[i] = differ(*exact, *lit, i, 0);
+    }
+    // Distance (in pixels, the larger of |dx| and |dy|) to the nearest edge: a ray-cast shadow
+    // edge (a pixel whose shadowed state differs from a neighbour's) or an object's outline (a
+    // pixel whose object differs from a neighbour's: where a caster stands on a receiver, a
+    // filtered map's shadow reaches past the caster's lit foot by the filter's width).
+    std::vector<int> edge_distance(n, 1 << 20);
+    std::vector<std::size_t> frontier;
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y * w + x);
+        auto apart = [&](std::size_t j) { return shadowed[j] != shadowed[i] || std::memcmp(&(*object)[4 * j], &(*object)[4 * i], 3) != 0; };
+        const bool edge = (x + 1 < w && apart(i + 1)) || (y + 1 < h && apart(i + w)) || (x > 0 && apart(i - 1)) ||
+                          (y > 0 && apart(i - w));
+        if (edge) edge_distance[i] = 0, frontier.push_back(i);
+      }
+    }
+    for (int d = 1; !frontier.empty(); ++d) {  // breadth first over the 8 neighbours
+      std::vector<std::size_t> next;
+      for (const std::size_t i : frontier) {
+        const int x = static_cast<int>(i % static_cast<std::size_t>(w)), y = static_cast<int>(i / static_cast<std::size_t>(w));
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int u = x + dx, v = y + dy;
+            if (u < 0 || v < 0 || u >= w || v >= h) continue;
+            const std::size_t j = static_cast<std::size_t>(v * w + u);
+            if (edge_distance[j] > d) edge_distance[j] = d, next.push_back(j);
+          }
+        }
+      }
+      frontier.swap(next);
+    }
+    auto measure = [&](const std::string& method, const std::string& item, const Scene& s, double edge_contract,
+                       double share_contract) -> Status {
+      Row r;
+      r.kind = "shadow";
+      r.method = method;
+      r.item = std::string(kind.name) + (item.empty() ? "" : " " + item);
+      const auto got = render(s, &r.ms_per_frame);
+      if (!got) return got.status();
+      std::size_t receivers = 0, differing = 0;
+      double sq = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        for (int c = 0; c < 3; ++c) {
+          const double e = double((*got)[4 * i + c]) - double((*exact)[4 * i + c]);
+          sq += e * e;
+          r.max_step = std::max(r.max_step, static_cast<int>(std::abs(e)));
+        }
+        if (!receiver[i]) continue;
+        ++receivers;
+        if (!differ(*got, *exact, i, 1)) continue;
+        ++differing;
+        r.edge_px = std::max(r.edge_px, double(edge_distance[i]));
+      }
+      const double mse = sq / double(3 * n);
+      r.psnr_db = mse > 0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : INFINITY;
+      r.share = receivers ? double(differing) / double(receivers) : 0.0;
+      r.verdict = "ok";
+      if (r.edge_px > edge_contract) {
+        r.verdict = "differs " + number(r.edge_px) + " px from an edge (contract " + number(edge_contract) + ")";
+      } else if (r.share > share_contract) {
+        r.verdict = "too many pixels differ (contract " + number(100 * share_contract) + " %)";
+      }
+      rows.push_back(r);
+      return {};
+    };
+    // Ray-cast against itself: the check that the comparison itself finds nothing.
+    if (Status st = measure("raycast", "", with(ShadowMethod::raycast, 2048, ShadowFilter::none), 0.0, 0.0); !st.ok()) {
+      return st;
+    }
+    const std::vector<int> resolutions = quick ? std::vector<int>{512, 2048} : std::vector<int>{256, 512, 1024, 2048, 4096};
+    const std::vector<ShadowFilter> filters =
+        quick ? std::vector<ShadowFilter>{ShadowFilter::none, ShadowFilter::pcf3x3}
+              : std::vector<ShadowFilter>{ShadowFilter::none, ShadowFilter::pcf2x2, ShadowFilter::pcf3x3, ShadowFilter::pcf5x5};
+    for (const int res : resolutions) {
+      for (const ShadowFilter f : filters) {
+        const int taps[] = {1, 2, 3, 5};
+        const Status st = measure(std::string("map ") + to_string(f), std::to_string(res), with(ShadowMethod::map, res, f),
+                                  map_edge_contract(res, taps[static_cast<int>(f)]) * w / 640.0, res >= 1024 ? 0.015 : 1.0);
+        if (!st.ok()) return st;
+      }
+    }
+  }
+  return {};
+}
+
 void write_json(std::ostream& o, const std::vector<Row>& rows) {
   o << "{\n  \"machine\": \"" << json_escape(to_string(best_isa())) << "\",\n  \"rows\": [\n";
   for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -738,18 +941,19 @@ void write_json(std::ostream& o, const std::vector<Row>& rows) {
     o << "    {\"kind\": \"" << r.kind << "\", \"method\": \"" << json_escape(r.method) << "\", \"item\": \""
       << json_escape(r.item) << "\", \"max_lsb\": " << number(r.max_lsb) << ", \"mean_lsb\": " << number(r.mean_lsb)
       << ", \"max_step\": " << r.max_step << ", \"nans\": " << r.nans << ", \"psnr_db\": " << number(r.psnr_db) << ", \"ms_per_frame\": " << number(r.ms_per_frame)
-      << ", \"rate\": " << number(r.rate) << ", \"verdict\": \"" << json_escape(r.verdict) << "\"}" << (i + 1 < rows.size() ? "," : "") << "\n";
+      << ", \"rate\": " << number(r.rate) << ", \"share\": " << number(r.share) << ", \"edge_px\": " << number(r.edge_px)
+      << ", \"verdict\": \"" << json_escape(r.verdict) << "\"}" << (i + 1 < rows.size() ? "," : "") << "\n";
   }
   o << "  ]\n}\n";
 }
 
 void write_csv(std::ostream& o, const std::vector<Row>& rows) {
-  o << "kind,method,item,max_lsb,mean_lsb,max_step,nans,psnr_db,ms_per_frame,rate,verdict\n";
+  o << "kind,method,item,max_lsb,mean_lsb,max_step,nans,psnr_db,ms_per_frame,rate,share,edge_px,verdict\n";
   auto q = [](const std::string& s) { return "\"" + s + "\""; };
   for (const Row& r : rows) {
     o << r.kind << "," << q(r.method) << "," << q(r.item) << "," << number(r.max_lsb) << "," << number(r.mean_lsb)
       << "," << r.max_step << "," << r.nans << "," << number(r.psnr_db) << "," << number(r.ms_per_frame) << ","
-      << number(r.rate) << "," << q(r.verdict) << "\n";
+      << number(r.rate) << "," << number(r.share) << "," << number(r.edge_px) << "," << q(r.verdict) << "\n";
   }
 }
 
@@ -766,8 +970,8 @@ int run_accuracy(int argc, char** argv) {
     } else if (arg == "--only") {
       const auto v = args.value(arg);
       if (!v) return 2;
-      if (*v != "vertices" && *v != "pow" && *v != "images" && *v != "textures") {
-        return fail("--only: expected vertices, pow, images or textures, found '" + *v + "'");
+      if (*v != "vertices" && *v != "pow" && *v != "images" && *v != "textures" && *v != "shadows") {
+        return fail("--only: expected vertices, pow, images, textures or shadows, found '" + *v + "'");
       }
       only = *v;
     } else if (arg == "--quick") {
@@ -791,6 +995,9 @@ int run_accuracy(int argc, char** argv) {
     if (Status s = image_accuracy(quick, rows); !s.ok()) return fail(s.message());
   }
   if (only.empty() || only == "textures") texture_accuracy(quick, rows);
+  if (only.empty() || only == "shadows") {
+    if (Status s = shadow_accuracy(quick, rows); !s.ok()) return fail(s.message());
+  }
 
   int failures = 0;
   std::printf("%-9s %-28s %-36s %9s %9s %5s %5s %8s  %s\n", "kind", "method", "case", "max LSB", "mean LSB", "step",
@@ -801,9 +1008,13 @@ int run_accuracy(int argc, char** argv) {
     // The pow sweep has hundreds of rows: print only its failures and the worst per method.
     if (r.kind == "pow" && !bad) continue;
     std::printf("%-9s %-28s %-36s %9.3g %9.3g %5d %5ld %8s  %s", r.kind.c_str(), r.method.c_str(), r.item.c_str(),
-                r.max_lsb, r.mean_lsb, r.max_step, r.nans, r.kind == "image" ? number(r.psnr_db).c_str() : "",
-                r.verdict.c_str());
+                r.max_lsb, r.mean_lsb, r.max_step, r.nans,
+                r.kind == "image" || r.kind == "shadow" ? number(r.psnr_db).c_str() : "", r.verdict.c_str());
     if (r.kind == "texture") std::printf(" (%.1f M samples/s)", r.rate / 1e6);
+    if (r.kind == "shadow") {
+      std::printf(" (%.3f %% of receivers differ, farthest %.0f px from an edge; %.2f ms/frame)", 100.0 * r.share, r.edge_px,
+                  r.ms_per_frame);
+    }
     std::printf("\n");
   }
   std::printf("%zu measurements, %d outside their contract%s\n", rows.size(), failures,

@@ -1,4 +1,4 @@
-"""Draws facet's three charts and the summary table from bench/results/*.json (see tools/charts).
+"""Draws facet's charts and the summary table from bench/results/*.json (see tools/charts).
 
 Run by Debian's /usr/bin/python3 with python3-matplotlib; no other dependency.
 """
@@ -250,6 +250,43 @@ if rows:
     fig.tight_layout()
     save(fig, "frames_vs_triangles")
     charts.append("frames_vs_triangles")
+
+# --- 5. shadow methods: ms per frame against pixels that differ from ray-cast shadows ----------------
+shadow_rows = [r for r in accuracy if r["kind"] == "shadow"]
+if shadow_rows:
+    SHADOW_FLOOR = 1e-3  # ray-cast shadows are the reference: no pixel differs, drawn at this floor (%)
+    FILTER_MARKERS = {"none": "s", "pcf2x2": "^", "pcf3x3": "o", "pcf5x5": "D"}
+    LIGHT_COLOURS = {"directional": "#ff7f0e", "spot": "#2ca02c", "point": "#9467bd"}
+    fig, ax = plt.subplots(figsize=(10, 6.5))
+    for r in shadow_rows:
+        light = r["item"].split()[0]
+        share = max(100.0 * r["share"], SHADOW_FLOOR)
+        if r["method"] == "raycast":
+            ax.scatter([share], [r["ms_per_frame"]], color=LIGHT_COLOURS[light], marker="*", s=160, edgecolors="black",
+                       linewidths=0.6, zorder=3)
+            ax.annotate(f"ray-cast ({light})", (share, r["ms_per_frame"]), textcoords="offset points", xytext=(6, -3),
+                        fontsize=7)
+            continue
+        filt = r["method"].split()[1]
+        ax.scatter([share], [r["ms_per_frame"]], color=LIGHT_COLOURS[light], marker=FILTER_MARKERS[filt], s=28,
+                   alpha=0.85)
+        ax.annotate(r["item"].split()[1], (share, r["ms_per_frame"]), textcoords="offset points", xytext=(3, 2),
+                    fontsize=5, color="#555555")
+    for light, colour in LIGHT_COLOURS.items():
+        ax.scatter([], [], color=colour, marker="o", label=f"{light} light")
+    for filt, marker in FILTER_MARKERS.items():
+        ax.scatter([], [], color="#777777", marker=marker, label=f"map, {filt}")
+    ax.scatter([], [], color="#777777", marker="*", s=120, label="ray-cast (exact; 0 %, drawn at the floor)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("receiver pixels that differ from ray-cast shadows (%)")
+    ax.set_ylabel("ms per frame (640x360, Phong, 1 thread)")
+    ax.set_title(f"Shadow methods: cost against error (labels: map resolution; simd {best})")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8, loc="upper right")
+    fig.tight_layout()
+    save(fig, "shadows_speed_vs_accuracy")
+    charts.append("shadows_speed_vs_accuracy")
 
 # --- summary -----------------------------------------------------------------------------------------
 ctx = lighting["context"]

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 
 #include <Eigen/Core>
 
@@ -31,6 +32,9 @@ struct RenderPass {
   // Depth only (shadow maps): the objects that cast shadows, no lighting, no varying, flat
   // rasterization into the depth target alone; no face is culled.
   bool depth_only = false;
+  // Depth only: per tile, 1 when the target's tile may hold anything but far depth (it persists
+  // from frame to frame: a tile no caster reaches is cleared once, not every frame), or null.
+  std::uint8_t* depth_dirty = nullptr;
 
   int width() const { return assembly.viewport.width; }
   int height() const { return assembly.viewport.height; }

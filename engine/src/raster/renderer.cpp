@@ -548,6 +548,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
       for (int f = 0; f < map.face_count(); ++f) {
         map_views.push_back(map.depth_view(f));
         passes.push_back(raster::depth_pass(map.face_view(f), map.face_projection(f), map_views.back(), options.tile_size));
+        passes.back().depth_dirty = map.dirty_tiles(f, options.tile_size);
         passes.back().assembly.place = camera.assembly.place;
         stats.shadow_map_texels += static_cast<std::uint64_t>(map.resolution()) * static_cast<std::uint64_t>(map.resolution());
       }
@@ -707,11 +708,14 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
       raster::RasterCounters& c = tile_counters[static_cast<std::size_t>(index)];
       const auto& bin = bins[static_cast<std::size_t>(index)];
       if (p.depth_only) {  // a shadow map's face: depth alone
+        std::uint8_t& dirty = p.depth_dirty[index];
         if (bin.empty()) {
-          raster::resolve_clear_depth(rect, *p.depth);
+          if (dirty) raster::resolve_clear_depth(rect, *p.depth);  // else still far depth from an earlier frame
+          dirty = 0;
         } else {
           raster::rasterize_tile(job, bin, rect, w.tile, w.soa, c);
           raster::resolve_depth_tile(job, w.tile, rect, *p.depth);
+          dirty = 1;
         }
         unit_done();
         continue;

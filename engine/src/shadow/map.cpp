@@ -185,8 +185,12 @@ void ShadowMap::plan(const Light& light, const CasterBounds& casters, const Eige
     }
     faces_ = 6;
   }
-  depth_.resize(static_cast<std::size_t>(faces_) * static_cast<std::size_t>(resolution_) *
-                static_cast<std::size_t>(resolution_));
+  const std::size_t texels =
+      static_cast<std::size_t>(faces_) * static_cast<std::size_t>(resolution_) * static_cast<std::size_t>(resolution_);
+  if (depth_.size() != texels) {  // new images hold zeros, not far depth: every tile must be written
+    depth_.resize(texels);
+    dirty_tile_size_ = 0;
+  }
   // What the lookup kernels read, in float.
   MapLookup& m = lookup_;
   m = MapLookup{};
@@ -212,6 +216,16 @@ void ShadowMap::plan(const Light& light, const CasterBounds& casters, const Eige
                                  : Eigen::Vector3d((camera_view * position.homogeneous()).head<3>());
   for (int c = 0; c < 3; ++c) m.light[c] = static_cast<float>(at[c]);
   for (int i = 0; i < 9; ++i) m.eye_to_world[i] = static_cast<float>(eye_to_world(i / 3, i % 3));
+}
+
+std::uint8_t* ShadowMap::dirty_tiles(int f, int tile_size) {
+  const std::size_t per_face = static_cast<std::size_t>((resolution_ + tile_size - 1) / tile_size) *
+                               static_cast<std::size_t>((resolution_ + tile_size - 1) / tile_size);
+  if (dirty_tile_size_ != tile_size || dirty_.size() != 6 * per_face) {
+    dirty_.assign(6 * per_face, 1);
+    dirty_tile_size_ = tile_size;
+  }
+  return dirty_.data() + static_cast<std::size_t>(f) * per_face;
 }
 
 void ShadowMap::visibility(std::size_t count, const float* px, const float* py, const float* pz, const float* nx,

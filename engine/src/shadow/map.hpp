@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -55,6 +56,9 @@ class ShadowMap {
   const Eigen::Matrix4d& face_projection(int f) const { return face_[f].projection; }  // light eye -> clip
   // The face's depth image as the depth-only pass writes it (window depth in [0, 1], y down).
   DepthView depth_view(int f);
+  // Per tile of `tile_size` pixels of face f: 1 when it may hold anything but far depth. The
+  // depth images persist from frame to frame; a new size marks every tile.
+  std::uint8_t* dirty_tiles(int f, int tile_size);
   // The lookup kernel: an ISA's (the simd path), or null for the scalar twin.
   void set_kernel(MapVisibilityFunction kernel) { kernel_ = kernel; }
   // Bytes a map of `light` takes (its faces' depth images).
@@ -73,6 +77,8 @@ class ShadowMap {
   int faces_ = 0, resolution_ = 0;
   Face face_[6];
   std::vector<float> depth_;  // the faces' depth images, one after another
+  std::vector<std::uint8_t> dirty_;  // per face and tile (dirty_tile_size_ pixels a side)
+  int dirty_tile_size_ = 0;
   MapLookup lookup_;
   MapVisibilityFunction kernel_ = nullptr;
 };
