@@ -9,6 +9,11 @@
 //   BM_Fill/<variant>/blended:  the 16 Gouraud layers, each alpha-blended (alpha 0.5);
 //   BM_Frame/<variant>/<scene>/<size>: the built-in scene and each model scene of
 //       tests/data/scenes (skipped when ../shared/models is absent), Gouraud.
+//   BM_Shadow/<method>/<scene>/1920x1080: the built-in scene and the bunny in Phong, with the
+//       scene's first light shadowed by each method (none, map for each light type's 2048^2
+//       pcf3x3 default, raycast) on the best ISA; shadows_ms is FrameStats::seconds_shadows (the
+//       ray-cast hierarchy, or fitting and drawing the map); the lookups are in tiles_ms. The
+//       method's share of the frame is (its frame time - none's) / its frame time.
 // Variants: the scalar path (scalar lighting and rasterizer) and the simd path of each ISA this
 // CPU has; the model scenes and 1280x720 run on the best ISA only.
 // Counters: frames/s, pixels_filled/s, vertices_lit/s and bw_share, the bytes of the output
@@ -65,7 +70,7 @@ void run_frames(benchmark::State& state, const facet::Scene& scene, facet::Rende
   const facet::ImageView view{pixels.data(), w, h, static_cast<std::size_t>(w) * 4, facet::PixelFormat::rgba8, false};
   facet::Renderer renderer;
   facet::FrameStats stats;
-  double lighting = 0, geometry = 0, tiles = 0, resolve = 0;  // seconds, summed over frames
+  double lighting = 0, geometry = 0, tiles = 0, resolve = 0, shadows = 0;  // seconds, summed over frames
   const auto start = std::chrono::steady_clock::now();
   for (auto _ : state) {
     const facet::Status s = renderer.render(scene, options, view, nullptr, &stats);
@@ -75,7 +80,7 @@ void run_frames(benchmark::State& state, const facet::Scene& scene, facet::Rende
     }
     benchmark::DoNotOptimize(pixels.data());
     lighting += stats.seconds_lighting, geometry += stats.seconds_geometry, tiles += stats.seconds_raster;
-    resolve += stats.seconds_resolve;
+    resolve += stats.seconds_resolve, shadows += stats.seconds_shadows;
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   using benchmark::Counter;
@@ -89,6 +94,7 @@ void run_frames(benchmark::State& state, const facet::Scene& scene, facet::Rende
   state.counters["lighting_ms"] = 1e3 * lighting / frames;
   state.counters["geometry_ms"] = 1e3 * geometry / frames;
   state.counters["tiles_ms"] = 1e3 * tiles / frames;
+  state.counters["shadows_ms"] = 1e3 * shadows / frames;
   // Resolve: thread time a frame, and the image bytes it wrote per second of it over the rate of
   // filling the same image with plain stores (roofline image_store; 1 = at memory speed).
   state.counters["resolve_ms"] = 1e3 * resolve / frames;
@@ -134,7 +140,32 @@ void add(const std::string& name, std::function<void(benchmark::State&)> fn) {
       ->Unit(benchmark::kMillisecond);
 }
 
+void register_shadows() {
+  facet::RenderOptions phong;
+  phong.shading = facet::ShadingMode::phong;
+  for (const char* scene_name : {"default", "bunny"}) {
+    for (const facet::ShadowMethod method : {facet::ShadowMethod::none, facet::ShadowMethod::map, facet::ShadowMethod::raycast}) {
+      const std::string name = std::string("BM_Shadow/") + facet::to_string(method) + "/" + scene_name + "/1920x1080";
+      add(name, [phong, method, scene_name](benchmark::State& state) {
+        std::string error;
+        const facet::Scene* loaded = nullptr;
+        static const facet::Scene built_in = facet::make_default_scene();
+        if (std::string(scene_name) == "default") {
+          loaded = &built_in;
+        } else if (!(loaded = scene_file(scene_name, error))) {
+          state.SkipWithError(("model not available: " + error).c_str());
+          return;
+        }
+        facet::Scene scene = *loaded;
+        scene.lights.front().shadow.method = method;
+        run_frames(state, scene, phong, 1920, 1080);
+      });
+    }
+  }
+}
+
 void register_all() {
+  register_shadows();
   const std::vector<std::string> models = {"bunny", "teapot", "suzanne", "spot", "fandisk"};
   for (const Variant& v : kVariants) {
     if (v.path == facet::LightingPath::simd && !facet::isa_supported(v.isa)) continue;

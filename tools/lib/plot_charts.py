@@ -320,6 +320,27 @@ phong = [r for r in accuracy if r["kind"] == "image" and r["method"] == "phong"]
 if phong:
     finest = max(phong, key=lambda r: int(r["item"].split("=")[1]))
     lines.append(f"| Phong PSNR vs ray-cast spheres, {finest['item']} | {finest['psnr_db']:.1f} dB | target >= 45 dB |")
+shadow_frames = {}  # (scene, threads) -> {method: ms per frame}
+for b in bench_rows(frames):
+    parts = b["name"].split("/")
+    if parts[0] == "BM_Shadow":
+        shadow_frames.setdefault((parts[2], parts[4]), {})[parts[1]] = b
+if shadow_frames:
+    lines += ["", "Shadows, 1920x1080, Phong, the first light shadowed (BM_Shadow; share: the method's part of its frame):", "",
+              "| scene, threads | no shadows | map (ms, share, of which map passes) | ray-cast (ms, share, of which hierarchy) |",
+              "|---|---|---|---|"]
+    for (scene, threads), m in sorted(shadow_frames.items()):
+        if "none" not in m:
+            continue
+        none = m["none"]["real_time"]
+        cells = []
+        for method in ("map", "raycast"):
+            if method in m:
+                t = m[method]["real_time"]
+                cells.append(f"{t:.1f} ms, {100 * (t - none) / t:.0f} %, {m[method].get('shadows_ms', 0):.1f} ms")
+            else:
+                cells.append("")
+        lines.append(f"| {scene}, {threads.replace('threads:', '')} | {none:.1f} ms | {cells[0]} | {cells[1]} |")
 with open(os.path.join(OUT, "summary.md"), "w") as f:
     f.write("\n".join(lines) + "\n")
 print("\n".join(lines))
