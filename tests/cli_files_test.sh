@@ -33,6 +33,12 @@ out=$("$facet" check "$shadows" 2>&1); rc=$?
 check "check refuses shadows in Gouraud shading (exit $rc: $out)" '[ $rc -eq 2 ] && [[ "$out" == *"lights[0].shadow"*"--shading phong"* ]]'
 out=$("$facet" render "$shadows" --shading phong --width 64 --height 48 --stats -o shadows.png 2>&1); rc=$?
 check "render draws ray-cast shadows (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"shadows     4108 caster triangles"* ]] && [ -s shadows.png ]'
+out=$("$facet" check "$shadows" --shading phong --shadows map 2>&1); rc=$?
+check "check --shadows map turns every light's shadows into maps (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"sun map 2048^2 pcf3x3, spot map 2048^2 pcf3x3"* ]]'
+out=$("$facet" render "$shadows" --shading phong --shadows none --width 16 --height 16 -o none.png 2>&1); rc=$?
+check "render --shadows none draws no shadows (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" != *"shadows"* ]]'
+out=$("$facet" check "$shadows" --shading phong --shadows stencil 2>&1); rc=$?
+check "--shadows names an unknown method (exit $rc: $out)" '[ $rc -eq 2 ] && [[ "$out" == *"--shadows: unknown method"*"stencil"* ]]'
 maps="$(dirname "$shadows")/shadow_maps.json"
 out=$("$facet" check "$maps" --shading phong 2>&1); rc=$?
 check "check reports the shadow maps (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"sun map 2048^2 pcf3x3, spot map 1024^2 pcf5x5, lamp map 2048^2 pcf2x2 cube"* ]]'

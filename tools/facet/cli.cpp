@@ -67,6 +67,16 @@ std::optional<ShadingMode> parse_shading(const std::string& name) {
   return std::nullopt;
 }
 
+std::optional<ShadowMethod> parse_shadow_method(const std::string& name) {
+  for (ShadowMethod m : {ShadowMethod::none, ShadowMethod::map, ShadowMethod::volume, ShadowMethod::raycast})
+    if (name == to_string(m)) return m;
+  return std::nullopt;
+}
+
+void override_shadows(Scene& scene, ShadowMethod method) {
+  for (Light& l : scene.lights) l.shadow.method = method;
+}
+
 std::string describe_path(LightingPath path, Isa isa, PowTier tier) {
   if (path != LightingPath::simd) return to_string(path);
   return std::string("simd ") + to_string(isa == Isa::best ? best_isa() : isa) + " (pow " + to_string(tier) + ")";

@@ -37,6 +37,10 @@ std::optional<LightingPath> parse_path(const std::string& name);
 std::optional<Isa> parse_isa(const std::string& name);  // "auto" -> Isa::best
 std::optional<PowTier> parse_pow_tier(const std::string& name);
 std::optional<ShadingMode> parse_shading(const std::string& name);  // flat, gouraud, phong
+// --shadows: none, map, raycast (volume is refused by the scene's validation).
+std::optional<ShadowMethod> parse_shadow_method(const std::string& name);
+// Every light of `scene` casts shadows by `method` (none: no light does).
+void override_shadows(Scene& scene, ShadowMethod method);
 // "reference", "scalar", or "simd avx512 (pow auto)" with `best` resolved.
 std::string describe_path(LightingPath path, Isa isa, PowTier tier);
 

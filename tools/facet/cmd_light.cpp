@@ -32,6 +32,7 @@ constexpr const char* kCheckUsage =
     "options:\n"
     "  --width W, --height H   the image size to check for (default 1280 x 720)\n"
     "  --shading MODE          flat, gouraud (default) or phong, as for 'facet render'\n"
+    "  --shadows METHOD        none | map | raycast: every light casts shadows so (shadows need --shading phong)\n"
     "  --memory-budget-mb M    as for 'facet render' (default 4096; 0 = no limit)\n";
 
 struct PathResult {
@@ -191,6 +192,7 @@ int run_light(int argc, char** argv) {
 
 int run_check(int argc, char** argv) {
   std::string scene_path;
+  std::optional<ShadowMethod> shadows;
   int width = 1280, height = 720;
   RenderOptions options;
   Args args(argc, argv);
@@ -213,6 +215,11 @@ int run_check(int argc, char** argv) {
       const auto mode = parse_shading(*v);
       if (!mode) return fail("--shading: unknown mode '" + *v + "' (flat, gouraud or phong)");
       options.shading = *mode;
+    } else if (arg == "--shadows") {
+      const auto v = args.value(arg);
+      if (!v) return 2;
+      shadows = parse_shadow_method(*v);
+      if (!shadows) return fail("--shadows: unknown method '" + *v + "' (none, map or raycast)");
     } else if (!arg.empty() && arg[0] == '-') {
       return fail("check: unknown option '" + arg + "' (see 'facet check --help')");
     } else if (scene_path.empty()) {
@@ -226,6 +233,7 @@ int run_check(int argc, char** argv) {
   load.memory_budget_bytes = options.memory_budget_bytes;
   Result<Scene> scene = load_scene_file(scene_path, load);
   if (!scene) return fail(scene.status().message());
+  if (shadows) override_shadows(*scene, *shadows);
   if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(scene_path + ": " + s.message());
   std::size_t triangles = 0, blended = 0, textured = 0;
   for (const auto& obj : scene->objects) {

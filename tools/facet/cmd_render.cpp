@@ -20,6 +20,7 @@ constexpr const char* kRenderUsage =
     "  --width W              image width, 1..16384 (default 1280)\n"
     "  --height H             image height, 1..16384 (default 720)\n"
     "  --shading MODE         flat | gouraud | phong (default gouraud)\n"
+    "  --shadows METHOD       none | map | raycast: every light casts shadows so (shadows need --shading phong)\n"
     "  --path P               reference | scalar | simd (default simd)\n"
     "  --isa I                auto | sse2 | avx2 | avx512: instruction set of --path simd (default auto:\n"
     "                         the widest this CPU has); one the CPU lacks is an error\n"
@@ -117,6 +118,7 @@ int run_render(int argc, char** argv) {
   int width = 1280, height = 720;
   double min_seconds = 0;
   bool stats = false, json = false;
+  std::optional<ShadowMethod> shadows;
   RenderOptions options;
   Args args(argc, argv);
   std::string arg;
@@ -138,6 +140,11 @@ int run_render(int argc, char** argv) {
       const auto mode = parse_shading(*v);
       if (!mode) return fail("--shading: unknown mode '" + *v + "' (flat, gouraud or phong)");
       options.shading = *mode;
+    } else if (arg == "--shadows") {
+      const auto v = args.value(arg);
+      if (!v) return 2;
+      shadows = parse_shadow_method(*v);
+      if (!shadows) return fail("--shadows: unknown method '" + *v + "' (none, map or raycast)");
     } else if (arg == "--path") {
       const auto v = args.value(arg);
       if (!v) return 2;
@@ -231,6 +238,7 @@ int run_render(int argc, char** argv) {
 
   std::optional<Scene> scene = load_scene_or_default(scene_path, options.memory_budget_bytes);
   if (!scene) return 2;
+  if (shadows) override_shadows(*scene, *shadows);
   // Everything the renderer refuses is refused before the image is allocated.
   if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(s.message());
 
