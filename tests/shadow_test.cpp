@@ -613,7 +613,7 @@ TEST(ShadowMaps, DirectionalLightAlongTheCamerasUp) {
 // A point light whose shadow falls exactly along the border of two cube faces, and along a corner
 // of three: no seam (the faces are wider than 90 degrees by the filter's reach).
 TEST(ShadowMaps, PointLightOnACubeFaceBorder) {
-  for (const Vec3 way : {Vec3(1, -1, 0), Vec3(1, -1, 1), Vec3(0, -1, 1)}) {
+  for (const Vec3& way : {Vec3(1, -1, 0), Vec3(1, -1, 1), Vec3(0, -1, 1)}) {
     Scene s = point_over_sphere();
     s.lights[0].position = Vec3(-1.5f, 3.5f, -1.0f);
     s.objects[1].model.block<3, 1>(0, 3) = s.lights[0].position + 1.6f * way.normalized();
@@ -748,7 +748,9 @@ TEST(ShadowMaps, SimdLookupIsTheScalarOneBitForBit) {
         shadowed += v == 0.0f;
       }
       EXPECT_GT(shadowed, 10);
-      if (filter != ShadowFilter::none) EXPECT_GT(partial, 10);
+      if (filter != ShadowFilter::none) {
+        EXPECT_GT(partial, 10);
+      }
       for (const Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
         const raster::simd::Kernels* k = raster::simd_raster_kernels(isa);
         if (!k) continue;
@@ -771,9 +773,9 @@ TEST(ShadowMaps, SimdLookupIsTheScalarOneBitForBit) {
 namespace facet {
 namespace {
 
-// A renderer keeps its shadow maps from frame to frame (a tile no caster reaches is cleared once):
-// frames after a moved caster, a new resolution or a new tile size are the bytes a fresh
-// renderer draws.
+// A renderer keeps its shadow maps from frame to frame (a tile no caster reaches is cleared once)
+// and its ray-cast hierarchy while the casters do not change: frames after a moved caster, a
+// moved camera, a new resolution or a new tile size are the bytes a fresh renderer draws.
 TEST(ShadowMaps, AReusedRendererDrawsWhatAFreshOneDraws) {
   auto draw = [](Renderer& r, const Scene& s, int tile_size) {
     Canvas c(kSize, kSize);
@@ -783,17 +785,25 @@ TEST(ShadowMaps, AReusedRendererDrawsWhatAFreshOneDraws) {
     EXPECT_TRUE(r.render(s, o, c.view()).ok());
     return c.pixels();
   };
-  for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
-    const Scene a = with_map(base, ShadowFilter::pcf3x3, 512);
-    Scene moved = a;
-    moved.objects[1].model.block<3, 1>(0, 3) = Vec3(1.0f, 1.2f, -1.0f);
-    Scene finer = moved;
-    finer.lights[0].shadow.resolution = 1024;
-    Renderer reused;
-    draw(reused, a, 64);
-    for (const auto& [scene, tile] : {std::pair<const Scene*, int>{&moved, 64}, {&finer, 64}, {&a, 32}, {&moved, 128}}) {
-      Renderer fresh;
-      EXPECT_EQ(draw(reused, *scene, tile), draw(fresh, *scene, tile)) << "tile " << tile;
+  for (const ShadowMethod method : {ShadowMethod::map, ShadowMethod::raycast}) {
+    for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
+      Scene a = with_map(base, ShadowFilter::pcf3x3, 512);
+      a.lights[0].shadow.method = method;
+      Scene moved = a;
+      moved.objects[1].model.block<3, 1>(0, 3) = Vec3(1.0f, 1.2f, -1.0f);
+      Scene finer = moved;
+      finer.lights[0].shadow.resolution = 1024;
+      Scene turned = finer;  // the camera moves, the casters stay
+      turned.camera.eye = Vec3(1.0f, 11.0f, 3.0f);
+      Scene fewer = turned;  // a caster stops casting
+      fewer.objects[1].cast_shadows = false;
+      Renderer reused;
+      draw(reused, a, 64);
+      for (const auto& [scene, tile] : {std::pair<const Scene*, int>{&moved, 64}, {&finer, 64}, {&turned, 64}, {&a, 32},
+                                        {&moved, 128}, {&fewer, 64}, {&a, 64}}) {
+        Renderer fresh;
+        EXPECT_EQ(draw(reused, *scene, tile), draw(fresh, *scene, tile)) << "tile " << tile << " " << to_string(method);
+      }
     }
   }
 }

@@ -1,5 +1,6 @@
 // Internal: ray-cast shadows. The shadow casters of a frame (objects with cast_shadows) as one
-// Intel Embree scene in eye space, in robust (watertight) mode, and visibility queries against it:
+// Intel Embree scene in world space, in robust (watertight) mode, kept from frame to frame while
+// the casters do not change (the camera may move), and visibility queries against it:
 // a shaded point sees a light when no caster triangle lies on the segment from the point (moved
 // off its surface along its normal, ShadowBias::normal) to the light, or along the ray towards a
 // directional light. Whether a segment is blocked is a property of the geometry alone (robust
@@ -14,7 +15,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <array>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -31,13 +34,17 @@ class RayCaster {
   RayCaster(const RayCaster&) = delete;
   RayCaster& operator=(const RayCaster&) = delete;
 
-  // The casters of `scene` seen through `view` (world -> eye). Objects whose cast_shadows is
-  // false are left out; triangles with non-finite vertices are ignored by Embree. Errors (out of
-  // memory included) come back as a Status; nothing is printed.
+  // The casters of `scene` for queries in the eye space of `view` (world -> eye). Objects whose
+  // cast_shadows is false are left out; triangles with non-finite vertices are ignored by Embree.
+  // The hierarchy is rebuilt only when the casters changed since the last build: their number,
+  // their world-space vertices (model matrix times position, compared bit for bit) or their
+  // triangles; reused() says whether it was kept. Errors (out of memory included) come back as a
+  // Status; nothing is printed.
   Status build(const Scene& scene, const Eigen::Matrix4d& view);
+  bool reused() const noexcept { return reused_; }
   bool empty() const noexcept { return triangles_ == 0; }
   std::size_t triangle_count() const noexcept { return triangles_; }
-  // Radius of a sphere around the casters' vertices within +-1e18 (eye space): the unit of
+  // Radius of a sphere around the casters' vertices within +-1e18 (world space): the unit of
   // ShadowBias::normal.
   float radius() const noexcept { return radius_; }
 
@@ -53,8 +60,16 @@ class RayCaster {
 
  private:
   void release() noexcept;
+  void release_scene() noexcept;
+  // Whether the casters of `scene` are exactly the ones the current hierarchy holds.
+  bool same_casters(const Scene& scene) const;
   void* device_ = nullptr;  // RTCDevice
   void* scene_ = nullptr;   // RTCScene
+  std::vector<void*> geometries_;  // RTCGeometry, retained: one per caster object, in object order
+  std::vector<std::array<std::size_t, 2>> counts_;  // per geometry: vertices, triangles
+  float to_world_[12] = {};         // eye -> world, rows of a 3 x 4 matrix
+  bool built_ = false;              // the hierarchy is complete (the last build succeeded)
+  bool reused_ = false;
   std::size_t triangles_ = 0;
   float radius_ = 0.0f;
   std::string error_;  // the device's last error message (set by its error callback)
