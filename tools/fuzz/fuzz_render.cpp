@@ -1,6 +1,6 @@
 // Fuzzes rendering of hostile geometry: raw float positions and normals (NaN, Inf, 1e38,
 // subnormals), indices that may be out of range, a fuzzed camera and options (ray-cast shadows
-// included). Invalid input must
+// and shadow maps included). Invalid input must
 // be refused before a byte is written; valid input must render without touching guard bytes.
 #include "fuzz_support.hpp"
 
@@ -41,9 +41,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   RenderOptions options;
   options.threads = 1;
   options.shading = static_cast<ShadingMode>((flags >> 5) % 3);
-  if (((flags >> 5) & 3) == 3) {  // Phong with ray-cast shadows of both lights: the fuzzed mesh casts them
+  if (((flags >> 5) & 3) == 3) {  // Phong with shadows of both lights (ray-cast or 64^2 maps): the fuzzed mesh casts them
     options.shading = ShadingMode::phong;
-    for (Light& l : s.lights) l.shadow.method = ShadowMethod::raycast;
+    for (Light& l : s.lights) {
+      l.shadow.method = (flags & 1) ? ShadowMethod::map : ShadowMethod::raycast;
+      l.shadow.resolution = 64;
+    }
   }
   options.cull = (flags & 4) ? CullMode::none : CullMode::back;
   options.path = (flags & 128) ? LightingPath::scalar : LightingPath::simd;

@@ -309,7 +309,7 @@ Status check_render_options(const RenderOptions& options) noexcept {
   }
 }
 
-// Whether some enabled light of `scene` casts ray-cast shadows; shadows from a map.
+// Whether some enabled light of `scene` casts ray-cast shadows; whether one casts shadows from a map.
 static bool casts_raycast_shadows(const Scene& scene) {
   return std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
            return l.enabled && l.shadow.method == ShadowMethod::raycast;
