@@ -9,19 +9,23 @@
 
 namespace facet {
 
-inline Eigen::Matrix4d look_at_d(const Camera& camera) {
-  const Eigen::Vector3d eye = camera.eye.cast<double>();
-  const Eigen::Vector3d f = (camera.target.cast<double>() - eye).normalized();
-  const Eigen::Vector3d s = f.cross(camera.up.cast<double>()).normalized();
-  const Eigen::Vector3d u = s.cross(f);
+// A right-handed view from `eye` looking along unit `forward`, with `up` not parallel to it.
+inline Eigen::Matrix4d look_along(const Eigen::Vector3d& eye, const Eigen::Vector3d& forward, const Eigen::Vector3d& up) {
+  const Eigen::Vector3d s = forward.cross(up).normalized();
+  const Eigen::Vector3d u = s.cross(forward);
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   m.block<1, 3>(0, 0) = s.transpose();
   m.block<1, 3>(1, 0) = u.transpose();
-  m.block<1, 3>(2, 0) = -f.transpose();
+  m.block<1, 3>(2, 0) = -forward.transpose();
   m(0, 3) = -s.dot(eye);
   m(1, 3) = -u.dot(eye);
-  m(2, 3) = f.dot(eye);
+  m(2, 3) = forward.dot(eye);
   return m;
+}
+
+inline Eigen::Matrix4d look_at_d(const Camera& camera) {
+  const Eigen::Vector3d eye = camera.eye.cast<double>();
+  return look_along(eye, (camera.target.cast<double>() - eye).normalized(), camera.up.cast<double>());
 }
 
 }  // namespace facet

@@ -7,6 +7,8 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
+#include "common/look_at.hpp"
+
 namespace facet::shadow {
 
 // Cones wider than this (half-angle, degrees) get a cube: a single perspective face would spend
@@ -30,20 +32,6 @@ int taps_of(ShadowFilter f) {
     case ShadowFilter::pcf5x5: return 5;
   }
   return 1;
-}
-
-// A right-handed view looking from `eye` along unit `forward`, with `up` not parallel to it.
-Eigen::Matrix4d look_along(const Eigen::Vector3d& eye, const Eigen::Vector3d& forward, const Eigen::Vector3d& up) {
-  const Eigen::Vector3d s = forward.cross(up).normalized();
-  const Eigen::Vector3d u = s.cross(forward);
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  m.block<1, 3>(0, 0) = s.transpose();
-  m.block<1, 3>(1, 0) = u.transpose();
-  m.block<1, 3>(2, 0) = -forward.transpose();
-  m(0, 3) = -s.dot(eye);
-  m(1, 3) = -u.dot(eye);
-  m(2, 3) = forward.dot(eye);
-  return m;
 }
 
 // An up vector for a view along `forward`: world +y unless the light is within ~8 degrees of it,
