@@ -383,7 +383,7 @@ double texel_bound(const Light& l) {
 // the filter's reach and the bias (normal, and the slope term at 45 degrees), in texels, stretched
 // by the light's slant on the plane (at most 2x here).
 double map_margin(const Light& l) {
-  const double taps[] = {1, 2, 3, 5}, radius = taps[static_cast<int>(l.shadow.filter)] / 2.0 + 0.5;
+  const double radius = shadow_filter_width(l.shadow.filter) / 2.0 + 0.5;
   const double reach = radius * (1.0 + l.shadow.bias.normal + l.shadow.bias.slope + l.shadow.bias.constant);
   return 8.0 / kSize * 1.2 + 2.0 * reach * texel_bound(l);
 }
@@ -752,7 +752,7 @@ TEST(ShadowMaps, SimdLookupIsTheScalarOneBitForBit) {
           const std::vector<float> simd = run(k->shadow_map, soa);
           ASSERT_EQ(simd.size(), scalar.size());
           EXPECT_EQ(std::memcmp(simd.data(), scalar.data(), simd.size() * sizeof(float)), 0)
-              << to_string(isa) << " " << to_string(filter) << " kind " << int(map.kind());
+              << to_string(isa) << " " << to_string(filter) << " kind " << map.kind();
           ++compared;
         }
       }

@@ -924,9 +924,8 @@ Status shadow_accuracy(bool quick, std::vector<Row>& rows) {
               : std::vector<ShadowFilter>{ShadowFilter::none, ShadowFilter::pcf2x2, ShadowFilter::pcf3x3, ShadowFilter::pcf5x5};
     for (const int res : resolutions) {
       for (const ShadowFilter f : filters) {
-        const int taps[] = {1, 2, 3, 5};
         const Status st = measure(std::string("map ") + to_string(f), std::to_string(res), with(ShadowMethod::map, res, f),
-                                  map_edge_contract(res, taps[static_cast<int>(f)]) * w / 640.0, res >= 1024 ? 0.015 : 1.0);
+                                  map_edge_contract(res, shadow_filter_width(f)) * w / 640.0, res >= 1024 ? 0.015 : 1.0);
         if (!st.ok()) return st;
       }
     }

@@ -85,5 +85,7 @@ struct Light {
 // How many faces a light's shadow map has: 6 (a cube) for point lights and for spot lights whose
 // cone is wider than 75 degrees (half-angle), else 1.
 int shadow_map_faces(const Light& light) noexcept;
+// A shadow map filter's width in texels: 1 (none, the nearest texel), 2, 3 or 5.
+int shadow_filter_width(ShadowFilter filter) noexcept;
 
 }  // namespace facet

@@ -23,16 +23,6 @@ constexpr double kNearFraction = 1e-3;
 // The slope bias's tangent is capped (grazing light would push points through thin casters).
 constexpr double kMaxSlope = 10.0;
 
-// Texels a filter reaches beyond the point's texel, and the filter's width in texels.
-int taps_of(ShadowFilter f) {
-  switch (f) {
-    case ShadowFilter::none: return 1;
-    case ShadowFilter::pcf2x2: return 2;
-    case ShadowFilter::pcf3x3: return 3;
-    case ShadowFilter::pcf5x5: return 5;
-  }
-  return 1;
-}
 
 // An up vector for a view along `forward`: world +y unless the light is within ~8 degrees of it,
 // then +x. Fixed by the light alone, so the map does not turn with the camera.
@@ -86,9 +76,10 @@ void ShadowMap::plan(const Light& light, const CasterBounds& casters, const Eige
                      const Eigen::Matrix4d& camera_projection) {
   faces_ = 0;
   resolution_ = light.shadow.resolution;
-  const int taps = taps_of(light.shadow.filter);
+  const int taps = shadow_filter_width(light.shadow.filter);
   const Eigen::Matrix4d eye_to_world = camera_view.inverse();
   double texel = 0.0, tan_half = 1.0;
+  int kind = MapLookup::orthographic;
   if (casters.empty()) return;
   // Margin of the perspective faces: the filter's reach plus a texel, on each side.
   const double margin = std::floor(0.5 * taps) + 2.0;
@@ -97,7 +88,7 @@ void ShadowMap::plan(const Light& light, const CasterBounds& casters, const Eige
   const double cone = light.spot_shape == SpotShape::smooth_cone ? light.spot_outer_deg : light.spot_cutoff_deg;
 
   if (light.type == LightType::directional) {
-    kind_ = Kind::orthographic;
+    kind = MapLookup::orthographic;
     const Eigen::Vector3d forward = light.direction.cast<double>().normalized();
     const Eigen::Matrix4d view = look_along(Eigen::Vector3d::Zero(), forward, up_for(forward));
     Eigen::AlignedBox3d box;
@@ -131,7 +122,7 @@ void ShadowMap::plan(const Light& light, const CasterBounds& casters, const Eige
     texel = std::max(hi.x() - lo.x(), hi.y() - lo.y()) / resolution_;
     faces_ = 1;
   } else if (shadow_map_faces(light) == 1) {  // a spot light
-    kind_ = Kind::perspective;
+    kind = MapLookup::perspective;
     const Eigen::Vector3d forward = light.direction.cast<double>().normalized();
     const Eigen::Matrix4d view = look_along(position, forward, up_for(forward));
     double near = std::numeric_limits<double>::infinity(), far = 0.0;
@@ -150,7 +141,7 @@ void ShadowMap::plan(const Light& light, const CasterBounds& casters, const Eige
     f.projection = perspective(tan_half, near, far);
     faces_ = 1;
   } else {  // a point light, or a wide spot light: six faces along the world axes
-    kind_ = Kind::cube;
+    kind = MapLookup::cube;
     double near = std::numeric_limits<double>::infinity(), far = 0.0;
     for (std::size_t i = 0; i < casters.lo.size(); ++i) {
       const Eigen::Vector3d nearest = position.cwiseMax(casters.lo[i]).cwiseMin(casters.hi[i]);
@@ -182,9 +173,7 @@ void ShadowMap::plan(const Light& light, const CasterBounds& casters, const Eige
   // What the lookup kernels read, in float.
   MapLookup& m = lookup_;
   m = MapLookup{};
-  m.kind = kind_ == Kind::orthographic ? MapLookup::orthographic
-           : kind_ == Kind::perspective ? MapLookup::perspective
-                                        : MapLookup::cube;
+  m.kind = kind;
   m.resolution = resolution_;
   m.taps = taps;
   m.depth = depth_.data();
@@ -307,6 +296,16 @@ void map_visibility_scalar(const MapLookup& m, std::size_t count, const float* p
 }  // namespace facet::shadow
 
 namespace facet {
+
+int shadow_filter_width(ShadowFilter filter) noexcept {
+  switch (filter) {
+    case ShadowFilter::none: return 1;
+    case ShadowFilter::pcf2x2: return 2;
+    case ShadowFilter::pcf3x3: return 3;
+    case ShadowFilter::pcf5x5: return 5;
+  }
+  return 1;
+}
 
 int shadow_map_faces(const Light& light) noexcept {
   if (light.type == LightType::directional) return 1;

@@ -39,8 +39,6 @@ struct CasterBounds {
 
 class ShadowMap {
  public:
-  enum class Kind { orthographic, perspective, cube };
-
   // Plans the map of `light` (enabled, shadow.method == map) for a frame: its faces' views and
   // projections fitted to `casters` and the camera (`camera_view`: world -> eye,
   // `camera_projection`), and their depth images (resolution^2 floats each, allocated here).
@@ -49,7 +47,7 @@ class ShadowMap {
   void plan(const Light& light, const CasterBounds& casters, const Eigen::Matrix4d& camera_view,
             const Eigen::Matrix4d& camera_projection);
   bool empty() const { return faces_ == 0; }
-  Kind kind() const { return kind_; }
+  int kind() const { return lookup_.kind; }  // MapLookup::Kind (valid when not empty())
   int resolution() const { return resolution_; }
   int face_count() const { return faces_; }
   const Eigen::Matrix4d& face_view(int f) const { return face_[f].view; }              // world -> light eye
@@ -73,7 +71,6 @@ class ShadowMap {
   struct Face {
     Eigen::Matrix4d view = Eigen::Matrix4d::Identity(), projection = Eigen::Matrix4d::Identity();
   };
-  Kind kind_ = Kind::orthographic;
   int faces_ = 0, resolution_ = 0;
   Face face_[6];
   std::vector<float> depth_;  // the faces' depth images, one after another
