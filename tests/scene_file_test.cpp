@@ -305,9 +305,6 @@ TEST(SceneFile, BadShadowsNameTheField) {
                1, "lights[0].shadow.bias.normal", {"[0, 10000]"});
   expect_error(R"({ "lights": [ { "type": "point", "shadow": { "method": "raycast", "blur": 1 } } ] })", 1,
                "lights[0].shadow", {"blur"});
-  // Not implemented yet: refused with the reason, not drawn without shadows.
-  expect_error(R"({ "lights": [ { "type": "point", "shadow": { "method": "volume" } } ] })", 1, "lights[0].shadow.method",
-               {"not implemented yet"});
   expect_error(R"({ "meshes": [ { "name": "m", "shape": "cube" } ],
                     "objects": [ { "mesh": "m", "cast_shadows": 1 } ] })", 2, "objects[0].cast_shadows", {"true or false"});
 }

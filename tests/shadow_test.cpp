@@ -240,12 +240,7 @@ TEST(Shadows, RefusedWhereNotDrawnYet) {
   EXPECT_EQ(st.code(), ErrorCode::unsupported);
   EXPECT_NE(st.message().find("lights[0].shadow"), std::string::npos) << st.message();
   EXPECT_TRUE(c.untouched());
-  s.lights[0].shadow.method = ShadowMethod::volume;
   o.shading = ShadingMode::phong;
-  st = r.render(s, o, c.view());
-  EXPECT_EQ(st.code(), ErrorCode::unsupported);
-  EXPECT_NE(st.message().find("not implemented yet"), std::string::npos) << st.message();
-  EXPECT_TRUE(c.untouched());
   // At most kMaxShadowedLights lights cast shadows.
   s.lights.assign(kMaxShadowedLights + 1, s.lights[0]);
   for (Light& l : s.lights) l.shadow.method = ShadowMethod::raycast;
@@ -275,7 +270,7 @@ TEST(Shadows, HostileCastersAreHarmless) {
   junk.normals.assign(junk.positions.size(), Vec3(0, 1, 0));
   s.meshes.push_back({"junk", junk});
   s.objects.push_back(Instance{2, 0});
-  for (const ShadowMethod method : {ShadowMethod::raycast, ShadowMethod::map}) {
+  for (const ShadowMethod method : {ShadowMethod::raycast, ShadowMethod::map, ShadowMethod::volume}) {
     s.lights[0].shadow.method = method;  // a map's fit then spans 1e30: it shows nothing, harmlessly
     Status st;
     const std::vector<std::uint8_t> one = render(s, 1, LightingPath::simd, Isa::best, &st);
@@ -348,6 +343,11 @@ Scene with_map(Scene s, ShadowFilter filter = ShadowFilter::pcf3x3, int resoluti
     l.shadow.filter = filter;
     l.shadow.resolution = resolution;
   }
+  return s;
+}
+
+Scene with_volume(Scene s) {
+  for (Light& l : s.lights) l.shadow.method = ShadowMethod::volume;
   return s;
 }
 
@@ -427,8 +427,9 @@ namespace {
 struct Agreement {
   int shadowed = 0, compared = 0, wrong = 0;
 };
-Agreement compare_with_raycast(const Scene& s, int band, ShadowFilter filter = ShadowFilter::pcf3x3) {
-  Scene ray = s, map = with_map(s, filter), none = s;
+Agreement compare_with_raycast(const Scene& s, int band, ShadowFilter filter = ShadowFilter::pcf3x3,
+                               ShadowMethod method = ShadowMethod::map) {
+  Scene ray = s, map = method == ShadowMethod::volume ? with_volume(s) : with_map(s, filter), none = s;
   for (Light& l : ray.lights) l.shadow.method = ShadowMethod::raycast;
   for (Light& l : none.lights) l.shadow.method = ShadowMethod::none;
   const std::vector<std::uint8_t> exact = render(ray), approx = render(map), unshadowed = render(none);
@@ -455,7 +456,8 @@ Agreement compare_with_raycast(const Scene& s, int band, ShadowFilter filter = S
       ++a.compared;
       const std::size_t at = static_cast<std::size_t>(y * kSize + x) * 4;
       if (std::memcmp(&exact[at], &approx[at], 3) != 0 && ++a.wrong <= 5) {
-        ADD_FAILURE() << "pixel " << x << ", " << y << " (ray-cast " << (here ? "shadowed" : "lit") << ")";
+        ADD_FAILURE() << "pixel " << x << ", " << y << " (ray-cast " << (here ? "shadowed" : "lit") << "): red " << int(exact[at])
+                      << " ray-cast, " << int(approx[at]) << " this method, " << int(unshadowed[at]) << " unshadowed";
       }
     }
   }
@@ -486,6 +488,10 @@ TEST(ShadowMaps, NoAcneOnALitPlaneFrom2To89Degrees) {
       SCOPED_TRACE(std::to_string(elevation) + " degrees, " + to_string(filter));
       EXPECT_EQ(render(with_map(sun, filter)), render(none));
       EXPECT_EQ(render(with_map(spot, filter)), render(spot_none));
+      if (filter == ShadowFilter::none) {  // volumes: the plane is its own front cap
+        EXPECT_EQ(render(with_volume(sun)), render(none)) << "volume";
+        EXPECT_EQ(render(with_volume(spot)), render(spot_none)) << "volume";
+      }
     }
   }
   // A point light just over the plane lights it at every elevation from 90 degrees (below it) to
@@ -498,6 +504,7 @@ TEST(ShadowMaps, NoAcneOnALitPlaneFrom2To89Degrees) {
   for (const ShadowFilter filter : {ShadowFilter::none, ShadowFilter::pcf2x2, ShadowFilter::pcf3x3, ShadowFilter::pcf5x5}) {
     EXPECT_EQ(render(with_map(lamp, filter)), render(lamp_none)) << to_string(filter);
   }
+  EXPECT_EQ(render(with_volume(lamp)), render(lamp_none)) << "volume";
 }
 
 // A ray from the camera through pixel (x, y)'s centre: origin and unit direction.
@@ -513,7 +520,10 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> view_ray(const Scene& s, int x, int 
 // shadow must reach the cube's foot: every plane pixel seen beside the cube's shadowed side, more
 // than one pixel's footprint from the contact line and inside the exact shadow, is in shadow.
 TEST(ShadowMaps, ContactShadowGapAtMostOnePixel) {
-  for (const ShadowFilter filter : {ShadowFilter::none, ShadowFilter::pcf2x2, ShadowFilter::pcf3x3, ShadowFilter::pcf5x5}) {
+  const ShadowFilter filters[] = {ShadowFilter::none, ShadowFilter::pcf2x2, ShadowFilter::pcf3x3, ShadowFilter::pcf5x5};
+  for (int run = 0; run < 5; ++run) {  // each filter's map, then volumes
+    const bool volume = run == 4;
+    const ShadowFilter filter = volume ? ShadowFilter::none : filters[run];
     Scene s = sphere_over_plane();
     s.meshes[1] = {"cube", make_cube(1.0f, 1)};
     s.objects[1].model = Mat4::Identity();
@@ -525,7 +535,7 @@ TEST(ShadowMaps, ContactShadowGapAtMostOnePixel) {
     s.camera.vertical_fov_deg = 30.0f;
     Scene dark = s;
     dark.lights[0].enabled = false;
-    const std::vector<std::uint8_t> img = render(with_map(s, filter)), off = render(dark);
+    const std::vector<std::uint8_t> img = render(volume ? with_volume(s) : with_map(s, filter)), off = render(dark);
     int checked = 0, gaps = 0;
     for (int y = 0; y < kSize; ++y) {
       for (int x = 0; x < kSize; ++x) {
@@ -541,87 +551,100 @@ TEST(ShadowMaps, ContactShadowGapAtMostOnePixel) {
         const std::size_t at = static_cast<std::size_t>(y * kSize + x) * 4;
         ++checked;
         if (std::memcmp(&img[at], &off[at], 3) != 0 && ++gaps <= 5) {
-          ADD_FAILURE() << to_string(filter) << ": lit at pixel " << x << ", " << y << ", plane x " << p.x();
+          ADD_FAILURE() << (volume ? "volume" : to_string(filter)) << ": lit at pixel " << x << ", " << y << ", plane x " << p.x();
         }
       }
     }
     EXPECT_GT(checked, 100);
-    EXPECT_EQ(gaps, 0) << to_string(filter);
+    EXPECT_EQ(gaps, 0) << (volume ? "volume" : to_string(filter));
   }
 }
 
 // A point light inside the bounding box of a caster: a floor and a ceiling in one mesh, the light
 // between them over a sphere; the cube map's near plane cannot sit at the box.
 TEST(ShadowMaps, LightInsideACastersBoundingBox) {
-  Scene s = point_over_sphere();
-  Mesh room = make_plane(8.0f, 8.0f, 4);
-  const std::size_t n = room.positions.size();
-  for (std::size_t i = 0; i < n; ++i) {  // the ceiling: the floor raised to y = 4, facing down
-    room.positions.push_back(room.positions[i] + Vec3(0, 4, 0));
-    room.normals.push_back(Vec3(0, -1, 0));
-    if (!room.uvs.empty()) room.uvs.push_back(room.uvs[i]);
+  for (const ShadowMethod method : {ShadowMethod::map, ShadowMethod::volume}) {
+    SCOPED_TRACE(to_string(method));
+    Scene s = point_over_sphere();
+    Mesh room = make_plane(8.0f, 8.0f, 4);
+    const std::size_t n = room.positions.size();
+    for (std::size_t i = 0; i < n; ++i) {  // the ceiling: the floor raised to y = 4, facing down
+      room.positions.push_back(room.positions[i] + Vec3(0, 4, 0));
+      room.normals.push_back(Vec3(0, -1, 0));
+      if (!room.uvs.empty()) room.uvs.push_back(room.uvs[i]);
+    }
+    const std::size_t t = room.triangles.size();
+    for (std::size_t i = 0; i < t; ++i) {
+      const auto& tri = room.triangles[i];
+      room.triangles.push_back({static_cast<std::uint32_t>(tri[0] + n), static_cast<std::uint32_t>(tri[2] + n),
+                                static_cast<std::uint32_t>(tri[1] + n)});
+    }
+    s.meshes[0] = {"room", room};
+    s.lights[0].position = Vec3(-1.0f, 3.0f, 0.2f);
+    s.camera.eye = Vec3(0, 3.5f, 6.0f);  // between floor and ceiling, looking at the floor
+    s.camera.target = Vec3(0, 0, 0);
+    s.camera.up = Vec3(0, 1, 0);
+    s.camera.vertical_fov_deg = 60.0f;
+    const Agreement a = compare_with_raycast(s, 2, ShadowFilter::pcf3x3, method);
+    EXPECT_GT(a.shadowed, 100);
+    EXPECT_GT(a.compared, kSize * kSize / 2);
   }
-  const std::size_t t = room.triangles.size();
-  for (std::size_t i = 0; i < t; ++i) {
-    const auto& tri = room.triangles[i];
-    room.triangles.push_back({static_cast<std::uint32_t>(tri[0] + n), static_cast<std::uint32_t>(tri[2] + n),
-                              static_cast<std::uint32_t>(tri[1] + n)});
-  }
-  s.meshes[0] = {"room", room};
-  s.lights[0].position = Vec3(-1.0f, 3.0f, 0.2f);
-  s.camera.eye = Vec3(0, 3.5f, 6.0f);  // between floor and ceiling, looking at the floor
-  s.camera.target = Vec3(0, 0, 0);
-  s.camera.up = Vec3(0, 1, 0);
-  s.camera.vertical_fov_deg = 60.0f;
-  const Agreement a = compare_with_raycast(s, 2);
-  EXPECT_GT(a.shadowed, 100);
-  EXPECT_GT(a.compared, kSize * kSize / 2);
 }
 
 // A spot light whose nearest caster lies at the map's near plane: a small square just in front of
 // the light throws a large shadow on the plane.
 TEST(ShadowMaps, SpotLightAtTheNearPlane) {
-  Scene s = spot_over_sphere();
-  Mesh square = make_plane(0.1f, 0.1f, 1);
-  s.meshes[1] = {"square", square};
-  Light& spot = s.lights[0];
-  spot.position = Vec3(0.0f, 5.0f, 0.0f);
-  spot.direction = Vec3(0.0f, -1.0f, 0.0f);
-  s.objects[1].model = Mat4::Identity();
-  s.objects[1].model(1, 3) = 4.99f;  // 1 cm under the light: the map's near plane
-  const Agreement a = compare_with_raycast(s, 2);
-  EXPECT_GT(a.shadowed, 300);
+  for (const ShadowMethod method : {ShadowMethod::map, ShadowMethod::volume}) {
+    SCOPED_TRACE(to_string(method));
+    Scene s = spot_over_sphere();
+    Mesh square = make_plane(0.1f, 0.1f, 1);
+    s.meshes[1] = {"square", square};
+    Light& spot = s.lights[0];
+    spot.position = Vec3(0.0f, 5.0f, 0.0f);
+    spot.direction = Vec3(0.0f, -1.0f, 0.0f);
+    s.objects[1].model = Mat4::Identity();
+    s.objects[1].model(1, 3) = 4.99f;  // 1 cm under the light: the map's near plane
+    const Agreement a = compare_with_raycast(s, 2, ShadowFilter::pcf3x3, method);
+    EXPECT_GT(a.shadowed, 300);
+  }
 }
 
 // A directional light along the camera's up vector (and along the world's y axis, the map's
 // default up): the map's orientation must not degenerate.
 TEST(ShadowMaps, DirectionalLightAlongTheCamerasUp) {
-  Scene s = sphere_over_plane();
-  s.camera.eye = Vec3(0.0f, 6.0f, 9.0f);
-  s.camera.up = Vec3(0, 1, 0);
-  s.lights[0].direction = Vec3(0, -1, 0);
-  const Agreement a = compare_with_raycast(s, 2);
-  EXPECT_GT(a.shadowed, 100);
+  for (const ShadowMethod method : {ShadowMethod::map, ShadowMethod::volume}) {
+    SCOPED_TRACE(to_string(method));
+    Scene s = sphere_over_plane();
+    s.camera.eye = Vec3(0.0f, 6.0f, 9.0f);
+    s.camera.up = Vec3(0, 1, 0);
+    s.lights[0].direction = Vec3(0, -1, 0);
+    const Agreement a = compare_with_raycast(s, 2, ShadowFilter::pcf3x3, method);
+    EXPECT_GT(a.shadowed, 100);
+  }
 }
 
 // A point light whose shadow falls exactly along the border of two cube faces, and along a corner
 // of three: no seam (the faces are wider than 90 degrees by the filter's reach).
 TEST(ShadowMaps, PointLightOnACubeFaceBorder) {
-  for (const Vec3& way : {Vec3(1, -1, 0), Vec3(1, -1, 1), Vec3(0, -1, 1)}) {
-    Scene s = point_over_sphere();
-    s.lights[0].position = Vec3(-1.5f, 3.5f, -1.0f);
-    s.objects[1].model.block<3, 1>(0, 3) = s.lights[0].position + 1.6f * way.normalized();
-    s.objects[1].model.block<3, 3>(0, 0) = Eigen::Matrix3f::Identity() * 0.5f;
-    const Agreement a = compare_with_raycast(s, 2);
-    EXPECT_GT(a.shadowed, 30) << way.transpose();
+  for (const ShadowMethod method : {ShadowMethod::map, ShadowMethod::volume}) {
+    SCOPED_TRACE(to_string(method));
+    for (const Vec3& way : {Vec3(1, -1, 0), Vec3(1, -1, 1), Vec3(0, -1, 1)}) {
+      Scene s = point_over_sphere();
+      s.lights[0].position = Vec3(-1.5f, 3.5f, -1.0f);
+      s.objects[1].model.block<3, 1>(0, 3) = s.lights[0].position + 1.6f * way.normalized();
+      s.objects[1].model.block<3, 3>(0, 0) = Eigen::Matrix3f::Identity() * 0.5f;
+      const Agreement a = compare_with_raycast(s, 2, ShadowFilter::pcf3x3, method);
+      EXPECT_GT(a.shadowed, 30) << way.transpose();
+    }
   }
 }
 
 // A scene of zero extent: every caster vertex at one point. Nothing can be drawn into a map, and
 // nothing is shadowed; no division by a zero extent.
 TEST(ShadowMaps, ZeroExtentScene) {
-  for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
-    Scene s = with_map(base);
+  for (const Scene& any : {sphere_over_plane(), spot_over_sphere(), point_over_sphere(), with_volume(sphere_over_plane()),
+                           with_volume(spot_over_sphere()), with_volume(point_over_sphere())}) {
+    Scene s = any.lights[0].shadow.method == ShadowMethod::volume ? any : with_map(any);
     for (Vec3& p : s.meshes[1].mesh.positions) p = Vec3(0.0f, 0.0f, 0.0f);
     s.objects[0].cast_shadows = false;
     Scene none = s;
@@ -638,23 +661,29 @@ TEST(ShadowMaps, ZeroExtentScene) {
 // A million caster triangles (a finely divided sphere): the map draws them through the same tile
 // pipeline; the shadow agrees with the ray-cast one.
 TEST(ShadowMaps, AMillionCasters) {
-  Scene s = sphere_over_plane();
-  s.meshes[1] = {"ball", make_uv_sphere(kRadius, 1000, 500)};
-  ASSERT_GE(s.meshes[1].mesh.triangle_count(), 990000u);
-  const Agreement a = compare_with_raycast(s, 2);
-  EXPECT_GT(a.shadowed, 200);
+  for (const ShadowMethod method : {ShadowMethod::map, ShadowMethod::volume}) {
+    SCOPED_TRACE(to_string(method));
+    Scene s = sphere_over_plane();
+    s.meshes[1] = {"ball", make_uv_sphere(kRadius, 1000, 500)};
+    ASSERT_GE(s.meshes[1].mesh.triangle_count(), 990000u);
+    const Agreement a = compare_with_raycast(s, 2, ShadowFilter::pcf3x3, method);
+    EXPECT_GT(a.shadowed, 200);
+  }
 }
 
 // Casters entirely outside the view still cast into it: the directional map is fitted to the
 // casters within the view's footprint across the light, not to the view.
 TEST(ShadowMaps, CastersOutsideTheView) {
-  for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
-    Scene s = base;
-    s.camera.target = Vec3(1.5f, 0.0f, 0.0f);
-    s.camera.eye = Vec3(1.5f, 4.0f, 0.0f);  // sees x in about [0, 3]: the sphere at x = 0 is outside
-    s.objects[1].model.block<3, 1>(0, 3) = Vec3(-0.6f, 2.0f, 0.0f);
-    const Agreement a = compare_with_raycast(s, 2);
-    EXPECT_GT(a.shadowed, 20);
+  for (const ShadowMethod method : {ShadowMethod::map, ShadowMethod::volume}) {
+    SCOPED_TRACE(to_string(method));
+    for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
+      Scene s = base;
+      s.camera.target = Vec3(1.5f, 0.0f, 0.0f);
+      s.camera.eye = Vec3(1.5f, 4.0f, 0.0f);  // sees x in about [0, 3]: the sphere at x = 0 is outside
+      s.objects[1].model.block<3, 1>(0, 3) = Vec3(-0.6f, 2.0f, 0.0f);
+      const Agreement a = compare_with_raycast(s, 2, ShadowFilter::pcf3x3, method);
+      EXPECT_GT(a.shadowed, 20);
+    }
   }
 }
 
@@ -779,7 +808,7 @@ TEST(ShadowMaps, AReusedRendererDrawsWhatAFreshOneDraws) {
     EXPECT_TRUE(r.render(s, o, c.view()).ok());
     return c.pixels();
   };
-  for (const ShadowMethod method : {ShadowMethod::map, ShadowMethod::raycast}) {
+  for (const ShadowMethod method : {ShadowMethod::map, ShadowMethod::raycast, ShadowMethod::volume}) {
     for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
       Scene a = with_map(base, ShadowFilter::pcf3x3, 512);
       a.lights[0].shadow.method = method;
@@ -791,15 +820,123 @@ TEST(ShadowMaps, AReusedRendererDrawsWhatAFreshOneDraws) {
       turned.camera.eye = Vec3(1.0f, 11.0f, 3.0f);
       Scene fewer = turned;  // a caster stops casting
       fewer.objects[1].cast_shadows = false;
+      Scene reshaped = moved;  // a caster's mesh changes (its adjacency and hierarchy with it)
+      for (Vec3& p : reshaped.meshes[1].mesh.positions) p = Vec3(p.x() * 1.5f, p.y() * 0.5f, p.z());
       Renderer reused;
       draw(reused, a, 64);
       for (const auto& [scene, tile] : {std::pair<const Scene*, int>{&moved, 64}, {&finer, 64}, {&turned, 64}, {&a, 32},
-                                        {&moved, 128}, {&fewer, 64}, {&a, 64}}) {
+                                        {&moved, 128}, {&fewer, 64}, {&reshaped, 64}, {&a, 64}}) {
         Renderer fresh;
         EXPECT_EQ(draw(reused, *scene, tile), draw(fresh, *scene, tile)) << "tile " << tile << " " << to_string(method);
       }
     }
   }
+}
+
+}  // namespace
+}  // namespace facet
+
+#include "shadow/volume.hpp"
+
+namespace facet {
+namespace {
+
+// Stencil shadow volumes (z-fail): exact hard shadows per pixel, against the sphere's analytic shadow and against ray-
+// cast shadows away from their edges; determinism; the adjacency.
+TEST(ShadowVolumes, MatchTheSpheresExactShadow) {
+  for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
+    SCOPED_TRACE(static_cast<int>(base.lights[0].type));
+    const auto [in_shadow, in_light] = compare_with_exact_shadow(with_volume(base), 8.0 / kSize * 2.0);
+    EXPECT_GT(in_shadow, 100);
+    EXPECT_GT(in_light, 500);
+  }
+}
+
+TEST(ShadowVolumes, SameBytesForEveryThreadCountAndPath) {
+  for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
+    expect_same_for_threads_and_paths(with_volume(base));
+  }
+}
+
+TEST(ShadowVolumes, NothingToCastIsTheUnshadowedImage) {
+  for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
+    expect_unshadowed_without_casters_or_receivers(with_volume(base));
+  }
+}
+
+TEST(ShadowVolumes, AgreeWithRaycastBeyondAPixelOfAnEdge) {
+  for (const Scene& base : {sphere_over_plane(), spot_over_sphere(), point_over_sphere()}) {
+    const Agreement a = compare_with_raycast(base, 1, ShadowFilter::none, ShadowMethod::volume);
+    EXPECT_GT(a.shadowed, 100);
+    EXPECT_GT(a.compared, kSize * kSize / 2);
+  }
+}
+
+// Two volume-shadowed lights in one frame (a sun and a lamp): each its own mask.
+TEST(ShadowVolumes, SeveralLights) {
+  Scene s = sphere_over_plane();
+  Light lamp = point_over_sphere().lights[0];
+  lamp.diffuse = Color3(0.4f, 0.3f, 0.2f);
+  s.lights[0].diffuse = Color3(0.4f, 0.5f, 0.6f);
+  s.lights.push_back(lamp);
+  const Agreement a = compare_with_raycast(s, 1, ShadowFilter::none, ShadowMethod::volume);
+  EXPECT_GT(a.shadowed, 150);
+}
+
+// The camera inside a shadow volume, its near plane cutting the volume: what z-fail is for (z-pass counting would
+// invert the shadow here).
+TEST(ShadowVolumes, CameraInsideTheShadow) {
+  for (const Scene& base : {sphere_over_plane(), point_over_sphere()}) {
+    Scene s = base;
+    // On the line from the sphere's centre away from the light, between the sphere and the plane.
+    const Vec3 away = base.lights[0].type == LightType::directional
+                          ? base.lights[0].direction
+                          : Vec3((kCentre - base.lights[0].position).normalized());
+    s.camera.eye = kCentre + away * 1.3f;
+    s.camera.target = s.camera.eye + Vec3(1.5f, -1.0f, 0.8f);
+    s.camera.up = Vec3(0, 1, 0);
+    s.camera.vertical_fov_deg = 70.0f;
+    s.camera.near = 0.05f;
+    SCOPED_TRACE(static_cast<int>(base.lights[0].type));
+    const Agreement a = compare_with_raycast(s, 1, ShadowFilter::none, ShadowMethod::volume);
+    EXPECT_GT(a.shadowed, 100);
+  }
+}
+
+// An open mesh (a square, one-sided) casts from both sides, as with ray-cast shadows: facing the light or turned away
+// from it, the same shadow.
+TEST(ShadowVolumes, OpenMeshesCastFromBothSides) {
+  for (const float turn : {0.0f, 3.14159265f}) {
+    Scene s = sphere_over_plane();
+    s.meshes[1] = {"square", make_plane(1.6f, 1.6f, 2)};
+    s.objects[1].model =
+        (Eigen::Translation3f(0.0f, 1.5f, 0.0f) * Eigen::AngleAxisf(turn + 0.3f, Vec3::UnitX())).matrix();
+    const Agreement a = compare_with_raycast(s, 1, ShadowFilter::none, ShadowMethod::volume);
+    EXPECT_GT(a.shadowed, 150) << turn;
+  }
+}
+
+// Adjacency: shapes with split vertices (seams, creases) are closed once welded; a plane is open; a triangle turned the
+// wrong way opens a mesh.
+TEST(ShadowVolumes, AdjacencyWeldsSplitVertices) {
+  shadow::MeshEdges e;
+  for (const Mesh& closed : {make_uv_sphere(1.0f, 24, 12), make_cube(1.0f, 1), make_cube(2.0f, 3)}) {
+    e.build(closed);
+    EXPECT_TRUE(e.closed);
+    EXPECT_TRUE(e.built_from(closed));
+    std::size_t uses = 0;
+    for (std::size_t k = 0; k + 1 < e.first.size(); ++k) uses += e.first[k + 1] - e.first[k];
+    EXPECT_EQ(uses,
+              3 * closed.triangle_count());  // no degenerate triangle in these shapes
+  }
+  const Mesh plane = make_plane(1.0f, 1.0f, 3);
+  e.build(plane);
+  EXPECT_FALSE(e.closed);
+  Mesh flipped = make_cube(1.0f, 1);
+  std::swap(flipped.triangles[0][1], flipped.triangles[0][2]);
+  EXPECT_FALSE(e.built_from(flipped));
+  e.build(flipped);
+  EXPECT_FALSE(e.closed);
 }
 
 }  // namespace

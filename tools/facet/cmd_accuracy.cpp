@@ -788,6 +788,12 @@ Scene shadow_scene(LightType type) {
 // differ.
 double map_edge_contract(int resolution, int taps) { return 8.0 + (taps + 1) * 2048.0 / resolution; }
 
+// The volume contract: differing pixels lie within this many pixels of a ray-cast shadow edge
+// or an outline, at any image size (a shadow edge's own pixels may round either way in either
+// method), and at most this share of the receivers differ.
+constexpr double kVolumeEdgeContract = 1.0;
+constexpr double kVolumeShareContract = 0.002;
+
 Status shadow_accuracy(bool quick, std::vector<Row>& rows) {
   const int w = quick ? 320 : 640, h = quick ? 180 : 360;
   struct Kind {
@@ -916,6 +922,14 @@ Status shadow_accuracy(bool quick, std::vector<Row>& rows) {
     };
     // Ray-cast against itself: the check that the comparison itself finds nothing.
     if (Status st = measure("raycast", "", with(ShadowMethod::raycast, 2048, ShadowFilter::none), 0.0, 0.0); !st.ok()) {
+      return st;
+    }
+    // Volumes: exact per pixel, so only pixels next to a shadow edge or an outline may differ
+    // (where the pixel's Phong position and the mask's pixel round apart, or the two methods'
+    // rounding decides a grazing pixel differently), and few of them.
+    if (Status st = measure("volume", "", with(ShadowMethod::volume, 2048, ShadowFilter::none), kVolumeEdgeContract,
+                            kVolumeShareContract);
+        !st.ok()) {
       return st;
     }
     const std::vector<int> resolutions = quick ? std::vector<int>{512, 2048} : std::vector<int>{256, 512, 1024, 2048, 4096};

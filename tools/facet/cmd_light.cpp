@@ -258,6 +258,8 @@ int run_check(int argc, char** argv) {
     if (l.shadow.method == ShadowMethod::map) {
       methods += " " + std::to_string(l.shadow.resolution) + "^2 " + to_string(l.shadow.filter) +
                  (shadow_map_faces(l) == 6 ? " cube" : "");
+    } else if (l.shadow.method == ShadowMethod::volume) {
+      methods += " (stencil, exact; resolution, filter and bias unused)";
     }
   }
   for (const auto& obj : scene->objects) casters += obj.cast_shadows, receivers += obj.receive_shadows;

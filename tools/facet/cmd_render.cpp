@@ -65,7 +65,7 @@ void print_stats_text(const FrameStats& s, int frames, double seconds) {
   std::printf("  pixels      %llu tested, %llu filled\n", (unsigned long long)s.pixels_tested,
               (unsigned long long)s.pixels_filled);
   if (s.shadow_casters > 0 || s.seconds_shadows > 0) {
-    std::printf("  shadows     %llu caster triangles, %.3f ms (ray-cast hierarchy, shadow maps fitted and drawn)",
+    std::printf("  shadows     %llu caster triangles, %.3f ms (ray-cast hierarchy; maps, camera depth and volumes drawn)",
                 (unsigned long long)s.shadow_casters, 1e3 * s.seconds_shadows);
     if (s.shadow_map_texels > 0) {
       std::printf("; maps: %.2f M texels, %.2f M written by casters", double(s.shadow_map_texels) / 1e6,

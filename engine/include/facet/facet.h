@@ -107,12 +107,11 @@ typedef struct facet_fog {
   float density;    /* exp, exp2: >= 0 */
 } facet_fog;
 
-/* Shadows of a light (facet::Shadow; docs/shadows.md). VOLUME is not implemented yet:
- * facet_scene_add_light refuses it with FACET_UNSUPPORTED. Shadows are drawn in Phong shading. */
+/* Shadows of a light (facet::Shadow; docs/shadows.md). Shadows are drawn in Phong shading. */
 typedef enum facet_shadow_method {
   FACET_SHADOW_NONE = 0,
   FACET_SHADOW_MAP = 1, /* a shadow map: spot one face, directional one fitted face, point a cube */
-  FACET_SHADOW_VOLUME = 2,
+  FACET_SHADOW_VOLUME = 2,  /* exact per pixel: stencil shadow volumes (z-fail); no filter, no bias */
   FACET_SHADOW_RAYCAST = 3 /* exact: a shadow ray per shaded point (Intel Embree) */
 } facet_shadow_method;
 typedef enum facet_shadow_filter {
@@ -132,7 +131,7 @@ typedef struct facet_light {
   float spot_exponent;
   /* Shadows; default FACET_SHADOW_NONE, resolution 2048, PCF3X3, bias constant 0, slope 0 and
    * normal 1.5. Biases in [0, 1e4], in the method's unit (facet::ShadowBias): map, the filter's
-   * radius in texels at the point; raycast, 1e-4 of the casters' bounding radius. */
+   * radius in texels at the point; raycast, 1e-4 of the casters' bounding radius; volume: none. */
   facet_shadow_method shadow_method;
   int shadow_resolution;     /* map: texels a side, [16, 16384] */
   facet_shadow_filter shadow_filter;

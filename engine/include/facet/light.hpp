@@ -22,7 +22,8 @@ enum class SpotShape {
 // Shadows of one light (docs/shadows.md). `raycast` is exact: a shadow ray per shaded point
 // through Intel Embree; `map` draws a shadow map (spot: one perspective face; directional: one
 // orthographic face fitted to the casters; point: a cube of six faces) and looks each point up in
-// it, filtered; `volume` is not implemented yet and is refused by validation.
+// it, filtered; `volume` counts the casters' stencil shadow volumes per pixel (z-fail), exact and
+// hard, with no filter or bias (after a depth-only pass of the camera's view).
 enum class ShadowMethod { none, map, volume, raycast };
 // A map's filter: the nearest texel, or N x N texels (bilinear-weighted comparisons).
 enum class ShadowFilter { none, pcf2x2, pcf3x3, pcf5x5 };
@@ -35,13 +36,14 @@ inline constexpr int kMaxShadowedLights = 8;
 // How far a shaded point moves before its visibility is decided, in the method's unit. `map`: the
 // filter's radius at the point (half the filter's width plus half a texel, in texels of the map
 // there: 1 texel for none, 1.5 for pcf2x2, 2 for pcf3x3, 3 for pcf5x5), so a bias that clears
-// one filter clears all; `raycast`: 1e-4 of the radius of the sphere around the shadow casters.
+// one filter clears all; `raycast`: 1e-4 of the radius of the sphere around the shadow casters;
+// `volume` uses none.
 // A plane moved 1 unit along its normal clears its own map at any angle to the light; the
 // default 1.5 leaves room for rounding. Each in [0, 1e4].
 struct ShadowBias {
   float constant = 0.0f;  // map: towards the light
   float slope = 0.0f;     // map: towards the light, times the tangent of the angle between normal and light (capped at 10)
-  float normal = 1.5f;    // every method: along the point's normal
+  float normal = 1.5f;    // map and raycast: along the point's normal
 };
 
 struct Shadow {

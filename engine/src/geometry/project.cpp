@@ -9,6 +9,12 @@
 
 namespace facet::geometry {
 
+Mat4Rows to_rows(const Eigen::Matrix4d& m) noexcept {
+  Mat4Rows r{};
+  for (int i = 0; i < 16; ++i) r.m[i] = static_cast<float>(m(i / 4, i % 4));
+  return r;
+}
+
 ClipPlanes guard_band_planes(const Viewport& viewport) noexcept {
   return {2.0f * raster::kGuardBandPixels / static_cast<float>(viewport.width) - 1.0f,
           2.0f * raster::kGuardBandPixels / static_cast<float>(viewport.height) - 1.0f};

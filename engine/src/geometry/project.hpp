@@ -6,6 +6,8 @@
 #include <array>
 #include <cstdint>
 
+#include <Eigen/Core>
+
 #include "facet/types.hpp"
 #include "geometry/clip.hpp"
 
@@ -37,6 +39,7 @@ bool project(const ClipVertex& v, const Viewport& viewport, ScreenVertex& out) n
 struct Mat4Rows {
   float m[16];
 };
+Mat4Rows to_rows(const Eigen::Matrix4d& m) noexcept;
 
 // Clip-space positions, outcodes and (inside the guard band) screen positions of vertices
 // [begin, end).

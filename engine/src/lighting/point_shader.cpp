@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "lighting/setup.hpp"
 #include "lighting/soa.hpp"
@@ -98,6 +99,7 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
   culled_ = remove_lights(reference_, drop);
   // Shadow slots, in light order (every path's list holds the same lights in the same order).
   caster_ = shadows ? shadows->caster : nullptr;
+  volumes_ = shadows ? shadows->volumes : nullptr;
   shadow_slots_ = 0;
   for (EyeLight<double>& L : reference_.lights) {
     const std::size_t light = static_cast<std::size_t>(L.scene_light);
@@ -105,13 +107,15 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
     L.shadow = -1;
     if (!shadows || shadow_slots_ == kMaxShadowedLights) continue;
     const shadow::ShadowMap* map = sh.method == ShadowMethod::map ? shadows->map_of(light) : nullptr;
-    if (!map && !(sh.method == ShadowMethod::raycast && caster_)) continue;  // no shadow, or nothing casts one
+    const bool volume = sh.method == ShadowMethod::volume && volumes_ && volumes_->has(light);
+    if (!map && !volume && !(sh.method == ShadowMethod::raycast && caster_)) continue;  // no shadow, or nothing casts one
     maps_[shadow_slots_] = map;
+    volume_light_[shadow_slots_] = volume ? light : SIZE_MAX;
     shadow::LightTarget& t = targets_[shadow_slots_];
     t.directional = L.type == LightType::directional;
     const V3<double>& at = t.directional ? L.to_light : L.position;
     t.x = static_cast<float>(at.x), t.y = static_cast<float>(at.y), t.z = static_cast<float>(at.z);
-    offsets_[shadow_slots_] = map ? 0.0f : sh.bias.normal * 1e-4f * caster_->radius();  // ray-cast: 1e-4 radii
+    offsets_[shadow_slots_] = map || volume ? 0.0f : sh.bias.normal * 1e-4f * caster_->radius();  // ray-cast: 1e-4 radii
     if (L.type == LightType::spot) {  // where the cone ends (SpotShape's zero), for skipping rays
       t.spot = true;
       t.axis_x = static_cast<float>(L.spot_axis.x), t.axis_y = static_cast<float>(L.spot_axis.y);
@@ -284,6 +288,8 @@ void PointShader::find_visibility(std::size_t count, const float* px, const floa
     float* out = visibility + static_cast<std::size_t>(k) * count;
     if (maps_[k]) {
       maps_[k]->visibility(count, px, py, pz, nx, ny, nz, stride, out);
+    } else if (volume_light_[k] != SIZE_MAX) {
+      volumes_->visibility(volume_light_[k], count, px, py, pz, stride, out);
     } else {
       caster_->visibility(targets_[k], offsets_[k], count, px, py, pz, nx, ny, nz, stride, out);
     }

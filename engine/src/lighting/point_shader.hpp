@@ -78,6 +78,8 @@ class PointShader {
   int shadow_slots_ = 0;
   shadow::LightTarget targets_[kMaxShadowedLights];
   const shadow::ShadowMap* maps_[kMaxShadowedLights] = {};
+  const shadow::ShadowVolumes* volumes_ = nullptr;
+  std::size_t volume_light_[kMaxShadowedLights] = {};  // a volume slot's scene light, else SIZE_MAX
   float offsets_[kMaxShadowedLights] = {};
   // visibility[k * count + i]: point i's visibility of slot k's light (stride as RayCaster).
   void find_visibility(std::size_t count, const float* px, const float* py, const float* pz, const float* nx,

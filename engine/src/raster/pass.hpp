@@ -32,6 +32,9 @@ struct RenderPass {
   // Depth only (shadow maps): the objects that cast shadows, no lighting, no varying, flat
   // rasterization into the depth target alone; no face is culled.
   bool depth_only = false;
+  // Depth only: the objects that cast shadows (a shadow map), or every object that writes depth,
+  // as the camera's pass draws them (the camera's depth, for shadow volumes).
+  bool casters_only = false;
   // Depth only: per tile, 1 when the target's tile may hold anything but far depth (it persists
   // from frame to frame: a tile no caster reaches is cleared once, not every frame), or null.
   std::uint8_t* depth_dirty = nullptr;

@@ -88,12 +88,6 @@ Status check_options(const RenderOptions& o) {
   return {};
 }
 
-geometry::Mat4Rows to_rows(const Eigen::Matrix4d& d) {
-  geometry::Mat4Rows r{};
-  for (int i = 0; i < 16; ++i) r.m[i] = static_cast<float>(d(i / 4, i % 4));
-  return r;
-}
-
 }  // namespace
 
 // What each worker thread needs for itself, kept from frame to frame.
@@ -140,12 +134,18 @@ struct DrawUnit {
 
 namespace {
 // The frame's draws, in object order and, within an object, group order (`units` keeps its
-// capacity); a depth-only pass draws only the objects that cast shadows.
-void plan_units(const Scene& scene, bool casters_only, std::vector<DrawUnit>& units) {
+// capacity); a shadow map's pass draws only the objects that cast shadows, the camera's depth pass
+// only the draws that write depth.
+bool writes_depth(const Material& m) {
+  return m.depth_write == DepthWrite::on || (m.depth_write == DepthWrite::automatic && m.blend == BlendMode::opaque);
+}
+void plan_units(const Scene& scene, const raster::RenderPass& p, std::vector<DrawUnit>& units) {
   units.clear();
+  const bool casters_only = p.depth_only && p.casters_only, depth_writers = p.depth_only && !p.casters_only;
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     const Instance& inst = scene.objects[o];
     if (casters_only && !inst.cast_shadows) continue;
+    if (depth_writers && !inst.mesh_materials && !writes_depth(scene.materials[inst.material])) continue;
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
     if (!inst.mesh_materials) {
       units.push_back({static_cast<std::uint32_t>(o), inst.material, 0, mesh.triangle_count(), 0, mesh.vertex_count()});
@@ -154,6 +154,7 @@ void plan_units(const Scene& scene, bool casters_only, std::vector<DrawUnit>& un
     for (const MaterialGroup& g : mesh.groups) {  // validated: every name is a scene material
       DrawUnit u{static_cast<std::uint32_t>(o), static_cast<std::uint32_t>(find_material(scene, g.material)),
                  g.first_triangle, std::size_t{g.first_triangle} + g.triangle_count, mesh.vertex_count(), 0};
+      if (depth_writers && !writes_depth(scene.materials[u.material])) continue;
       for (std::size_t t = u.first_triangle; t < u.end_triangle; ++t) {
         for (std::uint32_t v : mesh.triangles[t]) {
           u.first_vertex = std::min<std::size_t>(u.first_vertex, v);
@@ -206,6 +207,10 @@ struct Renderer::Impl {
   std::vector<const shadow::ShadowMap*> frame_maps;  // per scene light: its map this frame, or null
   std::vector<DepthView> map_views;
   shadow::CasterBounds caster_bounds;
+  // Shadow volumes: the camera's depth (drawn by a depth-only pass first) and each volume
+  // light's mask.
+  shadow::ShadowVolumes volumes;
+  DepthView volume_depth;
   shadow::FrameShadows frame_shadows;
   Status frame_status;  // a failure inside the arena (the casters' build)
   // One per arena slot (tbb::this_task_arena::current_thread_index()), sized on the calling
@@ -315,6 +320,11 @@ static bool casts_raycast_shadows(const Scene& scene) {
            return l.enabled && l.shadow.method == ShadowMethod::raycast;
          });
 }
+static bool casts_volume_shadows(const Scene& scene) {
+  return std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
+    return l.enabled && l.shadow.method == ShadowMethod::volume;
+  });
+}
 static bool casts_map_shadows(const Scene& scene) {
   return std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
            return l.enabled && l.shadow.method == ShadowMethod::map;
@@ -390,7 +400,16 @@ std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& opti
     const U texels = static_cast<U>(shadow::ShadowMap::bytes(l)) / 4;
     bytes = sat_add(bytes, sat_add(texels * 4, (texels / (tile * tile) + 6) * 64));
   }
-  if (raycast || maps) {
+  // Shadow volumes: the camera's depth, the masks, the volumes' triangles, the casters' adjacency.
+  std::size_t volume_lights = 0, casters = 0;
+  for (const Light& l : scene.lights) volume_lights += l.enabled && l.shadow.method == ShadowMethod::volume;
+  if (volume_lights > 0) {
+    for (const Instance& inst : scene.objects) {
+      if (inst.mesh < scene.meshes.size() && inst.cast_shadows) casters += scene.meshes[inst.mesh].mesh.triangle_count();
+    }
+    bytes = sat_add(bytes, shadow::ShadowVolumes::bytes(width, height, volume_lights, casters));
+  }
+  if (raycast || maps || volume_lights > 0) {
     bytes = sat_add(bytes, sat_mul(slots, U(kMaxShadowedLights) * (kVertexChunk + kTriangleRange) * 8));
   }
   return bytes;
@@ -419,7 +438,7 @@ Status check_render(const Scene& scene, const RenderOptions& options, int width,
 }
 
 std::uint64_t Renderer::Impl::pass_work(const Scene& scene, const raster::RenderPass& p) {
-  plan_units(scene, p.depth_only, work_units);
+  plan_units(scene, p, work_units);
   std::uint64_t work = static_cast<std::uint64_t>(p.tile_count());
   const bool placed = !p.depth_only && p.shading != ShadingMode::phong && !light_every_vertex;
   for (const DrawUnit& u : work_units) {  // ranges, clip chunks, then lighting or centroid chunks
@@ -514,7 +533,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     w.soa.reserve_padded(std::max(kVertexChunk, kTriangleRange));
   }
   const bool raycast = casts_raycast_shadows(scene);
-  if (raycast || casts_map_shadows(scene)) {  // the shadowed lights' visibility of a lighting call's points, and its padded copies
+  if (raycast || casts_map_shadows(scene) || casts_volume_shadows(scene)) {  // the shadowed lights' visibility of a lighting call's points, and its padded copies
     const std::size_t points = lighting::simd::padded(std::max(kVertexChunk, kTriangleRange));
     for (WorkerScratch& w : workers) {
       if (w.soa.visibility.size() < 2 * kMaxShadowedLights * points) w.soa.visibility.resize(2 * kMaxShadowedLights * points);
@@ -558,6 +577,22 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     }
     stats.seconds_shadows += seconds_since(start);
   }
+  // Shadow volumes: the camera's depth alone, then (after that pass) the volumes' masks.
+  volumes.plan(scene, camera.width(), camera.height());
+  if (volumes.active()) {
+    volume_depth = volumes.depth_view();
+    raster::RenderPass d = camera;  // the same view, culling and triangles
+    d.shading = ShadingMode::flat;
+    d.depth_only = true;
+    d.casters_only = false;
+    d.color = nullptr;
+    d.depth = &volume_depth;
+    d.depth_dirty = volumes.dirty_tiles(options.tile_size);
+    passes.push_back(d);
+    for (const Instance& inst : scene.objects) {
+      if (inst.cast_shadows && !casts_map_shadows(scene)) stats.shadow_casters += scene.meshes[inst.mesh].mesh.triangle_count();
+    }
+  }
   passes.push_back(camera);
   // Ray-cast shadows: the casters as Embree sees them, built here, in this renderer's arena.
   frame_caster = nullptr;
@@ -569,14 +604,17 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     if (!frame_status.ok()) return;
     frame_caster = &caster;
   }
-  frame_shadows = {frame_caster, frame_maps};
-  has_shadows = frame_caster || any_map;
+  frame_shadows = {frame_caster, frame_maps, volumes.active() ? &volumes : nullptr};
+  has_shadows = frame_caster || any_map || volumes.active();
   work_total = 0;
   for (const raster::RenderPass& p : passes) work_total += pass_work(scene, p);
   work_total = std::max<std::uint64_t>(work_total, 1);
   for (const raster::RenderPass& p : passes) {
     const auto start = Clock::now();
     run_pass(scene, options, p);
+    if (p.depth_only && !p.casters_only && !cancelled.load(std::memory_order_relaxed)) {
+      volumes.build(scene, camera.view, camera.projection, *arena);  // the camera's depth is drawn
+    }
     if (p.depth_only) stats.seconds_shadows += seconds_since(start);
     if (cancelled.load(std::memory_order_relaxed)) break;
   }
@@ -592,7 +630,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   range_count = 0;  // counted below, per draw
   bins.resize(static_cast<std::size_t>(p.tile_count()));
   for (auto& bin : bins) bin.clear();
-  plan_units(scene, p.depth_only, units);
+  plan_units(scene, p, units);
   shaders.resize(units.size());
   plan_draws(scene, options, p);
 
@@ -737,7 +775,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   raster::RasterCounters counters;
   for (const raster::RasterCounters& c : tile_counters) counters += c;  // in tile order
   if (p.depth_only) {
-    stats.shadow_map_pixels += counters.filled;
+    if (p.casters_only) stats.shadow_map_pixels += counters.filled;
     return;
   }
   stats.seconds_resolve = counters.seconds_resolve;
@@ -759,6 +797,7 @@ RenderPass depth_pass(const Eigen::Matrix4d& view, const Eigen::Matrix4d& projec
   p.projection = projection;
   p.shading = ShadingMode::flat;
   p.depth_only = true;
+  p.casters_only = true;
   p.tile_size = tile_size;
   p.tiles_x = (depth.width + tile_size - 1) / tile_size;
   p.tiles_y = (depth.height + tile_size - 1) / tile_size;
@@ -868,7 +907,7 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
     d.uv_scale[0] = m.uv_scale.x(), d.uv_scale[1] = m.uv_scale.y();
     d.alpha_cutoff = m.alpha_cutoff;
     d.blend = static_cast<int>(m.blend);
-    d.depth_write = m.depth_write == DepthWrite::on || (m.depth_write == DepthWrite::automatic && m.blend == BlendMode::opaque);
+    d.depth_write = writes_depth(m);
     d.clamp = clamp ? 1 : 0;
     d.program = textured || m.blend != BlendMode::opaque || m.alpha_cutoff > 0.0f || !d.depth_write ||
                 f.mode != FogMode::none || needs.albedo;
@@ -915,7 +954,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   std::vector<ScreenVertex>& screen = os.screen;
   os.mirrored = inst.model.cast<double>().topLeftCorner<3, 3>().determinant() < 0.0;
   // Clip-space positions.
-  const geometry::Mat4Rows mvp = to_rows(proj * view * inst.model.cast<double>());
+  const geometry::Mat4Rows mvp = geometry::to_rows(proj * view * inst.model.cast<double>());
   clip.resize(n);
   screen.resize(n);
   // The simd path transforms with its ISA's kernel (bit-identical to the scalar function).

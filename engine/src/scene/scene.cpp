@@ -165,10 +165,8 @@ Status validate_shadow(const Shadow& s, const Field& f) {
   switch (s.method) {
     case ShadowMethod::none:
     case ShadowMethod::map:
-    case ShadowMethod::raycast: break;
-    case ShadowMethod::volume:
-      return {ErrorCode::unsupported, f("shadow.method"),
-              f("shadow.method") + ": \"volume\" is not implemented yet; \"map\" and \"raycast\" are (or \"none\")"};
+    case ShadowMethod::raycast:
+    case ShadowMethod::volume: break;
     default: return invalid(f("shadow.method"), "unknown shadow method");
   }
   if (!(s.resolution >= 16 && s.resolution <= 16384)) {

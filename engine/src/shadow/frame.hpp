@@ -6,12 +6,14 @@
 
 #include "shadow/map.hpp"
 #include "shadow/raycast.hpp"
+#include "shadow/volume.hpp"
 
 namespace facet::shadow {
 
 struct FrameShadows {
   const RayCaster* caster = nullptr;     // the casters of the ray-cast lights, or null
   std::span<const ShadowMap* const> maps;  // per scene light: its map, or null (none, or nothing to cast)
+  const ShadowVolumes* volumes = nullptr;  // the masks of the volume lights, or null
   const ShadowMap* map_of(std::size_t light) const { return light < maps.size() ? maps[light] : nullptr; }
 };
 
