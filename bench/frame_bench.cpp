@@ -150,7 +150,8 @@ void register_shadows() {
   facet::RenderOptions phong;
   phong.shading = facet::ShadingMode::phong;
   for (const char* scene_name : {"default", "bunny"}) {
-    for (const facet::ShadowMethod method : {facet::ShadowMethod::none, facet::ShadowMethod::map, facet::ShadowMethod::raycast}) {
+    for (const facet::ShadowMethod method : {facet::ShadowMethod::none, facet::ShadowMethod::map, facet::ShadowMethod::volume,
+                                             facet::ShadowMethod::raycast}) {
       const std::string name = std::string("BM_Shadow/") + facet::to_string(method) + "/" + scene_name + "/1920x1080";
       add(name, [phong, method, scene_name](benchmark::State& state) {
         std::string error;

@@ -1,6 +1,6 @@
 // Fuzzes rendering of hostile geometry: raw float positions and normals (NaN, Inf, 1e38,
-// subnormals), indices that may be out of range, a fuzzed camera and options (ray-cast shadows
-// and shadow maps included). Invalid input must
+// subnormals), indices that may be out of range, a fuzzed camera and options (ray-cast shadows,
+// shadow maps and shadow volumes included). Invalid input must
 // be refused before a byte is written; valid input must render without touching guard bytes.
 #include "fuzz_support.hpp"
 
@@ -41,10 +41,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   RenderOptions options;
   options.threads = 1;
   options.shading = static_cast<ShadingMode>((flags >> 5) % 3);
-  if (((flags >> 5) & 3) == 3) {  // Phong with shadows of both lights (ray-cast or 64^2 maps): the fuzzed mesh casts them
+  if (((flags >> 5) & 3) == 3) {  // Phong with shadows of both lights (ray-cast, 64^2 maps or volumes): the fuzzed mesh casts them
     options.shading = ShadingMode::phong;
     for (Light& l : s.lights) {
-      l.shadow.method = (flags & 1) ? ShadowMethod::map : ShadowMethod::raycast;
+      l.shadow.method = (flags & 1) ? ShadowMethod::map : (flags & 2) ? ShadowMethod::volume : ShadowMethod::raycast;
       l.shadow.resolution = 64;
     }
   }

@@ -267,6 +267,12 @@ if shadow_rows:
             ax.annotate(f"ray-cast ({light})", (share, r["ms_per_frame"]), textcoords="offset points", xytext=(6, -3),
                         fontsize=7)
             continue
+        if r["method"] == "volume":
+            ax.scatter([share], [r["ms_per_frame"]], color=LIGHT_COLOURS[light], marker="P", s=110, edgecolors="black",
+                       linewidths=0.6, zorder=3)
+            ax.annotate(f"volume ({light})", (share, r["ms_per_frame"]), textcoords="offset points", xytext=(6, 2),
+                        fontsize=7)
+            continue
         filt = r["method"].split()[1]
         ax.scatter([share], [r["ms_per_frame"]], color=LIGHT_COLOURS[light], marker=FILTER_MARKERS[filt], s=28,
                    alpha=0.85)
@@ -276,6 +282,7 @@ if shadow_rows:
         ax.scatter([], [], color=colour, marker="o", label=f"{light} light")
     for filt, marker in FILTER_MARKERS.items():
         ax.scatter([], [], color="#777777", marker=marker, label=f"map, {filt}")
+    ax.scatter([], [], color="#777777", marker="P", s=90, label="stencil volumes (exact per pixel)")
     ax.scatter([], [], color="#777777", marker="*", s=120, label="ray-cast (exact; 0 %, drawn at the floor)")
     ax.set_xscale("log")
     ax.set_yscale("log")
@@ -327,20 +334,20 @@ for b in bench_rows(frames):
         shadow_frames.setdefault((parts[2], parts[4]), {})[parts[1]] = b
 if shadow_frames:
     lines += ["", "Shadows, 1920x1080, Phong, the first light shadowed (BM_Shadow; share: the method's part of its frame):", "",
-              "| scene, threads | no shadows | map (ms, share, of which map passes) | ray-cast (ms, share, of which hierarchy) |",
-              "|---|---|---|---|"]
+              "| scene, threads | no shadows | map (ms, share, of which map passes) | volume (ms, share, of which depth pass and volumes) | ray-cast (ms, share, of which hierarchy) |",
+              "|---|---|---|---|---|"]
     for (scene, threads), m in sorted(shadow_frames.items()):
         if "none" not in m:
             continue
         none = m["none"]["real_time"]
         cells = []
-        for method in ("map", "raycast"):
+        for method in ("map", "volume", "raycast"):
             if method in m:
                 t = m[method]["real_time"]
                 cells.append(f"{t:.1f} ms, {100 * (t - none) / t:.0f} %, {m[method].get('shadows_ms', 0):.1f} ms")
             else:
                 cells.append("")
-        lines.append(f"| {scene}, {threads.replace('threads:', '')} | {none:.1f} ms | {cells[0]} | {cells[1]} |")
+        lines.append(f"| {scene}, {threads.replace('threads:', '')} | {none:.1f} ms | {cells[0]} | {cells[1]} | {cells[2]} |")
 with open(os.path.join(OUT, "summary.md"), "w") as f:
     f.write("\n".join(lines) + "\n")
 print("\n".join(lines))

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <span>
 #include <unordered_map>
 
 #include <Eigen/Geometry>
@@ -333,17 +334,21 @@ void ShadowVolumes::rasterize(std::uint8_t* mask, parallel::Arena& arena) {
   }
   std::partial_sum(band_first_.begin(), band_first_.end(), band_first_.begin());
   band_list_.resize(band_first_.back());
-  {
-    std::vector<std::uint32_t> cursor(band_first_.begin(), band_first_.end() - 1);
-    for (std::size_t i = 0; i < triangles_.size(); ++i) {
-      const VolumeTriangle& t = triangles_[i];
-      for (int b = t.min_py / kBand; b <= t.max_py / kBand; ++b) band_list_[cursor[static_cast<std::size_t>(b)]++] = static_cast<std::uint32_t>(i);
+  band_cursor_.assign(band_first_.begin(), band_first_.end() - 1);
+  for (std::size_t i = 0; i < triangles_.size(); ++i) {
+    const VolumeTriangle& t = triangles_[i];
+    for (int b = t.min_py / kBand; b <= t.max_py / kBand; ++b) {
+      band_list_[band_cursor_[static_cast<std::size_t>(b)]++] = static_cast<std::uint32_t>(i);
     }
   }
   const int width = width_, height = height_;
   const float* depth = depth_.data();
-  arena.parallel_for(tbb::blocked_range<int>(0, bands), [&](const tbb::blocked_range<int>& r, int) {
-    std::vector<std::int32_t> counts(static_cast<std::size_t>(kBand) * static_cast<std::size_t>(width));
+  const std::size_t band_pixels = static_cast<std::size_t>(kBand) * static_cast<std::size_t>(width);
+  if (counts_.size() < static_cast<std::size_t>(arena.threads()) * band_pixels) {
+    counts_.resize(static_cast<std::size_t>(arena.threads()) * band_pixels);
+  }
+  arena.parallel_for(tbb::blocked_range<int>(0, bands), [&](const tbb::blocked_range<int>& r, int slot) {
+    const std::span<std::int32_t> counts(counts_.data() + static_cast<std::size_t>(slot) * band_pixels, band_pixels);
     for (int b = r.begin(); b != r.end(); ++b) {
       const int y0 = b * kBand, y1 = std::min(height, y0 + kBand) - 1;
       std::fill(counts.begin(), counts.end(), 0);

@@ -146,7 +146,8 @@ class ShadowVolumes {
   double guard_x_ = 0, guard_y_ = 0;
   std::vector<std::int8_t> facing_;        // scratch: per triangle, +1 / -1 / 0
   std::vector<VolumeTriangle> triangles_;  // the light's volume on screen
-  std::vector<std::uint32_t> band_first_, band_list_;
+  std::vector<std::uint32_t> band_first_, band_list_, band_cursor_;  // the volume's triangles per band of rows
+  std::vector<std::int32_t> counts_;       // per thread slot: one band's sums
   std::size_t volume_triangles_ = 0;
 };
 
