@@ -199,7 +199,11 @@ int clip_polygon(ShadowVolumes::ClipVert* poly, int n, double gx, double gy) {
 void ShadowVolumes::emit(std::uint32_t ia, std::uint32_t ib, std::uint32_t ic, bool side) {
   ClipVert poly[16] = {verts_[ia], verts_[ib], verts_[ic]};
   const double g = raster::kGuardBandPixels;
-  const int n = clip_polygon(poly, 3, guard_x_, guard_y_);
+  bool inside = true;  // most faces need no clipping
+  for (int i = 0; i < 3 && inside; ++i) {
+    for (int plane = 0; plane < 5 && inside; ++plane) inside = plane_distance(poly[i].clip, plane, guard_x_, guard_y_) >= 0.0;
+  }
+  const int n = inside ? 3 : clip_polygon(poly, 3, guard_x_, guard_y_);
   if (n < 3) return;
   std::int32_t sx[16], sy[16];
   double sz[16];
@@ -226,7 +230,7 @@ void ShadowVolumes::emit(std::uint32_t ia, std::uint32_t ib, std::uint32_t ic, b
     if (area == 0) continue;
     // area < 0: counter-clockwise as the camera sees it (the y-down screen flips the sign), so
     // the face's outward side faces the camera.
-    t.sign = area < 0 ? -1 : 1;
+    t.sign = static_cast<std::int8_t>(area < 0 ? -1 : 1);
     t.side = side;
     if (area < 0) {
       std::swap(t.x[1], t.x[2]);
@@ -236,7 +240,9 @@ void ShadowVolumes::emit(std::uint32_t ia, std::uint32_t ib, std::uint32_t ic, b
     raster::ScreenTriangle st;
     for (int j = 0; j < 3; ++j) st.x[j] = t.x[j], st.y[j] = t.y[j];
     if (!raster::finish_setup(st, width_, height_)) continue;
-    t.min_py = st.min_py, t.max_py = st.max_py;
+    t.min_px = st.min_px, t.max_px = st.max_px, t.min_py = st.min_py, t.max_py = st.max_py;
+    for (int j = 0; j < 3; ++j) t.bias[j] = st.bias[j];
+    t.inv_area2 = 1.0 / static_cast<double>(area < 0 ? -area : area);
     triangles_.push_back(t);
   }
 }
@@ -353,16 +359,13 @@ void ShadowVolumes::rasterize(std::uint8_t* mask, parallel::Arena& arena) {
       const int y0 = b * kBand, y1 = std::min(height, y0 + kBand) - 1;
       std::fill(counts.begin(), counts.end(), 0);
       for (std::uint32_t k = band_first_[static_cast<std::size_t>(b)]; k < band_first_[static_cast<std::size_t>(b) + 1]; ++k) {
-        const VolumeTriangle& v = triangles_[band_list_[k]];
-        raster::ScreenTriangle t;
-        for (int j = 0; j < 3; ++j) t.x[j] = v.x[j], t.y[j] = v.y[j];
-        if (!raster::finish_setup(t, width, height)) continue;
+        const VolumeTriangle& t = triangles_[band_list_[k]];
         const int r0 = std::max(t.min_py, y0), r1 = std::min(t.max_py, y1);
         if (r0 > r1) continue;
-        const double inv_area = 1.0 / static_cast<double>(raster::signed_area2(t));
-        // Spans: per row, the pixels whose biased edge values are all >= 0, found by exact
-        // integer division instead of testing each pixel of the box (the edge values are those of
-        // raster::for_each_covered_pixel, so coverage is the raster's top-left rule).
+        const double inv_area = t.inv_area2;
+        // Spans: per row, the pixels whose biased edge values are all >= 0 (the edge values are
+        // those of raster::for_each_covered_pixel, so coverage is the raster's top-left rule);
+        // found by exact integer division on wide triangles, pixel by pixel on narrow ones.
         std::int64_t row_e[3], step_x[3], step_y[3];
         double dzx = 0.0;
         const std::int64_t px = std::int64_t(t.min_px) * raster::kSubpixelOne + raster::kPixelCentre;
@@ -373,32 +376,40 @@ void ShadowVolumes::rasterize(std::uint8_t* mask, parallel::Arena& arena) {
           row_e[k] = B * (py - t.y[a]) + A * (px - t.x[a]) + t.bias[k];
           step_x[k] = A * raster::kSubpixelOne;
           step_y[k] = B * raster::kSubpixelOne;
-          dzx += static_cast<double>(step_x[k]) * v.z[k];
+          dzx += static_cast<double>(step_x[k]) * t.z[k];
         }
         dzx *= inv_area;
         const std::int64_t last = t.max_px - t.min_px;
+        const bool narrow = last < 8;
         for (int y = r0; y <= r1; ++y, row_e[0] += step_y[0], row_e[1] += step_y[1], row_e[2] += step_y[2]) {
           std::int64_t lo = 0, hi = last;
-          for (int k = 0; k < 3; ++k) {
-            if (step_x[k] > 0) {
-              lo = std::max(lo, -raster::floor_div(row_e[k], step_x[k]));
-            } else if (step_x[k] < 0) {
-              hi = std::min(hi, raster::floor_div(row_e[k], -step_x[k]));
-            } else if (row_e[k] < 0) {
-              hi = -1;
+          if (narrow) {  // the first and last covered pixel by stepping
+            std::int64_t e0 = row_e[0], e1 = row_e[1], e2 = row_e[2];
+            while (lo <= last && (e0 | e1 | e2) < 0) ++lo, e0 += step_x[0], e1 += step_x[1], e2 += step_x[2];
+            hi = lo - 1;
+            while (hi < last && (e0 | e1 | e2) >= 0) ++hi, e0 += step_x[0], e1 += step_x[1], e2 += step_x[2];
+          } else {
+            for (int k = 0; k < 3; ++k) {
+              if (step_x[k] > 0) {
+                lo = std::max(lo, -raster::floor_div(row_e[k], step_x[k]));
+              } else if (step_x[k] < 0) {
+                hi = std::min(hi, raster::floor_div(row_e[k], -step_x[k]));
+              } else if (row_e[k] < 0) {
+                hi = -1;
+              }
             }
           }
           if (lo > hi) continue;
           // Depth at the span's first pixel from the unbiased edge values (barycentrics), then
           // stepped: |error| stays near 1e-16 per step, far below kDepthTolerance.
           double z_lo = 0.0;
-          for (int k = 0; k < 3; ++k) z_lo += static_cast<double>(row_e[k] + step_x[k] * lo - t.bias[k]) * v.z[k];
+          for (int k = 0; k < 3; ++k) z_lo += static_cast<double>(row_e[k] + step_x[k] * lo - t.bias[k]) * t.z[k];
           z_lo *= inv_area;
           const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(t.min_px);
           const float* d = depth + row;
           std::int32_t* c = counts.data() + static_cast<std::size_t>(y - y0) * static_cast<std::size_t>(width) + static_cast<std::size_t>(t.min_px);
-          const int sign = v.sign;
-          const double tie = (sign < 0) != v.side ? -kDepthTolerance : kDepthTolerance;  // see the header: ties
+          const int sign = t.sign;
+          const double tie = (sign < 0) != t.side ? -kDepthTolerance : kDepthTolerance;  // see the header: ties
           for (std::int64_t i = lo; i <= hi; ++i) {
             const double z = z_lo + static_cast<double>(i - lo) * dzx;
             c[i] += z >= static_cast<double>(d[i]) + tie ? sign : 0;

@@ -75,13 +75,15 @@ struct MeshEdges {
   bool built_from(const Mesh& mesh) const;
 };
 
-// One volume triangle on screen: snapped vertices (not yet oriented), window depth (unclamped),
-// and what it adds behind the scene: +1 (faces away from the camera) or -1.
+// One volume triangle on screen, set up: snapped vertices, window depth (unclamped), and what it
+// adds behind the scene: +1 (faces away from the camera) or -1.
 struct VolumeTriangle {
-  std::int32_t x[3], y[3];
+  std::int32_t x[3], y[3];  // oriented as raster::ScreenTriangle's (area2 > 0)
   double z[3];
-  int min_py, max_py;
-  int sign;
+  double inv_area2;
+  int min_px, min_py, max_px, max_py;  // covered pixel bounds inside the frame
+  std::int8_t bias[3];                 // the top-left rule's
+  std::int8_t sign;
   bool side;  // a silhouette's extrusion (else a cap)
 };
 
