@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "cli.hpp"
+#include "shadow/volume.hpp"
 
 namespace facet::cli {
 namespace {
@@ -259,13 +260,38 @@ int run_check(int argc, char** argv) {
       methods += " " + std::to_string(l.shadow.resolution) + "^2 " + to_string(l.shadow.filter) +
                  (shadow_map_faces(l) == 6 ? " cube" : "");
     } else if (l.shadow.method == ShadowMethod::volume) {
-      methods += " (stencil, exact; resolution, filter and bias unused)";
+      methods += " (stencil)";
     }
   }
   for (const auto& obj : scene->objects) casters += obj.cast_shadows, receivers += obj.receive_shadows;
   if (shadowed > 0) {
     std::printf("  shadows: %zu lights (%s), %zu casting and %zu receiving objects\n", shadowed,
                 methods.c_str(), casters, receivers);
+  }
+  // Volumes: which caster meshes are closed (docs/shadows.md: open ones cast from both sides).
+  const bool volumes = std::any_of(scene->lights.begin(), scene->lights.end(), [](const Light& l) {
+    return l.enabled && l.shadow.method == ShadowMethod::volume;
+  });
+  if (volumes) {
+    std::vector<char> casting(scene->meshes.size(), 0);
+    for (const auto& obj : scene->objects) {
+      if (obj.cast_shadows && !scene->meshes[obj.mesh].mesh.triangles.empty()) casting[obj.mesh] = 1;
+    }
+    std::string open;
+    std::size_t closed = 0, open_count = 0;
+    shadow::MeshEdges edges;
+    for (std::size_t m = 0; m < scene->meshes.size(); ++m) {
+      if (!casting[m]) continue;
+      edges.build(scene->meshes[m].mesh);
+      if (edges.closed) {
+        ++closed;
+      } else if (++open_count <= 5) {
+        open += std::string(open.empty() ? "" : ", ") + scene->meshes[m].name;
+      }
+    }
+    std::printf("  volumes: exact, hard (resolution, filter and bias do not apply); %zu closed caster meshes, %zu open "
+                "(%s%s): open meshes cast from both sides, with a cap for every triangle\n",
+                closed, open_count, open_count ? open.c_str() : "none", open_count > 5 ? ", ..." : "");
   }
   if (!scene->textures.empty() || blended > 0 || scene->fog.mode != FogMode::none) {
     std::printf("  surfaces: %zu textures (%llu KiB with their mipmaps), %zu textured and %zu blended objects, fog %s\n",
