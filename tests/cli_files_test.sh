@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # facet's command line and files: a FIFO is refused at once (never blocks), -o into a missing
 # directory fails without creating it, and a write cut short by `ulimit -f` keeps the old file
-# byte for byte and leaves no temporary file; check and render report ray-cast shadows and shadow maps.   usage: cli_files_test.sh FACET GOLDEN.png WORKDIR
+# byte for byte and leaves no temporary file; check and render report ray-cast shadows, shadow maps and volumes.   usage: cli_files_test.sh FACET GOLDEN.png WORKDIR
 set -u
 facet="$1" golden="$2" work="$3"
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
@@ -35,6 +35,10 @@ out=$("$facet" render "$shadows" --shading phong --width 64 --height 48 --stats 
 check "render draws ray-cast shadows (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"shadows     4108 caster triangles"* ]] && [ -s shadows.png ]'
 out=$("$facet" check "$shadows" --shading phong --shadows map 2>&1); rc=$?
 check "check --shadows map turns every light's shadows into maps (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"sun map 2048^2 pcf3x3, spot map 2048^2 pcf3x3"* ]]'
+out=$("$facet" check "$shadows" --shading phong --shadows volume 2>&1); rc=$?
+check "check --shadows volume says which caster meshes are closed (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"sun volume (stencil), spot volume (stencil)"* ]] && [[ "$out" == *"volumes: exact, hard"*"2 closed caster meshes, 1 open (ground)"* ]]'
+out=$("$facet" render "$shadows" --shading phong --shadows volume --width 64 --height 48 --stats -o volumes.png 2>&1); rc=$?
+check "render draws shadow volumes (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"shadows     4108 caster triangles"* ]] && [ -s volumes.png ]'
 out=$("$facet" render "$shadows" --shading phong --shadows none --width 16 --height 16 -o none.png 2>&1); rc=$?
 check "render --shadows none draws no shadows (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" != *"shadows"* ]]'
 out=$("$facet" check "$shadows" --shading phong --shadows stencil 2>&1); rc=$?
