@@ -50,10 +50,11 @@ Scene sphere_over_plane() {
 }
 
 std::vector<std::uint8_t> render(const Scene& s, int threads = 0, LightingPath path = LightingPath::simd,
-                                 Isa isa = Isa::best, Status* status = nullptr) {
+                                 Isa isa = Isa::best, Status* status = nullptr,
+                                 ShadingMode shading = ShadingMode::phong) {
   Canvas c(kSize, kSize);
   RenderOptions o;
-  o.shading = ShadingMode::phong;
+  o.shading = shading;
   o.threads = threads;
   o.path = path;
   o.isa = isa;
@@ -236,18 +237,24 @@ TEST(Shadows, RefusedWhereNotDrawnYet) {
   RenderOptions o;
   o.shading = ShadingMode::gouraud;
   Renderer r;
+  // Flat and Gouraud shadows sum sub-frames: materials whose colour is not linear in the lighting
+  // are refused there (Phong draws them).
+  s.materials[0].blend = BlendMode::add;
   Status st = r.render(s, o, c.view());
   EXPECT_EQ(st.code(), ErrorCode::unsupported);
-  EXPECT_NE(st.message().find("lights[0].shadow"), std::string::npos) << st.message();
+  EXPECT_NE(st.message().find("materials[0].blend"), std::string::npos) << st.message();
   EXPECT_TRUE(c.untouched());
   o.shading = ShadingMode::phong;
+  EXPECT_TRUE(r.render(s, o, c.view()).ok());
+  s.materials[0].blend = BlendMode::opaque;
   // At most kMaxShadowedLights lights cast shadows.
   s.lights.assign(kMaxShadowedLights + 1, s.lights[0]);
   for (Light& l : s.lights) l.shadow.method = ShadowMethod::raycast;
-  st = r.render(s, o, c.view());
+  Canvas fresh(16, 16);
+  st = r.render(s, o, fresh.view());
   EXPECT_EQ(st.code(), ErrorCode::invalid_argument);
   EXPECT_NE(st.message().find("at most"), std::string::npos) << st.message();
-  EXPECT_TRUE(c.untouched());
+  EXPECT_TRUE(fresh.untouched());
 }
 
 }  // namespace
@@ -937,6 +944,115 @@ TEST(ShadowVolumes, AdjacencyWeldsSplitVertices) {
   EXPECT_FALSE(e.built_from(flipped));
   e.build(flipped);
   EXPECT_FALSE(e.closed);
+}
+
+}  // namespace
+}  // namespace facet
+
+namespace facet {
+namespace {
+
+// Flat and Gouraud shading with shadows (the renderer's sub-frames summed per pixel): the shadow's
+// edge runs through triangles, per pixel, with every method.
+struct Images {
+  std::vector<std::uint8_t> shadowed, lit, dark;
+};
+Images flat_or_gouraud(const Scene& s, ShadingMode shading, int threads = 0) {
+  Scene lit = s, dark = s;
+  lit.lights[0].shadow.method = ShadowMethod::none;
+  dark.lights[0].enabled = false;
+  return {render(s, threads, LightingPath::simd, Isa::best, nullptr, shading),
+          render(lit, threads, LightingPath::simd, Isa::best, nullptr, shading),
+          render(dark, threads, LightingPath::simd, Isa::best, nullptr, shading)};
+}
+bool within_one_step(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b, std::size_t at) {
+  for (int c = 0; c < 3; ++c) {
+    if (std::abs(int(a[at + static_cast<std::size_t>(c)]) - int(b[at + static_cast<std::size_t>(c)])) > 1) return false;
+  }
+  return true;
+}
+
+TEST(ShadowsInFlatAndGouraud, MatchTheSpheresExactShadowPerPixel) {
+  for (const ShadingMode shading : {ShadingMode::gouraud, ShadingMode::flat}) {
+    for (const ShadowMethod method : {ShadowMethod::raycast, ShadowMethod::map, ShadowMethod::volume}) {
+      for (const Scene& base : {sphere_over_plane(), spot_over_sphere()}) {
+        Scene s = base;
+        s.lights[0].shadow.method = method;
+        s.lights[0].shadow.filter = ShadowFilter::none;
+        SCOPED_TRACE(std::string(to_string(shading)) + " " + to_string(method) + " light " +
+                     std::to_string(static_cast<int>(s.lights[0].type)));
+        const Images img = flat_or_gouraud(s, shading);
+        const double margin = 8.0 / kSize * 2.0 + (method == ShadowMethod::map ? map_margin(s.lights[0]) : 0.0);
+        int in_shadow = 0, in_light = 0, wrong = 0;
+        for (int y = 0; y < kSize; ++y) {
+          for (int x = 0; x < kSize; ++x) {
+            const PlanePoint pp = plane_point(s, x, y);
+            if (pp.behind_sphere || std::abs(pp.p.x()) > 3.9f || std::abs(pp.p.z()) > 3.9f) continue;
+            const std::size_t at = static_cast<std::size_t>(y * kSize + x) * 4;
+            if (within_one_step(img.lit, img.dark, at)) continue;  // the light does not reach it
+            if (pp.shadow_margin < -margin) {
+              ++in_shadow;
+              if (!within_one_step(img.shadowed, img.dark, at) && ++wrong <= 5) ADD_FAILURE() << "lit in the shadow at " << x << ", " << y;
+            } else if (pp.shadow_margin > margin) {
+              ++in_light;
+              if (!within_one_step(img.shadowed, img.lit, at) && ++wrong <= 5) ADD_FAILURE() << "shadowed in the light at " << x << ", " << y;
+            }
+          }
+        }
+        EXPECT_EQ(wrong, 0);
+        EXPECT_GT(in_shadow, 100);
+        EXPECT_GT(in_light, 500);
+      }
+    }
+  }
+}
+
+// Per pixel, not per vertex: the plane has 4 x 4 quads, so a triangle of it holds both shadowed
+// and lit pixels, which per-vertex visibility could not draw.
+TEST(ShadowsInFlatAndGouraud, ATriangleHoldsBothShadowAndLight) {
+  Scene s = sphere_over_plane();
+  const Images img = flat_or_gouraud(s, ShadingMode::flat);
+  // Flat: one colour per triangle without shadows; with them, a triangle's pixels take two values.
+  // The plane's triangle under the shadow's edge at world (1.5, 0, 0): find pixels of both kinds
+  // within one of its quads (x in [0, 2], z in [0, 2]).
+  int shadowed = 0, lit = 0;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      const PlanePoint pp = plane_point(s, x, y);
+      if (pp.behind_sphere || pp.p.x() < 0.05f || pp.p.x() > 1.95f || pp.p.z() < 0.05f || pp.p.z() > 1.95f) continue;
+      const std::size_t at = static_cast<std::size_t>(y * kSize + x) * 4;
+      shadowed += std::memcmp(&img.shadowed[at], &img.lit[at], 3) != 0 ? 1 : 0;
+      lit += within_one_step(img.shadowed, img.lit, at) ? 1 : 0;
+    }
+  }
+  EXPECT_GT(shadowed, 20);
+  EXPECT_GT(lit, 20);
+}
+
+TEST(ShadowsInFlatAndGouraud, SameBytesForEveryThreadCount) {
+  for (const ShadingMode shading : {ShadingMode::gouraud, ShadingMode::flat}) {
+    for (const ShadowMethod method : {ShadowMethod::raycast, ShadowMethod::map, ShadowMethod::volume}) {
+      Scene s = point_over_sphere();
+      s.lights[0].shadow.method = method;
+      const auto one = render(s, 1, LightingPath::simd, Isa::best, nullptr, shading);
+      EXPECT_EQ(render(s, 2, LightingPath::simd, Isa::best, nullptr, shading), one) << to_string(method);
+      EXPECT_EQ(render(s, 8, LightingPath::simd, Isa::best, nullptr, shading), one) << to_string(method);
+    }
+  }
+}
+
+// Nothing casting: every pixel sees the light, and the summed sub-frames are the unshadowed frame
+// to within a step (the shadowed light's terms are interpolated apart from the rest).
+TEST(ShadowsInFlatAndGouraud, NothingToCastIsTheUnshadowedImageWithinAStep) {
+  for (const ShadingMode shading : {ShadingMode::gouraud, ShadingMode::flat}) {
+    Scene s = spot_over_sphere();
+    for (Instance& i : s.objects) i.cast_shadows = false;
+    Scene none = s;
+    none.lights[0].shadow.method = ShadowMethod::none;
+    const auto a = render(s, 0, LightingPath::simd, Isa::best, nullptr, shading);
+    const auto b = render(none, 0, LightingPath::simd, Isa::best, nullptr, shading);
+    for (std::size_t at = 0; at < a.size(); at += 4) ASSERT_TRUE(within_one_step(a, b, at)) << at / 4;
+  }
 }
 
 }  // namespace

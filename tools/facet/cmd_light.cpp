@@ -33,7 +33,7 @@ constexpr const char* kCheckUsage =
     "options:\n"
     "  --width W, --height H   the image size to check for (default 1280 x 720)\n"
     "  --shading MODE          flat, gouraud (default) or phong, as for 'facet render'\n"
-    "  --shadows METHOD        none | map | raycast: every light casts shadows so (shadows need --shading phong)\n"
+    "  --shadows METHOD        none | map | volume | raycast: every light casts shadows so\n"
     "  --memory-budget-mb M    as for 'facet render' (default 4096; 0 = no limit)\n";
 
 struct PathResult {
@@ -220,7 +220,7 @@ int run_check(int argc, char** argv) {
       const auto v = args.value(arg);
       if (!v) return 2;
       shadows = parse_shadow_method(*v);
-      if (!shadows) return fail("--shadows: unknown method '" + *v + "' (none, map or raycast)");
+      if (!shadows) return fail("--shadows: unknown method '" + *v + "' (none, map, volume or raycast)");
     } else if (!arg.empty() && arg[0] == '-') {
       return fail("check: unknown option '" + arg + "' (see 'facet check --help')");
     } else if (scene_path.empty()) {

@@ -20,7 +20,7 @@ constexpr const char* kRenderUsage =
     "  --width W              image width, 1..16384 (default 1280)\n"
     "  --height H             image height, 1..16384 (default 720)\n"
     "  --shading MODE         flat | gouraud | phong (default gouraud)\n"
-    "  --shadows METHOD       none | map | raycast: every light casts shadows so (shadows need --shading phong)\n"
+    "  --shadows METHOD       none | map | volume | raycast: every light casts shadows so\n"
     "  --path P               reference | scalar | simd (default simd)\n"
     "  --isa I                auto | sse2 | avx2 | avx512: instruction set of --path simd (default auto:\n"
     "                         the widest this CPU has); one the CPU lacks is an error\n"
@@ -144,7 +144,7 @@ int run_render(int argc, char** argv) {
       const auto v = args.value(arg);
       if (!v) return 2;
       shadows = parse_shadow_method(*v);
-      if (!shadows) return fail("--shadows: unknown method '" + *v + "' (none, map or raycast)");
+      if (!shadows) return fail("--shadows: unknown method '" + *v + "' (none, map, volume or raycast)");
     } else if (arg == "--path") {
       const auto v = args.value(arg);
       if (!v) return 2;

@@ -107,7 +107,8 @@ typedef struct facet_fog {
   float density;    /* exp, exp2: >= 0 */
 } facet_fog;
 
-/* Shadows of a light (facet::Shadow; docs/shadows.md). Shadows are drawn in Phong shading. */
+/* Shadows of a light (facet::Shadow; docs/shadows.md), in every shading mode (flat and Gouraud:
+ * modulate textures and opaque, alpha or premultiplied blending). */
 typedef enum facet_shadow_method {
   FACET_SHADOW_NONE = 0,
   FACET_SHADOW_MAP = 1, /* a shadow map: spot one face, directional one fitted face, point a cube */

@@ -100,6 +100,7 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
   // Shadow slots, in light order (every path's list holds the same lights in the same order).
   caster_ = shadows ? shadows->caster : nullptr;
   volumes_ = shadows ? shadows->volumes : nullptr;
+  visibility_output_ = false;
   shadow_slots_ = 0;
   for (EyeLight<double>& L : reference_.lights) {
     const std::size_t light = static_cast<std::size_t>(L.scene_light);
@@ -111,6 +112,7 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
     if (!map && !volume && !(sh.method == ShadowMethod::raycast && caster_)) continue;  // no shadow, or nothing casts one
     maps_[shadow_slots_] = map;
     volume_light_[shadow_slots_] = volume ? light : SIZE_MAX;
+    slot_light_[shadow_slots_] = light;
     shadow::LightTarget& t = targets_[shadow_slots_];
     t.directional = L.type == LightType::directional;
     const V3<double>& at = t.directional ? L.to_light : L.position;
@@ -281,6 +283,16 @@ void PointShader::light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, cons
            albedo ? albedo + begin : nullptr, out + begin, secondary ? secondary + begin : nullptr, scratch);
 }
 
+void PointShader::output_visibility(const std::size_t (&lights)[3]) {
+  visibility_output_ = true;
+  for (int c = 0; c < 3; ++c) {
+    channel_slot_[c] = -1;
+    for (int k = 0; k < shadow_slots_; ++k) {
+      if (slot_light_[k] == lights[c]) channel_slot_[c] = k;
+    }
+  }
+}
+
 void PointShader::find_visibility(std::size_t count, const float* px, const float* py, const float* pz,
                                   const float* nx, const float* ny, const float* nz, std::size_t stride,
                                   float* visibility) const {
@@ -309,6 +321,12 @@ void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3*
     find_visibility(count, p, p + 1, p + 2, n, n + 1, n + 2, 3, scratch.visibility.data());
     visibility = scratch.visibility.data();
   }
+  if (visibility_output_) {
+    for (std::size_t i = 0; i < count; ++i) {
+      for (int c = 0; c < 3; ++c) out[i][c] = channel_slot_[c] < 0 ? 1.0f : visibility[std::size_t(channel_slot_[c]) * count + i];
+    }
+    return;
+  }
   switch (path_) {
     case LightingPath::reference:
       lighting::shade_points(reference_, count, p_eye, n_eye, albedo, out, secondary, visibility, shadow_slots_);
@@ -329,6 +347,13 @@ void PointShader::shade_soa(const simd::Streams& streams, float* visibility) con
     find_visibility(s.count, s.px, s.py, s.pz, s.nx, s.ny, s.nz, 1, visibility);
     for (int k = 0; k < shadow_slots_; ++k) slot_streams[k] = visibility + static_cast<std::size_t>(k) * s.count;
     s.visibility = slot_streams;
+  }
+  if (visibility_output_) {
+    float* const out[3] = {s.r, s.g, s.b};
+    for (int c = 0; c < 3; ++c) {
+      for (std::size_t i = 0; i < s.count; ++i) out[c][i] = channel_slot_[c] < 0 ? 1.0f : slot_streams[channel_slot_[c]][i];
+    }
+    return;
   }
   if (path_ == LightingPath::simd) {
     simd_shade_(simd_params_, nullptr, s);

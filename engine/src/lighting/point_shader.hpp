@@ -56,6 +56,11 @@ class PointShader {
   // With shadowed lights, `visibility` holds shadow_slots() * s.count floats of scratch.
   void shade_soa(const simd::Streams& s, float* visibility = nullptr) const;
   int shadow_slots() const { return shadow_slots_; }
+  // After prepare(): shade_points and shade_soa write each point's visibility of scene lights
+  // lights[0..2] as its red, green and blue (1 for a light the point has no slot for: not
+  // shadowed there) instead of lighting it; for flat and Gouraud shadows (the renderer's
+  // visibility pass).
+  void output_visibility(const std::size_t (&lights)[3]);
 
   const LightingFeatures& features() const { return features_; }
 
@@ -80,6 +85,9 @@ class PointShader {
   const shadow::ShadowMap* maps_[kMaxShadowedLights] = {};
   const shadow::ShadowVolumes* volumes_ = nullptr;
   std::size_t volume_light_[kMaxShadowedLights] = {};  // a volume slot's scene light, else SIZE_MAX
+  std::size_t slot_light_[kMaxShadowedLights] = {};    // each slot's scene light
+  bool visibility_output_ = false;
+  int channel_slot_[3] = {-1, -1, -1};
   float offsets_[kMaxShadowedLights] = {};
   // visibility[k * count + i]: point i's visibility of slot k's light (stride as RayCaster).
   void find_visibility(std::size_t count, const float* px, const float* py, const float* pz, const float* nx,

@@ -139,9 +139,11 @@ namespace {
 bool writes_depth(const Material& m) {
   return m.depth_write == DepthWrite::on || (m.depth_write == DepthWrite::automatic && m.blend == BlendMode::opaque);
 }
-void plan_units(const Scene& scene, const raster::RenderPass& p, std::vector<DrawUnit>& units) {
+void plan_units(const Scene& scene, const raster::RenderPass& p, std::vector<DrawUnit>& units,
+                bool depth_writers_only = false) {
   units.clear();
-  const bool casters_only = p.depth_only && p.casters_only, depth_writers = p.depth_only && !p.casters_only;
+  const bool casters_only = p.depth_only && p.casters_only;
+  const bool depth_writers = (p.depth_only && !p.casters_only) || depth_writers_only;
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     const Instance& inst = scene.objects[o];
     if (casters_only && !inst.cast_shadows) continue;
@@ -286,6 +288,19 @@ struct Renderer::Impl {
   RenderOptions config;   // for render(scene, color, ...)
 
   void render(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth);
+  // Flat and Gouraud shading with shadows: a frame of sub-frames summed per pixel (see below).
+  void render_composite(const Scene& scene, const RenderOptions& options, const ImageView& color,
+                        const DepthView* depth);
+  // What a sub-frame of render_composite changes: a visibility sub-frame (Phong, plain surfaces,
+  // each pixel's visibility of three shadowed lights as its colour), or a part (the lights,
+  // ambient and fog the shaders see come from `part_lighting`; emission left out when asked).
+  enum class SubFrame { none, visibility, part };
+  SubFrame sub_frame = SubFrame::none;
+  std::size_t visibility_lights[3] = {SIZE_MAX, SIZE_MAX, SIZE_MAX};
+  const Scene* part_lighting = nullptr;
+  bool part_without_emission = false;
+  std::vector<float> composite_base, composite_part, composite_visibility;
+  Scene composite_lights;  // lights, ambient and fog of a part (no meshes)
   void run_pass(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p);
   void plan_draws(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p);
   // Progress units of a pass: its tiles, set-up ranges and vertex chunks.
@@ -409,6 +424,14 @@ std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& opti
     }
     bytes = sat_add(bytes, shadow::ShadowVolumes::bytes(width, height, volume_lights, casters));
   }
+  // Flat and Gouraud shadows: three float frames and a visibility per shadowed light
+  // (render_composite).
+  std::size_t shadowed = 0;
+  for (const Light& l : scene.lights) shadowed += l.enabled && l.shadow.method != ShadowMethod::none;
+  if (shadowed > 0 && options.shading != ShadingMode::phong) {
+    const U pixels = static_cast<U>(std::max(width, 1)) * static_cast<U>(std::max(height, 1));
+    bytes = sat_add(bytes, sat_mul(pixels, 3 * 16 + 4 * U(shadowed)));
+  }
   if (raycast || maps || volume_lights > 0) {
     bytes = sat_add(bytes, sat_mul(slots, U(kMaxShadowedLights) * (kVertexChunk + kTriangleRange) * 8));
   }
@@ -423,12 +446,26 @@ Status check_render(const Scene& scene, const RenderOptions& options, int width,
     }
     if (Status s = check_options(options); !s.ok()) return s;
     if (Status s = validate_scene(scene); !s.ok()) return s;
-    for (std::size_t i = 0; i < scene.lights.size(); ++i) {
-      const Light& l = scene.lights[i];
-      if (l.enabled && l.shadow.method != ShadowMethod::none && options.shading != ShadingMode::phong) {
-        const std::string field = "lights[" + std::to_string(i) + "].shadow";
-        return {ErrorCode::unsupported, field,
-                field + ": shadows are drawn in Phong shading only so far (RenderOptions::shading, --shading phong)"};
+    // Flat and Gouraud shadows sum sub-frames per pixel (render_composite): only for materials
+    // whose colour is linear in the lighting.
+    const bool shadowed = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
+      return l.enabled && l.shadow.method != ShadowMethod::none;
+    });
+    if (shadowed && options.shading != ShadingMode::phong) {
+      for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+        const Material& mat = scene.materials[m];
+        const bool textured = mat.diffuse_texture != kNoTexture;
+        const std::string field = "materials[" + std::to_string(m) + "]";
+        if (textured && mat.texture_mode != TextureMode::modulate) {
+          return {ErrorCode::unsupported, field + ".texture_mode",
+                  field + ".texture_mode: with shadows in flat or Gouraud shading, textures modulate the lighting "
+                          "(\"modulate\"), or draw in Phong shading (--shading phong)"};
+        }
+        if (mat.blend != BlendMode::opaque && mat.blend != BlendMode::alpha && mat.blend != BlendMode::premultiplied) {
+          return {ErrorCode::unsupported, field + ".blend",
+                  field + ".blend: with shadows in flat or Gouraud shading, blending is opaque, alpha or "
+                          "premultiplied, or draw in Phong shading (--shading phong)"};
+        }
       }
     }
     return check_frame_limits(scene, options, width, height);
@@ -438,7 +475,7 @@ Status check_render(const Scene& scene, const RenderOptions& options, int width,
 }
 
 std::uint64_t Renderer::Impl::pass_work(const Scene& scene, const raster::RenderPass& p) {
-  plan_units(scene, p, work_units);
+  plan_units(scene, p, work_units, sub_frame == SubFrame::visibility);
   std::uint64_t work = static_cast<std::uint64_t>(p.tile_count());
   const bool placed = !p.depth_only && p.shading != ShadingMode::phong && !light_every_vertex;
   for (const DrawUnit& u : work_units) {  // ranges, clip chunks, then lighting or centroid chunks
@@ -507,7 +544,17 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
     impl_->work_done.store(0);
     impl_->progress_reported = 0;
     impl_->frame_status = {};
-    impl_->arena->execute([&] { impl_->render(scene, options, color, depth); });
+    const bool composite = options.shading != ShadingMode::phong &&
+                           std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
+                             return l.enabled && l.shadow.method != ShadowMethod::none;
+                           });
+    impl_->arena->execute([&] {
+      if (composite) {
+        impl_->render_composite(scene, options, color, depth);
+      } else {
+        impl_->render(scene, options, color, depth);
+      }
+    });
     if (!impl_->frame_status.ok()) return impl_->frame_status;
     if (impl_->cancelled.load()) {
       return {ErrorCode::cancelled, "options.progress", "options.progress: the frame was cancelled"};
@@ -532,8 +579,10 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     // The most points one lighting call takes: a vertex chunk, or a set-up range's triangles (flat).
     w.soa.reserve_padded(std::max(kVertexChunk, kTriangleRange));
   }
-  const bool raycast = casts_raycast_shadows(scene);
-  if (raycast || casts_map_shadows(scene) || casts_volume_shadows(scene)) {  // the shadowed lights' visibility of a lighting call's points, and its padded copies
+  // A part of a flat or Gouraud frame with shadows is drawn without them (render_composite).
+  const bool shadows = sub_frame != SubFrame::part;
+  const bool raycast = shadows && casts_raycast_shadows(scene), map_shadows = shadows && casts_map_shadows(scene);
+  if (raycast || map_shadows || (shadows && casts_volume_shadows(scene))) {  // the shadowed lights' visibility of a lighting call's points, and its padded copies
     const std::size_t points = lighting::simd::padded(std::max(kVertexChunk, kTriangleRange));
     for (WorkerScratch& w : workers) {
       if (w.soa.visibility.size() < 2 * kMaxShadowedLights * points) w.soa.visibility.resize(2 * kMaxShadowedLights * points);
@@ -549,7 +598,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   // the camera's pass.
   frame_maps.assign(scene.lights.size(), nullptr);
   bool any_map = false;
-  if (casts_map_shadows(scene)) {
+  if (map_shadows) {
     const auto start = Clock::now();
     bound_casters(scene, caster_bounds);
     if (maps.size() < scene.lights.size()) maps.resize(scene.lights.size());
@@ -578,7 +627,11 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     stats.seconds_shadows += seconds_since(start);
   }
   // Shadow volumes: the camera's depth alone, then (after that pass) the volumes' masks.
-  volumes.plan(scene, camera.width(), camera.height());
+  if (shadows) {
+    volumes.plan(scene, camera.width(), camera.height());
+  } else {
+    volumes.disable();
+  }
   if (volumes.active()) {
     volume_depth = volumes.depth_view();
     raster::RenderPass d = camera;  // the same view, culling and triangles
@@ -590,7 +643,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     d.depth_dirty = volumes.dirty_tiles(options.tile_size);
     passes.push_back(d);
     for (const Instance& inst : scene.objects) {
-      if (inst.cast_shadows && !casts_map_shadows(scene)) stats.shadow_casters += scene.meshes[inst.mesh].mesh.triangle_count();
+      if (inst.cast_shadows && !map_shadows) stats.shadow_casters += scene.meshes[inst.mesh].mesh.triangle_count();
     }
   }
   passes.push_back(camera);
@@ -622,6 +675,125 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   stats.seconds_total = seconds_since(frame_start);
 }
 
+// Flat and Gouraud shading with shadows. Each shadowed light's diffuse and specular terms are
+// drawn apart from the rest, so that every pixel can take its own visibility of that light (the
+// shadow's edge runs through triangles, not along them):
+//   1. visibility: a Phong sub-frame of the same view finds each pixel's visibility of three
+//      shadowed lights at a time with the lights' own methods (the point and normal the pixel
+//      shows; plain surfaces: no texture, vertex colour or blending; only depth-writing draws);
+//   2. the base: the frame in the options' shading with the shadowed lights' diffuse and specular
+//      terms left out (their ambient terms stay), into floats, with the caller's depth;
+//   3. one part per shadowed light: its diffuse and specular terms alone (no emission, no
+//      ambient light, black fog and background), in the same shading;
+//   4. per pixel, base + sum of part x visibility, clamped unless the output is HDR floats, stored
+//      as the tiles store pixels.
+// Every step is linear in the lighting for the materials check_render admits (modulate textures;
+// opaque, alpha or premultiplied blending), so a frame whose lights all see everything is the
+// unshadowed frame up to rounding (one step). Sub-frames are deterministic, so the frame is too.
+// Progress is reported by the last part alone.
+void Renderer::Impl::render_composite(const Scene& scene, const RenderOptions& options, const ImageView& color,
+                                      const DepthView* depth) {
+  const auto frame_start = Clock::now();
+  const int w = color.width, h = color.height;
+  const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  std::vector<std::size_t> shadowed;
+  for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+    if (scene.lights[l].enabled && scene.lights[l].shadow.method != ShadowMethod::none) shadowed.push_back(l);
+  }
+  auto float_view = [&](std::vector<float>& buffer) {
+    buffer.resize(4 * pixels);
+    return ImageView{buffer.data(), w, h, static_cast<std::size_t>(w) * 4 * sizeof(float), PixelFormat::rgba32f, false};
+  };
+  const std::function<bool(double)>* user_progress = progress;
+  progress = nullptr;
+  auto finish = [&] {
+    sub_frame = SubFrame::none;
+    part_lighting = nullptr;
+    part_without_emission = false;
+    progress = user_progress;
+  };
+  auto stopped = [&] { return !frame_status.ok() || cancelled.load(std::memory_order_relaxed); };
+  FrameStats shadow_stats;
+  RenderOptions sub = options;
+  sub.srgb = false;
+  sub.hdr = options.hdr && color.format == PixelFormat::rgba32f;  // as the lighting would clamp into `color`
+  double seconds_shadows = 0;
+  // 1. Visibility, three lights a sub-frame.
+  composite_visibility.resize(shadowed.size() * pixels);
+  sub_frame = SubFrame::visibility;
+  RenderOptions vis = sub;
+  vis.shading = ShadingMode::phong;
+  vis.clear_color = {1.0f, 1.0f, 1.0f, 1.0f};
+  vis.hdr = false;
+  for (std::size_t g = 0; g < shadowed.size(); g += 3) {
+    for (std::size_t c = 0; c < 3; ++c) visibility_lights[c] = g + c < shadowed.size() ? shadowed[g + c] : SIZE_MAX;
+    render(scene, vis, float_view(composite_part), nullptr);
+    seconds_shadows += stats.seconds_total;
+    if (g == 0) shadow_stats = stats;  // the casters, maps and their texels (every sub-frame draws the same)
+    if (stopped()) return finish();
+    for (std::size_t c = 0; c < 3 && g + c < shadowed.size(); ++c) {
+      float* out = composite_visibility.data() + (g + c) * pixels;
+      for (std::size_t i = 0; i < pixels; ++i) out[i] = composite_part[4 * i + c];
+    }
+  }
+  // 2. The base.
+  sub_frame = SubFrame::part;
+  composite_lights.lights = scene.lights;
+  composite_lights.global_ambient = scene.global_ambient;
+  composite_lights.viewer = scene.viewer;
+  composite_lights.two_sided = scene.two_sided;
+  composite_lights.fog = scene.fog;
+  for (const std::size_t l : shadowed) {
+    composite_lights.lights[l].diffuse = Color3(0.0f, 0.0f, 0.0f);
+    composite_lights.lights[l].specular = Color3(0.0f, 0.0f, 0.0f);
+  }
+  part_lighting = &composite_lights;
+  render(scene, sub, float_view(composite_base), depth);
+  const FrameStats base = stats;
+  if (stopped()) return finish();
+  // 3. The parts, each added times its visibility.
+  RenderOptions part = sub;
+  part.clear_color = {0.0f, 0.0f, 0.0f, 0.0f};
+  composite_lights.global_ambient = Color3(0.0f, 0.0f, 0.0f);
+  composite_lights.fog.color = Color3(0.0f, 0.0f, 0.0f);
+  part_without_emission = true;
+  for (std::size_t k = 0; k < shadowed.size(); ++k) {
+    composite_lights.lights = scene.lights;
+    for (std::size_t l = 0; l < scene.lights.size(); ++l) composite_lights.lights[l].enabled = l == shadowed[k];
+    composite_lights.lights[shadowed[k]].ambient = Color3(0.0f, 0.0f, 0.0f);
+    if (k + 1 == shadowed.size()) progress = user_progress;
+    render(scene, part, float_view(composite_part), nullptr);
+    seconds_shadows += stats.seconds_total;
+    if (stopped()) return finish();
+    const float* v = composite_visibility.data() + k * pixels;
+    for (std::size_t i = 0; i < pixels; ++i) {
+      for (int c = 0; c < 3; ++c) composite_base[4 * i + static_cast<std::size_t>(c)] += v[i] * composite_part[4 * i + static_cast<std::size_t>(c)];
+    }
+  }
+  finish();
+  // 4. Store.
+  const bool clamp = !(options.hdr && color.format == PixelFormat::rgba32f);
+  const float* srgb_threshold = options.srgb && color.format != PixelFormat::rgba32f ? srgb.threshold : nullptr;
+  const std::size_t bytes = color.format == PixelFormat::rgba32f ? 16 : 4;
+  for (int y = 0; y < h; ++y) {
+    const int row = color.y_up ? h - 1 - y : y;
+    auto* dst = static_cast<std::uint8_t*>(color.data) + static_cast<std::size_t>(row) * color.stride_bytes;
+    for (int x = 0; x < w; ++x) {
+      float* rgba = composite_base.data() + 4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x));
+      if (clamp) {
+        for (int c = 0; c < 3; ++c) rgba[c] = rgba[c] > 0.0f ? (rgba[c] < 1.0f ? rgba[c] : 1.0f) : 0.0f;
+      }
+      raster::store_pixel(rgba, color.format, srgb_threshold, dst + static_cast<std::size_t>(x) * bytes);
+    }
+  }
+  stats = base;
+  stats.seconds_shadows = seconds_shadows;  // the visibility sub-frames and the parts
+  stats.shadow_casters = shadow_stats.shadow_casters;
+  stats.shadow_map_texels = shadow_stats.shadow_map_texels;
+  stats.shadow_map_pixels = shadow_stats.shadow_map_pixels;
+  stats.seconds_total = seconds_since(frame_start);
+}
+
 void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p) {
   pass = &p;
   const ShadingMode shading = p.shading;
@@ -630,7 +802,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   range_count = 0;  // counted below, per draw
   bins.resize(static_cast<std::size_t>(p.tile_count()));
   for (auto& bin : bins) bin.clear();
-  plan_units(scene, p, units);
+  plan_units(scene, p, units, sub_frame == SubFrame::visibility);
   shaders.resize(units.size());
   plan_draws(scene, options, p);
 
@@ -873,7 +1045,7 @@ void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t tr
 void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p) {
   samplers.resize(scene.textures.size());
   for (std::size_t i = 0; i < scene.textures.size(); ++i) samplers[i] = texture::make_sampler(scene.textures[i]);
-  const Fog& f = scene.fog;
+  const Fog& f = sub_frame == SubFrame::visibility ? Fog{} : part_lighting ? part_lighting->fog : scene.fog;
   fog = raster::simd::Fog{};
   fog.mode = static_cast<int>(f.mode);
   for (int c = 0; c < 3; ++c) fog.color[c] = f.color[c];
@@ -889,8 +1061,9 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
     const Instance& inst = scene.objects[units[o].object];
     const Material& m = scene.materials[units[o].material];
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
-    const bool textured = m.diffuse_texture != kNoTexture;
-    const bool colours = !mesh.colors.empty();
+    const bool plain = sub_frame == SubFrame::visibility;  // visibility: no texture, colour or blend
+    const bool textured = !plain && m.diffuse_texture != kNoTexture;
+    const bool colours = !plain && !mesh.colors.empty();
     lighting::LightingFeatures& lf = features[o];
     lf.color_material = colours;
     lf.separate_specular = textured;
@@ -906,10 +1079,10 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
     d.texture_env = static_cast<int>(m.texture_mode);
     d.uv_scale[0] = m.uv_scale.x(), d.uv_scale[1] = m.uv_scale.y();
     d.alpha_cutoff = m.alpha_cutoff;
-    d.blend = static_cast<int>(m.blend);
+    d.blend = plain ? static_cast<int>(BlendMode::opaque) : static_cast<int>(m.blend);
     d.depth_write = writes_depth(m);
     d.clamp = clamp ? 1 : 0;
-    d.program = textured || m.blend != BlendMode::opaque || m.alpha_cutoff > 0.0f || !d.depth_write ||
+    d.program = textured || d.blend != static_cast<int>(BlendMode::opaque) || m.alpha_cutoff > 0.0f || !d.depth_write ||
                 f.mode != FogMode::none || needs.albedo;
   }
 }
@@ -976,8 +1149,11 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model);
   // Options were checked in render(), so preparing cannot fail here.
   const lighting::LightingFeatures& lf = features[object];
-  (void)shader.prepare(scene, view, scene.materials[unit.material], lighting, &bounds, lf,
+  Material material = scene.materials[unit.material];
+  if (part_without_emission) material.emissive = Color3(0.0f, 0.0f, 0.0f);
+  (void)shader.prepare(part_lighting ? *part_lighting : scene, view, material, lighting, &bounds, lf,
                        inst.receive_shadows && has_shadows ? &frame_shadows : nullptr);
+  if (sub_frame == SubFrame::visibility) shader.output_visibility(visibility_lights);
   ObjectCounts& counts = object_counts[object];
   auto count_pairs = [&](std::size_t evaluations) {
     counts.vertices_lit += evaluations;

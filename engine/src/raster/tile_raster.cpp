@@ -105,24 +105,6 @@ class PixelBatch {
   lighting::SoaScratch& scratch_;
 };
 
-// One RGBA float pixel in an output format (8-bit channels as to_unorm8, or sRGB-encoded colour
-// with `srgb`; floats as they are).
-void store_pixel(const float* rgba, PixelFormat format, const float* srgb, std::uint8_t* dst) {
-  auto colour = [srgb](float v) { return srgb ? srgb_unorm8(srgb, v) : to_unorm8(v); };
-  switch (format) {
-    case PixelFormat::rgba8:
-      for (int c = 0; c < 3; ++c) dst[c] = colour(rgba[c]);
-      dst[3] = to_unorm8(rgba[3]);
-      break;
-    case PixelFormat::bgra8:
-      dst[0] = colour(rgba[2]);
-      dst[1] = colour(rgba[1]);
-      dst[2] = colour(rgba[0]);
-      dst[3] = to_unorm8(rgba[3]);
-      break;
-    case PixelFormat::rgba32f: std::memcpy(dst, rgba, 16); break;
-  }
-}
 
 // The Phong sink of the SIMD kernels: lights the gathered pixels with the object's shader.
 struct PhongContext {
@@ -177,6 +159,25 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
 }
 
 }  // namespace
+
+// One RGBA float pixel in an output format (8-bit channels as to_unorm8, or sRGB-encoded colour
+// with `srgb`; floats as they are).
+void store_pixel(const float* rgba, PixelFormat format, const float* srgb, std::uint8_t* dst) {
+  auto colour = [srgb](float v) { return srgb ? srgb_unorm8(srgb, v) : to_unorm8(v); };
+  switch (format) {
+    case PixelFormat::rgba8:
+      for (int c = 0; c < 3; ++c) dst[c] = colour(rgba[c]);
+      dst[3] = to_unorm8(rgba[3]);
+      break;
+    case PixelFormat::bgra8:
+      dst[0] = colour(rgba[2]);
+      dst[1] = colour(rgba[1]);
+      dst[2] = colour(rgba[0]);
+      dst[3] = to_unorm8(rgba[3]);
+      break;
+    case PixelFormat::rgba32f: std::memcpy(dst, rgba, 16); break;
+  }
+}
 
 void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, const TileRect& rect,
                     TileBuffers& tile, lighting::SoaScratch& scratch, RasterCounters& counters) {

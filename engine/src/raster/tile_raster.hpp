@@ -86,6 +86,10 @@ void resolve_depth_tile(const RasterJob& job, const TileBuffers& tile, const Til
 // A depth-only pass's tile no triangle touches: far depth.
 void resolve_clear_depth(const TileRect& rect, const DepthView& depth);
 
+// One RGBA float pixel in an output format: 8-bit channels as to_unorm8 (sRGB-encoded colour with
+// `srgb`, SrgbTable::threshold), floats as they are.
+void store_pixel(const float* rgba, PixelFormat format, const float* srgb, std::uint8_t* dst);
+
 // A tile no triangle touches: writes the clear colour (converted exactly as resolve_tile would)
 // and far depth straight into the caller's views, without the tile buffers.
 void resolve_clear_tile(const std::array<float, 4>& clear_color, const float* srgb, const TileRect& rect,

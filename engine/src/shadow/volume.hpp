@@ -93,6 +93,7 @@ class ShadowVolumes {
   // and which lights cast volume shadows (enabled, shadow.method == volume).
   void plan(const Scene& scene, int width, int height);
   bool active() const { return !lights_.empty(); }
+  void disable() { lights_.clear(), mask_of_.clear(); }  // no volume this frame
   DepthView depth_view();
   // Per tile of `tile_size` pixels: 1 when it may hold anything but far depth (as ShadowMap's).
   std::uint8_t* dirty_tiles(int tile_size);
