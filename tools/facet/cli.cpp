@@ -1,6 +1,7 @@
 #include "cli.hpp"
 
 #include <cstdlib>
+#include <filesystem>
 
 namespace facet::cli {
 
@@ -92,6 +93,40 @@ std::optional<Scene> load_scene_or_default(const std::string& path, std::uint64_
     return std::nullopt;
   }
   return std::move(*loaded);
+}
+
+bool is_model_path(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".gltf" || ext == ".glb" || ext == ".obj";
+}
+
+std::optional<Scene> load_input(const std::string& path, const InputOptions& options, std::vector<std::string>& notes) {
+  if (!is_model_path(path)) return load_scene_or_default(path, options.memory_budget_bytes);
+  ModelOptions mo;
+  mo.memory_budget_bytes = options.memory_budget_bytes;
+  mo.allow_missing = options.allow_missing;
+  Result<Model> model = load_model(path, mo);
+  if (!model) {
+    fail(model.status().message());
+    return std::nullopt;
+  }
+  for (const std::string& w : model->warnings) notes.push_back("warning: " + w);
+  Scene& scene = model->scene;
+  char buf[256];
+  if (!model->has_camera) {
+    const Bounds b = scene_bounds(scene);
+    scene.camera = frame_bounds(b, options.aspect);
+    const Camera& c = scene.camera;
+    std::snprintf(buf, sizeof buf, "no camera in the file: framing its bounds, eye (%.4g, %.4g, %.4g), target (%.4g, %.4g, %.4g), fov %.4g deg",
+                  c.eye.x(), c.eye.y(), c.eye.z(), c.target.x(), c.target.y(), c.target.z(), c.vertical_fov_deg);
+    notes.push_back(buf);
+  }
+  if (!model->has_lights) {
+    add_default_lights(scene);
+    notes.push_back("no lights in the file: facet's default rig (a headlight and a key light, ambient 0.15)");
+  }
+  return std::move(scene);
 }
 
 Status light_scene(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out) {

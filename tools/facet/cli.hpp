@@ -48,6 +48,19 @@ std::string describe_path(LightingPath path, Isa isa, PowTier tier);
 // `memory_budget_bytes`: LoadOptions::memory_budget_bytes (0 = no limit).
 std::optional<Scene> load_scene_or_default(const std::string& path, std::uint64_t memory_budget_bytes = kDefaultLoadBudgetBytes);
 
+// True for the files `facet render` reads as models rather than scene files: .gltf, .glb, .obj.
+bool is_model_path(const std::string& path);
+
+struct InputOptions {
+  std::uint64_t memory_budget_bytes = kDefaultLoadBudgetBytes;
+  bool allow_missing = false;  // --allow-missing
+  float aspect = 16.0f / 9.0f; // of the image, for framing a model without a camera
+};
+// A scene file, a model (framed by a camera and lit by the default rig when the file has none;
+// `notes` says so, with the model's warnings) or, for an empty path, the built-in scene. Prints
+// the error and returns nothing on failure.
+std::optional<Scene> load_input(const std::string& path, const InputOptions& options, std::vector<std::string>& notes);
+
 // Lights every object of `scene` into out[i] (light_instance for each).
 Status light_scene(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out);
 

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdlib>
 #include <filesystem>
+#include <numbers>
 #include <vector>
 
 #include "cli.hpp"
@@ -11,9 +12,11 @@ namespace facet::cli {
 namespace {
 
 constexpr const char* kRenderUsage =
-    "usage: facet render [SCENE.json] -o OUT.png|OUT.pfm [options]\n"
+    "usage: facet render [SCENE.json|MODEL.gltf|MODEL.glb|MODEL.obj] -o OUT.png|OUT.pfm [options]\n"
     "\n"
-    "Renders SCENE.json, or the built-in default scene when none is given.\n"
+    "Renders a scene file, a model, or the built-in default scene when none is given. A model\n"
+    "without a camera is framed by one; a model without lights gets a headlight and a key light\n"
+    "(what was assumed is printed on stderr).\n"
     "\n"
     "options:\n"
     "  -o, --output FILE      .png (8-bit RGBA) or .pfm (float RGB, linear)\n"
@@ -40,6 +43,10 @@ constexpr const char* kRenderUsage =
     "  --depth FILE.pfm       also write window-space depth (0 near .. 1 far)\n"
     "  --seconds S            render repeatedly for at least S seconds; report the mean frame time\n"
     "  --stats                print what the frame did and how long each stage took\n"
+    "  --frames N             a turntable: N frames, the camera orbiting the target about its up\n"
+    "                         axis, written to OUT_0000.png, OUT_0001.png, ... (default 1)\n"
+    "  --orbit DEG            the turntable's whole sweep in degrees (default 360)\n"
+    "  --allow-missing        a model's missing .mtl or texture files are warnings, not errors\n"
     "  --json                 print the statistics as one JSON object\n"
     "  -h, --help             this text\n";
 
@@ -95,7 +102,7 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               "\"shadow_casters\": %llu, \"seconds_shadows\": %.6g, \"shadow_map_texels\": %llu, "
               "\"shadow_map_pixels\": %llu, "
               "\"seconds_frame\": %.6g, \"frames\": %d, \"mean_seconds_per_frame\": %.6g, "
-              "\"vertices_lit_per_s\": %.6g, \"pixels_filled_per_s\": %.6g}\n",
+              "\"vertices_lit_per_s\": %.6g, \"pixels_filled_per_s\": %.6g, \"nothing_drawn\": %s}\n",
               w, h, to_string(o.shading), describe_path(o.path, o.isa, o.pow_tier).c_str(), s.threads,
               (unsigned long long)s.triangles_in,
               (unsigned long long)s.triangles_drawn, (unsigned long long)s.triangles_culled,
@@ -108,7 +115,48 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               s.seconds_geometry, s.seconds_raster, s.seconds_resolve, (unsigned long long)s.shadow_casters,
               s.seconds_shadows, (unsigned long long)s.shadow_map_texels, (unsigned long long)s.shadow_map_pixels,
               s.seconds_total, frames, per_frame,
-              double(s.vertices_lit) / per_frame, double(s.pixels_filled) / per_frame);
+              double(s.vertices_lit) / per_frame, double(s.pixels_filled) / per_frame,
+              s.pixels_filled == 0 ? ("\"" + explain_empty_frame(s) + "\"").c_str() : "null");
+}
+
+// OUT.png -> OUT_0007.png
+std::string numbered(const std::string& output, int index) {
+  const std::filesystem::path p(output);
+  char digits[16];
+  std::snprintf(digits, sizeof digits, "_%04d", index);
+  return (p.parent_path() / (p.stem().string() + digits + p.extension().string())).string();
+}
+
+// --frames N: the camera orbits its target about its up axis, `orbit_deg` in all, one image per frame.
+int run_turntable(Renderer& renderer, Scene& scene, const RenderOptions& options, const ImageView& image,
+                  const std::string& output, int frames, double orbit_deg) {
+  const Camera start_camera = scene.camera;
+  const Eigen::Vector3d target = start_camera.target.cast<double>();
+  const Eigen::Vector3d arm = start_camera.eye.cast<double>() - target;
+  const Eigen::Vector3d axis = start_camera.up.cast<double>().normalized();
+  const bool png = lower_extension(output) == ".png";
+  double seconds = 0;
+  std::uint64_t pixels = 0, empty_frames = 0;
+  for (int k = 0; k < frames; ++k) {
+    const double angle = orbit_deg * k / frames * std::numbers::pi / 180.0;
+    scene.camera.eye = (target + Eigen::AngleAxisd(angle, axis) * arm).cast<float>();
+    FrameStats stats;
+    const auto t0 = std::chrono::steady_clock::now();
+    if (Status s = renderer.render(scene, options, image, nullptr, &stats); !s.ok()) return fail(s.message());
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    pixels += stats.pixels_filled;
+    empty_frames += stats.pixels_filled == 0;
+    const std::string name = numbered(output, k);
+    const Status written = png ? write_png(name, image) : write_pfm(name, image);
+    if (!written.ok()) return fail(written.message());
+    std::fprintf(stderr, "\rfacet: frame %d/%d -> %s", k + 1, frames, name.c_str());
+    std::fflush(stderr);
+  }
+  std::fprintf(stderr, "\n");
+  std::printf("facet render: %d frames in %.3f s of rendering: %.2f ms/frame, %.1f M pixels filled/s%s\n", frames,
+              seconds, 1e3 * seconds / frames, double(pixels) / seconds / 1e6,
+              empty_frames ? (", " + std::to_string(empty_frames) + " frames drew nothing").c_str() : "");
+  return 0;
 }
 
 }  // namespace
@@ -117,7 +165,9 @@ int run_render(int argc, char** argv) {
   std::string scene_path, output, depth_path;
   int width = 1280, height = 720;
   double min_seconds = 0;
-  bool stats = false, json = false;
+  bool stats = false, json = false, allow_missing = false;
+  int frame_count = 1;
+  double orbit_deg = 360.0;
   std::optional<ShadowMethod> shadows;
   RenderOptions options;
   Args args(argc, argv);
@@ -221,6 +271,16 @@ int run_render(int argc, char** argv) {
       min_seconds = *v;
     } else if (arg == "--stats") {
       stats = true;
+    } else if (arg == "--frames") {
+      const auto v = args.int_value(arg, 1, 100000);
+      if (!v) return 2;
+      frame_count = *v;
+    } else if (arg == "--orbit") {
+      const auto v = args.number_value(arg, -36000, 36000);
+      if (!v) return 2;
+      orbit_deg = *v;
+    } else if (arg == "--allow-missing") {
+      allow_missing = true;
     } else if (arg == "--json") {
       json = true;
     } else if (!arg.empty() && arg[0] == '-') {
@@ -236,8 +296,15 @@ int run_render(int argc, char** argv) {
   if (ext != ".png" && ext != ".pfm") return fail("-o: the output file must end in .png or .pfm, found '" + output + "'");
   if (options.hdr && ext != ".pfm") return fail("--hdr needs a .pfm output (PNG is 8-bit)");
 
-  std::optional<Scene> scene = load_scene_or_default(scene_path, options.memory_budget_bytes);
+  if (frame_count > 1 && min_seconds > 0) return fail("--frames and --seconds cannot be combined");
+  InputOptions input;
+  input.memory_budget_bytes = options.memory_budget_bytes;
+  input.allow_missing = allow_missing;
+  input.aspect = float(width) / float(height);
+  std::vector<std::string> notes;
+  std::optional<Scene> scene = load_input(scene_path, input, notes);
   if (!scene) return 2;
+  for (const std::string& n : notes) std::fprintf(stderr, "facet: %s\n", n.c_str());
   if (shadows) override_shadows(*scene, *shadows);
   // Everything the renderer refuses is refused before the image is allocated.
   if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(s.message());
@@ -267,6 +334,7 @@ int run_render(int argc, char** argv) {
 
   Renderer renderer;
   FrameStats frame;
+  if (frame_count > 1) return run_turntable(renderer, *scene, options, image, output, frame_count, orbit_deg);
   int frames = 0;
   const auto start = std::chrono::steady_clock::now();
   double elapsed = 0;
@@ -284,6 +352,8 @@ int run_render(int argc, char** argv) {
     if (Status s = write_pfm(depth_path, depth); !s.ok()) return fail(s.message());
   }
 
+  const std::string empty = explain_empty_frame(frame);
+  if (!empty.empty()) std::fprintf(stderr, "facet: nothing was drawn: %s\n", empty.c_str());
   if (json) {
     print_stats_json(frame, frames, elapsed, options, width, height);
   } else if (stats) {

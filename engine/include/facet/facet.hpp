@@ -7,6 +7,7 @@
 #include "facet/lighting.hpp"
 #include "facet/material.hpp"
 #include "facet/mesh.hpp"
+#include "facet/model.hpp"
 #include "facet/render.hpp"
 #include "facet/scene.hpp"
 #include "facet/scene_file.hpp"

@@ -56,6 +56,9 @@ struct Instance {
   // can be in shadow.
   bool cast_shadows = true;
   bool receive_shadows = true;
+  // Both faces of each triangle are drawn and lit (back faces with the negated normal), as if
+  // Scene::two_sided were set and culling were off for this object alone (glTF `doubleSided`).
+  bool double_sided = false;
 };
 // One layout whatever the host's compiler flags (types.hpp): a host built with -mavx2 or
 // -march=native shares these structs with a library built for baseline x86-64.

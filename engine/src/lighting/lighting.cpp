@@ -97,7 +97,8 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
     }
     const std::size_t n = mesh.vertex_count();
     out.front.resize(n);
-    if (scene.two_sided) {
+    const bool two_sided = scene.two_sided || inst.double_sided;
+    if (two_sided) {
       out.back.resize(n);
     } else {
       out.back.clear();
@@ -106,7 +107,7 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
     const int threads = options.threads == 0 ? tbb::info::default_concurrency() : options.threads;
     auto light_range = [&](std::size_t begin, std::size_t end, lighting::SoaScratch& scratch) {
       shader.light_mesh(mesh, view, inst.model, false, begin, end, out.front.data(), scratch);
-      if (scene.two_sided) shader.light_mesh(mesh, view, inst.model, true, begin, end, out.back.data(), scratch);
+      if (two_sided) shader.light_mesh(mesh, view, inst.model, true, begin, end, out.back.data(), scratch);
     };
     if (threads == 1 || n <= kParallelChunk) {
       lighting::SoaScratch scratch;

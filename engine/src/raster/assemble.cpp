@@ -67,7 +67,7 @@ class RangeAssembler {
     std::size_t t = begin;
     static_assert(sizeof(mesh.triangles[0]) == 3 * sizeof(std::uint32_t), "triangles are read as index triples");
     if (frame_.place && object_.screen.size() < kMaxGatheredVertices) {
-      const bool cull_back = frame_.cull == CullMode::back && !frame_.two_sided;
+      const bool cull_back = frame_.cull == CullMode::back && !(frame_.two_sided || object_.two_sided);
       const simd::PlaceParams params{frame_.viewport.width, frame_.viewport.height, cull_back,
                                      frame_.cull == CullMode::front, object_.mirrored};
       simd::PlaceGroup group;
@@ -130,7 +130,7 @@ class RangeAssembler {
     }
     bool back_facing = false;
     const std::int64_t area2 = signed_area2(sv[0]->x, sv[0]->y, sv[1]->x, sv[1]->y, sv[2]->x, sv[2]->y);
-    const Placement early = orient(area2, frame_.cull, frame_.two_sided, object_.mirrored, back_facing);
+    const Placement early = orient(area2, frame_.cull, (frame_.two_sided || object_.two_sided), object_.mirrored, back_facing);
     if (early != Placement::placed) {
       ++(early == Placement::culled ? counts_.culled : counts_.degenerate);
       return;
@@ -236,7 +236,7 @@ class RangeAssembler {
   }
 
   bool place(ScreenTriangle& t, bool& swapped) {
-    switch (place_triangle(t, frame_.cull, frame_.two_sided, object_.mirrored, frame_.viewport, swapped)) {
+    switch (place_triangle(t, frame_.cull, (frame_.two_sided || object_.two_sided), object_.mirrored, frame_.viewport, swapped)) {
       case Placement::placed: return true;
       case Placement::degenerate: ++counts_.degenerate; return false;
       case Placement::culled: ++counts_.culled; return false;
@@ -248,7 +248,7 @@ class RangeAssembler {
   // A placed triangle (record `index` of the range) with its varyings: its face's values, planes,
   // and its bins.
   void finish(ScreenTriangle& t, std::uint32_t index, float (&attr)[3][geometry::kMaxAttributes]) {
-    const bool use_back = t.back_facing && frame_.two_sided;
+    const bool use_back = t.back_facing && (frame_.two_sided || object_.two_sided);
     const Color3& flat = use_back ? flat_back_ : flat_front_;
     t.flat_rgb[0] = flat.x();
     t.flat_rgb[1] = flat.y();

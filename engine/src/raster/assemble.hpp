@@ -70,6 +70,7 @@ struct ObjectVertices {
   const Color3* flat_secondary_front = nullptr;       // flat, textured: the specular per triangle
   const Color3* flat_secondary_back = nullptr;
   bool mirrored = false;                              // the model matrix has a negative determinant
+  bool two_sided = false;                             // both faces drawn and lit (AssemblyFrame::two_sided or the object's own)
   std::uint32_t object = 0;
   float alpha = 1.0f;
 };

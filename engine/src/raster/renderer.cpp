@@ -231,6 +231,7 @@ struct Renderer::Impl {
   std::vector<lighting::PointShader> shaders;  // one per draw
   std::vector<raster::simd::Draw> draws;               // one per draw: its varyings and pixel program
   std::vector<lighting::LightingFeatures> features;  // one per draw: what its lighting takes and gives
+  std::vector<char> draw_two_sided;  // one per draw: both faces drawn and lit (the pass's rule, or Instance::double_sided)
   std::vector<texture::Sampler> samplers;        // one per scene texture
   raster::simd::Fog fog;
   SrgbTable srgb;  // made once per renderer (RenderOptions::srgb)
@@ -482,7 +483,8 @@ std::uint64_t Renderer::Impl::pass_work(const Scene& scene, const raster::Render
     work += u.ranges() + (u.vertices() + kVertexChunk - 1) / kVertexChunk;
     if (!p.depth_only) {
       work += (u.vertices() + kVertexChunk - 1) / kVertexChunk +
-              (u.triangles() + kVertexChunk - 1) / kVertexChunk * (p.two_sided() ? 2 : 1);
+              (u.triangles() + kVertexChunk - 1) / kVertexChunk *
+                  (p.two_sided() || scene.objects[u.object].double_sided ? 2 : 1);
     }
     if (placed) work += u.ranges();  // the placing phase
   }
@@ -797,7 +799,6 @@ void Renderer::Impl::render_composite(const Scene& scene, const RenderOptions& o
 void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p) {
   pass = &p;
   const ShadingMode shading = p.shading;
-  const bool two_sided = p.two_sided();
   const int tiles_x = p.tiles_x, tile_size = p.tile_size;
   range_count = 0;  // counted below, per draw
   bins.resize(static_cast<std::size_t>(p.tile_count()));
@@ -805,6 +806,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   plan_units(scene, p, units, sub_frame == SubFrame::visibility);
   shaders.resize(units.size());
   plan_draws(scene, options, p);
+  const bool two_sided = std::find(draw_two_sided.begin(), draw_two_sided.end(), 1) != draw_two_sided.end();
 
   const Eigen::Matrix4d& view = p.view;
   const Eigen::Matrix4d& proj = p.projection;
@@ -1057,6 +1059,7 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
                                                                 : raster::LitAt::pixel;
   draws.resize(units.size());
   features.resize(units.size());
+  draw_two_sided.resize(units.size());
   for (std::size_t o = 0; o < units.size(); ++o) {
     const Instance& inst = scene.objects[units[o].object];
     const Material& m = scene.materials[units[o].material];
@@ -1064,6 +1067,7 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
     const bool plain = sub_frame == SubFrame::visibility;  // visibility: no texture, colour or blend
     const bool textured = !plain && m.diffuse_texture != kNoTexture;
     const bool colours = !plain && !mesh.colors.empty();
+    draw_two_sided[o] = p.two_sided() || inst.double_sided;
     lighting::LightingFeatures& lf = features[o];
     lf.color_material = colours;
     lf.separate_specular = textured;
@@ -1074,7 +1078,7 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
     raster::simd::Draw& d = draws[o];
     d = raster::simd::Draw{};
     if (p.depth_only) continue;  // no varying, no program: depth alone (every caster is opaque)
-    d.layout = raster::plan_varyings(lit, p.two_sided(), needs);
+    d.layout = raster::plan_varyings(lit, draw_two_sided[o] != 0, needs);
     d.texture = textured ? &samplers[static_cast<std::size_t>(m.diffuse_texture)] : nullptr;
     d.texture_env = static_cast<int>(m.texture_mode);
     d.uv_scale[0] = m.uv_scale.x(), d.uv_scale[1] = m.uv_scale.y();
@@ -1117,7 +1121,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
                                     const Eigen::Matrix4d& proj, const LightingOptions& lighting,
                                     std::uint32_t object, ObjectScratch& os, int slot) {
   const ShadingMode shading = pass->shading;
-  const bool two_sided = pass->two_sided();
+  const bool two_sided = draw_two_sided[object] != 0;
   const Mesh& mesh = scene.meshes[inst.mesh].mesh;
   const DrawUnit& unit = units[object];
   // Arrays are indexed by the mesh's vertex and triangle numbers; a draw fills its own part.
@@ -1315,6 +1319,7 @@ void Renderer::Impl::place_object(const Mesh& mesh, std::uint32_t object, const 
   placing.clip = os.clip;
   placing.screen = os.screen;
   placing.mirrored = os.mirrored;
+  placing.two_sided = draw_two_sided[object] != 0;
   placing.object = object;
   const std::size_t first = first_range[object];
   const DrawUnit& unit = units[object];
@@ -1329,7 +1334,7 @@ void Renderer::Impl::place_object(const Mesh& mesh, std::uint32_t object, const 
 
 void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, float alpha, const ObjectScratch& os,
                                      int slot) {
-  const bool two_sided = pass->two_sided();
+  const bool two_sided = draw_two_sided[object] != 0;
   const std::size_t first = first_range[object];
   const bool flat = pass->shading == ShadingMode::flat;
   raster::ObjectVertices vertices;
@@ -1356,6 +1361,7 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   vertices.flat_secondary_front = flat && lf.separate_specular ? os.front_spec.data() : nullptr;
   vertices.flat_secondary_back = flat && two_sided && lf.separate_specular ? os.back_spec.data() : nullptr;
   vertices.mirrored = os.mirrored;
+  vertices.two_sided = two_sided;
   vertices.object = object;
   vertices.alpha = alpha;
   // Gouraud and flat lit only where drawn: the second phase of the assembly prepare_object() began.
