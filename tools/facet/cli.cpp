@@ -102,7 +102,18 @@ bool is_model_path(const std::string& path) {
 }
 
 std::optional<Scene> load_input(const std::string& path, const InputOptions& options, std::vector<std::string>& notes) {
-  if (!is_model_path(path)) return load_scene_or_default(path, options.memory_budget_bytes);
+  if (path.empty()) return make_default_scene();
+  if (!is_model_path(path)) {
+    LoadOptions lo;
+    lo.memory_budget_bytes = options.memory_budget_bytes;
+    lo.warning = [&](const std::string& w) { notes.push_back("warning: " + w); };
+    Result<Scene> loaded = load_scene_file(path, lo);
+    if (!loaded) {
+      fail(loaded.status().message());
+      return std::nullopt;
+    }
+    return std::move(*loaded);
+  }
   ModelOptions mo;
   mo.memory_budget_bytes = options.memory_budget_bytes;
   mo.allow_missing = options.allow_missing;

@@ -25,16 +25,18 @@ constexpr const char* kLightUsage =
     "  -h, --help     this text\n";
 
 constexpr const char* kCheckUsage =
-    "usage: facet check SCENE.json [options]\n"
+    "usage: facet check SCENE.json|MODEL.gltf|MODEL.glb|MODEL.obj [options]\n"
     "\n"
-    "Loads the scene and makes every check 'facet render' makes before it draws: the scene file, the\n"
-    "frame's limits and its memory estimate, for an image of the given size.\n"
+    "Loads the scene or model and makes every check 'facet render' makes before it draws: the file,\n"
+    "the frame's limits and its memory estimate, for an image of the given size. For a model, lists\n"
+    "what was not read (warnings) and what 'facet render' would assume (camera, lights).\n"
     "\n"
     "options:\n"
     "  --width W, --height H   the image size to check for (default 1280 x 720)\n"
     "  --shading MODE          flat, gouraud (default) or phong, as for 'facet render'\n"
     "  --shadows METHOD        none | map | volume | raycast: every light casts shadows so\n"
-    "  --memory-budget-mb M    as for 'facet render' (default 4096; 0 = no limit)\n";
+    "  --memory-budget-mb M    as for 'facet render' (default 4096; 0 = no limit)\n"
+    "  --allow-missing         a model's missing .mtl or texture files are warnings, not errors\n";
 
 struct PathResult {
   LightingOptions options;
@@ -195,6 +197,7 @@ int run_check(int argc, char** argv) {
   std::string scene_path;
   std::optional<ShadowMethod> shadows;
   int width = 1280, height = 720;
+  bool allow_missing = false;
   RenderOptions options;
   Args args(argc, argv);
   std::string arg;
@@ -221,6 +224,8 @@ int run_check(int argc, char** argv) {
       if (!v) return 2;
       shadows = parse_shadow_method(*v);
       if (!shadows) return fail("--shadows: unknown method '" + *v + "' (none, map, volume or raycast)");
+    } else if (arg == "--allow-missing") {
+      allow_missing = true;
     } else if (!arg.empty() && arg[0] == '-') {
       return fail("check: unknown option '" + arg + "' (see 'facet check --help')");
     } else if (scene_path.empty()) {
@@ -230,10 +235,13 @@ int run_check(int argc, char** argv) {
     }
   }
   if (scene_path.empty()) return fail(std::string("check needs exactly one scene file\n") + kCheckUsage);
-  LoadOptions load;
-  load.memory_budget_bytes = options.memory_budget_bytes;
-  Result<Scene> scene = load_scene_file(scene_path, load);
-  if (!scene) return fail(scene.status().message());
+  InputOptions input;
+  input.memory_budget_bytes = options.memory_budget_bytes;
+  input.allow_missing = allow_missing;
+  input.aspect = float(width) / float(height);
+  std::vector<std::string> notes;
+  std::optional<Scene> scene = load_input(scene_path, input, notes);
+  if (!scene) return 2;
   if (shadows) override_shadows(*scene, *shadows);
   if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(scene_path + ": " + s.message());
   std::size_t triangles = 0, blended = 0, textured = 0;
@@ -249,6 +257,7 @@ int run_check(int argc, char** argv) {
               scene_path.c_str(), scene->meshes.size(), scene->materials.size(), scene->objects.size(),
               scene_vertices(*scene), triangles, scene->lights.size(), width, height,
               static_cast<unsigned long long>((estimate_frame_bytes(*scene, options, width, height) + (1u << 20) - 1) >> 20));
+  for (const std::string& n : notes) std::printf("  %s\n", n.c_str());
   std::size_t shadowed = 0, casters = 0, receivers = 0;
   std::string methods;
   for (const auto& l : scene->lights) {

@@ -22,6 +22,9 @@ struct LoadOptions {
   // Progress and cancellation: called on the calling thread after each mesh with the share of
   // meshes done; return false to stop the load with ErrorCode::cancelled.
   std::function<bool(double done)> progress;
+  // Called on the calling thread with each warning of the models the scene imports ("imports":
+  // what was read approximately or not at all, model.hpp). Null: warnings are dropped.
+  std::function<void(const std::string& warning)> warning;
 };
 
 Result<Scene> load_scene_file(const std::string& path, const LoadOptions& options = {});

@@ -506,9 +506,10 @@ class GltfReader {
         // multiply the base colour: the product is taken here.
         c = c.cwiseProduct(info.vertex_color_scale).cwiseMax(0.0f).cwiseMin(1.0f);
         mesh.colors[i] = c;
-        if (comps == 4 && v[i * comps + 3] < 1.0) alpha_dropped = true;
+        if (comps == 4 && v[i * comps + 3] < 254.5 / 255.0) alpha_dropped = true;  // below what 8-bit alpha rounds to 1
       }
-      if (alpha_dropped) warn(p + ".attributes.COLOR_0: vertex alpha is not supported; ignored (colours are used)");
+      // OPAQUE materials ignore alpha anyway; MASK and BLEND would need it.
+      if (alpha_dropped && info.uses_alpha) warn(p + ".attributes.COLOR_0: vertex alpha is not supported; ignored (colours are used)");
     }
     // Indices.
     std::vector<std::uint32_t> idxs;
@@ -574,6 +575,7 @@ class GltfReader {
     Color3 vertex_color_scale{1.0f, 1.0f, 1.0f};
     bool double_sided = false;
     bool needs_uvs = false;
+    bool uses_alpha = false;  // alphaMode MASK or BLEND
   };
 
   std::uint32_t untextured_twin(std::uint32_t index) {
@@ -653,6 +655,7 @@ class GltfReader {
         return error(p + ".alphaMode", "expected \"OPAQUE\", \"MASK\" or \"BLEND\", found " + quote(g.alphaMode, 32));
       }
       info.double_sided = g.doubleSided;
+      info.uses_alpha = g.alphaMode == "MASK" || g.alphaMode == "BLEND";
       if (pbr.baseColorTexture.index >= 0) {
         const std::string tp = p + ".pbrMetallicRoughness.baseColorTexture";
         if (pbr.baseColorTexture.texCoord != 0) {

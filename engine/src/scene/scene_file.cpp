@@ -2,6 +2,7 @@
 // reader per object kind. The reader checks types and the JSON-only fields; validate_scene() checks
 // the rest, and its field path is mapped back to a line of the file.
 #include "facet/scene_file.hpp"
+#include "facet/model.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -70,7 +71,7 @@ class SceneReader {
 
   Status read(const json& root, Scene& scene) {
     FACET_TRY(expect_object(root, "", {"camera", "global_ambient", "viewer", "two_sided", "textures", "materials",
-                                       "meshes", "objects", "lights", "fog"}));
+                                       "meshes", "objects", "lights", "fog", "imports"}));
     if (root.contains("camera")) FACET_TRY(read_camera(root["camera"], scene.camera));
     FACET_TRY(opt_color(root, "", "global_ambient", scene.global_ambient));
     if (root.contains("viewer")) {
@@ -118,6 +119,8 @@ class SceneReader {
     FACET_TRY(read_list(root, "materials", add_material));
     if (root.contains("fog")) FACET_TRY(read_fog(root["fog"], scene.fog));
     FACET_TRY(read_list(root, "meshes", add_mesh));
+    auto add_import = [&](const json& j, const std::string& p) { return read_import(j, p, root.contains("camera"), scene); };
+    FACET_TRY(read_list(root, "imports", add_import));
     FACET_TRY(read_list(root, "objects", add_object));
     FACET_TRY(read_list(root, "lights", add_light));
     if (Status s = validate_scene(scene); !s.ok()) return located(s.field(), s.code(), s.message());
@@ -509,6 +512,11 @@ class SceneReader {
       }
       inst.material = static_cast<std::uint32_t>(it - scene.materials.begin());
     }
+    return read_transform(j, p, inst.model);
+  }
+
+  // "matrix" (row-major 4x4) or "translate", "rotate_deg" (x, then y, then z) and "scale".
+  Status read_transform(const json& j, const std::string& p, Mat4& model) const {
     if (j.contains("matrix")) {
       if (j.contains("translate") || j.contains("rotate_deg") || j.contains("scale")) {
         return invalid(p, "\"matrix\" cannot be combined with \"translate\", \"rotate_deg\" or \"scale\"");
@@ -517,7 +525,7 @@ class SceneReader {
       const std::string mp = child(p, "matrix");
       if (!m.is_array() || m.size() != 16) return mismatch(mp, "an array of 16 numbers (row-major 4x4)", m);
       for (int i = 0; i < 16; ++i) {
-        FACET_TRY(read_number(m[static_cast<std::size_t>(i)], mp + "[" + std::to_string(i) + "]", inst.model(i / 4, i % 4)));
+        FACET_TRY(read_number(m[static_cast<std::size_t>(i)], mp + "[" + std::to_string(i) + "]", model(i / 4, i % 4)));
       }
       return {};
     }
@@ -538,9 +546,85 @@ class SceneReader {
     const Eigen::Matrix3f rot = (Eigen::AngleAxisf(k * r.z(), Vec3::UnitZ()) * Eigen::AngleAxisf(k * r.y(), Vec3::UnitY()) *
                                  Eigen::AngleAxisf(k * r.x(), Vec3::UnitX()))
                                     .toRotationMatrix();
-    inst.model = Mat4::Identity();
-    inst.model.topLeftCorner<3, 3>() = rot * s.asDiagonal();
-    inst.model.block<3, 1>(0, 3) = t;
+    model = Mat4::Identity();
+    model.topLeftCorner<3, 3>() = rot * s.asDiagonal();
+    model.block<3, 1>(0, 3) = t;
+    return {};
+  }
+
+  // A model file (model.hpp) placed in the scene: its meshes, materials and textures are added
+  // with their names prefixed by the file name ("chair.obj:wood"), its objects transformed, its
+  // lights added unless "lights" is false, its camera used when "camera" is true.
+  Status read_import(const json& j, const std::string& p, bool scene_has_camera, Scene& scene) {
+    FACET_TRY(expect_object(j, p, {"file", "translate", "rotate_deg", "scale", "matrix", "lights", "camera", "allow_missing"}));
+    if (!j.contains("file")) return invalid(child(p, "file"), "missing: the model file (.gltf, .glb or .obj)");
+    std::string file;
+    FACET_TRY(opt_string(j, p, "file", file));
+    Mat4 place = Mat4::Identity();
+    FACET_TRY(read_transform(j, p, place));
+    if (!(std::abs(place.topLeftCorner<3, 3>().cast<double>().determinant()) > 0.0)) {
+      return invalid(p, "the transform must be invertible");
+    }
+    bool lights = true, camera = false;
+    ModelOptions mo;
+    FACET_TRY(opt_bool(j, p, "lights", lights));
+    FACET_TRY(opt_bool(j, p, "camera", camera));
+    FACET_TRY(opt_bool(j, p, "allow_missing", mo.allow_missing));
+    if (camera && scene_has_camera) return invalid(child(p, "camera"), "the scene file has its own \"camera\"");
+    mo.memory_budget_bytes = options_.memory_budget_bytes == 0 ? 0 : std::max<std::uint64_t>(1, options_.memory_budget_bytes - std::min(used_, options_.memory_budget_bytes));
+    const std::filesystem::path resolved = std::filesystem::path(base_dir_) / file;
+    Result<Model> model = load_model(resolved.string(), mo);
+    if (!model) return located(child(p, "file"), model.status().code(), child(p, "file") + ": " + model.status().message());
+    if (options_.warning) {
+      for (const std::string& w : model->warnings) options_.warning(p + ": " + w);
+    }
+    Scene& m = model->scene;
+    std::uint64_t bytes = 0;
+    for (const NamedMesh& nm : m.meshes) bytes += nm.mesh.vertex_count() * 2 * sizeof(Vec3) + nm.mesh.triangle_count() * 12;
+    for (const Texture& t : m.textures) bytes += t.texels.size() * 4;
+    used_ += bytes;
+    const std::string prefix = file + ":";
+    const auto mesh0 = static_cast<std::uint32_t>(scene.meshes.size());
+    const auto material0 = static_cast<std::uint32_t>(scene.materials.size());
+    const auto texture0 = static_cast<std::int32_t>(scene.textures.size());
+    for (Texture& t : m.textures) {
+      t.name = prefix + t.name;
+      scene.textures.push_back(std::move(t));
+    }
+    for (Material& mat : m.materials) {
+      mat.name = prefix + mat.name;
+      if (mat.diffuse_texture != kNoTexture) mat.diffuse_texture += texture0;
+      scene.materials.push_back(std::move(mat));
+    }
+    for (NamedMesh& nm : m.meshes) {
+      nm.name = prefix + nm.name;
+      for (MaterialGroup& g : nm.mesh.groups) g.material = prefix + g.material;
+      scene.meshes.push_back(std::move(nm));
+    }
+    for (Instance inst : m.objects) {
+      inst.mesh += mesh0;
+      inst.material += material0;
+      inst.model = place * inst.model;
+      scene.objects.push_back(inst);
+    }
+    const Eigen::Matrix3f linear = place.topLeftCorner<3, 3>();
+    if (lights && model->has_lights) {
+      for (Light l : m.lights) {
+        l.name = prefix + l.name;
+        l.position = linear * l.position + place.block<3, 1>(0, 3);
+        l.direction = (linear * l.direction).normalized();
+        scene.lights.push_back(std::move(l));
+      }
+    }
+    if (camera) {
+      if (!model->has_camera) return invalid(child(p, "camera"), file + " has no camera");
+      Camera c = m.camera;
+      const Vec3 forward = c.target - c.eye;
+      c.eye = linear * c.eye + place.block<3, 1>(0, 3);
+      c.target = c.eye + linear * forward;
+      c.up = linear * c.up;
+      scene.camera = c;
+    }
     return {};
   }
 
