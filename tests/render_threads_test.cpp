@@ -227,7 +227,7 @@ TEST(RenderThreads, MoreThreadsThanCoresPrintsNothing) {
     c_status = facet_scene_add_mesh(cs, positions, 3, nullptr, indices, 1, &mesh);
     if (c_status == FACET_OK) c_status = facet_scene_add_material(cs, &m, &material);
     if (c_status == FACET_OK) c_status = facet_scene_add_object(cs, mesh, material, nullptr, &object);
-    if (c_status == FACET_OK) c_status = facet_scene_add_light(cs, &l);
+    if (c_status == FACET_OK) c_status = facet_scene_add_light(cs, &l, NULL);
     std::vector<std::uint8_t> px(64 * 48 * 4);
     if (c_status == FACET_OK) {
       c_status = facet_render(cr, cs, px.data(), 64, 48, 64 * 4, FACET_RGBA8, 0, nullptr, 0, nullptr);

@@ -164,7 +164,7 @@ TEST(OutOfMemory, EveryEntryPointAnswersOutOfMemory) {
               FACET_OK);
     ASSERT_EQ(facet_scene_add_material(cs, &mat, &material), FACET_OK);
     ASSERT_EQ(facet_scene_add_object(cs, mesh, material, nullptr, &object), FACET_OK);
-    ASSERT_EQ(facet_scene_add_light(cs, &light), FACET_OK);
+    ASSERT_EQ(facet_scene_add_light(cs, &light, NULL), FACET_OK);
     facet_status status = FACET_OK;
     {
       BoundedAllocator bound(1 << 20);

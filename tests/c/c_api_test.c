@@ -39,7 +39,7 @@ int main(void) {
   CHECK(facet_scene_add_material(scene, &m, &material) == FACET_OK);
   CHECK(facet_scene_add_object(scene, mesh, material, NULL, &object) == FACET_OK);
   facet_light light = facet_light_default();
-  CHECK(facet_scene_add_light(scene, &light) == FACET_OK);
+  CHECK(facet_scene_add_light(scene, &light, NULL) == FACET_OK);
   facet_camera camera = facet_camera_default();
   camera.eye[2] = 4.0f;
   CHECK(facet_scene_set_camera(scene, &camera) == FACET_OK);
@@ -79,7 +79,7 @@ int main(void) {
         FACET_INVALID_ARGUMENT);
   for (size_t i = 0; i < sizeof buffer; ++i) CHECK(buffer[i] == 0xA5);
 
-  facet_frame_stats stats;
+  facet_frame_stats stats = {0};
   memset(&stats, 0, sizeof stats);
   static float depth[W * H];
   CHECK(facet_render(renderer, scene, pixels, W, H, W * 4, FACET_RGBA8, 0, depth, W * sizeof(float), &stats) == FACET_OK);
@@ -111,7 +111,7 @@ int main(void) {
     every.light_every_vertex = 1;
     facet_renderer* r2 = facet_renderer_create(&every, &status);
     CHECK(r2 != NULL && status == FACET_OK);
-    facet_frame_stats s2;
+    facet_frame_stats s2 = {0};
     memset(&s2, 0xFF, sizeof s2);
     CHECK(facet_render(r2, scene, pixels, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, &s2) == FACET_OK);
     CHECK(memcmp(first, pixels, sizeof first) == 0);
@@ -156,7 +156,7 @@ int main(void) {
     facet_renderer_destroy(schlick);
   }
   light.type = (facet_light_type)-3;
-  CHECK(facet_scene_add_light(scene, &light) == FACET_INVALID_ARGUMENT);
+  CHECK(facet_scene_add_light(scene, &light, NULL) == FACET_INVALID_ARGUMENT);
   CHECK(strstr(facet_scene_last_error(scene), "light.type") != NULL);
 
   /* Surfaces: a quad with texture coordinates under a one-texel texture (GL_MODULATE of the
@@ -276,10 +276,10 @@ int main(void) {
     down.direction[0] = 0, down.direction[1] = -1, down.direction[2] = 0;
     facet_light bad_light = down;
     bad_light.shadow_method = (facet_shadow_method)9;
-    CHECK(facet_scene_add_light(sh, &bad_light) == FACET_INVALID_ARGUMENT);
+    CHECK(facet_scene_add_light(sh, &bad_light, NULL) == FACET_INVALID_ARGUMENT);
     CHECK(strstr(facet_scene_last_error(sh), "shadow_method") != NULL);
     down.shadow_method = method;
-    CHECK(facet_scene_add_light(sh, &down) == FACET_OK);
+    CHECK(facet_scene_add_light(sh, &down, NULL) == FACET_OK);
     CHECK(facet_scene_set_object_shadows(sh, 5, 1, 1) == FACET_INVALID_ARGUMENT);
     facet_camera above = facet_camera_default();
     above.eye[0] = 0, above.eye[1] = 6, above.eye[2] = 0.01f;
@@ -299,9 +299,9 @@ int main(void) {
     facet_light side = facet_light_default();
     side.direction[0] = 0.8f, side.direction[1] = -0.6f, side.direction[2] = 0;
     side.shadow_method = method;
-    CHECK(facet_scene_add_light(sh, &side) == FACET_OK);
+    CHECK(facet_scene_add_light(sh, &side, NULL) == FACET_OK);
     CHECK(facet_scene_set_object_shadows(sh, square_object, 1, 1) == FACET_OK);
-    facet_frame_stats shadow_stats;
+    facet_frame_stats shadow_stats = {0};
     CHECK(facet_render(r, sh, img, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, &shadow_stats) == FACET_OK);
     CHECK(shadow_stats.shadow_casters == 4 && shadow_stats.seconds_shadows > 0.0);
     CHECK(method == FACET_SHADOW_MAP ? shadow_stats.shadow_map_texels == 2u * 2048u * 2048u &&
@@ -331,6 +331,110 @@ int main(void) {
     facet_renderer_destroy(g);
     facet_renderer_destroy(r);
     facet_scene_destroy(sh);
+  }
+
+  /* The scene model: version, stable ids, update and remove, switches, encoded textures, files. */
+  {
+    char version[32];
+    snprintf(version, sizeof version, "%d.%d.%d", FACET_VERSION_MAJOR, FACET_VERSION_MINOR, FACET_VERSION_PATCH);
+    CHECK(strcmp(facet_version(), version) == 0);
+    CHECK(strcmp(facet_version(), FACET_VERSION_STRING) == 0);
+    facet_scene* e = facet_scene_create();
+    uint32_t mesh_e = 0, mat_a = 0, mat_b = 0, obj_a = 0, obj_b = 0, light_a = 0, light_b = 0;
+    CHECK(facet_scene_add_mesh(e, positions, 6, NULL, indices, 8, &mesh_e) == FACET_OK);
+    facet_material red = facet_material_default(), blue = facet_material_default();
+    red.diffuse[0] = 1, red.diffuse[1] = 0, red.diffuse[2] = 0;
+    blue.diffuse[0] = 0, blue.diffuse[1] = 0, blue.diffuse[2] = 1;
+    CHECK(facet_scene_add_material(e, &red, &mat_a) == FACET_OK);
+    CHECK(facet_scene_add_material(e, &blue, &mat_b) == FACET_OK);
+    CHECK(facet_scene_add_object(e, mesh_e, mat_a, NULL, &obj_a) == FACET_OK);
+    CHECK(facet_scene_add_object(e, mesh_e, mat_a, NULL, &obj_b) == FACET_OK);
+    facet_light l1 = facet_light_default(), l2 = facet_light_default();
+    CHECK(facet_scene_add_light(e, &l1, &light_a) == FACET_OK);
+    CHECK(facet_scene_add_light(e, &l2, &light_b) == FACET_OK);
+    CHECK(light_a == 0 && light_b == 1 && obj_a == 0 && obj_b == 1);
+    facet_renderer* er = facet_renderer_create(NULL, NULL);
+    static uint8_t before[W * H * 4], after[W * H * 4];
+    facet_frame_stats st = {0};
+    st.struct_size = sizeof st;
+    CHECK(facet_render(er, e, before, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, &st) == FACET_OK);
+    CHECK(st.struct_size == sizeof st && st.pixels_filled > 0);
+    /* Removing object 0 keeps object 1's id; moving it away empties the frame, and says why. */
+    CHECK(facet_scene_remove_object(e, obj_a) == FACET_OK);
+    CHECK(facet_scene_remove_object(e, obj_a) == FACET_INVALID_ARGUMENT);
+    const float far_away[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 100, 0, 0, 1};
+    CHECK(facet_scene_set_object_transform(e, obj_b, far_away) == FACET_OK);
+    CHECK(facet_render(er, e, after, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, &st) == FACET_OK);
+    CHECK(st.pixels_filled == 0);
+    char why[256];
+    CHECK(facet_explain_empty_frame(&st, why, sizeof why) > 0 && strstr(why, "outside the view") != NULL);
+    CHECK(facet_scene_set_object_transform(e, obj_b, NULL) == FACET_OK);
+    /* The material changes the picture: red, then blue. */
+    CHECK(facet_scene_set_object_material(e, obj_b, mat_b) == FACET_OK);
+    CHECK(facet_render(er, e, after, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
+    int red_px = 0, blue_px = 0;
+    for (int i = 0; i < W * H * 4; i += 4) red_px += before[i] > 100, blue_px += after[i + 2] > 100 && after[i] < 60;
+    CHECK(red_px > 50 && blue_px > 50);
+    CHECK(facet_scene_remove_material(e, mat_b) == FACET_INVALID_ARGUMENT); /* object 1 uses it */
+    CHECK(facet_scene_remove_material(e, mat_a) == FACET_OK);
+    CHECK(facet_scene_add_object(e, mesh_e, mat_a, NULL, NULL) == FACET_INVALID_ARGUMENT); /* removed */
+    blue.diffuse[1] = 1;
+    CHECK(facet_scene_set_material(e, mat_b, &blue) == FACET_OK);
+    blue.shininess = -1;
+    CHECK(facet_scene_set_material(e, mat_b, &blue) == FACET_INVALID_ARGUMENT);
+    /* Lights: update (a smooth cone, a range, disabled) and remove by id. */
+    facet_light spot = facet_light_default();
+    spot.type = FACET_SPOT;
+    spot.position[2] = 4;
+    spot.spot_smooth = 1;
+    spot.spot_inner_deg = 10, spot.spot_outer_deg = 20, spot.spot_falloff = 2;
+    spot.range = 10;
+    CHECK(facet_scene_set_light(e, light_b, &spot) == FACET_OK);
+    spot.spot_inner_deg = 30; /* inner > outer */
+    CHECK(facet_scene_set_light(e, light_b, &spot) == FACET_INVALID_ARGUMENT);
+    spot.spot_inner_deg = 10;
+    spot.enabled = 0;
+    CHECK(facet_scene_set_light(e, light_b, &spot) == FACET_OK);
+    CHECK(facet_scene_remove_light(e, light_a) == FACET_OK);
+    CHECK(facet_scene_set_light(e, light_a, &spot) == FACET_INVALID_ARGUMENT);
+    CHECK(facet_scene_set_two_sided(e, 1) == FACET_OK);
+    CHECK(facet_scene_set_viewer(e, FACET_VIEWER_INFINITE) == FACET_OK);
+    CHECK(facet_scene_set_viewer(e, (facet_viewer)7) == FACET_INVALID_ARGUMENT);
+    CHECK(facet_scene_set_object_double_sided(e, obj_b, 1) == FACET_OK);
+    CHECK(facet_render(er, e, after, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
+    /* A stats struct that is too small is refused before any pixel is written. */
+    facet_frame_stats tiny = {0};
+    tiny.struct_size = 8;
+    memset(after, 0xAB, sizeof after);
+    CHECK(facet_render(er, e, after, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, &tiny) == FACET_INVALID_ARGUMENT);
+    CHECK(strstr(facet_renderer_last_error(er), "struct_size") != NULL);
+    CHECK(after[0] == 0xAB && after[sizeof after - 1] == 0xAB);
+    /* A texture from encoded bytes: not a PNG is refused with a message. */
+    const uint8_t junk[8] = {1, 2, 3, 4, 5, 6, 7, 8};
+    CHECK(facet_scene_add_texture_encoded(e, junk, sizeof junk, FACET_TRILINEAR, FACET_WRAP_REPEAT, NULL) != FACET_OK);
+    CHECK(strlen(facet_scene_last_error(e)) > 0);
+    /* A model file: OBJ + MTL, framed and lit. */
+    FILE* f = fopen("facet_c_api_test.mtl", "w");
+    fputs("newmtl green\nKd 0 1 0\nmap_Bump bump.png\n", f);
+    fclose(f);
+    f = fopen("facet_c_api_test.obj", "w");
+    fputs("mtllib facet_c_api_test.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl green\nf 1 2 3\n", f);
+    fclose(f);
+    CHECK(facet_scene_load_file(e, "facet_c_api_test.obj", FACET_LOAD_FRAME, (float)W / H, 0) == FACET_OK);
+    CHECK(strstr(facet_scene_warnings(e), "map_Bump") != NULL);
+    CHECK(facet_render(er, e, after, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, &st) == FACET_OK);
+    CHECK(st.pixels_filled > 50);
+    int green_px = 0;
+    for (int i = 0; i < W * H * 4; i += 4) green_px += after[i + 1] > 100 && after[i] < 40;
+    CHECK(green_px > 50);
+    CHECK(facet_scene_load_file(e, "no_such_file.gltf", 0, 0, 0) == FACET_IO_ERROR);
+    CHECK(strstr(facet_scene_last_error(e), "no_such_file.gltf") != NULL);
+    CHECK(facet_render(er, e, after, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, &st) == FACET_OK); /* unchanged */
+    CHECK(st.pixels_filled > 50);
+    remove("facet_c_api_test.obj");
+    remove("facet_c_api_test.mtl");
+    facet_renderer_destroy(er);
+    facet_scene_destroy(e);
   }
 
   return failures == 0 ? 0 : 1;

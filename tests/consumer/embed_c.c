@@ -16,12 +16,12 @@ int main(void) {
   if (facet_scene_add_mesh(scene, positions, 3, NULL, indices, 1, &mesh) != FACET_OK ||
       facet_scene_add_material(scene, &m, &material) != FACET_OK ||
       facet_scene_add_object(scene, mesh, material, NULL, NULL) != FACET_OK ||
-      facet_scene_add_light(scene, &light) != FACET_OK || facet_scene_set_camera(scene, &camera) != FACET_OK) {
+      facet_scene_add_light(scene, &light, NULL) != FACET_OK || facet_scene_set_camera(scene, &camera) != FACET_OK) {
     fprintf(stderr, "scene: %s\n", facet_scene_last_error(scene));
     return 1;
   }
   facet_renderer* renderer = facet_renderer_create(NULL, NULL);
-  facet_frame_stats stats;
+  facet_frame_stats stats = {0};
   if (facet_render(renderer, scene, pixels, 64, 64, 64 * 4, FACET_RGBA8, 0, NULL, 0, &stats) != FACET_OK) {
     fprintf(stderr, "render: %s\n", facet_renderer_last_error(renderer));
     return 1;

@@ -18,6 +18,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "facet/version.h" /* FACET_VERSION_MAJOR, _MINOR, _PATCH and FACET_VERSION_STRING */
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -139,6 +141,14 @@ typedef struct facet_light {
   float shadow_bias_constant; /* map: towards the light */
   float shadow_bias_slope;    /* map: towards the light, times tan(normal, light) */
   float shadow_bias_normal;   /* along the normal */
+  int enabled;                /* default 1; a disabled light is kept but contributes nothing */
+  /* point, spot: when > 0, the light provably contributes nothing beyond this distance
+   * (attenuation times saturate(1 - (d / range)^4)^2); 0 = unbounded (default) */
+  float range;
+  /* spot: 0 (default) = GL cone (spot_cutoff_deg, spot_exponent); non-zero = smooth cone, 1 inside
+   * spot_inner_deg, 0 outside spot_outer_deg, t^spot_falloff between (falloff 2 is glTF's) */
+  int spot_smooth;
+  float spot_inner_deg, spot_outer_deg, spot_falloff;
 } facet_light;
 
 typedef struct facet_camera {
@@ -147,8 +157,14 @@ typedef struct facet_camera {
   float near_plane, far_plane;
 } facet_camera;
 
-/* What a frame did (FrameStats in the C++ API, which documents each counter). */
+/* What a frame did (FrameStats in the C++ API, which documents each counter). Set struct_size to
+ * sizeof(facet_frame_stats), or 0 for this version's size; a non-zero value smaller than facet
+ * 0.1's struct is an error (FACET_INVALID_ARGUMENT, before anything is drawn). Counters are only ever added at the end, and
+ * the library writes only those it knows: a host compiled against an older header keeps working
+ * with a newer library, and one compiled against a newer header finds the further counters as it
+ * initialised them. */
 typedef struct facet_frame_stats {
+  size_t struct_size;
   uint64_t triangles_in, triangles_drawn, vertices_lit, pixels_filled;
   double seconds_total;
   int threads;
@@ -169,6 +185,12 @@ typedef struct facet_frame_stats {
 
 typedef struct facet_renderer facet_renderer;
 typedef struct facet_scene facet_scene;
+
+typedef enum facet_viewer { FACET_VIEWER_LOCAL = 0, FACET_VIEWER_INFINITE = 1 } facet_viewer;
+
+/* The library's version, "MAJOR.MINOR.PATCH" (the same as FACET_VERSION_STRING when the header
+ * and the library match). */
+const char* facet_version(void);
 
 /* Defaults: Gouraud, simd path on the best ISA, back-face culling, 64-pixel tiles, all cores,
  * opaque black clear colour. Also material, light and camera defaults as in the C++ API. */
@@ -203,6 +225,25 @@ facet_status facet_scene_add_texture_rgba8(facet_scene* scene, const uint8_t* rg
                                            facet_texture_filter filter, facet_texture_wrap wrap, uint32_t* texture_id);
 facet_status facet_scene_load_texture(facet_scene* scene, const char* path, facet_texture_filter filter,
                                       facet_texture_wrap wrap, uint32_t* texture_id);
+/* The same from a PNG or JPEG file's bytes in memory (copied). */
+facet_status facet_scene_add_texture_encoded(facet_scene* scene, const void* bytes, size_t size,
+                                             facet_texture_filter filter, facet_texture_wrap wrap, uint32_t* texture_id);
+
+/* Replaces the scene's contents with a scene file (.json) or a model (.gltf, .glb, .obj), read
+ * with a memory budget (0 = no limit). With FACET_LOAD_ALLOW_MISSING a model's missing .mtl,
+ * texture or image files are warnings; with FACET_LOAD_FRAME a model without a camera gets one
+ * that frames it at `aspect` (width / height) and a model without lights facet's default rig.
+ * Meshes, materials, textures, objects and lights get ids 0, 1, ... in the file's order. On
+ * failure the scene is unchanged. facet_scene_warnings then lists what was read approximately
+ * or not at all, one line each ("" if nothing). */
+enum { FACET_LOAD_ALLOW_MISSING = 1, FACET_LOAD_FRAME = 2 };
+facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigned flags, float aspect,
+                                   uint64_t memory_budget_bytes);
+const char* facet_scene_warnings(const facet_scene* scene);
+/* A camera framing every object of the scene at `aspect`, and facet's default rig of lights (a
+ * headlight and a key light, ambient 0.15) added to the scene's lights. */
+facet_status facet_scene_frame(facet_scene* scene, float aspect);
+facet_status facet_scene_add_default_lights(facet_scene* scene);
 facet_status facet_scene_add_material(facet_scene* scene, const facet_material* material, uint32_t* material_id);
 /* Per-face materials: the mesh's triangles in `group_count` consecutive runs, run g of
  * triangle_counts[g] triangles drawn with material_ids[g] by objects added with
@@ -215,7 +256,25 @@ facet_status facet_scene_add_object(facet_scene* scene, uint32_t mesh_id, uint32
 /* An object drawn with its mesh's groups' materials (facet_scene_set_mesh_groups). */
 facet_status facet_scene_add_object_with_mesh_materials(facet_scene* scene, uint32_t mesh_id, const float* model,
                                                         uint32_t* object_id);
-facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light);
+/* light_id may be NULL. Object and light ids stay valid until that object or light is removed;
+ * ids are not reused. */
+facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light, uint32_t* light_id);
+facet_status facet_scene_set_light(facet_scene* scene, uint32_t light_id, const facet_light* light);
+facet_status facet_scene_remove_light(facet_scene* scene, uint32_t light_id);
+/* Objects: move (model: column-major, NULL = identity), change material, draw both faces (back
+ * faces lit with the negated normal, not culled: glTF doubleSided), remove. */
+facet_status facet_scene_set_object_transform(facet_scene* scene, uint32_t object_id, const float* model);
+facet_status facet_scene_set_object_material(facet_scene* scene, uint32_t object_id, uint32_t material_id);
+facet_status facet_scene_set_object_double_sided(facet_scene* scene, uint32_t object_id, int double_sided);
+facet_status facet_scene_remove_object(facet_scene* scene, uint32_t object_id);
+/* Materials: change one (objects using it see the change), or remove one no object or mesh group
+ * uses (its id is not reused). */
+facet_status facet_scene_set_material(facet_scene* scene, uint32_t material_id, const facet_material* material);
+facet_status facet_scene_remove_material(facet_scene* scene, uint32_t material_id);
+/* Scene-wide switches: two-sided lighting for every object (default 0); the specular half-vector
+ * of a local (default) or infinite viewer (GL_LIGHT_MODEL_LOCAL_VIEWER). */
+facet_status facet_scene_set_two_sided(facet_scene* scene, int two_sided);
+facet_status facet_scene_set_viewer(facet_scene* scene, facet_viewer viewer);
 /* Whether an object blocks shadowed lights (cast) and can be in shadow (receive); both default
  * to non-zero. */
 facet_status facet_scene_set_object_shadows(facet_scene* scene, uint32_t object_id, int cast, int receive);
@@ -230,6 +289,11 @@ facet_status facet_scene_set_fog(facet_scene* scene, const facet_fog* fog);
 facet_status facet_render(facet_renderer* renderer, const facet_scene* scene, void* pixels, int width, int height,
                           size_t stride_bytes, facet_pixel_format format, int y_up, float* depth,
                           size_t depth_stride_bytes, facet_frame_stats* stats);
+
+/* Why a frame drew nothing ("every triangle is outside the view: ..."), written to `buffer`
+ * (truncated to `size` bytes with its terminating zero), or "" when it filled pixels. Returns the
+ * message's full length. */
+size_t facet_explain_empty_frame(const facet_frame_stats* stats, char* buffer, size_t size);
 
 #ifdef __cplusplus
 }

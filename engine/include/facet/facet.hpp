@@ -14,3 +14,4 @@
 #include "facet/status.hpp"
 #include "facet/texture.hpp"
 #include "facet/types.hpp"
+#include "facet/version.hpp"

@@ -3,10 +3,16 @@
 // in the handle's last-error string.
 #include "facet/facet.h"
 
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstddef>
 #include <cstring>
+#include <filesystem>
 #include <new>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 #include "facet/facet.hpp"
 
@@ -18,6 +24,27 @@ struct facet_renderer {
 struct facet_scene {
   facet::Scene scene;
   std::string error;
+  std::string warnings;  // of the last facet_scene_load_file
+  // Stable ids: object_ids[i] / light_ids[i] is the id of scene.objects[i] / scene.lights[i]
+  // (ids are handed out in order and never reused, so they equal the index until one is removed).
+  std::vector<std::uint32_t> object_ids, light_ids;
+  std::uint32_t next_object_id = 0, next_light_id = 0;
+  std::vector<char> material_removed;  // one per scene.materials entry
+
+  // The index of an object or light id, or SIZE_MAX.
+  static std::size_t index_of(const std::vector<std::uint32_t>& ids, std::uint32_t id) {
+    const auto it = std::lower_bound(ids.begin(), ids.end(), id);  // ids stay sorted: appended in order, erased in place
+    return it != ids.end() && *it == id ? static_cast<std::size_t>(it - ids.begin()) : SIZE_MAX;
+  }
+  void reset_ids() {
+    object_ids.resize(scene.objects.size());
+    for (std::size_t i = 0; i < object_ids.size(); ++i) object_ids[i] = static_cast<std::uint32_t>(i);
+    light_ids.resize(scene.lights.size());
+    for (std::size_t i = 0; i < light_ids.size(); ++i) light_ids[i] = static_cast<std::uint32_t>(i);
+    next_object_id = static_cast<std::uint32_t>(object_ids.size());
+    next_light_id = static_cast<std::uint32_t>(light_ids.size());
+    material_removed.assign(scene.materials.size(), 0);
+  }
 };
 
 namespace {
@@ -112,6 +139,26 @@ bool to_options(const facet_render_config& c, facet::RenderOptions& o, std::stri
   return true;
 }
 
+void write_stats(const facet::FrameStats& s, facet_frame_stats* stats);
+
+facet::Material to_material(const facet_material& c) {
+  facet::Material m;
+  const facet_material* material = &c;
+  m.emissive = facet::Color3(vec3(material->emissive));
+    m.ambient = facet::Color3(vec3(material->ambient));
+    m.diffuse = facet::Color3(vec3(material->diffuse));
+    m.specular = facet::Color3(vec3(material->specular));
+    m.shininess = material->shininess;
+    m.alpha = material->alpha;
+    m.diffuse_texture = material->diffuse_texture;
+    m.texture_mode = static_cast<facet::TextureMode>(material->texture_mode);
+    m.uv_scale = facet::Vec2(material->uv_scale[0], material->uv_scale[1]);
+    m.alpha_cutoff = material->alpha_cutoff;
+    m.blend = static_cast<facet::BlendMode>(material->blend);
+    m.depth_write = static_cast<facet::DepthWrite>(material->depth_write);
+  return m;
+}
+
 }  // namespace
 
 extern "C" {
@@ -183,6 +230,12 @@ facet_light facet_light_default(void) {
   c.shadow_bias_constant = l.shadow.bias.constant;
   c.shadow_bias_slope = l.shadow.bias.slope;
   c.shadow_bias_normal = l.shadow.bias.normal;
+  c.enabled = l.enabled ? 1 : 0;
+  c.range = l.range;
+  c.spot_smooth = l.spot_shape == facet::SpotShape::smooth_cone ? 1 : 0;
+  c.spot_inner_deg = l.spot_inner_deg;
+  c.spot_outer_deg = l.spot_outer_deg;
+  c.spot_falloff = l.spot_falloff;
   return c;
 }
 
@@ -257,19 +310,7 @@ facet_status facet_scene_add_material(facet_scene* scene, const facet_material* 
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
     if (!material) return fail(scene->error, "material", "null");
-    facet::Material m;
-    m.emissive = facet::Color3(vec3(material->emissive));
-    m.ambient = facet::Color3(vec3(material->ambient));
-    m.diffuse = facet::Color3(vec3(material->diffuse));
-    m.specular = facet::Color3(vec3(material->specular));
-    m.shininess = material->shininess;
-    m.alpha = material->alpha;
-    m.diffuse_texture = material->diffuse_texture;
-    m.texture_mode = static_cast<facet::TextureMode>(material->texture_mode);
-    m.uv_scale = facet::Vec2(material->uv_scale[0], material->uv_scale[1]);
-    m.alpha_cutoff = material->alpha_cutoff;
-    m.blend = static_cast<facet::BlendMode>(material->blend);
-    m.depth_write = static_cast<facet::DepthWrite>(material->depth_write);
+    facet::Material m = to_material(*material);
     const auto id = static_cast<std::uint32_t>(scene->scene.materials.size());
     if (m.diffuse_texture != facet::kNoTexture &&
         (m.diffuse_texture < 0 || static_cast<std::size_t>(m.diffuse_texture) >= scene->scene.textures.size())) {
@@ -279,17 +320,21 @@ facet_status facet_scene_add_material(facet_scene* scene, const facet_material* 
     if (facet::Status st = facet::validate_material(m, id); !st.ok()) return report(scene->error, st);
     m.name = "material" + std::to_string(id);
     scene->scene.materials.push_back(std::move(m));
+    scene->material_removed.resize(scene->scene.materials.size(), 0);
     if (material_id) *material_id = id;
     return report(scene->error, {});
   });
 }
+
 
 facet_status facet_scene_add_object(facet_scene* scene, uint32_t mesh_id, uint32_t material_id, const float* model,
                                     uint32_t* object_id) {
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
     if (mesh_id >= scene->scene.meshes.size()) return fail(scene->error, "mesh_id", "no such mesh");
-    if (material_id >= scene->scene.materials.size()) return fail(scene->error, "material_id", "no such material");
+    if (material_id >= scene->scene.materials.size() || scene->material_removed[material_id]) {
+      return fail(scene->error, "material_id", "no such material");
+    }
     facet::Instance inst;
     inst.mesh = mesh_id;
     inst.material = material_id;
@@ -297,8 +342,11 @@ facet_status facet_scene_add_object(facet_scene* scene, uint32_t mesh_id, uint32
       for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r) inst.model(r, c) = model[4 * c + r];
     }
-    const auto id = static_cast<std::uint32_t>(scene->scene.objects.size());
+    const std::uint32_t id = scene->next_object_id;
+    scene->object_ids.reserve(scene->object_ids.size() + 1);
     scene->scene.objects.push_back(inst);
+    scene->object_ids.push_back(id);
+    ++scene->next_object_id;
     if (object_id) *object_id = id;
     return report(scene->error, {});
   });
@@ -320,8 +368,11 @@ facet_status facet_scene_add_object_with_mesh_materials(facet_scene* scene, uint
       for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r) inst.model(r, c) = model[4 * c + r];
     }
-    const auto id = static_cast<std::uint32_t>(scene->scene.objects.size());
+    const std::uint32_t id = scene->next_object_id;
+    scene->object_ids.reserve(scene->object_ids.size() + 1);
     scene->scene.objects.push_back(inst);
+    scene->object_ids.push_back(id);
+    ++scene->next_object_id;
     if (object_id) *object_id = id;
     return report(scene->error, {});
   });
@@ -340,7 +391,7 @@ facet_status facet_scene_set_mesh_groups(facet_scene* scene, uint32_t mesh_id, c
     candidate.triangles = mesh.triangles;
     std::uint64_t first = 0;
     for (std::size_t g = 0; g < group_count; ++g) {
-      if (material_ids[g] >= scene->scene.materials.size()) {
+      if (material_ids[g] >= scene->scene.materials.size() || scene->material_removed[material_ids[g]]) {
         return fail(scene->error, "material_ids", "entry " + std::to_string(g) + ": no such material");
       }
       if (first + triangle_counts[g] > mesh.triangle_count()) {
@@ -367,25 +418,23 @@ static_assert(static_cast<int>(facet::ShadowFilter::pcf5x5) == FACET_SHADOW_PCF5
 facet_status facet_scene_set_object_shadows(facet_scene* scene, uint32_t object_id, int cast, int receive) {
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
-    if (object_id >= scene->scene.objects.size()) {
-      return fail(scene->error, "object_id",
-                  "no object " + std::to_string(object_id) + " (" + std::to_string(scene->scene.objects.size()) + " objects)");
-    }
-    facet::Instance& inst = scene->scene.objects[object_id];
+    const std::size_t index = facet_scene::index_of(scene->object_ids, object_id);
+    if (index == SIZE_MAX) return fail(scene->error, "object_id", "no object " + std::to_string(object_id));
+    facet::Instance& inst = scene->scene.objects[index];
     inst.cast_shadows = cast != 0;
     inst.receive_shadows = receive != 0;
     return report(scene->error, {});
   });
 }
 
-facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light) {
-  if (!scene) return FACET_INVALID_ARGUMENT;
-  return guarded(&scene->error, [&] {
+namespace {
+// A C light as a facet::Light, checked as validate_light checks lights[index].
+facet_status to_light(facet_scene* scene, const facet_light* light, std::size_t index, facet::Light& l) {
+  l = facet::Light{};
     if (!light) return fail(scene->error, "light", "null");
     const long type = raw(light->type);
     if (type < FACET_DIRECTIONAL || type > FACET_SPOT) return fail(scene->error, "light.type", "unknown type");
     const facet::LightType types[] = {facet::LightType::directional, facet::LightType::point, facet::LightType::spot};
-    facet::Light l;
     l.type = types[type];
     l.position = vec3(light->position);
     l.direction = vec3(light->direction);
@@ -408,14 +457,255 @@ facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light)
     l.shadow.filter = static_cast<facet::ShadowFilter>(filter);
     l.shadow.resolution = light->shadow_resolution;
     l.shadow.bias = {light->shadow_bias_constant, light->shadow_bias_slope, light->shadow_bias_normal};
-    if (facet::Status st = facet::validate_light(l, scene->scene.lights.size()); !st.ok()) {
-      return report(scene->error, st);
-    }
-    l.name = "light" + std::to_string(scene->scene.lights.size());
+    l.enabled = light->enabled != 0;
+    l.range = light->range;
+    l.spot_shape = light->spot_smooth ? facet::SpotShape::smooth_cone : facet::SpotShape::cutoff_exponent;
+    l.spot_inner_deg = light->spot_inner_deg;
+    l.spot_outer_deg = light->spot_outer_deg;
+    l.spot_falloff = light->spot_falloff;
+    if (facet::Status st = facet::validate_light(l, index); !st.ok()) return report(scene->error, st);
+    return FACET_OK;
+}
+}  // namespace
+
+facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light, uint32_t* light_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    facet::Light l;
+    if (const facet_status s = to_light(scene, light, scene->scene.lights.size(), l); s != FACET_OK) return s;
+    const std::uint32_t id = scene->next_light_id;
+    l.name = "light" + std::to_string(id);
+    scene->light_ids.reserve(scene->light_ids.size() + 1);
     scene->scene.lights.push_back(std::move(l));
+    scene->light_ids.push_back(id);
+    ++scene->next_light_id;
+    if (light_id) *light_id = id;
     return report(scene->error, {});
   });
 }
+
+facet_status facet_scene_set_light(facet_scene* scene, uint32_t light_id, const facet_light* light) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    const std::size_t index = facet_scene::index_of(scene->light_ids, light_id);
+    if (index == SIZE_MAX) return fail(scene->error, "light_id", "no light " + std::to_string(light_id));
+    facet::Light l;
+    if (const facet_status s = to_light(scene, light, index, l); s != FACET_OK) return s;
+    l.name = scene->scene.lights[index].name;
+    scene->scene.lights[index] = std::move(l);
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_remove_light(facet_scene* scene, uint32_t light_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    const std::size_t index = facet_scene::index_of(scene->light_ids, light_id);
+    if (index == SIZE_MAX) return fail(scene->error, "light_id", "no light " + std::to_string(light_id));
+    scene->scene.lights.erase(scene->scene.lights.begin() + static_cast<std::ptrdiff_t>(index));
+    scene->light_ids.erase(scene->light_ids.begin() + static_cast<std::ptrdiff_t>(index));
+    return report(scene->error, {});
+  });
+}
+
+namespace {
+// The object of `object_id`, or null (and the error set).
+facet::Instance* find_object(facet_scene* scene, std::uint32_t object_id) {
+  const std::size_t index = facet_scene::index_of(scene->object_ids, object_id);
+  if (index == SIZE_MAX) {
+    fail(scene->error, "object_id", "no object " + std::to_string(object_id));
+    return nullptr;
+  }
+  return &scene->scene.objects[index];
+}
+}  // namespace
+
+facet_status facet_scene_set_object_transform(facet_scene* scene, uint32_t object_id, const float* model) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    facet::Instance* inst = find_object(scene, object_id);
+    if (!inst) return FACET_INVALID_ARGUMENT;
+    facet::Mat4 m = facet::Mat4::Identity();
+    if (model) {
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) m(r, c) = model[4 * c + r];
+    }
+    if (!m.allFinite() || !(std::abs(m.topLeftCorner<3, 3>().cast<double>().determinant()) > 0.0)) {
+      return fail(scene->error, "model", "the matrix must be finite and invertible");
+    }
+    inst->model = m;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_set_object_material(facet_scene* scene, uint32_t object_id, uint32_t material_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    facet::Instance* inst = find_object(scene, object_id);
+    if (!inst) return FACET_INVALID_ARGUMENT;
+    if (material_id >= scene->scene.materials.size() || scene->material_removed[material_id]) {
+      return fail(scene->error, "material_id", "no such material");
+    }
+    const facet::Material& m = scene->scene.materials[material_id];
+    if (m.diffuse_texture != facet::kNoTexture && scene->scene.meshes[inst->mesh].mesh.uvs.empty()) {
+      return fail(scene->error, "material_id", "the material is textured but the object's mesh has no uvs");
+    }
+    inst->material = material_id;
+    inst->mesh_materials = false;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_set_object_double_sided(facet_scene* scene, uint32_t object_id, int double_sided) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    facet::Instance* inst = find_object(scene, object_id);
+    if (!inst) return FACET_INVALID_ARGUMENT;
+    inst->double_sided = double_sided != 0;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_remove_object(facet_scene* scene, uint32_t object_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    const std::size_t index = facet_scene::index_of(scene->object_ids, object_id);
+    if (index == SIZE_MAX) return fail(scene->error, "object_id", "no object " + std::to_string(object_id));
+    scene->scene.objects.erase(scene->scene.objects.begin() + static_cast<std::ptrdiff_t>(index));
+    scene->object_ids.erase(scene->object_ids.begin() + static_cast<std::ptrdiff_t>(index));
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_set_material(facet_scene* scene, uint32_t material_id, const facet_material* material) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!material) return fail(scene->error, "material", "null");
+    if (material_id >= scene->scene.materials.size() || scene->material_removed[material_id]) {
+      return fail(scene->error, "material_id", "no such material");
+    }
+    facet::Material m = to_material(*material);
+    if (m.diffuse_texture != facet::kNoTexture &&
+        (m.diffuse_texture < 0 || static_cast<std::size_t>(m.diffuse_texture) >= scene->scene.textures.size())) {
+      return fail(scene->error, "material.diffuse_texture", "no such texture");
+    }
+    if (facet::Status st = facet::validate_material(m, material_id); !st.ok()) return report(scene->error, st);
+    m.name = scene->scene.materials[material_id].name;
+    // A textured material needs uvs on every mesh drawn with it: checked on a copy, so a failure changes nothing.
+    facet::Scene& s = scene->scene;
+    const facet::Material previous = s.materials[material_id];
+    s.materials[material_id] = m;
+    const facet::Status st = facet::validate_scene(s);
+    if (!st.ok()) {
+      s.materials[material_id] = previous;
+      return report(scene->error, st);
+    }
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_remove_material(facet_scene* scene, uint32_t material_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (material_id >= scene->scene.materials.size() || scene->material_removed[material_id]) {
+      return fail(scene->error, "material_id", "no such material");
+    }
+    const std::string& name = scene->scene.materials[material_id].name;
+    for (std::size_t i = 0; i < scene->scene.objects.size(); ++i) {
+      const facet::Instance& inst = scene->scene.objects[i];
+      if (!inst.mesh_materials && inst.material == material_id) {
+        return fail(scene->error, "material_id", "object " + std::to_string(scene->object_ids[i]) + " uses it");
+      }
+    }
+    for (std::size_t m = 0; m < scene->scene.meshes.size(); ++m) {
+      for (const facet::MaterialGroup& g : scene->scene.meshes[m].mesh.groups) {
+        if (g.material == name) return fail(scene->error, "material_id", "a group of mesh " + std::to_string(m) + " uses it");
+      }
+    }
+    scene->material_removed[material_id] = 1;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_set_two_sided(facet_scene* scene, int two_sided) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  scene->scene.two_sided = two_sided != 0;
+  scene->error.clear();
+  return FACET_OK;
+}
+
+facet_status facet_scene_set_viewer(facet_scene* scene, facet_viewer viewer) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    const long v = raw(viewer);
+    if (v != FACET_VIEWER_LOCAL && v != FACET_VIEWER_INFINITE) return fail(scene->error, "viewer", "unknown viewer mode");
+    scene->scene.viewer = v == FACET_VIEWER_LOCAL ? facet::ViewerMode::local : facet::ViewerMode::infinite;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigned flags, float aspect,
+                                   uint64_t memory_budget_bytes) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!path) return fail(scene->error, "path", "null");
+    if (flags & ~unsigned(FACET_LOAD_ALLOW_MISSING | FACET_LOAD_FRAME)) return fail(scene->error, "flags", "unknown flag");
+    if ((flags & FACET_LOAD_FRAME) && !(aspect > 0.0f && aspect < 1e6f)) {
+      return fail(scene->error, "aspect", "expected width / height > 0 with FACET_LOAD_FRAME");
+    }
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    facet::Scene loaded;
+    std::string warnings;
+    if (ext == ".gltf" || ext == ".glb" || ext == ".obj") {
+      facet::ModelOptions o;
+      o.memory_budget_bytes = memory_budget_bytes;
+      o.allow_missing = (flags & FACET_LOAD_ALLOW_MISSING) != 0;
+      facet::Result<facet::Model> model = facet::load_model(path, o);
+      if (!model) return report(scene->error, model.status());
+      for (const std::string& w : model->warnings) warnings += w + "\n";
+      loaded = std::move(model->scene);
+      if (flags & FACET_LOAD_FRAME) {
+        if (!model->has_camera) loaded.camera = facet::frame_bounds(facet::scene_bounds(loaded), aspect);
+        if (!model->has_lights) facet::add_default_lights(loaded);
+      }
+    } else {
+      facet::LoadOptions o;
+      o.memory_budget_bytes = memory_budget_bytes;
+      o.warning = [&](const std::string& w) { warnings += w + "\n"; };
+      facet::Result<facet::Scene> s = facet::load_scene_file(path, o);
+      if (!s) return report(scene->error, s.status());
+      loaded = std::move(*s);
+    }
+    scene->scene = std::move(loaded);
+    scene->warnings = std::move(warnings);
+    scene->reset_ids();
+    return report(scene->error, {});
+  });
+}
+
+const char* facet_scene_warnings(const facet_scene* scene) { return scene ? scene->warnings.c_str() : ""; }
+
+facet_status facet_scene_frame(facet_scene* scene, float aspect) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!(aspect > 0.0f && aspect < 1e6f)) return fail(scene->error, "aspect", "expected width / height > 0");
+    scene->scene.camera = facet::frame_bounds(facet::scene_bounds(scene->scene), aspect);
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_add_default_lights(facet_scene* scene) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    const std::size_t before = scene->scene.lights.size();
+    facet::add_default_lights(scene->scene);
+    for (std::size_t i = before; i < scene->scene.lights.size(); ++i) scene->light_ids.push_back(scene->next_light_id++);
+    return report(scene->error, {});
+  });
+}
+
+const char* facet_version(void) { return facet::version(); }
 
 facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* camera) {
   if (!scene) return FACET_INVALID_ARGUMENT;
@@ -546,6 +836,48 @@ facet_status facet_scene_load_texture(facet_scene* scene, const char* path, face
   });
 }
 
+facet_status facet_scene_add_texture_encoded(facet_scene* scene, const void* bytes, size_t size,
+                                             facet_texture_filter filter, facet_texture_wrap wrap, uint32_t* texture_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!bytes && size > 0) return fail(scene->error, "bytes", "null with a non-zero size");
+    if (filter < FACET_NEAREST || filter > FACET_TRILINEAR) return fail(scene->error, "filter", "unknown texture filter");
+    if (wrap < FACET_WRAP_REPEAT || wrap > FACET_WRAP_MIRROR) return fail(scene->error, "wrap", "unknown wrap mode");
+    const auto id = static_cast<std::uint32_t>(scene->scene.textures.size());
+    const std::string name = "texture" + std::to_string(id);
+    return add_texture(scene,
+                       facet::decode_texture(std::span<const std::uint8_t>(static_cast<const std::uint8_t*>(bytes), size),
+                                             name, name, texture_options(filter, wrap)),
+                       texture_id);
+  });
+}
+
+size_t facet_explain_empty_frame(const facet_frame_stats* stats, char* buffer, size_t size) {
+  std::string text;
+  try {
+    if (stats) {
+      facet::FrameStats s;
+      s.triangles_in = stats->triangles_in;
+      s.triangles_drawn = stats->triangles_drawn;
+      s.pixels_filled = stats->pixels_filled;
+      s.triangles_outside = stats->triangles_outside;
+      s.triangles_culled = stats->triangles_culled;
+      s.triangles_small = stats->triangles_small;
+      s.triangles_degenerate = stats->triangles_degenerate;
+      s.triangles_nonfinite = stats->triangles_nonfinite;
+      text = facet::explain_empty_frame(s);
+    }
+  } catch (...) {
+    text.clear();
+  }
+  if (buffer && size > 0) {
+    const std::size_t n = std::min(size - 1, text.size());
+    std::memcpy(buffer, text.data(), n);
+    buffer[n] = '\0';
+  }
+  return text.size();
+}
+
 facet_status facet_render(facet_renderer* renderer, const facet_scene* scene, void* pixels, int width, int height,
                           size_t stride_bytes, facet_pixel_format format, int y_up, float* depth,
                           size_t depth_stride_bytes, facet_frame_stats* stats) {
@@ -554,6 +886,13 @@ facet_status facet_render(facet_renderer* renderer, const facet_scene* scene, vo
     if (!scene) return fail(renderer->error, "scene", "null");
     const long format_i = raw(format);
     if (format_i < FACET_RGBA8 || format_i > FACET_RGBA32F) return fail(renderer->error, "format", "unknown pixel format");
+    // facet 0.1's struct is the smallest there will be; a later library writes only the counters
+    // that fit a smaller (older) struct_size.
+    if (stats && stats->struct_size != 0 && stats->struct_size < sizeof(facet_frame_stats)) {
+      return fail(renderer->error, "stats.struct_size",
+                  "expected sizeof(facet_frame_stats) (" + std::to_string(sizeof(facet_frame_stats)) + ") or 0, found " +
+                      std::to_string(stats->struct_size));
+    }
     const facet::PixelFormat formats[] = {facet::PixelFormat::rgba8, facet::PixelFormat::bgra8,
                                           facet::PixelFormat::rgba32f};
     const facet::ImageView color{pixels, width, height, stride_bytes, formats[format_i], y_up != 0};
@@ -561,6 +900,19 @@ facet_status facet_render(facet_renderer* renderer, const facet_scene* scene, vo
     facet::FrameStats s;
     const facet::Status status = renderer->renderer.render(scene->scene, color, depth ? &depth_view : nullptr, &s);
     if (status.ok() && stats) {
+      // This version's counters; a caller's larger struct (a later header) keeps its further fields.
+      const std::size_t size = stats->struct_size;
+      write_stats(s, stats);
+      stats->struct_size = size;
+    }
+    return report(renderer->error, status);
+  });
+}
+
+}  // extern "C"
+
+namespace {
+void write_stats(const facet::FrameStats& s, facet_frame_stats* stats) {
       stats->triangles_in = s.triangles_in;
       stats->triangles_drawn = s.triangles_drawn;
       stats->vertices_lit = s.vertices_lit;
@@ -586,9 +938,5 @@ facet_status facet_render(facet_renderer* renderer, const facet_scene* scene, vo
       stats->shadow_casters = s.shadow_casters;
       stats->shadow_map_texels = s.shadow_map_texels;
       stats->shadow_map_pixels = s.shadow_map_pixels;
-    }
-    return report(renderer->error, status);
-  });
 }
-
-}  // extern "C"
+}  // namespace

@@ -391,7 +391,7 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
     const std::string base = std::filesystem::path(path).parent_path().string();
     // mtllib statements: each names one or more files (names without spaces, as tinyobjloader reads them).
     std::vector<std::string> libraries;
-    FACET_TRY(for_each_line(*text, [&](std::size_t line, std::string_view s) -> Status {
+    const Status libraries_read = for_each_line(*text, [&](std::size_t line, std::string_view s) -> Status {
       const std::vector<std::string_view> tok = split_ws(s);
       if (tok[0] != "mtllib") return {};
       if (tok.size() < 2) return {ErrorCode::parse_error, "line " + std::to_string(line), path + ":" + std::to_string(line) + ": mtllib: expected a file name"};
@@ -415,7 +415,8 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
         FACET_TRY(parse_mtl(*mtl, full, std::filesystem::path(full).parent_path().string(), options, scene, model.warnings));
       }
       return {};
-    }));
+    });
+    if (!libraries_read.ok()) return libraries_read;
     // Every group's material must exist; faces before any `usemtl` use the group named "".
     std::set<std::string> missing;
     for (MaterialGroup& g : mesh->groups) {

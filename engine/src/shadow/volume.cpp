@@ -358,8 +358,8 @@ void ShadowVolumes::rasterize(std::uint8_t* mask, parallel::Arena& arena) {
     for (int b = r.begin(); b != r.end(); ++b) {
       const int y0 = b * kBand, y1 = std::min(height, y0 + kBand) - 1;
       std::fill(counts.begin(), counts.end(), 0);
-      for (std::uint32_t k = band_first_[static_cast<std::size_t>(b)]; k < band_first_[static_cast<std::size_t>(b) + 1]; ++k) {
-        const VolumeTriangle& t = triangles_[band_list_[k]];
+      for (std::uint32_t entry = band_first_[static_cast<std::size_t>(b)]; entry < band_first_[static_cast<std::size_t>(b) + 1]; ++entry) {
+        const VolumeTriangle& t = triangles_[band_list_[entry]];
         const int r0 = std::max(t.min_py, y0), r1 = std::min(t.max_py, y1);
         if (r0 > r1) continue;
         const double inv_area = t.inv_area2;
