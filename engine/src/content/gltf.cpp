@@ -42,12 +42,15 @@ bool supported_extension(const std::string& name) {
 
 // tinygltf's file callbacks: regular files only, every byte counted against one budget.
 struct FileState {
+  std::string dir;           // files are read from this folder only (tinygltf also tries ".")
   std::uint64_t budget = 0;  // 0 = no limit
   std::uint64_t used = 0;
   ErrorCode failure = ErrorCode::ok;  // the first failed read's category (tinygltf only keeps text)
 };
 
-bool fs_exists(const std::string& path, void*) {
+bool fs_exists(const std::string& path, void* user) {
+  const std::string& dir = static_cast<const FileState*>(user)->dir;
+  if (path.compare(0, dir.size(), dir) != 0) return false;  // not "./name" for a file beside the glTF
   std::error_code ec;
   return std::filesystem::is_regular_file(path, ec);
 }
@@ -917,6 +920,7 @@ Result<Model> parse_gltf(std::span<const std::uint8_t> bytes, const std::string&
       return Status{ErrorCode::unsupported, "", source_name + ": larger than 2 GiB, which tinygltf cannot read"};
     }
     const std::string dir = base_dir.empty() ? std::string(".") : base_dir;
+    files.dir = dir;
     const bool ok = binary
                         ? loader.LoadBinaryFromMemory(&gm, &err, &warn, bytes.data(), static_cast<unsigned>(bytes.size()), dir)
                         : loader.LoadASCIIFromString(&gm, &err, &warn, reinterpret_cast<const char*>(bytes.data()),

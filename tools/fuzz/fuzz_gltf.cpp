@@ -1,0 +1,33 @@
+// Fuzzes the glTF importer (tinygltf and facet's checks): any bytes, as .gltf JSON or .glb, either
+// fail with a message or give a valid scene, which then renders within its image.
+#include "fuzz_support.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  facet::ModelOptions options;
+  options.memory_budget_bytes = 64u << 20;
+  options.allow_missing = true;
+  // External files resolve under a folder that does not exist: the input alone decides.
+  const facet::Result<facet::Model> model =
+      facet::parse_gltf(std::span<const std::uint8_t>(data, size), "fuzz.gltf", "/nonexistent-facet-fuzz", options);
+  if (!model.ok()) {
+    if (model.status().message().empty()) facet::fuzz::broken("an error without a message");
+    return 0;
+  }
+  if (!facet::validate_scene(model->scene).ok()) facet::fuzz::broken("parse_gltf returned an invalid scene");
+  for (const std::string& w : model->warnings)
+    if (w.empty()) facet::fuzz::broken("an empty warning");
+  std::size_t triangles = 0;
+  for (const auto& m : model->scene.meshes) triangles += m.mesh.triangle_count();
+  if (triangles > 20000) return 0;
+  facet::Scene scene = model->scene;
+  if (!model->has_camera) scene.camera = facet::frame_bounds(facet::scene_bounds(scene), 1.0f);
+  if (!model->has_lights) facet::add_default_lights(scene);
+  facet::fuzz::GuardedImage image(17, 13, facet::PixelFormat::rgba8, 3, false);
+  facet::RenderOptions o;
+  o.threads = 1;
+  facet::Renderer renderer(o);
+  const facet::Status s = renderer.render(scene, image.view());
+  if (!s.ok() && s.message().empty()) facet::fuzz::broken("a render error without a message");
+  image.check();
+  return 0;
+}
