@@ -673,3 +673,42 @@ TEST(ModelImport, UnknownExtensionIsRefused) {
 
 }  // namespace
 }  // namespace facet
+
+namespace facet {
+namespace {
+
+TEST(SceneFileImports, ModelsArePlacedPrefixedAndWarned) {
+  TempDir dir;
+  test::write_text(dir / "m.mtl", "newmtl red\nKd 1 0 0\nmap_Bump b.png\n");
+  test::write_text(dir / "m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n");
+  test::write_text(dir / "s.json", R"({
+    "imports": [{"file": "m.obj", "translate": [5, 0, 0]}],
+    "objects": [{"mesh": "m.obj:m", "material": "m.obj:red", "double_sided": true}]
+  })");
+  std::vector<std::string> warnings;
+  LoadOptions o;
+  o.warning = [&](const std::string& w) { warnings.push_back(w); };
+  Result<Scene> s = load_scene_file(dir / "s.json", o);
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  ASSERT_EQ(s->objects.size(), 2u);
+  EXPECT_TRUE(s->objects[0].mesh_materials);
+  EXPECT_EQ(s->objects[0].model(0, 3), 5.0f);
+  EXPECT_TRUE(s->objects[1].double_sided);
+  EXPECT_FALSE(s->objects[0].double_sided);
+  EXPECT_GE(find_material(*s, "m.obj:red"), 0);
+  EXPECT_EQ(s->meshes[0].mesh.groups[0].material, "m.obj:red");
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("imports[0]"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("map_Bump"), std::string::npos) << warnings[0];
+  // Errors name the import's line and field.
+  test::write_text(dir / "bad.json", "{\n  \"imports\": [{\"file\": \"none.gltf\"}]\n}\n");
+  Result<Scene> bad = load_scene_file(dir / "bad.json");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("bad.json:2"), std::string::npos) << bad.status().message();
+  EXPECT_NE(bad.status().message().find("imports[0].file"), std::string::npos) << bad.status().message();
+  test::write_text(dir / "cam.json", R"({"camera": {}, "imports": [{"file": "m.obj", "camera": true}]})");
+  EXPECT_FALSE(load_scene_file(dir / "cam.json").ok());
+}
+
+}  // namespace
+}  // namespace facet

@@ -482,8 +482,9 @@ class SceneReader {
 
   Status read_object(const json& j, const std::string& p, Scene& scene, Instance& inst) const {
     FACET_TRY(expect_object(j, p, {"mesh", "material", "mesh_materials", "translate", "rotate_deg", "scale", "matrix",
-                                   "cast_shadows", "receive_shadows"}));
+                                   "cast_shadows", "receive_shadows", "double_sided"}));
     FACET_TRY(find_by_name(j, p, "mesh", scene.meshes, "mesh", inst.mesh));
+    FACET_TRY(opt_bool(j, p, "double_sided", inst.double_sided));
     FACET_TRY(opt_bool(j, p, "mesh_materials", inst.mesh_materials));
     FACET_TRY(opt_bool(j, p, "cast_shadows", inst.cast_shadows));
     FACET_TRY(opt_bool(j, p, "receive_shadows", inst.receive_shadows));
