@@ -48,4 +48,26 @@ out=$("$facet" check "$maps" --shading phong 2>&1); rc=$?
 check "check reports the shadow maps (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"sun map 2048^2 pcf3x3, spot map 1024^2 pcf5x5, lamp map 2048^2 pcf2x2 cube"* ]]'
 out=$("$facet" render "$maps" --shading phong --width 64 --height 48 --stats -o maps.png 2>&1); rc=$?
 check "render draws shadow maps (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"maps: 30.41 M texels"* ]] && [ -s maps.png ]'
+# Models: glTF and OBJ + MTL without a scene file, framing, the default rig, turntables, errors.
+corpus="$(cd "$(dirname "$golden")/../../../tools/fuzz/corpus/gltf" && pwd)"
+out=$("$facet" render "$corpus/colours.gltf" --width 64 --height 48 -o colours.png 2>&1); rc=$?
+check "render frames and lights a glTF without camera or lights (exit $rc: $out)" '[ $rc -eq 0 ] && [ -s colours.png ] && [[ "$out" == *"no camera in the file: framing"* ]] && [[ "$out" == *"default rig"* ]]'
+out=$("$facet" render "$corpus/textured_lit.glb" --width 64 --height 48 -o glb.png 2>&1); rc=$?
+check "render uses a .glb's camera and lights, and lists its warnings (exit $rc: $out)" '[ $rc -eq 0 ] && [ -s glb.png ] && [[ "$out" != *"framing"* ]] && [[ "$out" == *"warning: samplers[0]"* ]]'
+printf 'newmtl red\nKd 1 0 0\nmap_Kd red.png\n' > m.mtl
+printf 'mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl red\nf 1/1 2/1 3/1\n' > m.obj
+out=$("$facet" render m.obj --width 64 --height 48 -o m.png 2>&1); rc=$?
+check "a missing texture of an MTL is an error naming file and line (exit $rc: $out)" '[ $rc -eq 2 ] && [[ "$out" == *"m.mtl:3"* ]] && [[ "$out" == *"red.png"* ]] && [ ! -e m.png ]'
+out=$("$facet" render m.obj --allow-missing --width 64 --height 48 -o m.png 2>&1); rc=$?
+check "--allow-missing draws it untextured with a warning (exit $rc: $out)" '[ $rc -eq 0 ] && [ -s m.png ] && [[ "$out" == *"warning:"*"red.png"* ]]'
+out=$("$facet" check m.obj --allow-missing 2>&1); rc=$?
+check "check reads models (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"m.obj: ok"* ]] && [[ "$out" == *"default rig"* ]]'
+out=$("$facet" render m.obj --allow-missing --frames 3 --orbit 90 --width 32 --height 24 -o turn.png 2>&1); rc=$?
+check "a turntable writes numbered frames and a summary (exit $rc: $out)" '[ $rc -eq 0 ] && [ -s turn_0000.png ] && [ -s turn_0002.png ] && [ ! -e turn_0003.png ] && [[ "$out" == *"3 frames in"* ]]'
+printf '{"camera": {"eye": [0, 0, 5], "target": [0, 0, 10]}, "meshes": [{"name": "b", "shape": "cube"}], "objects": [{"mesh": "b"}]}' > away.json
+out=$("$facet" render away.json --width 32 --height 24 -o away.png 2>&1); rc=$?
+check "a frame that draws nothing says why (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"nothing was drawn: every triangle is outside the view"* ]]'
+out=$("$facet" render model.fbx -o x.png 2>&1); rc=$?
+check "an unsupported model type is named (exit $rc: $out)" '[ $rc -eq 2 ] && [[ "$out" == *".fbx files are not supported"* ]]'
+
 exit $failed

@@ -103,6 +103,17 @@ bool is_model_path(const std::string& path) {
 
 std::optional<Scene> load_input(const std::string& path, const InputOptions& options, std::vector<std::string>& notes) {
   if (path.empty()) return make_default_scene();
+  {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (const char* other : {".fbx", ".dae", ".stl", ".ply", ".3ds", ".blend", ".usd", ".usda", ".usdz", ".abc", ".x3d"}) {
+      if (ext == other) {
+        fail(path + ": " + ext + " files are not supported: facet reads scene files (.json) and models (.gltf, .glb, "
+             ".obj with .mtl); export or convert the model to glTF");
+        return std::nullopt;
+      }
+    }
+  }
   if (!is_model_path(path)) {
     LoadOptions lo;
     lo.memory_budget_bytes = options.memory_budget_bytes;
