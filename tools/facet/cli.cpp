@@ -1,5 +1,6 @@
 #include "cli.hpp"
 
+#include <cerrno>
 #include <cstdlib>
 #include <filesystem>
 
@@ -10,36 +11,49 @@ int fail(const std::string& message) {
   return 2;
 }
 
-std::optional<std::string> Args::value(const std::string& option) {
-  if (i_ >= argc_) {
-    fail(option + " needs a value");
-    return std::nullopt;
-  }
-  return std::string(argv_[i_++]);
+CLI::Validator int_in(long lo, long hi) {
+  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string& v) -> std::string {
+        char* end = nullptr;
+        errno = 0;
+        const long n = std::strtol(v.c_str(), &end, 10);
+        if (v.empty() || *end != '\0' || errno != 0 || n < lo || n > hi) {
+          return "expected an integer in " + range + ", found '" + v + "'";
+        }
+        return {};
+      },
+      "INT in " + range);
 }
 
-std::optional<int> Args::int_value(const std::string& option, int lo, int hi) {
-  const auto v = value(option);
-  if (!v) return std::nullopt;
-  char* end = nullptr;
-  const long n = std::strtol(v->c_str(), &end, 10);
-  if (v->empty() || *end != '\0' || n < lo || n > hi) {
-    fail(option + ": expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], found '" + *v + "'");
-    return std::nullopt;
-  }
-  return static_cast<int>(n);
+CLI::Validator number_in(double lo, double hi) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "[%g, %g]", lo, hi);
+  const std::string range = buf;
+  return CLI::Validator(
+      [lo, hi, range](std::string& v) -> std::string {
+        char* end = nullptr;
+        const double n = std::strtod(v.c_str(), &end);
+        if (v.empty() || *end != '\0' || !(n >= lo && n <= hi)) return "expected a number in " + range + ", found '" + v + "'";
+        return {};
+      },
+      "NUMBER in " + range);
 }
 
-std::optional<double> Args::number_value(const std::string& option, double lo, double hi) {
-  const auto v = value(option);
-  if (!v) return std::nullopt;
-  char* end = nullptr;
-  const double n = std::strtod(v->c_str(), &end);
-  if (v->empty() || *end != '\0' || !(n >= lo && n <= hi)) {
-    fail(option + ": expected a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], found '" + *v + "'");
-    return std::nullopt;
+CLI::Validator one_of(std::vector<std::string> names, const std::string& what) {
+  std::string list;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    list += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
   }
-  return n;
+  std::string shown;
+  for (std::size_t i = 0; i < names.size(); ++i) shown += (i ? "|" : "") + names[i];
+  return CLI::Validator(
+      [names, what, list](std::string& v) -> std::string {
+        for (const std::string& n : names)
+          if (v == n) return {};
+        return "unknown " + what + " '" + v + "' (" + list + ")";
+      },
+      shown);
 }
 
 std::optional<LightingPath> parse_path(const std::string& name) {

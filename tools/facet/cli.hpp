@@ -2,9 +2,12 @@
 #pragma once
 
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "facet/facet.hpp"
 
@@ -13,25 +16,23 @@ namespace facet::cli {
 // Prints "facet: message" to stderr and returns the usage-error exit status (2).
 int fail(const std::string& message);
 
-// Walks argv, handing out options and their values with errors that name the option.
-class Args {
- public:
-  Args(int argc, char** argv) : argc_(argc), argv_(argv) {}
-  bool next(std::string& arg) {
-    if (i_ >= argc_) return false;
-    arg = argv_[i_++];
-    return true;
-  }
-  // The value after `option`; empty optional (and an error printed) if missing.
-  std::optional<std::string> value(const std::string& option);
-  std::optional<int> int_value(const std::string& option, int lo, int hi);
-  std::optional<double> number_value(const std::string& option, double lo, double hi);
+// CLI11 validators whose messages name what was expected and what was found (CLI11 prefixes the
+// option: "--width: expected an integer in [1, 16384], found '20000'").
+CLI::Validator int_in(long lo, long hi);
+CLI::Validator number_in(double lo, double hi);
+// `what` names the kind of value in the message: "unknown shading 'x' (flat, gouraud or phong)".
+CLI::Validator one_of(std::vector<std::string> names, const std::string& what);
 
- private:
-  int argc_;
-  char** argv_;
-  int i_ = 0;
+// A subcommand: its CLI11 app (options bound to the command's own state) and what runs it.
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
 };
+Command add_render(CLI::App& facet);
+Command add_compare(CLI::App& facet);
+Command add_light(CLI::App& facet);
+Command add_check(CLI::App& facet);
+Command add_accuracy(CLI::App& facet);
 
 std::optional<LightingPath> parse_path(const std::string& name);
 std::optional<Isa> parse_isa(const std::string& name);  // "auto" -> Isa::best
@@ -64,10 +65,5 @@ std::optional<Scene> load_input(const std::string& path, const InputOptions& opt
 // Lights every object of `scene` into out[i] (light_instance for each).
 Status light_scene(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out);
 
-int run_light(int argc, char** argv);
-int run_render(int argc, char** argv);
-int run_compare(int argc, char** argv);
-int run_check(int argc, char** argv);
-int run_accuracy(int argc, char** argv);
 
 }  // namespace facet::cli

@@ -28,6 +28,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -42,21 +43,6 @@
 
 namespace facet::cli {
 namespace {
-
-constexpr const char* kUsage =
-    "usage: facet accuracy [options]\n"
-    "\n"
-    "Measures every lighting path, ISA and pow tier against the exact reference: vertex colours\n"
-    "(random and special inputs), the pow methods over their failure inputs, and whole images\n"
-    "against a ray-cast reference of exact spheres.\n"
-    "\n"
-    "options:\n"
-    "  --only PART    vertices | pow | images | textures | shadows (default: all five)\n"
-    "  --quick        fewer vertices (10^4) and tessellation levels, for tests\n"
-    "  --json FILE    write all results as JSON\n"
-    "  --csv FILE     write all results as CSV (one row per measurement)\n"
-    "  --check        exit with status 1 if any measurement is outside its contract (for tests)\n"
-    "  -h, --help     this text\n";
 
 // One measurement: what was measured (kind, method, case) and its numbers.
 struct Row {
@@ -972,33 +958,30 @@ void write_csv(std::ostream& o, const std::vector<Row>& rows) {
 
 }  // namespace
 
-int run_accuracy(int argc, char** argv) {
-  Args args(argc, argv);
-  std::string arg, only, json_path, csv_path;
-  bool quick = false, check = false;
-  while (args.next(arg)) {
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if (arg == "--only") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      if (*v != "vertices" && *v != "pow" && *v != "images" && *v != "textures" && *v != "shadows") {
-        return fail("--only: expected vertices, pow, images, textures or shadows, found '" + *v + "'");
-      }
-      only = *v;
-    } else if (arg == "--quick") {
-      quick = true;
-    } else if (arg == "--check") {
-      check = true;
-    } else if (arg == "--json" || arg == "--csv") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      (arg == "--json" ? json_path : csv_path) = *v;
-    } else {
-      return fail("accuracy: unknown option '" + arg + "'\n" + kUsage);
-    }
-  }
+int accuracy(const std::string& only, bool quick, bool check, const std::string& json_path, const std::string& csv_path);
+
+Command add_accuracy(CLI::App& facet) {
+  struct State {
+    std::string only, json_path, csv_path;
+    bool quick = false, check = false;
+  };
+  auto st = std::make_shared<State>();
+  CLI::App* app = facet.add_subcommand("accuracy", "every fast method against its exact reference: vertices, pow, images, textures, shadows");
+  app->footer(
+      "Measures every lighting path, ISA and pow tier against the exact reference: vertex colours\n"
+      "(random and special inputs), the pow methods over their failure inputs, whole images against a\n"
+      "ray-cast reference of exact spheres, the texture filters against the reference sampler, and\n"
+      "the shadow methods against ray-cast shadows.");
+  app->add_option("--only", st->only, "vertices | pow | images | textures | shadows (default: all five)")
+      ->check(one_of({"vertices", "pow", "images", "textures", "shadows"}, "part"));
+  app->add_flag("--quick", st->quick, "fewer vertices (10^4) and tessellation levels, for tests");
+  app->add_option("--json", st->json_path, "write all results as JSON to FILE");
+  app->add_option("--csv", st->csv_path, "write all results as CSV (one row per measurement) to FILE");
+  app->add_flag("--check", st->check, "exit with status 1 if any measurement is outside its contract (for tests)");
+  return {app, [st] { return accuracy(st->only, st->quick, st->check, st->json_path, st->csv_path); }};
+}
+
+int accuracy(const std::string& only, bool quick, bool check, const std::string& json_path, const std::string& csv_path) {
   std::vector<Row> rows;
   if (only.empty() || only == "vertices") {
     if (Status s = vertex_accuracy(quick, rows); !s.ok()) return fail(s.message());

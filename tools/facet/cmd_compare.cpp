@@ -1,45 +1,41 @@
 // facet compare: two PNG images of the same size.
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <memory>
 
 #include "cli.hpp"
 
 namespace facet::cli {
 namespace {
-
-constexpr const char* kCompareUsage =
-    "usage: facet compare A.png B.png [--tolerance N] [--json]\n"
-    "\n"
-    "Prints PSNR (dB), the largest channel difference and the mean absolute difference (in 8-bit\n"
-    "steps, over R, G and B) and the number of pixels that differ. Exits 0 when no channel differs\n"
-    "by more than --tolerance steps (default 0), 1 when one does, 2 on errors.\n";
-
+int compare(const std::vector<std::string>& files, int tolerance, bool json, const std::string& diff_path);
 }  // namespace
 
-int run_compare(int argc, char** argv) {
-  std::string files[2];
-  int file_count = 0, tolerance = 0;
-  bool json = false;
-  Args args(argc, argv);
-  std::string arg;
-  while (args.next(arg)) {
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kCompareUsage, stdout);
-      return 0;
-    } else if (arg == "--tolerance") {
-      const auto v = args.int_value(arg, 0, 255);
-      if (!v) return 2;
-      tolerance = *v;
-    } else if (arg == "--json") {
-      json = true;
-    } else if (!arg.empty() && arg[0] == '-') {
-      return fail("compare: unknown option '" + arg + "' (see 'facet compare --help')");
-    } else if (file_count < 2) {
-      files[file_count++] = arg;
-    } else {
-      return fail("compare: expected exactly two images");
-    }
-  }
-  if (file_count != 2) return fail(std::string("compare: expected exactly two images\n") + kCompareUsage);
+Command add_compare(CLI::App& facet) {
+  struct State {
+    std::vector<std::string> files;
+    std::string diff;
+    int tolerance = 0;
+    bool json = false;
+  };
+  auto st = std::make_shared<State>();
+  CLI::App* app = facet.add_subcommand("compare", "compare two PNG images: PSNR, largest and mean difference, differing pixels");
+  app->footer(
+      "Prints PSNR (dB), the largest channel difference and the mean absolute difference (in 8-bit\n"
+      "steps, over R, G and B) and the number of pixels that differ. Exits 0 when no channel differs\n"
+      "by more than --tolerance steps, 1 when one does, 2 on errors.");
+  app->add_option("images", st->files, "A.png B.png")->required()->expected(2);
+  app->add_option("--tolerance", st->tolerance, "largest accepted channel difference in 8-bit steps (default 0)")
+      ->check(int_in(0, 255));
+  app->add_flag("--json", st->json, "print the result as one JSON object");
+  app->add_option("--diff", st->diff,
+                  "write a difference image (PNG): |A - B| per channel, scaled so that the largest difference is 255; "
+                  "pixels within --tolerance are black");
+  return {app, [st] { return compare(st->files, st->tolerance, st->json, st->diff); }};
+}
+
+namespace {
+int compare(const std::vector<std::string>& files, int tolerance, bool json, const std::string& diff_path) {
   Result<Rgba8Image> a = read_png(files[0]);
   if (!a) return fail(a.status().message());
   Result<Rgba8Image> b = read_png(files[1]);
@@ -47,6 +43,24 @@ int run_compare(int argc, char** argv) {
   Result<ImageDifference> d = compare_images(*a, *b);
   if (!d) return fail(files[0] + " vs " + files[1] + ": " + d.status().message());
   const bool match = d->max_channel_difference <= tolerance;
+  if (!diff_path.empty()) {
+    Rgba8Image diff;
+    diff.width = a->width, diff.height = a->height;
+    diff.pixels.assign(a->pixels.size(), 0);
+    const int largest = std::max(1, d->max_channel_difference);
+    for (std::size_t i = 0; i < a->pixels.size(); i += 4) {
+      int worst = 0;
+      for (std::size_t c = 0; c < 3; ++c) {
+        const int delta = std::abs(int(a->pixels[i + c]) - int(b->pixels[i + c]));
+        worst = std::max(worst, delta);
+        diff.pixels[i + c] = static_cast<std::uint8_t>((delta * 255 + largest / 2) / largest);
+      }
+      if (worst <= tolerance) diff.pixels[i] = diff.pixels[i + 1] = diff.pixels[i + 2] = 0;
+      diff.pixels[i + 3] = 255;
+    }
+    const ImageView view{diff.pixels.data(), diff.width, diff.height, std::size_t(diff.width) * 4, PixelFormat::rgba8, false};
+    if (Status s = write_png(diff_path, view); !s.ok()) return fail(s.message());
+  }
   const std::string psnr = std::isinf(d->psnr_db) ? "inf" : std::to_string(d->psnr_db);
   if (json) {
     std::printf("{\"psnr_db\": %s, \"max_channel_difference\": %d, \"mean_absolute_difference\": %.6g, "
@@ -63,5 +77,6 @@ int run_compare(int argc, char** argv) {
   }
   return match ? 0 : 1;
 }
+}  // namespace
 
 }  // namespace facet::cli

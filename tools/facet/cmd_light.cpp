@@ -5,38 +5,12 @@
 #include <vector>
 
 #include "cli.hpp"
+
+#include <memory>
 #include "shadow/volume.hpp"
 
 namespace facet::cli {
 namespace {
-
-constexpr const char* kLightUsage =
-    "usage: facet light [SCENE.json] [options]\n"
-    "\n"
-    "Lights all vertices of every object in eye space, repeatedly, for each path, and reports the rate.\n"
-    "\n"
-    "options:\n"
-    "  --path P       reference | scalar | simd | all (default: all = reference, scalar and simd on\n"
-    "                 every instruction set this CPU has)\n"
-    "  --pow T        auto | exact | fast | integer | schlick: pow tier of the simd path (default auto)\n"
-    "  --seconds S    minimum measuring time per path, in seconds (default: 0.5)\n"
-    "  --threads N    threads per path (default 1; 0 = one per hardware thread)\n"
-    "  --json         print the results as one JSON object\n"
-    "  -h, --help     this text\n";
-
-constexpr const char* kCheckUsage =
-    "usage: facet check SCENE.json|MODEL.gltf|MODEL.glb|MODEL.obj [options]\n"
-    "\n"
-    "Loads the scene or model and makes every check 'facet render' makes before it draws: the file,\n"
-    "the frame's limits and its memory estimate, for an image of the given size. For a model, lists\n"
-    "what was not read (warnings) and what 'facet render' would assume (camera, lights).\n"
-    "\n"
-    "options:\n"
-    "  --width W, --height H   the image size to check for (default 1280 x 720)\n"
-    "  --shading MODE          flat, gouraud (default) or phong, as for 'facet render'\n"
-    "  --shadows METHOD        none | map | volume | raycast: every light casts shadows so\n"
-    "  --memory-budget-mb M    as for 'facet render' (default 4096; 0 = no limit)\n"
-    "  --allow-missing         a model's missing .mtl or texture files are warnings, not errors\n";
 
 struct PathResult {
   LightingOptions options;
@@ -59,49 +33,36 @@ std::size_t scene_vertices(const Scene& scene) {
 
 }  // namespace
 
-int run_light(int argc, char** argv) {
-  std::string scene_path, path_name = "all";
-  PowTier tier = PowTier::automatic;
-  double min_seconds = 0.5;
-  int threads = 1;
-  bool json = false;
-  Args args(argc, argv);
-  std::string arg;
-  while (args.next(arg)) {
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kLightUsage, stdout);
-      return 0;
-    } else if (arg == "--path") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      path_name = *v;
-      if (path_name != "all" && !parse_path(path_name)) {
-        return fail("--path: unknown path '" + path_name + "' (reference, scalar, simd or all)");
-      }
-    } else if (arg == "--pow") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      const auto t = parse_pow_tier(*v);
-      if (!t) return fail("--pow: unknown tier '" + *v + "' (auto, exact, fast, integer or schlick)");
-      tier = *t;
-    } else if (arg == "--seconds") {
-      const auto v = args.number_value(arg, 1e-3, 3600);
-      if (!v) return 2;
-      min_seconds = *v;
-    } else if (arg == "--threads") {
-      const auto v = args.int_value(arg, 0, 1024);
-      if (!v) return 2;
-      threads = *v;
-    } else if (arg == "--json") {
-      json = true;
-    } else if (!arg.empty() && arg[0] == '-') {
-      return fail("light: unknown option '" + arg + "' (see 'facet light --help')");
-    } else if (scene_path.empty()) {
-      scene_path = arg;
-    } else {
-      return fail("light: more than one scene given ('" + scene_path + "' and '" + arg + "')");
-    }
-  }
+int light(const std::string& scene_path, const std::string& path_name, PowTier tier, double min_seconds, int threads,
+          bool json);
+int check(const std::string& scene_path, const RenderOptions& options, std::optional<ShadowMethod> shadows, int width,
+          int height, bool allow_missing);
+
+Command add_light(CLI::App& facet) {
+  struct State {
+    std::string scene_path, path_name = "all", pow = "auto";
+    double min_seconds = 0.5;
+    int threads = 1;
+    bool json = false;
+  };
+  auto st = std::make_shared<State>();
+  CLI::App* app = facet.add_subcommand("light", "light every vertex of a scene with each lighting path; print vertices lit per second");
+  app->footer("Lights all vertices of every object in eye space, repeatedly, for each path, and reports the rate.");
+  app->add_option("scene", st->scene_path, "SCENE.json (default: the built-in scene)");
+  app->add_option("--path", st->path_name,
+                  "reference | scalar | simd | all (default all: reference, scalar and simd on every instruction set this CPU has)")
+      ->check(one_of({"reference", "scalar", "simd", "all"}, "path"));
+  app->add_option("--pow", st->pow, "auto | exact | fast | integer | schlick: the simd path's pow method (default auto)")
+      ->check(one_of({"auto", "exact", "fast", "integer", "schlick"}, "tier"));
+  app->add_option("--seconds", st->min_seconds, "minimum measuring time per path, in seconds (default 0.5)")
+      ->check(number_in(1e-3, 3600));
+  app->add_option("--threads", st->threads, "threads per path (default 1; 0 = one per hardware thread)")->check(int_in(0, 1024));
+  app->add_flag("--json", st->json, "print the results as one JSON object");
+  return {app, [st] { return light(st->scene_path, st->path_name, *parse_pow_tier(st->pow), st->min_seconds, st->threads, st->json); }};
+}
+
+int light(const std::string& scene_path, const std::string& path_name, PowTier tier, double min_seconds, int threads,
+          bool json) {
   std::optional<Scene> loaded = load_scene_or_default(scene_path);
   if (!loaded) return 2;
   const Scene& scene = *loaded;
@@ -193,48 +154,39 @@ int run_light(int argc, char** argv) {
   return 0;
 }
 
-int run_check(int argc, char** argv) {
-  std::string scene_path;
-  std::optional<ShadowMethod> shadows;
-  int width = 1280, height = 720;
-  bool allow_missing = false;
-  RenderOptions options;
-  Args args(argc, argv);
-  std::string arg;
-  while (args.next(arg)) {
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kCheckUsage, stdout);
-      return 0;
-    } else if (arg == "--width" || arg == "--height") {
-      const auto v = args.int_value(arg, 1, kMaxImageDimension);
-      if (!v) return 2;
-      (arg == "--width" ? width : height) = *v;
-    } else if (arg == "--memory-budget-mb") {
-      const auto v = args.int_value(arg, 0, 1 << 30);
-      if (!v) return 2;
-      options.memory_budget_bytes = static_cast<std::uint64_t>(*v) << 20;
-    } else if (arg == "--shading") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      const auto mode = parse_shading(*v);
-      if (!mode) return fail("--shading: unknown mode '" + *v + "' (flat, gouraud or phong)");
-      options.shading = *mode;
-    } else if (arg == "--shadows") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      shadows = parse_shadow_method(*v);
-      if (!shadows) return fail("--shadows: unknown method '" + *v + "' (none, map, volume or raycast)");
-    } else if (arg == "--allow-missing") {
-      allow_missing = true;
-    } else if (!arg.empty() && arg[0] == '-') {
-      return fail("check: unknown option '" + arg + "' (see 'facet check --help')");
-    } else if (scene_path.empty()) {
-      scene_path = arg;
-    } else {
-      return fail(std::string("check needs exactly one scene file\n") + kCheckUsage);
-    }
-  }
-  if (scene_path.empty()) return fail(std::string("check needs exactly one scene file\n") + kCheckUsage);
+Command add_check(CLI::App& facet) {
+  struct State {
+    std::string scene_path, shading = "gouraud", shadows;
+    int width = 1280, height = 720, memory_mb = -1;
+    bool allow_missing = false;
+  };
+  auto st = std::make_shared<State>();
+  CLI::App* app = facet.add_subcommand("check", "load and validate a scene or model; print a summary or the first error");
+  app->footer(
+      "Loads the scene or model and makes every check 'facet render' makes before it draws: the file,\n"
+      "the frame's limits and its memory estimate, for an image of the given size. For a model, lists\n"
+      "what was not read (warnings) and what 'facet render' would assume (camera, lights).");
+  app->add_option("scene", st->scene_path, "SCENE.json | MODEL.gltf | MODEL.glb | MODEL.obj")->required();
+  app->add_option("--width", st->width, "the image width to check for (default 1280)")->check(int_in(1, kMaxImageDimension));
+  app->add_option("--height", st->height, "the image height to check for (default 720)")->check(int_in(1, kMaxImageDimension));
+  app->add_option("--shading", st->shading, "flat | gouraud | phong, as for 'facet render' (default gouraud)")
+      ->check(one_of({"flat", "gouraud", "phong"}, "shading"));
+  app->add_option("--shadows", st->shadows, "none | map | volume | raycast: every light casts shadows so")
+      ->check(one_of({"none", "map", "volume", "raycast"}, "method"));
+  app->add_option("--memory-budget-mb", st->memory_mb, "as for 'facet render' (default 4096; 0 = no limit)")->check(int_in(0, 1 << 30));
+  app->add_flag("--allow-missing", st->allow_missing, "a model's missing .mtl or texture files are warnings, not errors");
+  return {app, [st] {
+            RenderOptions options;
+            options.shading = *parse_shading(st->shading);
+            if (st->memory_mb >= 0) options.memory_budget_bytes = static_cast<std::uint64_t>(st->memory_mb) << 20;
+            std::optional<ShadowMethod> shadows;
+            if (!st->shadows.empty()) shadows = parse_shadow_method(st->shadows);
+            return check(st->scene_path, options, shadows, st->width, st->height, st->allow_missing);
+          }};
+}
+
+int check(const std::string& scene_path, const RenderOptions& options, std::optional<ShadowMethod> shadows, int width,
+          int height, bool allow_missing) {
   InputOptions input;
   input.memory_budget_bytes = options.memory_budget_bytes;
   input.allow_missing = allow_missing;

@@ -1,6 +1,7 @@
 // facet render: a scene into a PNG or PFM file, with statistics and throughput.
 #include <chrono>
 #include <array>
+#include <memory>
 #include <cstdlib>
 #include <filesystem>
 #include <numbers>
@@ -11,44 +12,6 @@
 namespace facet::cli {
 namespace {
 
-constexpr const char* kRenderUsage =
-    "usage: facet render [SCENE.json|MODEL.gltf|MODEL.glb|MODEL.obj] -o OUT.png|OUT.pfm [options]\n"
-    "\n"
-    "Renders a scene file, a model, or the built-in default scene when none is given. A model\n"
-    "without a camera is framed by one; a model without lights gets a headlight and a key light\n"
-    "(what was assumed is printed on stderr).\n"
-    "\n"
-    "options:\n"
-    "  -o, --output FILE      .png (8-bit RGBA) or .pfm (float RGB, linear)\n"
-    "  --width W              image width, 1..16384 (default 1280)\n"
-    "  --height H             image height, 1..16384 (default 720)\n"
-    "  --shading MODE         flat | gouraud | phong (default gouraud)\n"
-    "  --shadows METHOD       none | map | volume | raycast: every light casts shadows so\n"
-    "  --path P               reference | scalar | simd (default simd)\n"
-    "  --isa I                auto | sse2 | avx2 | avx512: instruction set of --path simd (default auto:\n"
-    "                         the widest this CPU has); one the CPU lacks is an error\n"
-    "  --pow T                auto | exact | fast | integer | schlick: how --path simd evaluates the\n"
-    "                         specular and spot exponents (default auto)\n"
-    "  --threads N            worker threads, 0 = all cores (default 0); the image is the same for any N\n"
-    "  --memory-budget-mb M   the most memory the scene, the frame and the image may take, in MiB; 0 = no\n"
-    "                         limit (default 4096 for loading and 4096 for the frame's scratch)\n"
-    "  --cull C               back | front | none (default back)\n"
-    "  --tile N               tile size in pixels, a multiple of 8 in [8, 256] (default 64)\n"
-    "  --hdr                  keep unclamped lighting in .pfm output\n"
-    "  --srgb                 encode 8-bit output (.png) with the sRGB transfer function (exact)\n"
-    "  --clear R,G,B[,A]      the background colour, components in [0, 1] (default 0,0,0,1)\n"
-    "  --no-light-culling     light every object with every enabled light (turn the frame plan off)\n"
-    "  --light-every-vertex   also light vertices (flat: triangles) that only culled or off-screen\n"
-    "                         triangles use (the image is the same; for measurements)\n"
-    "  --depth FILE.pfm       also write window-space depth (0 near .. 1 far)\n"
-    "  --seconds S            render repeatedly for at least S seconds; report the mean frame time\n"
-    "  --stats                print what the frame did and how long each stage took\n"
-    "  --frames N             a turntable: N frames, the camera orbiting the target about its up\n"
-    "                         axis, written to OUT_0000.png, OUT_0001.png, ... (default 1)\n"
-    "  --orbit DEG            the turntable's whole sweep in degrees (default 360)\n"
-    "  --allow-missing        a model's missing .mtl or texture files are warnings, not errors\n"
-    "  --json                 print the statistics as one JSON object\n"
-    "  -h, --help             this text\n";
 
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -161,136 +124,117 @@ int run_turntable(Renderer& renderer, Scene& scene, const RenderOptions& options
 
 }  // namespace
 
-int run_render(int argc, char** argv) {
-  std::string scene_path, output, depth_path;
-  int width = 1280, height = 720;
-  double min_seconds = 0;
-  bool stats = false, json = false, allow_missing = false;
-  int frame_count = 1;
-  double orbit_deg = 360.0;
+namespace {
+
+struct RenderState {
+  std::string scene_path, output, depth_path, shading = "gouraud", shadows, path = "simd", isa = "auto", pow = "auto",
+                                                cull = "back", clear;
+  int width = 1280, height = 720, threads = 0, tile = 64, memory_mb = -1, frame_count = 1;
+  double min_seconds = 0, orbit_deg = 360.0;
+  bool stats = false, json = false, allow_missing = false, hdr = false, srgb = false, no_light_culling = false,
+       light_every_vertex = false;
+};
+
+int render(const RenderState& st);
+
+}  // namespace
+
+Command add_render(CLI::App& facet) {
+  auto st = std::make_shared<RenderState>();
+  CLI::App* app = facet.add_subcommand("render", "render a scene, a model or the built-in scene to PNG or PFM");
+  app->footer(
+      "Renders a scene file, a model (.gltf, .glb, .obj with .mtl) or, when none is given, the built-in\n"
+      "scene. A model without a camera is framed by one; a model without lights gets a headlight and a\n"
+      "key light (what was assumed is printed on stderr).");
+  app->add_option("scene", st->scene_path, "SCENE.json | MODEL.gltf | MODEL.glb | MODEL.obj (default: the built-in scene)");
+  const char* out = "Output";
+  app->add_option("-o,--output", st->output, ".png (8-bit RGBA) or .pfm (float RGB, linear)")->required()->group(out);
+  app->add_option("--width", st->width, "image width (default 1280)")->check(int_in(1, kMaxImageDimension))->group(out);
+  app->add_option("--height", st->height, "image height (default 720)")->check(int_in(1, kMaxImageDimension))->group(out);
+  app->add_flag("--hdr", st->hdr, "keep unclamped lighting in .pfm output")->group(out);
+  app->add_flag("--srgb", st->srgb, "encode 8-bit output with the sRGB transfer function (exact)")->group(out);
+  app->add_option("--clear", st->clear, "the background colour R,G,B[,A], components in [0, 1] (default 0,0,0,1)")->group(out);
+  app->add_option("--depth", st->depth_path, "also write window-space depth (0 near .. 1 far) to FILE.pfm")->group(out);
+  const char* draw = "Drawing";
+  app->add_option("--shading", st->shading, "flat | gouraud | phong (default gouraud)")
+      ->check(one_of({"flat", "gouraud", "phong"}, "shading"))->group(draw);
+  app->add_option("--shadows", st->shadows, "none | map | volume | raycast: every light casts shadows so")
+      ->check(one_of({"none", "map", "volume", "raycast"}, "method"))->group(draw);
+  app->add_option("--cull", st->cull, "back | front | none (default back)")->check(one_of({"back", "front", "none"}, "cull mode"))->group(draw);
+  app->add_option("--tile", st->tile, "tile size in pixels, a multiple of 8 in [8, 256] (default 64)")->check(int_in(8, 256))->group(draw);
+  app->add_flag("--no-light-culling", st->no_light_culling, "light every object with every enabled light (frame plan off)")->group(draw);
+  app->add_flag("--light-every-vertex", st->light_every_vertex,
+                "also light vertices only culled or off-screen triangles use (same image; for measurements)")->group(draw);
+  const char* how = "Lighting path";
+  app->add_option("--path", st->path, "reference | scalar | simd (default simd)")
+      ->check(one_of({"reference", "scalar", "simd"}, "path"))->group(how);
+  app->add_option("--isa", st->isa, "auto | sse2 | avx2 | avx512: the simd path's instruction set (default auto: the widest this CPU has)")
+      ->check(one_of({"auto", "sse2", "avx2", "avx512"}, "instruction set"))->group(how);
+  app->add_option("--pow", st->pow, "auto | exact | fast | integer | schlick: the simd path's pow method (default auto)")
+      ->check(one_of({"auto", "exact", "fast", "integer", "schlick"}, "tier"))->group(how);
+  app->add_option("--threads", st->threads, "worker threads, 0 = all cores (default 0); the image is the same for any N")
+      ->check(int_in(0, 256))->group(how);
+  const char* model = "Models";
+  app->add_flag("--allow-missing", st->allow_missing, "a model's missing .mtl or texture files are warnings, not errors")->group(model);
+  app->add_option("--frames", st->frame_count, "a turntable of N frames, the camera orbiting its target, to OUT_0000.png, ...")
+      ->check(int_in(1, 100000))->group(model);
+  app->add_option("--orbit", st->orbit_deg, "the turntable's whole sweep in degrees (default 360)")->check(number_in(-36000, 36000))->group(model);
+  const char* measure = "Measurement";
+  app->add_option("--seconds", st->min_seconds, "render repeatedly for at least S seconds; report the mean frame time")
+      ->check(number_in(0, 3600))->group(measure);
+  app->add_flag("--stats", st->stats, "print what the frame did and how long each stage took")->group(measure);
+  app->add_flag("--json", st->json, "print the statistics as one JSON object")->group(measure);
+  app->add_option("--memory-budget-mb", st->memory_mb,
+                  "the most memory the scene, the frame and the image may take, in MiB; 0 = no limit (default 4096)")
+      ->check(int_in(0, 1 << 30))->group(measure);
+  return {app, [st] { return render(*st); }};
+}
+
+namespace {
+
+int render(const RenderState& st) {
+  const std::string& scene_path = st.scene_path;
+  const std::string& output = st.output;
+  const std::string& depth_path = st.depth_path;
+  const int width = st.width, height = st.height, frame_count = st.frame_count;
+  const double min_seconds = st.min_seconds, orbit_deg = st.orbit_deg;
+  const bool stats = st.stats, json = st.json, allow_missing = st.allow_missing;
   std::optional<ShadowMethod> shadows;
+  if (!st.shadows.empty()) shadows = parse_shadow_method(st.shadows);
   RenderOptions options;
-  Args args(argc, argv);
-  std::string arg;
-  while (args.next(arg)) {
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kRenderUsage, stdout);
-      return 0;
-    } else if (arg == "-o" || arg == "--output") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      output = *v;
-    } else if (arg == "--width" || arg == "--height") {
-      const auto v = args.int_value(arg, 1, kMaxImageDimension);
-      if (!v) return 2;
-      (arg == "--width" ? width : height) = *v;
-    } else if (arg == "--shading") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      const auto mode = parse_shading(*v);
-      if (!mode) return fail("--shading: unknown mode '" + *v + "' (flat, gouraud or phong)");
-      options.shading = *mode;
-    } else if (arg == "--shadows") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      shadows = parse_shadow_method(*v);
-      if (!shadows) return fail("--shadows: unknown method '" + *v + "' (none, map, volume or raycast)");
-    } else if (arg == "--path") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      const auto path = parse_path(*v);
-      if (!path) return fail("--path: unknown path '" + *v + "' (reference, scalar or simd)");
-      options.path = *path;
-    } else if (arg == "--isa") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      const auto isa = parse_isa(*v);
-      if (!isa) return fail("--isa: unknown instruction set '" + *v + "' (auto, sse2, avx2 or avx512)");
-      if (!isa_supported(*isa)) {
-        return fail("--isa " + *v + ": this CPU does not have it (best available: " + to_string(best_isa()) + ")");
-      }
-      options.isa = *isa;
-    } else if (arg == "--pow") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      const auto tier = parse_pow_tier(*v);
-      if (!tier) return fail("--pow: unknown tier '" + *v + "' (auto, exact, fast, integer or schlick)");
-      options.pow_tier = *tier;
-    } else if (arg == "--threads") {
-      const auto v = args.int_value(arg, 0, 256);
-      if (!v) return 2;
-      options.threads = *v;
-    } else if (arg == "--memory-budget-mb") {
-      const auto v = args.int_value(arg, 0, 1 << 30);
-      if (!v) return 2;
-      options.memory_budget_bytes = static_cast<std::uint64_t>(*v) << 20;
-    } else if (arg == "--cull") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      if (*v == "back") options.cull = CullMode::back;
-      else if (*v == "front") options.cull = CullMode::front;
-      else if (*v == "none") options.cull = CullMode::none;
-      else return fail("--cull: unknown mode '" + *v + "' (back, front or none)");
-    } else if (arg == "--tile") {
-      const auto v = args.int_value(arg, 8, 256);
-      if (!v) return 2;
-      options.tile_size = *v;
-    } else if (arg == "--hdr") {
-      options.hdr = true;
-    } else if (arg == "--srgb") {
-      options.srgb = true;
-    } else if (arg == "--clear") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      std::array<float, 4> c{0.0f, 0.0f, 0.0f, 1.0f};
-      std::size_t n = 0, start = 0;
-      bool ok = true;
-      while (ok && start <= v->size()) {
-        const std::size_t end = std::min(v->find(',', start), v->size());
-        const std::string part = v->substr(start, end - start);
-        char* stop = nullptr;
-        const float x = std::strtof(part.c_str(), &stop);
-        ok = n < 4 && !part.empty() && stop == part.c_str() + part.size() && x >= 0.0f && x <= 1.0f;
-        if (ok) c[n++] = x;
-        start = end + 1;
-      }
-      if (!ok || n < 3) return fail("--clear: expected R,G,B or R,G,B,A with components in [0, 1], found '" + *v + "'");
-      options.clear_color = c;
-    } else if (arg == "--no-light-culling") {
-      options.cull_lights = false;
-    } else if (arg == "--light-every-vertex") {
-      options.light_every_vertex = true;
-    } else if (arg == "--depth") {
-      const auto v = args.value(arg);
-      if (!v) return 2;
-      depth_path = *v;
-      if (lower_extension(depth_path) != ".pfm") return fail("--depth: the depth file must end in .pfm");
-    } else if (arg == "--seconds") {
-      const auto v = args.number_value(arg, 0, 3600);
-      if (!v) return 2;
-      min_seconds = *v;
-    } else if (arg == "--stats") {
-      stats = true;
-    } else if (arg == "--frames") {
-      const auto v = args.int_value(arg, 1, 100000);
-      if (!v) return 2;
-      frame_count = *v;
-    } else if (arg == "--orbit") {
-      const auto v = args.number_value(arg, -36000, 36000);
-      if (!v) return 2;
-      orbit_deg = *v;
-    } else if (arg == "--allow-missing") {
-      allow_missing = true;
-    } else if (arg == "--json") {
-      json = true;
-    } else if (!arg.empty() && arg[0] == '-') {
-      return fail("render: unknown option '" + arg + "' (see 'facet render --help')");
-    } else if (scene_path.empty()) {
-      scene_path = arg;
-    } else {
-      return fail("render: more than one scene given ('" + scene_path + "' and '" + arg + "')");
-    }
+  options.shading = *parse_shading(st.shading);
+  options.path = *parse_path(st.path);
+  options.isa = *parse_isa(st.isa);
+  if (!isa_supported(options.isa)) {
+    return fail("--isa " + st.isa + ": this CPU does not have it (best available: " + to_string(best_isa()) + ")");
   }
+  options.pow_tier = *parse_pow_tier(st.pow);
+  options.threads = st.threads;
+  if (st.memory_mb >= 0) options.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
+  options.cull = st.cull == "back" ? CullMode::back : st.cull == "front" ? CullMode::front : CullMode::none;
+  options.tile_size = st.tile;
+  options.hdr = st.hdr;
+  options.srgb = st.srgb;
+  options.cull_lights = !st.no_light_culling;
+  options.light_every_vertex = st.light_every_vertex;
+  if (!st.clear.empty()) {
+    const std::string* v = &st.clear;
+    std::array<float, 4> c{0.0f, 0.0f, 0.0f, 1.0f};
+    std::size_t n = 0, start = 0;
+    bool ok = true;
+    while (ok && start <= v->size()) {
+      const std::size_t end = std::min(v->find(',', start), v->size());
+      const std::string part = v->substr(start, end - start);
+      char* stop = nullptr;
+      const float x = std::strtof(part.c_str(), &stop);
+      ok = n < 4 && !part.empty() && stop == part.c_str() + part.size() && x >= 0.0f && x <= 1.0f;
+      if (ok) c[n++] = x;
+      start = end + 1;
+    }
+    if (!ok || n < 3) return fail("--clear: expected R,G,B or R,G,B,A with components in [0, 1], found '" + *v + "'");
+    options.clear_color = c;
+  }
+  if (!depth_path.empty() && lower_extension(depth_path) != ".pfm") return fail("--depth: the depth file must end in .pfm");
   if (output.empty()) return fail("render: no output file (-o OUT.png or -o OUT.pfm)");
   const std::string ext = lower_extension(output);
   if (ext != ".png" && ext != ".pfm") return fail("-o: the output file must end in .png or .pfm, found '" + output + "'");
@@ -366,4 +310,5 @@ int run_render(int argc, char** argv) {
   return 0;
 }
 
+}  // namespace
 }  // namespace facet::cli

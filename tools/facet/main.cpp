@@ -1,6 +1,6 @@
-// facet — command-line front end: render, compare, light, check, accuracy.
-// Errors go to stderr with exit status 2 (1 from `compare` means "images differ"); every message
-// names what was wrong.
+// facet — command-line front end: render, check, compare, light, accuracy. Options are parsed by
+// CLI11 (`--opt value`, `--opt=value`, `-o`); errors go to stderr with exit status 2 (1 from
+// `compare` means "images differ"), and every message names what was wrong.
 #include <csignal>
 #include <cstdio>
 #include <string>
@@ -9,17 +9,12 @@
 
 namespace {
 
-constexpr const char* kUsage =
-    "usage: facet <command> [options]\n"
-    "\n"
-    "commands:\n"
-    "  render [SCENE.json]  render a scene (the built-in default scene if none is given) to PNG or PFM\n"
-    "  compare A B          compare two images: PSNR, largest and mean difference, differing pixels\n"
-    "  light [SCENE.json]   light every vertex of a scene with each lighting path; print vertices lit per second\n"
-    "  check SCENE.json     load and validate a scene file; print a summary or the first error\n"
-    "  accuracy             every lighting path, ISA and pow tier against the exact reference\n"
-    "\n"
-    "run 'facet <command> --help' for the options of a command\n";
+std::string version_text() {
+  std::string isas;
+  for (facet::Isa isa : {facet::Isa::sse2, facet::Isa::avx2, facet::Isa::avx512})
+    if (facet::isa_supported(isa)) isas += std::string(isas.empty() ? "" : " ") + facet::to_string(isa);
+  return std::string("facet ") + facet::version() + " (headers " FACET_VERSION_STRING "); instruction sets on this CPU: " + isas;
+}
 
 }  // namespace
 
@@ -27,19 +22,32 @@ int main(int argc, char** argv) {
   // A write past `ulimit -f` then fails with EFBIG and is reported (the old output file is kept)
   // instead of killing the process with SIGXFSZ. The program's choice; the library sets no signal.
   std::signal(SIGXFSZ, SIG_IGN);
+  CLI::App app("facet: a CPU renderer. Run 'facet COMMAND --help' for a command's options.", "facet");
+  app.set_version_flag("--version", version_text());
+  app.require_subcommand(1);
+  app.fallthrough(false);
+  const facet::cli::Command commands[] = {facet::cli::add_render(app), facet::cli::add_check(app),
+                                          facet::cli::add_compare(app), facet::cli::add_light(app),
+                                          facet::cli::add_accuracy(app)};
   if (argc < 2) {
-    std::fputs(kUsage, stderr);
+    std::fputs(app.help().c_str(), stderr);
     return 2;
   }
-  const std::string command = argv[1];
-  if (command == "-h" || command == "--help" || command == "help") {
-    std::fputs(kUsage, stdout);
-    return 0;
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);  // help on stdout, status 0
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::string where = "facet --help";
+    for (const facet::cli::Command& c : commands)
+      if (c.app->parsed()) where = "facet " + c.app->get_name() + " --help";
+    return facet::cli::fail(std::string(e.what()) + " (see '" + where + "')");
   }
-  if (command == "render") return facet::cli::run_render(argc - 2, argv + 2);
-  if (command == "compare") return facet::cli::run_compare(argc - 2, argv + 2);
-  if (command == "light") return facet::cli::run_light(argc - 2, argv + 2);
-  if (command == "check") return facet::cli::run_check(argc - 2, argv + 2);
-  if (command == "accuracy") return facet::cli::run_accuracy(argc - 2, argv + 2);
-  return facet::cli::fail("unknown command '" + command + "'\n" + kUsage);
+  for (const facet::cli::Command& c : commands)
+    if (c.app->parsed()) return c.run();
+  return facet::cli::fail("no command given (see 'facet --help')");
 }
