@@ -370,6 +370,8 @@ TEST(GltfImport, MalformedFilesNameTheJsonPath) {
     b.doc["meshes"][0]["primitives"][0]["indices"] = b.indices16(bad);
   }, "meshes[0].primitives[0].indices");  // index 7 of 4 vertices
   expect_error([](GltfBuilder& b) { b.doc["bufferViews"][0]["byteLength"] = 100000; }, "bufferViews[0]");
+  expect_error([](GltfBuilder& b) { b.doc["accessors"][0]["bufferView"] = 99; }, "accessors[0].bufferView");
+  expect_error([](GltfBuilder& b) { b.doc["bufferViews"][0]["byteStride"] = 4; }, "accessors[0]");  // stride < a vec3
   expect_error([](GltfBuilder& b) { b.doc["nodes"][0]["children"] = {0}; }, "nodes[0]");  // a cycle
   expect_error([](GltfBuilder& b) {
     b.add("nodes", {{"children", {0}}});
@@ -386,6 +388,27 @@ TEST(GltfImport, MalformedFilesNameTheJsonPath) {
     const std::vector<float> nan = {std::nanf(""), 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
     b.doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = b.vec3(nan);
   }, "accessors[2]");
+}
+
+TEST(GltfImport, BuffersShorterThanDeclaredNameTheBuffer) {
+  GltfBuilder b;
+  const int pos = b.vec3(kQuadPositions);
+  b.add("meshes", mesh_of({{"POSITION", pos}}));
+  b.add("nodes", {{"mesh", 0}});
+  b.add("scenes", {{"nodes", {0}}});
+  for (const bool glb : {false, true}) {
+    nlohmann::json d = b.with_buffer(glb ? "" : "data:application/octet-stream;base64," + test::base64(b.bin));
+    d["buffers"][0]["byteLength"] = b.bin.size() + 100;
+    std::string text;
+    if (glb) {
+      text = GltfBuilder::glb_of(d.dump(), b.bin);
+    } else {
+      text = d.dump();
+    }
+    Result<Model> m = parse_gltf(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), "short.gltf", "");
+    ASSERT_FALSE(m.ok()) << (glb ? "glb" : "gltf");
+    EXPECT_NE(m.status().message().find("buffers[0]: holds"), std::string::npos) << m.status().message();
+  }
 }
 
 TEST(GltfImport, NotGltfAtAllIsAParseError) {

@@ -74,8 +74,9 @@ struct GltfBuilder {
   }
   std::string embedded() const { return with_buffer("data:application/octet-stream;base64," + base64(bin)).dump(2); }
   std::string external(const std::string& bin_name) const { return with_buffer(bin_name).dump(2); }
-  std::string glb() const {
-    std::string json = with_buffer("").dump();
+  std::string glb() const { return glb_of(with_buffer("").dump(), bin); }
+  // A .glb container of this JSON text and binary chunk.
+  static std::string glb_of(std::string json, const std::string& bin) {
     while (json.size() % 4) json.push_back(' ');
     std::string body = bin;
     while (body.size() % 4) body.push_back('\0');

@@ -27,7 +27,33 @@ accuracy = load("accuracy.json")["rows"]
 
 
 def bench_rows(doc):
-    return [b for b in doc["benchmarks"] if b.get("run_type", "iteration") == "iteration" and "error_occurred" not in b]
+    """One row per benchmark: with --benchmark_repetitions, each numeric field is the median of the
+    repetitions and row["_spread"][field] its (min, max)."""
+    groups = {}
+    for b in doc["benchmarks"]:
+        if b.get("run_type", "iteration") != "iteration" or "error_occurred" in b:
+            continue
+        groups.setdefault(b.get("run_name", b["name"]), []).append(b)
+    rows = []
+    for name, runs in groups.items():
+        row = dict(runs[0])
+        row["name"] = name
+        row["_spread"] = {}
+        for key, value in runs[0].items():
+            if isinstance(value, (int, float)) and not isinstance(value, bool):
+                values = sorted(r[key] for r in runs if key in r)
+                n = len(values)
+                row[key] = values[n // 2] if n % 2 else 0.5 * (values[n // 2 - 1] + values[n // 2])
+                row["_spread"][key] = (values[0], values[-1])
+        row["_runs"] = len(runs)
+        rows.append(row)
+    return rows
+
+
+def err(row, key, scale=1.0):
+    """Error-bar extents (below, above) of a median from its spread, scaled."""
+    lo, hi = row.get("_spread", {}).get(key, (row[key], row[key]))
+    return (row[key] - lo) / scale, (hi - row[key]) / scale
 
 
 def method_label(bench_method):
@@ -142,37 +168,44 @@ save(fig, "speed_vs_accuracy")
 
 # --- 2. scalar vs SIMD ----------------------------------------------------------------------------
 light_rate = {}
+light_err = {}
 for b in bench_rows(lighting):
     parts = b["name"].split("/")
     if parts[2] == "mixed" and parts[3] == "lights:4" and parts[4] == "vertices:4096":
         light_rate[parts[1]] = b["vertices_lit/s"]
+        light_err[parts[1]] = err(b, "vertices_lit/s", 1e6)
 order = ["reference", "scalar"] + [m for m in ("simd_sse2_auto", "simd_avx2_auto", "simd_avx512_auto") if m in light_rate]
 fill = {}
+fill_err = {}
 for b in bench_rows(frames):
     parts = b["name"].split("/")
     if parts[0] == "BM_Fill" and parts[2] == "gouraud":
         fill[(parts[1], parts[3])] = b["pixels_filled/s"]
+        fill_err[(parts[1], parts[3])] = err(b, "pixels_filled/s", 1e9)
 variants = [v for v in ("scalar", "sse2", "avx2", "avx512") if (v, "threads:1") in fill]
 
 fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5.5))
 xs = range(len(order))
 vals = [light_rate[m] / 1e6 for m in order]
 bars = ax1.bar(xs, vals, color=[ISA_COLOURS["reference"], ISA_COLOURS["scalar"]] +
-               [ISA_COLOURS[m.split("_")[1]] for m in order[2:]])
+               [ISA_COLOURS[m.split("_")[1]] for m in order[2:]],
+               yerr=[[light_err[m][0] for m in order], [light_err[m][1] for m in order]], capsize=4, ecolor="#333333")
 for bar, m in zip(bars, order):
     ax1.annotate(f"{light_rate[m] / light_rate['scalar']:.1f}x", (bar.get_x() + bar.get_width() / 2, bar.get_height()),
                  ha="center", va="bottom", fontsize=9)
 ax1.set_xticks(list(xs))
 ax1.set_xticklabels([m.replace("simd_", "").replace("_auto", " (auto)") for m in order])
 ax1.set_ylabel("vertices lit per second (millions)")
-ax1.set_title("Vertex lighting, 1 thread, 4 mixed lights\n(labels: speed-up over scalar)")
+ax1.set_title("Vertex lighting, 1 thread, 4 mixed lights\n(labels: speed-up over scalar; bars: median, whiskers: min-max of the runs)")
 ax1.grid(True, axis="y", alpha=0.3)
 width = 0.38
 for k, threads in enumerate(("threads:1", "threads:2")):
     vals = [fill.get((v, threads), 0) / 1e9 for v in variants]
     pos = [i + (k - 0.5) * width for i in range(len(variants))]
     bars = ax2.bar(pos, vals, width, label=threads.replace("threads:", "") + (" thread" if k == 0 else " threads"),
-                   color=["#9ecae1", "#3182bd"][k])
+                   color=["#9ecae1", "#3182bd"][k],
+                   yerr=[[fill_err.get((v, threads), (0, 0))[0] for v in variants],
+                         [fill_err.get((v, threads), (0, 0))[1] for v in variants]], capsize=3, ecolor="#333333")
     for bar, v in zip(bars, variants):
         base = fill.get(("scalar", threads))
         if base:
@@ -232,9 +265,14 @@ for name in ("llvmpipe.json", "llvmpipe_models.json"):
         rows += [r for r in load(name) if not r["name"].startswith("fill_") and not r["name"].endswith(("_1lights", "_8lights"))]
 if rows:
     fig, ax = plt.subplots(figsize=(9, 6))
+    def ms_err(r, key):
+        return [[r[key] - r.get(key + "_min", r[key])], [r.get(key + "_max", r[key]) - r[key]]]
     ax.scatter([r["triangles"] for r in rows], [r["facet_ms"] for r in rows], color="#9467bd", label="facet (simd, best ISA)")
     ax.scatter([r["triangles"] for r in rows], [r["llvmpipe_ms"] for r in rows], color="#7f7f7f", marker="s",
                label="llvmpipe (Mesa)")
+    for r in rows:
+        ax.errorbar([r["triangles"]], [r["facet_ms"]], yerr=ms_err(r, "facet_ms"), color="#9467bd", capsize=2, lw=0.8)
+        ax.errorbar([r["triangles"]], [r["llvmpipe_ms"]], yerr=ms_err(r, "llvmpipe_ms"), color="#7f7f7f", capsize=2, lw=0.8)
     for r in rows:
         ax.plot([r["triangles"]] * 2, [r["facet_ms"], r["llvmpipe_ms"]], color="#cccccc", lw=0.8, zorder=0)
         ax.annotate(f"{r['name']} {r['ratio']:.1f}x", (r["triangles"], r["facet_ms"]), textcoords="offset points",
@@ -258,6 +296,11 @@ if shadow_rows:
     FILTER_MARKERS = {"none": "s", "pcf2x2": "^", "pcf3x3": "o", "pcf5x5": "D"}
     LIGHT_COLOURS = {"directional": "#ff7f0e", "spot": "#2ca02c", "point": "#9467bd"}
     fig, ax = plt.subplots(figsize=(10, 6.5))
+    for r in shadow_rows:  # the spread of the runs' frame times (tools/charts runs each at least 3 times)
+        if "ms_per_frame_min" in r:
+            ax.errorbar([max(100.0 * r["share"], SHADOW_FLOOR)], [r["ms_per_frame"]],
+                        yerr=[[r["ms_per_frame"] - r["ms_per_frame_min"]], [r["ms_per_frame_max"] - r["ms_per_frame"]]],
+                        color="#aaaaaa", lw=0.7, capsize=2, zorder=1)
     for r in shadow_rows:
         light = r["item"].split()[0]
         share = max(100.0 * r["share"], SHADOW_FLOOR)

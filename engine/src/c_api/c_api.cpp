@@ -427,6 +427,8 @@ facet_status facet_scene_set_object_shadows(facet_scene* scene, uint32_t object_
   });
 }
 
+}  // extern "C"
+
 namespace {
 // A C light as a facet::Light, checked as validate_light checks lights[index].
 facet_status to_light(facet_scene* scene, const facet_light* light, std::size_t index, facet::Light& l) {
@@ -468,6 +470,8 @@ facet_status to_light(facet_scene* scene, const facet_light* light, std::size_t 
 }
 }  // namespace
 
+extern "C" {
+
 facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light, uint32_t* light_id) {
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
@@ -508,6 +512,8 @@ facet_status facet_scene_remove_light(facet_scene* scene, uint32_t light_id) {
   });
 }
 
+}  // extern "C"
+
 namespace {
 // The object of `object_id`, or null (and the error set).
 facet::Instance* find_object(facet_scene* scene, std::uint32_t object_id) {
@@ -519,6 +525,8 @@ facet::Instance* find_object(facet_scene* scene, std::uint32_t object_id) {
   return &scene->scene.objects[index];
 }
 }  // namespace
+
+extern "C" {
 
 facet_status facet_scene_set_object_transform(facet_scene* scene, uint32_t object_id, const float* model) {
   if (!scene) return FACET_INVALID_ARGUMENT;
@@ -749,6 +757,8 @@ facet_status facet_scene_set_fog(facet_scene* scene, const facet_fog* fog) {
   });
 }
 
+}  // extern "C"
+
 namespace {
 // Per-vertex uvs (colours = false) or colours of mesh_id, validated as validate_mesh would.
 facet_status set_vertex_data(facet_scene* scene, uint32_t mesh_id, const float* data, bool colours) {
@@ -795,6 +805,8 @@ facet::TextureOptions texture_options(facet_texture_filter filter, facet_texture
   return o;
 }
 }  // namespace
+
+extern "C" {
 
 facet_status facet_scene_set_mesh_uvs(facet_scene* scene, uint32_t mesh_id, const float* uvs) {
   return set_vertex_data(scene, mesh_id, uvs, false);

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <string>
 #include <system_error>
@@ -92,12 +93,19 @@ std::string idx(const char* array, std::size_t i) { return std::string(array) + 
 // the line of a syntax error, or the path of the references tinygltf checks without naming them.
 std::string locate_failure(std::span<const std::uint8_t> bytes) {
   std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  std::optional<std::uint64_t> bin_chunk;  // .glb: the BIN chunk's length, if there is one
   if (bytes.size() >= 20 && std::memcmp(bytes.data(), "glTF", 4) == 0) {  // .glb: the JSON chunk
     std::uint32_t length = 0, type = 0;
     std::memcpy(&length, bytes.data() + 12, 4);
     std::memcpy(&type, bytes.data() + 16, 4);
     if (type != 0x4E4F534Au || length > bytes.size() - 20) return "the .glb container's JSON chunk is malformed";
     text = text.substr(20, length);
+    const std::size_t bin_at = 20 + std::size_t(length);
+    if (bytes.size() >= bin_at + 8) {
+      std::uint32_t bin_length = 0;
+      std::memcpy(&bin_length, bytes.data() + bin_at, 4);
+      bin_chunk = std::min<std::uint64_t>(bin_length, bytes.size() - bin_at - 8);
+    }
   }
   const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
   if (doc.is_discarded()) {
@@ -113,6 +121,31 @@ std::string locate_failure(std::span<const std::uint8_t> bytes) {
     return "not valid JSON";
   }
   if (!doc.is_object()) return "the document is not a JSON object";
+  // Buffers shorter than their byteLength: a data URI's bytes, or the .glb's BIN chunk.
+  if (doc.contains("buffers") && doc["buffers"].is_array()) {
+    for (std::size_t i = 0; i < doc["buffers"].size(); ++i) {
+      const nlohmann::json& b = doc["buffers"][i];
+      if (!b.is_object() || !b.contains("byteLength") || !b["byteLength"].is_number_unsigned()) continue;
+      const auto declared = b["byteLength"].get<std::uint64_t>();
+      std::optional<std::uint64_t> held;
+      if (b.contains("uri") && b["uri"].is_string()) {
+        const std::string& uri = b["uri"].get_ref<const std::string&>();
+        const std::size_t comma = uri.find(',');
+        if (uri.rfind("data:", 0) == 0 && comma != std::string::npos && uri.find(";base64", 0) < comma) {
+          const std::size_t chars = uri.size() - comma - 1;
+          std::size_t pad = 0;
+          for (std::size_t k = uri.size(); k > comma + 1 && uri[k - 1] == '=' && pad < 2; --k) ++pad;
+          held = chars / 4 * 3 - pad;
+        }
+      } else if (i == 0 && bin_chunk) {
+        held = *bin_chunk;
+      }
+      if (held && *held < declared) {
+        return idx("buffers", i) + ": holds " + std::to_string(*held) + " bytes, fewer than its byteLength " +
+               std::to_string(declared);
+      }
+    }
+  }
   const std::size_t accessors = doc.contains("accessors") && doc["accessors"].is_array() ? doc["accessors"].size() : 0;
   const std::size_t views = doc.contains("bufferViews") && doc["bufferViews"].is_array() ? doc["bufferViews"].size() : 0;
   if (doc.contains("meshes") && doc["meshes"].is_array()) {
@@ -349,13 +382,22 @@ class GltfReader {
     const int csize = component_size(a.componentType);
     if (csize == 0) return error(ap + ".componentType", "unknown component type " + std::to_string(a.componentType));
     const std::size_t n = a.count;
+    if (n > (std::size_t{1} << 40)) return error(ap + ".count", std::to_string(n) + " elements is more than facet reads (2^40)");
     const std::uint64_t bytes = std::uint64_t(n) * std::uint64_t(components) * 8;
     FACET_TRY(reserve(bytes, ap));
     values.assign(n * static_cast<std::size_t>(components), 0.0);
     const std::size_t element = std::size_t(csize) * std::size_t(components);
     if (a.bufferView >= 0) {
-      const tinygltf::BufferView& v = m_.bufferViews[std::min<std::size_t>(static_cast<std::size_t>(a.bufferView), m_.bufferViews.size() - 1)];
-      const std::size_t stride = a.bufferView < static_cast<int>(m_.bufferViews.size()) && v.byteStride != 0 ? v.byteStride : element;
+      if (static_cast<std::size_t>(a.bufferView) >= m_.bufferViews.size()) {
+        return error(ap + ".bufferView", "index " + std::to_string(a.bufferView) + " is out of range (" +
+                                             std::to_string(m_.bufferViews.size()) + " bufferViews)");
+      }
+      const tinygltf::BufferView& v = m_.bufferViews[static_cast<std::size_t>(a.bufferView)];
+      const std::size_t stride = v.byteStride != 0 ? v.byteStride : element;
+      if (stride < element) {
+        return error(ap, "bufferViews[" + std::to_string(a.bufferView) + "].byteStride " + std::to_string(stride) +
+                             " is smaller than an element (" + std::to_string(element) + " bytes)");
+      }
       const unsigned char* data = nullptr;
       FACET_TRY(view_span(a.bufferView, a.byteOffset, n, element, stride, ap, data));
       for (std::size_t i = 0; i < n; ++i)
@@ -484,7 +526,7 @@ class GltfReader {
       if (v.size() / 3 != n) return error(p + ".attributes.NORMAL", "count differs from POSITION's");
       mesh.normals.resize(n);
       for (std::size_t i = 0; i < n; ++i) {
-        Vec3 d(float(v[3 * i]), float(v[3 * i + 1]), float(v[3 * i + 2]));
+        const Vec3 d{static_cast<float>(v[3 * i]), static_cast<float>(v[3 * i + 1]), static_cast<float>(v[3 * i + 2])};
         const float len = d.norm();
         mesh.normals[i] = len > 1e-20f ? Vec3(d / len) : Vec3::Zero();
       }
@@ -504,7 +546,7 @@ class GltfReader {
       mesh.colors.resize(n);
       bool alpha_dropped = false;
       for (std::size_t i = 0; i < n; ++i) {
-        Color3 c(float(v[i * comps]), float(v[i * comps + 1]), float(v[i * comps + 2]));
+        Color3 c{static_cast<float>(v[i * comps]), static_cast<float>(v[i * comps + 1]), static_cast<float>(v[i * comps + 2])};
         // facet's vertex colours replace the material's ambient and diffuse colour; glTF's
         // multiply the base colour: the product is taken here.
         c = c.cwiseProduct(info.vertex_color_scale).cwiseMax(0.0f).cwiseMin(1.0f);
