@@ -20,6 +20,7 @@
 #include <tiny_obj_loader.h>
 
 #include "common/format.hpp"
+#include "common/text.hpp"
 #include "common/try.hpp"
 #include "facet/mesh.hpp"
 #include "io/file_access.hpp"
@@ -27,24 +28,8 @@
 namespace facet {
 namespace {
 
-std::string_view trim(std::string_view s) {
-  const auto b = s.find_first_not_of(" \t\r\f\v");
-  if (b == std::string_view::npos) return {};
-  const auto e = s.find_last_not_of(" \t\r\f\v");
-  return s.substr(b, e - b + 1);
-}
-
-std::vector<std::string_view> split_ws(std::string_view s) {
-  std::vector<std::string_view> out;
-  std::size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
-    const std::size_t b = i;
-    while (i < s.size() && s[i] != ' ' && s[i] != '\t') ++i;
-    if (i > b) out.push_back(s.substr(b, i - b));
-  }
-  return out;
-}
+using text::split_ws;
+using text::trim;
 
 enum class NumberKind { ok, not_a_number, not_finite, out_of_range };
 
