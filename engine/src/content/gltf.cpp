@@ -79,9 +79,13 @@ bool fs_write(std::string* err, const std::string&, const std::vector<unsigned c
   if (err) *err = "facet never writes through tinygltf";
   return false;
 }
-// Keeps the encoded bytes; facet decodes them later, only the images a material uses.
+// Keeps the encoded bytes; facet decodes them later, only the images a material uses. An image in
+// a bufferView is not read here: tinygltf 2.7 hands over the view's range without checking it
+// against its buffer (found by fuzz_gltf: a .glb whose BIN chunk is shorter than the view), so
+// those bytes are read later, from views checked against their buffers.
 bool keep_image_bytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
                       const unsigned char* bytes, int size, void*) {
+  if (image->bufferView >= 0) return true;
   image->image.assign(bytes, bytes + size);
   image->width = image->height = image->component = 0;
   return true;
