@@ -50,7 +50,7 @@ def bench_rows(doc):
     return rows
 
 
-def err(row, key, scale=1.0):
+def spread_of(row, key, scale=1.0):
     """Error-bar extents (below, above) of a median from its spread, scaled."""
     lo, hi = row.get("_spread", {}).get(key, (row[key], row[key]))
     return (row[key] - lo) / scale, (hi - row[key]) / scale
@@ -173,7 +173,7 @@ for b in bench_rows(lighting):
     parts = b["name"].split("/")
     if parts[2] == "mixed" and parts[3] == "lights:4" and parts[4] == "vertices:4096":
         light_rate[parts[1]] = b["vertices_lit/s"]
-        light_err[parts[1]] = err(b, "vertices_lit/s", 1e6)
+        light_err[parts[1]] = spread_of(b, "vertices_lit/s", 1e6)
 order = ["reference", "scalar"] + [m for m in ("simd_sse2_auto", "simd_avx2_auto", "simd_avx512_auto") if m in light_rate]
 fill = {}
 fill_err = {}
@@ -181,7 +181,7 @@ for b in bench_rows(frames):
     parts = b["name"].split("/")
     if parts[0] == "BM_Fill" and parts[2] == "gouraud":
         fill[(parts[1], parts[3])] = b["pixels_filled/s"]
-        fill_err[(parts[1], parts[3])] = err(b, "pixels_filled/s", 1e9)
+        fill_err[(parts[1], parts[3])] = spread_of(b, "pixels_filled/s", 1e9)
 variants = [v for v in ("scalar", "sse2", "avx2", "avx512") if (v, "threads:1") in fill]
 
 fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5.5))
@@ -349,7 +349,8 @@ for b in bench_rows(lighting):
 lines = [f"Measured {time.strftime('%Y-%m-%d')} on {ctx.get('host_name', platform.node())} "
          f"({ctx.get('num_cpus')} CPUs at {ctx.get('mhz_per_cpu')} MHz); roofline: read "
          f"{float(ctx['roofline_read_GB/s']):.1f} GB/s, triad {float(ctx['roofline_triad_GB/s']):.1f} GB/s, "
-         f"peak {float(ctx['roofline_peak_GFLOP/s']):.1f} GFLOP/s (1 thread).", "",
+         f"peak {float(ctx['roofline_peak_GFLOP/s']):.1f} GFLOP/s (1 thread). Each figure is the median of "
+         f"{max((r.get('_runs', 1) for r in bench_rows(frames)), default=1)} runs (`tools/charts`).", "",
          "| figure | value | share of the machine's limit |", "|---|---|---|"]
 for m in order:
     b = next((x for x in bench_rows(lighting) if x["name"] == f"BM_Lighting/{m}/mixed/lights:4/vertices:4096"), None)
