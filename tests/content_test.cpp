@@ -295,6 +295,24 @@ TEST(GltfImport, NodeHierarchyTrsMatrixAndMirroring) {
   EXPECT_LT((w.topLeftCorner<3, 3>().determinant()), 0.0f);
 }
 
+TEST(GltfImport, AnimationsAreNamedAsNotRead) {
+  GltfBuilder b;
+  const int pos = b.vec3(kQuadPositions);
+  b.add("meshes", mesh_of({{"POSITION", pos}}, b.indices16(kQuadIndices)));
+  b.add("nodes", {{"mesh", 0}});
+  b.add("scenes", {{"nodes", {0}}});
+  const int times = b.floats({0.0f, 1.0f}, "SCALAR", 1);
+  const int turns = b.floats({0, 0, 0, 1, 0, 1, 0, 0}, "VEC4", 4);
+  b.add("animations", {{"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "rotation"}}}}}},
+                       {"samplers", {{{"input", times}, {"output", turns}}}}});
+  const std::string text = b.embedded();
+  Result<Model> m = parse_gltf(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), "anim.gltf", "");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  bool warned = false;
+  for (const auto& w : m->warnings) warned |= w.find("animations") != std::string::npos;
+  EXPECT_TRUE(warned);
+}
+
 TEST(GltfImport, StripsAndFansBecomeTriangles) {
   for (int mode : {5, 6}) {
     GltfBuilder b;

@@ -185,6 +185,9 @@ class GltfReader {
     used_ = bytes_used;
     FACET_TRY(check_extensions());
     FACET_TRY(check_buffer_views());
+    if (!m_.animations.empty()) {
+      warn("animations: " + std::to_string(m_.animations.size()) + " animation(s) not supported; the nodes are drawn as the file places them");
+    }
     int scene_index = m_.defaultScene;
     if (m_.scenes.empty()) {
       if (!m_.nodes.empty()) warn("the file has no scenes: nothing to draw (glTF draws only a scene's nodes)");
