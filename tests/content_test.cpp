@@ -1,5 +1,6 @@
 // glTF and OBJ + MTL import (model.hpp): what is read, how it maps onto facet's scene, and the
 // errors for malformed files. Files are written by the tests (gltf_builder.hpp).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -116,6 +117,7 @@ Scene expected_quad_scene(const std::string& texture_path) {
   mat.specular = pbr.specular;
   mat.shininess = pbr.shininess;
   mat.diffuse_texture = 0;
+  mat.emission_after_texture = true;  // glTF adds the emission after the base colour
   s.materials.push_back(mat);
   s.objects.push_back(Instance{0, 0, Mat4::Identity()});
   s.camera.eye = Vec3(0, 0, 3);
@@ -165,6 +167,41 @@ TEST(GltfImport, TexturedQuadIsTheSceneDocsDescribe) {
   const Scene expected = expected_quad_scene(dir / "tex.png");
   EXPECT_EQ(render_rgba(m->scene), render_rgba(expected));
   // The picture is the texture's: the top-left pixel of the quad's image area is red-ish.
+}
+
+// emissiveFactor x emissiveTexture is added after the base colour's texture (glTF's rule), the
+// same picture as the facet scene docs/content.md describes; KHR_materials_unlit ignores it.
+TEST(GltfImport, EmissiveTexturesAreAddedAfterTheBaseColour) {
+  TempDir dir;
+  const std::string png = write_test_png(dir / "tex.png");
+  GltfBuilder b = textured_quad(png, "uri");
+  b.doc["materials"][0]["emissiveFactor"] = {0.5, 0.25, 1.0};
+  b.doc["materials"][0]["emissiveTexture"] = {{"index", 0}};
+  test::write_text(dir / "quad.bin", b.bin);
+  test::write_text(dir / "quad.gltf", b.external("quad.bin"));
+  Result<Model> m = load_model(dir / "quad.gltf");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_TRUE(m->warnings.empty()) << m->warnings[0];
+  ASSERT_EQ(m->scene.materials.size(), 1u);
+  EXPECT_EQ(m->scene.materials[0].emissive_texture, 0);
+  EXPECT_EQ(m->scene.materials[0].emissive, Color3(0.5f, 0.25f, 1.0f));
+  Scene expected = expected_quad_scene(dir / "tex.png");
+  expected.materials[0].emissive = Color3(0.5f, 0.25f, 1.0f);
+  expected.materials[0].emissive_texture = 0;
+  const auto picture = render_rgba(m->scene);
+  EXPECT_EQ(picture, render_rgba(expected));
+  expected.materials[0].emissive_texture = kNoTexture;  // the emission is the texture's, not flat
+  EXPECT_NE(picture, render_rgba(expected));
+
+  b.doc["extensionsUsed"].push_back("KHR_materials_unlit");
+  b.doc["materials"][0]["extensions"] = {{"KHR_materials_unlit", nlohmann::json::object()}};
+  test::write_text(dir / "unlit.gltf", b.external("quad.bin"));
+  m = load_model(dir / "unlit.gltf");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_EQ(m->scene.materials[0].emissive_texture, kNoTexture);
+  EXPECT_TRUE(std::any_of(m->warnings.begin(), m->warnings.end(), [](const std::string& w) {
+    return w.find("materials[0].emissiveTexture: ignored by KHR_materials_unlit") != std::string::npos;
+  })) << (m->warnings.empty() ? "no warning" : m->warnings[0]);
 }
 
 TEST(GltfImport, GlbAndEmbeddedTwinsGiveTheSameImage) {

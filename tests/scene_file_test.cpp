@@ -225,7 +225,18 @@ TEST(SceneFile, SurfaceFieldsAndTheirErrors) {
   EXPECT_EQ(ok->materials[0].depth_write, DepthWrite::on);
   EXPECT_EQ(ok->fog.mode, FogMode::exp2);
   EXPECT_EQ(ok->fog.density, 0.1f);
+  EXPECT_EQ(ok->materials[0].emissive_texture, kNoTexture);
+  EXPECT_FALSE(ok->materials[0].emission_after_texture);
+  Result<Scene> glow = parse(scene(R"({ "name": "m", "emissive": [1, 0.5, 0], "emissive_texture": "t" })"));
+  ASSERT_TRUE(glow.ok()) << glow.status().message();
+  EXPECT_EQ(glow->materials[0].emissive_texture, 0);
+  glow = parse(scene(R"({ "name": "m", "diffuse_texture": "t", "emission_after_texture": true })"));
+  ASSERT_TRUE(glow.ok()) << glow.status().message();
+  EXPECT_TRUE(glow->materials[0].emission_after_texture);
   // Each bad field: its line (3: the material) and its name.
+  expect_error(scene(R"({ "name": "m", "emissive_texture": "nope" })"), 4, "materials[0].emissive_texture", {"no texture named"});
+  expect_error(scene(R"({ "name": "m", "emission_after_texture": 1 })"), 4, "materials[0].emission_after_texture",
+               {"true or false"});
   expect_error(scene(R"({ "name": "m", "diffuse_texture": "nope" })"), 4, "materials[0].diffuse_texture", {"no texture named"});
   expect_error(scene(R"({ "name": "m", "uv_scale": [0, 1] })"), 4, "materials[0].uv_scale", {"non-zero"});
   expect_error(scene(R"({ "name": "m", "blend": "screen" })"), 4, "materials[0].blend", {"premultiplied"});

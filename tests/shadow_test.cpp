@@ -1055,5 +1055,36 @@ TEST(ShadowsInFlatAndGouraud, NothingToCastIsTheUnshadowedImageWithinAStep) {
   }
 }
 
+// The same with textures and emission added after them (Material::emissive_texture): the
+// emission belongs to the base sub-frame alone (counted twice, or modulated, it would show).
+TEST(ShadowsInFlatAndGouraud, EmissionAfterTheTextureIsCountedOnce) {
+  auto checker = [](int n, std::uint8_t lo, std::uint8_t hi) {
+    std::vector<std::uint8_t> rgba;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const std::uint8_t v = (i + j) % 2 ? hi : lo;
+        rgba.insert(rgba.end(), {v, static_cast<std::uint8_t>(v / 2), static_cast<std::uint8_t>(255 - v), 255});
+      }
+    Result<Texture> t = make_texture("checker", n, n, rgba, TextureOptions{});
+    EXPECT_TRUE(t.ok());
+    return std::move(*t);
+  };
+  for (const ShadingMode shading : {ShadingMode::gouraud, ShadingMode::flat}) {
+    Scene s = spot_over_sphere();
+    s.textures.push_back(checker(8, 40, 220));
+    s.textures.push_back(checker(4, 0, 255));
+    Material& m = s.materials[0];
+    m.diffuse_texture = 0;
+    m.emissive_texture = 1;
+    m.emissive = Color3(0.3f, 0.2f, 0.1f);
+    for (Instance& i : s.objects) i.cast_shadows = false;
+    Scene none = s;
+    none.lights[0].shadow.method = ShadowMethod::none;
+    const auto a = render(s, 0, LightingPath::simd, Isa::best, nullptr, shading);
+    const auto b = render(none, 0, LightingPath::simd, Isa::best, nullptr, shading);
+    for (std::size_t at = 0; at < a.size(); at += 4) ASSERT_TRUE(within_one_step(a, b, at)) << to_string(shading) << " " << at / 4;
+  }
+}
+
 }  // namespace
 }  // namespace facet

@@ -424,6 +424,128 @@ TEST(Surfaces, SpecialisedModulateProgramEqualsTheGeneralOne) {
   }
 }
 
+// Emission after the texture (Material::emission_after_texture, glTF's rule): a quad lit by one
+// light towards the camera (n.l = 1, so the lit colour is the diffuse D plus the scene's ambient
+// times the material's), under a one-texel diffuse texture T and emission E, times a one-texel
+// emissive texture Te where there is one. GL's rule modulates the emission with T; glTF's adds it
+// after T; each on every path and shading mode.
+TEST(Surfaces, EmissionAfterTheTextureFollowsGltf) {
+  const Color3 E(0.3f, 0.1f, 0.05f), D(0.5f, 0.25f, 0.75f);
+  const std::array<std::uint8_t, 4> t = {128, 255, 64, 255}, te = {255, 128, 0, 51};
+  const double T[3] = {128 / 255.0, 1.0, 64 / 255.0}, Te[3] = {1.0, 128 / 255.0, 0.0};
+  struct Case {
+    const char* name;
+    bool diffuse_texture, emissive_texture, after;
+  };
+  for (const Case k : {Case{"gl", true, false, false}, Case{"after", true, false, true}, Case{"both textures", true, true, true},
+                       Case{"emissive texture alone", false, true, false}}) {
+    Scene s = test::camera_scene();
+    s.textures.push_back(texture_from(1, 1, TextureFilter::bilinear, [&](int, int) { return t; }));
+    s.textures.push_back(texture_from(1, 1, TextureFilter::nearest, [&](int, int) { return te; }));
+    test::add_quad(s, -5, -5, 5, 5, -3, E);
+    add_uvs(s);
+    Material& m = s.materials.back();
+    m.ambient = Color3::Zero();
+    m.diffuse = D;
+    m.diffuse_texture = k.diffuse_texture ? 0 : kNoTexture;
+    m.emissive_texture = k.emissive_texture ? 1 : kNoTexture;
+    m.emission_after_texture = k.after;
+    Light l;  // towards the camera: n.l = 1
+    l.direction = Vec3(0, 0, -1);
+    s.lights.push_back(l);
+    double c[3];
+    for (int ch = 0; ch < 3; ++ch) {
+      const double t_ch = k.diffuse_texture ? T[ch] : 1.0, e_ch = E[ch] * (k.emissive_texture ? Te[ch] : 1.0);
+      c[ch] = k.after || k.emissive_texture ? std::min(1.0, D[ch] * t_ch + e_ch) : (E[ch] + D[ch]) * t_ch;
+    }
+    for (auto [path, isa] : every_path()) {
+      for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+        SCOPED_TRACE(std::string(k.name) + " " + to_string(path) + " " + to_string(isa) + " " + to_string(shading));
+        const Pixel p = render_centre(s, path, shading, isa);
+        EXPECT_PIXEL_NEAR(p, step(c[0]), step(c[1]), step(c[2]), 255);  // the emissive texel's alpha is not read
+      }
+    }
+  }
+}
+
+// Without a texture, emission after the texture is emission in the lighting: the same bytes (the
+// frame plan adds no stage), and no emission at all adds none either.
+TEST(Surfaces, EmissionStageOnlyWhereItChangesSomething) {
+  Scene gl = make_default_scene();
+  for (Material& m : gl.materials) {
+    m.emissive = Color3(0.1f, 0.2f, 0.05f);
+    m.diffuse_texture = kNoTexture;
+  }
+  Scene after = gl;
+  for (Material& m : after.materials) m.emission_after_texture = true;
+  for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+    RenderOptions o;
+    o.shading = shading;
+    EXPECT_TRUE(render_pixels(gl, o) == render_pixels(after, o)) << to_string(shading);
+  }
+}
+
+// The done-when scene with emissive textures: on the textured ground (after its checker), on the
+// blended sphere (no diffuse texture) and on a plain sphere under emission_after_texture alone.
+Scene emissive_scene() {
+  Scene s = surfaces_scene();
+  s.textures.push_back(texture_from(16, 16, TextureFilter::trilinear, [](int i, int j) {
+    const bool lit = (i % 4 == 0) || (j % 4 == 0);
+    return std::array<std::uint8_t, 4>{static_cast<std::uint8_t>(lit ? 255 : 0), static_cast<std::uint8_t>(lit ? 180 : 0),
+                                       static_cast<std::uint8_t>(lit ? 40 : 0), 255};
+  }));
+  const auto glow = static_cast<std::int32_t>(s.textures.size() - 1);
+  for (std::size_t o = 0; o < s.objects.size(); ++o) {
+    Material& m = s.materials[s.objects[o].material];
+    if (m.diffuse_texture == 0) {  // the ground
+      m.emissive = Color3(0.6f, 0.5f, 0.4f);
+      m.emissive_texture = glow;
+    } else if (m.blend != BlendMode::opaque) {
+      m.emissive = Color3(1.0f, 1.0f, 1.0f);
+      m.emissive_texture = glow;
+    } else if (m.diffuse_texture == 1) {
+      m.emissive = Color3(0.2f, 0.1f, 0.1f);
+      m.emission_after_texture = true;
+    }
+  }
+  return s;
+}
+
+TEST(Surfaces, EmissiveTexturesAreDeterministicAndTheSameOnEveryPath) {
+  const Scene s = emissive_scene();
+  ASSERT_TRUE(validate_scene(s).ok()) << validate_scene(s).message();
+  for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+    RenderOptions o;
+    o.shading = shading;
+    o.tile_size = 32;
+    std::vector<std::uint8_t> scalar;
+    for (LightingPath path : {LightingPath::scalar, LightingPath::simd}) {
+      o.path = path;
+      o.threads = 1;
+      const auto one = render_pixels(s, o);
+      for (int threads : {2, 8}) {
+        o.threads = threads;
+        EXPECT_TRUE(render_pixels(s, o) == one) << to_string(shading) << " " << to_string(path) << " threads " << threads;
+      }
+      if (path == LightingPath::scalar) {
+        scalar = one;
+        continue;
+      }
+      int worst = 0;
+      std::size_t differ = 0;
+      for (std::size_t i = 0; i < one.size(); ++i) {
+        const int d = std::abs(int(one[i]) - int(scalar[i]));
+        worst = std::max(worst, d);
+        differ += d != 0;
+      }
+      EXPECT_LE(worst, 2) << to_string(shading);
+      EXPECT_LE(differ, one.size() / 100) << to_string(shading);
+    }
+    // The emission shows: the picture is not the one without it.
+    EXPECT_FALSE(render_pixels(s, o) == render_pixels(surfaces_scene(), o)) << to_string(shading);
+  }
+}
+
 TEST(Surfaces, BadSurfaceInputIsRefusedWithItsField) {
   auto expect_field = [](const Scene& s, const std::string& field) {
     const Status st = validate_scene(s);
@@ -448,6 +570,16 @@ TEST(Surfaces, BadSurfaceInputIsRefusedWithItsField) {
   expect_field(s, "materials[0].diffuse_texture");
   s = base;
   s.materials[0].diffuse_texture = 0;
+  s.meshes[0].mesh.uvs.clear();
+  expect_field(s, "objects[0].material");
+  s = base;
+  s.materials[0].emissive_texture = 1;
+  expect_field(s, "materials[0].emissive_texture");
+  s = base;
+  s.materials[0].emissive_texture = -2;
+  expect_field(s, "materials[0].emissive_texture");
+  s = base;
+  s.materials[0].emissive_texture = 0;
   s.meshes[0].mesh.uvs.clear();
   expect_field(s, "objects[0].material");
   s = base;

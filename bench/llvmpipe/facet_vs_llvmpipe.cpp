@@ -17,7 +17,11 @@
 // (glTexImage2D per level, so both sample the same texels), filters, wrap modes, the texture
 // environment and a texture matrix for uv_scale; GL_SEPARATE_SPECULAR_COLOR for textured
 // materials; vertex colours through glColorMaterial(AMBIENT_AND_DIFFUSE); blending (glBlendFunc,
-// glBlendEquation for subtract), glDepthMask, the alpha test (GEQUAL) and fog. Scenes with
+// glBlendEquation for subtract), glDepthMask, the alpha test (GEQUAL) and fog. Emission after the
+// texture (emissive textures, emission_after_texture) is a second texture unit under GL_ADD whose
+// texels are emissive x the emissive texture's (or one texel of the emissive colour), alpha 1, with
+// the material's GL emission 0: GL adds it after unit 0 and before the separate specular, as facet
+// does (8-bit texels of the product: half a step more than facet's float product). Scenes with
 // surfaces are held to the surfaces target (mean <= 1 step, >= 97 % of covered pixels within 2
 // steps): llvmpipe filters textures in 8-bit fixed point and chooses the LOD per 2x2 quad, facet
 // in float per pixel, and both round blends differently (8-bit framebuffer against float tiles).
@@ -77,7 +81,7 @@ struct Result {
 };
 
 bool has_surfaces(const facet::Scene& s) {
-  if (!s.textures.empty() || s.fog.mode != facet::FogMode::none) return true;
+  if (!s.textures.empty() || s.fog.mode != facet::FogMode::none) return true;  // includes emissive textures
   for (const auto& m : s.materials)
     if (m.blend != facet::BlendMode::opaque || m.alpha_cutoff > 0 || m.diffuse_texture != facet::kNoTexture) return true;
   for (const auto& m : s.meshes)
@@ -156,8 +160,30 @@ void gl_colour(GLenum light_or_face, GLenum what, const facet::Color3& c, float 
 // whose alpha is the material's (GL takes the diffuse alpha from the colour under glColorMaterial).
 struct GlScene {
   std::vector<GLuint> textures;
+  std::vector<GLuint> emission;             // per material: its emission unit's texture, 0: none
   std::vector<std::vector<float>> colours;  // per object, empty without vertex colours
 };
+
+// The rule of facet's frame plan (Material::emission_after_texture): emission after the texture
+// only where it differs from emission in the lighting, and only when there is some.
+bool emission_after(const facet::Material& m) {
+  const bool stage = m.emissive_texture != facet::kNoTexture ||
+                     (m.emission_after_texture && m.diffuse_texture != facet::kNoTexture);
+  return stage && m.emissive != facet::Color3::Zero();
+}
+
+void gl_sampling(const facet::Texture& t) {
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, static_cast<GLint>(t.levels.size()) - 1);
+  const bool nearest = t.filter == facet::TextureFilter::nearest;
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, nearest ? GL_NEAREST : GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
+                  nearest ? GL_NEAREST : t.filter == facet::TextureFilter::bilinear ? GL_LINEAR : GL_LINEAR_MIPMAP_LINEAR);
+  const GLint wrap = t.wrap == facet::TextureWrap::repeat ? GL_REPEAT
+                     : t.wrap == facet::TextureWrap::clamp ? GL_CLAMP_TO_EDGE
+                                                           : GL_MIRRORED_REPEAT;
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
+}
 
 GlScene gl_prepare(const facet::Scene& s) {
   GlScene g;
@@ -172,16 +198,44 @@ GlScene gl_prepare(const facet::Scene& s) {
       glTexImage2D(GL_TEXTURE_2D, static_cast<GLint>(k), GL_RGBA8, l.width, l.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
                    t.texels.data() + l.offset);
     }
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, static_cast<GLint>(t.levels.size()) - 1);
-    const bool nearest = t.filter == facet::TextureFilter::nearest;
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, nearest ? GL_NEAREST : GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
-                    nearest ? GL_NEAREST : t.filter == facet::TextureFilter::bilinear ? GL_LINEAR : GL_LINEAR_MIPMAP_LINEAR);
-    const GLint wrap = t.wrap == facet::TextureWrap::repeat ? GL_REPEAT
-                       : t.wrap == facet::TextureWrap::clamp ? GL_CLAMP_TO_EDGE
-                                                             : GL_MIRRORED_REPEAT;
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
+    gl_sampling(t);
+  }
+  // Emission units: emissive x texel (8-bit, saturated: facet saturates the sum, and the rest of
+  // it is >= 0), alpha 1 (GL_ADD multiplies the alphas); without a texture, one texel of the colour.
+  g.emission.assign(s.materials.size(), 0);
+  for (std::size_t i = 0; i < s.materials.size(); ++i) {
+    const facet::Material& m = s.materials[i];
+    if (!emission_after(m)) continue;
+    glGenTextures(1, &g.emission[i]);
+    glBindTexture(GL_TEXTURE_2D, g.emission[i]);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    auto scaled = [&m](const std::uint8_t* texel, std::uint8_t* out) {
+      for (int c = 0; c < 3; ++c) {
+        const double v = double(m.emissive[c]) * (texel ? texel[c] / 255.0 : 1.0);
+        out[c] = static_cast<std::uint8_t>(std::lround(255.0 * std::min(v, 1.0)));
+      }
+      out[3] = 255;
+    };
+    if (m.emissive_texture == facet::kNoTexture) {
+      std::uint8_t texel[4];
+      scaled(nullptr, texel);
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 1, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, texel);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      continue;
+    }
+    const facet::Texture& t = s.textures[static_cast<std::size_t>(m.emissive_texture)];
+    std::vector<std::uint32_t> texels(t.texels.size());  // RGBA bytes, as Texture::texels
+    const auto* from = reinterpret_cast<const std::uint8_t*>(t.texels.data());
+    auto* to = reinterpret_cast<std::uint8_t*>(texels.data());
+    for (std::size_t k = 0; k < texels.size(); ++k) scaled(from + 4 * k, to + 4 * k);
+    for (std::size_t k = 0; k < t.levels.size(); ++k) {
+      const facet::TextureLevel& l = t.levels[k];
+      glTexImage2D(GL_TEXTURE_2D, static_cast<GLint>(k), GL_RGBA8, l.width, l.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                   texels.data() + l.offset);
+    }
+    gl_sampling(t);
   }
   for (const auto& o : s.objects) {
     const facet::Mesh& mesh = s.meshes[o.mesh].mesh;
@@ -195,6 +249,9 @@ GlScene gl_prepare(const facet::Scene& s) {
 void gl_release(GlScene& g) {
   if (!g.textures.empty()) glDeleteTextures(static_cast<GLsizei>(g.textures.size()), g.textures.data());
   g.textures.clear();
+  for (GLuint& t : g.emission)
+    if (t) glDeleteTextures(1, &t);
+  g.emission.clear();
 }
 
 // GL 2.1 state for a material's surface (see the header comment).
@@ -204,6 +261,26 @@ void gl_surface(const facet::Scene& s, const GlScene& g, std::size_t object) {
   const facet::Mesh& mesh = s.meshes[o.mesh].mesh;
   const bool textured = m.diffuse_texture != facet::kNoTexture;
   glLightModeli(GL_LIGHT_MODEL_COLOR_CONTROL, textured ? GL_SEPARATE_SPECULAR_COLOR : GL_SINGLE_COLOR);
+  // Unit 1: the emission after the texture (GL_ADD), at the same coordinates and scale.
+  const GLuint emission = g.emission[o.material];
+  glActiveTexture(GL_TEXTURE1);
+  glClientActiveTexture(GL_TEXTURE1);
+  if (emission) {
+    glEnable(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, emission);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_ADD);
+    glMatrixMode(GL_TEXTURE);
+    glLoadIdentity();
+    glScalef(m.uv_scale.x(), m.uv_scale.y(), 1.0f);
+    glMatrixMode(GL_MODELVIEW);
+    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+    glTexCoordPointer(2, GL_FLOAT, sizeof(facet::Vec2), mesh.uvs.data());
+  } else {
+    glDisable(GL_TEXTURE_2D);
+    glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+  }
+  glActiveTexture(GL_TEXTURE0);
+  glClientActiveTexture(GL_TEXTURE0);
   if (textured) {
     glEnable(GL_TEXTURE_2D);
     glBindTexture(GL_TEXTURE_2D, g.textures[static_cast<std::size_t>(m.diffuse_texture)]);
@@ -324,7 +401,8 @@ void gl_draw(const facet::Scene& s, const GlScene& g, int w, int h) {
     const facet::Instance& o = s.objects[i];
     const facet::Material& m = s.materials[o.material];
     gl_surface(s, g, i);
-    gl_colour(GL_FRONT_AND_BACK, GL_EMISSION, m.emissive, m.alpha, true);
+    // Emission after the texture comes from texture unit 1 (gl_surface).
+    gl_colour(GL_FRONT_AND_BACK, GL_EMISSION, emission_after(m) ? facet::Color3::Zero() : m.emissive, m.alpha, true);
     gl_colour(GL_FRONT_AND_BACK, GL_AMBIENT, m.ambient, m.alpha, true);
     gl_colour(GL_FRONT_AND_BACK, GL_DIFFUSE, m.diffuse, m.alpha, true);
     gl_colour(GL_FRONT_AND_BACK, GL_SPECULAR, m.specular, m.alpha, true);
@@ -512,6 +590,41 @@ int main(int argc, char** argv) {
       return 2;
     }
     cases.emplace_back("surfaces", *surfaces);
+    // Emission after the texture: a glowing grid on the ground (an emissive texture over its
+    // checker), the painted ball's emission after its stripes, and an emissive texture alone on
+    // the box.
+    {
+      facet::Scene glow = *surfaces;
+      std::vector<std::uint8_t> grid(32 * 32 * 4);
+      for (int j = 0; j < 32; ++j)
+        for (int i = 0; i < 32; ++i) {
+          const bool line = i % 8 < 2 || j % 8 < 2;
+          std::uint8_t* p = grid.data() + 4 * (j * 32 + i);
+          p[0] = line ? 255 : 20, p[1] = line ? 200 : 10, p[2] = line ? 60 : 30, p[3] = 255;
+        }
+      facet::TextureOptions to;
+      to.filter = facet::TextureFilter::trilinear;
+      auto t = facet::make_texture("grid", 32, 32, grid, to);
+      if (!t) {
+        std::fprintf(stderr, "%s\n", t.status().message().c_str());
+        return 2;
+      }
+      glow.textures.push_back(std::move(*t));
+      const auto grid_index = static_cast<std::int32_t>(glow.textures.size() - 1);
+      for (auto& m : glow.materials) {
+        if (m.name == "ground") {
+          m.emissive = facet::Color3(0.7f, 0.6f, 0.5f);
+          m.emissive_texture = grid_index;
+        } else if (m.name == "painted") {
+          m.emissive = facet::Color3(0.25f, 0.1f, 0.05f);
+          m.emission_after_texture = true;
+        } else if (m.name == "red") {
+          m.emissive = facet::Color3(1.0f, 1.0f, 1.0f);
+          m.emissive_texture = grid_index;
+        }
+      }
+      cases.emplace_back("emissive_textures", std::move(glow));
+    }
     facet::Scene coloured = facet::make_default_scene();
     for (auto& m : coloured.materials) m.shininess = std::min(m.shininess, 128.0f);
     for (auto& nm : coloured.meshes) {

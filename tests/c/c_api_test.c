@@ -218,6 +218,22 @@ int main(void) {
     CHECK(facet_render(sr, s, img, 16, 16, 16 * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
     /* (0.5, 64/255, 0) at alpha 0.5 over (0, 0, 1): (64, 32, 128). */
     CHECK(abs(c[0] - 64) <= 1 && abs(c[1] - 32) <= 1 && abs(c[2] - 128) <= 1);
+    /* Emission after texturing: emissive x the emissive texture's texel, no fog, opaque. */
+    CHECK(sm.emissive_texture == -1 && sm.emission_after_texture == 0);
+    sm.emissive_texture = 7;
+    CHECK(facet_scene_set_material(s, mat, &sm) == FACET_INVALID_ARGUMENT);
+    CHECK(strstr(facet_scene_last_error(s), "emissive_texture") != NULL);
+    sm.emissive_texture = (int32_t)tex;
+    sm.diffuse_texture = -1;
+    sm.emissive[0] = sm.emissive[1] = sm.emissive[2] = 0.5f;
+    sm.blend = FACET_BLEND_OPAQUE;
+    sm.alpha = 1;
+    CHECK(facet_scene_set_material(s, mat, &sm) == FACET_OK);
+    fog.mode = FACET_FOG_NONE;
+    CHECK(facet_scene_set_fog(s, &fog) == FACET_OK);
+    CHECK(facet_render(sr, s, img, 16, 16, 16 * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
+    /* 0.5 x (1, 128/255, 0): (128, 64, 0), opaque. */
+    CHECK(abs(c[0] - 128) <= 1 && abs(c[1] - 64) <= 1 && c[2] == 0 && c[3] == 255);
     /* Per-face materials: the quad's first triangle (lower right) red, its second green. */
     facet_scene* g = facet_scene_create();
     uint32_t gq = 0, red = 0, green = 0;

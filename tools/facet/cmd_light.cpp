@@ -196,11 +196,12 @@ int check(const std::string& scene_path, const RenderOptions& options, std::opti
   if (!scene) return 2;
   if (shadows) override_shadows(*scene, *shadows);
   if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(scene_path + ": " + s.message());
-  std::size_t triangles = 0, blended = 0, textured = 0;
+  std::size_t triangles = 0, blended = 0, textured = 0, emissive = 0;
   for (const auto& obj : scene->objects) {
     triangles += scene->meshes[obj.mesh].mesh.triangle_count();
     blended += scene->materials[obj.material].blend != BlendMode::opaque;
-    textured += scene->materials[obj.material].diffuse_texture != kNoTexture;
+    textured += uses_textures(scene->materials[obj.material]);
+    emissive += scene->materials[obj.material].emissive_texture != kNoTexture;
   }
   std::uint64_t texels = 0;
   for (const auto& t : scene->textures) texels += t.texels.size();
@@ -255,9 +256,10 @@ int check(const std::string& scene_path, const RenderOptions& options, std::opti
                 closed, open_count, open_count ? open.c_str() : "none", open_count > 5 ? ", ..." : "");
   }
   if (!scene->textures.empty() || blended > 0 || scene->fog.mode != FogMode::none) {
-    std::printf("  surfaces: %zu textures (%llu KiB with their mipmaps), %zu textured and %zu blended objects, fog %s\n",
-                scene->textures.size(), static_cast<unsigned long long>((4 * texels + 1023) / 1024), textured, blended,
-                to_string(scene->fog.mode));
+    std::printf("  surfaces: %zu textures (%llu KiB with their mipmaps), %zu textured (%zu with an emissive texture) "
+                "and %zu blended objects, fog %s\n",
+                scene->textures.size(), static_cast<unsigned long long>((4 * texels + 1023) / 1024), textured, emissive,
+                blended, to_string(scene->fog.mode));
   }
   return 0;
 }

@@ -40,7 +40,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const auto index = static_cast<std::int32_t>(scene->textures.size());
         scene->textures.push_back(std::move(*texture));
         if (uvs) {
-          for (auto& m : scene->materials) m.diffuse_texture = index;
+          for (auto& m : scene->materials) {
+            m.diffuse_texture = index;
+            if (size & 8) {  // and as the emissive texture (the emission after the texture)
+              m.emissive_texture = index;
+              if (m.emissive == facet::Color3::Zero()) m.emissive = facet::Color3(0.5f, 0.25f, 1.0f);
+            }
+          }
         }
       }
     }

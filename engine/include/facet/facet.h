@@ -100,6 +100,11 @@ typedef struct facet_material {
   float alpha_cutoff;              /* [0, 1]; alpha test, 0 = off */
   facet_blend blend;               /* default FACET_BLEND_OPAQUE */
   facet_depth_write depth_write;   /* default FACET_DEPTH_WRITE_AUTO: opaque writes, blended does not */
+  /* Emission after texturing (glTF's rule; facet::Material): emissive times this texture's RGB,
+   * added after the texture environment. -1: none (default). */
+  int32_t emissive_texture;
+  int emission_after_texture; /* non-zero: the emission is added after the texture environment even
+                                 without emissive_texture (GL, default 0: the diffuse texture modulates it) */
 } facet_material;
 
 typedef struct facet_fog {

@@ -59,6 +59,20 @@ struct Material {
   float alpha_cutoff = 0.0f;  // alpha test: fragments with alpha < cutoff are discarded; [0, 1], 0 = off
   BlendMode blend = BlendMode::opaque;
   DepthWrite depth_write = DepthWrite::automatic;
+
+  // Emission after texturing (glTF's rule). GL adds the emission into the lit colour, so a
+  // diffuse texture modulates it; with `emission_after_texture` the emission is left out of the
+  // lighting and added after the texture environment instead (saturated, before the separate
+  // specular). An `emissive_texture` implies it: the emission is `emissive` times the texel's RGB
+  // (its alpha is not read), sampled at the same uvs as the diffuse texture (uv_scale included).
+  // Without either texture both rules give the same colour, and the emission stays in the lighting.
+  std::int32_t emissive_texture = kNoTexture;  // index into Scene::textures
+  bool emission_after_texture = false;
 };
+
+// Whether the material samples a texture (and so needs the mesh's uvs).
+inline bool uses_textures(const Material& m) noexcept {
+  return m.diffuse_texture != kNoTexture || m.emissive_texture != kNoTexture;
+}
 
 }  // namespace facet

@@ -156,7 +156,21 @@ facet::Material to_material(const facet_material& c) {
     m.alpha_cutoff = material->alpha_cutoff;
     m.blend = static_cast<facet::BlendMode>(material->blend);
     m.depth_write = static_cast<facet::DepthWrite>(material->depth_write);
+    m.emissive_texture = material->emissive_texture;
+    m.emission_after_texture = material->emission_after_texture != 0;
   return m;
+}
+
+// The material's textures exist (checked at the call, so the error names its argument).
+bool textures_exist(const facet::Material& m, const facet::Scene& s, const char*& field) {
+  for (const auto& [index, name] : {std::pair{m.diffuse_texture, "material.diffuse_texture"},
+                                    std::pair{m.emissive_texture, "material.emissive_texture"}}) {
+    if (index != facet::kNoTexture && (index < 0 || static_cast<std::size_t>(index) >= s.textures.size())) {
+      field = name;
+      return false;
+    }
+  }
+  return true;
 }
 
 }  // namespace
@@ -199,6 +213,8 @@ facet_material facet_material_default(void) {
   c.alpha_cutoff = m.alpha_cutoff;
   c.blend = static_cast<facet_blend>(m.blend);
   c.depth_write = static_cast<facet_depth_write>(m.depth_write);
+  c.emissive_texture = m.emissive_texture;
+  c.emission_after_texture = m.emission_after_texture ? 1 : 0;
   return c;
 }
 
@@ -312,10 +328,7 @@ facet_status facet_scene_add_material(facet_scene* scene, const facet_material* 
     if (!material) return fail(scene->error, "material", "null");
     facet::Material m = to_material(*material);
     const auto id = static_cast<std::uint32_t>(scene->scene.materials.size());
-    if (m.diffuse_texture != facet::kNoTexture &&
-        (m.diffuse_texture < 0 || static_cast<std::size_t>(m.diffuse_texture) >= scene->scene.textures.size())) {
-      return fail(scene->error, "material.diffuse_texture", "no such texture");
-    }
+    if (const char* field = nullptr; !textures_exist(m, scene->scene, field)) return fail(scene->error, field, "no such texture");
     // Checked now, so the error names this call's argument rather than the next render.
     if (facet::Status st = facet::validate_material(m, id); !st.ok()) return report(scene->error, st);
     m.name = "material" + std::to_string(id);
@@ -555,7 +568,7 @@ facet_status facet_scene_set_object_material(facet_scene* scene, uint32_t object
       return fail(scene->error, "material_id", "no such material");
     }
     const facet::Material& m = scene->scene.materials[material_id];
-    if (m.diffuse_texture != facet::kNoTexture && scene->scene.meshes[inst->mesh].mesh.uvs.empty()) {
+    if (facet::uses_textures(m) && scene->scene.meshes[inst->mesh].mesh.uvs.empty()) {
       return fail(scene->error, "material_id", "the material is textured but the object's mesh has no uvs");
     }
     inst->material = material_id;
@@ -593,10 +606,7 @@ facet_status facet_scene_set_material(facet_scene* scene, uint32_t material_id, 
       return fail(scene->error, "material_id", "no such material");
     }
     facet::Material m = to_material(*material);
-    if (m.diffuse_texture != facet::kNoTexture &&
-        (m.diffuse_texture < 0 || static_cast<std::size_t>(m.diffuse_texture) >= scene->scene.textures.size())) {
-      return fail(scene->error, "material.diffuse_texture", "no such texture");
-    }
+    if (const char* field = nullptr; !textures_exist(m, scene->scene, field)) return fail(scene->error, field, "no such texture");
     if (facet::Status st = facet::validate_material(m, material_id); !st.ok()) return report(scene->error, st);
     m.name = scene->scene.materials[material_id].name;
     // A textured material needs uvs on every mesh drawn with it: checked on a copy, so a failure changes nothing.

@@ -633,7 +633,7 @@ class GltfReader {
   std::uint32_t untextured_twin(std::uint32_t index) {
     if (auto it = untextured_.find(index); it != untextured_.end()) return it->second;
     Material copy = out_.scene.materials[index];
-    copy.diffuse_texture = kNoTexture;
+    copy.diffuse_texture = copy.emissive_texture = kNoTexture;
     copy.name += " (untextured)";
     out_.scene.materials.push_back(copy);
     const auto twin = static_cast<std::uint32_t>(out_.scene.materials.size() - 1);
@@ -708,19 +708,38 @@ class GltfReader {
       }
       info.double_sided = g.doubleSided;
       info.uses_alpha = g.alphaMode == "MASK" || g.alphaMode == "BLEND";
-      if (pbr.baseColorTexture.index >= 0) {
-        const std::string tp = p + ".pbrMetallicRoughness.baseColorTexture";
-        if (pbr.baseColorTexture.texCoord != 0) {
-          warn(tp + ": texCoord " + std::to_string(pbr.baseColorTexture.texCoord) +
-               " is not supported (facet reads TEXCOORD_0 only); drawn untextured");
-        } else if (pbr.baseColorTexture.extensions.count("KHR_texture_transform")) {
-          warn(tp + ": KHR_texture_transform is not supported; drawn untextured");
+      // A texture of the material read from TEXCOORD_0 without a transform; others are drawn
+      // without it, with a warning.
+      auto texture_of = [&](const tinygltf::TextureInfo& ti, const std::string& tp, std::int32_t& t) -> Status {
+        if (ti.texCoord != 0) {
+          warn(tp + ": texCoord " + std::to_string(ti.texCoord) +
+               " is not supported (facet reads TEXCOORD_0 only); drawn without it");
+        } else if (ti.extensions.count("KHR_texture_transform")) {
+          warn(tp + ": KHR_texture_transform is not supported; drawn without it");
         } else {
+          FACET_TRY(texture(ti.index, tp + ".index", t));
+        }
+        return {};
+      };
+      if (pbr.baseColorTexture.index >= 0) {
+        std::int32_t t = kNoTexture;
+        FACET_TRY(texture_of(pbr.baseColorTexture, p + ".pbrMetallicRoughness.baseColorTexture", t));
+        if (t != kNoTexture) {
+          mat.diffuse_texture = t;
+          mat.texture_mode = TextureMode::modulate;
+          info.needs_uvs = true;
+        }
+      }
+      if (g.extensions.count("KHR_materials_unlit")) {
+        if (g.emissiveTexture.index >= 0) warn(p + ".emissiveTexture: ignored by KHR_materials_unlit");
+      } else {
+        // glTF adds the emission after the base colour: not modulated by the base colour texture.
+        mat.emission_after_texture = true;
+        if (g.emissiveTexture.index >= 0) {
           std::int32_t t = kNoTexture;
-          FACET_TRY(texture(pbr.baseColorTexture.index, tp + ".index", t));
+          FACET_TRY(texture_of(g.emissiveTexture, p + ".emissiveTexture", t));
           if (t != kNoTexture) {
-            mat.diffuse_texture = t;
-            mat.texture_mode = TextureMode::modulate;
+            mat.emissive_texture = t;
             info.needs_uvs = true;
           }
         }
@@ -728,7 +747,6 @@ class GltfReader {
       auto ignored = [&](const char* what, int tex) {
         if (tex >= 0) warn(p + "." + what + ": not supported; ignored");
       };
-      ignored("emissiveTexture", g.emissiveTexture.index);
       ignored("normalTexture", g.normalTexture.index);
       ignored("occlusionTexture", g.occlusionTexture.index);
       ignored("pbrMetallicRoughness.metallicRoughnessTexture", pbr.metallicRoughnessTexture.index);

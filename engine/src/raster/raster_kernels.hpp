@@ -48,8 +48,9 @@ struct TileView {
 // draw (opaque, untextured, no alpha test, no fog, no vertex colours lit per pixel) runs the plain
 // kernels (flat colour, interpolated colour, or Phong lighting): what ran before surfaces existed.
 // Any other runs the surface program, GL 2.1's order (§3.8.13, §3.10, §4.1):
-//   interpolate -> sample the texture -> texture environment (primary colour and texel) -> add the
-//   secondary colour -> fog -> alpha test -> depth test and write -> blend -> store.
+//   interpolate -> sample the textures -> texture environment (primary colour and texel) -> add the
+//   emission (Material::emission_after_texture) -> add the secondary colour -> fog -> alpha test ->
+//   depth test and write -> blend -> store.
 enum : int { kEnvModulate = 0, kEnvReplace = 1, kEnvDecal = 2, kEnvAdd = 3 };
 enum : int { kBlendOpaque = 0, kBlendAlpha = 1, kBlendPremultiplied = 2, kBlendAdd = 3, kBlendMultiply = 4, kBlendSubtract = 5 };
 enum : int { kFogNone = 0, kFogLinear = 1, kFogExp = 2, kFogExp2 = 3 };
@@ -59,6 +60,12 @@ struct Draw {
   int program = 0;       // 0: plain; 1: the surface program
   const texture::Sampler* texture = nullptr;  // null: untextured
   int texture_env = kEnvModulate;
+  // 1: the emission is added after the texture environment (the lighting leaves it out):
+  // emission_rgb, times the RGB of emission_texture when there is one. 0: none (any emission is
+  // in the lit colour).
+  int emission = 0;
+  float emission_rgb[3] = {};
+  const texture::Sampler* emission_texture = nullptr;
   float uv_scale[2] = {1.0f, 1.0f};
   float alpha_cutoff = 0.0f;  // alpha test: the fragment is kept when alpha >= cutoff (0: every fragment)
   int blend = kBlendOpaque;
@@ -82,13 +89,15 @@ struct Fog {
 // of visible pixels into these structure-of-arrays buffers (capacity kPhongCapacity), then asks
 // `shade` to light them with the shader of `object`; the colours come back in r, g, b. Surface
 // draws also gather the albedo (vertex colours) and get the secondary colour back, and the pixel
-// program's inputs that do not depend on lighting: the texel (tr..ta) and the fog factor.
+// program's inputs that do not depend on lighting: the texel (tr..ta), the emission (er..eb) and
+// the fog factor.
 inline constexpr int kPhongCapacity = 256;  // a multiple of the widest batch (16)
-inline constexpr int kPhongStreams = 20;
+inline constexpr int kPhongStreams = 23;
 struct PhongSink {
   float *px, *py, *pz, *nx, *ny, *nz, *r, *g, *b;
   float *ar, *ag, *ab, *sr, *sg, *sb;  // albedo in, secondary out
   float *tr, *tg, *tb, *ta, *fog;      // texel and fog factor (surface draws)
+  float *er, *eg, *eb;                 // emission added after the texture (Draw::emission)
   std::uint32_t* pixel;  // tile-buffer index of each entry
   void* context;
   // `padded` is `count` rounded up to 16; entries [count, padded) hold zeros.

@@ -96,7 +96,8 @@ struct TileKernel {
       if (count == 0) return;
       int padded = (count + 15) / 16 * 16;
       PhongSink& s = *sink;
-      float* const streams[] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab, s.tr, s.tg, s.tb, s.ta, s.fog};
+      float* const streams[] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab,
+                                s.tr, s.tg, s.tb, s.ta, s.fog, s.er, s.eg, s.eb};
       for (float* f : streams) {
         for (int k = count; k < padded; ++k) f[k] = 0.0f;
       }
@@ -122,9 +123,11 @@ struct TileKernel {
         const F sec[3] = {F::load_unaligned(s.sr + k), F::load_unaligned(s.sg + k), F::load_unaligned(s.sb + k)};
         const F t[4] = {F::load_unaligned(s.tr + k), F::load_unaligned(s.tg + k), F::load_unaligned(s.tb + k),
                         F::load_unaligned(s.ta + k)};
+        const F e[3] = {F::load_unaligned(s.er + k), F::load_unaligned(s.eg + k), F::load_unaligned(s.eb + k)};
         const F f = F::load_unaligned(s.fog + k);
         F c[4];
-        surface::shade_fragment(d, *job->fog, p, F(alpha), textured ? t : nullptr, secondary ? sec : nullptr, &f, c);
+        surface::shade_fragment(d, *job->fog, p, F(alpha), textured ? t : nullptr, d.emission ? e : nullptr,
+                                secondary ? sec : nullptr, &f, c);
         c[0].store_unaligned(s.r + k);
         c[1].store_unaligned(s.g + k);
         c[2].store_unaligned(s.b + k);
@@ -164,19 +167,36 @@ struct TileKernel {
 
   // The surface program on one batch whose coverage and depth test gave `pass` (raster_kernels.hpp,
   // Draw): sample, alpha test, depth write, then the colour (Phong: gathered, finished at flush).
-  // The draw's texture at the batch's pixels (RGBA in tex): perspective-correct uv and its
-  // derivatives, the LOD, the sample. cw: the interpolated clip w (1 / W').
+  // The batch's texture coordinates, scaled by the draw's uv_scale: perspective-correct uv and its
+  // screen derivatives. cw: the interpolated clip w (1 / W').
+  struct Uv {
+    F u, v, dudx, dvdx, dudy, dvdy;
+  };
   template <std::size_t N>
-  static void texture_batch(const Draw& d, const PlaneEval (&attr)[N], const float (&attr_o)[N], const PlaneEval& w_plane,
-                            const F& cw, const F& fi, const F& fj, F (&tex)[4]) {
+  static Uv uv_batch(const Draw& d, const PlaneEval (&attr)[N], const float (&attr_o)[N], const PlaneEval& w_plane,
+                     const F& cw, const F& fi, const F& fj) {
     // u = U / W' with U = u/w and W' = 1/w affine on screen: du/dx = (dU/dx - u dW'/dx) / W'.
     const int uv = d.layout.at(Varying::uv);
     const F u = attr[uv].at(attr_o[uv], fi, fj) * cw, v = attr[uv + 1].at(attr_o[uv + 1], fi, fj) * cw;
     const F dudx = (attr[uv].dx - u * w_plane.dx) * cw, dudy = (attr[uv].dy - u * w_plane.dy) * cw;
     const F dvdx = (attr[uv + 1].dx - v * w_plane.dx) * cw, dvdy = (attr[uv + 1].dy - v * w_plane.dy) * cw;
     const F su(d.uv_scale[0]), sv(d.uv_scale[1]);
-    const F lambda = Sampler::lod(*d.texture, su * dudx, sv * dvdx, su * dudy, sv * dvdy);
-    Sampler::sample(*d.texture, su * u, sv * v, lambda, tex);
+    return {su * u, sv * v, su * dudx, sv * dvdx, su * dudy, sv * dvdy};
+  }
+  // One texture at those coordinates (RGBA in tex): the LOD, the sample.
+  static void sample_batch(const texture::Sampler& sampler, const Uv& c, F (&tex)[4]) {
+    const F lambda = Sampler::lod(sampler, c.dudx, c.dvdx, c.dudy, c.dvdy);
+    Sampler::sample(sampler, c.u, c.v, lambda, tex);
+  }
+  // The emission the draw adds after its texture environment (Draw::emission).
+  static void emission_batch(const Draw& d, const Uv* c, F (&e)[3]) {
+    if (d.emission_texture) {
+      F t[4];
+      sample_batch(*d.emission_texture, *c, t);
+      for (int k = 0; k < 3; ++k) e[k] = F(d.emission_rgb[k]) * t[k];
+    } else {
+      for (int k = 0; k < 3; ++k) e[k] = F(d.emission_rgb[k]);
+    }
   }
 
   template <std::size_t N>
@@ -188,8 +208,10 @@ struct TileKernel {
     auto value = [&](int a) { return attr[a].at(attr_o[a], fi, fj) * cw; };
     F tex[4];
     const F* texel = nullptr;
+    Uv uv;
+    if (d.layout.has(Varying::uv)) uv = uv_batch(d, attr, attr_o, w_plane, cw, fi, fj);
     if (d.texture) {
-      texture_batch(d, attr, attr_o, w_plane, cw, fi, fj, tex);
+      sample_batch(*d.texture, uv, tex);
       texel = tex;
     }
     const F alpha(t.alpha);
@@ -199,8 +221,10 @@ struct TileKernel {
     float* depth = planes[4] + at;
     if (d.depth_write) xsimd::select(pass, z, F::load_unaligned(depth)).store_unaligned(depth);
     const F f = job.fog->mode != kFogNone ? surface::fog_factor(*job.fog, cw) : F(1.0f);
+    F emitted[3];
+    if (d.emission) emission_batch(d, &uv, emitted);
     if (job.shading == 2) {  // Phong: light at flush
-      alignas(64) float values[14][W];
+      alignas(64) float values[17][W];
       alignas(64) float mask[W];
       const int position = d.layout.at(Varying::eye_position), normal = d.layout.at(Varying::normal);
       const int albedo = d.layout.at(Varying::albedo);
@@ -211,13 +235,15 @@ struct TileKernel {
       }
       for (int c = 0; c < 4; ++c) (texel ? tex[c] : F(1.0f)).store_aligned(values[9 + c]);
       f.store_aligned(values[13]);
+      for (int c = 0; c < 3; ++c) (d.emission ? emitted[c] : F(0.0f)).store_aligned(values[14 + c]);
       xsimd::select(pass, F(1.0f), F(0.0f)).store_aligned(mask);
       PhongSink& s = *phong.sink;
-      float* const dst[14] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab, s.tr, s.tg, s.tb, s.ta, s.fog};
+      float* const dst[17] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab,
+                              s.tr, s.tg, s.tb, s.ta, s.fog, s.er, s.eg, s.eb};
       for (int lane = 0; lane < W; ++lane) {
         if (mask[lane] == 0.0f) continue;
         const int k = phong.count++;
-        for (int q = 0; q < 14; ++q) dst[q][k] = values[q][lane];
+        for (int q = 0; q < 17; ++q) dst[q][k] = values[q][lane];
         s.pixel[k] = static_cast<std::uint32_t>(at + static_cast<std::size_t>(lane));
         if (phong.count == kPhongCapacity) phong.flush();
       }
@@ -237,7 +263,7 @@ struct TileKernel {
       }
     }
     F c[4];
-    surface::shade_fragment(d, *job.fog, p, alpha, texel, secondary, &f, c);
+    surface::shade_fragment(d, *job.fog, p, alpha, texel, d.emission ? emitted : nullptr, secondary, &f, c);
     F old[4], out[4];
     for (int ch = 0; ch < 4; ++ch) out[ch] = old[ch] = F::load_unaligned(planes[ch] + at);
     surface::blend(d, c, out);
@@ -245,12 +271,12 @@ struct TileKernel {
   }
 
   // The surface program specialised for its commonest textured case: Gouraud, a texture under
-  // GL_MODULATE with the specular added after it, no fog, opaque, no alpha test (cutoff <= 0 and
-  // the fragment's alpha is never NaN). The same operations in the same order as surface_batch
+  // GL_MODULATE with the specular added after it, no emission after it, no fog, opaque, no alpha
+  // test (cutoff <= 0 and the fragment's alpha is never NaN). The same operations in the same order as surface_batch
   // with shade_fragment and blend, so the same bits, without the branches on the draw's settings.
   static bool modulate_fast(const TileJob& job, const Draw& d) {
     return d.texture && job.shading == 1 && d.texture_env == kEnvModulate && job.fog->mode == kFogNone &&
-           d.blend == kBlendOpaque && d.clamp && d.alpha_cutoff <= 0.0f &&
+           !d.emission && d.blend == kBlendOpaque && d.clamp && d.alpha_cutoff <= 0.0f &&
            d.layout.at(Varying::front_secondary) >= 0;
   }
   template <std::size_t N>
@@ -260,7 +286,7 @@ struct TileKernel {
     const F cw = F(1.0f) / w_plane.at(w_o, fi, fj);
     auto value = [&](int a) { return attr[a].at(attr_o[a], fi, fj) * cw; };
     F tex[4];
-    texture_batch(d, attr, attr_o, w_plane, cw, fi, fj, tex);
+    sample_batch(*d.texture, uv_batch(d, attr, attr_o, w_plane, cw, fi, fj), tex);
     filled += xsimd::select(xsimd::bool_cast(pass), I(1), I(0));
     const bool all = xsimd::all(pass);
     auto put = [&](int c, const F& x) {

@@ -1067,6 +1067,11 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
     const bool plain = sub_frame == SubFrame::visibility;  // visibility: no texture, colour or blend
     const bool textured = !plain && m.diffuse_texture != kNoTexture;
     const bool colours = !plain && !mesh.colors.empty();
+    // Emission after the texture environment (Material::emission_after_texture): only where it
+    // differs from emission in the lighting, a texture; none in the visibility and part sub-frames.
+    const Color3 emission = plain || part_without_emission ? Color3(0.0f, 0.0f, 0.0f) : m.emissive;
+    const bool emission_texture = !plain && m.emissive_texture != kNoTexture;
+    const bool emission_stage = (emission_texture || (m.emission_after_texture && textured)) && emission != Color3::Zero();
     draw_two_sided[o] = p.two_sided() || inst.double_sided;
     lighting::LightingFeatures& lf = features[o];
     lf.color_material = colours;
@@ -1074,19 +1079,24 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
     raster::SurfaceNeeds needs;
     needs.secondary = textured && lit == raster::LitAt::vertex;
     needs.albedo = colours && lit == raster::LitAt::pixel;
-    needs.uv = textured;
+    needs.uv = textured || (emission_stage && emission_texture);
     raster::simd::Draw& d = draws[o];
     d = raster::simd::Draw{};
     if (p.depth_only) continue;  // no varying, no program: depth alone (every caster is opaque)
     d.layout = raster::plan_varyings(lit, draw_two_sided[o] != 0, needs);
     d.texture = textured ? &samplers[static_cast<std::size_t>(m.diffuse_texture)] : nullptr;
     d.texture_env = static_cast<int>(m.texture_mode);
+    if (emission_stage) {
+      d.emission = 1;
+      for (int c = 0; c < 3; ++c) d.emission_rgb[c] = emission[c];
+      if (emission_texture) d.emission_texture = &samplers[static_cast<std::size_t>(m.emissive_texture)];
+    }
     d.uv_scale[0] = m.uv_scale.x(), d.uv_scale[1] = m.uv_scale.y();
     d.alpha_cutoff = m.alpha_cutoff;
     d.blend = plain ? static_cast<int>(BlendMode::opaque) : static_cast<int>(m.blend);
     d.depth_write = writes_depth(m);
     d.clamp = clamp ? 1 : 0;
-    d.program = textured || d.blend != static_cast<int>(BlendMode::opaque) || m.alpha_cutoff > 0.0f || !d.depth_write ||
+    d.program = textured || d.emission || d.blend != static_cast<int>(BlendMode::opaque) || m.alpha_cutoff > 0.0f || !d.depth_write ||
                 f.mode != FogMode::none || needs.albedo;
   }
 }
@@ -1154,7 +1164,8 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   // Options were checked in render(), so preparing cannot fail here.
   const lighting::LightingFeatures& lf = features[object];
   Material material = scene.materials[unit.material];
-  if (part_without_emission) material.emissive = Color3(0.0f, 0.0f, 0.0f);
+  // Emission left out of the lighting: in the parts of a composite frame, or added by the pixel program.
+  if (part_without_emission || draws[object].emission) material.emissive = Color3(0.0f, 0.0f, 0.0f);
   (void)shader.prepare(part_lighting ? *part_lighting : scene, view, material, lighting, &bounds, lf,
                        inst.receive_shadows && has_shadows ? &frame_shadows : nullptr);
   if (sub_frame == SubFrame::visibility) shader.output_visibility(visibility_lights);

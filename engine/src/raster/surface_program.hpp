@@ -90,11 +90,12 @@ V fog_factor(const Fog& fog, const V& z) {
 }
 
 // One fragment's colour (c[0..2]) and alpha (c[3]) through the texture environment (GL 2.1
-// table 3.22, RGBA texture): primary colour p, fragment alpha a, texel t (RGBA), then the colour
-// sum with the secondary colour s, then fog with factor f (f null: no fog).
+// table 3.22, RGBA texture): primary colour p, fragment alpha a, texel t (RGBA), then the emission
+// e (Draw::emission; null: none) added as a second texture unit under GL_ADD would add it, then
+// the colour sum with the secondary colour s, then fog with factor f (f null: no fog).
 template <class V>
-void shade_fragment(const Draw& d, const Fog& fog, const V (&p)[3], const V& a, const V* t, const V* s, const V* f,
-                    V (&c)[4]) {
+void shade_fragment(const Draw& d, const Fog& fog, const V (&p)[3], const V& a, const V* t, const V* e, const V* s,
+                    const V* f, V (&c)[4]) {
   if (!t) {
     for (int k = 0; k < 3; ++k) c[k] = p[k];
     c[3] = a;
@@ -117,6 +118,9 @@ void shade_fragment(const Draw& d, const Fog& fog, const V (&p)[3], const V& a, 
         c[3] = a * t[3];
         break;
     }
+  }
+  if (e) {
+    for (int k = 0; k < 3; ++k) c[k] = finish(c[k] + e[k], d.clamp);
   }
   if (s) {
     for (int k = 0; k < 3; ++k) c[k] = finish(c[k] + s[k], d.clamp);

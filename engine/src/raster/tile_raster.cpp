@@ -58,9 +58,11 @@ class PixelBatch {
     n_[count_] = n;
     ++count_;
   }
-  void add_surface(std::size_t index, const Vec3& p, const Vec3& n, const Color3& albedo, const float* texel, float fog) {
+  void add_surface(std::size_t index, const Vec3& p, const Vec3& n, const Color3& albedo, const float* texel,
+                   const float* emitted, float fog) {
     albedo_[count_] = albedo;
     for (int c = 0; c < 4; ++c) texel_[count_][c] = texel ? texel[c] : 1.0f;
+    for (int c = 0; c < 3; ++c) emitted_[count_][c] = emitted ? emitted[c] : 0.0f;
     fog_[count_] = fog;
     add(index, p, n);
   }
@@ -83,8 +85,8 @@ class PixelBatch {
       const float primary[3] = {out_[i].x(), out_[i].y(), out_[i].z()};
       const float secondary[3] = {spec_[i].x(), spec_[i].y(), spec_[i].z()};
       float c[4];
-      surface::shade_fragment(d, fog, primary, alpha, textured ? texel_[i] : nullptr, textured ? secondary : nullptr,
-                              &fog_[i], c);
+      surface::shade_fragment(d, fog, primary, alpha, textured ? texel_[i] : nullptr, d.emission ? emitted_[i] : nullptr,
+                              textured ? secondary : nullptr, &fog_[i], c);
       float dst[4] = {tile.plane(0)[p], tile.plane(1)[p], tile.plane(2)[p], tile.plane(3)[p]};
       surface::blend(d, c, dst);
       for (int ch = 0; ch < 4; ++ch) tile.plane(ch)[p] = dst[ch];
@@ -101,6 +103,7 @@ class PixelBatch {
   Vec3 p_[kCapacity], n_[kCapacity];
   Color3 out_[kCapacity], spec_[kCapacity], albedo_[kCapacity];
   float texel_[kCapacity][4];
+  float emitted_[kCapacity][3];
   float fog_[kCapacity];
   lighting::SoaScratch& scratch_;
 };
@@ -136,7 +139,8 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
   simd::PhongSink sink{};
   float** slots[simd::kPhongStreams] = {&sink.px, &sink.py, &sink.pz, &sink.nx, &sink.ny, &sink.nz, &sink.r,
                                         &sink.g,  &sink.b,  &sink.ar, &sink.ag, &sink.ab, &sink.sr, &sink.sg,
-                                        &sink.sb, &sink.tr, &sink.tg, &sink.tb, &sink.ta, &sink.fog};
+                                        &sink.sb, &sink.tr, &sink.tg, &sink.tb, &sink.ta, &sink.fog,
+                                        &sink.er, &sink.eg, &sink.eb};
   for (int k = 0; k < simd::kPhongStreams; ++k) *slots[k] = f + static_cast<std::size_t>(k) * cap;
   sink.pixel = tile.phong_pixel.data();
   sink.context = &context;
@@ -229,7 +233,8 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
         // The surface program (raster_kernels.hpp, Draw), as the SIMD kernels run it.
         float texel[4];
         const float* tex = nullptr;
-        if (d.texture) {
+        float uv[6] = {};  // u, v, du/dx, dv/dx, du/dy, dv/dy, scaled by uv_scale
+        if (uv_at >= 0) {
           // u = U / W' with U = u/w and W' = 1/w affine on screen: du/dx = (dU/dx - u dW'/dx) / W'.
           const Plane& pw = t.plane[kPlaneInvW];
           const Plane& pu = t.plane[kPlaneAttr + uv_at];
@@ -238,20 +243,34 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
           const float dudx = (pu.dx - u * pw.dx) * inv_sum, dudy = (pu.dy - u * pw.dy) * inv_sum;
           const float dvdx = (pv.dx - v * pw.dx) * inv_sum, dvdy = (pv.dy - v * pw.dy) * inv_sum;
           const float su = d.uv_scale[0], sv = d.uv_scale[1];
-          const float lambda = texture::lod_scalar(*d.texture, su * dudx, sv * dvdx, su * dudy, sv * dvdy);
-          const auto sample = texture::sample_scalar(*d.texture, su * u, sv * v, lambda);
-          for (int c = 0; c < 4; ++c) texel[c] = sample[c];
+          const float scaled[6] = {su * u, sv * v, su * dudx, sv * dvdx, su * dudy, sv * dvdy};
+          std::copy(scaled, scaled + 6, uv);
+        }
+        auto sample_at = [&uv](const texture::Sampler& sampler, float (&out)[4]) {
+          const float lambda = texture::lod_scalar(sampler, uv[2], uv[3], uv[4], uv[5]);
+          const auto sample = texture::sample_scalar(sampler, uv[0], uv[1], lambda);
+          for (int c = 0; c < 4; ++c) out[c] = sample[c];
+        };
+        if (d.texture) {
+          sample_at(*d.texture, texel);
           tex = texel;
         }
         if (!(surface::fragment_alpha(d, t.alpha, tex) >= d.alpha_cutoff)) return;  // the alpha test
         if (d.depth_write) depth[pixel] = z;
         ++counters.filled;
         const float f = fog.mode != simd::kFogNone ? surface::fog_factor(fog, inv_sum) : 1.0f;
+        float emitted[3];
+        if (d.emission) {  // Draw::emission: added after the texture environment
+          float e[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+          if (d.emission_texture) sample_at(*d.emission_texture, e);
+          for (int c = 0; c < 3; ++c) emitted[c] = d.emission_texture ? d.emission_rgb[c] * e[c] : d.emission_rgb[c];
+        }
         if (job.shading == ShadingMode::phong) {
           const Color3 albedo = albedo_at >= 0 ? Color3(interp(albedo_at), interp(albedo_at + 1), interp(albedo_at + 2))
                                                : Color3(1.0f, 1.0f, 1.0f);
           batch.add_surface(pixel, Vec3(interp(position_at), interp(position_at + 1), interp(position_at + 2)),
-                            Vec3(interp(normal_at), interp(normal_at + 1), interp(normal_at + 2)), albedo, tex, f);
+                            Vec3(interp(normal_at), interp(normal_at + 1), interp(normal_at + 2)), albedo, tex,
+                            d.emission ? emitted : nullptr, f);
           if (batch.full()) batch.flush(shading, d, fog, t.alpha, tile, counters);
           return;
         }
@@ -268,7 +287,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
           }
         }
         float c[4];
-        surface::shade_fragment(d, fog, primary, t.alpha, tex, sec, &f, c);
+        surface::shade_fragment(d, fog, primary, t.alpha, tex, d.emission ? emitted : nullptr, sec, &f, c);
         float dst[4] = {tile.plane(0)[pixel], tile.plane(1)[pixel], tile.plane(2)[pixel], tile.plane(3)[pixel]};
         surface::blend(d, c, dst);
         for (int ch = 0; ch < 4; ++ch) tile.plane(ch)[pixel] = dst[ch];

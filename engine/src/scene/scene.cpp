@@ -151,6 +151,9 @@ Status validate_material(const Material& m, const Field& f) {
   if (m.diffuse_texture < kNoTexture) {
     return invalid(f("diffuse_texture"), "expected a texture index or -1 (none), found " + std::to_string(m.diffuse_texture));
   }
+  if (m.emissive_texture < kNoTexture) {
+    return invalid(f("emissive_texture"), "expected a texture index or -1 (none), found " + std::to_string(m.emissive_texture));
+  }
   if (static_cast<unsigned>(m.texture_mode) > static_cast<unsigned>(TextureMode::add)) {
     return invalid(f("texture_mode"), "unknown texture mode");
   }
@@ -266,7 +269,15 @@ Status validate_lighting_inputs(const Scene& scene) {
   FACET_TRY(validate_fog(scene.fog));
   FACET_TRY(check_camera(scene.camera));
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
-    FACET_TRY(validate_material(scene.materials[i], Field{"materials", i, true}));
+    const Material& m = scene.materials[i];
+    const Field f{"materials", i, true};
+    FACET_TRY(validate_material(m, f));
+    for (const auto& [index, member] : {std::pair{m.diffuse_texture, "diffuse_texture"}, std::pair{m.emissive_texture, "emissive_texture"}}) {
+      if (index != kNoTexture && static_cast<std::size_t>(index) >= scene.textures.size()) {
+        return invalid(f(member), "texture index " + std::to_string(index) + " is out of range (" +
+                                      std::to_string(scene.textures.size()) + " textures)");
+      }
+    }
   }
   int shadowed = 0;
   for (std::size_t i = 0; i < scene.lights.size(); ++i) {
@@ -307,24 +318,16 @@ Status validate_lighting_inputs(const Scene& scene) {
                                                   "] names material " + quote(mesh.groups[g].material, 40) +
                                                   ", which the scene does not define");
         }
-        if (scene.materials[static_cast<std::size_t>(m)].diffuse_texture != kNoTexture && mesh.uvs.size() != mesh.positions.size()) {
+        if (uses_textures(scene.materials[static_cast<std::size_t>(m)]) && mesh.uvs.size() != mesh.positions.size()) {
           return invalid(f("mesh_materials"), "material " + quote(mesh.groups[g].material, 40) + " is textured but meshes[" +
                                                   std::to_string(inst.mesh) + "] has no texture coordinates (uvs)");
         }
       }
     }
     const Material& material = scene.materials[inst.material];
-    if (material.diffuse_texture != kNoTexture && !inst.mesh_materials) {
-      if (static_cast<std::size_t>(material.diffuse_texture) >= scene.textures.size()) {
-        return invalid(Field{"materials", inst.material, true}("diffuse_texture"),
-                       "texture index " + std::to_string(material.diffuse_texture) + " is out of range (" +
-                           std::to_string(scene.textures.size()) + " textures)");
-      }
-      if (mesh.uvs.size() != mesh.positions.size()) {
-        return invalid(f("material"), "materials[" + std::to_string(inst.material) +
-                                          "] is textured but meshes[" + std::to_string(inst.mesh) +
-                                          "] has no texture coordinates (uvs)");
-      }
+    if (uses_textures(material) && !inst.mesh_materials && mesh.uvs.size() != mesh.positions.size()) {
+      return invalid(f("material"), "materials[" + std::to_string(inst.material) + "] is textured but meshes[" +
+                                        std::to_string(inst.mesh) + "] has no texture coordinates (uvs)");
     }
     if (mesh.normals.size() != mesh.positions.size()) {
       return invalid(Field{"meshes", inst.mesh, true}("normals"),

@@ -274,7 +274,8 @@ class SceneReader {
 
   Status read_material(const json& j, const std::string& p, const Scene& scene, Material& m) const {
     FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "alpha",
-                                   "diffuse_texture", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write"}));
+                                   "diffuse_texture", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write",
+                                   "emissive_texture", "emission_after_texture"}));
     FACET_TRY(opt_string(j, p, "name", m.name));
     FACET_TRY(opt_color(j, p, "emissive", m.emissive));
     FACET_TRY(opt_color(j, p, "ambient", m.ambient));
@@ -287,6 +288,12 @@ class SceneReader {
       FACET_TRY(find_by_name(j, p, "diffuse_texture", scene.textures, "texture", index));
       m.diffuse_texture = static_cast<std::int32_t>(index);
     }
+    if (j.contains("emissive_texture")) {
+      std::uint32_t index = 0;
+      FACET_TRY(find_by_name(j, p, "emissive_texture", scene.textures, "texture", index));
+      m.emissive_texture = static_cast<std::int32_t>(index);
+    }
+    FACET_TRY(opt_bool(j, p, "emission_after_texture", m.emission_after_texture));
     std::string mode;
     if (j.contains("texture_mode")) {
       FACET_TRY(read_enum(j["texture_mode"], child(p, "texture_mode"), {"modulate", "replace", "decal", "add"}, mode));
@@ -595,6 +602,7 @@ class SceneReader {
     for (Material& mat : m.materials) {
       mat.name = prefix + mat.name;
       if (mat.diffuse_texture != kNoTexture) mat.diffuse_texture += texture0;
+      if (mat.emissive_texture != kNoTexture) mat.emissive_texture += texture0;
       scene.materials.push_back(std::move(mat));
     }
     for (NamedMesh& nm : m.meshes) {
