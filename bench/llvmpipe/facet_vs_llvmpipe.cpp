@@ -261,41 +261,29 @@ void gl_surface(const facet::Scene& s, const GlScene& g, std::size_t object) {
   const facet::Mesh& mesh = s.meshes[o.mesh].mesh;
   const bool textured = m.diffuse_texture != facet::kNoTexture;
   glLightModeli(GL_LIGHT_MODEL_COLOR_CONTROL, textured ? GL_SEPARATE_SPECULAR_COLOR : GL_SINGLE_COLOR);
-  // Unit 1: the emission after the texture (GL_ADD), at the same coordinates and scale.
-  const GLuint emission = g.emission[o.material];
-  glActiveTexture(GL_TEXTURE1);
-  glClientActiveTexture(GL_TEXTURE1);
-  if (emission) {
-    glEnable(GL_TEXTURE_2D);
-    glBindTexture(GL_TEXTURE_2D, emission);
-    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_ADD);
-    glMatrixMode(GL_TEXTURE);
-    glLoadIdentity();
-    glScalef(m.uv_scale.x(), m.uv_scale.y(), 1.0f);
-    glMatrixMode(GL_MODELVIEW);
-    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
-    glTexCoordPointer(2, GL_FLOAT, sizeof(facet::Vec2), mesh.uvs.data());
-  } else {
-    glDisable(GL_TEXTURE_2D);
-    glDisableClientState(GL_TEXTURE_COORD_ARRAY);
-  }
-  glActiveTexture(GL_TEXTURE0);
-  glClientActiveTexture(GL_TEXTURE0);
-  if (textured) {
-    glEnable(GL_TEXTURE_2D);
-    glBindTexture(GL_TEXTURE_2D, g.textures[static_cast<std::size_t>(m.diffuse_texture)]);
-    const GLint env[] = {GL_MODULATE, GL_REPLACE, GL_DECAL, GL_ADD};
-    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, env[static_cast<int>(m.texture_mode)]);
-    glMatrixMode(GL_TEXTURE);
-    glLoadIdentity();
-    glScalef(m.uv_scale.x(), m.uv_scale.y(), 1.0f);
-    glMatrixMode(GL_MODELVIEW);
-    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
-    glTexCoordPointer(2, GL_FLOAT, sizeof(facet::Vec2), mesh.uvs.data());
-  } else {
-    glDisable(GL_TEXTURE_2D);
-    glDisableClientState(GL_TEXTURE_COORD_ARRAY);
-  }
+  // Unit 0: the diffuse texture; unit 1: the emission after it (GL_ADD), at the same coordinates and scale.
+  auto unit = [&](GLenum which, GLuint texture, GLint env) {
+    glActiveTexture(which);
+    glClientActiveTexture(which);
+    if (texture) {
+      glEnable(GL_TEXTURE_2D);
+      glBindTexture(GL_TEXTURE_2D, texture);
+      glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, env);
+      glMatrixMode(GL_TEXTURE);
+      glLoadIdentity();
+      glScalef(m.uv_scale.x(), m.uv_scale.y(), 1.0f);
+      glMatrixMode(GL_MODELVIEW);
+      glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+      glTexCoordPointer(2, GL_FLOAT, sizeof(facet::Vec2), mesh.uvs.data());
+    } else {
+      glDisable(GL_TEXTURE_2D);
+      glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    }
+  };
+  const GLint env[] = {GL_MODULATE, GL_REPLACE, GL_DECAL, GL_ADD};
+  unit(GL_TEXTURE1, g.emission[o.material], GL_ADD);
+  unit(GL_TEXTURE0, textured ? g.textures[static_cast<std::size_t>(m.diffuse_texture)] : 0,
+       env[static_cast<int>(m.texture_mode)]);
   if (!mesh.colors.empty()) {
     glEnable(GL_COLOR_MATERIAL);
     glColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
