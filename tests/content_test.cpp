@@ -680,6 +680,44 @@ TEST(ObjMtlImport, MaterialsTexturesAndGroups) {
             0u);
 }
 
+// map_Ke: the emissive texture times Ke (1 without Ke), added after the diffuse texture; a
+// missing file is an error naming the line.
+TEST(ObjMtlImport, EmissiveTexturesFromMapKe) {
+  TempDir dir;
+  write_test_png(dir / "tex.png");
+  test::write_text(dir / "m.mtl",
+                   "newmtl lamp\nKd 0 0 0\nKa 0 0 0\nmap_Ke tex.png\n"
+                   "newmtl sign\nKd 1 1 1\nKe 0.5 0.25 1\nmap_Kd -s 2 2 tex.png\nmap_Ke -s 3 3 tex.png\n"
+                   "newmtl broken\nmap_Ke absent.png\n");
+  test::write_text(dir / "m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+                                  "usemtl lamp\nf 1/1 2/2 3/3\nusemtl sign\nf 1/1 2/2 3/3\n");
+  Result<Model> m = load_model(dir / "m.obj");
+  ASSERT_FALSE(m.ok());
+  EXPECT_NE(m.status().message().find("m.mtl:11: texture 'absent.png'"), std::string::npos) << m.status().message();
+  test::write_text(dir / "m.mtl",
+                   "newmtl lamp\nKd 0 0 0\nKa 0 0 0\nmap_Ke tex.png\n"
+                   "newmtl sign\nKd 1 1 1\nKe 0.5 0.25 1\nmap_Kd -s 2 2 tex.png\nmap_Ke -s 3 3 tex.png\n");
+  m = load_model(dir / "m.obj");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  const Scene& s = m->scene;
+  const Material& lamp = s.materials[std::size_t(find_material(s, "lamp"))];
+  ASSERT_NE(lamp.emissive_texture, kNoTexture);
+  EXPECT_EQ(lamp.diffuse_texture, kNoTexture);
+  EXPECT_EQ(lamp.emissive, Color3(1, 1, 1));
+  const Material& sign = s.materials[std::size_t(find_material(s, "sign"))];
+  ASSERT_NE(sign.emissive_texture, kNoTexture);
+  ASSERT_NE(sign.diffuse_texture, kNoTexture);
+  EXPECT_EQ(sign.emissive, Color3(0.5f, 0.25f, 1.0f));
+  EXPECT_EQ(sign.uv_scale, Vec2(2, 2));
+  bool scale_warned = false;
+  for (const auto& w : m->warnings) scale_warned |= w.find("m.mtl:9: map_Ke -s differs") != std::string::npos;
+  EXPECT_TRUE(scale_warned);
+  for (const auto& w : m->warnings) EXPECT_EQ(w.find("map_Ke: ignored"), std::string::npos) << w;
+  Scene r = s;
+  r.camera = frame_bounds(scene_bounds(r), 64.0f / 48.0f);
+  EXPECT_TRUE(validate_scene(r).ok()) << validate_scene(r).message();
+}
+
 TEST(ObjMtlImport, MissingFilesAreErrorsUnlessAllowed) {
   TempDir dir;
   test::write_text(dir / "a.obj", "mtllib none.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n");

@@ -16,9 +16,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
     if (!facet::validate_material(scene.materials[i], i).ok()) facet::fuzz::broken("parse_mtl returned an invalid material");
-    const auto t = scene.materials[i].diffuse_texture;
-    if (t != facet::kNoTexture && (t < 0 || static_cast<std::size_t>(t) >= scene.textures.size())) {
-      facet::fuzz::broken("a material names a texture that does not exist");
+    for (const auto t : {scene.materials[i].diffuse_texture, scene.materials[i].emissive_texture}) {
+      if (t != facet::kNoTexture && (t < 0 || static_cast<std::size_t>(t) >= scene.textures.size())) {
+        facet::fuzz::broken("a material names a texture that does not exist");
+      }
     }
   }
   return 0;

@@ -47,7 +47,7 @@ Status for_each_line(const std::string& text, Fn fn) {
 }
 
 // Statements read by facet, and those it knows and ignores (with a warning).
-constexpr std::string_view kIgnored[] = {"Ni", "Tf", "sharpness", "map_Ka", "map_Ks", "map_Ns", "map_Ke", "map_bump",
+constexpr std::string_view kIgnored[] = {"Ni", "Tf", "sharpness", "map_Ka", "map_Ks", "map_Ns", "map_bump",
                                          "map_Bump", "bump", "disp", "decal", "refl", "norm", "map_Pr", "map_Pm",
                                          "map_Ps", "Pr", "Pm", "Ps", "Pc", "Pcr", "aniso", "anisor", "map_aat"};
 
@@ -89,6 +89,8 @@ class MtlReader {
       has_d_ = has_tr_ = false;
       map_kd_.clear();
       map_d_.clear();
+      map_ke_.clear();
+      has_ke_ = false;
       return {};
     }
     if (!open_) return error(line, quote(key, 24) + " before any 'newmtl'");
@@ -96,6 +98,7 @@ class MtlReader {
       Color3 c;
       FACET_TRY(color(line, tok, c));
       (key == "Ka" ? current_.ambient : key == "Kd" ? current_.diffuse : key == "Ks" ? current_.specular : current_.emissive) = c;
+      has_ke_ |= key == "Ke";
       return {};
     }
     if (key == "Ns") {
@@ -134,7 +137,7 @@ class MtlReader {
       illum_line_ = line;
       return {};
     }
-    if (key == "map_Kd" || key == "map_d") return texture_statement(line, s, key);
+    if (key == "map_Kd" || key == "map_d" || key == "map_Ke") return texture_statement(line, s, key);
     for (std::string_view i : kIgnored) {
       if (key == i) {
         ignore(line, key);
@@ -169,7 +172,7 @@ class MtlReader {
     return {};
   }
 
-  // map_Kd / map_d [options] file: -s (uv_scale) and -clamp are read, the other options ignored.
+  // map_Kd / map_d / map_Ke [options] file: -s (uv_scale) and -clamp are read, the other options ignored.
   Status texture_statement(std::size_t line, std::string_view s, std::string_view key) {
     std::vector<std::string_view> tok = split_ws(s);
     std::size_t i = 1;
@@ -221,7 +224,7 @@ class MtlReader {
     const std::size_t at = static_cast<std::size_t>(tok[i].data() - s.data());
     ref.file = std::string(trim(s.substr(at)));
     std::replace(ref.file.begin(), ref.file.end(), '\\', '/');
-    (key == "map_Kd" ? map_kd_ : map_d_) = ref;
+    (key == "map_Kd" ? map_kd_ : key == "map_d" ? map_d_ : map_ke_) = ref;
     return {};
   }
 
@@ -256,6 +259,7 @@ class MtlReader {
     }
     illum_ = 2;
     if (!map_kd_.empty() || !map_d_.empty()) FACET_TRY(attach_texture());
+    if (!map_ke_.empty()) FACET_TRY(attach_emissive_texture());
     if (current_.alpha < 1.0f || !map_d_.empty()) current_.blend = BlendMode::alpha;
     scene_.materials.push_back(current_);
     return {};
@@ -315,6 +319,24 @@ class MtlReader {
     return {};
   }
 
+  // map_Ke: the emissive texture, times Ke (1 when the material gives no Ke), added after the
+  // diffuse texture (Material::emissive_texture). One uv scale per material: map_Kd's wins.
+  Status attach_emissive_texture() {
+    Result<Texture> ke = load(map_ke_);
+    if (!ke) return ke.status();
+    if (ke->width() == 0) return {};  // missing and allowed: warned by load()
+    if (current_.diffuse_texture == kNoTexture) {
+      current_.uv_scale = map_ke_.scale;
+    } else if (map_ke_.scale != current_.uv_scale) {
+      warnings_.push_back(source_ + ":" + std::to_string(map_ke_.line) + ": map_Ke -s differs from map_Kd's; facet has "
+                                                                          "one uv scale per material, map_Kd's is used");
+    }
+    scene_.textures.push_back(std::move(*ke));
+    current_.emissive_texture = static_cast<std::int32_t>(scene_.textures.size() - 1);
+    if (!has_ke_) current_.emissive = Color3::Ones();
+    return {};
+  }
+
   // A texture file, or an empty texture (and a warning) when it is missing and that is allowed.
   Result<Texture> load(const TextureRef& ref) {
     const std::string path = (std::filesystem::path(base_dir_) / ref.file).string();
@@ -345,7 +367,8 @@ class MtlReader {
   bool has_d_ = false, has_tr_ = false;
   int illum_ = 2;
   std::size_t illum_line_ = 0;
-  TextureRef map_kd_, map_d_;
+  TextureRef map_kd_, map_d_, map_ke_;
+  bool has_ke_ = false;
   std::map<std::string, std::string> ignored_;  // what -> the first lines it was on
 };
 
@@ -433,10 +456,10 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
       std::set<std::string> used;
       for (const MaterialGroup& g : mesh->groups) used.insert(g.material);
       for (Material& m : scene.materials) {
-        if (m.diffuse_texture != kNoTexture && (used.count(m.name) || mesh->groups.empty())) {
+        if (uses_textures(m) && (used.count(m.name) || mesh->groups.empty())) {
           model.warnings.push_back(path + ": material " + quote(m.name, 40) +
                                    " is textured but the mesh has no texture coordinates (vt); drawn untextured");
-          m.diffuse_texture = kNoTexture;
+          m.diffuse_texture = m.emissive_texture = kNoTexture;
         }
       }
     }
