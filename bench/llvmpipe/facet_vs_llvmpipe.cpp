@@ -164,14 +164,6 @@ struct GlScene {
   std::vector<std::vector<float>> colours;  // per object, empty without vertex colours
 };
 
-// The rule of facet's frame plan (Material::emission_after_texture): emission after the texture
-// only where it differs from emission in the lighting, and only when there is some.
-bool emission_after(const facet::Material& m) {
-  const bool stage = m.emissive_texture != facet::kNoTexture ||
-                     (m.emission_after_texture && m.diffuse_texture != facet::kNoTexture);
-  return stage && m.emissive != facet::Color3::Zero();
-}
-
 void gl_sampling(const facet::Texture& t) {
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, static_cast<GLint>(t.levels.size()) - 1);
   const bool nearest = t.filter == facet::TextureFilter::nearest;
@@ -205,7 +197,7 @@ GlScene gl_prepare(const facet::Scene& s) {
   g.emission.assign(s.materials.size(), 0);
   for (std::size_t i = 0; i < s.materials.size(); ++i) {
     const facet::Material& m = s.materials[i];
-    if (!emission_after(m)) continue;
+    if (!facet::adds_emission_after_texture(m)) continue;
     glGenTextures(1, &g.emission[i]);
     glBindTexture(GL_TEXTURE_2D, g.emission[i]);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
@@ -390,7 +382,7 @@ void gl_draw(const facet::Scene& s, const GlScene& g, int w, int h) {
     const facet::Material& m = s.materials[o.material];
     gl_surface(s, g, i);
     // Emission after the texture comes from texture unit 1 (gl_surface).
-    gl_colour(GL_FRONT_AND_BACK, GL_EMISSION, emission_after(m) ? facet::Color3::Zero() : m.emissive, m.alpha, true);
+    gl_colour(GL_FRONT_AND_BACK, GL_EMISSION, facet::adds_emission_after_texture(m) ? facet::Color3::Zero() : m.emissive, m.alpha, true);
     gl_colour(GL_FRONT_AND_BACK, GL_AMBIENT, m.ambient, m.alpha, true);
     gl_colour(GL_FRONT_AND_BACK, GL_DIFFUSE, m.diffuse, m.alpha, true);
     gl_colour(GL_FRONT_AND_BACK, GL_SPECULAR, m.specular, m.alpha, true);

@@ -70,6 +70,13 @@ struct Material {
   bool emission_after_texture = false;
 };
 
+// Whether the renderer adds the material's emission after the texture environment (and leaves it
+// out of the lighting): where that differs from GL's rule, a texture, and only when there is emission.
+inline bool adds_emission_after_texture(const Material& m) noexcept {
+  const bool differs = m.emissive_texture != kNoTexture || (m.emission_after_texture && m.diffuse_texture != kNoTexture);
+  return differs && (m.emissive.array() != 0.0f).any();
+}
+
 // Whether the material samples a texture (and so needs the mesh's uvs).
 inline bool uses_textures(const Material& m) noexcept {
   return m.diffuse_texture != kNoTexture || m.emissive_texture != kNoTexture;

@@ -272,8 +272,9 @@ struct TileKernel {
 
   // The surface program specialised for its commonest textured case: Gouraud, a texture under
   // GL_MODULATE with the specular added after it, no emission after it, no fog, opaque, no alpha
-  // test (cutoff <= 0 and the fragment's alpha is never NaN). The same operations in the same order as surface_batch
-  // with shade_fragment and blend, so the same bits, without the branches on the draw's settings.
+  // test (cutoff <= 0 and the fragment's alpha is never NaN). The same operations in the same
+  // order as surface_batch with shade_fragment and blend, so the same bits, without the branches
+  // on the draw's settings.
   static bool modulate_fast(const TileJob& job, const Draw& d) {
     return d.texture && job.shading == 1 && d.texture_env == kEnvModulate && job.fog->mode == kFogNone &&
            !d.emission && d.blend == kBlendOpaque && d.clamp && d.alpha_cutoff <= 0.0f &&

@@ -1067,11 +1067,10 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
     const bool plain = sub_frame == SubFrame::visibility;  // visibility: no texture, colour or blend
     const bool textured = !plain && m.diffuse_texture != kNoTexture;
     const bool colours = !plain && !mesh.colors.empty();
-    // Emission after the texture environment (Material::emission_after_texture): only where it
-    // differs from emission in the lighting, a texture; none in the visibility and part sub-frames.
-    const Color3 emission = plain || part_without_emission ? Color3(0.0f, 0.0f, 0.0f) : m.emissive;
-    const bool emission_texture = !plain && m.emissive_texture != kNoTexture;
-    const bool emission_stage = (emission_texture || (m.emission_after_texture && textured)) && emission != Color3::Zero();
+    // Emission after the texture environment (adds_emission_after_texture); none in the
+    // visibility and part sub-frames.
+    const bool emission_stage = !plain && !part_without_emission && adds_emission_after_texture(m);
+    const bool emission_texture = emission_stage && m.emissive_texture != kNoTexture;
     draw_two_sided[o] = p.two_sided() || inst.double_sided;
     lighting::LightingFeatures& lf = features[o];
     lf.color_material = colours;
@@ -1079,7 +1078,7 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
     raster::SurfaceNeeds needs;
     needs.secondary = textured && lit == raster::LitAt::vertex;
     needs.albedo = colours && lit == raster::LitAt::pixel;
-    needs.uv = textured || (emission_stage && emission_texture);
+    needs.uv = textured || emission_texture;
     raster::simd::Draw& d = draws[o];
     d = raster::simd::Draw{};
     if (p.depth_only) continue;  // no varying, no program: depth alone (every caster is opaque)
@@ -1088,7 +1087,7 @@ void Renderer::Impl::plan_draws(const Scene& scene, const RenderOptions& options
     d.texture_env = static_cast<int>(m.texture_mode);
     if (emission_stage) {
       d.emission = 1;
-      for (int c = 0; c < 3; ++c) d.emission_rgb[c] = emission[c];
+      for (int c = 0; c < 3; ++c) d.emission_rgb[c] = m.emissive[c];
       if (emission_texture) d.emission_texture = &samplers[static_cast<std::size_t>(m.emissive_texture)];
     }
     d.uv_scale[0] = m.uv_scale.x(), d.uv_scale[1] = m.uv_scale.y();
