@@ -511,7 +511,7 @@ Scene emissive_scene() {
   return s;
 }
 
-TEST(Surfaces, EmissiveTexturesAreDeterministicAndTheSameOnEveryPath) {
+TEST(Surfaces, EmissiveTexturesSameBytesForAllThreadsAndEveryPath) {
   const Scene s = emissive_scene();
   ASSERT_TRUE(validate_scene(s).ok()) << validate_scene(s).message();
   for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
