@@ -52,6 +52,46 @@ struct SampleSimd {
     }
     return xsimd::select(i < I(0), I(0), xsimd::select(i >= n, n - I(1), i));
   }
+  // fold() for the two texel columns (or rows) of a linear sample, whose ranges the wrapped
+  // coordinate bounds (r n rounds to at most n for r < 1, 2n for r < 2): i0 in [-1, n - 1]
+  // ([-1, 2n - 1] mirrored) can only be low, i0 + 1 in [0, n] ([0, 2n]) only high. The same
+  // results as fold() on those ranges, with half its selects.
+  static I fold_low(const I& i, const I& n, int wrap) {
+    if (wrap == static_cast<int>(TextureWrap::repeat)) return xsimd::select(i < I(0), i + n, i);
+    if (wrap == static_cast<int>(TextureWrap::mirror)) {
+      const I two_n = n + n;
+      const I j = xsimd::select(i < I(0), i + two_n, i);
+      return xsimd::select(j >= n, two_n - I(1) - j, j);
+    }
+    return xsimd::max(i, I(0));
+  }
+  static I fold_high(const I& i, const I& n, int wrap) {
+    if (wrap == static_cast<int>(TextureWrap::repeat)) return xsimd::select(i >= n, i - n, i);
+    if (wrap == static_cast<int>(TextureWrap::mirror)) {
+      const I two_n = n + n;
+      const I j = xsimd::select(i >= two_n, i - two_n, i);
+      return xsimd::select(j >= n, two_n - I(1) - j, j);
+    }
+    return xsimd::min(i, n - I(1));
+  }
+
+  // Channel c (0..3) of RGBA8 texels as floats 0..255, the same integers as (texel >> 8c) & 255:
+  // R masked, A shifted down logically, G and B moved to the low byte by one byte shuffle where the
+  // ISA has one (avx2, avx512bw; it indexes within 128-bit lanes, dword k's bytes are 4k..4k+3,
+  // and 0x80 writes zero).
+  static F channel(const I& texel, int c) {
+    if (c == 0) return xsimd::batch_cast<float>(texel & I(0xff));
+    if (c == 3) return xsimd::batch_cast<float>(xsimd::bitwise_cast<I>(xsimd::bitwise_cast<U>(texel) >> 24));
+    const int b0 = static_cast<int>(0x80808000u) | c;
+    if constexpr (W == 16) {
+      return xsimd::batch_cast<float>(I(_mm512_shuffle_epi8(texel, _mm512_set4_epi32(b0 | 12, b0 | 8, b0 | 4, b0))));
+    } else if constexpr (W == 8) {
+      return xsimd::batch_cast<float>(I(_mm256_shuffle_epi8(
+          texel, _mm256_set_epi32(b0 | 12, b0 | 8, b0 | 4, b0, b0 | 12, b0 | 8, b0 | 4, b0))));
+    } else {
+      return xsimd::batch_cast<float>((texel >> (8 * c)) & I(0xff));
+    }
+  }
 
   static F log2_approx(const F& x) {
     const I bits = xsimd::bitwise_cast<I>(x);
@@ -102,39 +142,39 @@ struct SampleSimd {
     return {gather(s.width, level), gather(s.height, level), gather(s.offset, level), gather(s.fwidth, level),
             gather(s.fheight, level)};
   }
-  static void sample_levels(const Sampler& s, const I& level, bool linear, const F& u, const F& v, F* out) {
+  // rs, rt: the coordinates wrapped (wrap_coordinate), once for both levels of a trilinear sample.
+  static void sample_levels(const Sampler& s, const I& level, bool linear, const F& rs, const F& rt, F* out) {
     const LevelLanes lanes = level_lanes(s, level);
     const I &wi = lanes.wi, &hi = lanes.hi, &base = lanes.base;
     const F &fw = lanes.fw, &fh = lanes.fh;
-    const F rs = wrap_coordinate(u, s.wrap), rt = wrap_coordinate(v, s.wrap);
     if (!linear) {
       const I ii = fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rs * fw)), wi, s.wrap);
       const I jj = fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rt * fh)), hi, s.wrap);
       const I t00 = texels_at(s, base + jj * wi + ii);
-      for (int c = 0; c < 4; ++c) out[c] = xsimd::batch_cast<float>((t00 >> (8 * c)) & I(0xff)) * F(1.0f / 255.0f);
+      for (int c = 0; c < 4; ++c) out[c] = channel(t00, c) * F(1.0f / 255.0f);
       return;
     }
     const F x = rs * fw - F(0.5f), y = rt * fh - F(0.5f);
     const F fx = xsimd::floor(x), fy = xsimd::floor(y);
     const F a = x - fx, b = y - fy;
     const I i0 = xsimd::batch_cast<std::int32_t>(fx), j0 = xsimd::batch_cast<std::int32_t>(fy);
-    const I ia = fold(i0, wi, s.wrap), ib = fold(i0 + I(1), wi, s.wrap);
-    const I row_a = base + fold(j0, hi, s.wrap) * wi, row_b = base + fold(j0 + I(1), hi, s.wrap) * wi;
+    const I ia = fold_low(i0, wi, s.wrap), ib = fold_high(i0 + I(1), wi, s.wrap);
+    const I row_a = base + fold_low(j0, hi, s.wrap) * wi, row_b = base + fold_high(j0 + I(1), hi, s.wrap) * wi;
     const I t00 = texels_at(s, row_a + ia), t10 = texels_at(s, row_a + ib);
     const I t01 = texels_at(s, row_b + ia), t11 = texels_at(s, row_b + ib);
     const F ra = F(1.0f) - a, rb = F(1.0f) - b;
     for (int c = 0; c < 4; ++c) {
-      auto ch = [c](const I& texel) { return xsimd::batch_cast<float>((texel >> (8 * c)) & I(0xff)); };
-      const F top = ch(t00) * ra + ch(t10) * a;
-      const F bottom = ch(t01) * ra + ch(t11) * a;
+      const F top = channel(t00, c) * ra + channel(t10, c) * a;
+      const F bottom = channel(t01, c) * ra + channel(t11, c) * a;
       out[c] = (top * rb + bottom * b) * F(1.0f / 255.0f);
     }
   }
 
   // RGBA at (u, v) with level of detail lambda (used only by trilinear textures).
   static void sample(const Sampler& s, const F& u, const F& v, const F& lambda, F* out) {
+    const F rs = wrap_coordinate(u, s.wrap), rt = wrap_coordinate(v, s.wrap);
     if (s.filter != static_cast<int>(TextureFilter::trilinear)) {
-      sample_levels(s, I(0), s.filter != static_cast<int>(TextureFilter::nearest), u, v, out);
+      sample_levels(s, I(0), s.filter != static_cast<int>(TextureFilter::nearest), rs, rt, out);
       return;
     }
     // Lanes with lambda <= 0 (or NaN) magnify from level 0; lanes at or past the last level q
@@ -148,9 +188,9 @@ struct SampleSimd {
     const F f = xsimd::select(single, F(0.0f), l - d1);
     const I next = xsimd::select(k >= I(q), k, k + I(1));
     F c1[4], c2[4];
-    sample_levels(s, k, true, u, v, c1);
+    sample_levels(s, k, true, rs, rt, c1);
     if (xsimd::any(f != F(0.0f))) {
-      sample_levels(s, next, true, u, v, c2);
+      sample_levels(s, next, true, rs, rt, c2);
     } else {
       for (int c = 0; c < 4; ++c) c2[c] = F(0.0f);
     }
