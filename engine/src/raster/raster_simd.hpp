@@ -280,24 +280,58 @@ struct TileKernel {
            !d.emission && d.blend == kBlendOpaque && d.clamp && d.alpha_cutoff <= 0.0f &&
            d.layout.at(Varying::front_secondary) >= 0;
   }
-  template <std::size_t N>
+  // P batches of the same triangle (1 or 2: the sampler's interleaving, sample_simd.hpp), each
+  // with its pixel coordinates (fi, fj), depth and passing lanes, at plane offset at[p].
+  template <int P, std::size_t N>
   static void modulate_batch(const Draw& d, const ScreenTriangle& t, const PlaneEval (&attr)[N],
-                             const float (&attr_o)[N], const PlaneEval& w_plane, float w_o, const F& fi, const F& fj,
-                             const F& z, BF pass, float* const (&planes)[5], std::size_t at, I& filled) {
-    const F cw = F(1.0f) / w_plane.at(w_o, fi, fj);
-    auto value = [&](int a) { return attr[a].at(attr_o[a], fi, fj) * cw; };
-    F tex[4];
-    sample_batch(*d.texture, uv_batch(d, attr, attr_o, w_plane, cw, fi, fj), tex);
-    filled += xsimd::select(xsimd::bool_cast(pass), I(1), I(0));
-    const bool all = xsimd::all(pass);
-    auto put = [&](int c, const F& x) {
-      float* dst = planes[c] + at;
-      (all ? x : xsimd::select(pass, x, F::load_unaligned(dst))).store_unaligned(dst);
-    };
-    if (d.depth_write) put(4, z);
+                             const float (&attr_o)[N], const PlaneEval& w_plane, float w_o, const F (&fi)[P],
+                             const F (&fj)[P], const F (&z)[P], const BF (&pass)[P], float* const (&planes)[5],
+                             const std::size_t (&at)[P], I& filled) {
+    F cw[P], u[P], v[P], lambda[P], tex[P][4];
+    for (int p = 0; p < P; ++p) {
+      cw[p] = F(1.0f) / w_plane.at(w_o, fi[p], fj[p]);
+      const Uv c = uv_batch(d, attr, attr_o, w_plane, cw[p], fi[p], fj[p]);
+      u[p] = c.u, v[p] = c.v;
+      lambda[p] = Sampler::lod(*d.texture, c.dudx, c.dvdx, c.dudy, c.dvdy);
+    }
+    Sampler::template sample<P>(*d.texture, u, v, lambda, tex);
     const int colour = d.layout.at(Varying::front_color), second = d.layout.at(Varying::front_secondary);
-    for (int c = 0; c < 3; ++c) put(c, surface::saturate(value(colour + c) * tex[c] + value(second + c)));
-    put(3, surface::saturate(F(t.alpha) * tex[3]));
+    for (int p = 0; p < P; ++p) {
+      auto value = [&](int a) { return attr[a].at(attr_o[a], fi[p], fj[p]) * cw[p]; };
+      filled += xsimd::select(xsimd::bool_cast(pass[p]), I(1), I(0));
+      const bool all = xsimd::all(pass[p]);
+      auto put = [&](int c, const F& x) {
+        float* dst = planes[c] + at[p];
+        (all ? x : xsimd::select(pass[p], x, F::load_unaligned(dst))).store_unaligned(dst);
+      };
+      if (d.depth_write) put(4, z[p]);
+      for (int c = 0; c < 3; ++c) put(c, surface::saturate(value(colour + c) * tex[p][c] + value(second + c)));
+      put(3, surface::saturate(F(t.alpha) * tex[p][3]));
+    }
+  }
+
+  static constexpr int kHold = W >= 16 ? 2 : 4;  // 2 x 16 lanes, 4 x 8 or 4 x 4 (measured best)
+  // The last 1 .. kHold - 1 held batches of a block.
+  template <std::size_t N>
+  static void modulate_rest(const Draw& d, const ScreenTriangle& t, const PlaneEval (&attr)[N],
+                            const float (&attr_o)[N], const PlaneEval& w_plane, float w_o, int held, const F* fi,
+                            const F* fj, const F* z, const BF* pass, float* const (&planes)[5],
+                            const std::size_t* at, I& filled) {
+    auto run = [&](auto count) {
+      constexpr int P = decltype(count)::value;
+      F a[P], b[P], c[P];
+      BF m[P];
+      std::size_t o[P];
+      for (int p = 0; p < P; ++p) a[p] = fi[p], b[p] = fj[p], c[p] = z[p], m[p] = pass[p], o[p] = at[p];
+      modulate_batch<P>(d, t, attr, attr_o, w_plane, w_o, a, b, c, m, planes, o, filled);
+    };
+    if (held == 1) run(std::integral_constant<int, 1>{});
+    if constexpr (kHold > 2) {
+      if (held == 2) run(std::integral_constant<int, 2>{});
+    }
+    if constexpr (kHold > 3) {
+      if (held == 3) run(std::integral_constant<int, 3>{});
+    }
   }
 
   // Counters and plane pointers are locals: xsimd registers are may_alias vector types, so
@@ -401,6 +435,10 @@ struct TileKernel {
 
         // One batch of W pixels; Full: the block is inside every edge and the tile's rectangle, so
         // coverage is all lanes (a separate instantiation: no per-batch coverage work or branches).
+        int held = 0;  // modulate_fast batches held for a group
+        F held_fi[kHold], held_fj[kHold], held_z[kHold];
+        BF held_pass[kHold];
+        std::size_t held_at[kHold];
         auto shade_batch = [&](auto full_tag, int b) {
           constexpr bool kFull = decltype(full_tag)::value;
           BI cover_i(true);
@@ -433,9 +471,15 @@ struct TileKernel {
           }
           if (!xsimd::any(pass)) return;
           if constexpr (Mode == 3) {
-            if (fast)
-              modulate_batch(d, t, attr, attr_o, w_plane, w_o, fi, fj, z, pass, planes, base + b * W, filled);
-            else
+            if (fast) {  // held until a second batch of the block passes, then both run together
+              held_fi[held] = fi, held_fj[held] = fj, held_z[held] = z, held_pass[held] = pass;
+              held_at[held] = base + static_cast<std::size_t>(b * W);
+              if (++held == kHold) {
+                modulate_batch<kHold>(d, t, attr, attr_o, w_plane, w_o, held_fi, held_fj, held_z, held_pass, planes,
+                                  held_at, filled);
+                held = 0;
+              }
+            } else
               surface_batch(job, d, t, attr, attr_o, w_plane, w_o, fi, fj, z, pass, planes, base + b * W, phong, filled);
             return;
           }
@@ -488,6 +532,10 @@ struct TileKernel {
             }
             shade_batch(std::false_type{}, b);
           }
+        }
+        if constexpr (Mode == 3) {
+          if (held > 0) modulate_rest(d, t, attr, attr_o, w_plane, w_o, held, held_fi, held_fj, held_z, held_pass,
+                                      planes, held_at, filled);
         }
       }
       for (int k = 0; k < 3; ++k) e_row[k] += step_by[k];

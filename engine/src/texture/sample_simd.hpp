@@ -142,76 +142,134 @@ struct SampleSimd {
     return {gather(s.width, level), gather(s.height, level), gather(s.offset, level), gather(s.fwidth, level),
             gather(s.fheight, level)};
   }
+  // The sampler works on P batches of lanes at once (1 or 2): each step for every batch before the
+  // next step, the same operations on each as on one. A trilinear sample is a chain of a few
+  // hundred dependent cycles (LOD, level, coordinates, gathers, filter) longer than the core's
+  // reordering window, so a second independent chain in the same window keeps it busy while the
+  // first waits.
+  //
   // rs, rt: the coordinates wrapped (wrap_coordinate), once for both levels of a trilinear sample.
-  static void sample_levels(const Sampler& s, const I& level, bool linear, const F& rs, const F& rt, F* out) {
-    const LevelLanes lanes = level_lanes(s, level);
-    const I &wi = lanes.wi, &hi = lanes.hi, &base = lanes.base;
-    const F &fw = lanes.fw, &fh = lanes.fh;
+  template <int P>
+  static void sample_levels(const Sampler& s, const I (&level)[P], bool linear, const F (&rs)[P], const F (&rt)[P],
+                            F (&out)[P][4]) {
+    LevelLanes lanes[P];
+    for (int p = 0; p < P; ++p) lanes[p] = level_lanes(s, level[p]);
     if (!linear) {
-      const I ii = fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rs * fw)), wi, s.wrap);
-      const I jj = fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rt * fh)), hi, s.wrap);
-      const I t00 = texels_at(s, base + jj * wi + ii);
-      for (int c = 0; c < 4; ++c) out[c] = channel(t00, c) * F(1.0f / 255.0f);
+      for (int p = 0; p < P; ++p) {
+        const LevelLanes& l = lanes[p];
+        const I ii = fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rs[p] * l.fw)), l.wi, s.wrap);
+        const I jj = fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rt[p] * l.fh)), l.hi, s.wrap);
+        const I t00 = texels_at(s, l.base + jj * l.wi + ii);
+        for (int c = 0; c < 4; ++c) out[p][c] = channel(t00, c) * F(1.0f / 255.0f);
+      }
       return;
     }
-    const F x = rs * fw - F(0.5f), y = rt * fh - F(0.5f);
-    const F fx = xsimd::floor(x), fy = xsimd::floor(y);
-    const F a = x - fx, b = y - fy;
-    const I i0 = xsimd::batch_cast<std::int32_t>(fx), j0 = xsimd::batch_cast<std::int32_t>(fy);
-    const I ia = fold_low(i0, wi, s.wrap), ib = fold_high(i0 + I(1), wi, s.wrap);
-    const I row_a = base + fold_low(j0, hi, s.wrap) * wi, row_b = base + fold_high(j0 + I(1), hi, s.wrap) * wi;
-    const I t00 = texels_at(s, row_a + ia), t10 = texels_at(s, row_a + ib);
-    const I t01 = texels_at(s, row_b + ia), t11 = texels_at(s, row_b + ib);
-    const F ra = F(1.0f) - a, rb = F(1.0f) - b;
-    for (int c = 0; c < 4; ++c) {
-      const F top = channel(t00, c) * ra + channel(t10, c) * a;
-      const F bottom = channel(t01, c) * ra + channel(t11, c) * a;
-      out[c] = (top * rb + bottom * b) * F(1.0f / 255.0f);
+    F a[P], b[P];
+    I t00[P], t10[P], t01[P], t11[P];
+    for (int p = 0; p < P; ++p) {
+      const LevelLanes& l = lanes[p];
+      const F x = rs[p] * l.fw - F(0.5f), y = rt[p] * l.fh - F(0.5f);
+      const F fx = xsimd::floor(x), fy = xsimd::floor(y);
+      a[p] = x - fx, b[p] = y - fy;
+      const I i0 = xsimd::batch_cast<std::int32_t>(fx), j0 = xsimd::batch_cast<std::int32_t>(fy);
+      const I ia = fold_low(i0, l.wi, s.wrap), ib = fold_high(i0 + I(1), l.wi, s.wrap);
+      const I row_a = l.base + fold_low(j0, l.hi, s.wrap) * l.wi;
+      const I row_b = l.base + fold_high(j0 + I(1), l.hi, s.wrap) * l.wi;
+      t00[p] = texels_at(s, row_a + ia), t10[p] = texels_at(s, row_a + ib);
+      t01[p] = texels_at(s, row_b + ia), t11[p] = texels_at(s, row_b + ib);
+    }
+    for (int p = 0; p < P; ++p) {
+      const F ra = F(1.0f) - a[p], rb = F(1.0f) - b[p];
+      for (int c = 0; c < 4; ++c) {
+        const F top = channel(t00[p], c) * ra + channel(t10[p], c) * a[p];
+        const F bottom = channel(t01[p], c) * ra + channel(t11[p], c) * a[p];
+        out[p][c] = (top * rb + bottom * b[p]) * F(1.0f / 255.0f);
+      }
     }
   }
 
-  // RGBA at (u, v) with level of detail lambda (used only by trilinear textures).
-  static void sample(const Sampler& s, const F& u, const F& v, const F& lambda, F* out) {
-    const F rs = wrap_coordinate(u, s.wrap), rt = wrap_coordinate(v, s.wrap);
+  // RGBA at (u, v) with level of detail lambda (used only by trilinear textures), for P batches.
+  template <int P>
+  static void sample(const Sampler& s, const F (&u)[P], const F (&v)[P], const F (&lambda)[P], F (&out)[P][4]) {
+    F rs[P], rt[P];
+    for (int p = 0; p < P; ++p) rs[p] = wrap_coordinate(u[p], s.wrap), rt[p] = wrap_coordinate(v[p], s.wrap);
     if (s.filter != static_cast<int>(TextureFilter::trilinear)) {
-      sample_levels(s, I(0), s.filter != static_cast<int>(TextureFilter::nearest), rs, rt, out);
+      I zero[P];
+      for (int p = 0; p < P; ++p) zero[p] = I(0);
+      sample_levels<P>(s, zero, s.filter != static_cast<int>(TextureFilter::nearest), rs, rt, out);
       return;
     }
     // Lanes with lambda <= 0 (or NaN) magnify from level 0; lanes at or past the last level q
-    // read it alone (f = 0: c1 * 1 + c2 * 0 is c1 exactly, as the scalar twin returns it).
+    // read it alone (f = 0: c1 * 1 + c2 * 0 is c1 exactly, as the scalar twin returns it; the
+    // second level is read when any lane of any batch needs it, and is then multiplied by 0
+    // where f is 0: c2 is finite, so the sum is still c1 exactly).
     const int q = s.levels - 1;
-    const auto minify = lambda > F(0.0f);
-    const F l = xsimd::select(lambda < F(static_cast<float>(q)), lambda, F(static_cast<float>(q)));
-    const F d1 = xsimd::select(minify, xsimd::floor(l), F(0.0f));
-    const I k = xsimd::batch_cast<std::int32_t>(d1);
-    const auto single = (!minify) | (d1 >= F(static_cast<float>(q)));
-    const F f = xsimd::select(single, F(0.0f), l - d1);
-    const I next = xsimd::select(k >= I(q), k, k + I(1));
-    F c1[4], c2[4];
-    sample_levels(s, k, true, rs, rt, c1);
-    if (xsimd::any(f != F(0.0f))) {
-      sample_levels(s, next, true, rs, rt, c2);
-    } else {
-      for (int c = 0; c < 4; ++c) c2[c] = F(0.0f);
+    I k[P], next[P];
+    F f[P];
+    bool second = false;
+    for (int p = 0; p < P; ++p) {
+      const auto minify = lambda[p] > F(0.0f);
+      const F l = xsimd::select(lambda[p] < F(static_cast<float>(q)), lambda[p], F(static_cast<float>(q)));
+      const F d1 = xsimd::select(minify, xsimd::floor(l), F(0.0f));
+      k[p] = xsimd::batch_cast<std::int32_t>(d1);
+      const auto single = (!minify) | (d1 >= F(static_cast<float>(q)));
+      f[p] = xsimd::select(single, F(0.0f), l - d1);
+      next[p] = xsimd::select(k[p] >= I(q), k[p], k[p] + I(1));
+      second = second || xsimd::any(f[p] != F(0.0f));
     }
-    for (int c = 0; c < 4; ++c) out[c] = c1[c] * (F(1.0f) - f) + c2[c] * f;
+    F c1[P][4], c2[P][4];
+    sample_levels<P>(s, k, true, rs, rt, c1);
+    if (second) {
+      sample_levels<P>(s, next, true, rs, rt, c2);
+    } else {
+      for (int p = 0; p < P; ++p)
+        for (int c = 0; c < 4; ++c) c2[p][c] = F(0.0f);
+    }
+    for (int p = 0; p < P; ++p)
+      for (int c = 0; c < 4; ++c) out[p][c] = c1[p][c] * (F(1.0f) - f[p]) + c2[p][c] * f[p];
+  }
+  static void sample(const Sampler& s, const F& u, const F& v, const F& lambda, F* out) {
+    F rgba[1][4];
+    sample<1>(s, {u}, {v}, {lambda}, rgba);
+    for (int c = 0; c < 4; ++c) out[c] = rgba[0][c];
   }
 
-  // `count` samples from planar inputs (u, v, ds/dx, dt/dx, ds/dy, dt/dy) to planar RGBA.
+  // `count` samples from planar inputs (u, v, ds/dx, dt/dx, ds/dy, dt/dy) to planar RGBA: two
+  // batches at a time (the last alone when their number is odd), as the rasterizer samples.
   static void sample_streams(const Sampler& s, std::size_t count, const float* const* in, float* const* out) {
-    for (std::size_t i = 0; i < count; i += W) {
-      alignas(64) float lanes[6][W] = {};
-      const std::size_t n = count - i < static_cast<std::size_t>(W) ? count - i : static_cast<std::size_t>(W);
+    for (std::size_t i = 0; i < count;) {
+      const std::size_t left = count - i;
+      if (left > static_cast<std::size_t>(W)) {
+        sample_some<2>(s, i, left, in, out);
+        i += left < static_cast<std::size_t>(2 * W) ? left : static_cast<std::size_t>(2 * W);
+      } else {
+        sample_some<1>(s, i, left, in, out);
+        i = count;
+      }
+    }
+  }
+  template <int P>
+  static void sample_some(const Sampler& s, std::size_t i, std::size_t left, const float* const* in, float* const* out) {
+    alignas(64) float lanes[P][6][W] = {};
+    std::size_t n[P];
+    for (int p = 0; p < P; ++p) {
+      const std::size_t from = static_cast<std::size_t>(p * W);
+      n[p] = left <= from ? 0 : (left - from < static_cast<std::size_t>(W) ? left - from : static_cast<std::size_t>(W));
       for (int k = 0; k < 6; ++k)
-        for (std::size_t l = 0; l < n; ++l) lanes[k][l] = in[k][i + l];
-      const F lambda = lod(s, F::load_aligned(lanes[2]), F::load_aligned(lanes[3]), F::load_aligned(lanes[4]),
-                           F::load_aligned(lanes[5]));
-      F rgba[4];
-      sample(s, F::load_aligned(lanes[0]), F::load_aligned(lanes[1]), lambda, rgba);
+        for (std::size_t l = 0; l < n[p]; ++l) lanes[p][k][l] = in[k][i + from + l];
+    }
+    F u[P], v[P], lambda[P], rgba[P][4];
+    for (int p = 0; p < P; ++p) {
+      u[p] = F::load_aligned(lanes[p][0]), v[p] = F::load_aligned(lanes[p][1]);
+      lambda[p] = lod(s, F::load_aligned(lanes[p][2]), F::load_aligned(lanes[p][3]), F::load_aligned(lanes[p][4]),
+                      F::load_aligned(lanes[p][5]));
+    }
+    sample<P>(s, u, v, lambda, rgba);
+    for (int p = 0; p < P; ++p) {
       alignas(64) float result[W];
       for (int c = 0; c < 4; ++c) {
-        rgba[c].store_aligned(result);
-        for (std::size_t l = 0; l < n; ++l) out[c][i + l] = result[l];
+        rgba[p][c].store_aligned(result);
+        for (std::size_t l = 0; l < n[p]; ++l) out[c][i + static_cast<std::size_t>(p * W) + l] = result[l];
       }
     }
   }
