@@ -286,7 +286,7 @@ struct TileKernel {
   static void modulate_batch(const Draw& d, const ScreenTriangle& t, const PlaneEval (&attr)[N],
                              const float (&attr_o)[N], const PlaneEval& w_plane, float w_o, const F (&fi)[P],
                              const F (&fj)[P], const F (&z)[P], const BF (&pass)[P], float* const (&planes)[5],
-                             const std::size_t (&at)[P], I& filled) {
+                             const std::size_t (&at)[P], int& level_guess, I& filled) {
     F cw[P], u[P], v[P], lambda[P], tex[P][4];
     for (int p = 0; p < P; ++p) {
       cw[p] = F(1.0f) / w_plane.at(w_o, fi[p], fj[p]);
@@ -294,7 +294,7 @@ struct TileKernel {
       u[p] = c.u, v[p] = c.v;
       lambda[p] = Sampler::lod(*d.texture, c.dudx, c.dvdx, c.dudy, c.dvdy);
     }
-    Sampler::template sample<P>(*d.texture, u, v, lambda, tex);
+    Sampler::template sample<P>(*d.texture, u, v, lambda, tex, &level_guess);
     const int colour = d.layout.at(Varying::front_color), second = d.layout.at(Varying::front_secondary);
     for (int p = 0; p < P; ++p) {
       auto value = [&](int a) { return attr[a].at(attr_o[a], fi[p], fj[p]) * cw[p]; };
@@ -316,14 +316,14 @@ struct TileKernel {
   static void modulate_rest(const Draw& d, const ScreenTriangle& t, const PlaneEval (&attr)[N],
                             const float (&attr_o)[N], const PlaneEval& w_plane, float w_o, int held, const F* fi,
                             const F* fj, const F* z, const BF* pass, float* const (&planes)[5],
-                            const std::size_t* at, I& filled) {
+                            const std::size_t* at, int& level_guess, I& filled) {
     auto run = [&](auto count) {
       constexpr int P = decltype(count)::value;
       F a[P], b[P], c[P];
       BF m[P];
       std::size_t o[P];
       for (int p = 0; p < P; ++p) a[p] = fi[p], b[p] = fj[p], c[p] = z[p], m[p] = pass[p], o[p] = at[p];
-      modulate_batch<P>(d, t, attr, attr_o, w_plane, w_o, a, b, c, m, planes, o, filled);
+      modulate_batch<P>(d, t, attr, attr_o, w_plane, w_o, a, b, c, m, planes, o, level_guess, filled);
     };
     if (held == 1) run(std::integral_constant<int, 1>{});
     if constexpr (kHold > 2) {
@@ -354,6 +354,7 @@ struct TileKernel {
     const int rect_w = job.x1 - job.x0, rect_h = job.y1 - job.y0;
     const int blocks_per_row = tv.size / kBlock;
     const Lanes& L = lanes();
+    int level_guess = -1;  // the trilinear level the last batches read (SampleSimd::sample)
 
     // Edges: 64-bit values at the first block's first pixel centre (biased by the top-left rule),
     // steps between blocks, and the corner offsets that bound a block's values.
@@ -476,7 +477,7 @@ struct TileKernel {
               held_at[held] = base + static_cast<std::size_t>(b * W);
               if (++held == kHold) {
                 modulate_batch<kHold>(d, t, attr, attr_o, w_plane, w_o, held_fi, held_fj, held_z, held_pass, planes,
-                                  held_at, filled);
+                                      held_at, level_guess, filled);
                 held = 0;
               }
             } else
@@ -534,8 +535,10 @@ struct TileKernel {
           }
         }
         if constexpr (Mode == 3) {
-          if (held > 0) modulate_rest(d, t, attr, attr_o, w_plane, w_o, held, held_fi, held_fj, held_z, held_pass,
-                                      planes, held_at, filled);
+          if (held > 0) {
+            modulate_rest(d, t, attr, attr_o, w_plane, w_o, held, held_fi, held_fj, held_z, held_pass, planes,
+                          held_at, level_guess, filled);
+          }
         }
       }
       for (int k = 0; k < 3; ++k) e_row[k] += step_by[k];

@@ -189,8 +189,17 @@ struct SampleSimd {
   }
 
   // RGBA at (u, v) with level of detail lambda (used only by trilinear textures), for P batches.
+  //
+  // guess (may be null): a trilinear sample's levels depend on its LOD, a chain of about 70
+  // dependent cycles (derivatives, log2, level, the level's size) before the texel coordinates
+  // can start. With a guess (the level the previous batches read; *guess < 0: none), both of the
+  // guessed levels are sampled while the LOD is computed, and kept when every lane's level is the
+  // guess (the usual case: the level changes over many pixels); otherwise the levels are sampled
+  // again with the real ones. The kept samples are the same operations on the same levels, so
+  // the same bits; *guess becomes the first lane's level.
   template <int P>
-  static void sample(const Sampler& s, const F (&u)[P], const F (&v)[P], const F (&lambda)[P], F (&out)[P][4]) {
+  static void sample(const Sampler& s, const F (&u)[P], const F (&v)[P], const F (&lambda)[P], F (&out)[P][4],
+                     int* guess = nullptr) {
     F rs[P], rt[P];
     for (int p = 0; p < P; ++p) rs[p] = wrap_coordinate(u[p], s.wrap), rt[p] = wrap_coordinate(v[p], s.wrap);
     if (s.filter != static_cast<int>(TextureFilter::trilinear)) {
@@ -204,9 +213,19 @@ struct SampleSimd {
     // second level is read when any lane of any batch needs it, and is then multiplied by 0
     // where f is 0: c2 is finite, so the sum is still c1 exactly).
     const int q = s.levels - 1;
+    F c1[P][4], c2[P][4];
+    const bool guessed = guess && *guess >= 0;
+    const int g = guessed && *guess < q ? *guess : q;  // the guessed level (when guessed)
+    if (guessed) {
+      const int gn = g < q ? g + 1 : g;
+      I kg[P], ng[P];
+      for (int p = 0; p < P; ++p) kg[p] = I(g), ng[p] = I(gn);
+      sample_levels<P>(s, kg, true, rs, rt, c1);
+      sample_levels<P>(s, ng, true, rs, rt, c2);
+    }
     I k[P], next[P];
     F f[P];
-    bool second = false;
+    bool second = false, hit = guessed;
     for (int p = 0; p < P; ++p) {
       const auto minify = lambda[p] > F(0.0f);
       const F l = xsimd::select(lambda[p] < F(static_cast<float>(q)), lambda[p], F(static_cast<float>(q)));
@@ -216,14 +235,18 @@ struct SampleSimd {
       f[p] = xsimd::select(single, F(0.0f), l - d1);
       next[p] = xsimd::select(k[p] >= I(q), k[p], k[p] + I(1));
       second = second || xsimd::any(f[p] != F(0.0f));
+      hit = hit && xsimd::all(k[p] == I(g));
     }
-    F c1[P][4], c2[P][4];
-    sample_levels<P>(s, k, true, rs, rt, c1);
-    if (second) {
-      sample_levels<P>(s, next, true, rs, rt, c2);
-    } else {
-      for (int p = 0; p < P; ++p)
-        for (int c = 0; c < 4; ++c) c2[p][c] = F(0.0f);
+    // A hit read k and next (= k + 1, or k at the last level); c2 is then finite where f is 0.
+    if (!hit) {
+      sample_levels<P>(s, k, true, rs, rt, c1);
+      if (second) {
+        sample_levels<P>(s, next, true, rs, rt, c2);
+      } else {
+        for (int p = 0; p < P; ++p)
+          for (int c = 0; c < 4; ++c) c2[p][c] = F(0.0f);
+      }
+      if (guess) *guess = k[0].get(0);
     }
     for (int p = 0; p < P; ++p)
       for (int c = 0; c < 4; ++c) out[p][c] = c1[p][c] * (F(1.0f) - f[p]) + c2[p][c] * f[p];
