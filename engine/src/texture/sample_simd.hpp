@@ -128,6 +128,24 @@ struct SampleSimd {
   static I texels_at(const Sampler& s, const I& index) {
     return gather(reinterpret_cast<const std::int32_t*>(s.texels), index);
   }
+  // avx512: the texels at index and index + 1 of each lane (both in one row of the level) as one
+  // 64-bit element: two 8-lane gathers and two permutes instead of two 16-lane gathers, which
+  // cost about 1.5 times as much here (AMD Zen 4: 4.35 ns per 8 x 64-bit gather, 6.3 ns per
+  // 16 x 32-bit; independent loops). The same texels, so the same bits.
+  static void texel_pairs(const Sampler& s, const I& index, I& first, I& second) {
+    if constexpr (W == 16) {
+      const auto* base = reinterpret_cast<const long long*>(s.texels);
+      const __m512i lo = _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), __mmask8(0xff),
+                                                     _mm512_castsi512_si256(index), base, 4);
+      const __m512i hi = _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), __mmask8(0xff),
+                                                     _mm512_extracti64x4_epi64(index, 1), base, 4);
+      const __m512i even = _mm512_set_epi32(30, 28, 26, 24, 22, 20, 18, 16, 14, 12, 10, 8, 6, 4, 2, 0);
+      first = I(_mm512_permutex2var_epi32(lo, even, hi));
+      second = I(_mm512_permutex2var_epi32(lo, _mm512_add_epi32(even, _mm512_set1_epi32(1)), hi));
+    } else {
+      first = texels_at(s, index), second = texels_at(s, index + I(1));
+    }
+  }
   // The level's size and first texel per lane: broadcast when every lane reads the same level
   // (the common case: a level changes over many pixels), gathered otherwise.
   struct LevelLanes {
@@ -175,6 +193,13 @@ struct SampleSimd {
       const I ia = fold_low(i0, l.wi, s.wrap), ib = fold_high(i0 + I(1), l.wi, s.wrap);
       const I row_a = l.base + fold_low(j0, l.hi, s.wrap) * l.wi;
       const I row_b = l.base + fold_high(j0 + I(1), l.hi, s.wrap) * l.wi;
+      if constexpr (W == 16) {
+        if (xsimd::all(ib == ia + I(1))) {  // no lane's columns wrap: each pair is two adjacent texels
+          texel_pairs(s, row_a + ia, t00[p], t10[p]);
+          texel_pairs(s, row_b + ia, t01[p], t11[p]);
+          continue;
+        }
+      }
       t00[p] = texels_at(s, row_a + ia), t10[p] = texels_at(s, row_a + ib);
       t01[p] = texels_at(s, row_b + ia), t11[p] = texels_at(s, row_b + ib);
     }
