@@ -227,11 +227,14 @@ struct SampleSimd {
   //
   // guess (may be null): a trilinear sample's levels depend on its LOD, a chain of about 70
   // dependent cycles (derivatives, log2, level, the level's size) before the texel coordinates
-  // can start. With a guess (the level the previous batches read; *guess < 0: none), both of the
-  // guessed levels are sampled while the LOD is computed, and kept when every lane's level is the
-  // guess (the usual case: the level changes over many pixels); otherwise the levels are sampled
-  // again with the real ones. The kept samples are the same operations on the same levels, so
-  // the same bits; *guess becomes the first lane's level.
+  // can start. A guess (*guess < 0: none) is what the previous batches read: their first lane's
+  // level, plus kGuessOneLevel when no lane read a second level (magnified, at the last level).
+  // The guessed level (and the next, unless one level was read) is sampled while the LOD is
+  // computed, and kept when every lane's level is the guess (the usual case: the level changes
+  // over many pixels) and, for a one-level guess, no lane needs a second level; otherwise the
+  // levels are sampled again with the real ones. Kept samples are the same operations on the
+  // same levels, so the same bits.
+  static constexpr int kGuessOneLevel = 0x100;
   template <int P>
   static void sample(const Sampler& s, const F (&u)[P], const F (&v)[P], const F (&lambda)[P], F (&out)[P][4],
                      int* guess = nullptr) {
@@ -250,13 +253,21 @@ struct SampleSimd {
     const int q = s.levels - 1;
     F c1[P][4], c2[P][4];
     const bool guessed = guess && *guess >= 0;
-    const int g = guessed && *guess < q ? *guess : q;  // the guessed level (when guessed)
+    const bool one_level = guessed && (*guess & kGuessOneLevel);
+    const int guessed_level = guessed ? *guess & (kGuessOneLevel - 1) : 0;
+    const int g = guessed_level < q ? guessed_level : q;  // the guessed level (when guessed)
     if (guessed) {
-      const int gn = g < q ? g + 1 : g;
-      I kg[P], ng[P];
-      for (int p = 0; p < P; ++p) kg[p] = I(g), ng[p] = I(gn);
+      I kg[P];
+      for (int p = 0; p < P; ++p) kg[p] = I(g);
       sample_levels<P>(s, kg, true, rs, rt, c1);
-      sample_levels<P>(s, ng, true, rs, rt, c2);
+      if (one_level) {
+        for (int p = 0; p < P; ++p)
+          for (int c = 0; c < 4; ++c) c2[p][c] = F(0.0f);
+      } else {
+        I ng[P];
+        for (int p = 0; p < P; ++p) ng[p] = I(g < q ? g + 1 : g);
+        sample_levels<P>(s, ng, true, rs, rt, c2);
+      }
     }
     I k[P], next[P];
     F f[P];
@@ -272,7 +283,9 @@ struct SampleSimd {
       second = second || xsimd::any(f[p] != F(0.0f));
       hit = hit && xsimd::all(k[p] == I(g));
     }
-    // A hit read k and next (= k + 1, or k at the last level); c2 is then finite where f is 0.
+    // A hit read k and next (= k + 1, or k at the last level), and c2 is finite where f is 0; or
+    // a one-level hit read k, and c2 is 0 as below.
+    if (one_level && second) hit = false;
     if (!hit) {
       sample_levels<P>(s, k, true, rs, rt, c1);
       if (second) {
@@ -281,7 +294,9 @@ struct SampleSimd {
         for (int p = 0; p < P; ++p)
           for (int c = 0; c < 4; ++c) c2[p][c] = F(0.0f);
       }
-      if (guess) *guess = k[0].get(0);
+      if (guess) *guess = k[0].get(0) | (second ? 0 : kGuessOneLevel);
+    } else if (!second && !one_level) {
+      *guess |= kGuessOneLevel;  // the next batches may read one level
     }
     for (int p = 0; p < P; ++p)
       for (int c = 0; c < 4; ++c) out[p][c] = c1[p][c] * (F(1.0f) - f[p]) + c2[p][c] * f[p];
