@@ -2,7 +2,8 @@
 // camera, lights, materials), rendered by OpenGL 2.1 fixed-function lighting through OSMesa
 // (off-screen, into a caller buffer; Gouraud, depth test LESS, back faces culled) and by facet's
 // default path with the same thread count (llvmpipe: LP_NUM_THREADS, set before the first
-// context; facet: RenderOptions::threads). Reports ms per frame for each, the ratio, and the
+// context; facet: RenderOptions::threads). Reports ms per frame for each (the two take turns in
+// three rounds of --seconds / 3, and each reports its median round), the ratio, and the
 // image difference over the pixels either renderer drew: mean absolute difference, share
 // within 2 steps, PSNR; writes both images.
 //
@@ -27,7 +28,8 @@
 // in float per pixel, and both round blends differently (8-bit framebuffer against float tiles).
 //
 //   facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick]
-//                     [--check] [--filter TEXT] [--json FILE] [SCENE.json ...]
+//                     [--check] [--rounds] [--filter TEXT] [--json FILE] [SCENE.json ...]
+// --rounds prints each renderer's three timed rounds (the drift the medians leave out).
 // --lights N gives scene files N of the built-in cases' lights (GL 2.1-expressible: scene files may
 // use smooth cones or light ranges, which GL 2.1 lacks) and caps shininess at 128.
 // --filter runs only the cases whose name contains TEXT (e.g. --filter fill_). --json writes the
@@ -64,6 +66,7 @@ struct Options {
   double seconds = 1.0;
   std::string out = "out/llvmpipe";
   bool quick = false, check = false;
+  bool rounds = false;  // --rounds: print each timed round
   std::string filter;  // run only the cases whose name contains it
   std::string json;    // also write the rows there
   int lights = 0;      // > 0: scene files get this many of the built-in cases' GL 2.1 lights instead of theirs
@@ -420,11 +423,6 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
     return false;
   }
   GlScene g = gl_prepare(scene);
-  r.gl_ms = ms_per_frame([&] { gl_draw(scene, g, w, h); }, opt.seconds);
-  gl_release(g);
-  r.surfaces = has_surfaces(scene);
-  std::vector<float> gl_depth(static_cast<std::size_t>(w * h));
-  glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, gl_depth.data());
   // facet, into the same layout (OSMesa's buffer is bottom row first: y_up).
   std::vector<std::uint8_t> facet_pixels(static_cast<std::size_t>(w * h * 4));
   std::vector<float> facet_depth(static_cast<std::size_t>(w * h));
@@ -434,7 +432,30 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
   ro.threads = opt.threads;
   facet::Renderer renderer(ro);
   facet::Status status;
-  r.facet_ms = ms_per_frame([&] { status = renderer.render(scene, view, &dview); }, opt.seconds);
+  // The two renderers take turns (three rounds when timed), and each reports its median round:
+  // this machine's speed drifts over seconds, and one renderer timed wholly before the other
+  // would carry the drift into the ratio.
+  const int rounds = opt.seconds > 0 ? 3 : 1;
+  std::vector<double> gl_rounds, facet_rounds;
+  for (int k = 0; k < rounds; ++k) {
+    gl_rounds.push_back(ms_per_frame([&] { gl_draw(scene, g, w, h); }, opt.seconds / rounds));
+    facet_rounds.push_back(ms_per_frame([&] { status = renderer.render(scene, view, &dview); }, opt.seconds / rounds));
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  if (opt.rounds) {
+    std::printf("%s rounds, ms (llvmpipe / facet):", name.c_str());
+    for (int k = 0; k < rounds; ++k) std::printf(" %.2f / %.2f", gl_rounds[k], facet_rounds[k]);
+    std::printf("\n");
+  }
+  r.gl_ms = median(gl_rounds);
+  r.facet_ms = median(facet_rounds);
+  gl_release(g);
+  r.surfaces = has_surfaces(scene);
+  std::vector<float> gl_depth(static_cast<std::size_t>(w * h));
+  glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, gl_depth.data());
   if (!status.ok()) {
     std::fprintf(stderr, "facet: %s\n", status.message().c_str());
     return false;
@@ -504,11 +525,12 @@ int main(int argc, char** argv) {
     else if (a == "--out") opt.out = next();
     else if (a == "--quick") opt.quick = true;
     else if (a == "--check") opt.check = true;
+    else if (a == "--rounds") opt.rounds = true;
     else if (a == "--filter") opt.filter = next();
     else if (a == "--json") opt.json = next();
     else if (a == "--lights") opt.lights = std::atoi(next());
     else if (a == "-h" || a == "--help") {
-      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--filter TEXT] [--json FILE] [--lights N] [SCENE.json ...]");
+      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--rounds] [--filter TEXT] [--json FILE] [--lights N] [SCENE.json ...]");
       return 0;
     } else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "facet_vs_llvmpipe: unknown option %s\n", a.c_str());
