@@ -79,18 +79,31 @@ struct SampleSimd {
   // R masked, A shifted down logically, G and B moved to the low byte by one byte shuffle where the
   // ISA has one (avx2, avx512bw; it indexes within 128-bit lanes, dword k's bytes are 4k..4k+3,
   // and 0x80 writes zero).
-  static F channel(const I& texel, int c) {
-    if (c == 0) return xsimd::batch_cast<float>(texel & I(0xff));
-    if (c == 3) return xsimd::batch_cast<float>(xsimd::bitwise_cast<I>(xsimd::bitwise_cast<U>(texel) >> 24));
-    const int b0 = static_cast<int>(0x80808000u) | c;
-    if constexpr (W == 16) {
-      return xsimd::batch_cast<float>(I(_mm512_shuffle_epi8(texel, _mm512_set4_epi32(b0 | 12, b0 | 8, b0 | 4, b0))));
-    } else if constexpr (W == 8) {
-      return xsimd::batch_cast<float>(I(_mm256_shuffle_epi8(
-          texel, _mm256_set_epi32(b0 | 12, b0 | 8, b0 | 4, b0, b0 | 12, b0 | 8, b0 | 4, b0))));
+  // A template on c: every caller's channel loop runs four times with c a constant, so the
+  // shuffle masks are constants (a loop over a runtime c built them per batch on avx2).
+  template <int c>
+  static F channel(const I& texel) {
+    if constexpr (c == 0) {
+      return xsimd::batch_cast<float>(texel & I(0xff));
+    } else if constexpr (c == 3) {
+      return xsimd::batch_cast<float>(xsimd::bitwise_cast<I>(xsimd::bitwise_cast<U>(texel) >> 24));
     } else {
-      return xsimd::batch_cast<float>((texel >> (8 * c)) & I(0xff));
+      constexpr int b0 = static_cast<int>(0x80808000u) | c;
+      if constexpr (W == 16) {
+        return xsimd::batch_cast<float>(I(_mm512_shuffle_epi8(texel, _mm512_set4_epi32(b0 | 12, b0 | 8, b0 | 4, b0))));
+      } else if constexpr (W == 8) {
+        return xsimd::batch_cast<float>(I(_mm256_shuffle_epi8(
+            texel, _mm256_set_epi32(b0 | 12, b0 | 8, b0 | 4, b0, b0 | 12, b0 | 8, b0 | 4, b0))));
+      } else {
+        return xsimd::batch_cast<float>((texel >> (8 * c)) & I(0xff));
+      }
     }
+  }
+  // f(std::integral_constant<int, c>) for c = 0, 1, 2, 3.
+  template <class Fn>
+  static void each_channel(Fn&& f) {
+    f(std::integral_constant<int, 0>{}), f(std::integral_constant<int, 1>{});
+    f(std::integral_constant<int, 2>{}), f(std::integral_constant<int, 3>{});
   }
 
   static F log2_approx(const F& x) {
@@ -188,7 +201,7 @@ struct SampleSimd {
         const I ii = fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rs[p] * l.fw)), l.wi, s.wrap);
         const I jj = fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rt[p] * l.fh)), l.hi, s.wrap);
         const I t00 = texels_at(s, l.base + jj * l.wi + ii);
-        for (int c = 0; c < 4; ++c) out[p][c] = channel(t00, c) * F(1.0f / 255.0f);
+        each_channel([&](auto c) { out[p][decltype(c)::value] = channel<decltype(c)::value>(t00) * F(1.0f / 255.0f); });
       }
       return;
     }
@@ -215,11 +228,11 @@ struct SampleSimd {
     }
     for (int p = 0; p < P; ++p) {
       const F ra = F(1.0f) - a[p], rb = F(1.0f) - b[p];
-      for (int c = 0; c < 4; ++c) {
-        const F top = channel(t00[p], c) * ra + channel(t10[p], c) * a[p];
-        const F bottom = channel(t01[p], c) * ra + channel(t11[p], c) * a[p];
-        out[p][c] = (top * rb + bottom * b[p]) * F(1.0f / 255.0f);
-      }
+      each_channel([&](auto c) {
+        const F top = channel<decltype(c)::value>(t00[p]) * ra + channel<decltype(c)::value>(t10[p]) * a[p];
+        const F bottom = channel<decltype(c)::value>(t01[p]) * ra + channel<decltype(c)::value>(t11[p]) * a[p];
+        out[p][decltype(c)::value] = (top * rb + bottom * b[p]) * F(1.0f / 255.0f);
+      });
     }
   }
 
