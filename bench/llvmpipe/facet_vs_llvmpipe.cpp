@@ -437,7 +437,7 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
   // would carry the drift into the ratio.
   const int rounds = opt.seconds > 0 ? 3 : 1;
   std::vector<double> gl_rounds, facet_rounds;
-  for (int k = 0; k < rounds; ++k) {
+  for (int k = 0; k < rounds && status.ok(); ++k) {
     gl_rounds.push_back(ms_per_frame([&] { gl_draw(scene, g, w, h); }, opt.seconds / rounds));
     facet_rounds.push_back(ms_per_frame([&] { status = renderer.render(scene, view, &dview); }, opt.seconds / rounds));
   }
@@ -447,7 +447,7 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
   };
   if (opt.rounds) {
     std::printf("%s rounds, ms (llvmpipe / facet):", name.c_str());
-    for (int k = 0; k < rounds; ++k) std::printf(" %.2f / %.2f", gl_rounds[k], facet_rounds[k]);
+    for (std::size_t k = 0; k < gl_rounds.size(); ++k) std::printf(" %.2f / %.2f", gl_rounds[k], facet_rounds[k]);
     std::printf("\n");
   }
   r.gl_ms = median(gl_rounds);

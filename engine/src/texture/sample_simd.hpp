@@ -99,7 +99,7 @@ struct SampleSimd {
       }
     }
   }
-  // f(std::integral_constant<int, c>) for c = 0, 1, 2, 3.
+  // f(std::integral_constant<int, c>) for c = 0, 1, 2, 3 (the callee reads c as a constant).
   template <class Fn>
   static void each_channel(Fn&& f) {
     f(std::integral_constant<int, 0>{}), f(std::integral_constant<int, 1>{});
@@ -201,7 +201,10 @@ struct SampleSimd {
         const I ii = fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rs[p] * l.fw)), l.wi, s.wrap);
         const I jj = fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rt[p] * l.fh)), l.hi, s.wrap);
         const I t00 = texels_at(s, l.base + jj * l.wi + ii);
-        each_channel([&](auto c) { out[p][decltype(c)::value] = channel<decltype(c)::value>(t00) * F(1.0f / 255.0f); });
+        each_channel([&](auto c) {
+          constexpr int k = decltype(c)::value;
+          out[p][k] = channel<k>(t00) * F(1.0f / 255.0f);
+        });
       }
       return;
     }
@@ -229,9 +232,10 @@ struct SampleSimd {
     for (int p = 0; p < P; ++p) {
       const F ra = F(1.0f) - a[p], rb = F(1.0f) - b[p];
       each_channel([&](auto c) {
-        const F top = channel<decltype(c)::value>(t00[p]) * ra + channel<decltype(c)::value>(t10[p]) * a[p];
-        const F bottom = channel<decltype(c)::value>(t01[p]) * ra + channel<decltype(c)::value>(t11[p]) * a[p];
-        out[p][decltype(c)::value] = (top * rb + bottom * b[p]) * F(1.0f / 255.0f);
+        constexpr int k = decltype(c)::value;
+        const F top = channel<k>(t00[p]) * ra + channel<k>(t10[p]) * a[p];
+        const F bottom = channel<k>(t01[p]) * ra + channel<k>(t11[p]) * a[p];
+        out[p][k] = (top * rb + bottom * b[p]) * F(1.0f / 255.0f);
       });
     }
   }
