@@ -57,7 +57,20 @@ TEST(SceneFile, EmptyObjectGivesGlDefaults) {
   EXPECT_EQ(s->global_ambient, defaults.global_ambient);
   EXPECT_EQ(s->camera.eye, defaults.camera.eye);
   EXPECT_EQ(s->viewer, ViewerMode::local);
+  EXPECT_EQ(s->transparent_order, TransparentOrder::submission);
   EXPECT_TRUE(s->lights.empty());
+}
+
+TEST(SceneFile, TransparentOrderIsReadAndItsErrorsNamed) {
+  for (auto [text, order] : {std::pair{"submission", TransparentOrder::submission},
+                             std::pair{"back_to_front", TransparentOrder::back_to_front}}) {
+    Result<Scene> s = parse(std::string("{ \"transparent_order\": \"") + text + "\" }");
+    ASSERT_TRUE(s.ok()) << s.status().message();
+    EXPECT_EQ(s->transparent_order, order);
+  }
+  expect_error("{\n  \"two_sided\": true,\n  \"transparent_order\": \"sorted\"\n}", 3, "transparent_order",
+               {"submission", "back_to_front", "sorted"});
+  expect_error("{\n  \"transparent_order\": true\n}", 2, "transparent_order", {});
 }
 
 TEST(SceneFile, NotJson) {

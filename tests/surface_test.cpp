@@ -773,5 +773,119 @@ TEST(Surfaces, StableAtHugeUvsZeroAndInfiniteDerivatives) {
   }
 }
 
+
+// TransparentOrder::back_to_front: a scene whose blended quads are submitted near to far, with an
+// opaque quad among them and the opaque background last, looked at along +x (so that the order
+// comes from eye-space depth, not world z). `hand` is the same scene in the order the rule names,
+// drawn in submission order: opaque objects in scene order, then blended ones far to near.
+struct OrderScenes {
+  Scene sorted, hand;
+};
+OrderScenes order_scenes() {
+  Scene s = test::camera_scene();
+  s.camera.target = Vec3(1, 0, 0);
+  // Quads built facing +z at depth -d, then turned to face -x at distance d along +x.
+  auto quad = [&](float d, float x0, float y0, float x1, float y1, const Color3& c, float alpha) {
+    test::add_quad(s, x0, y0, x1, y1, -d, c);
+    Mat4 turn = Mat4::Identity();
+    turn.topLeftCorner<3, 3>() = Eigen::AngleAxisf(-1.5707963f, Vec3::UnitY()).toRotationMatrix();
+    s.objects.back().model = turn;
+    if (alpha < 1.0f) {
+      s.materials.back().blend = BlendMode::alpha;
+      s.materials.back().alpha = alpha;
+    }
+  };
+  quad(3.0f, -2.0f, -2.0f, 1.0f, 1.0f, Color3(1, 0, 0), 0.5f);    // 0: near, blended
+  quad(4.0f, -1.0f, -1.0f, 2.5f, 2.5f, Color3(0, 1, 0), 0.5f);    // 1: middle, blended
+  quad(3.5f, 0.5f, -3.0f, 3.0f, 0.0f, Color3(1, 1, 0), 1.0f);     // 2: opaque, between them
+  quad(5.0f, -3.0f, -1.5f, 0.5f, 3.0f, Color3(0, 0, 1), 0.5f);    // 3: far, blended
+  quad(8.0f, -9.0f, -9.0f, 9.0f, 9.0f, Color3(0.5f, 0.5f, 0.5f), 1.0f);  // 4: background, opaque
+  OrderScenes out{s, s};
+  out.sorted.transparent_order = TransparentOrder::back_to_front;
+  out.hand.objects = {s.objects[2], s.objects[4], s.objects[3], s.objects[1], s.objects[0]};
+  return out;
+}
+
+TEST(TransparentOrder, BackToFrontDrawsWhatTheSceneSortedByHandDraws) {
+  const OrderScenes o = order_scenes();
+  ASSERT_TRUE(validate_scene(o.sorted).ok()) << validate_scene(o.sorted).message();
+  EXPECT_EQ(draw_order(o.sorted), (std::vector<std::size_t>{2, 4, 3, 1, 0}));
+  Scene submitted = o.sorted;
+  submitted.transparent_order = TransparentOrder::submission;
+  EXPECT_EQ(draw_order(submitted), (std::vector<std::size_t>{0, 1, 2, 3, 4}));
+  for (auto [path, isa] : every_path()) {
+    for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+      SCOPED_TRACE(std::string(to_string(path)) + " " + to_string(isa) + " " + to_string(shading));
+      RenderOptions opt;
+      opt.path = path, opt.isa = isa, opt.shading = shading;
+      const auto sorted = render_pixels(o.sorted, opt, 96, 96);
+      EXPECT_TRUE(sorted == render_pixels(o.hand, opt, 96, 96));
+      EXPECT_FALSE(sorted == render_pixels(submitted, opt, 96, 96));  // the order matters in this scene
+    }
+  }
+}
+
+// Equal depths keep scene order; an object is transparent when any of its group materials blends;
+// a scene without blended objects draws in scene order.
+TEST(TransparentOrder, TiesKeepSceneOrderAndGroupsCount) {
+  Scene s = test::camera_scene();
+  s.transparent_order = TransparentOrder::back_to_front;
+  for (int k = 0; k < 3; ++k) {
+    test::add_quad(s, -2.0f + k, -2.0f, 1.0f + k, 1.0f, -4.0f, Color3(k == 0, k == 1, k == 2));
+    s.materials.back().blend = BlendMode::alpha;
+    s.materials.back().alpha = 0.5f;
+  }
+  EXPECT_EQ(draw_order(s), (std::vector<std::size_t>{0, 1, 2}));
+  // A two-group quad behind them, first group opaque, second blended, submitted last: transparent,
+  // and the farthest, so drawn first; with both groups opaque it is drawn first as an opaque object.
+  test::add_quad(s, -5, -5, 5, 5, -6, Color3(1, 1, 1));
+  s.materials.back().name = "white";
+  Material glass = s.materials.back();
+  glass.name = "glass";
+  glass.blend = BlendMode::premultiplied;
+  s.materials.push_back(glass);
+  s.meshes.back().mesh.groups = {{"white", 0, 1}, {"glass", 1, 1}};
+  s.objects.back().mesh_materials = true;
+  ASSERT_TRUE(validate_scene(s).ok()) << validate_scene(s).message();
+  EXPECT_TRUE(is_transparent(s, s.objects.back()));
+  EXPECT_EQ(draw_order(s), (std::vector<std::size_t>{3, 0, 1, 2}));
+  // Out-of-range indices (an unvalidated scene) are not transparent and crash nothing.
+  Scene bad = s;
+  bad.objects[0].material = 99;
+  bad.objects[1].mesh = 99;
+  bad.objects[1].mesh_materials = true;
+  // 0: its material is missing, so opaque; 1: its own (blended) material, no mesh: depth 0, last.
+  EXPECT_EQ(draw_order(bad), (std::vector<std::size_t>{0, 3, 2, 1}));
+  s.meshes.back().mesh.groups = {{"white", 0, 2}};
+  EXPECT_FALSE(is_transparent(s, s.objects.back()));
+  EXPECT_EQ(draw_order(s), (std::vector<std::size_t>{3, 0, 1, 2}));  // opaque first
+  for (Material& m : s.materials) m.blend = BlendMode::opaque;
+  EXPECT_EQ(draw_order(s), (std::vector<std::size_t>{0, 1, 2, 3}));
+}
+
+TEST(TransparentOrder, BackToFrontSameBytesForAnyThreadCount) {
+  Scene s = surfaces_scene();
+  s.transparent_order = TransparentOrder::back_to_front;
+  for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+    for (LightingPath path : {LightingPath::scalar, LightingPath::simd}) {
+      RenderOptions o;
+      o.shading = shading, o.path = path, o.tile_size = 32, o.threads = 1;
+      const auto one = render_pixels(s, o);
+      for (int threads : {2, 8}) {
+        o.threads = threads;
+        EXPECT_TRUE(render_pixels(s, o) == one) << to_string(shading) << " " << to_string(path) << " threads " << threads;
+      }
+    }
+  }
+  const OrderScenes o = order_scenes();
+  RenderOptions opt;
+  opt.tile_size = 16, opt.threads = 1;
+  const auto one = render_pixels(o.sorted, opt, 96, 96);
+  for (int threads : {2, 3, 8}) {
+    opt.threads = threads;
+    EXPECT_TRUE(render_pixels(o.sorted, opt, 96, 96) == one) << threads;
+  }
+}
+
 }  // namespace
 }  // namespace facet

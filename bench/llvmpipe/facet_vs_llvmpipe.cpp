@@ -165,6 +165,7 @@ struct GlScene {
   std::vector<GLuint> textures;
   std::vector<GLuint> emission;             // per material: its emission unit's texture, 0: none
   std::vector<std::vector<float>> colours;  // per object, empty without vertex colours
+  std::vector<std::size_t> order;           // the objects in facet's drawing order (facet::draw_order)
 };
 
 void gl_sampling(const facet::Texture& t) {
@@ -232,6 +233,7 @@ GlScene gl_prepare(const facet::Scene& s) {
     }
     gl_sampling(t);
   }
+  g.order = facet::draw_order(s);
   for (const auto& o : s.objects) {
     const facet::Mesh& mesh = s.meshes[o.mesh].mesh;
     std::vector<float> c;
@@ -380,7 +382,7 @@ void gl_draw(const facet::Scene& s, const GlScene& g, int w, int h) {
   }
   glEnableClientState(GL_VERTEX_ARRAY);
   glEnableClientState(GL_NORMAL_ARRAY);
-  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+  for (const std::size_t i : g.order) {  // as facet draws them (the scene's transparent order)
     const facet::Instance& o = s.objects[i];
     const facet::Material& m = s.materials[o.material];
     gl_surface(s, g, i);
@@ -626,6 +628,25 @@ int main(int argc, char** argv) {
         }
       }
       cases.emplace_back("emissive_textures", std::move(glow));
+    }
+    // Back-to-front order: three overlapping blended balls in two colours, submitted near to far
+    // and before the opaque objects; facet sorts them, GL draws them in facet's order.
+    {
+      facet::Scene sorted = *surfaces;
+      sorted.transparent_order = facet::TransparentOrder::back_to_front;
+      facet::Material amber = sorted.materials[sorted.objects.back().material];  // the glass
+      amber.name = "amber";
+      amber.ambient = amber.diffuse = facet::Color3(1.0f, 0.6f, 0.1f);
+      amber.alpha = 0.6f;
+      sorted.materials.push_back(amber);
+      facet::Instance near_ball = sorted.objects.back(), middle = near_ball, far_ball = near_ball;
+      middle.material = static_cast<std::uint32_t>(sorted.materials.size() - 1);
+      middle.model(0, 3) = 0.5f, middle.model(2, 3) = 0.0f;
+      far_ball.model(0, 3) = -0.2f, far_ball.model(1, 3) = 1.3f, far_ball.model(2, 3) = -1.4f;
+      std::vector<facet::Instance> objects = {near_ball, middle, far_ball};
+      objects.insert(objects.end(), sorted.objects.begin(), sorted.objects.end() - 1);
+      sorted.objects = std::move(objects);
+      cases.emplace_back("transparent_order", std::move(sorted));
     }
     facet::Scene coloured = facet::make_default_scene();
     for (auto& m : coloured.materials) m.shininess = std::min(m.shininess, 128.0f);

@@ -53,9 +53,11 @@ namespace {
 // A scene with a large object (set up on slot 0, its chunks spread over the threads) beside
 // runs of small ones (set up side by side, one task each, on whichever slot takes them), so that
 // both kinds of per-slot scratch are exercised.
+// two_sided also sorts the blended glass sphere back to front (the frame plan's order keys).
 Scene mixed_scene(bool two_sided) {
   Scene scene = make_default_scene();
   scene.two_sided = two_sided;
+  if (two_sided) scene.transparent_order = TransparentOrder::back_to_front;
   scene.meshes.push_back({"big", make_uv_sphere(0.6f, 96, 48)});
   Instance big;
   big.mesh = static_cast<std::uint32_t>(scene.meshes.size() - 1);

@@ -416,6 +416,9 @@ int main(void) {
     CHECK(facet_scene_set_two_sided(e, 1) == FACET_OK);
     CHECK(facet_scene_set_viewer(e, FACET_VIEWER_INFINITE) == FACET_OK);
     CHECK(facet_scene_set_viewer(e, (facet_viewer)7) == FACET_INVALID_ARGUMENT);
+    CHECK(facet_scene_set_transparent_order(e, (facet_transparent_order)2) == FACET_INVALID_ARGUMENT);
+    CHECK(strstr(facet_scene_last_error(e), "order") != NULL);
+    CHECK(facet_scene_set_transparent_order(e, FACET_TRANSPARENT_BACK_TO_FRONT) == FACET_OK);
     CHECK(facet_scene_set_object_double_sided(e, obj_b, 1) == FACET_OK);
     CHECK(facet_render(er, e, after, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
     /* A stats struct that is too small is refused before any pixel is written. */

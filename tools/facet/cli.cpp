@@ -88,6 +88,12 @@ std::optional<ShadowMethod> parse_shadow_method(const std::string& name) {
   return std::nullopt;
 }
 
+std::optional<TransparentOrder> parse_transparent_order(const std::string& name) {
+  if (name == "submission") return TransparentOrder::submission;
+  if (name == "back_to_front") return TransparentOrder::back_to_front;
+  return std::nullopt;
+}
+
 void override_shadows(Scene& scene, ShadowMethod method) {
   for (Light& l : scene.lights) l.shadow.method = method;
 }

@@ -42,6 +42,11 @@ std::optional<ShadingMode> parse_shading(const std::string& name);  // flat, gou
 std::optional<ShadowMethod> parse_shadow_method(const std::string& name);
 // Every light of `scene` casts shadows by `method` (none: no light does).
 void override_shadows(Scene& scene, ShadowMethod method);
+// --transparent-order: submission, back_to_front ("" when not given: the scene's own).
+std::optional<TransparentOrder> parse_transparent_order(const std::string& name);
+inline constexpr const char* kTransparentOrderHelp =
+    "submission | back_to_front: the order blended objects are drawn in (default: the scene's; scene files "
+    "submission, models back_to_front)";
 // "reference", "scalar", or "simd avx512 (pow auto)" with `best` resolved.
 std::string describe_path(LightingPath path, Isa isa, PowTier tier);
 

@@ -35,8 +35,8 @@ std::size_t scene_vertices(const Scene& scene) {
 
 int light(const std::string& scene_path, const std::string& path_name, PowTier tier, double min_seconds, int threads,
           bool json);
-int check(const std::string& scene_path, const RenderOptions& options, std::optional<ShadowMethod> shadows, int width,
-          int height, bool allow_missing);
+int check(const std::string& scene_path, const RenderOptions& options, std::optional<ShadowMethod> shadows,
+          std::optional<TransparentOrder> order, int width, int height, bool allow_missing);
 
 Command add_light(CLI::App& facet) {
   struct State {
@@ -156,7 +156,7 @@ int light(const std::string& scene_path, const std::string& path_name, PowTier t
 
 Command add_check(CLI::App& facet) {
   struct State {
-    std::string scene_path, shading = "gouraud", shadows;
+    std::string scene_path, shading = "gouraud", shadows, transparent_order;
     int width = 1280, height = 720, memory_mb = -1;
     bool allow_missing = false;
   };
@@ -173,6 +173,8 @@ Command add_check(CLI::App& facet) {
       ->check(one_of({"flat", "gouraud", "phong"}, "shading"));
   app->add_option("--shadows", st->shadows, "none | map | volume | raycast: every light casts shadows so")
       ->check(one_of({"none", "map", "volume", "raycast"}, "method"));
+  app->add_option("--transparent-order", st->transparent_order, kTransparentOrderHelp)
+      ->check(one_of({"submission", "back_to_front"}, "order"));
   app->add_option("--memory-budget-mb", st->memory_mb, "as for 'facet render' (default 4096; 0 = no limit)")->check(int_in(0, 1 << 30));
   app->add_flag("--allow-missing", st->allow_missing, "a model's missing .mtl or texture files are warnings, not errors");
   return {app, [st] {
@@ -181,12 +183,14 @@ Command add_check(CLI::App& facet) {
             if (st->memory_mb >= 0) options.memory_budget_bytes = static_cast<std::uint64_t>(st->memory_mb) << 20;
             std::optional<ShadowMethod> shadows;
             if (!st->shadows.empty()) shadows = parse_shadow_method(st->shadows);
-            return check(st->scene_path, options, shadows, st->width, st->height, st->allow_missing);
+            std::optional<TransparentOrder> order;
+            if (!st->transparent_order.empty()) order = parse_transparent_order(st->transparent_order);
+            return check(st->scene_path, options, shadows, order, st->width, st->height, st->allow_missing);
           }};
 }
 
-int check(const std::string& scene_path, const RenderOptions& options, std::optional<ShadowMethod> shadows, int width,
-          int height, bool allow_missing) {
+int check(const std::string& scene_path, const RenderOptions& options, std::optional<ShadowMethod> shadows,
+          std::optional<TransparentOrder> order, int width, int height, bool allow_missing) {
   InputOptions input;
   input.memory_budget_bytes = options.memory_budget_bytes;
   input.allow_missing = allow_missing;
@@ -195,11 +199,12 @@ int check(const std::string& scene_path, const RenderOptions& options, std::opti
   std::optional<Scene> scene = load_input(scene_path, input, notes);
   if (!scene) return 2;
   if (shadows) override_shadows(*scene, *shadows);
+  if (order) scene->transparent_order = *order;
   if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(scene_path + ": " + s.message());
   std::size_t triangles = 0, blended = 0, textured = 0, emissive = 0;
   for (const auto& obj : scene->objects) {
     triangles += scene->meshes[obj.mesh].mesh.triangle_count();
-    blended += scene->materials[obj.material].blend != BlendMode::opaque;
+    blended += is_transparent(*scene, obj);
     textured += uses_textures(scene->materials[obj.material]);
     emissive += scene->materials[obj.material].emissive_texture != kNoTexture;
   }
@@ -257,9 +262,12 @@ int check(const std::string& scene_path, const RenderOptions& options, std::opti
   }
   if (!scene->textures.empty() || blended > 0 || scene->fog.mode != FogMode::none) {
     std::printf("  surfaces: %zu textures (%llu KiB with their mipmaps), %zu textured (%zu with an emissive texture) "
-                "and %zu blended objects, fog %s\n",
+                "and %zu blended objects (drawn %s), fog %s\n",
                 scene->textures.size(), static_cast<unsigned long long>((4 * texels + 1023) / 1024), textured, emissive,
-                blended, to_string(scene->fog.mode));
+                blended,
+                scene->transparent_order == TransparentOrder::back_to_front ? "back to front, after the opaque ones"
+                                                                             : "in scene order",
+                to_string(scene->fog.mode));
   }
   return 0;
 }

@@ -128,7 +128,7 @@ namespace {
 
 struct RenderState {
   std::string scene_path, output, depth_path, shading = "gouraud", shadows, path = "simd", isa = "auto", pow = "auto",
-                                                cull = "back", clear;
+                                                cull = "back", clear, transparent_order;
   int width = 1280, height = 720, threads = 0, tile = 64, memory_mb = -1, frame_count = 1;
   double min_seconds = 0, orbit_deg = 360.0;
   bool stats = false, json = false, allow_missing = false, hdr = false, srgb = false, no_light_culling = false,
@@ -161,6 +161,9 @@ Command add_render(CLI::App& facet) {
   app->add_option("--shadows", st->shadows, "none | map | volume | raycast: every light casts shadows so")
       ->check(one_of({"none", "map", "volume", "raycast"}, "method"))->group(draw);
   app->add_option("--cull", st->cull, "back | front | none (default back)")->check(one_of({"back", "front", "none"}, "cull mode"))->group(draw);
+  app->add_option("--transparent-order", st->transparent_order, kTransparentOrderHelp)
+      ->check(one_of({"submission", "back_to_front"}, "order"))
+      ->group(draw);
   app->add_option("--tile", st->tile, "tile size in pixels, a multiple of 8 in [8, 256] (default 64)")->check(int_in(8, 256))->group(draw);
   app->add_flag("--no-light-culling", st->no_light_culling, "light every object with every enabled light (frame plan off)")->group(draw);
   app->add_flag("--light-every-vertex", st->light_every_vertex,
@@ -250,6 +253,7 @@ int render(const RenderState& st) {
   if (!scene) return 2;
   for (const std::string& n : notes) std::fprintf(stderr, "facet: %s\n", n.c_str());
   if (shadows) override_shadows(*scene, *shadows);
+  if (!st.transparent_order.empty()) scene->transparent_order = *parse_transparent_order(st.transparent_order);
   // Everything the renderer refuses is refused before the image is allocated.
   if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(s.message());
 

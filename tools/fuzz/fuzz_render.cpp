@@ -1,6 +1,7 @@
 // Fuzzes rendering of hostile geometry: raw float positions and normals (NaN, Inf, 1e38,
 // subnormals), indices that may be out of range, a fuzzed camera and options (ray-cast shadows,
-// shadow maps and shadow volumes included). Invalid input must
+// shadow maps and shadow volumes included; with an odd vertex count the mesh is drawn twice, once
+// blended, in back-to-front order). Invalid input must
 // be refused before a byte is written; valid input must render without touching guard bytes.
 #include "fuzz_support.hpp"
 
@@ -28,6 +29,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   s.meshes.push_back({"fuzz", m});
   s.materials.push_back(Material{});
   s.objects.push_back({0, 0, Mat4::Identity()});
+  if (vertex_count & 1) {  // the mesh again, blended and moved, the blended objects sorted back to front
+    Material glass;
+    glass.blend = BlendMode::alpha;
+    glass.alpha = 0.5f;
+    s.materials.push_back(glass);
+    Mat4 moved = Mat4::Identity();
+    moved.block<3, 1>(0, 3) = Vec3(0.5f, 0.0f, -0.5f);
+    s.objects.push_back({0, 1, moved});
+    s.transparent_order = TransparentOrder::back_to_front;
+  }
   Light light;
   light.type = LightType::point;
   light.position = s.camera.eye;

@@ -192,6 +192,12 @@ typedef struct facet_renderer facet_renderer;
 typedef struct facet_scene facet_scene;
 
 typedef enum facet_viewer { FACET_VIEWER_LOCAL = 0, FACET_VIEWER_INFINITE = 1 } facet_viewer;
+/* The camera pass's object order (facet::TransparentOrder): scene order (default), or opaque
+ * objects first, then those with a blended material farthest first. */
+typedef enum facet_transparent_order {
+  FACET_TRANSPARENT_SUBMISSION = 0,
+  FACET_TRANSPARENT_BACK_TO_FRONT = 1
+} facet_transparent_order;
 
 /* The library's version, "MAJOR.MINOR.PATCH" (the same as FACET_VERSION_STRING when the header
  * and the library match). */
@@ -280,6 +286,9 @@ facet_status facet_scene_remove_material(facet_scene* scene, uint32_t material_i
  * of a local (default) or infinite viewer (GL_LIGHT_MODEL_LOCAL_VIEWER). */
 facet_status facet_scene_set_two_sided(facet_scene* scene, int two_sided);
 facet_status facet_scene_set_viewer(facet_scene* scene, facet_viewer viewer);
+/* The order the camera draws objects in (default FACET_TRANSPARENT_SUBMISSION); objects keep
+ * their ids whatever the order. */
+facet_status facet_scene_set_transparent_order(facet_scene* scene, facet_transparent_order order);
 /* Whether an object blocks shadowed lights (cast) and can be in shadow (receive); both default
  * to non-zero. */
 facet_status facet_scene_set_object_shadows(facet_scene* scene, uint32_t object_id, int cast, int receive);

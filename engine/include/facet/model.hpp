@@ -33,7 +33,8 @@ struct ModelOptions {
 
 struct Model {
   // Meshes, materials, textures and objects; the file's lights and camera when it has them (else
-  // none, and the default camera). Objects are placed in the file's world coordinates.
+  // none, and the default camera). Objects are placed in the file's world coordinates. Blended
+  // objects are drawn back to front (Scene::transparent_order), as glTF asks of renderers.
   Scene scene;
   bool has_camera = false;  // the scene's camera is the file's
   bool has_lights = false;  // the scene's lights are the file's

@@ -65,6 +65,15 @@ struct Instance {
 static_assert(sizeof(Instance) == 76 && alignof(Instance) == 4, "facet::Instance must not depend on compiler flags");
 
 
+// The order in which the camera's pass draws objects (shadow and depth passes need none).
+//  - submission: scene order, as GL draws what it is given (the default);
+//  - back_to_front: opaque objects first, in scene order; then every object with a blended
+//    material (any blend but opaque, in any of its material groups), farthest first by the
+//    eye-space depth of the centre of its mesh's box, ties in scene order. Within an object,
+//    triangles keep their mesh order. The order is a function of the scene alone (draw_order),
+//    so images stay byte-identical for any thread count.
+enum class TransparentOrder { submission, back_to_front };
+
 struct Scene {
   std::vector<NamedMesh> meshes;
   std::vector<Material> materials;
@@ -76,7 +85,15 @@ struct Scene {
   Camera camera;
   ViewerMode viewer = ViewerMode::local;
   bool two_sided = false;  // back faces are lit with the negated normal
+  TransparentOrder transparent_order = TransparentOrder::submission;
 };
+
+// The objects (indices into scene.objects) in the order the camera's pass draws them
+// (TransparentOrder). Every object appears once, drawable or not.
+std::vector<std::size_t> draw_order(const Scene& scene);
+// Whether an object is drawn with the transparent ones under back_to_front: its material, or one
+// of its mesh's group materials, blends.
+bool is_transparent(const Scene& scene, const Instance& object);
 
 Status validate_scene(const Scene& scene);
 

@@ -662,6 +662,19 @@ facet_status facet_scene_set_viewer(facet_scene* scene, facet_viewer viewer) {
   });
 }
 
+facet_status facet_scene_set_transparent_order(facet_scene* scene, facet_transparent_order order) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    const long v = raw(order);
+    if (v != FACET_TRANSPARENT_SUBMISSION && v != FACET_TRANSPARENT_BACK_TO_FRONT) {
+      return fail(scene->error, "order", "unknown transparent order");
+    }
+    scene->scene.transparent_order = v == FACET_TRANSPARENT_SUBMISSION ? facet::TransparentOrder::submission
+                                                                       : facet::TransparentOrder::back_to_front;
+    return report(scene->error, {});
+  });
+}
+
 facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigned flags, float aspect,
                                    uint64_t memory_budget_bytes) {
   if (!scene) return FACET_INVALID_ARGUMENT;

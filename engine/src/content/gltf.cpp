@@ -1003,6 +1003,8 @@ Result<Model> parse_gltf(std::span<const std::uint8_t> bytes, const std::string&
                                   (where.empty() ? "" : ")")};
     }
     Model model;
+    // glTF asks renderers to draw BLEND primitives sorted back to front (alphaMode's notes).
+    model.scene.transparent_order = TransparentOrder::back_to_front;
     GltfReader reader(gm, source_name, base_dir, options, model);
     FACET_TRY(reader.read(files.used));
     if (!warn.empty()) {

@@ -395,6 +395,7 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
     Result<Mesh> mesh = parse_obj(*text, path, oo);
     if (!mesh) return mesh.status();
     Model model;
+    model.scene.transparent_order = TransparentOrder::back_to_front;  // as glTF models (docs/content.md)
     Scene& scene = model.scene;
     const std::string base = std::filesystem::path(path).parent_path().string();
     // mtllib statements: each names one or more files (names without spaces, as tinyobjloader reads them).

@@ -30,6 +30,7 @@
 #include "raster/tile_raster.hpp"
 #include "raster/triangle_setup.hpp"
 #include "raster/varyings.hpp"
+#include "scene/order.hpp"
 #include "texture/sampler.hpp"
 
 namespace facet {
@@ -139,12 +140,17 @@ namespace {
 bool writes_depth(const Material& m) {
   return m.depth_write == DepthWrite::on || (m.depth_write == DepthWrite::automatic && m.blend == BlendMode::opaque);
 }
+// A colour pass of a back_to_front scene draws its objects in scene_order's order (`keys` keeps
+// its capacity); depth passes need no order.
 void plan_units(const Scene& scene, const raster::RenderPass& p, std::vector<DrawUnit>& units,
-                bool depth_writers_only = false) {
+                std::vector<scene_order::ObjectKey>& keys, bool depth_writers_only = false) {
   units.clear();
   const bool casters_only = p.depth_only && p.casters_only;
   const bool depth_writers = (p.depth_only && !p.casters_only) || depth_writers_only;
-  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+  const bool sorted = !p.depth_only && scene.transparent_order == TransparentOrder::back_to_front &&
+                      scene_order::order_objects(scene, p.view, keys);
+  for (std::size_t k = 0; k < scene.objects.size(); ++k) {
+    const std::size_t o = sorted ? keys[k].object : k;
     const Instance& inst = scene.objects[o];
     if (casters_only && !inst.cast_shadows) continue;
     if (depth_writers && !inst.mesh_materials && !writes_depth(scene.materials[inst.material])) continue;
@@ -307,6 +313,7 @@ struct Renderer::Impl {
   // Progress units of a pass: its tiles, set-up ranges and vertex chunks.
   std::uint64_t pass_work(const Scene& scene, const raster::RenderPass& p);
   std::vector<DrawUnit> work_units;  // pass_work's scratch
+  std::vector<scene_order::ObjectKey> order_keys;  // plan_units' scratch (TransparentOrder::back_to_front)
   // Runs body(range, slot) over [begin, end) in chunks of `grain`: spread over the arena's threads
   // when `slot` < 0, else all on the calling task's slot.
   template <class Body>
@@ -476,7 +483,7 @@ Status check_render(const Scene& scene, const RenderOptions& options, int width,
 }
 
 std::uint64_t Renderer::Impl::pass_work(const Scene& scene, const raster::RenderPass& p) {
-  plan_units(scene, p, work_units, sub_frame == SubFrame::visibility);
+  plan_units(scene, p, work_units, order_keys, sub_frame == SubFrame::visibility);
   std::uint64_t work = static_cast<std::uint64_t>(p.tile_count());
   const bool placed = !p.depth_only && p.shading != ShadingMode::phong && !light_every_vertex;
   for (const DrawUnit& u : work_units) {  // ranges, clip chunks, then lighting or centroid chunks
@@ -803,7 +810,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   range_count = 0;  // counted below, per draw
   bins.resize(static_cast<std::size_t>(p.tile_count()));
   for (auto& bin : bins) bin.clear();
-  plan_units(scene, p, units, sub_frame == SubFrame::visibility);
+  plan_units(scene, p, units, order_keys, sub_frame == SubFrame::visibility);
   shaders.resize(units.size());
   plan_draws(scene, options, p);
   const bool two_sided = std::find(draw_two_sided.begin(), draw_two_sided.end(), 1) != draw_two_sided.end();

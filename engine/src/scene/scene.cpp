@@ -8,6 +8,7 @@
 #include "common/format.hpp"
 #include "common/look_at.hpp"
 #include "common/try.hpp"
+#include "scene/order.hpp"
 #include "scene/validate.hpp"
 
 namespace facet {
@@ -343,6 +344,29 @@ std::int64_t find_material(const Scene& scene, const std::string& name) noexcept
     if (scene.materials[i].name == name) return static_cast<std::int64_t>(i);
   }
   return -1;
+}
+
+bool is_transparent(const Scene& scene, const Instance& object) {
+  auto blends = [&](std::int64_t m) {
+    return m >= 0 && static_cast<std::size_t>(m) < scene.materials.size() &&
+           scene.materials[static_cast<std::size_t>(m)].blend != BlendMode::opaque;
+  };
+  if (!object.mesh_materials || object.mesh >= scene.meshes.size()) return blends(object.material);
+  for (const MaterialGroup& g : scene.meshes[object.mesh].mesh.groups) {
+    if (blends(find_material(scene, g.material))) return true;
+  }
+  return false;
+}
+
+std::vector<std::size_t> draw_order(const Scene& scene) {
+  std::vector<std::size_t> order(scene.objects.size());
+  for (std::size_t o = 0; o < order.size(); ++o) order[o] = o;
+  if (scene.transparent_order != TransparentOrder::back_to_front) return order;
+  std::vector<scene_order::ObjectKey> keys;
+  if (scene_order::order_objects(scene, look_at_d(scene.camera), keys)) {
+    for (std::size_t o = 0; o < order.size(); ++o) order[o] = keys[o].object;
+  }
+  return order;
 }
 
 Status validate_scene(const Scene& scene) {

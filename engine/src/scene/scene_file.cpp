@@ -70,8 +70,8 @@ class SceneReader {
       : source_(std::move(source)), lines_(lines), base_dir_(std::move(base_dir)), options_(options) {}
 
   Status read(const json& root, Scene& scene) {
-    FACET_TRY(expect_object(root, "", {"camera", "global_ambient", "viewer", "two_sided", "textures", "materials",
-                                       "meshes", "objects", "lights", "fog", "imports"}));
+    FACET_TRY(expect_object(root, "", {"camera", "global_ambient", "viewer", "two_sided", "transparent_order",
+                                       "textures", "materials", "meshes", "objects", "lights", "fog", "imports"}));
     if (root.contains("camera")) FACET_TRY(read_camera(root["camera"], scene.camera));
     FACET_TRY(opt_color(root, "", "global_ambient", scene.global_ambient));
     if (root.contains("viewer")) {
@@ -80,6 +80,11 @@ class SceneReader {
       scene.viewer = mode == "local" ? ViewerMode::local : ViewerMode::infinite;
     }
     FACET_TRY(opt_bool(root, "", "two_sided", scene.two_sided));
+    if (root.contains("transparent_order")) {
+      std::string order;
+      FACET_TRY(read_enum(root["transparent_order"], "transparent_order", {"submission", "back_to_front"}, order));
+      scene.transparent_order = order == "submission" ? TransparentOrder::submission : TransparentOrder::back_to_front;
+    }
     auto add_texture = [&](const json& j, const std::string& p) {
       Texture t;
       FACET_TRY(read_texture(j, p, t));
