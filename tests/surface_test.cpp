@@ -831,7 +831,8 @@ TEST(TransparentOrder, TiesKeepSceneOrderAndGroupsCount) {
   Scene s = test::camera_scene();
   s.transparent_order = TransparentOrder::back_to_front;
   for (int k = 0; k < 3; ++k) {
-    test::add_quad(s, -2.0f + k, -2.0f, 1.0f + k, 1.0f, -4.0f, Color3(k == 0, k == 1, k == 2));
+    const float x = static_cast<float>(k);
+    test::add_quad(s, x - 2.0f, -2.0f, x + 1.0f, 1.0f, -4.0f, Color3(k == 0, k == 1, k == 2));
     s.materials.back().blend = BlendMode::alpha;
     s.materials.back().alpha = 0.5f;
   }
