@@ -15,6 +15,7 @@
 
 #if defined(FACET_STD_THREADS)
 #include <thread>
+#include <type_traits>
 #include <vector>
 #else
 #include <tbb/global_control.h>
@@ -66,11 +67,12 @@ class Arena {
   template <class Range, class Body>
   void parallel_for(const Range& range, const Body& body) {
 #if defined(FACET_STD_THREADS)
-    const auto grain = range.grainsize();
+    using Value = std::decay_t<decltype(range.begin())>;  // int or std::size_t ranges
+    const auto grain = static_cast<Value>(range.grainsize());
     std::vector<Range> chunks;
-    for (auto b = range.begin(); b < range.end();) {
-      const auto e = range.end() - b > grain ? b + grain : range.end();
-      chunks.emplace_back(b, e, grain);
+    for (Value b = range.begin(); b < range.end();) {
+      const Value e = range.end() - b > grain ? b + grain : range.end();
+      chunks.emplace_back(b, e, range.grainsize());
       b = e;
     }
     auto run = [&](int slot) {

@@ -20,8 +20,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 // The near plane stays at least this fraction of the far plane (window depth keeps its precision).
 constexpr double kNearFraction = 1e-3;
-// The slope bias's tangent is capped (grazing light would push points through thin casters).
-constexpr double kMaxSlope = 10.0;
 
 
 // An up vector for a view along `forward`: world +y unless the light is within ~8 degrees of it,
@@ -234,7 +232,7 @@ void map_visibility_scalar(const MapLookup& m, std::size_t count, const float* p
     float cos_nl = (((a * lx + b * ly) + c * lz) * inv_n) * inv_l;
     cos_nl = std::min(std::max(cos_nl, 0.0f), 1.0f);
     const float sin_nl = std::sqrt(std::max(1.0f - cos_nl * cos_nl, 0.0f));
-    const float tan_nl = std::min(sin_nl / cos_nl, 10.0f);
+    const float tan_nl = std::min(sin_nl / cos_nl, kMaxSlopeTangent);
     int face = 0;
     if (m.kind == MapLookup::cube) {
       const float dx = x - m.light[0], dy = y - m.light[1], dz = z - m.light[2];

@@ -8,6 +8,10 @@
 
 namespace facet::shadow {
 
+// The slope bias's tangent is capped (grazing light would push points through thin casters); one
+// plain constant for the scalar twin and the SIMD kernels.
+inline constexpr float kMaxSlopeTangent = 10.0f;
+
 struct MapLookup {
   enum Kind : int { orthographic = 0, perspective = 1, cube = 2 };
   int kind = orthographic;

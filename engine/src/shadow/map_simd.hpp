@@ -42,7 +42,7 @@ struct MapSimd {
     F cos_nl = (((a * lx + b * ly) + c * lz) * inv_n) * inv_l;
     cos_nl = xsimd::min(xsimd::max(cos_nl, zero), one);
     const F sin_nl = xsimd::sqrt(xsimd::max(one - cos_nl * cos_nl, zero));
-    const F tan_nl = xsimd::min(sin_nl / cos_nl, F(10.0f));
+    const F tan_nl = xsimd::min(sin_nl / cos_nl, F(kMaxSlopeTangent));
     // The face: a cube's by the major axis of the way from the light in world space.
     I face(0);
     F row[4][4];
