@@ -67,6 +67,7 @@ TEST(SceneFile, TransparentOrderIsReadAndItsErrorsNamed) {
     Result<Scene> s = parse(std::string("{ \"transparent_order\": \"") + text + "\" }");
     ASSERT_TRUE(s.ok()) << s.status().message();
     EXPECT_EQ(s->transparent_order, order);
+    EXPECT_STREQ(to_string(order), text);  // the library's name is the file's (the CLI parses through it)
   }
   expect_error("{\n  \"two_sided\": true,\n  \"transparent_order\": \"sorted\"\n}", 3, "transparent_order",
                {"submission", "back_to_front", "sorted"});

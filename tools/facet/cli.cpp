@@ -89,8 +89,8 @@ std::optional<ShadowMethod> parse_shadow_method(const std::string& name) {
 }
 
 std::optional<TransparentOrder> parse_transparent_order(const std::string& name) {
-  if (name == "submission") return TransparentOrder::submission;
-  if (name == "back_to_front") return TransparentOrder::back_to_front;
+  for (TransparentOrder o : {TransparentOrder::submission, TransparentOrder::back_to_front})
+    if (name == to_string(o)) return o;
   return std::nullopt;
 }
 

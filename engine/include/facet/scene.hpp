@@ -73,6 +73,7 @@ static_assert(sizeof(Instance) == 76 && alignof(Instance) == 4, "facet::Instance
 //    triangles keep their mesh order. The order is a function of the scene alone (draw_order),
 //    so images stay byte-identical for any thread count.
 enum class TransparentOrder { submission, back_to_front };
+const char* to_string(TransparentOrder order) noexcept;  // its name in scene files and on the command line
 
 struct Scene {
   std::vector<NamedMesh> meshes;

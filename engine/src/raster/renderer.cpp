@@ -9,6 +9,7 @@
 #include <cmath>
 #include <mutex>
 #include <new>
+#include <span>
 
 #include <tbb/blocked_range.h>
 #include <tbb/info.h>
@@ -233,7 +234,10 @@ struct Renderer::Impl {
   std::vector<const raster::ScreenTriangle*> range_data;
   std::size_t range_count = 0;
   std::vector<std::vector<std::uint32_t>> bins;
-  std::vector<DrawUnit> units;                   // the frame's draws (objects, or their material groups)
+  // Each pass's draws (objects, or their material groups), planned once per pass (plan_units),
+  // kept with their capacity; `units` is the running pass's.
+  std::vector<std::vector<DrawUnit>> pass_units;
+  std::span<const DrawUnit> units;
   std::vector<lighting::PointShader> shaders;  // one per draw
   std::vector<raster::simd::Draw> draws;               // one per draw: its varyings and pixel program
   std::vector<lighting::LightingFeatures> features;  // one per draw: what its lighting takes and gives
@@ -308,11 +312,11 @@ struct Renderer::Impl {
   bool part_without_emission = false;
   std::vector<float> composite_base, composite_part, composite_visibility;
   Scene composite_lights;  // lights, ambient and fog of a part (no meshes)
-  void run_pass(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p);
+  void run_pass(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p,
+                std::span<const DrawUnit> pass_draws);
   void plan_draws(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p);
-  // Progress units of a pass: its tiles, set-up ranges and vertex chunks.
-  std::uint64_t pass_work(const Scene& scene, const raster::RenderPass& p);
-  std::vector<DrawUnit> work_units;  // pass_work's scratch
+  // Progress units of a pass with these draws: its tiles, set-up ranges and vertex chunks.
+  std::uint64_t pass_work(const Scene& scene, const raster::RenderPass& p, std::span<const DrawUnit> pass_draws) const;
   std::vector<scene_order::ObjectKey> order_keys;  // plan_units' scratch (TransparentOrder::back_to_front)
   // Runs body(range, slot) over [begin, end) in chunks of `grain`: spread over the arena's threads
   // when `slot` < 0, else all on the calling task's slot.
@@ -482,11 +486,11 @@ Status check_render(const Scene& scene, const RenderOptions& options, int width,
   }
 }
 
-std::uint64_t Renderer::Impl::pass_work(const Scene& scene, const raster::RenderPass& p) {
-  plan_units(scene, p, work_units, order_keys, sub_frame == SubFrame::visibility);
+std::uint64_t Renderer::Impl::pass_work(const Scene& scene, const raster::RenderPass& p,
+                                        std::span<const DrawUnit> pass_draws) const {
   std::uint64_t work = static_cast<std::uint64_t>(p.tile_count());
   const bool placed = !p.depth_only && p.shading != ShadingMode::phong && !light_every_vertex;
-  for (const DrawUnit& u : work_units) {  // ranges, clip chunks, then lighting or centroid chunks
+  for (const DrawUnit& u : pass_draws) {  // ranges, clip chunks, then lighting or centroid chunks
     work += u.ranges() + (u.vertices() + kVertexChunk - 1) / kVertexChunk;
     if (!p.depth_only) {
       work += (u.vertices() + kVertexChunk - 1) / kVertexChunk +
@@ -669,11 +673,16 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   frame_shadows = {frame_caster, frame_maps, volumes.active() ? &volumes : nullptr};
   has_shadows = frame_caster || any_map || volumes.active();
   work_total = 0;
-  for (const raster::RenderPass& p : passes) work_total += pass_work(scene, p);
+  if (pass_units.size() < passes.size()) pass_units.resize(passes.size());
+  for (std::size_t k = 0; k < passes.size(); ++k) {
+    plan_units(scene, passes[k], pass_units[k], order_keys, sub_frame == SubFrame::visibility);
+    work_total += pass_work(scene, passes[k], pass_units[k]);
+  }
   work_total = std::max<std::uint64_t>(work_total, 1);
-  for (const raster::RenderPass& p : passes) {
+  for (std::size_t k = 0; k < passes.size(); ++k) {
+    const raster::RenderPass& p = passes[k];
     const auto start = Clock::now();
-    run_pass(scene, options, p);
+    run_pass(scene, options, p, pass_units[k]);
     if (p.depth_only && !p.casters_only && !cancelled.load(std::memory_order_relaxed)) {
       volumes.build(scene, camera.view, camera.projection, *arena);  // the camera's depth is drawn
     }
@@ -681,6 +690,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     if (cancelled.load(std::memory_order_relaxed)) break;
   }
   pass = nullptr;
+  units = {};
   stats.seconds_total = seconds_since(frame_start);
 }
 
@@ -803,14 +813,15 @@ void Renderer::Impl::render_composite(const Scene& scene, const RenderOptions& o
   stats.seconds_total = seconds_since(frame_start);
 }
 
-void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p) {
+void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, const raster::RenderPass& p,
+                              std::span<const DrawUnit> pass_draws) {
   pass = &p;
   const ShadingMode shading = p.shading;
   const int tiles_x = p.tiles_x, tile_size = p.tile_size;
   range_count = 0;  // counted below, per draw
   bins.resize(static_cast<std::size_t>(p.tile_count()));
   for (auto& bin : bins) bin.clear();
-  plan_units(scene, p, units, order_keys, sub_frame == SubFrame::visibility);
+  units = pass_draws;
   shaders.resize(units.size());
   plan_draws(scene, options, p);
   const bool two_sided = std::find(draw_two_sided.begin(), draw_two_sided.end(), 1) != draw_two_sided.end();

@@ -57,6 +57,14 @@ const char* to_string(DepthWrite mode) noexcept {
   return "unknown";
 }
 
+const char* to_string(TransparentOrder order) noexcept {
+  switch (order) {
+    case TransparentOrder::submission: return "submission";
+    case TransparentOrder::back_to_front: return "back_to_front";
+  }
+  return "unknown";
+}
+
 const char* to_string(ShadowMethod method) noexcept {
   switch (method) {
     case ShadowMethod::none: return "none";
