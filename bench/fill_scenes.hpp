@@ -9,12 +9,13 @@
 
 namespace facet::bench {
 
-enum class Layers { plain, textured, blended };
+enum class Layers { plain, textured, blended, textured_fog };
 
 // `layers` quads covering a 90-degree view, from depth -50 towards the camera. plain: emissive
 // (or, `lit`, one point light); textured: a 256x256 trilinear checker texture repeated
 // across each layer 32 times (minified: about 4 texels a pixel, so trilinear blends levels 1 and
-// 2; GL_MODULATE, separate specular), lit by a directional light; blended: alpha 0.5.
+// 2; GL_MODULATE, separate specular), lit by a directional light; blended: alpha 0.5;
+// textured_fog: textured, in linear fog (the layers' factors 0.3 to 0.6).
 inline Scene layers_scene(int layers, bool lit = false, Layers kind = Layers::plain) {
   Scene s;
   s.camera.eye = Vec3(0, 0, 0);
@@ -39,7 +40,7 @@ inline Scene layers_scene(int layers, bool lit = false, Layers kind = Layers::pl
     l.linear_attenuation = 0.01f;
     s.lights.push_back(l);
   }
-  if (kind == Layers::textured) {
+  if (kind == Layers::textured || kind == Layers::textured_fog) {
     constexpr int kSide = 256;
     std::vector<std::uint8_t> texels(4 * kSide * kSide);
     for (int j = 0; j < kSide; ++j) {
@@ -59,6 +60,11 @@ inline Scene layers_scene(int layers, bool lit = false, Layers kind = Layers::pl
     Light sun;
     sun.direction = Vec3(0.2f, -0.3f, -1.0f);
     s.lights.push_back(sun);
+    if (kind == Layers::textured_fog) {
+      s.fog.mode = FogMode::linear;
+      s.fog.color = Color3(0.6f, 0.65f, 0.7f);
+      s.fog.start = 20.0f, s.fog.end = 70.0f;
+    }
   } else if (kind == Layers::blended) {
     m.blend = BlendMode::alpha;
     m.alpha = 0.5f;

@@ -6,6 +6,8 @@
 //   BM_Fill/<variant>/small:   200,000 random triangles of 1-16 pixels at 1920x1080;
 //   BM_Fill/<variant>/textured: the 16 Gouraud layers, each with a 256x256 trilinear texture
 //       (GL_MODULATE, minified), lit by a directional light (separate specular);
+//   BM_Fill/<variant>/textured_fog: the textured layers in linear fog (the general surface
+//       program: fog is not in the specialised one);
 //   BM_Fill/<variant>/blended:  the 16 Gouraud layers, each alpha-blended (alpha 0.5);
 //   BM_Frame/<variant>/<scene>/<size>: the built-in scene and each model scene of
 //       tests/data/scenes (skipped when ../shared/models is absent), Gouraud.
@@ -187,6 +189,10 @@ void register_all() {
     });
     add("BM_Fill" + prefix + "textured", [o](benchmark::State& state) {
       static const facet::Scene scene = facet::bench::layers_scene(16, false, facet::bench::Layers::textured);
+      run_frames(state, scene, o, 1920, 1080);
+    });
+    add("BM_Fill" + prefix + "textured_fog", [o](benchmark::State& state) {
+      static const facet::Scene scene = facet::bench::layers_scene(16, false, facet::bench::Layers::textured_fog);
       run_frames(state, scene, o, 1920, 1080);
     });
     add("BM_Fill" + prefix + "blended", [o](benchmark::State& state) {

@@ -666,6 +666,7 @@ int main(int argc, char** argv) {
     // Fill rate with surfaces: the frame benchmarks' 16 full-screen layers (bench/fill_scenes.hpp).
     cases.emplace_back("fill_gouraud", facet::bench::layers_scene(16));
     cases.emplace_back("fill_textured", facet::bench::layers_scene(16, false, facet::bench::Layers::textured));
+    cases.emplace_back("fill_textured_fog", facet::bench::layers_scene(16, false, facet::bench::Layers::textured_fog));
     cases.emplace_back("fill_blended", facet::bench::layers_scene(16, false, facet::bench::Layers::blended));
   } else {
     for (const std::string& path : opt.scenes) {

@@ -199,21 +199,56 @@ struct TileKernel {
     }
   }
 
+  // P batches of the same triangle and block (1 or 2: the sampler's interleaving, sample_simd.hpp),
+  // each with its pixel coordinates (fi, fj), depth and passing lanes, at plane offset at[p]: the
+  // texture sampled for all of them at once (with the triangle's level guess), then each batch's
+  // tail in order. The same operations on each batch as on one, so the same bits.
+  template <int P, std::size_t N>
+  static void surface_batches(const TileJob& job, const Draw& d, const ScreenTriangle& t, const PlaneEval (&attr)[N],
+                              const float (&attr_o)[N], const PlaneEval& w_plane, float w_o, const F (&fi)[P],
+                              const F (&fj)[P], const F (&z)[P], const BF (&pass)[P], float* const (&planes)[5],
+                              const std::size_t (&at)[P], PhongBatch& phong, int& level_guess, I& filled) {
+    F cw[P], tex[P][4];
+    Uv uv[P]{};  // zeros where the layout has no uv
+    for (int p = 0; p < P; ++p) {
+      cw[p] = F(1.0f) / w_plane.at(w_o, fi[p], fj[p]);  // clip w: the eye-space depth
+      if (d.layout.has(Varying::uv)) uv[p] = uv_batch(d, attr, attr_o, w_plane, cw[p], fi[p], fj[p]);
+    }
+    if (d.texture) {
+      F u[P], v[P], lambda[P];
+      for (int p = 0; p < P; ++p) {
+        u[p] = uv[p].u, v[p] = uv[p].v;
+        lambda[p] = Sampler::lod(*d.texture, uv[p].dudx, uv[p].dvdx, uv[p].dudy, uv[p].dvdy);
+      }
+      Sampler::template sample<P>(*d.texture, u, v, lambda, tex, &level_guess);
+    }
+    for (int p = 0; p < P; ++p) {
+      surface_tail(job, d, t, attr, attr_o, cw[p], fi[p], fj[p], z[p], pass[p], planes, at[p], phong, filled,
+                   d.texture ? tex[p] : nullptr, uv[p]);
+    }
+  }
+  // One batch of an untextured draw (an emission texture is sampled in the tail): inlined into
+  // its own instantiation of triangle() (Mode 4), apart from the textured one (Mode 3), where
+  // inlining it slowed the specialised program (avx2 textured fill 307 -> 330 ms); out of line,
+  // a call per batch cost the blended fill about a quarter (avx512 73 -> 56 ms inlined).
   template <std::size_t N>
-  static void surface_batch(const TileJob& job, const Draw& d, const ScreenTriangle& t, const PlaneEval (&attr)[N],
-                            const float (&attr_o)[N], const PlaneEval& w_plane, float w_o, const F& fi, const F& fj,
-                            const F& z, BF pass, float* const (&planes)[5], std::size_t at, PhongBatch& phong,
-                            I& filled) {
-    const F cw = F(1.0f) / w_plane.at(w_o, fi, fj);  // clip w: the eye-space depth
-    auto value = [&](int a) { return attr[a].at(attr_o[a], fi, fj) * cw; };
-    F tex[4];
-    const F* texel = nullptr;
+  [[gnu::always_inline]] inline static void surface_batch(const TileJob& job, const Draw& d, const ScreenTriangle& t,
+                                              const PlaneEval (&attr)[N], const float (&attr_o)[N],
+                                              const PlaneEval& w_plane, float w_o, const F& fi, const F& fj, const F& z,
+                                              BF pass, float* const (&planes)[5], std::size_t at, PhongBatch& phong,
+                                              I& filled) {
+    const F cw = F(1.0f) / w_plane.at(w_o, fi, fj);
     Uv uv;
     if (d.layout.has(Varying::uv)) uv = uv_batch(d, attr, attr_o, w_plane, cw, fi, fj);
-    if (d.texture) {
-      sample_batch(*d.texture, uv, tex);
-      texel = tex;
-    }
+    surface_tail(job, d, t, attr, attr_o, cw, fi, fj, z, pass, planes, at, phong, filled, nullptr, uv);
+  }
+  // One batch's program after its texture sample (texel: null when the draw has no texture).
+  template <std::size_t N>
+  [[gnu::always_inline]] inline static void surface_tail(const TileJob& job, const Draw& d, const ScreenTriangle& t, const PlaneEval (&attr)[N],
+                           const float (&attr_o)[N], const F& cw, const F& fi, const F& fj, const F& z, BF pass,
+                           float* const (&planes)[5], std::size_t at, PhongBatch& phong, I& filled, const F* texel,
+                           const Uv& uv) {
+    auto value = [&](int a) { return attr[a].at(attr_o[a], fi, fj) * cw; };
     const F alpha(t.alpha);
     pass = pass & (surface::fragment_alpha(d, alpha, texel) >= F(d.alpha_cutoff));  // the alpha test
     if (!xsimd::any(pass)) return;
@@ -233,7 +268,7 @@ struct TileKernel {
         value(normal + c).store_aligned(values[3 + c]);
         (albedo >= 0 ? value(albedo + c) : F(1.0f)).store_aligned(values[6 + c]);
       }
-      for (int c = 0; c < 4; ++c) (texel ? tex[c] : F(1.0f)).store_aligned(values[9 + c]);
+      for (int c = 0; c < 4; ++c) (texel ? texel[c] : F(1.0f)).store_aligned(values[9 + c]);
       f.store_aligned(values[13]);
       for (int c = 0; c < 3; ++c) (d.emission ? emitted[c] : F(0.0f)).store_aligned(values[14 + c]);
       xsimd::select(pass, F(1.0f), F(0.0f)).store_aligned(mask);
@@ -271,19 +306,18 @@ struct TileKernel {
   }
 
   // The surface program specialised for its commonest textured case: Gouraud, a texture under
-  // GL_MODULATE with the specular added after it, no emission after it, no fog, opaque, no alpha
-  // test (cutoff <= 0 and the fragment's alpha is never NaN). The same operations in the same
-  // order as surface_batch with shade_fragment and blend, so the same bits, without the branches
-  // on the draw's settings.
+  // GL_MODULATE with the specular added after it, no emission after it, fog or none, opaque, no
+  // alpha test (cutoff <= 0 and the fragment's alpha is never NaN). The same operations in the
+  // same order as surface_tail with shade_fragment and blend, so the same bits, without the
+  // branches on the draw's settings.
   static bool modulate_fast(const TileJob& job, const Draw& d) {
-    return d.texture && job.shading == 1 && d.texture_env == kEnvModulate && job.fog->mode == kFogNone &&
-           !d.emission && d.blend == kBlendOpaque && d.clamp && d.alpha_cutoff <= 0.0f &&
-           d.layout.at(Varying::front_secondary) >= 0;
+    return d.texture && job.shading == 1 && d.texture_env == kEnvModulate && !d.emission && d.blend == kBlendOpaque &&
+           d.clamp && d.alpha_cutoff <= 0.0f && d.layout.at(Varying::front_secondary) >= 0;
   }
   // P batches of the same triangle (1 or 2: the sampler's interleaving, sample_simd.hpp), each
   // with its pixel coordinates (fi, fj), depth and passing lanes, at plane offset at[p].
-  template <int P, std::size_t N>
-  static void modulate_batch(const Draw& d, const ScreenTriangle& t, const PlaneEval (&attr)[N],
+  template <int P, bool Fogged, std::size_t N>
+  static void modulate_batch(const Fog& fog, const Draw& d, const ScreenTriangle& t, const PlaneEval (&attr)[N],
                              const float (&attr_o)[N], const PlaneEval& w_plane, float w_o, const F (&fi)[P],
                              const F (&fj)[P], const F (&z)[P], const BF (&pass)[P], float* const (&planes)[5],
                              const std::size_t (&at)[P], int& level_guess, I& filled) {
@@ -294,7 +328,11 @@ struct TileKernel {
       u[p] = c.u, v[p] = c.v;
       lambda[p] = Sampler::lod(*d.texture, c.dudx, c.dvdx, c.dudy, c.dvdy);
     }
-    Sampler::template sample<P>(*d.texture, u, v, lambda, tex, &level_guess);
+    if constexpr (W < 16 && !Fogged) {
+      Sampler::template sample_inline<P>(*d.texture, u, v, lambda, tex, &level_guess);
+    } else {
+      Sampler::template sample<P>(*d.texture, u, v, lambda, tex, &level_guess);
+    }
     const int colour = d.layout.at(Varying::front_color), second = d.layout.at(Varying::front_secondary);
     for (int p = 0; p < P; ++p) {
       auto value = [&](int a) { return attr[a].at(attr_o[a], fi[p], fj[p]) * cw[p]; };
@@ -305,25 +343,59 @@ struct TileKernel {
         (all ? x : xsimd::select(pass[p], x, F::load_unaligned(dst))).store_unaligned(dst);
       };
       if (d.depth_write) put(4, z[p]);
-      for (int c = 0; c < 3; ++c) put(c, surface::saturate(value(colour + c) * tex[p][c] + value(second + c)));
+      if constexpr (!Fogged) {
+        for (int c = 0; c < 3; ++c) put(c, surface::saturate(value(colour + c) * tex[p][c] + value(second + c)));
+      } else {
+        const F f = surface::fog_factor(fog, cw[p]);
+        for (int c = 0; c < 3; ++c) {
+          const F x = surface::saturate(value(colour + c) * tex[p][c] + value(second + c));
+          put(c, f * x + (F(1.0f) - f) * F(fog.color[c]));
+        }
+      }
       put(3, surface::saturate(F(t.alpha) * tex[p][3]));
     }
   }
 
   static constexpr int kHold = W >= 16 ? 2 : 4;  // 2 x 16 lanes, 4 x 8 or 4 x 4 (measured best)
+  // P held batches of a textured draw: the specialised program (kModulate, kModulateFog) or the
+  // general one (kGeneral). The last two run out of line (other_held), so that triangle() and the
+  // specialised program without fog compile as they did before them: inlined, they slowed that
+  // program (avx512 textured fill 247 -> 265 ms, alternated runs).
+  enum Program { kGeneral, kModulate, kModulateFog };
+  template <int P, std::size_t N>
+  [[gnu::noinline]] static void other_held(Program program, const TileJob& job, const Draw& d, const ScreenTriangle& t,
+                                           const PlaneEval (&attr)[N], const float (&attr_o)[N],
+                                           const PlaneEval& w_plane, float w_o, const F* fi, const F* fj, const F* z,
+                                           const BF* pass, float* const (&planes)[5], const std::size_t* at,
+                                           PhongBatch& phong, int& level_guess, I& filled) {
+    F a[P], b[P], c[P];
+    BF m[P];
+    std::size_t o[P];
+    for (int p = 0; p < P; ++p) a[p] = fi[p], b[p] = fj[p], c[p] = z[p], m[p] = pass[p], o[p] = at[p];
+    if (program == kModulateFog) {
+      modulate_batch<P, true>(*job.fog, d, t, attr, attr_o, w_plane, w_o, a, b, c, m, planes, o, level_guess, filled);
+    } else {
+      surface_batches<P>(job, d, t, attr, attr_o, w_plane, w_o, a, b, c, m, planes, o, phong, level_guess, filled);
+    }
+  }
   // The last 1 .. kHold - 1 held batches of a block.
   template <std::size_t N>
-  static void modulate_rest(const Draw& d, const ScreenTriangle& t, const PlaneEval (&attr)[N],
-                            const float (&attr_o)[N], const PlaneEval& w_plane, float w_o, int held, const F* fi,
-                            const F* fj, const F* z, const BF* pass, float* const (&planes)[5],
-                            const std::size_t* at, int& level_guess, I& filled) {
+  static void held_rest(Program program, const TileJob& job, const Draw& d, const ScreenTriangle& t,
+                        const PlaneEval (&attr)[N], const float (&attr_o)[N], const PlaneEval& w_plane, float w_o,
+                        int held, const F* fi, const F* fj, const F* z, const BF* pass, float* const (&planes)[5],
+                        const std::size_t* at, PhongBatch& phong, int& level_guess, I& filled) {
     auto run = [&](auto count) {
       constexpr int P = decltype(count)::value;
+      if (program != kModulate) {
+        other_held<P>(program, job, d, t, attr, attr_o, w_plane, w_o, fi, fj, z, pass, planes, at, phong, level_guess,
+                      filled);
+        return;
+      }
       F a[P], b[P], c[P];
       BF m[P];
       std::size_t o[P];
       for (int p = 0; p < P; ++p) a[p] = fi[p], b[p] = fj[p], c[p] = z[p], m[p] = pass[p], o[p] = at[p];
-      modulate_batch<P>(d, t, attr, attr_o, w_plane, w_o, a, b, c, m, planes, o, level_guess, filled);
+      modulate_batch<P, false>(*job.fog, d, t, attr, attr_o, w_plane, w_o, a, b, c, m, planes, o, level_guess, filled);
     };
     if (held == 1) run(std::integral_constant<int, 1>{});
     if constexpr (kHold > 2) {
@@ -391,14 +463,17 @@ struct TileKernel {
     }
 
     // Planes: Gouraud's colour, or Phong's position then normal (where the draw's layout put
-    // them); the surface program (Mode 3) evaluates every varying of its layout, in layout order.
-    constexpr int kAttributes = Mode == 3 ? geometry::kMaxAttributes : Mode == 2 ? 6 : 3;
+    // them); the surface program (Mode 3 with a texture, 4 without) evaluates every varying of
+    // its layout, in layout order.
+    constexpr bool kSurface = Mode >= 3;
+    constexpr int kAttributes = kSurface ? geometry::kMaxAttributes : Mode == 2 ? 6 : 3;
     const Draw& d = job.draws[t.object];
-    const int attributes = Mode == 3 ? d.layout.raster : kAttributes;
+    const int attributes = kSurface ? d.layout.raster : kAttributes;
     PlaneEval z_plane, w_plane, attr[kAttributes];
     z_plane.set(t.plane[kPlaneZ]);
-    [[maybe_unused]] const bool fast = Mode == 3 && modulate_fast(job, d);
-    if constexpr (Mode == 3) {
+    [[maybe_unused]] const Program program =
+        Mode == 3 && modulate_fast(job, d) ? (job.fog->mode == kFogNone ? kModulate : kModulateFog) : kGeneral;
+    if constexpr (kSurface) {
       w_plane.set(t.plane[kPlaneInvW]);
       for (int a = 0; a < attributes; ++a) attr[a].set(t.plane[kPlaneAttr + a]);
     } else if constexpr (Mode != 0) {
@@ -436,7 +511,7 @@ struct TileKernel {
 
         // One batch of W pixels; Full: the block is inside every edge and the tile's rectangle, so
         // coverage is all lanes (a separate instantiation: no per-batch coverage work or branches).
-        int held = 0;  // modulate_fast batches held for a group
+        int held = 0;  // a textured draw's batches held for a group
         F held_fi[kHold], held_fj[kHold], held_z[kHold];
         BF held_pass[kHold];
         std::size_t held_at[kHold];
@@ -471,17 +546,22 @@ struct TileKernel {
             tested += xsimd::select(cover_i, I(1), I(0));
           }
           if (!xsimd::any(pass)) return;
-          if constexpr (Mode == 3) {
-            if (fast) {  // held until a second batch of the block passes, then both run together
-              held_fi[held] = fi, held_fj[held] = fj, held_z[held] = z, held_pass[held] = pass;
-              held_at[held] = base + static_cast<std::size_t>(b * W);
-              if (++held == kHold) {
-                modulate_batch<kHold>(d, t, attr, attr_o, w_plane, w_o, held_fi, held_fj, held_z, held_pass, planes,
-                                      held_at, level_guess, filled);
-                held = 0;
+          if constexpr (Mode == 3) {  // held until kHold batches of the block pass, then run together
+            held_fi[held] = fi, held_fj[held] = fj, held_z[held] = z, held_pass[held] = pass;
+            held_at[held] = base + static_cast<std::size_t>(b * W);
+            if (++held == kHold) {
+              if (program == kModulate) {
+                modulate_batch<kHold, false>(*job.fog, d, t, attr, attr_o, w_plane, w_o, held_fi, held_fj, held_z,
+                                             held_pass, planes, held_at, level_guess, filled);
+              } else {
+                other_held<kHold>(program, job, d, t, attr, attr_o, w_plane, w_o, held_fi, held_fj, held_z, held_pass,
+                                  planes, held_at, phong, level_guess, filled);
               }
-            } else
-              surface_batch(job, d, t, attr, attr_o, w_plane, w_o, fi, fj, z, pass, planes, base + b * W, phong, filled);
+              held = 0;
+            }
+            return;
+          } else if constexpr (Mode == 4) {
+            surface_batch(job, d, t, attr, attr_o, w_plane, w_o, fi, fj, z, pass, planes, base + b * W, phong, filled);
             return;
           }
           const bool all = xsimd::all(pass);
@@ -536,8 +616,8 @@ struct TileKernel {
         }
         if constexpr (Mode == 3) {
           if (held > 0) {
-            modulate_rest(d, t, attr, attr_o, w_plane, w_o, held, held_fi, held_fj, held_z, held_pass, planes,
-                          held_at, level_guess, filled);
+            held_rest(program, job, d, t, attr, attr_o, w_plane, w_o, held, held_fi, held_fj, held_z, held_pass, planes,
+                      held_at, phong, level_guess, filled);
           }
         }
       }
@@ -584,8 +664,12 @@ struct TileKernel {
         phong.object = t.object;
         phong.alpha = t.alpha;
       }
-      if (d.program) {
-        triangle<3>(job, tv, t, plane_of, phong, counters);
+      if (d.program) {  // the surface program: a textured draw's batches are held and sampled together
+        if (d.texture) {
+          triangle<3>(job, tv, t, plane_of, phong, counters);
+        } else {
+          triangle<4>(job, tv, t, plane_of, phong, counters);
+        }
         continue;
       }
       switch (job.shading) {
