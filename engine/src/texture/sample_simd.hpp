@@ -190,9 +190,26 @@ struct SampleSimd {
   // first waits.
   //
   // rs, rt: the coordinates wrapped (wrap_coordinate), once for both levels of a trilinear sample.
+  //
+  // Inlined into sample() on avx512 and called on the narrower ISAs, as measured (alternated
+  // runs of the textured fill, ms per frame): inlined, avx512 245 -> 234 but avx2 305 -> 340.
   template <int P>
-  static void sample_levels(const Sampler& s, const I (&level)[P], bool linear, const F (&rs)[P], const F (&rt)[P],
-                            F (&out)[P][4]) {
+  [[gnu::always_inline]] inline static void sample_levels(const Sampler& s, const I (&level)[P], bool linear,
+                                                          const F (&rs)[P], const F (&rt)[P], F (&out)[P][4]) {
+    if constexpr (W == 16) {
+      filter_levels<P>(s, level, linear, rs, rt, out);
+    } else {
+      filter_levels_call<P>(s, level, linear, rs, rt, out);
+    }
+  }
+  template <int P>
+  [[gnu::noinline]] static void filter_levels_call(const Sampler& s, const I (&level)[P], bool linear,
+                                                   const F (&rs)[P], const F (&rt)[P], F (&out)[P][4]) {
+    filter_levels<P>(s, level, linear, rs, rt, out);
+  }
+  template <int P>
+  [[gnu::always_inline]] inline static void filter_levels(const Sampler& s, const I (&level)[P], bool linear,
+                                                          const F (&rs)[P], const F (&rt)[P], F (&out)[P][4]) {
     LevelLanes lanes[P];
     for (int p = 0; p < P; ++p) lanes[p] = level_lanes(s, level[p]);
     if (!linear) {
