@@ -36,7 +36,9 @@ struct TileKernel {
   using I = xsimd::batch<std::int32_t, Arch>;
   using BF = xsimd::batch_bool<float, Arch>;
   using BI = xsimd::batch_bool<std::int32_t, Arch>;
+  using U = xsimd::batch<std::uint32_t, Arch>;
   static constexpr int W = static_cast<int>(F::size);
+  alignas(64) static constexpr std::uint32_t kLaneIndex[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
   static constexpr int kBatches = kBlockPixels / W;
   static_assert(kBlockPixels % W == 0 && (W <= kBlock ? kBlock % W == 0 : W % kBlock == 0));
 
@@ -91,6 +93,19 @@ struct TileKernel {
     int count = 0;
     std::uint32_t object = 0;
     float alpha = 1.0f;
+
+    // Appends a batch whose every lane passed, at tile-buffer index `at` onwards: its Q streams
+    // stored whole when they fit before the capacity (the same entries in the same order as the
+    // lane by lane copy, which takes partial batches and the rest).
+    template <int Q>
+    bool append_whole(float* const (&dst)[Q], const F (&v)[Q], std::size_t at) {
+      if (count + W > kPhongCapacity) return false;
+      for (int q = 0; q < Q; ++q) v[q].store_unaligned(dst[q] + count);
+      (U(static_cast<std::uint32_t>(at)) + U::load_aligned(kLaneIndex)).store_unaligned(sink->pixel + count);
+      count += W;
+      if (count == kPhongCapacity) flush();
+      return true;
+    }
 
     void flush() {
       if (count == 0) return;
@@ -259,22 +274,25 @@ struct TileKernel {
     F emitted[3];
     if (d.emission) emission_batch(d, &uv, emitted);
     if (job.shading == 2) {  // Phong: light at flush
-      alignas(64) float values[17][W];
-      alignas(64) float mask[W];
+      F v[17];
       const int position = d.layout.at(Varying::eye_position), normal = d.layout.at(Varying::normal);
       const int albedo = d.layout.at(Varying::albedo);
       for (int c = 0; c < 3; ++c) {
-        value(position + c).store_aligned(values[c]);
-        value(normal + c).store_aligned(values[3 + c]);
-        (albedo >= 0 ? value(albedo + c) : F(1.0f)).store_aligned(values[6 + c]);
+        v[c] = value(position + c);
+        v[3 + c] = value(normal + c);
+        v[6 + c] = albedo >= 0 ? value(albedo + c) : F(1.0f);
       }
-      for (int c = 0; c < 4; ++c) (texel ? texel[c] : F(1.0f)).store_aligned(values[9 + c]);
-      f.store_aligned(values[13]);
-      for (int c = 0; c < 3; ++c) (d.emission ? emitted[c] : F(0.0f)).store_aligned(values[14 + c]);
-      xsimd::select(pass, F(1.0f), F(0.0f)).store_aligned(mask);
+      for (int c = 0; c < 4; ++c) v[9 + c] = texel ? texel[c] : F(1.0f);
+      v[13] = f;
+      for (int c = 0; c < 3; ++c) v[14 + c] = d.emission ? emitted[c] : F(0.0f);
       PhongSink& s = *phong.sink;
       float* const dst[17] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab,
                               s.tr, s.tg, s.tb, s.ta, s.fog, s.er, s.eg, s.eb};
+      if (xsimd::all(pass) && phong.append_whole(dst, v, at)) return;
+      alignas(64) float values[17][W];
+      alignas(64) float mask[W];
+      for (int q = 0; q < 17; ++q) v[q].store_aligned(values[q]);
+      xsimd::select(pass, F(1.0f), F(0.0f)).store_aligned(mask);
       for (int lane = 0; lane < W; ++lane) {
         if (mask[lane] == 0.0f) continue;
         const int k = phong.count++;
@@ -583,11 +601,15 @@ struct TileKernel {
               for (int c = 0; c < 3; ++c) put(c, attr[c].at(attr_o[c], fi, fj) * inv_w);
               put(3, alpha);
             } else {
+              F v[6];
+              for (int a = 0; a < 6; ++a) v[a] = attr[a].at(attr_o[a], fi, fj) * inv_w;
+              PhongSink& s = *phong.sink;
+              float* const dst[6] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz};
+              if (all && phong.append_whole(dst, v, base + static_cast<std::size_t>(b * W))) return;
               alignas(64) float values[6][W];
               alignas(64) float mask[W];
-              for (int a = 0; a < 6; ++a) (attr[a].at(attr_o[a], fi, fj) * inv_w).store_aligned(values[a]);
+              for (int a = 0; a < 6; ++a) v[a].store_aligned(values[a]);
               xsimd::select(pass, F(1.0f), F(0.0f)).store_aligned(mask);
-              PhongSink& s = *phong.sink;
               for (int lane = 0; lane < W; ++lane) {
                 if (mask[lane] == 0.0f) continue;
                 const int k = phong.count++;
