@@ -119,12 +119,22 @@ struct TileKernel {
       s.shade(s.context, object, static_cast<std::size_t>(count), static_cast<std::size_t>(padded));
       const Draw& d = job->draws[object];
       if (!d.program) {
-        for (int k = 0; k < count; ++k) {
+        for (int k = 0; k < count;) {
+          if (run_at(k)) {  // W consecutive pixels: stored as vectors
+            const std::uint32_t p = s.pixel[k];
+            F::load_unaligned(s.r + k).store_unaligned(tile->plane[0] + p);
+            F::load_unaligned(s.g + k).store_unaligned(tile->plane[1] + p);
+            F::load_unaligned(s.b + k).store_unaligned(tile->plane[2] + p);
+            F(alpha).store_unaligned(tile->plane[3] + p);
+            k += W;
+            continue;
+          }
           const std::uint32_t p = s.pixel[k];
           tile->plane[0][p] = s.r[k];
           tile->plane[1][p] = s.g[k];
           tile->plane[2][p] = s.b[k];
           tile->plane[3][p] = alpha;
+          ++k;
         }
         count = 0;
         return;
@@ -148,14 +158,32 @@ struct TileKernel {
         c[2].store_unaligned(s.b + k);
         c[3].store_unaligned(s.ta + k);
       }
-      for (int k = 0; k < count; ++k) {
+      for (int k = 0; k < count;) {
         const std::uint32_t p = s.pixel[k];
+        if (run_at(k)) {  // W consecutive pixels: blended as vectors (the same operations per pixel)
+          const F c[4] = {F::load_unaligned(s.r + k), F::load_unaligned(s.g + k), F::load_unaligned(s.b + k),
+                          F::load_unaligned(s.ta + k)};
+          F dst[4];
+          for (int ch = 0; ch < 4; ++ch) dst[ch] = F::load_unaligned(tile->plane[ch] + p);
+          surface::blend(d, c, dst);
+          for (int ch = 0; ch < 4; ++ch) dst[ch].store_unaligned(tile->plane[ch] + p);
+          k += W;
+          continue;
+        }
         const float c[4] = {s.r[k], s.g[k], s.b[k], s.ta[k]};
         float dst[4] = {tile->plane[0][p], tile->plane[1][p], tile->plane[2][p], tile->plane[3][p]};
         surface::blend(d, c, dst);
         for (int ch = 0; ch < 4; ++ch) tile->plane[ch][p] = dst[ch];
+        ++k;
       }
       count = 0;
+    }
+    // Whether entries k .. k + W - 1 exist and are the pixels pixel[k] .. pixel[k] + W - 1 (a whole
+    // batch, append_whole): distinct pixels, so storing them at once keeps the entry order's result.
+    bool run_at(int k) const {
+      if (k + W > count) return false;
+      const U first(sink->pixel[k]);
+      return xsimd::all(U::load_unaligned(sink->pixel + k) == first + U::load_aligned(kLaneIndex));
     }
   };
 
