@@ -321,10 +321,10 @@ struct TileKernel {
   // a call per batch cost the blended fill about a quarter (avx512 73 -> 56 ms inlined).
   template <std::size_t N>
   [[gnu::always_inline]] inline static void surface_batch(const TileJob& job, const Draw& d, const ScreenTriangle& t,
-                                              const PlaneEval (&attr)[N], const float (&attr_o)[N],
-                                              const PlaneEval& w_plane, float w_o, const F& fi, const F& fj, const F& z,
-                                              BF pass, float* const (&planes)[5], std::size_t at, PhongBatch& phong,
-                                              I& filled) {
+                                                          const PlaneEval (&attr)[N], const float (&attr_o)[N],
+                                                          const PlaneEval& w_plane, float w_o, const F& fi,
+                                                          const F& fj, const F& z, BF pass, float* const (&planes)[5],
+                                                          std::size_t at, PhongBatch& phong, I& filled) {
     const F cw = F(1.0f) / w_plane.at(w_o, fi, fj);
     Uv uv;
     if (d.layout.has(Varying::uv)) uv = uv_batch(d, attr, attr_o, w_plane, cw, fi, fj);
@@ -332,10 +332,11 @@ struct TileKernel {
   }
   // One batch's program after its texture sample (texel: null when the draw has no texture).
   template <std::size_t N>
-  [[gnu::always_inline]] inline static void surface_tail(const TileJob& job, const Draw& d, const ScreenTriangle& t, const PlaneEval (&attr)[N],
-                           const float (&attr_o)[N], const F& cw, const F& fi, const F& fj, const F& z, BF pass,
-                           float* const (&planes)[5], std::size_t at, PhongBatch& phong, I& filled, const F* texel,
-                           const Uv& uv) {
+  [[gnu::always_inline]] inline static void surface_tail(const TileJob& job, const Draw& d, const ScreenTriangle& t,
+                                                         const PlaneEval (&attr)[N], const float (&attr_o)[N],
+                                                         const F& cw, const F& fi, const F& fj, const F& z, BF pass,
+                                                         float* const (&planes)[5], std::size_t at, PhongBatch& phong,
+                                                         I& filled, const F* texel, const Uv& uv) {
     auto value = [&](int a) { return attr[a].at(attr_o[a], fi, fj) * cw; };
     const F alpha(t.alpha);
     pass = pass & (surface::fragment_alpha(d, alpha, texel) >= F(d.alpha_cutoff));  // the alpha test
