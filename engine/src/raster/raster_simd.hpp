@@ -108,48 +108,39 @@ struct TileKernel {
     std::uint32_t object = 0;
     float alpha = 1.0f;
 
-    // Appends a batch whose every lane passed, at tile-buffer index `at` onwards: its Q streams
-    // stored whole when they fit before the capacity (the same entries in the same order as the
-    // lane by lane copy, which takes partial batches and the rest).
+    // Appends a batch's passing lanes (pixels at tile-buffer index `at` onwards) as vectors when
+    // a whole batch fits before the capacity: stored as they are when every lane passed, else
+    // compressed in a register (avx512 vcompressps, avx2 a permutation from kCompress8) and stored
+    // whole; the lanes past the passing ones are overwritten by later entries or never read. Lane
+    // order is kept, so the entries are those of the lane by lane copy, in the same order. False
+    // (nothing appended): no room, or a partial batch on sse2; the caller copies lane by lane.
+    // A compressing store straight to memory is microcoded on AMD Zen 4: it made the built-in
+    // Phong frame 41 -> 58 ms.
     template <int Q>
-    bool append_whole(float* const (&dst)[Q], const F (&v)[Q], std::size_t at) {
+    bool append(float* const (&dst)[Q], const F (&v)[Q], const BF& pass, std::size_t at) {
       if (count + W > kPhongCapacity) return false;
-      for (int q = 0; q < Q; ++q) v[q].store_unaligned(dst[q] + count);
-      (U(static_cast<std::uint32_t>(at)) + U::load_aligned(kLaneIndex)).store_unaligned(sink->pixel + count);
-      count += W;
-      if (count == kPhongCapacity) flush();
-      return true;
-    }
-
-    // avx512: appends the passing lanes of a batch compressed (lane order kept, so the same
-    // entries in the same order as the lane by lane copy), when a whole batch fits.
-    template <int Q>
-    bool append_lanes(float* const (&dst)[Q], const F (&v)[Q], const BF& pass, std::size_t at) {
-      if constexpr (W == 16) {
-        if (count + W > kPhongCapacity) return false;
+      const U pixel = U(static_cast<std::uint32_t>(at)) + U::load_aligned(kLaneIndex);
+      int added = W;
+      if (xsimd::all(pass)) {
+        for (int q = 0; q < Q; ++q) v[q].store_unaligned(dst[q] + count);
+        pixel.store_unaligned(sink->pixel + count);
+      } else if constexpr (W == 16) {
         const __mmask16 m = static_cast<typename BF::register_type>(pass);
-        // Compressed in a register, then stored whole (the lanes past the passing ones are
-        // overwritten by later entries or never read): a compressing store to memory is
-        // microcoded on AMD Zen 4 and made the built-in Phong frame 41 -> 58 ms.
         for (int q = 0; q < Q; ++q) _mm512_storeu_ps(dst[q] + count, _mm512_maskz_compress_ps(m, v[q]));
-        const U pixel = U(static_cast<std::uint32_t>(at)) + U::load_aligned(kLaneIndex);
         _mm512_storeu_si512(sink->pixel + count, _mm512_maskz_compress_epi32(m, pixel));
-        count += __builtin_popcount(m);
-        if (count == kPhongCapacity) flush();
-        return true;
-      } else if constexpr (W == 8) {  // avx2: the same with a permutation from a table of the 256 masks
-        if (count + W > kPhongCapacity) return false;
+        added = __builtin_popcount(m);
+      } else if constexpr (W == 8) {
         const int m = _mm256_movemask_ps(pass);
         const __m256i order = _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompress8.lanes[m]));
         for (int q = 0; q < Q; ++q) _mm256_storeu_ps(dst[q] + count, _mm256_permutevar8x32_ps(v[q], order));
-        const U pixel = U(static_cast<std::uint32_t>(at)) + U::load_aligned(kLaneIndex);
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(sink->pixel + count), _mm256_permutevar8x32_epi32(pixel, order));
-        count += __builtin_popcount(static_cast<unsigned>(m));
-        if (count == kPhongCapacity) flush();
-        return true;
+        added = __builtin_popcount(static_cast<unsigned>(m));
       } else {
         return false;
       }
+      count += added;
+      if (count == kPhongCapacity) flush();
+      return true;
     }
 
     void flush() {
@@ -224,7 +215,7 @@ struct TileKernel {
       count = 0;
     }
     // Whether entries k .. k + W - 1 exist and are the pixels pixel[k] .. pixel[k] + W - 1 (a whole
-    // batch, append_whole): distinct pixels, so storing them at once keeps the entry order's result.
+    // batch, append): distinct pixels, so storing them at once keeps the entry order's result.
     bool run_at(int k) const {
       if (k + W > count) return false;
       const U first(sink->pixel[k]);
@@ -362,7 +353,7 @@ struct TileKernel {
       PhongSink& s = *phong.sink;
       float* const dst[17] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab,
                               s.tr, s.tg, s.tb, s.ta, s.fog, s.er, s.eg, s.eb};
-      if (xsimd::all(pass) ? phong.append_whole(dst, v, at) : phong.append_lanes(dst, v, pass, at)) return;
+      if (phong.append(dst, v, pass, at)) return;
       alignas(64) float values[17][W];
       alignas(64) float mask[W];
       for (int q = 0; q < 17; ++q) v[q].store_aligned(values[q]);
@@ -680,7 +671,7 @@ struct TileKernel {
               PhongSink& s = *phong.sink;
               float* const dst[6] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz};
               const std::size_t at = base + static_cast<std::size_t>(b * W);
-              if (all ? phong.append_whole(dst, v, at) : phong.append_lanes(dst, v, pass, at)) return;
+              if (phong.append(dst, v, pass, at)) return;
               alignas(64) float values[6][W];
               alignas(64) float mask[W];
               for (int a = 0; a < 6; ++a) v[a].store_aligned(values[a]);
