@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "repo_scenes.hpp"
 #include "facet/facet.hpp"
 #include "fill_scenes.hpp"
 #include "roofline.hpp"
@@ -135,7 +136,7 @@ const facet::Scene* scene_file(const std::string& name, std::string& error) {
       return r ? &*r : nullptr;
     }
   }
-  cache.emplace_back(name, facet::load_scene_file(std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/" + name + ".json"));
+  cache.emplace_back(name, facet::load_scene_file(std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/" + name + ".json", repo_scene_options()));
   return scene_file(name, error);
 }
 

@@ -78,7 +78,7 @@ class ModelScene : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ModelScene, RendersTheModel) {
   FACET_REQUIRE_MODELS();
-  const Result<Scene> scene = load_scene_file(test::data_dir() + "/scenes/" + GetParam() + ".json");
+  const Result<Scene> scene = load_scene_file(test::data_dir() + "/scenes/" + GetParam() + ".json", test::scene_options());
   ASSERT_TRUE(scene.ok()) << scene.status().message();
   FrameStats st;
   const Rgba8Image img = render_rgba8(*scene, 160, 120, ShadingMode::phong, &st);
@@ -90,7 +90,7 @@ TEST_P(ModelScene, RendersTheModel) {
 INSTANTIATE_TEST_SUITE_P(Models, ModelScene, ::testing::Values("bunny", "teapot", "suzanne", "spot", "fandisk"));
 
 TEST(ManyLights, SixteenLightsSceneRenders) {
-  const Result<Scene> scene = load_scene_file(test::data_dir() + "/scenes/sixteen_lights.json");
+  const Result<Scene> scene = load_scene_file(test::data_dir() + "/scenes/sixteen_lights.json", test::scene_options());
   ASSERT_TRUE(scene.ok()) << scene.status().message();
   EXPECT_EQ(scene->lights.size(), 16u);
   for (ShadingMode mode : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {

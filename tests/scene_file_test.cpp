@@ -24,7 +24,7 @@ void expect_error(const std::string& text, int line, const std::string& field,
 
 TEST(SceneFile, CompleteExampleLoads) {
   const std::string path = test::data_dir() + "/scenes/example.json";
-  Result<Scene> s = load_scene_file(path);
+  Result<Scene> s = load_scene_file(path, test::scene_options());
   ASSERT_TRUE(s.ok()) << s.status().message();
   EXPECT_EQ(s->meshes.size(), 5u);
   EXPECT_EQ(s->materials.size(), 4u);  // three named + the default for the object without one
@@ -154,7 +154,7 @@ TEST(SceneFile, MalformedObjNamesBothFiles) {
   const Result<Scene> s = parse("{\"meshes\": [{\"obj\": \"scenes/example.json\"}]}");
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.status().message().find("inline.json:1: meshes[0].obj:"), std::string::npos) << s.status().message();
-  EXPECT_NE(s.status().message().find("example.json:1: not an OBJ file: it starts with"), std::string::npos) << s.status().message();
+  EXPECT_NE(s.status().message().find("example.json:1: not an OBJ file: its first statement is not an OBJ statement"), std::string::npos) << s.status().message();
 }
 
 TEST(SceneFile, IntegerExpected) {
@@ -206,7 +206,7 @@ TEST(SceneFile, SingularMatrixIsRejected) {
 // --- Surfaces: textures, material surface fields and fog.
 
 TEST(SceneFile, SurfacesSceneLoads) {
-  Result<Scene> s = load_scene_file(test::data_dir() + "/scenes/surfaces.json");
+  Result<Scene> s = load_scene_file(test::data_dir() + "/scenes/surfaces.json", test::scene_options());
   ASSERT_TRUE(s.ok()) << s.status().message();
   ASSERT_EQ(s->textures.size(), 2u);
   EXPECT_EQ(s->textures[0].name, "stone");

@@ -13,6 +13,14 @@ namespace facet::test {
 inline std::string models_dir() { return FACET_MODELS_DIR; }
 inline std::string data_dir() { return FACET_TEST_DATA_DIR; }
 
+// The repository's scene files name meshes and textures in sibling folders of tests/data/scenes
+// and models in ../shared/models: both widened on purpose, as a host would (facet/assets.hpp).
+inline LoadOptions scene_options() {
+  LoadOptions o;
+  o.assets.allowed_roots = {data_dir(), models_dir()};
+  return o;
+}
+
 // Skips the calling test when ../shared/models is not beside the checkout.
 #define FACET_REQUIRE_MODELS()                                                               \
   do {                                                                                       \

@@ -173,7 +173,7 @@ TEST(Texture, BadFilesAreRefusedWithTheirName) {
   const std::string gif = "GIF89a\x01\x00\x01\x00";
   t = decode_texture({reinterpret_cast<const std::uint8_t*>(gif.data()), gif.size()}, "'a.gif'", "t");
   EXPECT_EQ(t.status().code(), ErrorCode::unsupported);
-  EXPECT_NE(t.status().message().find("not a PNG or JPEG"), std::string::npos);
+  EXPECT_NE(t.status().message().find("not a PNG, JPEG, TGA or BMP"), std::string::npos);
   EXPECT_EQ(decode_texture({}, "'empty'", "t").status().code(), ErrorCode::unsupported);
   // Too wide.
   std::vector<std::uint8_t> wide_px(16385, 0);

@@ -54,6 +54,7 @@
 #include <string>
 #include <vector>
 
+#include "../repo_scenes.hpp"
 #include "facet/facet.hpp"
 #include "../fill_scenes.hpp"
 
@@ -559,7 +560,7 @@ int main(int argc, char** argv) {
   if (opt.scenes.empty()) {
     std::vector<std::pair<std::string, facet::Scene>> bases;
     bases.emplace_back("default", facet::make_default_scene());
-    const auto bunny = facet::load_scene_file(std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/bunny.json");
+    const auto bunny = facet::load_scene_file(std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/bunny.json", repo_scene_options());
     if (bunny) {
       bases.emplace_back("bunny", *bunny);
     } else {
@@ -588,7 +589,7 @@ int main(int argc, char** argv) {
     }
     // Surfaces: the done-when scene of issue 15 (textures, separate specular, blending, fog), and
     // the built-in scene with vertex colours and an alpha-tested, decal-textured ground.
-    const auto surfaces = facet::load_scene_file(std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/surfaces.json");
+    const auto surfaces = facet::load_scene_file(std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/surfaces.json", repo_scene_options());
     if (!surfaces) {
       std::fprintf(stderr, "%s\n", surfaces.status().message().c_str());
       return 2;
@@ -670,7 +671,7 @@ int main(int argc, char** argv) {
     cases.emplace_back("fill_blended", facet::bench::layers_scene(16, false, facet::bench::Layers::blended));
   } else {
     for (const std::string& path : opt.scenes) {
-      auto s = facet::load_scene_file(path);
+      auto s = facet::load_scene_file(path, repo_scene_options());
       if (!s) {
         std::fprintf(stderr, "%s\n", s.status().message().c_str());
         return 2;

@@ -137,6 +137,7 @@ std::optional<Scene> load_input(const std::string& path, const InputOptions& opt
   if (!is_model_path(path)) {
     LoadOptions lo;
     lo.memory_budget_bytes = options.memory_budget_bytes;
+    lo.assets.allowed_roots = options.allowed_paths;
     lo.warning = [&](const std::string& w) { notes.push_back("warning: " + w); };
     Result<Scene> loaded = load_scene_file(path, lo);
     if (!loaded) {
@@ -148,6 +149,7 @@ std::optional<Scene> load_input(const std::string& path, const InputOptions& opt
   ModelOptions mo;
   mo.memory_budget_bytes = options.memory_budget_bytes;
   mo.allow_missing = options.allow_missing;
+  mo.assets.allowed_roots = options.allowed_paths;
   Result<Model> model = load_model(path, mo);
   if (!model) {
     fail(model.status().message());

@@ -57,9 +57,14 @@ std::optional<Scene> load_scene_or_default(const std::string& path, std::uint64_
 // True for the files `facet render` reads as models rather than scene files: .gltf, .glb, .obj.
 bool is_model_path(const std::string& path);
 
+inline constexpr const char* kAllowPathHelp =
+    "a folder whose files a scene or model may name, besides its own folder (repeatable; by default files outside "
+    "the folder of the file given are not read)";
+
 struct InputOptions {
   std::uint64_t memory_budget_bytes = kDefaultLoadBudgetBytes;
   bool allow_missing = false;  // --allow-missing
+  std::vector<std::string> allowed_paths;  // --allow-path: AssetAccess::allowed_roots
   float aspect = 16.0f / 9.0f; // of the image, for framing a model without a camera
 };
 // A scene file, a model (framed by a camera and lit by the default rig when the file has none;

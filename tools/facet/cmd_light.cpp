@@ -36,7 +36,8 @@ std::size_t scene_vertices(const Scene& scene) {
 int light(const std::string& scene_path, const std::string& path_name, PowTier tier, double min_seconds, int threads,
           bool json);
 int check(const std::string& scene_path, const RenderOptions& options, std::optional<ShadowMethod> shadows,
-          std::optional<TransparentOrder> order, int width, int height, bool allow_missing);
+          std::optional<TransparentOrder> order, int width, int height, bool allow_missing,
+          const std::vector<std::string>& allow_paths);
 
 Command add_light(CLI::App& facet) {
   struct State {
@@ -159,6 +160,7 @@ Command add_check(CLI::App& facet) {
     std::string scene_path, shading = "gouraud", shadows, transparent_order;
     int width = 1280, height = 720, memory_mb = -1;
     bool allow_missing = false;
+    std::vector<std::string> allow_paths;
   };
   auto st = std::make_shared<State>();
   CLI::App* app = facet.add_subcommand("check", "load and validate a scene or model; print a summary or the first error");
@@ -177,6 +179,7 @@ Command add_check(CLI::App& facet) {
       ->check(one_of({"submission", "back_to_front"}, "order"));
   app->add_option("--memory-budget-mb", st->memory_mb, "as for 'facet render' (default 4096; 0 = no limit)")->check(int_in(0, 1 << 30));
   app->add_flag("--allow-missing", st->allow_missing, "a model's missing .mtl or texture files are warnings, not errors");
+  app->add_option("--allow-path", st->allow_paths, kAllowPathHelp);
   return {app, [st] {
             RenderOptions options;
             options.shading = *parse_shading(st->shading);
@@ -185,13 +188,15 @@ Command add_check(CLI::App& facet) {
             if (!st->shadows.empty()) shadows = parse_shadow_method(st->shadows);
             std::optional<TransparentOrder> order;
             if (!st->transparent_order.empty()) order = parse_transparent_order(st->transparent_order);
-            return check(st->scene_path, options, shadows, order, st->width, st->height, st->allow_missing);
+            return check(st->scene_path, options, shadows, order, st->width, st->height, st->allow_missing, st->allow_paths);
           }};
 }
 
 int check(const std::string& scene_path, const RenderOptions& options, std::optional<ShadowMethod> shadows,
-          std::optional<TransparentOrder> order, int width, int height, bool allow_missing) {
+          std::optional<TransparentOrder> order, int width, int height, bool allow_missing,
+          const std::vector<std::string>& allow_paths) {
   InputOptions input;
+  input.allowed_paths = allow_paths;
   input.memory_budget_bytes = options.memory_budget_bytes;
   input.allow_missing = allow_missing;
   input.aspect = float(width) / float(height);

@@ -131,6 +131,7 @@ struct RenderState {
                                                 cull = "back", clear, transparent_order;
   int width = 1280, height = 720, threads = 0, tile = 64, memory_mb = -1, frame_count = 1;
   double min_seconds = 0, orbit_deg = 360.0;
+  std::vector<std::string> allow_paths;
   bool stats = false, json = false, allow_missing = false, hdr = false, srgb = false, no_light_culling = false,
        light_every_vertex = false;
 };
@@ -179,6 +180,7 @@ Command add_render(CLI::App& facet) {
       ->check(int_in(0, 256))->group(how);
   const char* model = "Models";
   app->add_flag("--allow-missing", st->allow_missing, "a model's missing .mtl or texture files are warnings, not errors")->group(model);
+  app->add_option("--allow-path", st->allow_paths, kAllowPathHelp)->group(model);
   app->add_option("--frames", st->frame_count, "a turntable of N frames, the camera orbiting its target, to OUT_0000.png, ...")
       ->check(int_in(1, 100000))->group(model);
   app->add_option("--orbit", st->orbit_deg, "the turntable's whole sweep in degrees (default 360)")->check(number_in(-36000, 36000))->group(model);
@@ -247,6 +249,7 @@ int render(const RenderState& st) {
   InputOptions input;
   input.memory_budget_bytes = options.memory_budget_bytes;
   input.allow_missing = allow_missing;
+  input.allowed_paths = st.allow_paths;
   input.aspect = float(width) / float(height);
   std::vector<std::string> notes;
   std::optional<Scene> scene = load_input(scene_path, input, notes);

@@ -9,7 +9,7 @@ facet_packages=(
   libeigen3-dev libxsimd-dev libtbb-dev
   libgtest-dev libbenchmark-dev
   libtinyobjloader-dev nlohmann-json3-dev libpng-dev libstb-dev libembree-dev
-  libtinygltf-dev libcli11-dev
+  libmeshoptimizer-dev libdraco-dev libcli11-dev
 )
 
 # Extra packages for one command may be given as arguments (tools/charts: python3-matplotlib).

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "facet/assets.hpp"
 #include "facet/mesh.hpp"
 #include "facet/scene.hpp"
 #include "facet/status.hpp"
@@ -29,6 +30,9 @@ struct ModelOptions {
   // OBJ: the crease angle used when the file has no normals (glTF: flat normals, as its
   // specification requires).
   float crease_angle_deg = kDefaultCreaseAngleDeg;
+  // Which files the model may name (its buffers, images, `mtllib`s and textures): by default only
+  // files in the model's own folder (facet/assets.hpp).
+  AssetAccess assets;
 };
 
 struct Model {

@@ -7,6 +7,7 @@
 #include <functional>
 #include <string>
 
+#include "facet/assets.hpp"
 #include "facet/mesh.hpp"
 #include "facet/scene.hpp"
 #include "facet/status.hpp"
@@ -25,6 +26,9 @@ struct LoadOptions {
   // Called on the calling thread with each warning of the models the scene imports ("imports":
   // what was read approximately or not at all, model.hpp). Null: warnings are dropped.
   std::function<void(const std::string& warning)> warning;
+  // Which files the scene may name (meshes, textures, imported models; and what those models
+  // name): by default only files in the naming file's own folder (facet/assets.hpp).
+  AssetAccess assets;
 };
 
 Result<Scene> load_scene_file(const std::string& path, const LoadOptions& options = {});

@@ -1,6 +1,7 @@
 // Internal: numbers and untrusted text in messages.
 #pragma once
 
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <string_view>
@@ -10,6 +11,20 @@ namespace facet {
 inline std::string format_number(double value) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.9g", value);
+  return buf;
+}
+
+// A size for people: "512 bytes", "3 MiB", "1.5 MiB" (never rounded to a whole MiB it is not).
+inline std::string format_bytes(std::uint64_t bytes) {
+  constexpr std::uint64_t kMiB = std::uint64_t{1} << 20;
+  char buf[48];
+  if (bytes < kMiB) {
+    std::snprintf(buf, sizeof buf, "%llu bytes", static_cast<unsigned long long>(bytes));
+  } else if (bytes % kMiB == 0) {
+    std::snprintf(buf, sizeof buf, "%llu MiB", static_cast<unsigned long long>(bytes / kMiB));
+  } else {
+    std::snprintf(buf, sizeof buf, "%.1f MiB (%llu bytes)", double(bytes) / double(kMiB), static_cast<unsigned long long>(bytes));
+  }
   return buf;
 }
 

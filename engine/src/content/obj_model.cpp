@@ -15,6 +15,7 @@
 #include "common/text.hpp"
 #include "common/try.hpp"
 #include "facet/model.hpp"
+#include "io/assets.hpp"
 #include "io/file_access.hpp"
 
 namespace facet {
@@ -53,9 +54,9 @@ constexpr std::string_view kIgnored[] = {"Ni", "Tf", "sharpness", "map_Ka", "map
 
 class MtlReader {
  public:
-  MtlReader(std::string source, std::string base_dir, const ModelOptions& options, Scene& scene,
+  MtlReader(std::string source, io::AssetFolder folder, const ModelOptions& options, Scene& scene,
             std::vector<std::string>& warnings)
-      : source_(std::move(source)), base_dir_(std::move(base_dir)), options_(options), scene_(scene), warnings_(warnings) {}
+      : source_(std::move(source)), folder_(std::move(folder)), options_(options), scene_(scene), warnings_(warnings) {}
 
   Status read(const std::string& text) {
     FACET_TRY(for_each_line(text, [&](std::size_t line, std::string_view s) { return statement(line, s); }));
@@ -93,7 +94,15 @@ class MtlReader {
       has_ke_ = false;
       return {};
     }
-    if (!open_) return error(line, quote(key, 24) + " before any 'newmtl'");
+    if (!open_) {
+      // Before the first material, only what an MTL file may say is quoted: anything else may be
+      // the first bytes of a file that is not an MTL file at all.
+      bool known = key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "map_Kd" || key == "map_d" ||
+                   key == "map_Ke" || key == "d" || key == "Tr" || key == "Ns";
+      for (std::string_view i : kIgnored) known |= key == i;
+      if (!known) return error(line, "not an MTL file: its first statement is neither 'newmtl' nor another MTL statement");
+      return error(line, quote(key, 24) + " before any 'newmtl'");
+    }
     if (key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke") {
       Color3 c;
       FACET_TRY(color(line, tok, c));
@@ -339,25 +348,29 @@ class MtlReader {
 
   // A texture file, or an empty texture (and a warning) when it is missing and that is allowed.
   Result<Texture> load(const TextureRef& ref) {
-    const std::string path = (std::filesystem::path(base_dir_) / ref.file).string();
     TextureOptions topt;
     topt.wrap = ref.clamp ? TextureWrap::clamp : TextureWrap::repeat;
     topt.memory_budget_bytes = options_.memory_budget_bytes;
-    Result<Texture> t = load_texture(path, ref.file, topt);
-    if (t) return t;
-    std::error_code ec;
-    const bool missing = !std::filesystem::exists(path, ec);
-    const std::string what = "texture " + quote(ref.file, 80) + ": " + t.status().message();
-    if (missing && options_.allow_missing) {
-      warnings_.push_back(source_ + ":" + std::to_string(ref.line) + ": " + what + "; drawn untextured");
-      return Texture{};
+    const std::string where = source_ + ":" + std::to_string(ref.line) + ": texture";  // + " 'name': why"
+    Result<std::string> bytes = folder_.read(ref.file, where, "texture file",
+                                            options_.memory_budget_bytes == 0 ? io::kNoSizeLimit : options_.memory_budget_bytes);
+    if (!bytes) {
+      const bool missing = bytes.status().code() == ErrorCode::io_error;
+      if (missing && options_.allow_missing) {
+        warnings_.push_back(bytes.status().message() + "; drawn untextured");
+        return Texture{};
+      }
+      return Status{bytes.status().code(), "line " + std::to_string(ref.line),
+                    bytes.status().message() + (missing ? " (ModelOptions::allow_missing, facet --allow-missing: draw untextured)" : "")};
     }
-    return error(ref.line, what + (missing ? " (ModelOptions::allow_missing, facet --allow-missing: draw untextured)" : ""),
-                 t.status().code());
+    Result<Texture> t = decode_texture({reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size()},
+                                       where + " " + quote(ref.file, 80), ref.file, topt);
+    if (!t) return Status{t.status().code(), "line " + std::to_string(ref.line), t.status().message()};
+    return t;
   }
 
   std::string source_;
-  std::string base_dir_;
+  io::AssetFolder folder_;
   const ModelOptions& options_;
   Scene& scene_;
   std::vector<std::string>& warnings_;
@@ -372,22 +385,27 @@ class MtlReader {
   std::map<std::string, std::string> ignored_;  // what -> the first lines it was on
 };
 
-}  // namespace
-
-Status parse_mtl(const std::string& text, const std::string& source_name, const std::string& base_dir,
-                 const ModelOptions& options, Scene& scene, std::vector<std::string>& warnings) {
+Status parse_mtl_in(const std::string& text, const std::string& source_name, const io::AssetFolder& folder,
+                    const ModelOptions& options, Scene& scene, std::vector<std::string>& warnings) {
   try {
-    MtlReader reader(source_name, base_dir, options, scene, warnings);
+    MtlReader reader(source_name, folder, options, scene, warnings);
     return reader.read(text);
   } catch (const std::bad_alloc&) {
     return {ErrorCode::out_of_memory, "", source_name + ": out of memory while reading the materials"};
   }
 }
 
+}  // namespace
+
+Status parse_mtl(const std::string& text, const std::string& source_name, const std::string& base_dir,
+                 const ModelOptions& options, Scene& scene, std::vector<std::string>& warnings) {
+  return parse_mtl_in(text, source_name, io::AssetFolder(options.assets, base_dir), options, scene, warnings);
+}
+
 Result<Model> load_obj_model(const std::string& path, const ModelOptions& options) {
   try {
     const std::uint64_t limit = options.memory_budget_bytes == 0 ? io::kNoSizeLimit : options.memory_budget_bytes;
-    Result<std::string> text = io::read_file(path, "OBJ file", limit);
+    Result<std::string> text = io::read_named_by_host(options.assets, path, "OBJ file", limit);
     if (!text) return text.status();
     ObjOptions oo;
     oo.crease_angle_deg = options.crease_angle_deg;
@@ -407,21 +425,23 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
       for (std::size_t i = 1; i < tok.size(); ++i) {
         std::string file(tok[i]);
         std::replace(file.begin(), file.end(), '\\', '/');
-        const std::string full = (std::filesystem::path(base) / file).string();
-        Result<std::string> mtl = io::read_file(full, "MTL file", limit);
+        const io::AssetFolder folder(options.assets, base);
+        const std::string where = path + ":" + std::to_string(line) + ": mtllib";
+        Result<io::AssetFolder::Resolved> resolved = folder.resolve(file, where);
+        Result<std::string> mtl = resolved ? folder.read(file, where, "MTL file", limit) : Result<std::string>(resolved.status());
         if (!mtl) {
-          std::error_code ec;
-          if (options.allow_missing && !std::filesystem::exists(full, ec)) {
-            model.warnings.push_back(path + ":" + std::to_string(line) + ": mtllib " + quote(file, 80) +
-                                     ": the file does not exist; its materials are facet's default");
+          if (options.allow_missing && mtl.status().code() == ErrorCode::io_error) {
+            model.warnings.push_back(mtl.status().message() + "; its materials are facet's default");
             continue;
           }
           return {mtl.status().code(), "line " + std::to_string(line),
-                  path + ":" + std::to_string(line) + ": mtllib " + quote(file, 80) + ": " + mtl.status().message() +
-                      (ec ? std::string() : " (ModelOptions::allow_missing, facet --allow-missing: use default materials)")};
+                  mtl.status().message() + (mtl.status().code() == ErrorCode::io_error
+                                                ? " (ModelOptions::allow_missing, facet --allow-missing: use default materials)"
+                                                : "")};
         }
+        const std::string full = resolved->name;
         libraries.push_back(file);
-        FACET_TRY(parse_mtl(*mtl, full, std::filesystem::path(full).parent_path().string(), options, scene, model.warnings));
+        FACET_TRY(parse_mtl_in(*mtl, full, folder.folder_of(*resolved), options, scene, model.warnings));
       }
       return {};
     });

@@ -9,11 +9,13 @@
 #include <cstring>
 #include <new>
 
+#include "common/format.hpp"
+
 namespace facet::io {
 namespace {
 
 Status fail(ErrorCode code, const char* verb, const char* what, const std::string& path, const std::string& why) {
-  return {code, "path", std::string(verb) + " " + what + " '" + path + "': " + why};
+  return {code, "path", std::string(verb) + " " + what + " " + quote(path, 200) + ": " + why};
 }
 
 struct Fd {

@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 
+#include "common/format.hpp"
 #include "facet/image.hpp"
 #include "io/file_access.hpp"
 #include "io/image_convert.hpp"
@@ -16,7 +17,7 @@ namespace facet {
 namespace {
 
 Status io_error(const std::string& path, const std::string& what) {
-  return {ErrorCode::io_error, "path", "'" + path + "': " + what};
+  return {ErrorCode::io_error, "path", quote(path, 200) + ": " + what};
 }
 
 }  // namespace
@@ -40,7 +41,7 @@ Status write_png(const std::string& path, const ImageView& image) {
       return {};
     });
   } catch (const std::bad_alloc&) {
-    return {ErrorCode::out_of_memory, "path", "'" + path + "': out of memory"};
+    return {ErrorCode::out_of_memory, "path", quote(path, 200) + ": out of memory"};
   }
 }
 
@@ -67,7 +68,7 @@ Result<Rgba8Image> read_png(const std::string& path) {
     out.pixels.resize(PNG_IMAGE_SIZE(png));
   } catch (const std::bad_alloc&) {
     png_image_free(&png);
-    return Status{ErrorCode::out_of_memory, "path", "'" + path + "': out of memory"};
+    return Status{ErrorCode::out_of_memory, "path", quote(path, 200) + ": out of memory"};
   }
   if (!png_image_finish_read(&png, nullptr, out.pixels.data(), 0, nullptr)) {
     const std::string why = png.message;
@@ -93,7 +94,7 @@ Status write_pfm_rows(const std::string& path, const char* magic, int width, int
       return {};
     });
   } catch (const std::bad_alloc&) {
-    return {ErrorCode::out_of_memory, "path", "'" + path + "': out of memory"};
+    return {ErrorCode::out_of_memory, "path", quote(path, 200) + ": out of memory"};
   }
 }
 

@@ -270,8 +270,8 @@ class ObjChecker {
     }
     if (!known_statement(k)) {
       // A file whose first statement is not OBJ is probably not an OBJ file at all: say so, and
-      // quote no more of it than a keyword would be.
-      if (statements_ == 0) return error(line_no, "not an OBJ file: it starts with " + quote(k, 16) + ", not an OBJ statement");
+      // quote none of it (it may be any file at all).
+      if (statements_ == 0) return error(line_no, "not an OBJ file: its first statement is not an OBJ statement");
       return error(line_no, "unknown statement " + quote(k, 16));
     }
     return {};

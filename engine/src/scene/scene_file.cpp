@@ -17,6 +17,7 @@
 
 #include "common/format.hpp"
 #include "common/try.hpp"
+#include "io/assets.hpp"
 #include "io/file_access.hpp"
 #include "scene/json_lines.hpp"
 
@@ -67,7 +68,8 @@ std::string child(const std::string& path, std::string_view key) {
 class SceneReader {
  public:
   SceneReader(std::string source, const JsonLines& lines, std::string base_dir, const LoadOptions& options)
-      : source_(std::move(source)), lines_(lines), base_dir_(std::move(base_dir)), options_(options) {}
+      : source_(std::move(source)), lines_(lines), base_dir_(std::move(base_dir)), options_(options),
+        folder_(options.assets, base_dir_) {}
 
   Status read(const json& root, Scene& scene) {
     FACET_TRY(expect_object(root, "", {"camera", "global_ambient", "viewer", "two_sided", "transparent_order",
@@ -358,9 +360,12 @@ class SceneReader {
       FACET_TRY(read_enum(j["wrap"], child(p, "wrap"), {"repeat", "clamp", "mirror"}, mode));
       options.wrap = mode == "repeat" ? TextureWrap::repeat : mode == "clamp" ? TextureWrap::clamp : TextureWrap::mirror;
     }
-    const std::filesystem::path resolved = std::filesystem::path(base_dir_) / file;
-    Result<Texture> t = load_texture(resolved.string(), name, options);
-    if (!t) return located(child(p, "file"), t.status().code(), child(p, "file") + ": " + t.status().message());
+    const std::string fp = child(p, "file");
+    Result<std::string> bytes = folder_.read(file, fp, "texture file", options.memory_budget_bytes == 0 ? io::kNoSizeLimit : options.memory_budget_bytes);
+    if (!bytes) return located(fp, bytes.status().code(), bytes.status().message());
+    Result<Texture> t = decode_texture({reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size()}, fp + " " + quote(file, 80),
+                                       name, options);
+    if (!t) return located(fp, t.status().code(), t.status().message());
     out = std::move(*t);
     return {};
   }
@@ -414,9 +419,13 @@ class SceneReader {
       if (!(options.crease_angle_deg >= 0.0f && options.crease_angle_deg <= 180.0f)) {
         return invalid(child(p, "crease_angle_deg"), "expected a number in [0, 180]");
       }
-      const std::filesystem::path resolved = std::filesystem::path(base_dir_) / file;
-      Result<Mesh> mesh = load_obj(resolved.string(), options);
-      if (!mesh) return located(child(p, "obj"), mesh.status().code(), child(p, "obj") + ": " + mesh.status().message());
+      const std::string op = child(p, "obj");
+      Result<io::AssetFolder::Resolved> resolved = folder_.resolve(file, op);
+      if (!resolved) return located(op, resolved.status().code(), resolved.status().message());
+      Result<std::string> text = folder_.read(file, op, "OBJ file", options.memory_budget_bytes == 0 ? io::kNoSizeLimit : options.memory_budget_bytes);
+      if (!text) return located(op, text.status().code(), text.status().message());
+      Result<Mesh> mesh = parse_obj(*text, resolved->name, options);
+      if (!mesh) return located(op, mesh.status().code(), op + ": " + mesh.status().message());
       FACET_TRY(reserve_mesh(j, p, mesh->vertex_count(), mesh->triangle_count()));
       out.mesh = std::move(*mesh);
       return {};
@@ -585,8 +594,13 @@ class SceneReader {
     FACET_TRY(opt_bool(j, p, "allow_missing", mo.allow_missing));
     if (camera && scene_has_camera) return invalid(child(p, "camera"), "the scene file has its own \"camera\"");
     mo.memory_budget_bytes = options_.memory_budget_bytes == 0 ? 0 : std::max<std::uint64_t>(1, options_.memory_budget_bytes - std::min(used_, options_.memory_budget_bytes));
-    const std::filesystem::path resolved = std::filesystem::path(base_dir_) / file;
-    Result<Model> model = load_model(resolved.string(), mo);
+    const std::string fp = child(p, "file");
+    Result<io::AssetFolder::Resolved> resolved = folder_.resolve(file, fp);
+    if (!resolved) return located(fp, resolved.status().code(), resolved.status().message());
+    // The model's files may lie anywhere in the scene's folder, as the scene's own may.
+    mo.assets = options_.assets;
+    if (!options_.assets.resolver) mo.assets.allowed_roots.push_back(base_dir_.empty() ? std::string(".") : base_dir_);
+    Result<Model> model = load_model(resolved->name, mo);
     if (!model) return located(child(p, "file"), model.status().code(), child(p, "file") + ": " + model.status().message());
     if (options_.warning) {
       for (const std::string& w : model->warnings) options_.warning(p + ": " + w);
@@ -726,6 +740,7 @@ class SceneReader {
   const JsonLines& lines_;
   std::string base_dir_;
   const LoadOptions& options_;
+  io::AssetFolder folder_;  // the files the scene names: in its folder (facet/assets.hpp)
   std::uint64_t used_ = 0;  // bytes of the meshes read so far
 };
 
@@ -752,7 +767,7 @@ Result<Scene> parse_scene_json(const std::string& text, const std::string& sourc
 }
 
 Result<Scene> load_scene_file(const std::string& path, const LoadOptions& options) {
-  Result<std::string> text = io::read_file(path, "scene file", options.memory_budget_bytes == 0 ? io::kNoSizeLimit : options.memory_budget_bytes);
+  Result<std::string> text = io::read_named_by_host(options.assets, path, "scene file", options.memory_budget_bytes == 0 ? io::kNoSizeLimit : options.memory_budget_bytes);
   if (!text) return text.status();
   const std::string base = std::filesystem::path(path).parent_path().string();
   return parse_scene_json(*text, path, base, options);

@@ -13,6 +13,7 @@
 #include "common/format.hpp"
 #include "common/try.hpp"
 #include "io/file_access.hpp"
+#include "texture/png_decode.hpp"
 
 namespace facet {
 namespace {
@@ -105,6 +106,56 @@ bool is_png(std::span<const std::uint8_t> b) {
 }
 bool is_jpeg(std::span<const std::uint8_t> b) { return b.size() >= 3 && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff; }
 
+enum class ImageKind { unknown, jpeg, tga, bmp };
+
+// TGA has no signature: a header whose colour-map and image types are TGA's, with stb_image
+// agreeing that it can read it.
+ImageKind image_kind(std::span<const std::uint8_t> b) {
+  if (is_jpeg(b)) return ImageKind::jpeg;
+  if (b.size() >= 26 && b[0] == 'B' && b[1] == 'M') return ImageKind::bmp;
+  const bool tga_header = b.size() >= 18 && b[1] <= 1 &&
+                          (b[2] == 1 || b[2] == 2 || b[2] == 3 || b[2] == 9 || b[2] == 10 || b[2] == 11);
+  return tga_header ? ImageKind::tga : ImageKind::unknown;
+}
+
+std::uint32_t le32(std::span<const std::uint8_t> b, std::size_t at) {
+  return std::uint32_t{b[at]} | std::uint32_t{b[at + 1]} << 8 | std::uint32_t{b[at + 2]} << 16 | std::uint32_t{b[at + 3]} << 24;
+}
+
+// stb_image reads a palette BMP's colours into a table it does not clear, so an index past the
+// palette would read whatever was on the stack: every index is checked first.
+template <class Fail>
+Status check_bmp_palette(std::span<const std::uint8_t> b, const Fail& fail) {
+  const std::uint32_t offset = le32(b, 10), header = le32(b, 14);
+  if (header != 12 && header < 40) return {};  // stb refuses it
+  const bool os2 = header == 12;
+  if (b.size() < (os2 ? 26u : 50u)) return fail(ErrorCode::parse_error, "the BMP header is cut short");
+  const std::int64_t width = os2 ? (b[18] | b[19] << 8) : static_cast<std::int32_t>(le32(b, 18));
+  std::int64_t height = os2 ? (b[20] | b[21] << 8) : static_cast<std::int32_t>(le32(b, 22));
+  const int bpp = os2 ? (b[24] | b[25] << 8) : (b[28] | b[29] << 8);
+  if (bpp > 8) return {};
+  if (height < 0) height = -height;
+  const std::int64_t colours = os2 ? (std::int64_t(offset) - 14 - 24) / 3 : (std::int64_t(offset) - 14 - header) / 4;
+  if (colours < 1 || colours > 256) return {};  // stb refuses it
+  if (width < 1 || width > kMaxTextureDimension || height < 1 || height > kMaxTextureDimension) return {};
+  const std::uint64_t row = ((std::uint64_t(width) * std::uint64_t(bpp) + 31) / 32) * 4;
+  if (offset > b.size() || row * std::uint64_t(height) > b.size() - offset) {
+    return fail(ErrorCode::parse_error, "the BMP's pixels are cut short");
+  }
+  for (std::int64_t y = 0; y < height; ++y) {
+    const std::uint8_t* r = b.data() + offset + std::uint64_t(y) * row;
+    for (std::int64_t x = 0; x < width; ++x) {
+      const std::uint64_t bit = std::uint64_t(x) * std::uint64_t(bpp);
+      const int v = (r[bit / 8] >> (8 - bpp - int(bit % 8))) & ((1 << bpp) - 1);
+      if (v >= colours) {
+        return fail(ErrorCode::parse_error, "cannot decode the BMP: a pixel uses palette entry " + std::to_string(v) + " of " +
+                                                std::to_string(colours));
+      }
+    }
+  }
+  return {};
+}
+
 struct StbFree {
   void operator()(void* p) const { stbi_image_free(p); }
 };
@@ -180,27 +231,38 @@ Result<Texture> make_texture(std::string name, int width, int height, std::span<
 Result<Texture> decode_texture(std::span<const std::uint8_t> bytes, const std::string& source_name, std::string name,
                                const TextureOptions& options) {
   auto fail = [&](ErrorCode code, const std::string& what) { return Status{code, "file", source_name + ": " + what}; };
-  const bool png = is_png(bytes), jpeg = !png && is_jpeg(bytes);
-  if (!png && !jpeg) return fail(ErrorCode::unsupported, "not a PNG or JPEG file (textures must be PNG or JPEG)");
   if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
     return fail(ErrorCode::unsupported, "the file is larger than 2 GiB, more than the decoder takes");
   }
+  // Sizes are checked, and the budget asked, before any pixel memory is taken.
+  auto admit = [&](int w, int h, std::uint64_t decode_bytes) -> Status {
+    if (w < 1 || h < 1 || w > kMaxTextureDimension || h > kMaxTextureDimension) {
+      return fail(ErrorCode::unsupported, std::to_string(w) + " x " + std::to_string(h) + " texels: a texture is 1 to " +
+                                              std::to_string(kMaxTextureDimension) + " texels per side");
+    }
+    const std::uint64_t pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
+    return check_budget(decode_bytes + 4 * pixels + texel_bytes(w, h, options.filter), options, source_name);
+  };
+  if (is_png(bytes)) {
+    Result<PngPixels> png = decode_png(bytes, source_name, admit);
+    if (!png) return png.status();
+    Result<Texture> t = make_texture(std::move(name), png->width, png->height, png->rgba, options);
+    if (!t) return fail(t.status().code(), t.status().message());
+    return t;
+  }
+  const ImageKind kind = image_kind(bytes);
+  if (kind == ImageKind::unknown) return fail(ErrorCode::unsupported, "not a PNG, JPEG, TGA or BMP file (the image formats facet reads)");
+  const char* format = kind == ImageKind::jpeg ? "JPEG" : kind == ImageKind::tga ? "TGA" : "BMP";
   const auto* data = bytes.data();
   const int size = static_cast<int>(bytes.size());
   int w = 0, h = 0, channels = 0;
   if (!stbi_info_from_memory(data, size, &w, &h, &channels)) {
-    return fail(ErrorCode::parse_error, std::string("cannot read the ") + (png ? "PNG" : "JPEG") +
-                                            " header: " + stbi_failure_reason());
+    return fail(ErrorCode::parse_error, std::string("cannot read the ") + format + " header");
   }
-  if (w < 1 || h < 1 || w > kMaxTextureDimension || h > kMaxTextureDimension) {
-    return fail(ErrorCode::unsupported, std::to_string(w) + " x " + std::to_string(h) + " texels: a texture is 1 to " +
-                                            std::to_string(kMaxTextureDimension) + " texels per side");
-  }
-  const bool sixteen = png && stbi_is_16_bit_from_memory(data, size);
-  const std::uint64_t pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
+  if (kind == ImageKind::bmp) FACET_TRY(check_bmp_palette(bytes, fail));
   // The decoder's output and its working copy, then the texels.
-  const std::uint64_t decode_bytes = 2 * pixels * 4 * (sixteen ? 2 : 1);
-  FACET_TRY(check_budget(decode_bytes + texel_bytes(w, h, options.filter), options, source_name));
+  FACET_TRY(admit(w, h, 2 * static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) * 4));
+  const std::uint64_t pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
   std::vector<std::uint8_t> rgba;
   try {
     rgba.resize(4 * pixels);
@@ -208,27 +270,15 @@ Result<Texture> decode_texture(std::span<const std::uint8_t> bytes, const std::s
     return fail(ErrorCode::out_of_memory, "out of memory");
   }
   int dw = 0, dh = 0, dc = 0;
-  if (sixteen) {
-    std::unique_ptr<stbi_us, StbFree> p(stbi_load_16_from_memory(data, size, &dw, &dh, &dc, 4));
-    if (!p) {
-      const std::string why = stbi_failure_reason();
-      return fail(why == "outofmem" ? ErrorCode::out_of_memory : ErrorCode::parse_error, "cannot decode the PNG: " + why);
-    }
-    if (dw != w || dh != h) return fail(ErrorCode::parse_error, "the PNG's size changed while decoding");
-    // Nearest 8-bit value: round(v * 255 / 65535) = (v * 255 + 32767) / 65535, exact in integers.
-    for (std::uint64_t i = 0; i < 4 * pixels; ++i) {
-      rgba[i] = static_cast<std::uint8_t>((std::uint32_t{p.get()[i]} * 255u + 32767u) / 65535u);
-    }
-  } else {
-    std::unique_ptr<stbi_uc, StbFree> p(stbi_load_from_memory(data, size, &dw, &dh, &dc, 4));
-    if (!p) {
-      const std::string why = stbi_failure_reason();
-      return fail(why == "outofmem" ? ErrorCode::out_of_memory : ErrorCode::parse_error,
-                  std::string("cannot decode the ") + (png ? "PNG" : "JPEG") + ": " + why);
-    }
-    if (dw != w || dh != h) return fail(ErrorCode::parse_error, "the image's size changed while decoding");
-    std::memcpy(rgba.data(), p.get(), rgba.size());
+  std::unique_ptr<stbi_uc, StbFree> p(stbi_load_from_memory(data, size, &dw, &dh, &dc, 4));
+  if (!p) {
+    const char* reason = stbi_failure_reason();
+    const std::string why = reason && *reason ? reason : "the decoder gave no reason";
+    return fail(why == "outofmem" ? ErrorCode::out_of_memory : ErrorCode::parse_error,
+                std::string("cannot decode the ") + format + ": " + quote(why, 60));
   }
+  if (dw != w || dh != h) return fail(ErrorCode::parse_error, "the image's size changed while decoding");
+  std::memcpy(rgba.data(), p.get(), rgba.size());
   Result<Texture> t = make_texture(std::move(name), w, h, rgba, options);
   if (!t) return fail(t.status().code(), t.status().message());
   return t;
@@ -238,7 +288,7 @@ Result<Texture> load_texture(const std::string& path, std::string name, const Te
   Result<std::string> bytes =
       io::read_file(path, "texture file", options.memory_budget_bytes == 0 ? io::kNoSizeLimit : options.memory_budget_bytes);
   if (!bytes) return bytes.status();
-  return decode_texture({reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size()}, "'" + path + "'",
+  return decode_texture({reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size()}, quote(path, 200),
                         std::move(name), options);
 }
 

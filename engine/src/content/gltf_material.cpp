@@ -1,0 +1,372 @@
+// glTF 2.0 import: materials, textures, cameras and lights (gltf_reader.hpp says how the pieces fit).
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "common/format.hpp"
+#include "common/try.hpp"
+#include "content/gltf_reader.hpp"
+#include "content/import.hpp"
+
+namespace facet::gltf {
+namespace {
+
+constexpr int kNearest = 9728, kLinear = 9729, kRepeat = 10497, kClamp = 33071, kMirror = 33648;
+
+TextureFilter sampler_filter(int min, int mag) {
+  switch (min) {
+    case kNearest: return mag == kLinear ? TextureFilter::bilinear : TextureFilter::nearest;
+    case kLinear: return TextureFilter::bilinear;
+    default: return TextureFilter::trilinear;  // the mipmapped filters, or none given
+  }
+}
+
+}  // namespace
+
+std::uint32_t Reader::untextured_twin(std::uint32_t index) {
+  if (auto it = untextured_.find(index); it != untextured_.end()) return it->second;
+  Material copy = out_.scene.materials[index];
+  copy.diffuse_texture = copy.emissive_texture = kNoTexture;
+  copy.name += " (untextured)";
+  out_.scene.materials.push_back(copy);
+  const auto twin = static_cast<std::uint32_t>(out_.scene.materials.size() - 1);
+  untextured_[index] = twin;
+  return twin;
+}
+
+// A textureInfo: the texture, and its KHR_texture_transform. A texture read from another set of
+// texture coordinates is drawn without, with a warning.
+Status Reader::texture_info(const Json& ti, const std::string& tp, std::int32_t& t, UvTransform& transform,
+                            bool& has_transform) {
+  FACET_TRY(f_.object(ti, tp));
+  int index = -1;
+  std::uint64_t tex_coord = 0;
+  FACET_TRY(f_.index(ti, tp, "index", doc_.count("textures"), index, true));
+  FACET_TRY(f_.integer(ti, tp, "texCoord", tex_coord, 0, 1u << 20));
+  const Json* ext = nullptr;
+  FACET_TRY(f_.object(ti, tp, "extensions", ext));
+  has_transform = false;
+  if (const Json* tt = ext ? Fields::find(*ext, "KHR_texture_transform") : nullptr) {
+    const std::string xp = tp + ".extensions.KHR_texture_transform";
+    FACET_TRY(f_.object(*tt, xp));
+    double offset[2] = {0, 0}, scale[2] = {1, 1}, rotation = 0;
+    const double big = 1e30;
+    FACET_TRY(f_.numbers(*tt, xp, "offset", 2, offset, -big, big));
+    FACET_TRY(f_.numbers(*tt, xp, "scale", 2, scale, -big, big));
+    FACET_TRY(f_.number(*tt, xp, "rotation", rotation, -big, big));
+    FACET_TRY(f_.integer(*tt, xp, "texCoord", tex_coord, 0, 1u << 20));
+    // T * R * S as the extension defines them: R = [cos sin; -sin cos].
+    const double c = std::cos(rotation), s = std::sin(rotation);
+    transform.m[0] = c * scale[0];
+    transform.m[1] = s * scale[1];
+    transform.m[2] = offset[0];
+    transform.m[3] = -s * scale[0];
+    transform.m[4] = c * scale[1];
+    transform.m[5] = offset[1];
+    has_transform = !transform.identity();
+  }
+  if (tex_coord != 0) {
+    warn(tp + ": texCoord " + std::to_string(tex_coord) + " is not supported (facet reads TEXCOORD_0 only); drawn without it");
+    has_transform = false;
+    return {};
+  }
+  return texture(index, tp + ".index", t);
+}
+
+Status Reader::material(int index, const std::string& ref_path, MaterialInfo& info) {
+  (void)ref_path;
+  if (auto it = materials_.find(index); it != materials_.end()) {
+    info = it->second;
+    return {};
+  }
+  Material mat;
+  if (index < 0) {
+    // No material: facet's default (GL's), not glTF's default metal (docs/content.md).
+    mat.name = "default";
+  } else {
+    const Json& g = doc_.item("materials", static_cast<std::size_t>(index));
+    const std::string p = Fields::at("materials", static_cast<std::size_t>(index));
+    FACET_TRY(f_.string(g, p, "name", mat.name));
+    if (mat.name.empty()) mat.name = p;
+    const Json* pbr = nullptr;
+    FACET_TRY(f_.object(g, p, "pbrMetallicRoughness", pbr));
+    static const Json kEmpty = Json::object();
+    if (!pbr) pbr = &kEmpty;
+    const std::string pp = p + ".pbrMetallicRoughness";
+    double bc[4] = {1, 1, 1, 1}, metallic = 1, roughness = 1;
+    FACET_TRY(f_.numbers(*pbr, pp, "baseColorFactor", 4, bc, 0.0, 1.0));
+    FACET_TRY(f_.number(*pbr, pp, "metallicFactor", metallic, 0.0, 1.0));
+    FACET_TRY(f_.number(*pbr, pp, "roughnessFactor", roughness, 0.0, 1.0));
+    const Color3 base{float(bc[0]), float(bc[1]), float(bc[2])};
+    const PbrMapping map = map_metallic_roughness(base, float(metallic), float(roughness));
+    mat.diffuse = map.diffuse;
+    mat.ambient = map.diffuse;
+    mat.specular = map.specular;
+    mat.shininess = map.shininess;
+    info.vertex_color_scale = map.diffuse;
+    double ef[3] = {0, 0, 0};
+    FACET_TRY(f_.numbers(g, p, "emissiveFactor", 3, ef, 0.0, 1.0));
+    Color3 emissive{float(ef[0]), float(ef[1]), float(ef[2])};
+    const Json* ext = nullptr;
+    FACET_TRY(f_.object(g, p, "extensions", ext));
+    if (const Json* es = ext ? Fields::find(*ext, "KHR_materials_emissive_strength") : nullptr) {
+      const std::string ep = p + ".extensions.KHR_materials_emissive_strength";
+      FACET_TRY(f_.object(*es, ep));
+      double k = 1.0;
+      FACET_TRY(f_.number(*es, ep, "emissiveStrength", k, 0.0, 1e30));
+      emissive *= float(k);
+    }
+    mat.emissive = emissive;
+    const bool unlit = ext && Fields::find(*ext, "KHR_materials_unlit");
+    if (unlit) {
+      // Unlit: the base colour as emission, nothing from lights.
+      mat.emissive = base;
+      mat.ambient = mat.diffuse = mat.specular = Color3::Zero();
+      info.vertex_color_scale = Color3::Zero();
+      warn(p + ": KHR_materials_unlit: drawn as emission of the base colour (vertex colours are not applied)");
+    }
+    mat.alpha = float(bc[3]);
+    std::string alpha_mode = "OPAQUE";
+    double cutoff = 0.5;
+    FACET_TRY(f_.string(g, p, "alphaMode", alpha_mode));
+    FACET_TRY(f_.number(g, p, "alphaCutoff", cutoff, 0.0, 1e30));
+    if (alpha_mode == "MASK") {
+      mat.alpha_cutoff = float(std::min(cutoff, 1.0));
+    } else if (alpha_mode == "BLEND") {
+      mat.blend = BlendMode::alpha;
+    } else if (alpha_mode == "OPAQUE") {
+      mat.alpha = 1.0f;
+    } else {
+      return f_.error(p + ".alphaMode", "expected \"OPAQUE\", \"MASK\" or \"BLEND\", found " + quote(alpha_mode, 32));
+    }
+    FACET_TRY(f_.boolean(g, p, "doubleSided", info.double_sided));
+    info.uses_alpha = alpha_mode == "MASK" || alpha_mode == "BLEND";
+    UvTransform base_transform, emissive_transform;
+    bool base_has = false, emissive_has = false;
+    if (const Json* bt = Fields::find(*pbr, "baseColorTexture")) {
+      std::int32_t t = kNoTexture;
+      FACET_TRY(texture_info(*bt, pp + ".baseColorTexture", t, base_transform, base_has));
+      if (t != kNoTexture) {
+        mat.diffuse_texture = t;
+        mat.texture_mode = TextureMode::modulate;
+        info.needs_uvs = true;
+        info.uv_transform = base_transform;
+      }
+    }
+    const Json* et = Fields::find(g, "emissiveTexture");
+    if (unlit) {
+      if (et) warn(p + ".emissiveTexture: ignored by KHR_materials_unlit");
+    } else {
+      // glTF adds the emission after the base colour: not modulated by the base colour texture.
+      mat.emission_after_texture = true;
+      if (et) {
+        std::int32_t t = kNoTexture;
+        FACET_TRY(texture_info(*et, p + ".emissiveTexture", t, emissive_transform, emissive_has));
+        if (t != kNoTexture) {
+          mat.emissive_texture = t;
+          if (!info.needs_uvs) info.uv_transform = emissive_transform;
+          else if (!(emissive_transform == base_transform)) {
+            warn(p + ".emissiveTexture: its KHR_texture_transform differs from the base colour texture's; facet samples "
+                     "both at one set of coordinates and uses the base colour texture's transform");
+          }
+          info.needs_uvs = true;
+        }
+      }
+    }
+    for (const char* what : {"normalTexture", "occlusionTexture"}) {
+      if (Fields::find(g, what)) warn(p + "." + what + ": not supported; ignored");
+    }
+    if (Fields::find(*pbr, "metallicRoughnessTexture")) warn(pp + ".metallicRoughnessTexture: not supported; ignored");
+  }
+  out_.scene.materials.push_back(std::move(mat));
+  info.index = static_cast<std::uint32_t>(out_.scene.materials.size() - 1);
+  materials_[index] = info;
+  return {};
+}
+
+Status Reader::texture(int index, const std::string& ref_path, std::int32_t& out) {
+  (void)ref_path;
+  const Json& t = doc_.item("textures", static_cast<std::size_t>(index));
+  const std::string p = Fields::at("textures", static_cast<std::size_t>(index));
+  int source = -1, sampler = -1;
+  FACET_TRY(f_.index(t, p, "source", doc_.count("images"), source));
+  FACET_TRY(f_.index(t, p, "sampler", doc_.count("samplers"), sampler));
+  if (source < 0) {
+    warn(p + ": its image is not given by \"source\" (only by an extension facet does not read); drawn untextured");
+    return {};
+  }
+  TextureOptions topt;
+  if (sampler >= 0) {
+    const Json& s = doc_.item("samplers", static_cast<std::size_t>(sampler));
+    const std::string sp = Fields::at("samplers", static_cast<std::size_t>(sampler));
+    std::uint64_t min = 0, mag = 0, ws = kRepeat, wt = kRepeat;
+    FACET_TRY(f_.integer(s, sp, "minFilter", min, 0, 1u << 20));
+    FACET_TRY(f_.integer(s, sp, "magFilter", mag, 0, 1u << 20));
+    if (min != 0 && min != kNearest && min != kLinear && (min < 9984 || min > 9987)) {
+      return f_.error(sp + ".minFilter", "unknown filter " + std::to_string(min));
+    }
+    if (mag != 0 && mag != kNearest && mag != kLinear) return f_.error(sp + ".magFilter", "unknown filter " + std::to_string(mag));
+    topt.filter = sampler_filter(int(min), int(mag));
+    auto wrap = [&](const char* field, std::uint64_t& w, TextureWrap& out_wrap) -> Status {
+      FACET_TRY(f_.integer(s, sp, field, w, 0, 1u << 20));
+      switch (w) {
+        case kRepeat: out_wrap = TextureWrap::repeat; return {};
+        case kClamp: out_wrap = TextureWrap::clamp; return {};
+        case kMirror: out_wrap = TextureWrap::mirror; return {};
+        default: return f_.error(sp + "." + field, "unknown wrap mode " + std::to_string(w));
+      }
+    };
+    TextureWrap s_wrap = TextureWrap::repeat, t_wrap = TextureWrap::repeat;
+    FACET_TRY(wrap("wrapS", ws, s_wrap));
+    FACET_TRY(wrap("wrapT", wt, t_wrap));
+    if (s_wrap != t_wrap) warn(sp + ": wrapS and wrapT differ; facet has one wrap mode per texture and uses wrapS's");
+    topt.wrap = s_wrap;
+  }
+  const auto key = std::make_tuple(source, topt.filter, topt.wrap);
+  if (auto it = textures_.find(key); it != textures_.end()) {
+    out = it->second;
+    return {};
+  }
+  const std::string ip = Fields::at("images", static_cast<std::size_t>(source));
+  const std::uint64_t budget = options_.memory_budget_bytes;
+  const std::uint64_t left = budget == 0 ? io::kNoSizeLimit : budget - std::min(used_, budget);
+  std::string bytes, name;
+  if (Status s = doc_.image_bytes(static_cast<std::size_t>(source), folder_, left, bytes, name); !s.ok()) {
+    if (!options_.allow_missing || s.code() != ErrorCode::io_error) {
+      if (s.code() == ErrorCode::io_error) {
+        return {s.code(), ip, s.message() + " (ModelOptions::allow_missing, facet --allow-missing: draw untextured)"};
+      }
+      return s;
+    }
+    warn(ip + ": the image could not be read: " + s.message() + "; drawn untextured");
+    textures_[key] = kNoTexture;
+    return {};
+  }
+  topt.memory_budget_bytes = budget == 0 ? 0 : std::max<std::uint64_t>(1, budget - std::min(used_ + bytes.size(), budget));
+  Result<Texture> decoded =
+      decode_texture(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()),
+                     f_.source() + ": " + ip, name, topt);
+  if (!decoded) return {decoded.status().code(), ip, decoded.status().message()};
+  FACET_TRY(reserve(decoded->texels.size() * 4, ip));
+  out_.scene.textures.push_back(std::move(*decoded));
+  out = static_cast<std::int32_t>(out_.scene.textures.size() - 1);
+  textures_[key] = out;
+  return {};
+}
+
+Status Reader::add_camera(int camera, const std::string& p, const Eigen::Matrix4d& world) {
+  const Json& c = doc_.item("cameras", static_cast<std::size_t>(camera));
+  const std::string cp = Fields::at("cameras", static_cast<std::size_t>(camera));
+  if (out_.has_camera) {
+    if (!cameras_noted_) warn("the file has more than one camera node; the first in the scene's order is used");
+    cameras_noted_ = true;
+    return {};
+  }
+  std::string type;
+  FACET_TRY(f_.string(c, cp, "type", type, true));
+  if (type != "perspective") {
+    if (type != "orthographic") return f_.error(cp + ".type", "expected \"perspective\" or \"orthographic\", found " + quote(type, 32));
+    warn(cp + ": orthographic cameras are not supported (facet projects in perspective only); not used");
+    return {};
+  }
+  const Json* pc = nullptr;
+  FACET_TRY(f_.object(c, cp, "perspective", pc));
+  if (!pc) return f_.error(cp + ".perspective", "required, missing");
+  const std::string pp = cp + ".perspective";
+  double yfov = 0, znear = 0, zfar = 0, aspect = 0;
+  FACET_TRY(f_.number(*pc, pp, "yfov", yfov, 1e-6, std::numbers::pi - 1e-6, true));
+  FACET_TRY(f_.number(*pc, pp, "znear", znear, 1e-30, 1e30, true));
+  if (Fields::find(*pc, "aspectRatio")) {
+    FACET_TRY(f_.number(*pc, pp, "aspectRatio", aspect, 1e-6, 1e6));
+    warn(pp + ".aspectRatio " + format_number(aspect) +
+         ": the image's own aspect is used, keeping the vertical field of view (never stretching the picture)");
+  }
+  Camera cam;
+  const Eigen::Vector3d eye = world.topRightCorner<3, 1>();
+  Eigen::Vector3d forward = -world.block<3, 1>(0, 2), up = world.block<3, 1>(0, 1);
+  if (!(forward.norm() > 1e-12) || !(up.norm() > 1e-12)) return f_.error(p, "the camera node's matrix is singular");
+  forward.normalize();
+  up.normalize();
+  cam.eye = eye.cast<float>();
+  cam.target = (eye + forward).cast<float>();
+  cam.up = up.cast<float>();
+  cam.vertical_fov_deg = float(yfov * 180.0 / std::numbers::pi);
+  cam.aspect = 0.0f;
+  cam.near = float(znear);
+  if (Fields::find(*pc, "zfar")) {
+    FACET_TRY(f_.number(*pc, pp, "zfar", zfar, -1e30, 1e30));
+    if (!(zfar > znear)) return f_.error(pp + ".zfar", "must be greater than znear (" + format_number(znear) + "), found " + format_number(zfar));
+    cam.far = float(zfar);
+  } else {
+    // An infinite projection: facet's depth needs a far plane, put a million near planes away.
+    cam.far = float(znear * 1e6);
+    warn(pp + ": no zfar (an infinite projection); facet uses far = 1e6 x znear = " + format_number(cam.far));
+  }
+  out_.scene.camera = cam;
+  out_.has_camera = true;
+  return {};
+}
+
+Status Reader::add_light(const Json& ext, const std::string& p, const Eigen::Matrix4d& world) {
+  const std::string xp = p + ".extensions.KHR_lights_punctual";
+  FACET_TRY(f_.object(ext, xp));
+  const Json* root_ext = Fields::find(doc_.json(), "extensions");
+  const Json* root_lights = root_ext ? Fields::find(*root_ext, "KHR_lights_punctual") : nullptr;
+  const Json* lights = root_lights ? Fields::find(*root_lights, "lights") : nullptr;
+  if (lights && !lights->is_array()) return f_.error("extensions.KHR_lights_punctual.lights", "expected an array");
+  int index = -1;
+  FACET_TRY(f_.index(ext, xp, "light", lights ? lights->size() : 0, index, true));
+  const Json& g = (*lights)[static_cast<std::size_t>(index)];
+  const std::string gp = "extensions.KHR_lights_punctual.lights[" + std::to_string(index) + "]";
+  FACET_TRY(f_.object(g, gp));
+  Light l;
+  FACET_TRY(f_.string(g, gp, "name", l.name));
+  if (l.name.empty()) l.name = gp;
+  double color[3] = {1, 1, 1}, intensity = 1, range = 0;
+  FACET_TRY(f_.numbers(g, gp, "color", 3, color, 0.0, 1e30));
+  FACET_TRY(f_.number(g, gp, "intensity", intensity, 0.0, 1e30));
+  std::string type;
+  FACET_TRY(f_.string(g, gp, "type", type, true));
+  // Units (docs/content.md): directional lux and point/spot candela both map to facet's light
+  // colour one to one; point and spot lights fall off as 1 / d^2 (quadratic attenuation 1).
+  l.diffuse = l.specular = Color3(float(color[0]), float(color[1]), float(color[2])) * float(intensity);
+  const Eigen::Vector3d pos = world.topRightCorner<3, 1>();
+  Eigen::Vector3d dir = -world.block<3, 1>(0, 2);
+  if (!(dir.norm() > 1e-12)) return f_.error(p, "the light node's matrix is singular");
+  dir.normalize();
+  if (type == "directional") {
+    l.type = LightType::directional;
+    l.direction = dir.cast<float>();
+  } else if (type == "point" || type == "spot") {
+    l.type = type == "point" ? LightType::point : LightType::spot;
+    l.position = pos.cast<float>();
+    l.constant_attenuation = 0.0f;
+    l.quadratic_attenuation = 1.0f;
+    if (Fields::find(g, "range")) {
+      FACET_TRY(f_.number(g, gp, "range", range, 0.0, 1e30));
+      if (!(range > 0.0)) return f_.error(gp + ".range", "expected a number > 0 (leave it out for an infinite range)");
+      l.range = float(range);
+    }
+    if (l.type == LightType::spot) {
+      const Json* spot = nullptr;
+      FACET_TRY(f_.object(g, gp, "spot", spot));
+      if (!spot) return f_.error(gp + ".spot", "required for a spot light, missing");
+      double inner = 0.0, outer = std::numbers::pi / 4;
+      FACET_TRY(f_.number(*spot, gp + ".spot", "innerConeAngle", inner, 0.0, std::numbers::pi / 2));
+      FACET_TRY(f_.number(*spot, gp + ".spot", "outerConeAngle", outer, 0.0, std::numbers::pi / 2));
+      l.direction = dir.cast<float>();
+      if (!(inner < outer && outer > 0.0)) return f_.error(gp + ".spot", "expected 0 <= innerConeAngle < outerConeAngle <= pi/2");
+      l.spot_shape = SpotShape::smooth_cone;
+      l.spot_inner_deg = float(inner * 180.0 / std::numbers::pi);
+      l.spot_outer_deg = float(outer * 180.0 / std::numbers::pi);
+      l.spot_falloff = 2.0f;
+    }
+  } else {
+    return f_.error(gp + ".type", "expected \"directional\", \"point\" or \"spot\", found " + quote(type, 32));
+  }
+  out_.scene.lights.push_back(l);
+  out_.has_lights = true;
+  return {};
+}
+
+}  // namespace facet::gltf

@@ -1,0 +1,96 @@
+// Internal: glTF 2.0 into a facet Scene. The Document (gltf_document.hpp) has checked the
+// container, the buffers and the bufferViews; the reader walks the default scene's node trees and
+// reads the meshes, materials, textures, cameras and lights they use, checking every field it
+// reads (type, range, index) and naming its JSON path. docs/content.md documents the mapping.
+// gltf.cpp: nodes, accessors and meshes; gltf_material.cpp: materials, textures, cameras, lights.
+#pragma once
+
+#include <map>
+#include <set>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "content/gltf_document.hpp"
+#include "facet/model.hpp"
+
+namespace facet::gltf {
+
+constexpr int kByte = 5120, kUnsignedByte = 5121, kShort = 5122, kUnsignedShort = 5123, kUnsignedInt = 5125,
+              kFloat = 5126;
+
+// KHR_texture_transform as the affine map it is on glTF's texture coordinates:
+// uv' = [a b c; d e f] (u, v, 1).
+struct UvTransform {
+  double m[6] = {1, 0, 0, 0, 1, 0};
+  bool identity() const { return m[0] == 1 && m[1] == 0 && m[2] == 0 && m[3] == 0 && m[4] == 1 && m[5] == 0; }
+  bool operator==(const UvTransform& o) const {
+    for (int i = 0; i < 6; ++i)
+      if (m[i] != o.m[i]) return false;
+    return true;
+  }
+};
+
+class Reader {
+ public:
+  Reader(const Document& doc, const io::AssetFolder& folder, const ModelOptions& options, Model& out)
+      : doc_(doc), f_(doc.fields()), folder_(folder), options_(options), out_(out) {}
+
+  Status read(std::uint64_t bytes_used);
+
+ private:
+  struct MaterialInfo {
+    std::uint32_t index = 0;
+    Color3 vertex_color_scale{1.0f, 1.0f, 1.0f};
+    bool double_sided = false;
+    bool needs_uvs = false;
+    bool uses_alpha = false;  // alphaMode MASK or BLEND
+    UvTransform uv_transform;
+  };
+  // One attribute's values, count x components doubles.
+  struct Values {
+    std::vector<double> v;
+    int components = 0;
+    std::size_t count() const { return components ? v.size() / std::size_t(components) : 0; }
+  };
+  static constexpr std::uint32_t kSkipped = ~std::uint32_t{0};
+
+  void warn(const std::string& what) { out_.warnings.push_back(what); }
+  Status reserve(std::uint64_t bytes, const std::string& p);
+
+  // gltf.cpp
+  Status check_extensions();
+  Status walk(std::size_t scene_index);
+  Status local_matrix(const Json& node, const std::string& p, Eigen::Matrix4d& out) const;
+  Status read_accessor(int index, const std::string& p, const char* semantic, Values& out);
+  Status view_span(int view, std::uint64_t offset, std::uint64_t count, std::size_t element_bytes,
+                   std::size_t stride, const std::string& p, const std::uint8_t*& data) const;
+  Status add_mesh_instances(const Json& node, int mesh, const std::string& node_path, const Eigen::Matrix4d& world);
+  Status primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index, std::uint32_t& material_index,
+                   bool& double_sided);
+  Status draco_attributes(const Json& ext, const std::string& p, const std::map<std::string, int>& attributes,
+                          std::map<std::string, Values>& values, std::vector<std::uint32_t>& indices);
+
+  // gltf_material.cpp
+  Status material(int index, const std::string& ref_path, MaterialInfo& info);
+  Status texture_info(const Json& ti, const std::string& tp, std::int32_t& t, UvTransform& transform, bool& has_transform);
+  Status texture(int index, const std::string& ref_path, std::int32_t& out);
+  std::uint32_t untextured_twin(std::uint32_t index);
+  Status add_camera(int camera, const std::string& p, const Eigen::Matrix4d& world);
+  Status add_light(const Json& ext, const std::string& p, const Eigen::Matrix4d& world);
+
+  const Document& doc_;
+  const Fields& f_;
+  const io::AssetFolder& folder_;
+  const ModelOptions& options_;
+  Model& out_;
+  std::uint64_t used_ = 0;
+  bool cameras_noted_ = false;
+  std::map<std::pair<std::size_t, std::size_t>, std::tuple<std::uint32_t, std::uint32_t, bool>> primitives_;
+  std::map<int, MaterialInfo> materials_;
+  std::map<std::uint32_t, std::uint32_t> untextured_;
+  std::map<std::tuple<int, TextureFilter, TextureWrap>, std::int32_t> textures_;
+  std::set<std::string> ignored_attributes_;
+};
+
+}  // namespace facet::gltf
