@@ -9,6 +9,7 @@
 #include <draco/mesh/triangle_soup_mesh_builder.h>
 #include <meshoptimizer.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -218,6 +219,20 @@ TEST(Trust, WrongTypesAndRangesNameTheirJsonPath) {
     EXPECT_NE(m.status().message().find(path), std::string::npos) << m.status().message();
     EXPECT_NE(m.status().code(), ErrorCode::out_of_memory) << m.status().message();  // checked before any allocation
   }
+}
+
+TEST(Trust, NodeTransformsComposeTranslationRotationScale) {
+  GltfBuilder b = quad();
+  // A quarter turn about z after a non-uniform scale: (1, 0, 0) -> (2, 0, 0) -> (0, 2, 0).
+  const double h = std::sqrt(0.5);
+  b.doc["nodes"][0]["rotation"] = {0, 0, h, h};
+  b.doc["nodes"][0]["scale"] = {2, 1, 1};
+  b.doc["nodes"][0]["translation"] = {0, 0, 5};
+  Result<Model> m = parse(b.embedded());
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  const Instance& inst = m->scene.objects[0];
+  const Vec3 p = (inst.model * Vec3(1, 0, 0).homogeneous()).head<3>();
+  EXPECT_LT((p - Vec3(0, 2, 5)).norm(), 1e-5f) << p.transpose();
 }
 
 TEST(Trust, LinePrimitivesAreSkippedWithAWarning) {

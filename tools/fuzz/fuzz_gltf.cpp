@@ -1,4 +1,4 @@
-// Fuzzes the glTF importer (tinygltf and facet's checks): any bytes, as .gltf JSON or .glb, either
+// Fuzzes the glTF importer (the container, the JSON reader, the meshopt and Draco decoders): any bytes, as .gltf JSON or .glb, either
 // fail with a message or give a valid scene, which then renders within its image.
 #include "fuzz_support.hpp"
 
