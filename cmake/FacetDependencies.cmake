@@ -15,7 +15,7 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)  # libstb-dev
 
 # Debian's xsimd 8.1 exports INTERFACE_LINK_LIBRARIES "xtl", a library nothing provides: linking
-# the target fails with `cannot find -lxtl` (shared/design/platform.md, trap 1). xsimd only needs
+# the target fails with `cannot find -lxtl` (Debian's xsimd 8.1 package). xsimd only needs
 # xtl for xtensor interop, so an empty interface target of that name satisfies it. Consumers link
 # xsimd as $<BUILD_INTERFACE:xsimd> so it never leaks into an installed package.
 if(NOT TARGET xtl)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# ISA isolation check (shared/design/platform.md, trap 5), on a linked binary:
+# ISA isolation check (an inline function compiled into files with different ISA flags is merged by the linker, and the wider copy may run on a CPU without it), on a linked binary:
 #  1. no function outside the avx2/avx512 kernels contains a VEX/EVEX instruction (mnemonics
 #     starting with "v"): neither the sse2 kernel nor baseline code nor an inline function that an
 #     ISA file instantiated and the linker then chose as the only copy;

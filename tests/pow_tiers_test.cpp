@@ -1,5 +1,6 @@
 // The pow tiers on every ISA this CPU has: contracts swept over their domain, and the special
-// inputs of shared/design/lighting.md, including where a tier is documented not to approximate.
+// inputs of the lighting model (0, 1, tiny and huge exponents), including where a tier is documented not to
+// approximate.
 #include <cmath>
 #include <cstring>
 #include <limits>

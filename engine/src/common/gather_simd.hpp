@@ -1,7 +1,7 @@
 // Internal: 32-bit gathers for the per-ISA kernels, a template on the xsimd architecture (xsimd
 // 8.1 has none for avx512bw and emulates them badly elsewhere): the hardware's on avx2 and avx512,
 // element loads on sse2. Included only by the per-ISA files; everything is a template in an
-// unnamed namespace (platform.md, trap 5).
+// unnamed namespace (an inline function compiled into files with different ISA flags is merged by the linker, and the wider copy may run on a CPU without it).
 #pragma once
 
 #include <cstdint>

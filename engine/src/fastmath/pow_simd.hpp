@@ -1,6 +1,6 @@
 // pow(x, s) for the specular and spot exponents, on xsimd batches. Included only by the per-ISA
 // kernel files: everything here is a template on the batch type, so no instantiation is shared
-// between files built with different ISA flags (shared/design/platform.md, trap 5).
+// between files built with different ISA flags (an inline function compiled into files with different ISA flags is merged by the linker, and the wider copy may run on a CPU without it).
 //
 // Common to every tier: x is first clamped into [0, 1] (NaN -> 0, negative -> 0, 1 + ulp -> 1,
 // decided on the bits);

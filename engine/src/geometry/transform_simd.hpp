@@ -3,7 +3,7 @@
 // each compiled with -ffp-contract=off, so every operation is the scalar function's IEEE
 // operation in the same order and every output field is bit-identical to it (coverage depends on
 // the snapped positions: tests/raster_simd_test.cpp compares them on every ISA). Everything here
-// is a template on Arch in an unnamed namespace (platform.md, trap 5).
+// is a template on Arch in an unnamed namespace (an inline function compiled into files with different ISA flags is merged by the linker, and the wider copy may run on a CPU without it).
 #pragma once
 
 #include <array>

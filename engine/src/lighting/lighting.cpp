@@ -51,7 +51,7 @@ const char* to_string(PowTier tier) noexcept {
 }
 
 // GCC's __builtin_cpu_supports checks CPUID and, for AVX and AVX-512, that the OS saves the wide
-// registers (XCR0), unlike xsimd 8.1's detection (shared/design/platform.md, trap 6).
+// registers (XCR0), unlike xsimd 8.1's detection, which reads the CPUID bits only.
 bool isa_supported(Isa isa) noexcept {
   switch (isa) {
     case Isa::best:

@@ -49,7 +49,7 @@ template <class B>
 B rsqrt_estimate(const B& x) {
   using A = typename B::arch_type;
   if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
-    return B(_mm512_rsqrt14_ps(x));  // xsimd 8.1's rsqrt does not compile here (platform.md, trap 2)
+    return B(_mm512_rsqrt14_ps(x));  // xsimd 8.1's rsqrt does not compile here (it calls _mm512_rsqrt23_ps, which GCC does not have)
   } else if constexpr (std::is_base_of_v<xsimd::avx, A>) {
     return B(_mm256_rsqrt_ps(x));
   } else {

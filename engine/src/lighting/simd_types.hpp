@@ -1,6 +1,6 @@
 // Internal: what the SIMD lighting kernels read. Plain data with no Eigen and no standard-library
 // containers, because the kernels are compiled once per ISA and must not instantiate inline code
-// that the linker could merge across ISA files (shared/design/platform.md, trap 5).
+// that the linker could merge across ISA files (an inline function compiled into files with different ISA flags is merged by the linker, and the wider copy may run on a CPU without it).
 #pragma once
 
 #include <cstddef>

@@ -1,7 +1,7 @@
 // Internal: array-of-structures <-> structure-of-arrays conversion for the lighting streams, and
 // the bounding-radius pass, written with SSE2 shuffles (the x86-64 baseline). Out of line in a
 // baseline file on purpose: an inline copy could be merged with one compiled under AVX flags
-// (shared/design/platform.md, trap 5).
+// (an inline function compiled into files with different ISA flags is merged by the linker, and the wider copy may run on a CPU without it).
 #pragma once
 
 #include <cstddef>

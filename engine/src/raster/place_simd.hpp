@@ -4,7 +4,7 @@
 // same integers for the placed ones (oriented vertices, pixel bounds, top-left biases), so the
 // records are bit-identical to the scalar path's (tests/raster_simd_test.cpp, every ISA). Only
 // the per-ISA files raster_simd_{sse2,avx2,avx512}.cpp include this header; everything is a
-// template on Arch in an unnamed namespace (platform.md, trap 5).
+// template on Arch in an unnamed namespace (an inline function compiled into files with different ISA flags is merged by the linker, and the wider copy may run on a CPU without it).
 //
 // Exactness: snapped positions inside the guard band are |x|, |y| <= 2^23 (triangle_setup.hpp),
 // so differences of two fit in 32 bits and the bounds and biases are exact in 32-bit lanes. Twice

@@ -1,6 +1,6 @@
 // Internal: the SIMD tile rasterizer's interface. Plain data only (no Eigen, no standard
 // containers): the kernels are compiled once per ISA and must not instantiate inline code the
-// linker could merge across ISA files (shared/design/platform.md, trap 5).
+// linker could merge across ISA files (an inline function compiled into files with different ISA flags is merged by the linker, and the wider copy may run on a CPU without it).
 //
 // Tile memory is block-linear: each plane (R, G, B, A, depth) of a size x size tile is stored as
 // 8x8 blocks of 64 floats (row-major inside a block, blocks row-major in the tile), so every SIMD

@@ -3,7 +3,7 @@
 // flags, always with -ffp-contract=off so that every ISA does the same IEEE operations in the same
 // order: images are then byte-identical across sse2, avx2 and avx512 (tests/raster_simd_test.cpp).
 // Everything here is a template on Arch or sits in an unnamed namespace, so no inline function is
-// shared with another ISA's object file (platform.md, trap 5).
+// shared with another ISA's object file (an inline function compiled into files with different ISA flags is merged by the linker, and the wider copy may run on a CPU without it).
 //
 // Per triangle and tile:
 //   1. Hierarchical test on 8x8 blocks with the exact 64-bit edge functions at the block corners:

@@ -3,7 +3,7 @@
 // rasterizer (V = float) and the SIMD kernels (V = an xsimd batch) do the same IEEE operations in
 // the same order (every file that includes this is built with -ffp-contract=off): the scalar and
 // SIMD paths give the same bits for the same interpolated inputs. Everything is in an unnamed
-// namespace: no inline function crosses ISA files (platform.md, trap 5).
+// namespace: no inline function crosses ISA files (an inline function compiled into files with different ISA flags is merged by the linker, and the wider copy may run on a CPU without it).
 #pragma once
 
 #include <cmath>

@@ -7,7 +7,8 @@
 // after set-up has chosen the triangle's face (select_face), only the first `raster` floats are
 // interpolated per pixel. Varyings used by one face only (the back colour) are placed last, so
 // they fall outside `raster`. Plain data: the per-ISA raster kernels read `offset` directly and
-// call none of the functions here (no inline code shared across ISA files: platform.md, trap 5).
+// call none of the functions here (no inline code shared across ISA files: the linker merges an
+// inline function compiled with different ISA flags, and the wider copy may run on a CPU without it).
 #pragma once
 
 #include <cstdint>

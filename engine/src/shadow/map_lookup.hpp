@@ -1,5 +1,6 @@
 // Internal: a shadow map as its lookup kernels read it (plain data, no inline code: the per-ISA
-// files read it directly, platform.md trap 5), and the kernels' signature. The scalar twin
+// files read it directly: the linker merges an inline function shared by files with different ISA
+// flags into one copy, maybe the wider one), and the kernels' signature. The scalar twin
 // (map.cpp) and the SIMD kernels (map_simd.hpp) do the same IEEE float operations in the same
 // order, so their visibility is the same bits (tested on every ISA).
 #pragma once

@@ -2,8 +2,8 @@
 // sample_scalar (sampler.cpp), the same IEEE float operations in the same order, with coordinates,
 // weights, LOD and filtering in SIMD lanes and the texel fetches per lane (the levels of a
 // trilinear sample may differ from lane to lane). Included only by the per-ISA raster files, each
-// compiled with -ffp-contract=off; everything is a template or in an unnamed namespace (platform.md,
-// trap 5).
+// compiled with -ffp-contract=off; everything is a template or in an unnamed namespace (an inline
+// function compiled into files with different ISA flags is merged by the linker, and the wider copy may run on a CPU without it).
 #pragma once
 
 #include <cfloat>
