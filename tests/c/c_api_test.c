@@ -18,6 +18,18 @@ static int failures = 0;
 
 enum { W = 48, H = 32, GUARD = 64 };
 
+/* A resolver serving one OBJ from memory under the name "mem/tri.obj". */
+static const char kTriangle[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+static int resolver_calls = 0;
+static int resolve_from_memory(void* user, const char* name, const void** bytes, size_t* size) {
+  (void)user;
+  ++resolver_calls;
+  if (strcmp(name, "mem/tri.obj") != 0) return 1;
+  *bytes = kTriangle;
+  *size = sizeof kTriangle - 1;
+  return 0;
+}
+
 static int progress_calls = 0;
 static int cancel_at_first_call(void* user, double done) {
   (void)user;
@@ -450,6 +462,23 @@ int main(void) {
     CHECK(strstr(facet_scene_last_error(e), "no_such_file.gltf") != NULL);
     CHECK(facet_render(er, e, after, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, &st) == FACET_OK); /* unchanged */
     CHECK(st.pixels_filled > 50);
+    /* An mtllib that leads out of the model's folder is refused, and allowed once its folder is. */
+    f = fopen("facet_c_api_test_out.obj", "w");
+    fputs("mtllib ../facet_c_api_outside.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", f);
+    fclose(f);
+    CHECK(facet_scene_load_file(e, "facet_c_api_test_out.obj", 0, 0, 0) == FACET_INVALID_ARGUMENT);
+    CHECK(strstr(facet_scene_last_error(e), "leads out") != NULL);
+    CHECK(facet_scene_allow_path(e, "..") == FACET_OK);
+    CHECK(facet_scene_load_file(e, "facet_c_api_test_out.obj", FACET_LOAD_ALLOW_MISSING, 0, 0) == FACET_OK);
+    CHECK(facet_scene_allow_path(e, NULL) == FACET_OK);
+    CHECK(facet_scene_load_file(e, "facet_c_api_test_out.obj", FACET_LOAD_ALLOW_MISSING, 0, 0) == FACET_INVALID_ARGUMENT);
+    remove("facet_c_api_test_out.obj");
+    /* A resolver: the model comes from memory, no file is opened. */
+    CHECK(facet_scene_set_resolver(e, resolve_from_memory, NULL) == FACET_OK);
+    CHECK(facet_scene_load_file(e, "mem/tri.obj", 0, 0, 0) == FACET_OK);
+    CHECK(resolver_calls == 1);
+    CHECK(facet_scene_load_file(e, "mem/other.obj", 0, 0, 0) == FACET_IO_ERROR);
+    CHECK(facet_scene_set_resolver(e, NULL, NULL) == FACET_OK);
     remove("facet_c_api_test.obj");
     remove("facet_c_api_test.mtl");
     facet_renderer_destroy(er);

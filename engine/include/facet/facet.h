@@ -251,6 +251,17 @@ enum { FACET_LOAD_ALLOW_MISSING = 1, FACET_LOAD_FRAME = 2 };
 facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigned flags, float aspect,
                                    uint64_t memory_budget_bytes);
 const char* facet_scene_warnings(const facet_scene* scene);
+/* Which files facet_scene_load_file may read (facet/assets.hpp). By default a scene or model may
+ * name files in its own folder only: no absolute path, no ".." that climbs out, no URI, no link
+ * leading out. facet_scene_allow_path adds a folder whose files may be named too (NULL clears the
+ * list). facet_scene_set_resolver replaces the file system: every file a load needs, the one
+ * passed to facet_scene_load_file included, is asked of `resolve` by name (the naming file's
+ * folder joined with the name, normalised), and facet opens no file. `resolve` returns 0 and sets
+ * *bytes and *size (facet copies them before it calls `resolve` again or returns), or non-zero
+ * when it has no such file. NULL `resolve` goes back to the file system. */
+typedef int (*facet_resolve_fn)(void* user, const char* name, const void** bytes, size_t* size);
+facet_status facet_scene_allow_path(facet_scene* scene, const char* folder);
+facet_status facet_scene_set_resolver(facet_scene* scene, facet_resolve_fn resolve, void* user);
 /* A camera framing every object of the scene at `aspect`, and facet's default rig of lights (a
  * headlight and a key light, ambient 0.15) added to the scene's lights. */
 facet_status facet_scene_frame(facet_scene* scene, float aspect);

@@ -25,6 +25,7 @@ struct facet_scene {
   facet::Scene scene;
   std::string error;
   std::string warnings;  // of the last facet_scene_load_file
+  facet::AssetAccess assets;  // what facet_scene_load_file may read
   // Stable ids: object_ids[i] / light_ids[i] is the id of scene.objects[i] / scene.lights[i]
   // (ids are handed out in order and never reused, so they equal the index until one is removed).
   std::vector<std::uint32_t> object_ids, light_ids;
@@ -692,6 +693,7 @@ facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigne
       facet::ModelOptions o;
       o.memory_budget_bytes = memory_budget_bytes;
       o.allow_missing = (flags & FACET_LOAD_ALLOW_MISSING) != 0;
+      o.assets = scene->assets;
       facet::Result<facet::Model> model = facet::load_model(path, o);
       if (!model) return report(scene->error, model.status());
       for (const std::string& w : model->warnings) warnings += w + "\n";
@@ -704,6 +706,7 @@ facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigne
       facet::LoadOptions o;
       o.memory_budget_bytes = memory_budget_bytes;
       o.warning = [&](const std::string& w) { warnings += w + "\n"; };
+      o.assets = scene->assets;
       facet::Result<facet::Scene> s = facet::load_scene_file(path, o);
       if (!s) return report(scene->error, s.status());
       loaded = std::move(*s);
@@ -716,6 +719,37 @@ facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigne
 }
 
 const char* facet_scene_warnings(const facet_scene* scene) { return scene ? scene->warnings.c_str() : ""; }
+
+facet_status facet_scene_allow_path(facet_scene* scene, const char* folder) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!folder) {
+      scene->assets.allowed_roots.clear();
+    } else {
+      if (!*folder) return fail(scene->error, "folder", "empty");
+      scene->assets.allowed_roots.emplace_back(folder);
+    }
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_set_resolver(facet_scene* scene, facet_resolve_fn resolve, void* user) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!resolve) {
+      scene->assets.resolver = nullptr;
+    } else {
+      scene->assets.resolver = [resolve, user](const std::string& name) -> facet::Result<std::string> {
+        const void* bytes = nullptr;
+        std::size_t size = 0;
+        if (resolve(user, name.c_str(), &bytes, &size) != 0) return facet::Status{facet::ErrorCode::io_error, "", "no such file"};
+        if (!bytes && size > 0) return facet::Status{facet::ErrorCode::invalid_argument, "", "the resolver gave no bytes"};
+        return size == 0 ? std::string() : std::string(static_cast<const char*>(bytes), size);
+      };
+    }
+    return report(scene->error, {});
+  });
+}
 
 facet_status facet_scene_frame(facet_scene* scene, float aspect) {
   if (!scene) return FACET_INVALID_ARGUMENT;
