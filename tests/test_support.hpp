@@ -1,6 +1,8 @@
 // Helpers shared by the tests.
 #pragma once
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <string>
 
@@ -20,6 +22,25 @@ inline LoadOptions scene_options() {
   o.assets.allowed_roots = {data_dir(), models_dir()};
   return o;
 }
+
+// A fresh folder for the running test, removed with everything in it at the end of the test.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& prefix = "facet_test") {
+    path_ = std::filesystem::temp_directory_path() /
+            (prefix + "_" + std::to_string(::getpid()) + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() { std::filesystem::remove_all(path_); }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+  std::string str() const { return path_.string(); }
+
+ private:
+  std::filesystem::path path_;
+};
 
 // Skips the calling test when ../shared/models is not beside the checkout.
 #define FACET_REQUIRE_MODELS()                                                               \

@@ -28,20 +28,13 @@ const std::vector<float> kPositions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
 const std::vector<std::uint16_t> kIndices = {0, 1, 2, 0, 2, 3};
 constexpr const char* kSecret = "SECRET-BYTES-0123456789";
 
-class Dir {
+// A test folder with a model folder inside it and a file beside that folder which no model may read.
+class Dir : public test::TempDir {
  public:
-  Dir() {
-    path_ = fs::temp_directory_path() / ("facet_trust_" + std::to_string(::getpid()) + "_" +
-                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_ / "model");
-    test::write_text((path_ / "secret.bin").string(), std::string(kSecret) + std::string(40, 'x'));
+  Dir() : test::TempDir("facet_trust") {
+    fs::create_directories(*this / "model");
+    test::write_text(*this / "secret.bin", std::string(kSecret) + std::string(40, 'x'));
   }
-  ~Dir() { fs::remove_all(path_); }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
 };
 
 Result<Model> parse(const std::string& text, const std::string& base = "", const ModelOptions& o = {}) {
@@ -113,9 +106,18 @@ TEST(Trust, AHostWidensOrReplacesTheFileSystem) {
   m = load_model("pack/m.gltf", r);
   ASSERT_TRUE(m.ok()) << m.status().message();
   EXPECT_EQ(asked, (std::vector<std::string>{"pack/m.gltf", "pack/data/m.bin"}));
-  test::write_text(dir / "model/x.gltf", b.external("../../etc/passwd"));
+  // The same confinement holds for a resolver's names: ".." may not climb out of the model's folder.
   asked.clear();
-  EXPECT_FALSE(load_model("pack/x.gltf", r).ok());
+  ModelOptions escaping;
+  escaping.assets.resolver = [&](const std::string& name) -> Result<std::string> {
+    asked.push_back(name);
+    if (name == "pack/x.gltf") return b.external("../../etc/passwd");
+    return Status{ErrorCode::io_error, "", "not in the archive"};
+  };
+  m = load_model("pack/x.gltf", escaping);
+  ASSERT_FALSE(m.ok());
+  EXPECT_NE(m.status().message().find("leads out"), std::string::npos) << m.status().message();
+  EXPECT_EQ(asked, (std::vector<std::string>{"pack/x.gltf"}));
 }
 
 TEST(Trust, ObjMtlAndSceneNamesStayInTheirFolder) {

@@ -76,7 +76,7 @@ struct Form {
   int component;
   int normalized;  // 0: must not be, 1: must be, 2: either
 };
-bool allowed(const char* semantic, int type, int components, int component, bool normalized) {
+bool allowed(const char* semantic, int components, int component, bool normalized) {
   const std::string s = semantic;
   std::vector<Form> forms;
   if (s == "POSITION") {
@@ -95,7 +95,6 @@ bool allowed(const char* semantic, int type, int components, int component, bool
     if (components != 1) return false;
     forms = {{kUnsignedByte, 0}, {kUnsignedShort, 0}, {kUnsignedInt, 0}};
   }
-  (void)type;
   for (const Form& f : forms)
     if (f.component == component && (f.normalized == 2 || (f.normalized == 1) == normalized)) return true;
   return false;
@@ -199,7 +198,7 @@ Status Reader::walk(std::size_t scene_index) {
     FACET_TRY(f_.index(node, p, "mesh", doc_.count("meshes"), mesh));
     FACET_TRY(f_.index(node, p, "camera", doc_.count("cameras"), camera));
     FACET_TRY(f_.index(node, p, "skin", doc_.count("skins"), skin));
-    if (mesh >= 0) FACET_TRY(add_mesh_instances(node, mesh, p, world));
+    if (mesh >= 0) FACET_TRY(add_mesh_instances(mesh, p, world));
     if (camera >= 0) FACET_TRY(add_camera(camera, p, world));
     if (skin >= 0) warn(p + ": skins are not supported; the mesh is drawn in its bind pose");
     if (Fields::find(node, "weights")) warn(p + ": morph target weights are not supported; the base mesh is drawn");
@@ -285,7 +284,7 @@ Status Reader::read_accessor(int index, const std::string& p, const char* semant
     return f_.error(ap + ".normalized", std::string("true is not allowed for ") + component_name(component) + " components");
   }
   const char* use = semantic ? semantic : "indices";
-  if (!allowed(use, 0, components, component, normalized)) {
+  if (!allowed(use, components, component, normalized)) {
     return f_.error(ap, type + " of " + (normalized ? "normalized " : "") + component_name(component) + " cannot be used for " + p);
   }
   int view = -1;
@@ -350,8 +349,7 @@ Status Reader::read_accessor(int index, const std::string& p, const char* semant
   return {};
 }
 
-Status Reader::add_mesh_instances(const Json& node, int mesh_id, const std::string& node_path, const Eigen::Matrix4d& world) {
-  (void)node;
+Status Reader::add_mesh_instances(int mesh_id, const std::string& node_path, const Eigen::Matrix4d& world) {
   const Json& mesh = doc_.item("meshes", static_cast<std::size_t>(mesh_id));
   const std::string mp = Fields::at("meshes", static_cast<std::size_t>(mesh_id));
   const Json* prims = nullptr;
@@ -404,7 +402,7 @@ Status Reader::primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index
   int material_id = -1;
   FACET_TRY(f_.index(prim, p, "material", doc_.count("materials"), material_id));
   MaterialInfo info;
-  FACET_TRY(material(material_id, p + ".material", info));
+  FACET_TRY(material(material_id, info));
   const Json* attrs = nullptr;
   FACET_TRY(f_.object(prim, p, "attributes", attrs));
   if (!attrs) return f_.error(p + ".attributes", "required, missing");

@@ -211,7 +211,8 @@ Result<Document> Document::parse(std::span<const std::uint8_t> bytes, const std:
   if (too_deep) return fail("the JSON nests deeper than " + std::to_string(kMaxDepth) + " levels");
   if (doc.json_.is_discarded()) {
     try {
-      (void)Json::parse(b, b + text.size());
+      const Json again = Json::parse(b, b + text.size());
+      (void)again;
     } catch (const Json::parse_error& e) {
       const std::size_t upto = std::min<std::size_t>(e.byte, text.size());
       const auto line = 1 + std::count(b, b + upto, '\n');

@@ -84,8 +84,9 @@ class Document {
   const View& view(std::size_t i) const { return views_[i]; }
   std::size_t view_count() const noexcept { return views_.size(); }
 
-  // Bytes of an image: its bufferView's or its uri's (data: or a file). Empty with a warning text
-  // in `missing` when a file cannot be read and `allow_missing`.
+  // Bytes of an image: its bufferView's or its uri's (data: or a file), at most `max_bytes`; `name`
+  // is what messages call it (the file name, or "images[i]"). A file that cannot be read is
+  // ErrorCode::io_error.
   Status image_bytes(std::size_t image, const io::AssetFolder& folder, std::uint64_t max_bytes, std::string& out,
                      std::string& name) const;
 

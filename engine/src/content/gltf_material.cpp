@@ -70,11 +70,10 @@ Status Reader::texture_info(const Json& ti, const std::string& tp, std::int32_t&
     has_transform = false;
     return {};
   }
-  return texture(index, tp + ".index", t);
+  return texture(index, t);
 }
 
-Status Reader::material(int index, const std::string& ref_path, MaterialInfo& info) {
-  (void)ref_path;
+Status Reader::material(int index, MaterialInfo& info) {
   if (auto it = materials_.find(index); it != materials_.end()) {
     info = it->second;
     return {};
@@ -184,8 +183,7 @@ Status Reader::material(int index, const std::string& ref_path, MaterialInfo& in
   return {};
 }
 
-Status Reader::texture(int index, const std::string& ref_path, std::int32_t& out) {
-  (void)ref_path;
+Status Reader::texture(int index, std::int32_t& out) {
   const Json& t = doc_.item("textures", static_cast<std::size_t>(index));
   const std::string p = Fields::at("textures", static_cast<std::size_t>(index));
   int source = -1, sampler = -1;
@@ -232,11 +230,10 @@ Status Reader::texture(int index, const std::string& ref_path, std::int32_t& out
   const std::uint64_t left = budget == 0 ? io::kNoSizeLimit : budget - std::min(used_, budget);
   std::string bytes, name;
   if (Status s = doc_.image_bytes(static_cast<std::size_t>(source), folder_, left, bytes, name); !s.ok()) {
-    if (!options_.allow_missing || s.code() != ErrorCode::io_error) {
-      if (s.code() == ErrorCode::io_error) {
-        return {s.code(), ip, s.message() + " (ModelOptions::allow_missing, facet --allow-missing: draw untextured)"};
-      }
-      return s;
+    // A file that cannot be read may be allowed to be missing; a refused or malformed one never.
+    if (s.code() != ErrorCode::io_error) return s;
+    if (!options_.allow_missing) {
+      return {s.code(), ip, s.message() + " (ModelOptions::allow_missing, facet --allow-missing: draw untextured)"};
     }
     warn(ip + ": the image could not be read: " + s.message() + "; drawn untextured");
     textures_[key] = kNoTexture;

@@ -65,16 +65,16 @@ class Reader {
   Status read_accessor(int index, const std::string& p, const char* semantic, Values& out);
   Status view_span(int view, std::uint64_t offset, std::uint64_t count, std::size_t element_bytes,
                    std::size_t stride, const std::string& p, const std::uint8_t*& data) const;
-  Status add_mesh_instances(const Json& node, int mesh, const std::string& node_path, const Eigen::Matrix4d& world);
+  Status add_mesh_instances(int mesh, const std::string& node_path, const Eigen::Matrix4d& world);
   Status primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index, std::uint32_t& material_index,
                    bool& double_sided);
   Status draco_attributes(const Json& ext, const std::string& p, const std::map<std::string, int>& attributes,
                           std::map<std::string, Values>& values, std::vector<std::uint32_t>& indices);
 
   // gltf_material.cpp
-  Status material(int index, const std::string& ref_path, MaterialInfo& info);
+  Status material(int index, MaterialInfo& info);
   Status texture_info(const Json& ti, const std::string& tp, std::int32_t& t, UvTransform& transform, bool& has_transform);
-  Status texture(int index, const std::string& ref_path, std::int32_t& out);
+  Status texture(int index, std::int32_t& out);
   std::uint32_t untextured_twin(std::uint32_t index);
   Status add_camera(int camera, const std::string& p, const Eigen::Matrix4d& world);
   Status add_light(const Json& ext, const std::string& p, const Eigen::Matrix4d& world);

@@ -17,6 +17,7 @@
 #include "facet/model.hpp"
 #include "io/assets.hpp"
 #include "io/file_access.hpp"
+#include "texture/texture_file.hpp"
 
 namespace facet {
 namespace {
@@ -351,22 +352,15 @@ class MtlReader {
     TextureOptions topt;
     topt.wrap = ref.clamp ? TextureWrap::clamp : TextureWrap::repeat;
     topt.memory_budget_bytes = options_.memory_budget_bytes;
-    const std::string where = source_ + ":" + std::to_string(ref.line) + ": texture";  // + " 'name': why"
-    Result<std::string> bytes = folder_.read(ref.file, where, "texture file",
-                                            options_.memory_budget_bytes == 0 ? io::kNoSizeLimit : options_.memory_budget_bytes);
-    if (!bytes) {
-      const bool missing = bytes.status().code() == ErrorCode::io_error;
-      if (missing && options_.allow_missing) {
-        warnings_.push_back(bytes.status().message() + "; drawn untextured");
-        return Texture{};
-      }
-      return Status{bytes.status().code(), "line " + std::to_string(ref.line),
-                    bytes.status().message() + (missing ? " (ModelOptions::allow_missing, facet --allow-missing: draw untextured)" : "")};
+    Result<Texture> t = read_texture(folder_, ref.file, source_ + ":" + std::to_string(ref.line) + ": texture", ref.file, topt);
+    if (t) return t;
+    const bool missing = t.status().code() == ErrorCode::io_error;
+    if (missing && options_.allow_missing) {
+      warnings_.push_back(t.status().message() + "; drawn untextured");
+      return Texture{};
     }
-    Result<Texture> t = decode_texture({reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size()},
-                                       where + " " + quote(ref.file, 80), ref.file, topt);
-    if (!t) return Status{t.status().code(), "line " + std::to_string(ref.line), t.status().message()};
-    return t;
+    return Status{t.status().code(), "line " + std::to_string(ref.line),
+                  t.status().message() + (missing ? " (ModelOptions::allow_missing, facet --allow-missing: draw untextured)" : "")};
   }
 
   std::string source_;

@@ -77,6 +77,20 @@ Status refuse(const std::string& where, std::string_view name, const std::string
   return {code, "path", where + " " + quote(name, 200) + ": " + why};
 }
 
+// The resolver's bytes for `name`; `head` starts a message ("file.mtl:3: texture 'a.png'").
+Result<std::string> from_resolver(const AssetAccess& access, const std::string& name, const std::string& head,
+                                  std::uint64_t max_bytes) {
+  Result<std::string> bytes = access.resolver(name);
+  if (!bytes) {
+    return Status{bytes.status().code(), "path", head + ": the host's resolver did not give it: " + bytes.status().message()};
+  }
+  if (bytes->size() > max_bytes) {
+    return Status{ErrorCode::out_of_memory, "path",
+                  head + ": " + std::to_string(bytes->size()) + " bytes, over the limit of " + std::to_string(max_bytes) + " bytes"};
+  }
+  return bytes;
+}
+
 }  // namespace
 
 Result<AssetFolder::Resolved> AssetFolder::resolve(std::string_view name, const std::string& where) const {
@@ -149,15 +163,7 @@ Result<std::string> AssetFolder::read(std::string_view name, const std::string& 
                                       std::uint64_t max_bytes) const {
   Result<Resolved> file = resolve(name, where);
   if (!file) return file.status();
-  if (access_.resolver) {
-    Result<std::string> bytes = access_.resolver(file->path);
-    if (!bytes) return refuse(where, name, "the host's resolver did not give it: " + bytes.status().message(), bytes.status().code());
-    if (bytes->size() > max_bytes) {
-      return refuse(where, name, std::to_string(bytes->size()) + " bytes, over the limit of " + std::to_string(max_bytes) + " bytes",
-                    ErrorCode::out_of_memory);
-    }
-    return bytes;
-  }
+  if (access_.resolver) return from_resolver(access_, file->path, where + " " + quote(name, 200), max_bytes);
   Result<std::string> bytes = read_file(file->path, what, max_bytes);
   if (!bytes) return Status{bytes.status().code(), "path", where + ": " + bytes.status().message()};
   return bytes;
@@ -171,17 +177,7 @@ AssetFolder AssetFolder::folder_of(const Resolved& file) const {
 Result<std::string> read_named_by_host(const AssetAccess& access, const std::string& path, const char* what,
                                        std::uint64_t max_bytes) {
   if (!access.resolver) return read_file(path, what, max_bytes);
-  Result<std::string> bytes = access.resolver(path);
-  if (!bytes) {
-    return Status{bytes.status().code(), "path",
-                  std::string(what) + " " + quote(path, 200) + ": the host's resolver did not give it: " + bytes.status().message()};
-  }
-  if (bytes->size() > max_bytes) {
-    return Status{ErrorCode::out_of_memory, "path",
-                  std::string(what) + " " + quote(path, 200) + ": " + std::to_string(bytes->size()) +
-                      " bytes, over the limit of " + std::to_string(max_bytes) + " bytes"};
-  }
-  return bytes;
+  return from_resolver(access, path, std::string(what) + " " + quote(path, 200), max_bytes);
 }
 
 }  // namespace facet::io

@@ -19,6 +19,7 @@
 #include "common/try.hpp"
 #include "io/assets.hpp"
 #include "io/file_access.hpp"
+#include "texture/texture_file.hpp"
 #include "scene/json_lines.hpp"
 
 namespace facet {
@@ -361,10 +362,7 @@ class SceneReader {
       options.wrap = mode == "repeat" ? TextureWrap::repeat : mode == "clamp" ? TextureWrap::clamp : TextureWrap::mirror;
     }
     const std::string fp = child(p, "file");
-    Result<std::string> bytes = folder_.read(file, fp, "texture file", options.memory_budget_bytes == 0 ? io::kNoSizeLimit : options.memory_budget_bytes);
-    if (!bytes) return located(fp, bytes.status().code(), bytes.status().message());
-    Result<Texture> t = decode_texture({reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size()}, fp + " " + quote(file, 80),
-                                       name, options);
+    Result<Texture> t = facet::read_texture(folder_, file, fp, name, options);
     if (!t) return located(fp, t.status().code(), t.status().message());
     out = std::move(*t);
     return {};

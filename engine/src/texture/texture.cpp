@@ -14,6 +14,7 @@
 #include "common/try.hpp"
 #include "io/file_access.hpp"
 #include "texture/png_decode.hpp"
+#include "texture/texture_file.hpp"
 
 namespace facet {
 namespace {
@@ -289,6 +290,15 @@ Result<Texture> load_texture(const std::string& path, std::string name, const Te
       io::read_file(path, "texture file", options.memory_budget_bytes == 0 ? io::kNoSizeLimit : options.memory_budget_bytes);
   if (!bytes) return bytes.status();
   return decode_texture({reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size()}, quote(path, 200),
+                        std::move(name), options);
+}
+
+Result<Texture> read_texture(const io::AssetFolder& folder, std::string_view file, const std::string& where,
+                             std::string name, const TextureOptions& options) {
+  const std::uint64_t limit = options.memory_budget_bytes == 0 ? io::kNoSizeLimit : options.memory_budget_bytes;
+  Result<std::string> bytes = folder.read(file, where, "texture file", limit);
+  if (!bytes) return bytes.status();
+  return decode_texture({reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size()}, where + " " + quote(file, 80),
                         std::move(name), options);
 }
 
