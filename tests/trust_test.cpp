@@ -164,8 +164,25 @@ TEST(Trust, GlbContainersAreCheckedBeforeParsing) {
     ASSERT_FALSE(m.ok());
     EXPECT_NE(m.status().message().find("version " + std::to_string(version)), std::string::npos) << m.status().message();
   }
-  std::string wrong_length = good + "pad!";
-  EXPECT_FALSE(parse(wrong_length).ok());
+  // A whole (empty, unknown) chunk past the length the header states: only that length tells.
+  std::string wrong_length = good + std::string("\0\0\0\0XTRA", 8);
+  Result<Model> m = parse(wrong_length);
+  ASSERT_FALSE(m.ok());
+  EXPECT_NE(m.status().message().find("header's length"), std::string::npos) << m.status().message();
+}
+
+TEST(Trust, DeeplyNestedJsonIsRefusedBeforeParsing) {
+  const GltfBuilder b = quad();
+  nlohmann::json d = b.with_buffer("data:application/octet-stream;base64," + test::base64(b.bin));
+  std::string text = d.dump();
+  text.insert(text.size() - 1, ", \"extras\": " + std::string(100, '[') + std::string(100, ']'));
+  Result<Model> m = parse(text);
+  ASSERT_FALSE(m.ok());
+  EXPECT_NE(m.status().message().find("nests deeper"), std::string::npos) << m.status().message();
+  // Brackets inside strings do not count.
+  text = d.dump();
+  text.insert(text.size() - 1, ", \"extras\": \"" + std::string(100, '[') + "\\\"\"");
+  EXPECT_TRUE(parse(text).ok()) << parse(text).status().message();
 }
 
 // Edits of a valid document that must be errors naming `path`.
