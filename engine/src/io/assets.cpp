@@ -137,8 +137,8 @@ Result<AssetFolder::Resolved> AssetFolder::resolve(std::string_view name, const 
     }
     if (out.name.empty()) {
       return refuse(where, name,
-                    std::string(absolute ? "an absolute path" : "it leads out of the model's folder") +
-                        "; facet reads only files in the folder of the file it was given (a host may allow more: "
+                    std::string(absolute ? "an absolute path" : "it leads out of the folder of the file facet was given") +
+                        "; facet reads only files in that folder (a host may allow more: "
                         "AssetAccess::allowed_roots, facet --allow-path DIR)",
                     ErrorCode::invalid_argument);
     }
