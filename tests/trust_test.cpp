@@ -254,6 +254,15 @@ TEST(Trust, NodeTransformsComposeTranslationRotationScale) {
   EXPECT_LT((p - Vec3(0, 2, 5)).norm(), 1e-5f) << p.transpose();
 }
 
+TEST(Trust, BudgetsAreReportedAsGiven) {
+  // A budget of one byte is "1 bytes", not rounded up to "1 MiB".
+  RenderOptions o;
+  o.memory_budget_bytes = 1;
+  const Status s = check_render(Scene{}, o, 64, 64);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("budget of 1 bytes"), std::string::npos) << s.message();
+}
+
 TEST(Trust, LinePrimitivesAreSkippedWithAWarning) {
   GltfBuilder b = quad();
   b.doc["meshes"][0]["primitives"].push_back({{"attributes", {{"POSITION", 0}}}, {"mode", 1}});

@@ -14,6 +14,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/info.h>
 
+#include "common/format.hpp"
 #include "common/look_at.hpp"
 #include "common/parallel.hpp"
 #include "facet/render.hpp"
@@ -195,7 +196,7 @@ Status check_frame_limits(const Scene& scene, const RenderOptions& options, int 
   if (options.memory_budget_bytes != 0 && need > options.memory_budget_bytes) {
     return {ErrorCode::out_of_memory, "options.memory_budget_bytes",
             "options.memory_budget_bytes: the frame needs about " + mib(need) + " of scratch memory, over its budget of " +
-                mib(options.memory_budget_bytes) +
+                format_bytes(options.memory_budget_bytes) +
                 " (raise RenderOptions::memory_budget_bytes, or facet render --memory-budget-mb)"};
   }
   return {};

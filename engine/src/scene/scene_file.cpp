@@ -392,10 +392,9 @@ class SceneReader {
       (void)j;
       return located(p, ErrorCode::out_of_memory,
                         p + ": this mesh (" + std::to_string(vertices) + " vertices, " + std::to_string(triangles) +
-                            " triangles, " + std::to_string(bytes >> 20) + " MiB) takes the scene's meshes to " +
-                            std::to_string((used_ + bytes) >> 20) + " MiB, over the memory budget of " +
-                            std::to_string(budget >> 20) +
-                            " MiB (LoadOptions::memory_budget_bytes, facet --memory-budget-mb)");
+                            " triangles, " + format_bytes(bytes) + ") takes the scene's meshes to " +
+                            format_bytes(used_ + bytes) + ", over the memory budget of " + format_bytes(budget) +
+                            " (LoadOptions::memory_budget_bytes, facet --memory-budget-mb)");
     }
     used_ += bytes;
     return {};
