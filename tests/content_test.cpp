@@ -627,6 +627,21 @@ TEST(GltfImport, DoubleSidedMaterialsDrawBackFaces) {
 
 // ---- OBJ + MTL ----------------------------------------------------------------------------------
 
+TEST(ObjMtlImport, MaterialNamesWithSpacesAndPlusSigns) {
+  TempDir dir;
+  test::write_text(dir / "m.mtl", "newmtl My Red\nKd +0.9 +.1 0\nnewmtl My\nKd 0 0 1\n");
+  test::write_text(dir / "m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nusemtl My Red\nf 1 2 3\n");
+  Result<Model> m = load_model(dir / "m.obj");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  const Scene& s = m->scene;
+  ASSERT_EQ(s.objects.size(), 1u);
+  const Mesh& mesh = s.meshes[s.objects[0].mesh].mesh;
+  ASSERT_EQ(mesh.groups.size(), 1u);
+  EXPECT_EQ(mesh.groups[0].material, "My Red");
+  const Material& red = s.materials[std::size_t(find_material(s, "My Red"))];
+  EXPECT_EQ(red.diffuse, Color3(0.9f, 0.1f, 0.0f));
+}
+
 TEST(ObjMtlImport, MaterialsTexturesAndGroups) {
   TempDir dir;
   write_test_png(dir / "tex.png");

@@ -85,13 +85,12 @@ TEST(ObjLoader, MalformedFiles) {
   expect_error("v 0 0 0\nv 1 0 0 1 0 0\n", "test.obj:2:", "vertex 2 has colour (r g b) but vertex 1 has none");
   expect_error("v 0 0 0 1 0 1.5\n", "test.obj:1:", "'v' colour value 3 is outside [0, 1]: '1.5'");
   expect_error("v 0 0 0 -0.1 0 1\n", "test.obj:1:", "'v' colour value 1 is outside [0, 1]");
-  // Texture coordinates: every corner or none.
-  expect_error(std::string(kSquare) + "vt 0 0\nf 1/1 2/1 3/1\nf 1 3 4\n", "test.obj:7:", "some face corners have a texture coordinate");
-  expect_error(std::string(kSquare) + "vt 0 0\nf 1/1 2 3/1\n", "test.obj:6:", "some face corners have a texture coordinate");
-  expect_error(std::string(kSquare) + "vt 0 0\nvn 0 0 1\nf 1//1 2/1/1 3/1/1\n", "test.obj:7:", "some face corners");
   expect_error(std::string(kSquare) + "vt 0 nan\n", "test.obj:5:", "'vt' value 2 is not finite");
   expect_error(std::string(kSquare) + "vt 0 0\nf 1/2 2/1 3/1\n", "test.obj:6:", "texture coordinate index 2 is out of range");
-  expect_error(std::string(kSquare) + "usemtl\nf 1 2 3\n", "test.obj:5:", "'usemtl' expects one material name");
+  expect_error(std::string(kSquare) + "usemtl\nf 1 2 3\n", "test.obj:5:", "'usemtl' expects a material name");
+  expect_error(std::string(kSquare) + "f + 2 3\n", "test.obj:5:", "bad vertex index '+'");
+  expect_error(std::string(kSquare) + "f ++1 2 3\n", "test.obj:5:", "bad vertex index '++1'");
+  expect_error("v +-1 0 0\n", "test.obj:1:", "'v' value 1 is not a number: '+-1'");
   expect_error(std::string(kSquare) + "f 1 2 3\nusemtl red\nf 1 3 4\n", "test.obj", "faces before the first 'usemtl'");
   expect_error(std::string(kSquare) + "f 1 2\n", "test.obj:5:", "a face needs at least 3 vertices");
   expect_error("", "test.obj:1:", "no faces");
@@ -140,6 +139,41 @@ TEST(ObjLoader, CreaseSplitKeepsTextureCoordinatesAndColours) {
   EXPECT_EQ(m->uvs[t1[0]], Vec2(1, 0));
   EXPECT_EQ(m->colors[t1[0]], Color3(0, 1, 0));
   EXPECT_EQ(m->colors[t1[2]], Color3(0.5f, 0.5f, 0.5f));
+}
+
+// Written as other readers (Blender, three.js, tinyobjloader) read them: numbers with a '+',
+// material names with spaces, faces whose corners mix `v` and `v/vt`.
+TEST(ObjLoader, PlusSignsAreNumbers) {
+  Result<Mesh> m = parse("v +1 0 +0.5\nv +.5 +2e+0 0\nv 0 0 1\nvt +0.25 +1\nvn 0 0 +1\nf +1/+1/+1 2/1/1 3/1/1\n");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_EQ(m->positions[0], Vec3(1.0f, 0.0f, 0.5f));
+  EXPECT_EQ(m->positions[1], Vec3(0.5f, 2.0f, 0.0f));
+  EXPECT_EQ(m->uvs[0], Vec2(0.25f, 1.0f));
+}
+
+TEST(ObjLoader, UsemtlNameIsTheRestOfTheLine) {
+  Result<Mesh> m = parse(std::string(kSquare) + "usemtl My Material\nf 1 2 3\nusemtl  My  Other \nf 1 3 4\n");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  ASSERT_EQ(m->groups.size(), 2u);
+  EXPECT_EQ(m->groups[0].material, "My Material");
+  EXPECT_EQ(m->groups[1].material, "My  Other");  // inner blanks kept, as newmtl keeps them
+}
+
+TEST(ObjLoader, CornersWithoutTextureCoordinateReadZero) {
+  for (const char* faces : {"f 1/1 2/2 3/2\nf 1 3 4\n", "f 1/1 2/2 3/2\nf 1//1 3//1 4//1\n", "f 1 3 4\nf 1/1 2/2 3/2\n"}) {
+    Result<Mesh> m = parse(std::string(kSquare) + "vt 0.5 0.5\nvt 1 0.25\nvn 0 0 1\n" + faces);
+    ASSERT_TRUE(m.ok()) << faces << m.status().message();
+    ASSERT_EQ(m->uvs.size(), m->positions.size()) << faces;
+    ASSERT_EQ(m->triangle_count(), 2u);
+    const bool textured_first = faces[3] == '/';
+    const auto& with = m->triangles[textured_first ? 0 : 1];
+    const auto& without = m->triangles[textured_first ? 1 : 0];
+    EXPECT_EQ(m->uvs[with[0]], Vec2(0.5f, 0.5f)) << faces;
+    EXPECT_EQ(m->uvs[with[1]], Vec2(1.0f, 0.25f)) << faces;
+    // Vertex 1 is in both faces: the corner without a vt is a vertex of its own, at (0, 0).
+    EXPECT_NE(with[0], without[0]) << faces;
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(m->uvs[without[k]], Vec2(0.0f, 0.0f)) << faces;
+  }
 }
 
 TEST(ObjLoader, UsemtlRunsBecomeMaterialGroups) {

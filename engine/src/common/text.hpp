@@ -26,4 +26,11 @@ inline std::vector<std::string_view> split_ws(std::string_view s) {
   return out;
 }
 
+// `tok` without one leading '+' before a digit or '.': OBJ and MTL writers print "+1" and
+// std::from_chars reads no '+'.
+inline std::string_view without_plus(std::string_view tok) {
+  if (tok.size() > 1 && tok[0] == '+' && ((tok[1] >= '0' && tok[1] <= '9') || tok[1] == '.')) tok.remove_prefix(1);
+  return tok;
+}
+
 }  // namespace facet::text

@@ -26,6 +26,7 @@ using text::split_ws;
 using text::trim;
 
 bool to_float(std::string_view tok, float& out) {
+  tok = text::without_plus(tok);
   const auto r = std::from_chars(tok.data(), tok.data() + tok.size(), out);
   return !tok.empty() && r.ec == std::errc() && r.ptr == tok.data() + tok.size() && std::isfinite(out);
 }

@@ -6,8 +6,9 @@
 // input is in tests/data/fuzz/obj/). Every index it returns is bounds-checked again all the same.
 // Polygons are triangulated here, as fans from their first corner (exact for convex polygons).
 // Texture coordinates (`vt`), vertex colours (`v x y z r g b`) and material groups (`usemtl`) are
-// kept; each is all-or-nothing (every corner has a `vt`, every `v` a colour), and a file that
-// mixes is refused with the line of the first corner or vertex that breaks the rule.
+// kept. Colours are all-or-nothing (every `v` has one, or none), and a file that mixes is refused
+// with the line of the first vertex that breaks the rule; a corner without a `vt` in a file whose
+// other corners have one reads (0, 0).
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -38,6 +39,7 @@ enum class NumberKind { ok, not_a_number, not_finite, out_of_range };
 // disagree. NaN and infinities, and values a float cannot hold (overflow, or a non-zero value
 // below the smallest subnormal), are errors.
 NumberKind parse_float(std::string_view tok, float& out) {
+  tok = text::without_plus(tok);
   const auto r = std::from_chars(tok.data(), tok.data() + tok.size(), out);
   if (r.ptr != tok.data() + tok.size() || tok.empty()) return NumberKind::not_a_number;
   if (r.ec == std::errc::result_out_of_range) return NumberKind::out_of_range;
@@ -47,6 +49,7 @@ NumberKind parse_float(std::string_view tok, float& out) {
 }
 
 bool parse_int(std::string_view tok, long long& out) {
+  tok = text::without_plus(tok);
   if (tok.empty()) return false;
   const auto r = std::from_chars(tok.data(), tok.data() + tok.size(), out);
   return r.ec == std::errc() && r.ptr == tok.data() + tok.size();
@@ -143,11 +146,6 @@ class ObjChecker {
     }
   }
 
-  Status mixed_texcoords(std::size_t line_no) const {
-    return error(line_no, "some face corners have a texture coordinate (v/vt) and others not: give every corner "
-                          "one, or none");
-  }
-
   // Checks that `tok` holds lo..hi numbers and keeps the first `keep_count` of them in `keep`.
   Status check_numbers(std::size_t line_no, const std::vector<std::string_view>& tok, std::size_t lo,
                        std::size_t hi, std::vector<float>* keep = nullptr, std::size_t keep_count = 0) {
@@ -230,8 +228,9 @@ class ObjChecker {
       return {};
     }
     if (k == "usemtl") {
-      if (tok.size() != 2) return error(line_no, "'usemtl' expects one material name, found " + std::to_string(tok.size() - 1));
-      const std::string name(tok[1]);
+      // The rest of the line, as 'newmtl' reads it: a material name may hold spaces.
+      if (tok.size() < 2) return error(line_no, "'usemtl' expects a material name");
+      const std::string name(tok[1].data(), static_cast<std::size_t>(tok.back().data() + tok.back().size() - tok[1].data()));
       const auto it = std::find(group_names_.begin(), group_names_.end(), name);
       group_ = static_cast<std::uint32_t>(it - group_names_.begin());
       if (it == group_names_.end()) group_names_.push_back(name);
@@ -244,21 +243,12 @@ class ObjChecker {
         const auto s1 = c.find('/');
         const std::string_view vpart = c.substr(0, s1);
         if (Status s = check_index(line_no, vpart, "vertex", v_); !s.ok()) return s;
-        if (s1 == std::string_view::npos) {
-          if (corners_with_vt_ > 0) return mixed_texcoords(line_no);
-          ++corners_without_vt_;
-          continue;
-        }
+        if (s1 == std::string_view::npos) continue;
         const std::string_view rest = c.substr(s1 + 1);
         const auto s2 = rest.find('/');
-        if (rest.substr(0, s2).empty()) {
-          if (corners_with_vt_ > 0) return mixed_texcoords(line_no);
-          ++corners_without_vt_;
-        }
         const std::string_view tpart = rest.substr(0, s2);
         if (!tpart.empty()) {
           if (Status s = check_index(line_no, tpart, "texture coordinate", vt_); !s.ok()) return s;
-          if (corners_without_vt_ > 0) return mixed_texcoords(line_no);
           ++corners_with_vt_;
         }
         if (s2 == std::string_view::npos) continue;
@@ -279,7 +269,7 @@ class ObjChecker {
 
   std::string source_;
   std::size_t v_ = 0, vn_ = 0, vt_ = 0, face_count_ = 0, statements_ = 0;
-  std::size_t corners_with_vt_ = 0, corners_without_vt_ = 0;
+  std::size_t corners_with_vt_ = 0;
   bool first_v_colored_ = false;
   std::uint32_t group_ = 0;
   std::vector<std::string> group_names_{""};
@@ -357,7 +347,7 @@ Result<Mesh> build_mesh(const ObjChecker& checked, const tinyobj::attrib_t& attr
     faces += shape.mesh.num_face_vertices.size();
     for (const auto& i : shape.mesh.indices) {
       if (i.vertex_index < 0 || i.vertex_index >= positions || i.normal_index >= normals ||
-          i.texcoord_index >= texcoords || (with_uv && i.texcoord_index < 0)) {
+          i.texcoord_index >= texcoords) {
         return Status{ErrorCode::parse_error, "", source_name + ": a face index is out of range"};
       }
     }
@@ -382,8 +372,10 @@ Result<Mesh> build_mesh(const ObjChecker& checked, const tinyobj::attrib_t& attr
     mesh.positions.push_back(Vec3(vertex_xyz[3 * v], vertex_xyz[3 * v + 1], vertex_xyz[3 * v + 2]));
     if (!vertex_rgb.empty()) mesh.colors.push_back(Color3(vertex_rgb[3 * v], vertex_rgb[3 * v + 1], vertex_rgb[3 * v + 2]));
     if (with_uv) {
+      // A corner without a `vt` in a file whose other corners have one reads (0, 0), as Blender
+      // and three.js read it.
       const auto t = static_cast<std::size_t>(i.texcoord_index);
-      mesh.uvs.push_back(Vec2(texcoord_uv[2 * t], texcoord_uv[2 * t + 1]));
+      mesh.uvs.push_back(i.texcoord_index < 0 ? Vec2(0.0f, 0.0f) : Vec2(texcoord_uv[2 * t], texcoord_uv[2 * t + 1]));
     }
     if (all_have_normals) {
       const auto n = static_cast<std::size_t>(i.normal_index);
