@@ -263,6 +263,46 @@ TEST(Trust, BudgetsAreReportedAsGiven) {
   EXPECT_NE(s.message().find("budget of 1 bytes"), std::string::npos) << s.message();
 }
 
+// Texture memory counts against a scene file's and a model's budget: four 256x256 textures
+// (349,524 bytes of texels each, with their mipmaps, and 873,812 to decode and keep) where a
+// budget of 1 MiB holds one: the second is refused.
+TEST(Trust, TexturesCountAgainstTheLoadBudget) {
+  Dir dir;
+  std::vector<std::uint8_t> px(256 * 256 * 4, 200);
+  ASSERT_TRUE(write_png(dir / "model/t.png", {px.data(), 256, 256, 256 * 4, PixelFormat::rgba8, false}).ok());
+  std::string textures, mtl;
+  for (int i = 0; i < 4; ++i) {
+    textures += std::string(i ? "," : "") + "{\"name\": \"t" + std::to_string(i) + "\", \"file\": \"t.png\"}";
+    mtl += "newmtl m" + std::to_string(i) + "\nmap_Kd t.png\n";
+  }
+  test::write_text(dir / "model/s.json", "{\"textures\": [" + textures + "]}");
+  test::write_text(dir / "model/m.mtl", mtl);
+  test::write_text(dir / "model/m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl m0\nf 1/1 2/1 3/1\n");
+  for (const std::uint64_t budget : {std::uint64_t{1} << 20, std::uint64_t{0}}) {
+    LoadOptions lo;
+    lo.memory_budget_bytes = budget;
+    Result<Scene> s = load_scene_file(dir / "model/s.json", lo);
+    ModelOptions mo;
+    mo.memory_budget_bytes = budget;
+    Result<Model> m = load_model(dir / "model/m.obj", mo);
+    if (budget == 0) {  // no limit: all four
+      ASSERT_TRUE(s.ok()) << s.status().message();
+      EXPECT_EQ(s->textures.size(), 4u);
+      ASSERT_TRUE(m.ok()) << m.status().message();
+      EXPECT_EQ(m->scene.textures.size(), 4u);
+      continue;
+    }
+    ASSERT_FALSE(s.ok());
+    EXPECT_EQ(s.status().code(), ErrorCode::out_of_memory);
+    EXPECT_NE(s.status().message().find("textures[1]"), std::string::npos) << s.status().message();
+    EXPECT_NE(s.status().message().find("1 MiB"), std::string::npos) << s.status().message();
+    ASSERT_FALSE(m.ok());
+    EXPECT_EQ(m.status().code(), ErrorCode::out_of_memory);
+    EXPECT_NE(m.status().message().find("m.mtl:4"), std::string::npos) << m.status().message();
+    EXPECT_NE(m.status().message().find("textures before it"), std::string::npos) << m.status().message();
+  }
+}
+
 TEST(Trust, LinePrimitivesAreSkippedWithAWarning) {
   GltfBuilder b = quad();
   b.doc["meshes"][0]["primitives"].push_back({{"attributes", {{"POSITION", 0}}}, {"mode", 1}});

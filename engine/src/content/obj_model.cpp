@@ -313,7 +313,7 @@ class MtlReader {
         }
         TextureOptions topt;
         topt.wrap = (kd_ok ? map_kd_ : map_d_).clamp ? TextureWrap::clamp : TextureWrap::repeat;
-        topt.memory_budget_bytes = options_.memory_budget_bytes;
+        topt.memory_budget_bytes = left();
         Result<Texture> made = make_texture(map_kd_.file + "+" + map_d_.file, w, h, rgba, topt);
         if (!made) return error(map_d_.line, made.status().message(), made.status().code());
         result = std::move(*made);
@@ -352,7 +352,7 @@ class MtlReader {
   Result<Texture> load(const TextureRef& ref) {
     TextureOptions topt;
     topt.wrap = ref.clamp ? TextureWrap::clamp : TextureWrap::repeat;
-    topt.memory_budget_bytes = options_.memory_budget_bytes;
+    topt.memory_budget_bytes = left();
     Result<Texture> t = read_texture(folder_, ref.file, source_ + ":" + std::to_string(ref.line) + ": texture", ref.file, topt);
     if (t) return t;
     const bool missing = t.status().code() == ErrorCode::io_error;
@@ -361,7 +361,20 @@ class MtlReader {
       return Texture{};
     }
     return Status{t.status().code(), "line " + std::to_string(ref.line),
-                  t.status().message() + (missing ? " (ModelOptions::allow_missing, facet --allow-missing: draw untextured)" : "")};
+                  t.status().message() + (missing ? " (ModelOptions::allow_missing, facet --allow-missing: draw untextured)"
+                                          : t.status().code() == ErrorCode::out_of_memory
+                                              ? " (what the model's mesh and textures before it leave of ModelOptions::memory_budget_bytes, facet --memory-budget-mb)"
+                                              : "")};
+  }
+
+  // What the model's textures so far leave of the memory budget (never 0, which would mean no
+  // limit); 0 when there is no budget. The caller's budget has the mesh taken off already.
+  std::uint64_t left() const {
+    const std::uint64_t budget = options_.memory_budget_bytes;
+    if (budget == 0) return 0;
+    std::uint64_t used = 0;
+    for (const Texture& t : scene_.textures) used += t.texels.size() * sizeof(std::uint32_t);
+    return std::max<std::uint64_t>(1, budget - std::min(used, budget));
   }
 
   std::string source_;
@@ -407,6 +420,12 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
     oo.memory_budget_bytes = options.memory_budget_bytes;
     Result<Mesh> mesh = parse_obj(*text, path, oo);
     if (!mesh) return mesh.status();
+    // The materials' textures get what the mesh leaves of the budget.
+    ModelOptions mtl_options = options;
+    if (options.memory_budget_bytes != 0) {
+      const std::uint64_t mesh_bytes = mesh->vertex_count() * (2 * sizeof(Vec3) + sizeof(Vec2)) + mesh->triangle_count() * 12;
+      mtl_options.memory_budget_bytes = std::max<std::uint64_t>(1, options.memory_budget_bytes - std::min(mesh_bytes, options.memory_budget_bytes));
+    }
     Model model;
     model.scene.transparent_order = TransparentOrder::back_to_front;  // as glTF models (docs/content.md)
     Scene& scene = model.scene;
@@ -436,7 +455,7 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
         }
         const std::string full = resolved->name;
         libraries.push_back(file);
-        FACET_TRY(parse_mtl_in(*mtl, full, folder.folder_of(*resolved), options, scene, model.warnings));
+        FACET_TRY(parse_mtl_in(*mtl, full, folder.folder_of(*resolved), mtl_options, scene, model.warnings));
       }
       return {};
     });

@@ -345,14 +345,14 @@ class SceneReader {
   }
 
   // A texture file, resolved against the scene file's folder, decoded with its filter and wrap.
-  Status read_texture(const json& j, const std::string& p, Texture& out) const {
+  Status read_texture(const json& j, const std::string& p, Texture& out) {
     FACET_TRY(expect_object(j, p, {"name", "file", "filter", "wrap"}));
     std::string name, file, mode;
     FACET_TRY(opt_string(j, p, "name", name));
     if (!j.contains("file")) return invalid(child(p, "file"), "missing: every texture names its image file");
     FACET_TRY(opt_string(j, p, "file", file));
     TextureOptions options;
-    options.memory_budget_bytes = options_.memory_budget_bytes;
+    options.memory_budget_bytes = left();
     if (j.contains("filter")) {
       FACET_TRY(read_enum(j["filter"], child(p, "filter"), {"nearest", "bilinear", "trilinear"}, mode));
       options.filter = mode == "nearest" ? TextureFilter::nearest : mode == "bilinear" ? TextureFilter::bilinear : TextureFilter::trilinear;
@@ -363,9 +363,25 @@ class SceneReader {
     }
     const std::string fp = child(p, "file");
     Result<Texture> t = facet::read_texture(folder_, file, fp, name, options);
-    if (!t) return located(fp, t.status().code(), t.status().message());
+    if (!t) {
+      return located(fp, t.status().code(), t.status().message() + (t.status().code() == ErrorCode::out_of_memory ? spent() : ""));
+    }
+    FACET_TRY(reserve(p, t->texels.size() * sizeof(std::uint32_t), "this texture (" + std::to_string(t->width()) + "x" + std::to_string(t->height()) + ")"));
     out = std::move(*t);
     return {};
+  }
+
+  // What is left of the memory budget for the next mesh or texture (never 0, which would mean
+  // no limit); 0 when there is no budget.
+  std::uint64_t left() const {
+    const std::uint64_t budget = options_.memory_budget_bytes;
+    return budget == 0 ? 0 : std::max<std::uint64_t>(1, budget - std::min(used_, budget));
+  }
+  // Appended to a refusal made with what was left(): what the rest of the budget went to.
+  std::string spent() const {
+    if (options_.memory_budget_bytes == 0 || used_ == 0) return "";
+    return " (the scene's meshes and textures before it use " + format_bytes(used_) + " of the memory budget of " +
+           format_bytes(options_.memory_budget_bytes) + ")";
   }
 
   Status read_fog(const json& j, Fog& fog) const {
@@ -384,20 +400,22 @@ class SceneReader {
     return opt_number(j, p, "density", fog.density);
   }
 
-  // Counts a mesh of `vertices` and `triangles` against the memory budget before it is made.
-  Status reserve_mesh(const json& j, const std::string& p, std::uint64_t vertices, std::uint64_t triangles) {
-    const std::uint64_t bytes = vertices * (2 * sizeof(Vec3)) + triangles * 3 * sizeof(std::uint32_t);
+  // Counts `bytes` of a mesh or texture (`what`) against the memory budget.
+  Status reserve(const std::string& p, std::uint64_t bytes, const std::string& what) {
     const std::uint64_t budget = options_.memory_budget_bytes;
     if (budget != 0 && (bytes > budget || used_ > budget - bytes)) {
-      (void)j;
       return located(p, ErrorCode::out_of_memory,
-                        p + ": this mesh (" + std::to_string(vertices) + " vertices, " + std::to_string(triangles) +
-                            " triangles, " + format_bytes(bytes) + ") takes the scene's meshes to " +
-                            format_bytes(used_ + bytes) + ", over the memory budget of " + format_bytes(budget) +
-                            " (LoadOptions::memory_budget_bytes, facet --memory-budget-mb)");
+                     p + ": " + what + ", " + format_bytes(bytes) + ", takes the scene's meshes and textures to " +
+                         format_bytes(used_ + bytes) + ", over the memory budget of " + format_bytes(budget) +
+                         " (LoadOptions::memory_budget_bytes, facet --memory-budget-mb)");
     }
     used_ += bytes;
     return {};
+  }
+  // Counts a mesh of `vertices` and `triangles` against the memory budget before it is made.
+  Status reserve_mesh(const json&, const std::string& p, std::uint64_t vertices, std::uint64_t triangles) {
+    return reserve(p, vertices * (2 * sizeof(Vec3)) + triangles * 3 * sizeof(std::uint32_t),
+                   "this mesh (" + std::to_string(vertices) + " vertices, " + std::to_string(triangles) + " triangles)");
   }
 
   Status read_mesh(const json& j, const std::string& p, NamedMesh& out) {
@@ -411,7 +429,7 @@ class SceneReader {
       std::string file;
       FACET_TRY(opt_string(j, p, "obj", file));
       ObjOptions options;
-      options.memory_budget_bytes = options_.memory_budget_bytes == 0 ? 0 : std::max<std::uint64_t>(1, options_.memory_budget_bytes - used_);
+      options.memory_budget_bytes = left();
       FACET_TRY(opt_number(j, p, "crease_angle_deg", options.crease_angle_deg));
       if (!(options.crease_angle_deg >= 0.0f && options.crease_angle_deg <= 180.0f)) {
         return invalid(child(p, "crease_angle_deg"), "expected a number in [0, 180]");
@@ -590,7 +608,7 @@ class SceneReader {
     FACET_TRY(opt_bool(j, p, "camera", camera));
     FACET_TRY(opt_bool(j, p, "allow_missing", mo.allow_missing));
     if (camera && scene_has_camera) return invalid(child(p, "camera"), "the scene file has its own \"camera\"");
-    mo.memory_budget_bytes = options_.memory_budget_bytes == 0 ? 0 : std::max<std::uint64_t>(1, options_.memory_budget_bytes - std::min(used_, options_.memory_budget_bytes));
+    mo.memory_budget_bytes = left();
     const std::string fp = child(p, "file");
     Result<io::AssetFolder::Resolved> resolved = folder_.resolve(file, fp);
     if (!resolved) return located(fp, resolved.status().code(), resolved.status().message());

@@ -43,8 +43,8 @@ std::uint64_t texel_bytes(int width, int height, TextureFilter filter) {
 Status check_budget(std::uint64_t bytes, const TextureOptions& options, const std::string& source) {
   if (options.memory_budget_bytes != 0 && bytes > options.memory_budget_bytes) {
     return {ErrorCode::out_of_memory, "memory_budget_bytes",
-            source + ": the texture needs " + std::to_string(bytes) + " bytes, more than the memory budget (" +
-                std::to_string(options.memory_budget_bytes) + " bytes)"};
+            source + ": the texture needs " + format_bytes(bytes) + " to decode and keep, more than the memory budget (" +
+                format_bytes(options.memory_budget_bytes) + ")"};
   }
   return {};
 }
