@@ -272,7 +272,7 @@ TEST(GltfImport, VertexColoursWithoutCameraOrLightsAreFramedAndLit) {
     ASSERT_TRUE(r.render(s, RenderOptions{}, view, nullptr, &stats).ok());
     EXPECT_EQ(stats.pixels_filled, 0u);
     EXPECT_NE(explain_empty_frame(stats).find("outside the view"), std::string::npos) << explain_empty_frame(stats);
-    s.camera = frame_bounds(bounds, 64.0f / 48.0f);
+    s.camera = *frame_scene(s, 64.0f / 48.0f);
     add_default_lights(s);
     ASSERT_TRUE(r.render(s, RenderOptions{}, view, nullptr, &stats).ok());
     EXPECT_GT(stats.pixels_filled, 64u * 48u / 10);
@@ -289,7 +289,7 @@ TEST(GltfImport, FramingKeepsTheWholeModelInView) {
     Bounds b;
     b.min = Vec3(-3, 5, 100);
     b.max = Vec3(7, 6, 140);
-    const Camera c = frame_bounds(b, aspect);
+    const Camera c = *frame_bounds(b, aspect);
     const Mat4 vp = projection_matrix(c, aspect) * view_matrix(c);
     for (int corner = 0; corner < 8; ++corner) {
       const Vec3 p((corner & 1) ? b.max.x() : b.min.x(), (corner & 2) ? b.max.y() : b.min.y(), (corner & 4) ? b.max.z() : b.min.z());
@@ -675,7 +675,7 @@ TEST(ObjMtlImport, MaterialsTexturesAndGroups) {
   EXPECT_TRUE(bump_warned);
   EXPECT_GT(render_rgba([&] {
               Scene r = s;
-              r.camera = frame_bounds(scene_bounds(r), 64.0f / 48.0f);
+              r.camera = *frame_scene(r, 64.0f / 48.0f);
               add_default_lights(r);
               return r;
             }())
@@ -717,7 +717,7 @@ TEST(ObjMtlImport, EmissiveTexturesFromMapKe) {
   EXPECT_TRUE(scale_warned);
   for (const auto& w : m->warnings) EXPECT_EQ(w.find("map_Ke: ignored"), std::string::npos) << w;
   Scene r = s;
-  r.camera = frame_bounds(scene_bounds(r), 64.0f / 48.0f);
+  r.camera = *frame_scene(r, 64.0f / 48.0f);
   EXPECT_TRUE(validate_scene(r).ok()) << validate_scene(r).message();
 }
 
@@ -816,9 +816,26 @@ TEST(SceneFileImports, ModelsArePlacedPrefixedAndWarned) {
   EXPECT_FALSE(s->objects[0].double_sided);
   EXPECT_GE(find_material(*s, "m.obj:red"), 0);
   EXPECT_EQ(s->meshes[0].mesh.groups[0].material, "m.obj:red");
-  ASSERT_EQ(warnings.size(), 1u);
+  ASSERT_EQ(warnings.size(), 3u);
   EXPECT_NE(warnings[0].find("imports[0]"), std::string::npos) << warnings[0];
   EXPECT_NE(warnings[0].find("map_Bump"), std::string::npos) << warnings[0];
+  // No camera and no lights of its own: framed and lit as `facet render MODEL` would.
+  EXPECT_NE(warnings[1].find("no \"camera\""), std::string::npos) << warnings[1];
+  EXPECT_NE(warnings[2].find("no \"lights\""), std::string::npos) << warnings[2];
+  Result<Camera> framed = frame_scene(*s, LoadOptions{}.frame_aspect);
+  ASSERT_TRUE(framed.ok());
+  EXPECT_EQ(s->camera.eye, framed->eye);
+  ASSERT_EQ(s->lights.size(), 2u);
+  EXPECT_EQ(s->lights[0].name, "headlight");
+  // With a camera or lights of the scene's own, neither is added.
+  test::write_text(dir / "own.json", R"({
+    "camera": {"eye": [0, 0, 9]}, "lights": [],
+    "imports": [{"file": "m.obj"}]
+  })");
+  Result<Scene> own = load_scene_file(dir / "own.json");
+  ASSERT_TRUE(own.ok()) << own.status().message();
+  EXPECT_EQ(own->camera.eye, Vec3(0, 0, 9));
+  EXPECT_TRUE(own->lights.empty());
   // Errors name the import's line and field.
   test::write_text(dir / "bad.json", "{\n  \"imports\": [{\"file\": \"none.gltf\"}]\n}\n");
   Result<Scene> bad = load_scene_file(dir / "bad.json");

@@ -61,6 +61,79 @@ TEST(SceneFile, EmptyObjectGivesGlDefaults) {
   EXPECT_TRUE(s->lights.empty());
 }
 
+bool same_mesh(const Mesh& a, const Mesh& b) {
+  return a.positions == b.positions && a.normals == b.normals && a.triangles == b.triangles && a.uvs == b.uvs;
+}
+
+// Every field a scene file may leave out takes the documented default (docs/scene-format.md): the
+// procedural shapes, each one with nothing but its "shape", then with each field given.
+TEST(SceneFile, ShapeDefaultsAreTheDocumentedOnes) {
+  Result<Scene> s = parse(R"({"meshes": [{"name": "a", "shape": "sphere"}, {"name": "b", "shape": "cube"},
+                                         {"name": "c", "shape": "plane"}, {"name": "d", "shape": "torus"}]})");
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  EXPECT_TRUE(same_mesh(s->meshes[0].mesh, make_uv_sphere(1.0f, 48, 24)));
+  EXPECT_TRUE(same_mesh(s->meshes[1].mesh, make_cube(1.0f, 1)));
+  EXPECT_TRUE(same_mesh(s->meshes[2].mesh, make_plane(10.0f, 10.0f, 1)));
+  EXPECT_TRUE(same_mesh(s->meshes[3].mesh, make_torus(1.0f, 0.25f, 48, 24)));
+  // Each field given is the one used (a field read into the wrong variable shows here).
+  s = parse(R"({"meshes": [{"name": "a", "shape": "sphere", "radius": 2, "segments": 5, "rings": 3},
+                           {"name": "b", "shape": "cube", "size": 3, "subdivisions": 2},
+                           {"name": "c", "shape": "plane", "size_x": 4, "size_z": 6, "subdivisions": 3},
+                           {"name": "d", "shape": "torus", "major_radius": 2, "minor_radius": 0.5, "segments": 7, "sides": 5}]})");
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  EXPECT_TRUE(same_mesh(s->meshes[0].mesh, make_uv_sphere(2.0f, 5, 3)));
+  EXPECT_TRUE(same_mesh(s->meshes[1].mesh, make_cube(3.0f, 2)));
+  EXPECT_TRUE(same_mesh(s->meshes[2].mesh, make_plane(4.0f, 6.0f, 3)));
+  EXPECT_TRUE(same_mesh(s->meshes[3].mesh, make_torus(2.0f, 0.5f, 7, 5)));
+}
+
+// Objects, materials and lights with nothing but what they must have are the C++ defaults (which
+// are GL's), field by field.
+TEST(SceneFile, ObjectMaterialAndLightDefaultsAreTheCppOnes) {
+  Result<Scene> s = parse(R"({"meshes": [{"name": "m", "shape": "cube"}], "materials": [{"name": "x"}],
+                              "objects": [{"mesh": "m", "material": "x"}],
+                              "lights": [{"type": "directional"}, {"type": "point"}, {"type": "spot"}]})");
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  const Instance io;
+  const Instance& o = s->objects[0];
+  EXPECT_EQ(o.model, io.model);
+  EXPECT_EQ(o.mesh_materials, io.mesh_materials);
+  EXPECT_EQ(o.cast_shadows, io.cast_shadows);
+  EXPECT_EQ(o.receive_shadows, io.receive_shadows);
+  EXPECT_EQ(o.double_sided, io.double_sided);
+  const Material mo;
+  const Material& m = s->materials[0];
+  EXPECT_EQ(m.emissive, mo.emissive);
+  EXPECT_EQ(m.ambient, mo.ambient);
+  EXPECT_EQ(m.diffuse, mo.diffuse);
+  EXPECT_EQ(m.specular, mo.specular);
+  EXPECT_EQ(m.shininess, mo.shininess);
+  EXPECT_EQ(m.alpha, mo.alpha);
+  EXPECT_EQ(m.alpha_cutoff, mo.alpha_cutoff);
+  EXPECT_EQ(m.blend, mo.blend);
+  EXPECT_EQ(m.texture_mode, mo.texture_mode);
+  EXPECT_EQ(m.uv_scale, mo.uv_scale);
+  EXPECT_EQ(m.emission_after_texture, mo.emission_after_texture);
+  for (std::size_t i = 0; i < 3; ++i) {
+    Light lo;
+    lo.type = s->lights[i].type;
+    const Light& l = s->lights[i];
+    EXPECT_EQ(l.position, lo.position) << i;
+    EXPECT_EQ(l.direction, lo.direction) << i;
+    EXPECT_EQ(l.ambient, lo.ambient) << i;
+    EXPECT_EQ(l.diffuse, lo.diffuse) << i;
+    EXPECT_EQ(l.specular, lo.specular) << i;
+    EXPECT_EQ(l.constant_attenuation, lo.constant_attenuation) << i;
+    EXPECT_EQ(l.linear_attenuation, lo.linear_attenuation) << i;
+    EXPECT_EQ(l.quadratic_attenuation, lo.quadratic_attenuation) << i;
+    EXPECT_EQ(l.range, lo.range) << i;
+    EXPECT_EQ(l.spot_cutoff_deg, lo.spot_cutoff_deg) << i;
+    EXPECT_EQ(l.spot_exponent, lo.spot_exponent) << i;
+    EXPECT_EQ(l.enabled, lo.enabled) << i;
+    EXPECT_EQ(l.shadow.method, lo.shadow.method) << i;
+  }
+}
+
 TEST(SceneFile, TransparentOrderIsReadAndItsErrorsNamed) {
   for (auto [text, order] : {std::pair{"submission", TransparentOrder::submission},
                              std::pair{"back_to_front", TransparentOrder::back_to_front}}) {

@@ -313,7 +313,7 @@ TEST(Trust, LinePrimitivesAreSkippedWithAWarning) {
   for (const auto& w : m->warnings) warned |= w.find("meshes[0].primitives[1]") != std::string::npos && w.find("lines") != std::string::npos;
   EXPECT_TRUE(warned);
   Scene scene = m->scene;
-  scene.camera = frame_bounds(scene_bounds(scene), 1.0f);
+  scene.camera = *frame_scene(scene, 1.0f);
   add_default_lights(scene);
   std::vector<std::uint8_t> px(32 * 32 * 4);
   FrameStats stats;

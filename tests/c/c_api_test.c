@@ -37,7 +37,174 @@ static int cancel_at_first_call(void* user, double done) {
   return done < 0.0; /* 0: cancel */
 }
 
+enum { SW = 64, SH = 48 };
+
+/* Renders `scene` with `r`; the pixels filled. */
+static uint64_t draw(facet_renderer* r, const facet_scene* scene, uint8_t* px) {
+  facet_frame_stats st;
+  memset(&st, 0, sizeof st);
+  st.struct_size = sizeof st;
+  if (facet_render(r, scene, px, SW, SH, SW * 4, FACET_RGBA8, 0, NULL, 0, &st) != FACET_OK) {
+    fprintf(stderr, "render failed: %s\n", facet_renderer_last_error(r));
+    ++failures;
+  }
+  return st.pixels_filled;
+}
+
+static int same(const uint8_t* a, const uint8_t* b) { return memcmp(a, b, SW * SH * 4) == 0; }
+
+/* Every scene setter changes the picture (a setter that returns FACET_OK and changes nothing
+ * fails here), and setting the old value back restores it byte for byte. The scene: an opaque
+ * octahedron casting a ray-cast shadow on a floor, two blended quads overlapping in front of it
+ * (submitted near one first, so that the order matters), a quad facing away beside it, a point
+ * light with a specular highlight. */
+static void setters_change_the_picture(void) {
+  const float octa[] = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
+  const uint32_t octa_idx[] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+  const float quad[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+  const uint32_t quad_idx[] = {0, 1, 2, 0, 2, 3};
+  const uint32_t quad_back_idx[] = {0, 2, 1, 0, 3, 2};
+  facet_scene* s = facet_scene_create();
+  uint32_t m_octa, m_quad, m_back, red, blue, green, grey;
+  CHECK(facet_scene_add_mesh(s, octa, 6, NULL, octa_idx, 8, &m_octa) == FACET_OK);
+  CHECK(facet_scene_add_mesh(s, quad, 4, NULL, quad_idx, 2, &m_quad) == FACET_OK);
+  CHECK(facet_scene_add_mesh(s, quad, 4, NULL, quad_back_idx, 2, &m_back) == FACET_OK);
+  facet_material m = facet_material_default();
+  m.diffuse[0] = 0.9f, m.diffuse[1] = 0.2f, m.diffuse[2] = 0.1f;
+  m.specular[0] = m.specular[1] = m.specular[2] = 1.0f;
+  m.shininess = 12.0f;
+  CHECK(facet_scene_add_material(s, &m, &red) == FACET_OK);
+  facet_material b = facet_material_default();
+  b.diffuse[0] = 0.1f, b.diffuse[1] = 0.2f, b.diffuse[2] = 0.9f, b.alpha = 0.5f, b.blend = FACET_BLEND_ALPHA;
+  CHECK(facet_scene_add_material(s, &b, &blue) == FACET_OK);
+  b.diffuse[0] = 0.1f, b.diffuse[1] = 0.9f, b.diffuse[2] = 0.2f;
+  CHECK(facet_scene_add_material(s, &b, &green) == FACET_OK);
+  facet_material g = facet_material_default();
+  CHECK(facet_scene_add_material(s, &g, &grey) == FACET_OK);
+  const float at_origin[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  float floor_m[16] = {3, 0, 0, 0, 0, 3, 0, 0, 0, 0, 1, 0, 0, 0, -1.5f, 1};
+  float near_q[16] = {0.6f, 0, 0, 0, 0, 0.6f, 0, 0, 0, 0, 1, 0, 0.4f, 0, 1.6f, 1};
+  float far_q[16] = {0.6f, 0, 0, 0, 0, 0.6f, 0, 0, 0, 0, 1, 0, -0.4f, 0, 1.3f, 1};
+  float side_q[16] = {0.5f, 0, 0, 0, 0, 0.5f, 0, 0, 0, 0, 1, 0, 2.2f, 0.5f, 0, 1};
+  uint32_t o_octa, o_floor, o_near, o_far, o_side;
+  CHECK(facet_scene_add_object(s, m_octa, red, at_origin, &o_octa) == FACET_OK);
+  CHECK(facet_scene_add_object(s, m_quad, grey, floor_m, &o_floor) == FACET_OK);
+  CHECK(facet_scene_add_object(s, m_quad, green, near_q, &o_near) == FACET_OK);
+  CHECK(facet_scene_add_object(s, m_quad, blue, far_q, &o_far) == FACET_OK);
+  CHECK(facet_scene_add_object(s, m_back, grey, side_q, &o_side) == FACET_OK);
+  facet_light l = facet_light_default();
+  l.type = FACET_POINT;
+  l.position[0] = 2.0f, l.position[1] = 2.5f, l.position[2] = 5.0f;
+  l.specular[0] = l.specular[1] = l.specular[2] = 1.0f;
+  l.shadow_method = FACET_SHADOW_RAYCAST;
+  uint32_t light;
+  CHECK(facet_scene_add_light(s, &l, &light) == FACET_OK);
+  facet_camera cam = facet_camera_default();
+  cam.eye[0] = 0.5f, cam.eye[1] = 0.5f, cam.eye[2] = 6.0f;
+  CHECK(facet_scene_set_camera(s, &cam) == FACET_OK);
+  facet_render_config config = facet_render_config_default();
+  config.threads = 1;
+  facet_renderer* r = facet_renderer_create(&config, NULL);
+  config.cull = FACET_CULL_NONE;
+  facet_renderer* r_all = facet_renderer_create(&config, NULL);
+  static uint8_t base[SW * SH * 4], base_all[SW * SH * 4], px[SW * SH * 4];
+  CHECK(draw(r, s, base) > SW * SH / 4);
+  draw(r_all, s, base_all);
+#define CHANGES(what, set_new, set_old)                                                        \
+  do {                                                                                         \
+    CHECK((set_new) == FACET_OK);                                                              \
+    draw(r, s, px);                                                                            \
+    if (same(px, base)) fprintf(stderr, "%s: the picture did not change\n", what), ++failures; \
+    CHECK((set_old) == FACET_OK);                                                              \
+    draw(r, s, px);                                                                            \
+    if (!same(px, base)) fprintf(stderr, "%s: the picture did not come back\n", what), ++failures; \
+  } while (0)
+  const float moved[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -0.7f, 0, 0, 1};
+  CHANGES("set_object_transform", facet_scene_set_object_transform(s, o_octa, moved),
+          facet_scene_set_object_transform(s, o_octa, at_origin));
+  CHANGES("set_object_material", facet_scene_set_object_material(s, o_octa, grey), facet_scene_set_object_material(s, o_octa, red));
+  CHANGES("set_object_double_sided", facet_scene_set_object_double_sided(s, o_side, 1),
+          facet_scene_set_object_double_sided(s, o_side, 0));
+  facet_material m2 = m;
+  m2.shininess = 80.0f;
+  CHANGES("set_material", facet_scene_set_material(s, red, &m2), facet_scene_set_material(s, red, &m));
+  CHANGES("set_viewer", facet_scene_set_viewer(s, FACET_VIEWER_INFINITE), facet_scene_set_viewer(s, FACET_VIEWER_LOCAL));
+  CHANGES("set_transparent_order", facet_scene_set_transparent_order(s, FACET_TRANSPARENT_BACK_TO_FRONT),
+          facet_scene_set_transparent_order(s, FACET_TRANSPARENT_SUBMISSION));
+  CHANGES("set_object_shadows cast", facet_scene_set_object_shadows(s, o_octa, 0, 1), facet_scene_set_object_shadows(s, o_octa, 1, 1));
+  CHANGES("set_object_shadows receive", facet_scene_set_object_shadows(s, o_floor, 1, 0),
+          facet_scene_set_object_shadows(s, o_floor, 1, 1));
+  facet_camera cam2 = cam;
+  cam2.vertical_fov_deg = 30.0f;
+  CHANGES("set_camera", facet_scene_set_camera(s, &cam2), facet_scene_set_camera(s, &cam));
+  const float ambient2[3] = {0.5f, 0.5f, 0.5f}, ambient[3] = {0.2f, 0.2f, 0.2f};
+  CHANGES("set_global_ambient", facet_scene_set_global_ambient(s, ambient2), facet_scene_set_global_ambient(s, ambient));
+  facet_fog fog = facet_fog_default(), no_fog = facet_fog_default();
+  fog.mode = FACET_FOG_LINEAR, fog.start = 4.0f, fog.end = 9.0f, fog.color[0] = 1.0f;
+  CHANGES("set_fog", facet_scene_set_fog(s, &fog), facet_scene_set_fog(s, &no_fog));
+  facet_light l2 = l;
+  l2.position[0] = -3.0f;
+  CHANGES("set_light", facet_scene_set_light(s, light, &l2), facet_scene_set_light(s, light, &l));
+  const float colors[12] = {1, 1, 0, 1, 1, 0, 0, 1, 1, 0, 1, 1};
+  CHANGES("set_mesh_colors", facet_scene_set_mesh_colors(s, m_quad, colors), facet_scene_set_mesh_colors(s, m_quad, NULL));
+  /* Two-sided lighting shows on back faces that are drawn: with culling off. */
+  CHECK(facet_scene_set_two_sided(s, 1) == FACET_OK);
+  draw(r_all, s, px);
+  if (same(px, base_all)) fprintf(stderr, "set_two_sided: the picture did not change\n"), ++failures;
+  CHECK(facet_scene_set_two_sided(s, 0) == FACET_OK);
+  draw(r_all, s, px);
+  CHECK(same(px, base_all));
+#undef CHANGES
+
+  /* A ninth enabled shadowed light is refused when it is added or set, not only at render. */
+  {
+    facet_scene* lit = facet_scene_create();
+    facet_light shadowed = facet_light_default();
+    shadowed.shadow_method = FACET_SHADOW_RAYCAST;
+    uint32_t ids[9];
+    for (int i = 0; i < 8; ++i) CHECK(facet_scene_add_light(lit, &shadowed, &ids[i]) == FACET_OK);
+    CHECK(facet_scene_add_light(lit, &shadowed, &ids[8]) == FACET_INVALID_ARGUMENT);
+    CHECK(strstr(facet_scene_last_error(lit), "at most 8") != NULL);
+    facet_light plain = facet_light_default();
+    CHECK(facet_scene_add_light(lit, &plain, &ids[8]) == FACET_OK);
+    CHECK(facet_scene_set_light(lit, ids[8], &shadowed) == FACET_INVALID_ARGUMENT);
+    CHECK(facet_scene_set_light(lit, ids[0], &shadowed) == FACET_OK); /* replacing one of the eight */
+    shadowed.enabled = 0;
+    CHECK(facet_scene_set_light(lit, ids[8], &shadowed) == FACET_OK); /* disabled: casts nothing */
+    facet_scene_destroy(lit);
+  }
+
+  /* Framing from a view, and a turntable's step. */
+  facet_camera got;
+  CHECK(facet_scene_frame_view(s, (float)SW / SH, 90.0f, 0.0f, FACET_UP_Y, 45.0f, 0.85f) == FACET_OK);
+  CHECK(facet_scene_get_camera(s, &got) == FACET_OK);
+  CHECK(got.eye[0] - got.target[0] > 1.0f && fabsf(got.eye[2] - got.target[2]) < 1e-3f); /* from +X */
+  CHECK(draw(r, s, px) > 60); /* the floor, seen edge-on, is the tallest: the octahedron is small */
+  CHECK(facet_scene_orbit(s, 90.0f, FACET_UP_Y, 1) == FACET_OK); /* +X turns to -Z, about the box's centre */
+  CHECK(facet_scene_get_camera(s, &got) == FACET_OK);
+  CHECK(got.target[2] - got.eye[2] > 5.0f && fabsf(got.eye[0] - got.target[0]) < 0.5f);
+  CHECK(draw(r, s, px) > 60);
+  CHECK(facet_scene_frame_view(s, 1.0f, 0.0f, 0.0f, FACET_UP_Z, 45.0f, 0.85f) == FACET_OK);
+  CHECK(facet_scene_get_camera(s, &got) == FACET_OK);
+  CHECK(got.eye[1] < got.target[1] && got.up[2] == 1.0f); /* Z up: the front faces -Y */
+  CHECK(facet_scene_frame_view(s, 1.0f, 0.0f, 90.0f, FACET_UP_Y, 45.0f, 0.85f) == FACET_INVALID_ARGUMENT);
+  CHECK(strstr(facet_scene_last_error(s), "elevation_deg") != NULL);
+  CHECK(facet_scene_frame_view(s, 1.0f, 0.0f, 0.0f, (facet_up)5, 45.0f, 0.85f) == FACET_INVALID_ARGUMENT);
+  CHECK(facet_scene_frame_view(s, 1.0f, 0.0f, 0.0f, FACET_UP_Y, 45.0f, 0.0f) == FACET_INVALID_ARGUMENT);
+  CHECK(strstr(facet_scene_last_error(s), "fill") != NULL);
+  CHECK(facet_scene_orbit(s, NAN, FACET_UP_Y, 0) == FACET_INVALID_ARGUMENT);
+  CHECK(facet_scene_get_camera(s, NULL) == FACET_INVALID_ARGUMENT);
+  facet_scene* empty = facet_scene_create();
+  CHECK(facet_scene_frame(empty, 1.0f) == FACET_INVALID_ARGUMENT); /* nothing to frame */
+  CHECK(facet_scene_orbit(empty, 10.0f, FACET_UP_Y, 0) == FACET_INVALID_ARGUMENT);
+  facet_scene_destroy(empty);
+  facet_renderer_destroy(r);
+  facet_renderer_destroy(r_all);
+  facet_scene_destroy(s);
+}
+
 int main(void) {
+  setters_change_the_picture();
   /* An octahedron of radius 1 at the origin, normals computed by facet. */
   const float positions[] = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
   const uint32_t indices[] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};

@@ -1,10 +1,30 @@
 #include "cli.hpp"
 
+#include "common/format.hpp"
+
 #include <cerrno>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 
 namespace facet::cli {
+
+std::string json_escape(const std::string& s) {
+  std::string o;
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      o += '\\';
+      o += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char u[8];
+      std::snprintf(u, sizeof u, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+      o += u;
+    } else {
+      o += c;
+    }
+  }
+  return o;
+}
 
 int fail(const std::string& message) {
   std::fprintf(stderr, "facet: %s\n", message.c_str());
@@ -103,26 +123,87 @@ std::string describe_path(LightingPath path, Isa isa, PowTier tier) {
   return std::string("simd ") + to_string(isa == Isa::best ? best_isa() : isa) + " (pow " + to_string(tier) + ")";
 }
 
-std::optional<Scene> load_scene_or_default(const std::string& path, std::uint64_t memory_budget_bytes) {
-  if (path.empty()) return make_default_scene();
-  LoadOptions options;
-  options.memory_budget_bytes = memory_budget_bytes;
-  Result<Scene> loaded = load_scene_file(path, options);
-  if (!loaded) {
-    fail(loaded.status().message());
-    return std::nullopt;
-  }
-  return std::move(*loaded);
-}
-
 bool is_model_path(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext == ".gltf" || ext == ".glb" || ext == ".obj";
 }
 
-std::optional<Scene> load_input(const std::string& path, const InputOptions& options, std::vector<std::string>& notes) {
-  if (path.empty()) return make_default_scene();
+void add_view_options(CLI::App* app, ViewState& st, const char* group) {
+  auto in_group = [&](CLI::Option* o) {
+    if (group) o->group(group);
+  };
+  in_group(app->add_option("--view", st.view,
+                           "AZIMUTH,ELEVATION in degrees: where facet's framing camera looks from (default 0,0: the front; "
+                           "90,0 from +X; 0,30 from the front and above); frames even a file that has a camera"));
+  in_group(app->add_option("--up", st.up, "y | z: the model's up axis (default y, glTF's; z: CAD and Blender's, the front faces -Y)")
+               ->check(one_of({"y", "z"}, "up axis")));
+  in_group(app->add_option("--fov", st.fov_deg, "the framing camera's vertical field of view in degrees (default 45); frames even a file that has a camera")
+               ->check(number_in(1, 170)));
+  in_group(app->add_flag("--ignore-camera", st.ignore_camera, "frame the model even when its file has a camera"));
+}
+
+bool apply_view_options(const ViewState& st, InputOptions& input) {
+  input.view.up = st.up == "z" ? UpAxis::z : UpAxis::y;
+  if (st.fov_deg > 0.0) input.view.vertical_fov_deg = static_cast<float>(st.fov_deg);
+  if (!st.view.empty()) {
+    const std::size_t comma = st.view.find(',');
+    char* end = nullptr;
+    bool ok = comma != std::string::npos;
+    if (ok) {
+      const std::string az = st.view.substr(0, comma), el = st.view.substr(comma + 1);
+      input.view.azimuth_deg = std::strtof(az.c_str(), &end);
+      ok = !az.empty() && end == az.c_str() + az.size();
+      input.view.elevation_deg = std::strtof(el.c_str(), &end);
+      ok = ok && !el.empty() && end == el.c_str() + el.size();
+    }
+    if (!ok || !validate_view(input.view).ok()) {
+      fail("--view: expected AZIMUTH,ELEVATION in degrees, elevation in (-90, 90), found '" + st.view + "'");
+      return false;
+    }
+  }
+  input.reframe = st.ignore_camera || !st.view.empty() || st.fov_deg > 0.0;
+  return true;
+}
+
+namespace {
+
+std::string describe_camera(const Camera& c) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "eye (%.4g, %.4g, %.4g), target (%.4g, %.4g, %.4g), fov %.4g deg", c.eye.x(), c.eye.y(),
+                c.eye.z(), c.target.x(), c.target.y(), c.target.z(), c.vertical_fov_deg);
+  return buf;
+}
+
+// Frames `scene` for `options`; prints and returns false when it cannot.
+bool frame(Scene& scene, const std::string& path, const InputOptions& options, const std::string& why,
+           std::vector<std::string>& notes) {
+  Result<Camera> framed = frame_scene(scene, options.aspect, options.view);
+  if (!framed) {
+    for (const std::string& n : notes) std::fprintf(stderr, "facet: %s\n", n.c_str());  // why, often
+    fail(path + ": " + framed.status().message());
+    return false;
+  }
+  scene.camera = *framed;
+  char view[120];
+  std::snprintf(view, sizeof view, "azimuth %.4g, elevation %.4g, %s up", options.view.azimuth_deg,
+                options.view.elevation_deg, to_string(options.view.up));
+  notes.push_back(why + ": framing it (" + view + "): " + describe_camera(scene.camera));
+  return true;
+}
+
+}  // namespace
+
+std::optional<Input> load_input(const std::string& path, const InputOptions& options, std::vector<std::string>& notes) {
+  Input input;
+  input.rig_first = std::numeric_limits<std::size_t>::max();
+  if (path.empty()) {
+    input.scene = make_default_scene();
+    if (options.reframe && !frame(input.scene, "built-in scene", options, "--view, --fov or --ignore-camera", notes)) return std::nullopt;
+    input.framed = options.reframe;
+    input.rig_first = input.scene.lights.size();
+    return input;
+  }
   {
     std::string ext = std::filesystem::path(path).extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -138,13 +219,22 @@ std::optional<Scene> load_input(const std::string& path, const InputOptions& opt
     LoadOptions lo;
     lo.memory_budget_bytes = options.memory_budget_bytes;
     lo.assets.allowed_roots = options.allowed_paths;
+    lo.view = options.view;
+    lo.frame_aspect = options.aspect;
     lo.warning = [&](const std::string& w) { notes.push_back("warning: " + w); };
     Result<Scene> loaded = load_scene_file(path, lo);
     if (!loaded) {
       fail(loaded.status().message());
       return std::nullopt;
     }
-    return std::move(*loaded);
+    input.scene = std::move(*loaded);
+    if (options.reframe && !frame(input.scene, path, options, "--view, --fov or --ignore-camera", notes)) return std::nullopt;
+    input.framed = options.reframe;
+    // The rig a scene file that imports models gets when nothing else lights it (LoadOptions::view).
+    const auto& lights = input.scene.lights;
+    const bool rig = lights.size() == 2 && lights[0].name == "headlight" && lights[1].name == "key light";
+    input.rig_first = rig ? 0 : lights.size();
+    return input;
   }
   ModelOptions mo;
   mo.memory_budget_bytes = options.memory_budget_bytes;
@@ -156,21 +246,32 @@ std::optional<Scene> load_input(const std::string& path, const InputOptions& opt
     return std::nullopt;
   }
   for (const std::string& w : model->warnings) notes.push_back("warning: " + w);
-  Scene& scene = model->scene;
-  char buf[256];
-  if (!model->has_camera) {
-    const Bounds b = scene_bounds(scene);
-    scene.camera = frame_bounds(b, options.aspect);
-    const Camera& c = scene.camera;
-    std::snprintf(buf, sizeof buf, "no camera in the file: framing its bounds, eye (%.4g, %.4g, %.4g), target (%.4g, %.4g, %.4g), fov %.4g deg",
-                  c.eye.x(), c.eye.y(), c.eye.z(), c.target.x(), c.target.y(), c.target.z(), c.vertical_fov_deg);
-    notes.push_back(buf);
+  input.scene = std::move(model->scene);
+  Scene& scene = input.scene;
+  if (!model->has_camera || options.reframe) {
+    if (!frame(scene, path, options, model->has_camera ? "--view, --fov or --ignore-camera" : "no camera in the file", notes)) {
+      return std::nullopt;
+    }
+    input.framed = true;
   }
+  input.rig_first = scene.lights.size();
   if (!model->has_lights) {
     add_default_lights(scene);
     notes.push_back("no lights in the file: facet's default rig (a headlight and a key light, ambient 0.15)");
   }
-  return std::move(scene);
+  return input;
+}
+
+Status check_output_image(int width, int height, PixelFormat format, bool depth, std::uint64_t budget) {
+  const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
+  const std::uint64_t bytes = pixels * bytes_per_pixel(format) + (depth ? 4 * pixels : 0);
+  if (budget != 0 && bytes > budget) {
+    return {ErrorCode::out_of_memory, "memory_budget_bytes",
+            "--memory-budget-mb: a " + std::to_string(width) + " x " + std::to_string(height) + " image" +
+                (depth ? " and its depth take " : " takes ") + format_bytes(bytes) + ", over the budget of " +
+                format_bytes(budget)};
+  }
+  return {};
 }
 
 Status light_scene(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out) {

@@ -13,6 +13,9 @@
 
 namespace facet::cli {
 
+// `s` as the inside of a JSON string: quotes, backslashes and control characters escaped.
+std::string json_escape(const std::string& s);
+
 // Prints "facet: message" to stderr and returns the usage-error exit status (2).
 int fail(const std::string& message);
 
@@ -50,10 +53,6 @@ inline constexpr const char* kTransparentOrderHelp =
 // "reference", "scalar", or "simd avx512 (pow auto)" with `best` resolved.
 std::string describe_path(LightingPath path, Isa isa, PowTier tier);
 
-// The scene named on the command line, or the built-in one when `path` is empty.
-// `memory_budget_bytes`: LoadOptions::memory_budget_bytes (0 = no limit).
-std::optional<Scene> load_scene_or_default(const std::string& path, std::uint64_t memory_budget_bytes = kDefaultLoadBudgetBytes);
-
 // True for the files `facet render` reads as models rather than scene files: .gltf, .glb, .obj.
 bool is_model_path(const std::string& path);
 
@@ -66,11 +65,34 @@ struct InputOptions {
   bool allow_missing = false;  // --allow-missing
   std::vector<std::string> allowed_paths;  // --allow-path: AssetAccess::allowed_roots
   float aspect = 16.0f / 9.0f; // of the image, for framing a model without a camera
+  ViewOptions view;            // --view, --up, --fov
+  bool reframe = false;        // --view, --fov or --ignore-camera: frame even a file that has a camera
+};
+
+// The options that say where a framing camera looks from (render, check, light).
+struct ViewState {
+  std::string view, up = "y";
+  double fov_deg = 0.0;  // 0: not given
+  bool ignore_camera = false;
+};
+void add_view_options(CLI::App* app, ViewState& st, const char* group = nullptr);
+// Sets input.view and input.reframe from the parsed options; prints and returns false if --view
+// is malformed.
+bool apply_view_options(const ViewState& st, InputOptions& input);
+
+struct Input {
+  Scene scene;
+  bool framed = false;       // the camera is facet's framing, not the file's
+  std::size_t rig_first = 0;  // facet's default rig is lights [rig_first, end); none when == lights.size()
 };
 // A scene file, a model (framed by a camera and lit by the default rig when the file has none;
 // `notes` says so, with the model's warnings) or, for an empty path, the built-in scene. Prints
 // the error and returns nothing on failure.
-std::optional<Scene> load_input(const std::string& path, const InputOptions& options, std::vector<std::string>& notes);
+std::optional<Input> load_input(const std::string& path, const InputOptions& options, std::vector<std::string>& notes);
+
+// The output image (and a depth image) that `facet render` allocates, against the memory budget
+// (0 = no limit): `facet check` makes the same check.
+Status check_output_image(int width, int height, PixelFormat format, bool depth, std::uint64_t budget);
 
 // Lights every object of `scene` into out[i] (light_instance for each).
 Status light_scene(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out);

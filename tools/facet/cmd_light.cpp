@@ -1,7 +1,9 @@
 // facet light / facet check.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <vector>
 
 #include "cli.hpp"
@@ -33,23 +35,24 @@ std::size_t scene_vertices(const Scene& scene) {
 
 }  // namespace
 
-int light(const std::string& scene_path, const std::string& path_name, PowTier tier, double min_seconds, int threads,
-          bool json);
-int check(const std::string& scene_path, const RenderOptions& options, std::optional<ShadowMethod> shadows,
-          std::optional<TransparentOrder> order, int width, int height, bool allow_missing,
-          const std::vector<std::string>& allow_paths);
+struct LightState {
+  std::string scene_path, path_name = "all", pow = "auto";
+  double min_seconds = 0.5;
+  int threads = 1, width = 1280, height = 720, memory_mb = -1;
+  bool json = false, allow_missing = false;
+  std::vector<std::string> allow_paths;
+  ViewState view;
+};
+
+int light(const LightState& st);
 
 Command add_light(CLI::App& facet) {
-  struct State {
-    std::string scene_path, path_name = "all", pow = "auto";
-    double min_seconds = 0.5;
-    int threads = 1;
-    bool json = false;
-  };
-  auto st = std::make_shared<State>();
+  auto st = std::make_shared<LightState>();
   CLI::App* app = facet.add_subcommand("light", "light every vertex of a scene with each lighting path; print vertices lit per second");
-  app->footer("Lights all vertices of every object in eye space, repeatedly, for each path, and reports the rate.");
-  app->add_option("scene", st->scene_path, "SCENE.json (default: the built-in scene)");
+  app->footer(
+      "Lights all vertices of every object in eye space, repeatedly, for each path, and reports the rate.\n"
+      "A model is framed and lit as 'facet render MODEL' frames and lights it.");
+  app->add_option("scene", st->scene_path, "SCENE.json | MODEL.gltf | MODEL.glb | MODEL.obj (default: the built-in scene)");
   app->add_option("--path", st->path_name,
                   "reference | scalar | simd | all (default all: reference, scalar and simd on every instruction set this CPU has)")
       ->check(one_of({"reference", "scalar", "simd", "all"}, "path"));
@@ -59,14 +62,37 @@ Command add_light(CLI::App& facet) {
       ->check(number_in(1e-3, 3600));
   app->add_option("--threads", st->threads, "threads per path (default 1; 0 = one per hardware thread)")->check(int_in(0, 1024));
   app->add_flag("--json", st->json, "print the results as one JSON object");
-  return {app, [st] { return light(st->scene_path, st->path_name, *parse_pow_tier(st->pow), st->min_seconds, st->threads, st->json); }};
+  const char* model = "Models";
+  app->add_option("--width", st->width, "the image width a model is framed for (default 1280)")->check(int_in(1, kMaxImageDimension))->group(model);
+  app->add_option("--height", st->height, "the image height a model is framed for (default 720)")->check(int_in(1, kMaxImageDimension))->group(model);
+  app->add_flag("--allow-missing", st->allow_missing, "a model's missing .mtl or texture files are warnings, not errors")->group(model);
+  app->add_option("--allow-path", st->allow_paths, kAllowPathHelp)->group(model);
+  app->add_option("--memory-budget-mb", st->memory_mb, "the most memory the scene may take, in MiB; 0 = no limit (default 4096)")
+      ->check(int_in(0, 1 << 30))->group(model);
+  add_view_options(app, st->view, model);
+  return {app, [st] { return light(*st); }};
 }
 
-int light(const std::string& scene_path, const std::string& path_name, PowTier tier, double min_seconds, int threads,
-          bool json) {
-  std::optional<Scene> loaded = load_scene_or_default(scene_path);
+int light(const LightState& st) {
+  const std::string& scene_path = st.scene_path;
+  const std::string& path_name = st.path_name;
+  const PowTier tier = *parse_pow_tier(st.pow);
+  const double min_seconds = st.min_seconds;
+  const int threads = st.threads;
+  const bool json = st.json;
+  InputOptions input;
+  input.allowed_paths = st.allow_paths;
+  if (st.memory_mb >= 0) input.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
+  input.allow_missing = st.allow_missing;
+  input.aspect = float(st.width) / float(st.height);
+  if (!apply_view_options(st.view, input)) return 2;
+  std::vector<std::string> notes;
+  std::optional<Input> loaded = load_input(scene_path, input, notes);
   if (!loaded) return 2;
-  const Scene& scene = *loaded;
+  if (!json) {
+    for (const std::string& n : notes) std::fprintf(stderr, "facet: %s\n", n.c_str());
+  }
+  const Scene& scene = loaded->scene;
   const std::string scene_name = scene_path.empty() ? "built-in default scene" : scene_path;
 
   std::vector<LightingOptions> paths;
@@ -155,20 +181,28 @@ int light(const std::string& scene_path, const std::string& path_name, PowTier t
   return 0;
 }
 
+struct CheckState {
+  std::string scene_path, shading = "gouraud", shadows, transparent_order, output, depth;
+  int width = 1280, height = 720, memory_mb = -1;
+  bool allow_missing = false;
+  std::vector<std::string> allow_paths;
+  ViewState view;
+};
+
+int check(const CheckState& st);
+
 Command add_check(CLI::App& facet) {
-  struct State {
-    std::string scene_path, shading = "gouraud", shadows, transparent_order;
-    int width = 1280, height = 720, memory_mb = -1;
-    bool allow_missing = false;
-    std::vector<std::string> allow_paths;
-  };
-  auto st = std::make_shared<State>();
+  auto st = std::make_shared<CheckState>();
   CLI::App* app = facet.add_subcommand("check", "load and validate a scene or model; print a summary or the first error");
   app->footer(
       "Loads the scene or model and makes every check 'facet render' makes before it draws: the file,\n"
-      "the frame's limits and its memory estimate, for an image of the given size. For a model, lists\n"
-      "what was not read (warnings) and what 'facet render' would assume (camera, lights).");
+      "the frame's limits, its memory estimate and the image's memory, for an image of the given size\n"
+      "(a PNG unless -o says otherwise). Then draws one frame and fails if a model, or a scene with\n"
+      "meshes, draws nothing, saying why. For a model, lists what was not read (warnings) and what\n"
+      "'facet render' would assume (camera, lights).");
   app->add_option("scene", st->scene_path, "SCENE.json | MODEL.gltf | MODEL.glb | MODEL.obj")->required();
+  app->add_option("-o,--output", st->output, "the output 'facet render' would write (.png or .pfm; not written): its image memory is checked");
+  app->add_option("--depth", st->depth, "the depth file 'facet render' would write (.pfm; not written)");
   app->add_option("--width", st->width, "the image width to check for (default 1280)")->check(int_in(1, kMaxImageDimension));
   app->add_option("--height", st->height, "the image height to check for (default 720)")->check(int_in(1, kMaxImageDimension));
   app->add_option("--shading", st->shading, "flat | gouraud | phong, as for 'facet render' (default gouraud)")
@@ -180,32 +214,72 @@ Command add_check(CLI::App& facet) {
   app->add_option("--memory-budget-mb", st->memory_mb, "as for 'facet render' (default 4096; 0 = no limit)")->check(int_in(0, 1 << 30));
   app->add_flag("--allow-missing", st->allow_missing, "a model's missing .mtl or texture files are warnings, not errors");
   app->add_option("--allow-path", st->allow_paths, kAllowPathHelp);
-  return {app, [st] {
-            RenderOptions options;
-            options.shading = *parse_shading(st->shading);
-            if (st->memory_mb >= 0) options.memory_budget_bytes = static_cast<std::uint64_t>(st->memory_mb) << 20;
-            std::optional<ShadowMethod> shadows;
-            if (!st->shadows.empty()) shadows = parse_shadow_method(st->shadows);
-            std::optional<TransparentOrder> order;
-            if (!st->transparent_order.empty()) order = parse_transparent_order(st->transparent_order);
-            return check(st->scene_path, options, shadows, order, st->width, st->height, st->allow_missing, st->allow_paths);
-          }};
+  add_view_options(app, st->view);
+  return {app, [st] { return check(*st); }};
 }
 
-int check(const std::string& scene_path, const RenderOptions& options, std::optional<ShadowMethod> shadows,
-          std::optional<TransparentOrder> order, int width, int height, bool allow_missing,
-          const std::vector<std::string>& allow_paths) {
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// One frame of `scene` at up to 640 pixels across (the whole size when that draws nothing, so that
+// a small model is not missed between the pixel centres of the smaller image): what it drew.
+Result<FrameStats> draw_once(const Scene& scene, const RenderOptions& options, int width, int height) {
+  FrameStats stats;
+  const double scale = std::min(1.0, 640.0 / std::max(width, height));
+  for (const double s : {scale, 1.0}) {
+    const int w = std::max(1, int(std::lround(width * s))), h = std::max(1, int(std::lround(height * s)));
+    std::vector<std::uint8_t> pixels(std::size_t(w) * std::size_t(h) * 4);
+    if (Status s2 = Renderer().render(scene, options, {pixels.data(), w, h, std::size_t(w) * 4, PixelFormat::rgba8, false}, nullptr, &stats);
+        !s2.ok()) {
+      return s2;
+    }
+    if (stats.pixels_filled > 0 || s == 1.0) break;
+  }
+  return stats;
+}
+
+}  // namespace
+
+int check(const CheckState& st) {
+  const std::string& scene_path = st.scene_path;
+  const int width = st.width, height = st.height;
+  RenderOptions options;
+  options.shading = *parse_shading(st.shading);
+  if (st.memory_mb >= 0) options.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
+  const std::string ext = st.output.empty() ? ".png" : lower_extension(st.output);
+  if (ext != ".png" && ext != ".pfm") return fail("-o: the output file must end in .png or .pfm, found '" + st.output + "'");
+  if (!st.depth.empty() && lower_extension(st.depth) != ".pfm") return fail("--depth: the depth file must end in .pfm");
   InputOptions input;
-  input.allowed_paths = allow_paths;
+  input.allowed_paths = st.allow_paths;
   input.memory_budget_bytes = options.memory_budget_bytes;
-  input.allow_missing = allow_missing;
+  input.allow_missing = st.allow_missing;
   input.aspect = float(width) / float(height);
+  if (!apply_view_options(st.view, input)) return 2;
   std::vector<std::string> notes;
-  std::optional<Scene> scene = load_input(scene_path, input, notes);
-  if (!scene) return 2;
-  if (shadows) override_shadows(*scene, *shadows);
-  if (order) scene->transparent_order = *order;
+  std::optional<Input> loaded = load_input(scene_path, input, notes);
+  if (!loaded) return 2;
+  Scene* scene = &loaded->scene;
+  if (!st.shadows.empty()) override_shadows(*scene, *parse_shadow_method(st.shadows));
+  if (!st.transparent_order.empty()) scene->transparent_order = *parse_transparent_order(st.transparent_order);
   if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(scene_path + ": " + s.message());
+  const PixelFormat format = ext == ".pfm" ? PixelFormat::rgba32f : PixelFormat::rgba8;
+  if (Status s = check_output_image(width, height, format, !st.depth.empty(), options.memory_budget_bytes); !s.ok()) {
+    return fail(scene_path + ": " + s.message());
+  }
+  // Something to draw: a model always, a scene file when it has meshes.
+  if (is_model_path(scene_path) || !scene->meshes.empty()) {
+    Result<FrameStats> drawn = draw_once(*scene, options, width, height);
+    if (!drawn) return fail(scene_path + ": " + drawn.status().message());
+    if (drawn->pixels_filled == 0) {
+      for (const std::string& n : notes) std::fprintf(stderr, "  %s\n", n.c_str());
+      return fail(scene_path + ": nothing to draw: " + explain_empty_frame(*drawn));
+    }
+  }
   std::size_t triangles = 0, blended = 0, textured = 0, emissive = 0;
   for (const auto& obj : scene->objects) {
     triangles += scene->meshes[obj.mesh].mesh.triangle_count();

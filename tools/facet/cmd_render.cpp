@@ -52,9 +52,11 @@ void print_stats_text(const FrameStats& s, int frames, double seconds) {
               double(s.pixels_filled) / per_frame / 1e6);
 }
 
-void print_stats_json(const FrameStats& s, int frames, double seconds, const RenderOptions& o, int w, int h) {
+// `fields`: more "key": value pairs to open the object with ("\"frame\": 3, ").
+void print_stats_json(const FrameStats& s, int frames, double seconds, const RenderOptions& o, int w, int h,
+                      const std::string& fields = "") {
   const double per_frame = seconds / frames;
-  std::printf("{\"width\": %d, \"height\": %d, \"shading\": \"%s\", \"path\": \"%s\", \"threads\": %d, "
+  std::printf("{%s\"width\": %d, \"height\": %d, \"shading\": \"%s\", \"path\": \"%s\", \"threads\": %d, "
               "\"triangles_in\": %llu, \"triangles_drawn\": %llu, \"triangles_culled\": %llu, "
               "\"triangles_outside\": %llu, \"triangles_clipped\": %llu, \"triangles_degenerate\": %llu, "
               "\"triangles_small\": %llu, "
@@ -66,7 +68,7 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               "\"shadow_map_pixels\": %llu, "
               "\"seconds_frame\": %.6g, \"frames\": %d, \"mean_seconds_per_frame\": %.6g, "
               "\"vertices_lit_per_s\": %.6g, \"pixels_filled_per_s\": %.6g, \"nothing_drawn\": %s}\n",
-              w, h, to_string(o.shading), describe_path(o.path, o.isa, o.pow_tier).c_str(), s.threads,
+              fields.c_str(), w, h, to_string(o.shading), describe_path(o.path, o.isa, o.pow_tier).c_str(), s.threads,
               (unsigned long long)s.triangles_in,
               (unsigned long long)s.triangles_drawn, (unsigned long long)s.triangles_culled,
               (unsigned long long)s.triangles_outside, (unsigned long long)s.triangles_clipped,
@@ -90,34 +92,86 @@ std::string numbered(const std::string& output, int index) {
   return (p.parent_path() / (p.stem().string() + digits + p.extension().string())).string();
 }
 
-// --frames N: the camera orbits its target about its up axis, `orbit_deg` in all, one image per frame.
-int run_turntable(Renderer& renderer, Scene& scene, const RenderOptions& options, const ImageView& image,
-                  const std::string& output, int frames, double orbit_deg) {
-  const Camera start_camera = scene.camera;
-  const Eigen::Vector3d target = start_camera.target.cast<double>();
-  const Eigen::Vector3d arm = start_camera.eye.cast<double>() - target;
-  const Eigen::Vector3d axis = start_camera.up.cast<double>().normalized();
+// Which lights turn with a turntable's camera: auto (facet's default rig, not the file's own
+// lights), camera (all: the model seems to turn under fixed lights) or world (none).
+enum class TurnLights { automatic, camera, world };
+
+struct Turntable {
+  int frames = 1;
+  double orbit_deg = 360.0;
+  TurnLights lights = TurnLights::automatic;
+  bool json = false;
+};
+
+// --frames N: the camera orbits the centre of the objects' box about the up axis, `orbit_deg` in
+// all, one image per frame. A framed camera keeps the distance at which every frame frames the
+// model; a file's camera keeps its own distance from the centre.
+int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, const RenderOptions& options,
+                  const ImageView& image, const std::string& output, const Turntable& t) {
+  Scene& scene = input.scene;
+  const Bounds bounds = scene_bounds(scene);
+  if (bounds.empty()) return fail("--frames: the scene has no vertices to turn around");
+  const Vec3 centre = ((bounds.min.cast<double>() + bounds.max.cast<double>()) * 0.5).cast<float>();
+  Camera start = scene.camera;
+  if (input.framed) {
+    // The farthest of every frame's framing distances, so that each frame holds the whole model.
+    double distance = 0.0;
+    for (int k = 0; k < t.frames; ++k) {
+      ViewOptions view = in.view;
+      view.azimuth_deg = static_cast<float>(double(view.azimuth_deg) + t.orbit_deg * k / t.frames);
+      Result<Camera> c = frame_scene(scene, in.aspect, view);
+      if (!c) return fail(c.status().message());
+      distance = std::max(distance, (c->eye.cast<double>() - centre.cast<double>()).norm());
+      if (k == 0) start = *c;
+    }
+    const Eigen::Vector3d dir = (start.eye.cast<double>() - start.target.cast<double>()).normalized();
+    const double radius = 0.5 * (bounds.max.cast<double>() - bounds.min.cast<double>()).norm();
+    start.eye = (centre.cast<double>() + distance * dir).cast<float>();
+    start.target = centre;
+    start.far = static_cast<float>(1.05 * (distance + radius));
+    start.near = static_cast<float>(std::max(0.9 * (distance - radius), 1e-4 * double(start.far)));
+  }
+  const std::vector<Light> start_lights = scene.lights;
   const bool png = lower_extension(output) == ".png";
   double seconds = 0;
-  std::uint64_t pixels = 0, empty_frames = 0;
-  for (int k = 0; k < frames; ++k) {
-    const double angle = orbit_deg * k / frames * std::numbers::pi / 180.0;
-    scene.camera.eye = (target + Eigen::AngleAxisd(angle, axis) * arm).cast<float>();
+  std::uint64_t pixels = 0;
+  int empty_frames = 0;
+  for (int k = 0; k < t.frames; ++k) {
+    const double angle = t.orbit_deg * k / t.frames;
+    scene.camera = orbit_camera(start, centre, in.view.up, static_cast<float>(angle));
+    for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+      const bool turn = t.lights == TurnLights::camera || (t.lights == TurnLights::automatic && i >= input.rig_first);
+      scene.lights[i] = turn ? orbit_light(start_lights[i], centre, in.view.up, static_cast<float>(angle)) : start_lights[i];
+    }
     FrameStats stats;
     const auto t0 = std::chrono::steady_clock::now();
     if (Status s = renderer.render(scene, options, image, nullptr, &stats); !s.ok()) return fail(s.message());
-    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double frame_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    seconds += frame_seconds;
     pixels += stats.pixels_filled;
     empty_frames += stats.pixels_filled == 0;
     const std::string name = numbered(output, k);
     const Status written = png ? write_png(name, image) : write_pfm(name, image);
     if (!written.ok()) return fail(written.message());
-    std::fprintf(stderr, "\rfacet: frame %d/%d -> %s", k + 1, frames, name.c_str());
-    std::fflush(stderr);
+    if (t.json) {
+      char fields[128];
+      std::snprintf(fields, sizeof fields, "\"frame\": %d, \"angle_deg\": %.6g, ", k, angle);
+      print_stats_json(stats, 1, frame_seconds, options, image.width, image.height,
+                       fields + std::string("\"file\": \"") + json_escape(name) + "\", ");
+    } else {
+      std::fprintf(stderr, "\rfacet: frame %d/%d -> %s", k + 1, t.frames, name.c_str());
+      std::fflush(stderr);
+    }
+  }
+  if (t.json) {
+    std::printf("{\"summary\": true, \"frames\": %d, \"seconds_rendering\": %.6g, \"mean_seconds_per_frame\": %.6g, "
+                "\"pixels_filled_per_s\": %.6g, \"empty_frames\": %d}\n",
+                t.frames, seconds, seconds / t.frames, double(pixels) / seconds, empty_frames);
+    return 0;
   }
   std::fprintf(stderr, "\n");
-  std::printf("facet render: %d frames in %.3f s of rendering: %.2f ms/frame, %.1f M pixels filled/s%s\n", frames,
-              seconds, 1e3 * seconds / frames, double(pixels) / seconds / 1e6,
+  std::printf("facet render: %d frames in %.3f s of rendering: %.2f ms/frame, %.1f M pixels filled/s%s\n", t.frames,
+              seconds, 1e3 * seconds / t.frames, double(pixels) / seconds / 1e6,
               empty_frames ? (", " + std::to_string(empty_frames) + " frames drew nothing").c_str() : "");
   return 0;
 }
@@ -128,10 +182,11 @@ namespace {
 
 struct RenderState {
   std::string scene_path, output, depth_path, shading = "gouraud", shadows, path = "simd", isa = "auto", pow = "auto",
-                                                cull = "back", clear, transparent_order;
+                                                cull = "back", clear, transparent_order, lights = "auto";
   int width = 1280, height = 720, threads = 0, tile = 64, memory_mb = -1, frame_count = 1;
   double min_seconds = 0, orbit_deg = 360.0;
   std::vector<std::string> allow_paths;
+  ViewState view;
   bool stats = false, json = false, allow_missing = false, hdr = false, srgb = false, no_light_culling = false,
        light_every_vertex = false;
 };
@@ -181,14 +236,20 @@ Command add_render(CLI::App& facet) {
   const char* model = "Models";
   app->add_flag("--allow-missing", st->allow_missing, "a model's missing .mtl or texture files are warnings, not errors")->group(model);
   app->add_option("--allow-path", st->allow_paths, kAllowPathHelp)->group(model);
-  app->add_option("--frames", st->frame_count, "a turntable of N frames, the camera orbiting its target, to OUT_0000.png, ...")
+  add_view_options(app, st->view, model);
+  app->add_option("--frames", st->frame_count,
+                  "a turntable of N frames to OUT_0000.png, ...: the camera orbits the centre of the model's box about the up axis")
       ->check(int_in(1, 100000))->group(model);
+  app->add_option("--lights", st->lights,
+                  "auto | camera | world: which lights turn with a turntable's camera (default auto: facet's default rig "
+                  "turns, a file's own lights stay; camera: all; world: none)")
+      ->check(one_of({"auto", "camera", "world"}, "lights mode"))->group(model);
   app->add_option("--orbit", st->orbit_deg, "the turntable's whole sweep in degrees (default 360)")->check(number_in(-36000, 36000))->group(model);
   const char* measure = "Measurement";
   app->add_option("--seconds", st->min_seconds, "render repeatedly for at least S seconds; report the mean frame time")
       ->check(number_in(0, 3600))->group(measure);
   app->add_flag("--stats", st->stats, "print what the frame did and how long each stage took")->group(measure);
-  app->add_flag("--json", st->json, "print the statistics as one JSON object")->group(measure);
+  app->add_flag("--json", st->json, "print the statistics as one JSON object (a turntable: one per frame, then a summary)")->group(measure);
   app->add_option("--memory-budget-mb", st->memory_mb,
                   "the most memory the scene, the frame and the image may take, in MiB; 0 = no limit (default 4096)")
       ->check(int_in(0, 1 << 30))->group(measure);
@@ -251,9 +312,11 @@ int render(const RenderState& st) {
   input.allow_missing = allow_missing;
   input.allowed_paths = st.allow_paths;
   input.aspect = float(width) / float(height);
+  if (!apply_view_options(st.view, input)) return 2;
   std::vector<std::string> notes;
-  std::optional<Scene> scene = load_input(scene_path, input, notes);
-  if (!scene) return 2;
+  std::optional<Input> loaded = load_input(scene_path, input, notes);
+  if (!loaded) return 2;
+  Scene* scene = &loaded->scene;
   for (const std::string& n : notes) std::fprintf(stderr, "facet: %s\n", n.c_str());
   if (shadows) override_shadows(*scene, *shadows);
   if (!st.transparent_order.empty()) scene->transparent_order = *parse_transparent_order(st.transparent_order);
@@ -262,12 +325,8 @@ int render(const RenderState& st) {
 
   const PixelFormat format = ext == ".pfm" ? PixelFormat::rgba32f : PixelFormat::rgba8;
   const std::size_t stride = static_cast<std::size_t>(width) * bytes_per_pixel(format);
-  const std::uint64_t image_bytes = static_cast<std::uint64_t>(stride) * static_cast<std::uint64_t>(height) +
-                                    (depth_path.empty() ? 0 : std::uint64_t{4} * std::uint64_t(width) * std::uint64_t(height));
-  if (options.memory_budget_bytes != 0 && image_bytes > options.memory_budget_bytes) {
-    return fail("--memory-budget-mb: a " + std::to_string(width) + " x " + std::to_string(height) + " image takes " +
-                std::to_string(image_bytes >> 20) + " MiB, over the budget of " +
-                std::to_string(options.memory_budget_bytes >> 20) + " MiB");
+  if (Status s = check_output_image(width, height, format, !depth_path.empty(), options.memory_budget_bytes); !s.ok()) {
+    return fail(s.message());
   }
   std::vector<std::uint8_t> pixels;
   std::vector<float> depth_pixels;
@@ -285,7 +344,14 @@ int render(const RenderState& st) {
 
   Renderer renderer;
   FrameStats frame;
-  if (frame_count > 1) return run_turntable(renderer, *scene, options, image, output, frame_count, orbit_deg);
+  if (frame_count > 1) {
+    Turntable t;
+    t.frames = frame_count;
+    t.orbit_deg = orbit_deg;
+    t.lights = st.lights == "camera" ? TurnLights::camera : st.lights == "world" ? TurnLights::world : TurnLights::automatic;
+    t.json = json;
+    return run_turntable(renderer, *loaded, input, options, image, output, t);
+  }
   int frames = 0;
   const auto start = std::chrono::steady_clock::now();
   double elapsed = 0;

@@ -20,7 +20,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (const auto& m : model->scene.meshes) triangles += m.mesh.triangle_count();
   if (triangles > 20000) return 0;
   facet::Scene scene = model->scene;
-  if (!model->has_camera) scene.camera = facet::frame_bounds(facet::scene_bounds(scene), 1.0f);
+  if (!model->has_camera) {
+    facet::Result<facet::Camera> framed = facet::frame_scene(scene, 1.0f);
+    if (!framed) {
+      if (framed.status().message().empty()) facet::fuzz::broken("a framing error without a message");
+      return 0;
+    }
+    scene.camera = *framed;
+  }
   if (!model->has_lights) facet::add_default_lights(scene);
   facet::fuzz::GuardedImage image(17, 13, facet::PixelFormat::rgba8, 3, false);
   facet::RenderOptions o;

@@ -263,8 +263,21 @@ typedef int (*facet_resolve_fn)(void* user, const char* name, const void** bytes
 facet_status facet_scene_allow_path(facet_scene* scene, const char* folder);
 facet_status facet_scene_set_resolver(facet_scene* scene, facet_resolve_fn resolve, void* user);
 /* A camera framing every object of the scene at `aspect`, and facet's default rig of lights (a
- * headlight and a key light, ambient 0.15) added to the scene's lights. */
+ * headlight and a key light, ambient 0.15) added to the scene's lights. facet_scene_frame looks
+ * at the model's front (glTF's convention: +Y up, the front faces +Z); the model spans 85 % of
+ * the image's height or width. facet_scene_frame_view looks from `azimuth_deg` about the up axis
+ * (0 the front, 90 from +X) and `elevation_deg` in (-90, 90) above the horizon, with `up`
+ * FACET_UP_Z for models whose up is +Z (their front faces -Y), a vertical field of view of
+ * `fov_deg` in (0, 180), spanning `fill` in (0, 1] of the image (ViewOptions in model.hpp).
+ * FACET_INVALID_ARGUMENT when the scene has no vertices to frame. */
+typedef enum facet_up { FACET_UP_Y = 0, FACET_UP_Z = 1 } facet_up;
 facet_status facet_scene_frame(facet_scene* scene, float aspect);
+facet_status facet_scene_frame_view(facet_scene* scene, float aspect, float azimuth_deg, float elevation_deg,
+                                    facet_up up, float fov_deg, float fill);
+/* A turntable's step: the camera turned by `angle_deg` about the `up` axis through the centre of
+ * the objects' box (counter-clockwise seen from above), looking at that centre from its distance;
+ * with turn_lights non-zero the lights turn with it (they keep their place relative to the camera). */
+facet_status facet_scene_orbit(facet_scene* scene, float angle_deg, facet_up up, int turn_lights);
 facet_status facet_scene_add_default_lights(facet_scene* scene);
 facet_status facet_scene_add_material(facet_scene* scene, const facet_material* material, uint32_t* material_id);
 /* Per-face materials: the mesh's triangles in `group_count` consecutive runs, run g of
@@ -304,6 +317,8 @@ facet_status facet_scene_set_transparent_order(facet_scene* scene, facet_transpa
  * to non-zero. */
 facet_status facet_scene_set_object_shadows(facet_scene* scene, uint32_t object_id, int cast, int receive);
 facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* camera);
+/* The scene's camera (after facet_scene_frame, a load with FACET_LOAD_FRAME or an orbit). */
+facet_status facet_scene_get_camera(const facet_scene* scene, facet_camera* camera);
 facet_status facet_scene_set_global_ambient(facet_scene* scene, const float rgb[3]);
 facet_fog facet_fog_default(void); /* no fog; GL's defaults otherwise */
 facet_status facet_scene_set_fog(facet_scene* scene, const facet_fog* fog);

@@ -73,10 +73,41 @@ struct Bounds {
 };
 Bounds scene_bounds(const Scene& scene);
 
-// A camera looking at the centre of the bounding sphere of `bounds` from the front and a little
-// above (+z, +y), far enough that the whole sphere fits the vertical field of view and the
-// horizontal one at `aspect` (width / height); near and far planes around the sphere.
-Camera frame_bounds(const Bounds& bounds, float aspect, float vertical_fov_deg = 45.0f);
+// Which way is up in a model's world, and so where its front is: glTF's convention (+Y up, the
+// front faces +Z, the viewer) or the one of CAD and Blender (+Z up, the front faces -Y). Right is
+// +X in both.
+enum class UpAxis { y, z };
+const char* to_string(UpAxis up) noexcept;
+Vec3 up_vector(UpAxis up) noexcept;
+
+// Where a framing camera looks from, and how much of the image the model takes.
+struct ViewOptions {
+  float azimuth_deg = 0.0f;    // about the up axis: 0 from the front, 90 from +X (the right), 180 from behind
+  float elevation_deg = 0.0f;  // above the horizon, in (-90, 90); negative looks from below
+  UpAxis up = UpAxis::y;
+  float vertical_fov_deg = 45.0f;  // (0, 180)
+  // The part of the image's height or width (whichever the model reaches first) that the model's
+  // projection spans, in (0, 1].
+  float fill = 0.85f;
+};
+Status validate_view(const ViewOptions& view);
+
+// A camera that frames every vertex of the scene's objects at `aspect` (width / height): it looks
+// from the direction `view` gives at the centre of their projection, from the distance at which
+// the widest of them spans `view.fill` of the image's height or width (exactly, up to rounding);
+// near and far planes just around them. The scene's camera is not changed. Errors: no vertex to
+// frame, a view out of range, or coordinates too large to frame in float.
+Result<Camera> frame_scene(const Scene& scene, float aspect, const ViewOptions& view = {});
+// The same for the eight corners of a box (a model's box frames it loosely: its corners lie
+// outside most models).
+Result<Camera> frame_bounds(const Bounds& bounds, float aspect, const ViewOptions& view = {});
+
+// A turntable's step: `camera` turned by `angle_deg` about the axis `up` through `centre`
+// (counter-clockwise seen from above), its target moved to `centre`, its distance from `centre`
+// kept. A light turned likewise (its position and direction) stays where it was relative to the
+// camera: a rig that turns with the camera.
+Camera orbit_camera(const Camera& camera, const Vec3& centre, UpAxis up, float angle_deg);
+Light orbit_light(const Light& light, const Vec3& centre, UpAxis up, float angle_deg);
 
 // facet's default rig, for models that bring no lights: a white headlight along the camera's view
 // (diffuse 0.5, no specular) and a key light from above, left and in front of the camera (diffuse

@@ -9,6 +9,7 @@
 
 #include "facet/assets.hpp"
 #include "facet/mesh.hpp"
+#include "facet/model.hpp"
 #include "facet/scene.hpp"
 #include "facet/status.hpp"
 
@@ -29,6 +30,12 @@ struct LoadOptions {
   // Which files the scene may name (meshes, textures, imported models; and what those models
   // name): by default only files in the naming file's own folder (facet/assets.hpp).
   AssetAccess assets;
+  // A scene file that imports models but has no "camera" (and no import's "camera": true) gets
+  // a camera framing every object (frame_scene, with this view at this aspect, width / height),
+  // and one with neither "lights" nor an import's lights gets facet's default rig
+  // (add_default_lights), as `facet render MODEL` frames and lights a model. `warning` says so.
+  ViewOptions view;
+  float frame_aspect = 16.0f / 9.0f;
 };
 
 Result<Scene> load_scene_file(const std::string& path, const LoadOptions& options = {});

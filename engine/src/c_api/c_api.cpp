@@ -482,6 +482,22 @@ facet_status to_light(facet_scene* scene, const facet_light* light, std::size_t 
     if (facet::Status st = facet::validate_light(l, index); !st.ok()) return report(scene->error, st);
     return FACET_OK;
 }
+// Whether `l`, added (replacing = SIZE_MAX) or put in place of light `replacing`, would make one
+// enabled shadowed light more than facet::kMaxShadowedLights: refused when it is set, not at render.
+bool casts_one_too_many(const facet::Scene& scene, const facet::Light& l, std::size_t replacing) {
+  auto casts = [](const facet::Light& x) { return x.enabled && x.shadow.method != facet::ShadowMethod::none; };
+  if (!casts(l)) return false;
+  int others = 0;
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) others += i != replacing && casts(scene.lights[i]);
+  return others >= facet::kMaxShadowedLights;
+}
+
+facet_status too_many_shadowed(facet_scene* scene) {
+  return fail(scene->error, "shadow_method",
+              "at most " + std::to_string(facet::kMaxShadowedLights) + " enabled lights can cast shadows; the scene has " +
+                  std::to_string(facet::kMaxShadowedLights) + " already");
+}
+
 }  // namespace
 
 extern "C" {
@@ -491,6 +507,7 @@ facet_status facet_scene_add_light(facet_scene* scene, const facet_light* light,
   return guarded(&scene->error, [&] {
     facet::Light l;
     if (const facet_status s = to_light(scene, light, scene->scene.lights.size(), l); s != FACET_OK) return s;
+    if (casts_one_too_many(scene->scene, l, SIZE_MAX)) return too_many_shadowed(scene);
     const std::uint32_t id = scene->next_light_id;
     l.name = "light" + std::to_string(id);
     scene->light_ids.reserve(scene->light_ids.size() + 1);
@@ -509,6 +526,7 @@ facet_status facet_scene_set_light(facet_scene* scene, uint32_t light_id, const 
     if (index == SIZE_MAX) return fail(scene->error, "light_id", "no light " + std::to_string(light_id));
     facet::Light l;
     if (const facet_status s = to_light(scene, light, index, l); s != FACET_OK) return s;
+    if (casts_one_too_many(scene->scene, l, index)) return too_many_shadowed(scene);
     l.name = scene->scene.lights[index].name;
     scene->scene.lights[index] = std::move(l);
     return report(scene->error, {});
@@ -699,7 +717,11 @@ facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigne
       for (const std::string& w : model->warnings) warnings += w + "\n";
       loaded = std::move(model->scene);
       if (flags & FACET_LOAD_FRAME) {
-        if (!model->has_camera) loaded.camera = facet::frame_bounds(facet::scene_bounds(loaded), aspect);
+        if (!model->has_camera) {
+          facet::Result<facet::Camera> framed = facet::frame_scene(loaded, aspect);
+          if (!framed) return report(scene->error, framed.status());
+          loaded.camera = *framed;
+        }
         if (!model->has_lights) facet::add_default_lights(loaded);
       }
     } else {
@@ -755,7 +777,44 @@ facet_status facet_scene_frame(facet_scene* scene, float aspect) {
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
     if (!(aspect > 0.0f && aspect < 1e6f)) return fail(scene->error, "aspect", "expected width / height > 0");
-    scene->scene.camera = facet::frame_bounds(facet::scene_bounds(scene->scene), aspect);
+    facet::Result<facet::Camera> framed = facet::frame_scene(scene->scene, aspect);
+    if (!framed) return report(scene->error, framed.status());
+    scene->scene.camera = *framed;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_frame_view(facet_scene* scene, float aspect, float azimuth_deg, float elevation_deg,
+                                    facet_up up, float fov_deg, float fill) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (up != FACET_UP_Y && up != FACET_UP_Z) return fail(scene->error, "up", "expected FACET_UP_Y or FACET_UP_Z");
+    facet::ViewOptions view;
+    view.azimuth_deg = azimuth_deg;
+    view.elevation_deg = elevation_deg;
+    view.up = up == FACET_UP_Z ? facet::UpAxis::z : facet::UpAxis::y;
+    view.vertical_fov_deg = fov_deg;
+    view.fill = fill;
+    facet::Result<facet::Camera> framed = facet::frame_scene(scene->scene, aspect, view);
+    if (!framed) return report(scene->error, framed.status());
+    scene->scene.camera = *framed;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_orbit(facet_scene* scene, float angle_deg, facet_up up, int turn_lights) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (up != FACET_UP_Y && up != FACET_UP_Z) return fail(scene->error, "up", "expected FACET_UP_Y or FACET_UP_Z");
+    if (!(std::abs(angle_deg) <= 36000.0f)) return fail(scene->error, "angle_deg", "expected a number in [-36000, 36000]");
+    const facet::Bounds b = facet::scene_bounds(scene->scene);
+    if (b.empty()) return fail(scene->error, "scene", "no vertices: nothing to orbit");
+    const facet::Vec3 centre = ((b.min.cast<double>() + b.max.cast<double>()) * 0.5).cast<float>();
+    const facet::UpAxis axis = up == FACET_UP_Z ? facet::UpAxis::z : facet::UpAxis::y;
+    scene->scene.camera = facet::orbit_camera(scene->scene.camera, centre, axis, angle_deg);
+    if (turn_lights) {
+      for (facet::Light& l : scene->scene.lights) l = facet::orbit_light(l, centre, axis, angle_deg);
+    }
     return report(scene->error, {});
   });
 }
@@ -771,6 +830,16 @@ facet_status facet_scene_add_default_lights(facet_scene* scene) {
 }
 
 const char* facet_version(void) { return facet::version(); }
+
+facet_status facet_scene_get_camera(const facet_scene* scene, facet_camera* camera) {
+  if (!scene || !camera) return FACET_INVALID_ARGUMENT;
+  const facet::Camera& c = scene->scene.camera;
+  for (int k = 0; k < 3; ++k) camera->eye[k] = c.eye[k], camera->target[k] = c.target[k], camera->up[k] = c.up[k];
+  camera->vertical_fov_deg = c.vertical_fov_deg;
+  camera->near_plane = c.near;
+  camera->far_plane = c.far;
+  return FACET_OK;
+}
 
 facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* camera) {
   if (!scene) return FACET_INVALID_ARGUMENT;

@@ -4,10 +4,12 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 #include <string>
 
 #include "common/format.hpp"
+#include "common/try.hpp"
 #include "facet/model.hpp"
 #include "facet/render.hpp"
 
@@ -42,26 +44,153 @@ Bounds scene_bounds(const Scene& scene) {
   return b;
 }
 
-Camera frame_bounds(const Bounds& bounds, float aspect, float vertical_fov_deg) {
+const char* to_string(UpAxis up) noexcept { return up == UpAxis::z ? "z" : "y"; }
+
+Vec3 up_vector(UpAxis up) noexcept { return up == UpAxis::z ? Vec3(0.0f, 0.0f, 1.0f) : Vec3(0.0f, 1.0f, 0.0f); }
+
+Status validate_view(const ViewOptions& v) {
+  auto bad = [](const char* field, const std::string& what) {
+    return Status{ErrorCode::invalid_argument, field, std::string(field) + ": " + what};
+  };
+  if (!(std::abs(v.azimuth_deg) <= 36000.0f)) return bad("azimuth_deg", "expected a number in [-36000, 36000], found " + format_number(v.azimuth_deg));
+  if (!(v.elevation_deg > -90.0f && v.elevation_deg < 90.0f)) {
+    return bad("elevation_deg", "expected a number in (-90, 90), found " + format_number(v.elevation_deg));
+  }
+  if (v.up != UpAxis::y && v.up != UpAxis::z) return bad("up", "expected UpAxis::y or UpAxis::z");
+  if (!(v.vertical_fov_deg > 0.0f && v.vertical_fov_deg < 180.0f)) {
+    return bad("vertical_fov_deg", "expected a number in (0, 180), found " + format_number(v.vertical_fov_deg));
+  }
+  if (!(v.fill > 0.0f && v.fill <= 1.0f)) return bad("fill", "expected a number in (0, 1], found " + format_number(v.fill));
+  return {};
+}
+
+namespace {
+
+// Calls fn(p) for every world-space vertex of the scene's objects (non-finite ones skipped).
+template <class Fn>
+void for_each_world_vertex(const Scene& scene, Fn fn) {
+  for (const Instance& inst : scene.objects) {
+    if (inst.mesh >= scene.meshes.size()) continue;
+    const Eigen::Matrix4d m = inst.model.cast<double>();
+    for (const Vec3& p : scene.meshes[inst.mesh].mesh.positions) {
+      const Eigen::Vector3d w = m.topLeftCorner<3, 3>() * p.cast<double>() + m.topRightCorner<3, 1>();
+      if (w.allFinite()) fn(w);
+    }
+  }
+}
+
+// The framing of frame_scene over the points `each(fn)` enumerates, in double. The camera looks
+// along -d from target + D d. D is the least distance at which every point's projection lies
+// within `fill` of the image's half-width and half-height: for a point at (x, y) across the view
+// and z towards the eye (relative to the target), |x| <= fill tx (D - z), so D >= z + |x| / (fill tx),
+// likewise for y. Each round first moves the target to the centre of the points' projection (so
+// that the model sits in the middle of the image), then solves D again; four rounds bring the
+// projection's centre to well under a percent of the image.
+template <class Each>
+Result<Camera> frame_points(Each each, float aspect, const ViewOptions& view) {
+  FACET_TRY(validate_view(view));
+  if (!(aspect > 0.0f && aspect < 1e6f)) {
+    return Status{ErrorCode::invalid_argument, "aspect", "aspect: expected width / height > 0, found " + format_number(aspect)};
+  }
+  Eigen::Array3d lo = Eigen::Array3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  std::size_t count = 0;
+  each([&](const Eigen::Vector3d& p) { lo = lo.min(p.array()), hi = hi.max(p.array()), ++count; });
+  if (count == 0) return Status{ErrorCode::invalid_argument, "", "nothing to frame: the scene has no vertices"};
+  const double deg = std::numbers::pi / 180.0;
+  const Eigen::Vector3d up = up_vector(view.up).cast<double>();
+  const Eigen::Vector3d front = view.up == UpAxis::z ? Eigen::Vector3d(0, -1, 0) : Eigen::Vector3d(0, 0, 1);
+  const Eigen::Vector3d right(1, 0, 0);
+  const double az = double(view.azimuth_deg) * deg, el = double(view.elevation_deg) * deg;
+  const Eigen::Vector3d d = (std::cos(el) * (std::cos(az) * front + std::sin(az) * right) + std::sin(el) * up).normalized();
+  const Eigen::Vector3d r = (-d).cross(up).normalized();
+  const Eigen::Vector3d u = r.cross(-d);
+  const double ty = std::tan(0.5 * double(view.vertical_fov_deg) * deg), tx = ty * double(aspect);
+  const double k = double(view.fill);
+  const double radius = 0.5 * (hi - lo).matrix().norm();
+  Eigen::Vector3d target = 0.5 * (lo + hi).matrix();
+  double distance = 0.0;
+  auto solve_distance = [&] {
+    double need = -std::numeric_limits<double>::infinity(), z_max = need;
+    each([&](const Eigen::Vector3d& p) {
+      const Eigen::Vector3d rel = p - target;
+      const double z = rel.dot(d);
+      need = std::max(need, z + std::max(std::abs(rel.dot(r)) / (k * tx), std::abs(rel.dot(u)) / (k * ty)));
+      z_max = std::max(z_max, z);
+    });
+    // Every point strictly in front of the eye, also one on the axis of view.
+    distance = std::max(need, z_max + 0.01 * radius);
+    if (!(distance > 0.0)) distance = 1.0;  // a single point: any distance frames it
+  };
+  solve_distance();
+  for (int round = 0; round < 4 && radius > 0.0; ++round) {
+    Eigen::Array2d nlo = Eigen::Array2d::Constant(std::numeric_limits<double>::infinity()), nhi = -nlo;
+    each([&](const Eigen::Vector3d& p) {
+      const Eigen::Vector3d rel = p - target;
+      const double depth = distance - rel.dot(d);
+      const Eigen::Array2d n(rel.dot(r) / (depth * tx), rel.dot(u) / (depth * ty));
+      nlo = nlo.min(n), nhi = nhi.max(n);
+    });
+    const Eigen::Array2d mid = 0.5 * (nlo + nhi);
+    target += distance * (mid.x() * tx * r + mid.y() * ty * u);
+    solve_distance();
+  }
+  double near = std::numeric_limits<double>::infinity(), far = 0.0;
+  each([&](const Eigen::Vector3d& p) {
+    const double depth = distance - (p - target).dot(d);
+    near = std::min(near, depth), far = std::max(far, depth);
+  });
+  far = std::max(1.1 * far, 1e-6);
+  near = std::max(0.9 * near, 1e-5 * far);
   Camera c;
-  c.vertical_fov_deg = vertical_fov_deg;
-  if (bounds.empty()) return c;
-  const Eigen::Vector3d lo = bounds.min.cast<double>(), hi = bounds.max.cast<double>();
-  const Eigen::Vector3d centre = 0.5 * (lo + hi);
-  double radius = 0.5 * (hi - lo).norm();
-  if (!(radius > 0.0)) radius = std::max(1e-3, 1e-3 * centre.norm());
-  const double v = double(vertical_fov_deg) * std::numbers::pi / 180.0;
-  const double h = 2.0 * std::atan(std::tan(v / 2.0) * std::max(1e-3, double(aspect > 0.0f ? aspect : 1.0f)));
-  const double half = std::min(v, h) / 2.0;
-  const double distance = 1.05 * radius / std::sin(half);
-  const Eigen::Vector3d dir = Eigen::Vector3d(0.0, 0.35, 1.0).normalized();
-  const Eigen::Vector3d eye = centre + distance * dir;
-  c.eye = eye.cast<float>();
-  c.target = centre.cast<float>();
-  c.up = Vec3(0.0f, 1.0f, 0.0f);
-  c.near = static_cast<float>(std::max(distance - 1.5 * radius, 1e-3 * distance));
-  c.far = static_cast<float>(distance + 1.5 * radius);
+  c.vertical_fov_deg = view.vertical_fov_deg;
+  c.eye = (target + distance * d).cast<float>();
+  c.target = target.cast<float>();
+  c.up = up.cast<float>();
+  c.near = static_cast<float>(near);
+  c.far = static_cast<float>(far);
+  if (Status s = validate_camera(c); !s.ok()) {
+    return Status{ErrorCode::unsupported, "", "cannot frame the model: its coordinates (up to " +
+                                                  format_number(static_cast<float>(std::max(lo.abs().maxCoeff(), hi.abs().maxCoeff()))) +
+                                                  ") are too large for a camera in float (" + s.message() + ")"};
+  }
   return c;
+}
+
+}  // namespace
+
+Result<Camera> frame_scene(const Scene& scene, float aspect, const ViewOptions& view) {
+  return frame_points([&](auto fn) { for_each_world_vertex(scene, fn); }, aspect, view);
+}
+
+Result<Camera> frame_bounds(const Bounds& bounds, float aspect, const ViewOptions& view) {
+  return frame_points(
+      [&](auto fn) {
+        if (bounds.empty()) return;
+        for (int corner = 0; corner < 8; ++corner) {
+          fn(Eigen::Vector3d((corner & 1) ? bounds.max.x() : bounds.min.x(), (corner & 2) ? bounds.max.y() : bounds.min.y(),
+                             (corner & 4) ? bounds.max.z() : bounds.min.z()));
+        }
+      },
+      aspect, view);
+}
+
+Camera orbit_camera(const Camera& camera, const Vec3& centre, UpAxis up, float angle_deg) {
+  const Eigen::AngleAxisd turn(double(angle_deg) * std::numbers::pi / 180.0, up_vector(up).cast<double>());
+  const Eigen::Vector3d c = centre.cast<double>();
+  Camera out = camera;
+  out.eye = (c + turn * (camera.eye.cast<double>() - c)).cast<float>();
+  out.target = centre;
+  out.up = (turn * camera.up.cast<double>()).cast<float>();
+  return out;
+}
+
+Light orbit_light(const Light& light, const Vec3& centre, UpAxis up, float angle_deg) {
+  const Eigen::AngleAxisd turn(double(angle_deg) * std::numbers::pi / 180.0, up_vector(up).cast<double>());
+  const Eigen::Vector3d c = centre.cast<double>();
+  Light out = light;
+  out.position = (c + turn * (light.position.cast<double>() - c)).cast<float>();
+  out.direction = (turn * light.direction.cast<double>()).cast<float>();
+  return out;
 }
 
 void add_default_lights(Scene& scene) {
@@ -103,8 +232,8 @@ std::string explain_empty_frame(const FrameStats& s) {
                       bad = s.triangles_nonfinite + s.triangles_degenerate;
   const std::uint64_t total = outside + culled + small + bad;
   if (outside == total) {
-    return "every triangle is outside the view: the camera does not look at the model (frame it: no \"camera\" in the "
-           "scene, or facet render MODEL)";
+    return "every triangle is outside the view: the camera does not look at the model (frame it: frame_scene, facet "
+           "render --ignore-camera, or no \"camera\" in the scene file)";
   }
   if (culled == total) return "every triangle faces away from the camera and is culled (inverted winding? try --cull none)";
   if (small == total) return "every triangle falls between pixel centres: the model is too small in the image";

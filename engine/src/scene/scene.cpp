@@ -233,9 +233,11 @@ Status check_camera(const Camera& c) {
   if (!finite(c.eye)) return invalid("camera.eye", "expected finite coordinates, found " + describe(c.eye));
   if (!finite(c.target)) return invalid("camera.target", "expected finite coordinates, found " + describe(c.target));
   FACET_TRY(check_direction(c.up, f, "up"));
-  const Vec3 forward = c.target - c.eye;
-  if (!(forward.squaredNorm() > 1e-24f)) return invalid("camera.target", "must differ from camera.eye");
-  if (!(forward.normalized().cross(c.up.normalized()).norm() > 1e-6f)) {
+  // In double: a camera far from the origin (coordinates of 1e30) has a view vector whose squared
+  // length overflows a float.
+  const Eigen::Vector3d forward = c.target.cast<double>() - c.eye.cast<double>();
+  if (!(forward.squaredNorm() > 1e-24)) return invalid("camera.target", "must differ from camera.eye");
+  if (!(forward.normalized().cross(c.up.cast<double>().normalized()).norm() > 1e-6)) {
     return invalid("camera.up", "must not be parallel to the viewing direction");
   }
   if (!(c.vertical_fov_deg > 0.0f && c.vertical_fov_deg < 180.0f)) {
@@ -397,8 +399,10 @@ Mat4 projection_matrix(const Camera& camera, float aspect) {
   Mat4 m = Mat4::Zero();
   m(0, 0) = t / aspect;
   m(1, 1) = t;
-  m(2, 2) = (f + n) / (n - f);
-  m(2, 3) = 2.0f * f * n / (n - f);
+  // In double: f n overflows a float once near and far pass about 1e19 (a model of 1e30 units).
+  const double nd = n, fd = f;
+  m(2, 2) = static_cast<float>((fd + nd) / (nd - fd));
+  m(2, 3) = static_cast<float>(2.0 * fd * nd / (nd - fd));
   m(3, 2) = -1.0f;
   return m;
 }

@@ -131,6 +131,7 @@ class SceneReader {
     FACET_TRY(read_list(root, "imports", add_import));
     FACET_TRY(read_list(root, "objects", add_object));
     FACET_TRY(read_list(root, "lights", add_light));
+    FACET_TRY(frame_imports(root, scene));
     if (Status s = validate_scene(scene); !s.ok()) return located(s.field(), s.code(), s.message());
     return {};
   }
@@ -652,6 +653,7 @@ class SceneReader {
     }
     const Eigen::Matrix3f linear = place.topLeftCorner<3, 3>();
     if (lights && model->has_lights) {
+      imported_lights_ = true;
       for (Light l : m.lights) {
         l.name = prefix + l.name;
         l.position = linear * l.position + place.block<3, 1>(0, 3);
@@ -667,6 +669,27 @@ class SceneReader {
       c.target = c.eye + linear * forward;
       c.up = linear * c.up;
       scene.camera = c;
+      imported_camera_ = true;
+    }
+    return {};
+  }
+
+  // Imported models without a camera or lights of the scene's own are framed and lit as
+  // `facet render MODEL` frames and lights a model (LoadOptions::view).
+  Status frame_imports(const json& root, Scene& scene) {
+    if (!root.contains("imports") || scene.objects.empty()) return {};
+    auto note = [&](const std::string& what) {
+      if (options_.warning) options_.warning(what);
+    };
+    if (!root.contains("camera") && !imported_camera_) {
+      Result<Camera> framed = frame_scene(scene, options_.frame_aspect, options_.view);
+      if (!framed) return located("imports", framed.status().code(), source_ + ": imports: " + framed.status().message());
+      scene.camera = *framed;
+      note("no \"camera\": framing the imported models from the front");
+    }
+    if (!root.contains("lights") && !imported_lights_) {
+      add_default_lights(scene);
+      note("no \"lights\": facet's default rig (a headlight and a key light, ambient 0.15)");
     }
     return {};
   }
@@ -756,7 +779,8 @@ class SceneReader {
   std::string base_dir_;
   const LoadOptions& options_;
   io::AssetFolder folder_;  // the files the scene names: in its folder (facet/assets.hpp)
-  std::uint64_t used_ = 0;  // bytes of the meshes read so far
+  std::uint64_t used_ = 0;  // bytes of the meshes and textures read so far
+  bool imported_camera_ = false, imported_lights_ = false;  // an import brought the camera, lights
 };
 
 }  // namespace
