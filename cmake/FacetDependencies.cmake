@@ -6,11 +6,13 @@ find_package(TBB REQUIRED)                    # libtbb-dev
 find_package(nlohmann_json 3.10 REQUIRED)     # nlohmann-json3-dev
 find_package(tinyobjloader REQUIRED)          # libtinyobjloader-dev (shared library, no IMPLEMENTATION macro)
 find_package(PNG REQUIRED)                    # libpng-dev
+find_package(JPEG REQUIRED)                   # libjpeg62-turbo-dev (JPEG textures)
 find_package(embree 3 REQUIRED)               # libembree-dev 3.13: target `embree` (ray-cast shadows)
 find_package(meshoptimizer REQUIRED)          # libmeshoptimizer-dev 0.18: glTF EXT_meshopt_compression
 find_package(draco REQUIRED)                  # libdraco-dev 1.5: glTF KHR_draco_mesh_compression
 find_package(CLI11 REQUIRED)                  # libcli11-dev 2.1 (header-only): the facet program's options
-# stb_image decodes textures (PNG and JPEG); Debian's libstb.so holds the implementations.
+# stb_image decodes TGA and BMP textures (PNG goes through libpng, JPEG through libjpeg-turbo);
+# Debian's libstb.so holds the implementations.
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)  # libstb-dev
 

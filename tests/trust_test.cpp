@@ -526,6 +526,42 @@ TEST(Trust, TgaAndBmpDecode) {
   Result<Texture> t = decode(tga);
   ASSERT_TRUE(t.ok()) << t.status().message();
   EXPECT_EQ(t->texels[0] & 0xffffffu, 0xff0000u);  // blue in RGBA words
+  auto refused = [](const std::string& bytes, const std::string& why) {
+    Result<Texture> r = decode(bytes);
+    ASSERT_FALSE(r.ok()) << why;
+    EXPECT_NE(r.status().message().find(why), std::string::npos) << r.status().message();
+  };
+  // Cut short: stb left the missing rows as the heap held them (found by fuzz_texture).
+  refused(tga.substr(0, tga.size() - 1), "the TGA's pixels are cut short");
+  // RLE: one run of two green pixels; cut short before the run's pixel.
+  std::string rle(18, '\0');
+  rle[2] = 10, rle[12] = 2, rle[14] = 1, rle[16] = 24;
+  ASSERT_TRUE(decode(rle + std::string("\x81\x00\xff\x00", 4)).ok());
+  EXPECT_EQ(decode(rle + std::string("\x81\x00\xff\x00", 4))->texels[1] & 0xffffffu, 0x00ff00u);
+  refused(rle + std::string("\x81\x00", 2), "the TGA's pixels are cut short");
+  refused(rle + std::string("\x00\x00\xff\x00", 4), "the TGA's pixels are cut short");  // one pixel of two
+  // A colour-mapped TGA: two 24-bit entries, 8-bit indices; an index past the map is refused
+  // (stb took it as entry 0), as is a first entry index stb would read as bytes to skip.
+  auto mapped = [](std::uint8_t index, std::uint8_t first) {
+    std::string m(18, '\0');
+    m[1] = 1, m[2] = 1, m[3] = char(first), m[5] = 2, m[7] = 24, m[12] = 1, m[14] = 1, m[16] = 8;
+    return m + std::string("\xff\x00\x00\x00\xff\x00", 6) + char(index);
+  };
+  Result<Texture> entry1 = decode(mapped(1, 0));
+  ASSERT_TRUE(entry1.ok()) << entry1.status().message();
+  EXPECT_EQ(entry1->texels[0] & 0xffffffu, 0x00ff00u);
+  refused(mapped(2, 0), "colour-map entry 2 of 2");
+  refused(mapped(0, 1), "first entry index");
+  // Found by fuzz_texture (tests/data/fuzz/texture/): a JPEG with junk between its markers whose
+  // components use quantization tables it never defines (stb_image skipped the junk and decoded it
+  // with tables it never set: different texels each run; libjpeg refuses both), and a palette BMP whose pixel offset lies inside its header (stb read a palette of
+  // "-14" colours: none, then used the table it never filled).
+  refused(test::read_bytes(test::data_dir() + "/fuzz/texture/jpeg_without_quantization_tables.jpg"), "Corrupt JPEG data");
+  refused(test::read_bytes(test::data_dir() + "/fuzz/texture/bmp_pixels_inside_the_header.bmp"), "inside its header");
+  // A JPEG cut short: libjpeg would decode the rest as grey; refused.
+  const std::string jpeg = test::read_bytes(std::string(FACET_SOURCE_DIR) + "/tools/fuzz/corpus/texture/seed.jpg");
+  ASSERT_TRUE(decode(jpeg).ok()) << decode(jpeg).status().message();
+  refused(jpeg.substr(0, jpeg.size() - 40), "cannot decode the JPEG");
   // An 8-bit palette BMP, 1 x 1, its index past its two colours: refused.
   auto bmp = [](std::uint8_t index) {
     std::string b(54 + 8 + 4, '\0');

@@ -8,7 +8,7 @@ facet_packages=(
   g++ cmake ninja-build pkg-config
   libeigen3-dev libxsimd-dev libtbb-dev
   libgtest-dev libbenchmark-dev
-  libtinyobjloader-dev nlohmann-json3-dev libpng-dev libstb-dev libembree-dev
+  libtinyobjloader-dev nlohmann-json3-dev libpng-dev libjpeg62-turbo-dev libstb-dev libembree-dev
   libmeshoptimizer-dev libdraco-dev libcli11-dev
 )
 

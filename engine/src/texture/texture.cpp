@@ -1,4 +1,5 @@
-// Textures: decoding (stb_image, from Debian's libstb), the mipmap chain and validation.
+// Textures: decoding (PNG through libpng, JPEG through libjpeg-turbo, TGA and BMP through
+// stb_image from Debian's libstb, each walked first), the mipmap chain and validation.
 #include "facet/texture.hpp"
 
 #include <stb_image.h>
@@ -13,6 +14,7 @@
 #include "common/format.hpp"
 #include "common/try.hpp"
 #include "io/file_access.hpp"
+#include "texture/jpeg_decode.hpp"
 #include "texture/png_decode.hpp"
 #include "texture/texture_file.hpp"
 
@@ -107,12 +109,11 @@ bool is_png(std::span<const std::uint8_t> b) {
 }
 bool is_jpeg(std::span<const std::uint8_t> b) { return b.size() >= 3 && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff; }
 
-enum class ImageKind { unknown, jpeg, tga, bmp };
+enum class ImageKind { unknown, tga, bmp };
 
 // TGA has no signature: a header whose colour-map and image types are TGA's, with stb_image
 // agreeing that it can read it.
 ImageKind image_kind(std::span<const std::uint8_t> b) {
-  if (is_jpeg(b)) return ImageKind::jpeg;
   if (b.size() >= 26 && b[0] == 'B' && b[1] == 'M') return ImageKind::bmp;
   const bool tga_header = b.size() >= 18 && b[1] <= 1 &&
                           (b[2] == 1 || b[2] == 2 || b[2] == 3 || b[2] == 9 || b[2] == 10 || b[2] == 11);
@@ -134,10 +135,13 @@ Status check_bmp_palette(std::span<const std::uint8_t> b, const Fail& fail) {
   const std::int64_t width = os2 ? (b[18] | b[19] << 8) : static_cast<std::int32_t>(le32(b, 18));
   std::int64_t height = os2 ? (b[20] | b[21] << 8) : static_cast<std::int32_t>(le32(b, 22));
   const int bpp = os2 ? (b[24] | b[25] << 8) : (b[28] | b[29] << 8);
-  if (bpp > 8) return {};
+  if (bpp != 1 && bpp != 4 && bpp != 8) return {};  // not a palette BMP (or, as 0 and 2 bits, one stb refuses)
   if (height < 0) height = -height;
   const std::int64_t colours = os2 ? (std::int64_t(offset) - 14 - 24) / 3 : (std::int64_t(offset) - 14 - header) / 4;
-  if (colours < 1 || colours > 256) return {};  // stb refuses it
+  // stb computes the same count and refuses 0 and more than 256, but takes a negative one (a pixel
+  // offset inside the header) as a palette of no colours it then reads (found by fuzz_texture).
+  if (colours < 1) return fail(ErrorCode::parse_error, "the BMP has no palette: its pixel offset lies inside its header");
+  if (colours > 256) return {};  // stb refuses it
   if (width < 1 || width > kMaxTextureDimension || height < 1 || height > kMaxTextureDimension) return {};
   const std::uint64_t row = ((std::uint64_t(width) * std::uint64_t(bpp) + 31) / 32) * 4;
   if (offset > b.size() || row * std::uint64_t(height) > b.size() - offset) {
@@ -153,6 +157,50 @@ Status check_bmp_palette(std::span<const std::uint8_t> b, const Fail& fail) {
                                                 std::to_string(colours));
       }
     }
+  }
+  return {};
+}
+
+// stb_image reads an uncompressed TGA's rows without checking that they are there (the missing
+// rows keep whatever the heap held: found by fuzz_texture), reads past the end of an RLE one as
+// zeros, takes a colour-map index past the map as entry 0, and skips "first entry index" bytes
+// where the format means an index offset. Every pixel is walked first, so that each of these is
+// refused instead of read wrongly.
+template <class Fail>
+Status check_tga(std::span<const std::uint8_t> b, const Fail& fail) {
+  const bool indexed = b[1] == 1;
+  const bool rle = b[2] >= 8;
+  const std::uint32_t first_entry = b[3] | b[4] << 8, map_length = b[5] | b[6] << 8, map_bits = b[7];
+  const std::uint64_t width = b[12] | b[13] << 8, height = b[14] | b[15] << 8, bits = b[16];
+  if (indexed && first_entry != 0) {
+    return fail(ErrorCode::unsupported, "a TGA colour map whose first entry index is not 0 is not supported");
+  }
+  if (indexed && map_length == 0) return fail(ErrorCode::parse_error, "the TGA's colour map is empty");
+  const std::uint64_t map_bytes = indexed ? std::uint64_t(map_length) * ((map_bits + 7) / 8) : 0;
+  const std::uint64_t pixel_bytes = (bits + 7) / 8;
+  if (pixel_bytes == 0 || pixel_bytes > 4) return {};  // stb refuses it
+  std::uint64_t at = 18 + std::uint64_t(b[0]) + map_bytes;
+  if (at > b.size()) return fail(ErrorCode::parse_error, "the TGA's colour map is cut short");
+  auto pixel = [&](std::uint64_t count) -> Status {
+    if (count * pixel_bytes > b.size() - at) return fail(ErrorCode::parse_error, "the TGA's pixels are cut short");
+    for (std::uint64_t k = 0; indexed && k < count; ++k) {
+      const std::uint32_t index = pixel_bytes == 1 ? b[at + k] : (b[at + 2 * k] | b[at + 2 * k + 1] << 8);
+      if (index >= map_length) {
+        return fail(ErrorCode::parse_error, "cannot decode the TGA: a pixel uses colour-map entry " + std::to_string(index) +
+                                                " of " + std::to_string(map_length));
+      }
+    }
+    at += count * pixel_bytes;
+    return {};
+  };
+  const std::uint64_t pixels = width * height;
+  if (!rle) return pixel(pixels);
+  for (std::uint64_t done = 0; done < pixels;) {
+    if (at >= b.size()) return fail(ErrorCode::parse_error, "the TGA's pixels are cut short");
+    const std::uint8_t command = b[at++];
+    const std::uint64_t run = 1 + (command & 127);
+    FACET_TRY(pixel(command & 128 ? 1 : std::min(run, pixels - done)));
+    done += run;
   }
   return {};
 }
@@ -251,9 +299,16 @@ Result<Texture> decode_texture(std::span<const std::uint8_t> bytes, const std::s
     if (!t) return fail(t.status().code(), t.status().message());
     return t;
   }
+  if (is_jpeg(bytes)) {
+    Result<PngPixels> jpeg = decode_jpeg(bytes, source_name, admit, options.memory_budget_bytes);
+    if (!jpeg) return jpeg.status();
+    Result<Texture> t = make_texture(std::move(name), jpeg->width, jpeg->height, jpeg->rgba, options);
+    if (!t) return fail(t.status().code(), t.status().message());
+    return t;
+  }
   const ImageKind kind = image_kind(bytes);
   if (kind == ImageKind::unknown) return fail(ErrorCode::unsupported, "not a PNG, JPEG, TGA or BMP file (the image formats facet reads)");
-  const char* format = kind == ImageKind::jpeg ? "JPEG" : kind == ImageKind::tga ? "TGA" : "BMP";
+  const char* format = kind == ImageKind::tga ? "TGA" : "BMP";
   const auto* data = bytes.data();
   const int size = static_cast<int>(bytes.size());
   int w = 0, h = 0, channels = 0;
@@ -261,6 +316,7 @@ Result<Texture> decode_texture(std::span<const std::uint8_t> bytes, const std::s
     return fail(ErrorCode::parse_error, std::string("cannot read the ") + format + " header");
   }
   if (kind == ImageKind::bmp) FACET_TRY(check_bmp_palette(bytes, fail));
+  if (kind == ImageKind::tga) FACET_TRY(check_tga(bytes, fail));
   // The decoder's output and its working copy, then the texels.
   FACET_TRY(admit(w, h, 2 * static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) * 4));
   const std::uint64_t pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
