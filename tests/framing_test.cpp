@@ -3,6 +3,8 @@
 // framing or the file's own.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 
 #include "facet/facet.hpp"
 #include "test_support.hpp"
@@ -113,6 +115,157 @@ TEST(Framing, HugeCoordinatesAreFramedAndDrawn) {
     FrameStats stats;
     ASSERT_TRUE(Renderer().render(s, {px.data(), 48, 48, 48 * 4, PixelFormat::rgba8, false}, nullptr, &stats).ok());
     EXPECT_GT(stats.pixels_filled, 48u * 48u / 4) << at << ": " << explain_empty_frame(stats);
+  }
+}
+
+// An infinite projection (Camera::far = +infinity; glTF's camera without zfar) stores reversed
+// depth (DepthMode::automatic): nothing is cut by a far plane, and a ball 3.3e6 units away, behind
+// one 1e5 away, is drawn and lit around it. GL's depth rounds it to the far value (1.0) and
+// draws it only in part; a directional shadow map still fits its casters (the frustum's far
+// corners lie at infinity); the depth image holds near / w.
+TEST(InfiniteProjection, ReversedDepthDrawsEverythingInDepthOrder) {
+  Scene s;
+  s.meshes.push_back({"sphere", make_uv_sphere(1.0f, 24, 12)});
+  s.materials.push_back(Material{});
+  Material red;
+  red.diffuse = Color3(1, 0, 0);
+  s.materials.push_back(red);
+  auto at = [](const Vec3& t, float scale) {
+    return Mat4(Eigen::Affine3f(Eigen::Translation3f(t) * Eigen::Scaling(scale)).matrix());
+  };
+  Instance near_ball;  // in front of the far one, both on the axis of view
+  near_ball.model = at(Vec3(0, 0, -1e5f), 1e4f);
+  near_ball.material = 1;
+  Instance far_ball;  // a scale of 1e6: its normals were once too short to light (lighting/setup.cpp)
+  far_ball.model = at(Vec3(0, 0, -3.3e6f), 1e6f);
+  s.objects = {far_ball, near_ball};
+  s.camera.eye = Vec3(0, 0, 0), s.camera.target = Vec3(0, 0, -1);
+  s.camera.near = 0.05f;
+  s.camera.far = std::numeric_limits<float>::infinity();
+  ASSERT_TRUE(validate_camera(s.camera).ok());
+  EXPECT_TRUE(projection_matrix(s.camera, 1.0f).allFinite());
+  Light sun;
+  sun.direction = Vec3(0.3f, -1.0f, -0.2f).normalized();
+  sun.shadow.method = ShadowMethod::map;
+  sun.shadow.resolution = 256;
+  s.lights.push_back(sun);
+  auto draw = [&](DepthMode mode, std::vector<std::uint8_t>& px, std::vector<float>& depth) {
+    RenderOptions o;
+    o.depth = mode;
+    px.assign(64 * 64 * 4, 0);
+    depth.assign(64 * 64, -1.0f);
+    DepthView dv{depth.data(), 64, 64, 64 * sizeof(float), false};
+    FrameStats stats;
+    EXPECT_TRUE(Renderer().render(s, o, {px.data(), 64, 64, 64 * 4, PixelFormat::rgba8, false}, &dv, &stats).ok());
+    EXPECT_EQ(stats.triangles_outside, 0u);  // nothing beyond a far plane
+    return stats.pixels_filled;
+  };
+  std::vector<std::uint8_t> px, gl_px;
+  std::vector<float> depth, gl_depth;
+  const std::uint64_t filled = draw(DepthMode::automatic, px, depth);
+  const std::uint64_t gl_filled = draw(DepthMode::gl, gl_px, gl_depth);
+  EXPECT_GT(filled, gl_filled + 64);
+  // The centre is the near, red ball's; around it the far ball, lit (white, above ambient).
+  const std::uint8_t* c = &px[(32 * 64 + 32) * 4];
+  EXPECT_GT(c[0], c[1] + 20);
+  int grey = 0;
+  for (std::size_t i = 0; i < px.size(); i += 4) grey += px[i] > 40 && px[i] == px[i + 1] && px[i + 1] == px[i + 2];
+  EXPECT_GT(grey, 200);
+  // Depth: near / w; the red ball's nearest point is 9e4 away, the far ball's 2.3e6 (its centre 3.3e6).
+  EXPECT_NEAR(depth[32 * 64 + 32], 0.05f / 9e4f, 0.02f * 0.05f / 9e4f);
+  EXPECT_GT(depth[10 * 64 + 32], 0.05f / 3.3e6f);
+  EXPECT_LT(depth[10 * 64 + 32], 0.05f / 2.3e6f);
+  EXPECT_EQ(depth[0], 0.0f);  // nothing drawn: infinitely far
+  EXPECT_EQ(gl_depth[0], 1.0f);
+}
+
+// Near 0.05 and far 1e6 (a ratio of 2e7): two quads 1 unit apart, 1e4 units away. GL's float
+// depth cannot tell them apart (the depths differ by about 5e-10, a float near 1 steps by 6e-8):
+// the front one, drawn second, fails the LESS test where the back one is; reversed depth draws
+// the front one everywhere.
+TEST(InfiniteProjection, ReversedDepthDoesNotZFight) {
+  Scene s;
+  s.meshes.push_back({"quad", make_plane(1.0f, 1.0f, 8)});
+  Material front, back;
+  front.diffuse = Color3(1, 0, 0), back.diffuse = Color3(0, 1, 0);
+  s.materials = {front, back};
+  auto quad = [](float z, std::uint32_t material) {
+    Instance i;
+    i.model = Mat4(Eigen::Affine3f(Eigen::Translation3f(Vec3(0, 0, z)) * Eigen::AngleAxisf(1.5707963f, Vec3(1, 0, 0)) *
+                                   Eigen::Scaling(3e4f))
+                       .matrix());
+    i.material = material;
+    i.double_sided = true;
+    return i;
+  };
+  s.objects = {quad(-1e4f - 1.0f, 1), quad(-1e4f, 0)};  // the back one first: an equal depth keeps it
+  s.camera.eye = Vec3(0, 0, 0), s.camera.target = Vec3(0, 0, -1);
+  s.camera.near = 0.05f, s.camera.far = 1e6f;
+  Light l;
+  l.direction = Vec3(0, 0, -1);
+  s.lights = {l};
+  auto greens = [&](DepthMode mode) {
+    RenderOptions o;
+    o.depth = mode;
+    std::vector<std::uint8_t> px(64 * 64 * 4);
+    EXPECT_TRUE(Renderer().render(s, o, {px.data(), 64, 64, 64 * 4, PixelFormat::rgba8, false}).ok());
+    int n = 0, red = 0;
+    for (std::size_t i = 0; i < px.size(); i += 4) n += px[i + 1] > px[i], red += px[i] > px[i + 1];
+    EXPECT_GT(n + red, 64 * 64 / 2);  // the quads fill the view
+    return n;
+  };
+  EXPECT_GT(greens(DepthMode::gl), 64);      // z-fighting: the back quad shows through
+  EXPECT_EQ(greens(DepthMode::reversed), 0);
+  EXPECT_EQ(greens(DepthMode::automatic), 0);  // far / near > 1e5: reversed
+}
+
+// Reversed depth is the same bytes on every ISA and for any thread count (depth images bit for
+// bit; colour images across threads); the scalar rasterizer interpolates depth from barycentric
+// weights, the SIMD one from a plane (as in GL mode), so the two agree to a float rounding.
+TEST(InfiniteProjection, ReversedDepthIsTheSameOnEveryIsaAndThreadCount) {
+  Scene s = make_default_scene();
+  s.camera.near = 0.01f;
+  s.camera.far = std::numeric_limits<float>::infinity();
+  auto draw = [&](LightingPath path, Isa isa, int threads, std::vector<std::uint8_t>& px, std::vector<float>& depth) {
+    RenderOptions o;
+    o.depth = DepthMode::reversed;
+    o.path = path, o.isa = isa, o.threads = threads, o.shading = ShadingMode::phong;
+    px.assign(96 * 64 * 4, 0);
+    depth.assign(96 * 64, -1.0f);
+    DepthView dv{depth.data(), 96, 64, 96 * sizeof(float), false};
+    ASSERT_TRUE(Renderer().render(s, o, {px.data(), 96, 64, 96 * 4, PixelFormat::rgba8, false}, &dv).ok());
+  };
+  auto same_bits = [](const std::vector<float>& a, const std::vector<float>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+  };
+  std::vector<std::uint8_t> scalar_px, px1, px;
+  std::vector<float> scalar_depth, depth1, depth;
+  draw(LightingPath::scalar, Isa::best, 1, scalar_px, scalar_depth);
+  int drawn = 0;
+  for (const float d : scalar_depth) {
+    drawn += d > 0.0f;
+    EXPECT_GE(d, 0.0f);
+    EXPECT_LE(d, 1.0f);
+  }
+  EXPECT_GT(drawn, 96 * 64 / 4);
+  draw(LightingPath::scalar, Isa::best, 3, px, depth);
+  EXPECT_EQ(px, scalar_px);
+  EXPECT_TRUE(same_bits(depth, scalar_depth));
+  bool first = true;
+  for (const Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+    if (!isa_supported(isa)) continue;
+    for (const int threads : {1, 3}) {
+      draw(LightingPath::simd, isa, threads, px, depth);
+      if (first) {
+        px1 = px, depth1 = depth, first = false;
+        for (std::size_t i = 0; i < depth.size(); ++i) EXPECT_NEAR(depth[i], scalar_depth[i], 1e-6f * scalar_depth[i]) << i;
+        continue;
+      }
+      EXPECT_TRUE(same_bits(depth, depth1)) << to_string(isa) << " threads " << threads;
+      if (threads != 1) {
+        EXPECT_EQ(px, px1) << to_string(isa);
+      }
+    }
   }
 }
 

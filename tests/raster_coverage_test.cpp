@@ -62,7 +62,7 @@ class Coverage {
     const simd::Fog fog;
     simd::TileJob job{0, &range, &bin, 1, 0, 0, w_, h_, nullptr, &draw, &fog};
     simd::TileCounters counters;
-    kernels_->raster(job, tile_.view({0, 0, 0, 1}), counters);
+    kernels_->raster(job, tile_.view({0, 0, 0, 1}, {}), counters);
     std::uint64_t found = 0;
     for (int y = t->min_py; y <= t->max_py; ++y) {
       for (int x = t->min_px; x <= t->max_px; ++x) {

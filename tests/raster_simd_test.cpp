@@ -60,7 +60,7 @@ std::vector<float> raster_depth(const simd::Kernels& k, std::span<const ScreenTr
   const simd::Fog fog;
   simd::TileJob job{static_cast<int>(shading), &range, bin.data(), bin.size(), rect.x0, rect.y0, rect.x1, rect.y1,
                     nullptr, &draw, &fog};
-  k.raster(job, tile.view({0, 0, 0, 1}), counters);
+  k.raster(job, tile.view({0, 0, 0, 1}, {}), counters);
   std::vector<float> depth(static_cast<std::size_t>(tile_size * tile_size), 1.0f);
   for (int y = 0; y < rect.y1 - rect.y0; ++y) {
     for (int x = 0; x < rect.x1 - rect.x0; ++x) {

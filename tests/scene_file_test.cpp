@@ -134,6 +134,13 @@ TEST(SceneFile, ObjectMaterialAndLightDefaultsAreTheCppOnes) {
   }
 }
 
+TEST(SceneFile, AnInfiniteFarPlane) {
+  Result<Scene> s = parse(R"({"camera": {"near": 0.05, "far": "infinite"}})");
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  EXPECT_TRUE(std::isinf(s->camera.far) && s->camera.far > 0.0f);
+  expect_error(R"({"camera": {"far": "far"}})", 1, "camera.far", {"infinite"});
+}
+
 TEST(SceneFile, TransparentOrderIsReadAndItsErrorsNamed) {
   for (auto [text, order] : {std::pair{"submission", TransparentOrder::submission},
                              std::pair{"back_to_front", TransparentOrder::back_to_front}}) {

@@ -303,6 +303,28 @@ TEST(Trust, TexturesCountAgainstTheLoadBudget) {
   }
 }
 
+// A camera without zfar is an infinite projection (glTF's meaning), drawn with reversed depth.
+TEST(Trust, ACameraWithoutZfarIsAnInfiniteProjection) {
+  GltfBuilder b = quad();
+  b.add("cameras", {{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.01}}}});
+  b.add("nodes", {{"camera", 0}, {"translation", {0.5, 0.5, 3.0}}});
+  b.doc["scenes"][0]["nodes"].push_back(1);
+  Result<Model> m = parse(b.embedded());
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  ASSERT_TRUE(m->has_camera);
+  EXPECT_TRUE(std::isinf(m->scene.camera.far));
+  for (const std::string& w : m->warnings) EXPECT_EQ(w.find("zfar"), std::string::npos) << w;
+  Scene scene = m->scene;
+  add_default_lights(scene);
+  std::vector<std::uint8_t> px(32 * 32 * 4);
+  std::vector<float> depth(32 * 32);
+  DepthView dv{depth.data(), 32, 32, 32 * sizeof(float), false};
+  FrameStats stats;
+  ASSERT_TRUE(Renderer().render(scene, {px.data(), 32, 32, 128, PixelFormat::rgba8, false}, &dv, &stats).ok());
+  EXPECT_GT(stats.pixels_filled, 100u);  // the unit quad, 3 units away
+  EXPECT_NEAR(depth[16 * 32 + 16], 0.01f / 3.0f, 1e-6f);  // reversed: near / w
+}
+
 TEST(Trust, LinePrimitivesAreSkippedWithAWarning) {
   GltfBuilder b = quad();
   b.doc["meshes"][0]["primitives"].push_back({{"attributes", {{"POSITION", 0}}}, {"mode", 1}});

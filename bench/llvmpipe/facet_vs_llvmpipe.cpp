@@ -433,6 +433,7 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
   const facet::DepthView dview{facet_depth.data(), w, h, static_cast<std::size_t>(w) * sizeof(float), true};
   facet::RenderOptions ro;
   ro.threads = opt.threads;
+  ro.depth = facet::DepthMode::gl;  // GL's window depth, compared with llvmpipe's
   facet::Renderer renderer(ro);
   facet::Status status;
   // The two renderers take turns (three rounds when timed), and each reports its median round:

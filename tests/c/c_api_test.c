@@ -156,6 +156,30 @@ static void setters_change_the_picture(void) {
   CHECK(same(px, base_all));
 #undef CHANGES
 
+  /* An infinite far plane, reversed depth: the depth output is near / w (1 at the near plane, 0
+   * where nothing was drawn). */
+  {
+    facet_camera inf = cam;
+    inf.far_plane = INFINITY;
+    CHECK(facet_scene_set_camera(s, &inf) == FACET_OK);
+    facet_render_config rc = facet_render_config_default();
+    CHECK(rc.depth_mode == FACET_DEPTH_AUTO);
+    rc.depth_mode = FACET_DEPTH_REVERSED;
+    facet_renderer* rr = facet_renderer_create(&rc, NULL);
+    static float depth[SW * SH];
+    facet_frame_stats st;
+    memset(&st, 0, sizeof st);
+    CHECK(facet_render(rr, s, px, SW, SH, SW * 4, FACET_RGBA8, 0, depth, SW * sizeof(float), &st) == FACET_OK);
+    int near_over_w = 0, nothing = 0;
+    for (int i = 0; i < SW * SH; ++i) near_over_w += depth[i] > 0.0f && depth[i] < 0.1f, nothing += depth[i] == 0.0f;
+    CHECK(near_over_w > SW * SH / 4 && nothing > 0 && near_over_w + nothing == SW * SH);
+    facet_renderer_destroy(rr);
+    rc.depth_mode = (facet_depth_mode)7;
+    facet_status why = FACET_OK;
+    CHECK(facet_renderer_create(&rc, &why) == NULL && why == FACET_INVALID_ARGUMENT);
+    CHECK(facet_scene_set_camera(s, &cam) == FACET_OK);
+  }
+
   /* A ninth enabled shadowed light is refused when it is added or set, not only at render. */
   {
     facet_scene* lit = facet_scene_create();

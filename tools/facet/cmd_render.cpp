@@ -182,7 +182,7 @@ namespace {
 
 struct RenderState {
   std::string scene_path, output, depth_path, shading = "gouraud", shadows, path = "simd", isa = "auto", pow = "auto",
-                                                cull = "back", clear, transparent_order, lights = "auto";
+                                                cull = "back", clear, transparent_order, lights = "auto", depth_mode = "auto";
   int width = 1280, height = 720, threads = 0, tile = 64, memory_mb = -1, frame_count = 1;
   double min_seconds = 0, orbit_deg = 360.0;
   std::vector<std::string> allow_paths;
@@ -217,6 +217,10 @@ Command add_render(CLI::App& facet) {
   app->add_option("--shadows", st->shadows, "none | map | volume | raycast: every light casts shadows so")
       ->check(one_of({"none", "map", "volume", "raycast"}, "method"))->group(draw);
   app->add_option("--cull", st->cull, "back | front | none (default back)")->check(one_of({"back", "front", "none"}, "cull mode"))->group(draw);
+  app->add_option("--depth-mode", st->depth_mode,
+                  "auto | gl | reversed: how depth is stored (default auto: reversed, which does not z-fight at far / near "
+                  "ratios like 1e7, when the camera's far plane is infinite or over 1e5 x near; else GL's)")
+      ->check(one_of({"auto", "gl", "reversed"}, "depth mode"))->group(draw);
   app->add_option("--transparent-order", st->transparent_order, kTransparentOrderHelp)
       ->check(one_of({"submission", "back_to_front"}, "order"))
       ->group(draw);
@@ -278,6 +282,7 @@ int render(const RenderState& st) {
   options.threads = st.threads;
   if (st.memory_mb >= 0) options.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
   options.cull = st.cull == "back" ? CullMode::back : st.cull == "front" ? CullMode::front : CullMode::none;
+  options.depth = st.depth_mode == "gl" ? DepthMode::gl : st.depth_mode == "reversed" ? DepthMode::reversed : DepthMode::automatic;
   options.tile_size = st.tile;
   options.hdr = st.hdr;
   options.srgb = st.srgb;

@@ -14,6 +14,9 @@ struct Camera {
   float vertical_fov_deg = 45.0f;  // (0, 180)
   float aspect = 0.0f;             // width / height; 0 = take it from the image
   float near = 0.1f;               // 0 < near < far
+  // +infinity: an infinite projection (no far plane; glTF's camera without zfar). Window depth is
+  // then 1 - near / w_eye, which is exact near the camera and coarse far from it (float depth
+  // has 24 bits below 1).
   float far = 100.0f;
 };
 

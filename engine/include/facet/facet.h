@@ -63,6 +63,8 @@ typedef enum facet_pow_tier {
   FACET_POW_SCHLICK = 4  /* Schlick's rational lobe: a different specular model */
 } facet_pow_tier;
 
+typedef enum facet_depth_mode { FACET_DEPTH_AUTO = 0, FACET_DEPTH_GL = 1, FACET_DEPTH_REVERSED = 2 } facet_depth_mode;
+
 /* How a renderer renders. Start from facet_render_config_default(). */
 typedef struct facet_render_config {
   facet_shading shading;
@@ -88,6 +90,12 @@ typedef struct facet_render_config {
    * drawn; the image is the same bytes either way (facet_frame_stats.vertices_skipped counts the
    * difference). Default 0; for measurements. */
   int light_every_vertex;
+  /* How the camera pass stores depth (facet::DepthMode): FACET_DEPTH_AUTO (default: reversed when
+   * the camera's far plane is infinite or more than 1e5 times its near plane), FACET_DEPTH_GL
+   * (GL's window depth; the depth output is 0 near, 1 far), FACET_DEPTH_REVERSED (reversed-Z in a
+   * float: no z-fighting at near / far ratios like 0.05 / 1e6; the depth output is near / w, 1 at
+   * the near plane, 0 at infinity). A camera's far_plane may be INFINITY: an infinite projection. */
+  facet_depth_mode depth_mode;
 } facet_render_config;
 
 typedef struct facet_material {

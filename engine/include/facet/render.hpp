@@ -39,6 +39,15 @@ enum class ShadingMode {
   phong,    // position and normal interpolated, normal renormalised, lit per pixel
 };
 enum class CullMode { none, back, front };
+// How the camera's pass stores depth. gl: window depth 0.5 z/w + 0.5 in a float, as GL's default
+// (and as llvmpipe, which facet's images are compared with): exact near the camera, but a float
+// holds 24 bits below 1, so with near / far ranges like 0.05 / 1e6 distant surfaces z-fight, and
+// beyond about 1.6e7 x near (an infinite projection) depth rounds to the far value and nothing is
+// drawn. reversed: -near / w in a float (reversed-Z: the same relative precision at every
+// distance). automatic: reversed when the camera's far plane is infinite or more than 1e5 times its
+// near plane, gl otherwise. Images differ only where depth decides a different surface.
+enum class DepthMode { automatic, gl, reversed };
+const char* to_string(DepthMode mode) noexcept;
 
 const char* to_string(ShadingMode mode) noexcept;
 
@@ -63,6 +72,9 @@ struct RenderOptions {
   // Off (GL's default), the lit values are written as they are.
   bool srgb = false;
   bool cull_lights = true;  // the frame plan's per-object light culling (LightingOptions::cull_lights)
+  // The camera pass's depth format. The depth image (render's `depth`) holds window depth (0 near,
+  // 1 far) for gl, and near / w (1 at the near plane, 0 at infinity) for reversed.
+  DepthMode depth = DepthMode::automatic;
   // Gouraud lights only the vertices of triangles that can be drawn (not culled, degenerate,
   // non-finite or outside the frustum), flat only those triangles; true lights every vertex (or
   // triangle). The image is the same bytes either way (FrameStats::vertices_skipped counts the

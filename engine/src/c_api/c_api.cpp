@@ -121,6 +121,10 @@ bool to_options(const facet_render_config& c, facet::RenderOptions& o, std::stri
   const facet::PowTier pow[] = {facet::PowTier::automatic, facet::PowTier::exact, facet::PowTier::fast,
                                 facet::PowTier::integer, facet::PowTier::schlick};
   o.pow_tier = pow[pow_i];
+  const long depth_i = raw(c.depth_mode);
+  if (depth_i < FACET_DEPTH_AUTO || depth_i > FACET_DEPTH_REVERSED) return fail(error, "config.depth_mode", "unknown depth mode"), false;
+  const facet::DepthMode depth[] = {facet::DepthMode::automatic, facet::DepthMode::gl, facet::DepthMode::reversed};
+  o.depth = depth[depth_i];
   o.hdr = c.hdr != 0;
   o.cull_lights = c.cull_lights != 0;
   o.light_every_vertex = c.light_every_vertex != 0;
@@ -196,6 +200,7 @@ facet_render_config facet_render_config_default(void) {
   c.hdr = o.hdr ? 1 : 0;
   c.cull_lights = o.cull_lights ? 1 : 0;
   c.light_every_vertex = o.light_every_vertex ? 1 : 0;
+  c.depth_mode = FACET_DEPTH_AUTO;
   return c;
 }
 

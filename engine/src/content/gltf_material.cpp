@@ -1,6 +1,7 @@
 // glTF 2.0 import: materials, textures, cameras and lights (gltf_reader.hpp says how the pieces fit).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "common/format.hpp"
@@ -296,8 +297,7 @@ Status Reader::add_camera(int camera, const std::string& p, const Eigen::Matrix4
     cam.far = float(zfar);
   } else {
     // An infinite projection: facet's depth needs a far plane, put a million near planes away.
-    cam.far = float(znear * 1e6);
-    warn(pp + ": no zfar (an infinite projection); facet uses far = 1e6 x znear = " + format_number(cam.far));
+    cam.far = std::numeric_limits<float>::infinity();  // an infinite projection, as glTF means
   }
   out_.scene.camera = cam;
   out_.has_camera = true;

@@ -42,7 +42,7 @@ bool project_xyzw(float x, float y, float zc, float w, const Viewport& viewport,
   sy = std::clamp(sy, -g, g);
   out.x = round_to_int(sx * float(raster::kSubpixelOne));
   out.y = round_to_int(sy * float(raster::kSubpixelOne));
-  out.z = std::clamp(z, 0.0f, 1.0f);
+  out.z = std::clamp(viewport.depth.reversed ? -viewport.depth.near * inv_w : z, viewport.depth.lo(), viewport.depth.far());
   out.inv_w = inv_w;
   return true;
 }

@@ -13,9 +13,22 @@
 
 namespace facet::geometry {
 
-// The pixel rectangle a pass draws into, [0, width) x [0, height), y down.
+// How a pass stores depth (RenderOptions::depth). GL: window depth 0.5 z/w + 0.5 in [0, 1], far
+// 1. Reversed: -near / w in [-1, 0), far (infinity) 0: float keeps the same relative precision at
+// every distance (it is spent near 1 in GL's), and the LESS test and its code stay GL's. Callers
+// see near / w (1 at the near plane, 0 at infinity) in a reversed pass's depth output.
+struct DepthFormat {
+  bool reversed = false;
+  float near = 0.0f;  // reversed: the camera's near plane
+  float lo() const noexcept { return reversed ? -1.0f : 0.0f; }
+  float far() const noexcept { return reversed ? 0.0f : 1.0f; }  // the clear value: nothing drawn
+  float output(float stored) const noexcept { return reversed ? 0.0f - stored : stored; }  // 0, not -0
+};
+
+// The pixel rectangle a pass draws into, [0, width) x [0, height), y down, and its depth format.
 struct Viewport {
   int width = 0, height = 0;
+  DepthFormat depth{};
 };
 
 // Clip planes for a viewport: |x/w| <= 2G/W - 1 keeps screen x within the guard band [-G, G]

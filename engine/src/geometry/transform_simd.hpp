@@ -73,7 +73,10 @@ struct Transform {
       sy = xsimd::select(sy < F(-g), F(-g), xsimd::select(F(g) < sy, F(g), sy));
       const F one_sub(static_cast<float>(raster::kSubpixelOne));
       const I ix = round_to_int(sx * one_sub), iy = round_to_int(sy * one_sub);  // |value| <= 2^23
-      const F depth = xsimd::select(sz < F(0.0f), F(0.0f), xsimd::select(F(1.0f) < sz, F(1.0f), sz));
+      // Reversed depth (project.hpp): -near / w, on a finite 1/w (sz checks it above).
+      const F rz = viewport.depth.reversed ? F(-viewport.depth.near) * inv_w : sz;
+      const F lo(viewport.depth.lo()), hi(viewport.depth.far());
+      const F depth = xsimd::select(rz < lo, lo, xsimd::select(hi < rz, hi, rz));
       alignas(64) float out_c[4][W], out_z[W], out_inv_w[W];
       alignas(64) std::int32_t out_x[W], out_y[W], out_frustum[W], out_guard[W], out_finite[W], out_projectable[W];
       for (int row = 0; row < 4; ++row) c[row].store_aligned(out_c[row]);

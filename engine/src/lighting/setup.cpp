@@ -82,7 +82,14 @@ void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Ma
 template <class T>
 EyeTransform<T> make_eye_transform(const Eigen::Matrix4d& view, const Mat4& model) {
   const Eigen::Matrix4d mv = view * model.cast<double>();
-  const Eigen::Matrix3d nm = mv.topLeftCorner<3, 3>().inverse().transpose();
+  Eigen::Matrix3d nm = mv.topLeftCorner<3, 3>().inverse().transpose();
+  // Normals are renormalised after this transform, so its scale is free: an object scaled by 1e6
+  // gave normals of length 1e-6, whose squared length the kernels take for a zero normal (unlit).
+  // A power of two brings it near 1 without changing a bit of any normal's direction; scales
+  // within 2^+-8 are left as they are.
+  if (const double big = nm.cwiseAbs().maxCoeff(); std::isfinite(big) && big > 0.0 && (big > 256.0 || big < 1.0 / 256.0)) {
+    nm *= std::ldexp(1.0, -std::ilogb(big));
+  }
   EyeTransform<T> xf{};
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 4; ++c) xf.position[4 * r + c] = T(mv(r, c));

@@ -42,6 +42,10 @@ struct TileView {
   int size;
   float clear[4];
   const float* srgb = nullptr;  // resolve: SrgbTable::threshold (io/srgb.hpp) to encode 8-bit output; null: linear
+  // The depth format (geometry::DepthFormat): stored depth lies in [depth_lo, depth_far], depth_far
+  // is the clear value; a reversed pass's output is the negated stored value.
+  float depth_lo = 0.0f, depth_far = 1.0f;
+  bool depth_reversed = false;
 };
 
 // The pixel program of one draw (an object with one material), decided by the frame plan. A plain

@@ -236,7 +236,7 @@ struct TileKernel {
   static void touch(const TileView& tv, int block, std::size_t base) {
     if (tv.touched[block]) return;
     tv.touched[block] = 1;
-    const F values[5] = {F(tv.clear[0]), F(tv.clear[1]), F(tv.clear[2]), F(tv.clear[3]), F(1.0f)};
+    const F values[5] = {F(tv.clear[0]), F(tv.clear[1]), F(tv.clear[2]), F(tv.clear[3]), F(tv.depth_far)};
     for (int c = 0; c < 5; ++c) {
       for (int b = 0; b < kBatches; ++b) values[c].store_unaligned(tv.plane[c] + base + b * W);
     }
@@ -619,7 +619,7 @@ struct TileKernel {
           const F fi = F::load_aligned(L.fi + b * W), fj = F::load_aligned(L.fj + b * W);
           float* depth = planes[4] + base + b * W;
           F z = z_plane.at(z_o, fi, fj);
-          z = xsimd::select(z > F(0.0f), xsimd::min(z, F(1.0f)), F(0.0f));  // NaN -> 0, as the scalar path
+          z = xsimd::select(z > F(tv.depth_lo), xsimd::min(z, F(tv.depth_far)), F(tv.depth_lo));  // NaN -> lo, as the scalar path
           const F old_z = F::load_unaligned(depth);
           BF pass = z < old_z;
           if constexpr (kFull) {
@@ -887,7 +887,8 @@ struct TileKernel {
         const int n = imin(kBlock, width - bx * kBlock);
         if (!tv.touched[block]) {  // still the clear colour: converted once per tile, as below
           if (depth_row) {
-            const float far_depth[kBlock] = {1, 1, 1, 1, 1, 1, 1, 1};
+            const float f = tv.depth_reversed ? 0.0f - tv.depth_far : tv.depth_far;  // the output's far value (0, not -0)
+            const float far_depth[kBlock] = {f, f, f, f, f, f, f, f};
             std::memcpy(depth_row + 4 * static_cast<std::size_t>(x), far_depth, 4 * static_cast<std::size_t>(n));
           }
           if (color.format == PixelFormat::rgba32f) {
@@ -907,7 +908,13 @@ struct TileKernel {
         const float* b = tv.plane[2] + src;
         const float* a = tv.plane[3] + src;
         if (depth_row) {
-          std::memcpy(depth_row + 4 * static_cast<std::size_t>(x), tv.plane[4] + src, 4 * static_cast<std::size_t>(n));
+          if (tv.depth_reversed) {  // the output is near / w: the stored value negated
+            float out[kBlock];
+            for (int i = 0; i < n; ++i) out[i] = 0.0f - tv.plane[4][src + static_cast<std::size_t>(i)];
+            std::memcpy(depth_row + 4 * static_cast<std::size_t>(x), out, 4 * static_cast<std::size_t>(n));
+          } else {
+            std::memcpy(depth_row + 4 * static_cast<std::size_t>(x), tv.plane[4] + src, 4 * static_cast<std::size_t>(n));
+          }
         }
         if (color.format == PixelFormat::rgba32f) {
           float rgba[4 * kBlock];

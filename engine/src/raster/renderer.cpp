@@ -46,6 +46,15 @@ const char* to_string(ShadingMode mode) noexcept {
   return "unknown";
 }
 
+const char* to_string(DepthMode mode) noexcept {
+  switch (mode) {
+    case DepthMode::automatic: return "auto";
+    case DepthMode::gl: return "gl";
+    case DepthMode::reversed: return "reversed";
+  }
+  return "unknown";
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -78,6 +87,9 @@ Status check_options(const RenderOptions& o) {
   }
   if (o.cull != CullMode::none && o.cull != CullMode::back && o.cull != CullMode::front) {
     return bad("options.cull", "unknown cull mode");
+  }
+  if (o.depth != DepthMode::automatic && o.depth != DepthMode::gl && o.depth != DepthMode::reversed) {
+    return bad("options.depth", "unknown depth mode");
   }
   if (o.tile_size < 8 || o.tile_size > 256 || o.tile_size % 8 != 0) {
     return bad("options.tile_size", "expected a multiple of 8 in [8, 256], found " + std::to_string(o.tile_size));
@@ -925,7 +937,8 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
                               simd_kernels,
                               draws.data(),
                               &fog,
-                              options.srgb && p.color && p.color->format != PixelFormat::rgba32f ? srgb.threshold : nullptr};
+                              options.srgb && p.color && p.color->format != PixelFormat::rgba32f ? srgb.threshold : nullptr,
+                              p.assembly.viewport.depth};
   const int tile_count = p.tile_count();
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});
   const auto raster_start = Clock::now();
@@ -953,7 +966,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
       }
       if (bin.empty()) {  // nothing to rasterize: the clear colour goes straight to the image
         const auto resolve_start = Clock::now();
-        raster::resolve_clear_tile(p.clear_color, job.srgb, rect, *p.color, p.depth);
+        raster::resolve_clear_tile(p.clear_color, job.srgb, rect, *p.color, p.depth, job.depth.output(job.depth.far()));
         c.seconds_resolve = seconds_since(resolve_start);
         continue;
       }
@@ -1003,6 +1016,11 @@ RenderPass depth_pass(const Eigen::Matrix4d& view, const Eigen::Matrix4d& projec
   return p;
 }
 
+bool reversed_depth(const Camera& camera, DepthMode mode) {
+  if (mode != DepthMode::automatic) return mode == DepthMode::reversed;
+  return !std::isfinite(camera.far) || double(camera.far) > 1e5 * double(camera.near);
+}
+
 RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth) {
   RenderPass p;
   const int width = color.width, height = color.height;
@@ -1014,7 +1032,7 @@ RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const I
   p.tile_size = options.tile_size;
   p.tiles_x = (width + p.tile_size - 1) / p.tile_size;
   p.tiles_y = (height + p.tile_size - 1) / p.tile_size;
-  p.assembly.viewport = {width, height};
+  p.assembly.viewport = {width, height, {reversed_depth(scene.camera, options.depth), scene.camera.near}};
   p.assembly.planes = geometry::guard_band_planes(p.assembly.viewport);
   p.assembly.cull = options.cull;
   p.assembly.two_sided = scene.two_sided;

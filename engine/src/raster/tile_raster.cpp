@@ -157,7 +157,7 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
                    job.draws,
                    job.fog};
   simd::TileCounters tc;
-  job.kernels->raster(tj, tile.view(job.clear_color), tc);
+  job.kernels->raster(tj, tile.view(job.clear_color, job.depth), tc);
   counters.tested += tc.tested;
   counters.filled += tc.filled;
 }
@@ -193,7 +193,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
     for (int x = 0; x < rect.x1 - rect.x0; ++x) {
       const std::size_t p = tile.index(x, y);
       for (int c = 0; c < 4; ++c) tile.plane(c)[p] = job.clear_color[static_cast<std::size_t>(c)];
-      tile.plane(4)[p] = 1.0f;
+      tile.plane(4)[p] = job.depth.far();
     }
   }
 
@@ -221,7 +221,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
       const float l1 = static_cast<float>(e1) * inv_area2;
       const float l2 = static_cast<float>(e2) * inv_area2;
       float z = l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2];
-      z = z > 0.0f ? (z < 1.0f ? z : 1.0f) : 0.0f;
+      z = z > job.depth.lo() ? (z < job.depth.far() ? z : job.depth.far()) : job.depth.lo();
       const std::size_t pixel = tile.index(x - rect.x0, y - rect.y0);
       float* depth = tile.plane(4);
       if (!(z < depth[pixel])) return;  // depth test: LESS
@@ -318,7 +318,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
 void resolve_tile(const RasterJob& job, TileBuffers& tile, const TileRect& rect, const ImageView& color,
                   const DepthView* depth) {
   if (job.kernels) {
-    job.kernels->resolve(tile.view(job.clear_color, job.srgb), rect.x0, rect.y0, rect.x1, rect.y1, color, depth);
+    job.kernels->resolve(tile.view(job.clear_color, job.depth, job.srgb), rect.x0, rect.y0, rect.x1, rect.y1, color, depth);
     return;
   }
   const std::size_t bpp = bytes_per_pixel(color.format);
@@ -336,18 +336,20 @@ void resolve_tile(const RasterJob& job, TileBuffers& tile, const TileRect& rect,
       const int depth_row = depth->y_up ? depth->height - 1 - y : y;
       auto* d = reinterpret_cast<std::uint8_t*>(depth->data) + static_cast<std::size_t>(depth_row) * depth->stride_bytes +
                 static_cast<std::size_t>(rect.x0) * sizeof(float);
-      for (int x = 0; x < n; ++x, d += sizeof(float)) std::memcpy(d, &tile.plane(4)[tile.index(x, y - rect.y0)], 4);
+      for (int x = 0; x < n; ++x, d += sizeof(float)) {
+        const float out = job.depth.output(tile.plane(4)[tile.index(x, y - rect.y0)]);
+        std::memcpy(d, &out, 4);
+      }
     }
   }
 }
 
 void resolve_clear_tile(const std::array<float, 4>& clear_color, const float* srgb, const TileRect& rect,
-                        const ImageView& color, const DepthView* depth) {
+                        const ImageView& color, const DepthView* depth, float far_depth) {
   // One pixel in the output format, converted by the same code as resolve_tile.
   std::uint8_t pixel[16];
   const std::size_t bpp = bytes_per_pixel(color.format);
   store_pixel(clear_color.data(), color.format, srgb, pixel);
-  const float far_depth = 1.0f;
   const std::size_t row_bytes = static_cast<std::size_t>(rect.x1 - rect.x0) * bpp;
   const std::uint8_t* first_color = nullptr;
   const std::uint8_t* first_depth = nullptr;
@@ -396,9 +398,10 @@ void resolve_depth_tile(const RasterJob& job, const TileBuffers& tile, const Til
       const int tx = x - rect.x0, width = std::min(simd::kBlock, rect.x1 - x);
       const bool touched = !job.kernels || tile.touched[static_cast<std::size_t>((ty / simd::kBlock) * blocks_per_row + tx / simd::kBlock)];
       if (touched) {
-        std::memcpy(out + x, plane + tile.index(tx, ty), static_cast<std::size_t>(width) * sizeof(float));
+        const float* in = plane + tile.index(tx, ty);
+        for (int k = 0; k < width; ++k) out[x + k] = job.depth.output(in[k]);
       } else {
-        std::fill(out + x, out + x + width, 1.0f);
+        std::fill(out + x, out + x + width, job.depth.output(job.depth.far()));
       }
     }
   }

@@ -30,9 +30,9 @@ struct TileBuffers {
   void resize(int tile_size);
   float* plane(int c) { return storage.data() + offset_ + static_cast<std::size_t>(c) * plane_size_; }
   const float* plane(int c) const { return storage.data() + offset_ + static_cast<std::size_t>(c) * plane_size_; }
-  simd::TileView view(const std::array<float, 4>& clear, const float* srgb = nullptr) {
+  simd::TileView view(const std::array<float, 4>& clear, const geometry::DepthFormat& depth, const float* srgb = nullptr) {
     return {{plane(0), plane(1), plane(2), plane(3), plane(4)}, touched.data(), size, {clear[0], clear[1], clear[2], clear[3]},
-            srgb};
+            srgb, depth.lo(), depth.far(), depth.reversed};
   }
   // Block-linear index of tile pixel (x, y).
   std::size_t index(int x, int y) const {
@@ -54,6 +54,7 @@ struct RasterJob {
   const simd::Draw* draws;        // per ScreenTriangle::object: its varying layout and pixel program
   const simd::Fog* fog;
   const float* srgb;              // SrgbTable::threshold when 8-bit output is sRGB-encoded, else null
+  geometry::DepthFormat depth;    // how the pass stores depth (the viewport's)
 };
 
 // The SIMD rasterizer of an ISA (Isa::best resolved), or null if this CPU lacks it.
@@ -91,8 +92,9 @@ void resolve_clear_depth(const TileRect& rect, const DepthView& depth);
 void store_pixel(const float* rgba, PixelFormat format, const float* srgb, std::uint8_t* dst);
 
 // A tile no triangle touches: writes the clear colour (converted exactly as resolve_tile would)
-// and far depth straight into the caller's views, without the tile buffers.
+// and far depth (`far_depth`, in the output's convention) straight into the caller's views,
+// without the tile buffers.
 void resolve_clear_tile(const std::array<float, 4>& clear_color, const float* srgb, const TileRect& rect,
-                        const ImageView& color, const DepthView* depth);
+                        const ImageView& color, const DepthView* depth, float far_depth);
 
 }  // namespace facet::raster

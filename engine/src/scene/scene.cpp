@@ -247,8 +247,8 @@ Status check_camera(const Camera& c) {
   if (!(c.near > 0.0f && std::isfinite(c.near))) {
     return invalid("camera.near", "expected a finite number > 0, found " + format_number(c.near));
   }
-  if (!(c.far > c.near && std::isfinite(c.far))) {
-    return invalid("camera.far", "expected a finite number > camera.near, found " + format_number(c.far));
+  if (!(c.far > c.near && (std::isfinite(c.far) || c.far > 0.0f))) {
+    return invalid("camera.far", "expected a number > camera.near, or +infinity, found " + format_number(c.far));
   }
   return {};
 }
@@ -400,9 +400,10 @@ Mat4 projection_matrix(const Camera& camera, float aspect) {
   m(0, 0) = t / aspect;
   m(1, 1) = t;
   // In double: f n overflows a float once near and far pass about 1e19 (a model of 1e30 units).
+  // An infinite far plane is the limit f -> infinity: clip z = -z_eye - 2n, never beyond w.
   const double nd = n, fd = f;
-  m(2, 2) = static_cast<float>((fd + nd) / (nd - fd));
-  m(2, 3) = static_cast<float>(2.0 * fd * nd / (nd - fd));
+  m(2, 2) = std::isinf(fd) ? -1.0f : static_cast<float>((fd + nd) / (nd - fd));
+  m(2, 3) = std::isinf(fd) ? static_cast<float>(-2.0 * nd) : static_cast<float>(2.0 * fd * nd / (nd - fd));
   m(3, 2) = -1.0f;
   return m;
 }

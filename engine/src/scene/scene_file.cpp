@@ -278,6 +278,12 @@ class SceneReader {
     FACET_TRY(opt_number(j, p, "fov_deg", c.vertical_fov_deg));
     FACET_TRY(opt_number(j, p, "aspect", c.aspect));
     FACET_TRY(opt_number(j, p, "near", c.near));
+    if (j.contains("far") && j["far"].is_string()) {  // JSON has no infinity: "far": "infinite"
+      std::string infinite;
+      FACET_TRY(read_enum(j["far"], child(p, "far"), {"infinite"}, infinite));
+      c.far = std::numeric_limits<float>::infinity();
+      return {};
+    }
     return opt_number(j, p, "far", c.far);
   }
 

@@ -96,12 +96,16 @@ void ShadowMap::plan(const Light& light, const CasterBounds& casters, const Eige
     // The camera frustum's footprint across the light (its corners in light space): a caster
     // outside it cannot shade a visible point, whose shadow ray runs along the light.
     const Eigen::Matrix4d clip_to_light = view * (camera_projection * camera_view).inverse();
+    // An infinite projection's far corners lie at infinity (w = 0): no footprint then.
     Eigen::AlignedBox2d footprint;
+    bool bounded = true;
     for (int k = 0; k < 8; ++k) {
       const Eigen::Vector4d c((k & 1) ? 1.0 : -1.0, (k & 2) ? 1.0 : -1.0, (k & 4) ? 1.0 : -1.0, 1.0);
       const Eigen::Vector4d q = clip_to_light * c;
+      bounded = bounded && std::abs(q.w()) > 1e-12 * q.head<3>().norm();
       if (q.w() != 0.0) footprint.extend(Eigen::Vector2d(q.x() / q.w(), q.y() / q.w()));
     }
+    if (!bounded) footprint.setEmpty();
     Eigen::Vector2d lo = box.min().head<2>(), hi = box.max().head<2>();
     if (!footprint.isEmpty() && footprint.min().allFinite() && footprint.max().allFinite()) {
       lo = lo.cwiseMax(footprint.min());
