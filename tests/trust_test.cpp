@@ -351,11 +351,33 @@ std::vector<Vec3> world_positions(const Model& m) {
   return out;
 }
 
+// The model drawn from a fixed camera with the default rig, 48 x 48.
+std::vector<std::uint8_t> rendered(const Model& m, const Camera& camera) {
+  Scene s = m.scene;
+  s.camera = camera;
+  add_default_lights(s);
+  std::vector<std::uint8_t> px(48 * 48 * 4);
+  FrameStats stats;
+  EXPECT_TRUE(Renderer().render(s, {px.data(), 48, 48, 48 * 4, PixelFormat::rgba8, false}, nullptr, &stats).ok());
+  EXPECT_GT(stats.pixels_filled, 48u * 48u / 4);
+  return px;
+}
+
+// How many pixels of two images differ.
+int pixels_differing(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+  int n = 0;
+  for (std::size_t i = 0; i < a.size(); i += 4) n += std::memcmp(&a[i], &b[i], 4) != 0;
+  return n;
+}
+
 TEST(Trust, QuantizedMeshoptAndDracoGltfMatchTheirPlainTwin) {
   const GltfBuilder plain = quad();
   Result<Model> reference = parse(plain.embedded());
   ASSERT_TRUE(reference.ok());
   const std::vector<Vec3> want = world_positions(*reference);
+  // Each is also drawn, from the camera that frames the plain quad, and compared with it.
+  const Camera camera = *frame_scene(reference->scene, 1.0f);
+  const std::vector<std::uint8_t> want_px = rendered(*reference, camera);
   // KHR_mesh_quantization: normalized shorts, undone by the node's scale.
   {
     GltfBuilder b;
@@ -375,6 +397,7 @@ TEST(Trust, QuantizedMeshoptAndDracoGltfMatchTheirPlainTwin) {
     const std::vector<Vec3> got = world_positions(*m);
     ASSERT_EQ(got.size(), want.size());
     for (std::size_t i = 0; i < got.size(); ++i) EXPECT_LT((got[i] - want[i]).norm(), 1e-4f);
+    EXPECT_LE(pixels_differing(rendered(*m, camera), want_px), 48) << "quantized";  // edges moved by < 1e-4
   }
   // EXT_meshopt_compression: the vertex and index views encoded by meshoptimizer.
   {
@@ -403,6 +426,7 @@ TEST(Trust, QuantizedMeshoptAndDracoGltfMatchTheirPlainTwin) {
     Result<Model> m = parse(d.dump());
     ASSERT_TRUE(m.ok()) << m.status().message();
     EXPECT_EQ(world_positions(*m), want);
+    EXPECT_EQ(pixels_differing(rendered(*m, camera), want_px), 0) << "meshopt";
     EXPECT_EQ(m->scene.meshes[0].mesh.triangles, reference->scene.meshes[0].mesh.triangles);
     // A corrupt stream is an error naming the view.
     std::string text = d.dump();
@@ -447,6 +471,7 @@ TEST(Trust, QuantizedMeshoptAndDracoGltfMatchTheirPlainTwin) {
         for (const Vec3& w : want) found |= (p - w).norm() < 1e-6f;
         EXPECT_TRUE(found);
       }
+    EXPECT_EQ(pixels_differing(rendered(*m, camera), want_px), 0) << "draco";
   }
 }
 
