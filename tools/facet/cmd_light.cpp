@@ -182,7 +182,7 @@ int light(const LightState& st) {
 }
 
 struct CheckState {
-  std::string scene_path, shading = "gouraud", shadows, transparent_order, output, depth;
+  std::string scene_path, shading = "gouraud", shadows, transparent_order, output, depth, depth_mode = "auto";
   int width = 1280, height = 720, memory_mb = -1;
   bool allow_missing = false;
   std::vector<std::string> allow_paths;
@@ -203,6 +203,8 @@ Command add_check(CLI::App& facet) {
   app->add_option("scene", st->scene_path, "SCENE.json | MODEL.gltf | MODEL.glb | MODEL.obj")->required();
   app->add_option("-o,--output", st->output, "the output 'facet render' would write (.png or .pfm; not written): its image memory is checked");
   app->add_option("--depth", st->depth, "the depth file 'facet render' would write (.pfm; not written)");
+  app->add_option("--depth-mode", st->depth_mode, "auto | gl | reversed, as for 'facet render' (default auto)")
+      ->check(one_of({"auto", "gl", "reversed"}, "depth mode"));
   app->add_option("--width", st->width, "the image width to check for (default 1280)")->check(int_in(1, kMaxImageDimension));
   app->add_option("--height", st->height, "the image height to check for (default 720)")->check(int_in(1, kMaxImageDimension));
   app->add_option("--shading", st->shading, "flat | gouraud | phong, as for 'facet render' (default gouraud)")
@@ -251,6 +253,7 @@ int check(const CheckState& st) {
   RenderOptions options;
   options.shading = *parse_shading(st.shading);
   if (st.memory_mb >= 0) options.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
+  options.depth = st.depth_mode == "gl" ? DepthMode::gl : st.depth_mode == "reversed" ? DepthMode::reversed : DepthMode::automatic;
   const std::string ext = st.output.empty() ? ".png" : lower_extension(st.output);
   if (ext != ".png" && ext != ".pfm") return fail("-o: the output file must end in .png or .pfm, found '" + st.output + "'");
   if (!st.depth.empty() && lower_extension(st.depth) != ".pfm") return fail("--depth: the depth file must end in .pfm");
@@ -295,6 +298,12 @@ int check(const CheckState& st) {
               scene_vertices(*scene), triangles, scene->lights.size(), width, height,
               static_cast<unsigned long long>((estimate_frame_bytes(*scene, options, width, height) + (1u << 20) - 1) >> 20));
   for (const std::string& n : notes) std::printf("  %s\n", n.c_str());
+  const Camera& cam = scene->camera;
+  if (depth_mode_for(cam, options.depth) == DepthMode::reversed) {
+    std::printf("  depth: reversed-Z (near %g, far %s%s)\n", double(cam.near),
+                std::isfinite(cam.far) ? std::to_string(cam.far).c_str() : "infinite",
+                options.depth == DepthMode::automatic ? ": far / near is over 1e5 or infinite; --depth-mode gl for GL's" : "");
+  }
   std::size_t shadowed = 0, casters = 0, receivers = 0;
   std::string methods;
   for (const auto& l : scene->lights) {

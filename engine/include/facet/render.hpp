@@ -48,6 +48,8 @@ enum class CullMode { none, back, front };
 // near plane, gl otherwise. Images differ only where depth decides a different surface.
 enum class DepthMode { automatic, gl, reversed };
 const char* to_string(DepthMode mode) noexcept;
+// The mode a frame of `camera` uses: `mode`, or for automatic gl or reversed by the rule above.
+DepthMode depth_mode_for(const Camera& camera, DepthMode mode) noexcept;
 
 const char* to_string(ShadingMode mode) noexcept;
 

@@ -46,6 +46,12 @@ const char* to_string(ShadingMode mode) noexcept {
   return "unknown";
 }
 
+DepthMode depth_mode_for(const Camera& camera, DepthMode mode) noexcept {
+  if (mode != DepthMode::automatic) return mode;
+  const bool reversed = !std::isfinite(camera.far) || double(camera.far) > 1e5 * double(camera.near);
+  return reversed ? DepthMode::reversed : DepthMode::gl;
+}
+
 const char* to_string(DepthMode mode) noexcept {
   switch (mode) {
     case DepthMode::automatic: return "auto";
@@ -1016,11 +1022,6 @@ RenderPass depth_pass(const Eigen::Matrix4d& view, const Eigen::Matrix4d& projec
   return p;
 }
 
-bool reversed_depth(const Camera& camera, DepthMode mode) {
-  if (mode != DepthMode::automatic) return mode == DepthMode::reversed;
-  return !std::isfinite(camera.far) || double(camera.far) > 1e5 * double(camera.near);
-}
-
 RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth) {
   RenderPass p;
   const int width = color.width, height = color.height;
@@ -1032,7 +1033,7 @@ RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const I
   p.tile_size = options.tile_size;
   p.tiles_x = (width + p.tile_size - 1) / p.tile_size;
   p.tiles_y = (height + p.tile_size - 1) / p.tile_size;
-  p.assembly.viewport = {width, height, {reversed_depth(scene.camera, options.depth), scene.camera.near}};
+  p.assembly.viewport = {width, height, {depth_mode_for(scene.camera, options.depth) == DepthMode::reversed, scene.camera.near}};
   p.assembly.planes = geometry::guard_band_planes(p.assembly.viewport);
   p.assembly.cull = options.cull;
   p.assembly.two_sided = scene.two_sided;
