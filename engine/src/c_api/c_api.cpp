@@ -793,11 +793,12 @@ facet_status facet_scene_frame_view(facet_scene* scene, float aspect, float azim
                                     facet_up up, float fov_deg, float fill) {
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
-    if (up != FACET_UP_Y && up != FACET_UP_Z) return fail(scene->error, "up", "expected FACET_UP_Y or FACET_UP_Z");
+    const long up_i = raw(up);  // any bits a C caller passes, read without loading an invalid enum
+    if (up_i != FACET_UP_Y && up_i != FACET_UP_Z) return fail(scene->error, "up", "expected FACET_UP_Y or FACET_UP_Z");
     facet::ViewOptions view;
     view.azimuth_deg = azimuth_deg;
     view.elevation_deg = elevation_deg;
-    view.up = up == FACET_UP_Z ? facet::UpAxis::z : facet::UpAxis::y;
+    view.up = up_i == FACET_UP_Z ? facet::UpAxis::z : facet::UpAxis::y;
     view.vertical_fov_deg = fov_deg;
     view.fill = fill;
     facet::Result<facet::Camera> framed = facet::frame_scene(scene->scene, aspect, view);
@@ -810,12 +811,13 @@ facet_status facet_scene_frame_view(facet_scene* scene, float aspect, float azim
 facet_status facet_scene_orbit(facet_scene* scene, float angle_deg, facet_up up, int turn_lights) {
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
-    if (up != FACET_UP_Y && up != FACET_UP_Z) return fail(scene->error, "up", "expected FACET_UP_Y or FACET_UP_Z");
+    const long up_i = raw(up);  // any bits a C caller passes, read without loading an invalid enum
+    if (up_i != FACET_UP_Y && up_i != FACET_UP_Z) return fail(scene->error, "up", "expected FACET_UP_Y or FACET_UP_Z");
     if (!(std::abs(angle_deg) <= 36000.0f)) return fail(scene->error, "angle_deg", "expected a number in [-36000, 36000]");
     const facet::Bounds b = facet::scene_bounds(scene->scene);
     if (b.empty()) return fail(scene->error, "scene", "no vertices: nothing to orbit");
     const facet::Vec3 centre = ((b.min.cast<double>() + b.max.cast<double>()) * 0.5).cast<float>();
-    const facet::UpAxis axis = up == FACET_UP_Z ? facet::UpAxis::z : facet::UpAxis::y;
+    const facet::UpAxis axis = up_i == FACET_UP_Z ? facet::UpAxis::z : facet::UpAxis::y;
     scene->scene.camera = facet::orbit_camera(scene->scene.camera, centre, axis, angle_deg);
     if (turn_lights) {
       for (facet::Light& l : scene->scene.lights) l = facet::orbit_light(l, centre, axis, angle_deg);
