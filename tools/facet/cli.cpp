@@ -123,9 +123,14 @@ std::string describe_path(LightingPath path, Isa isa, PowTier tier) {
   return std::string("simd ") + to_string(isa == Isa::best ? best_isa() : isa) + " (pow " + to_string(tier) + ")";
 }
 
-bool is_model_path(const std::string& path) {
+std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+bool is_model_path(const std::string& path) {
+  const std::string ext = lower_extension(path);
   return ext == ".gltf" || ext == ".glb" || ext == ".obj";
 }
 
@@ -205,8 +210,7 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
     return input;
   }
   {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string ext = lower_extension(path);
     for (const char* other : {".fbx", ".dae", ".stl", ".ply", ".3ds", ".blend", ".usd", ".usda", ".usdz", ".abc", ".x3d"}) {
       if (ext == other) {
         fail(path + ": " + ext + " files are not supported: facet reads scene files (.json) and models (.gltf, .glb, "

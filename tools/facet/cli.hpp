@@ -53,6 +53,9 @@ inline constexpr const char* kTransparentOrderHelp =
 // "reference", "scalar", or "simd avx512 (pow auto)" with `best` resolved.
 std::string describe_path(LightingPath path, Isa isa, PowTier tier);
 
+// A path's extension in lower case (".png"), or "".
+std::string lower_extension(const std::string& path);
+
 // True for the files `facet render` reads as models rather than scene files: .gltf, .glb, .obj.
 bool is_model_path(const std::string& path);
 

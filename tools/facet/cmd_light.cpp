@@ -222,11 +222,6 @@ Command add_check(CLI::App& facet) {
 
 namespace {
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 // One frame of `scene` at up to 640 pixels across (the whole size when that draws nothing, so that
 // a small model is not missed between the pixel centres of the smaller image): what it drew.

@@ -13,11 +13,6 @@ namespace facet::cli {
 namespace {
 
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 void print_stats_text(const FrameStats& s, int frames, double seconds) {
   std::printf("  triangles   %llu in: %llu drawn, %llu culled, %llu outside, %llu clipped, %llu degenerate, "
