@@ -5,7 +5,6 @@
 
 #include <immintrin.h>
 
-#include "raster/triangle_setup.hpp"
 
 namespace facet::geometry {
 
@@ -16,8 +15,8 @@ Mat4Rows to_rows(const Eigen::Matrix4d& m) noexcept {
 }
 
 ClipPlanes guard_band_planes(const Viewport& viewport) noexcept {
-  return {2.0f * raster::kGuardBandPixels / static_cast<float>(viewport.width) - 1.0f,
-          2.0f * raster::kGuardBandPixels / static_cast<float>(viewport.height) - 1.0f};
+  return {2.0f * kGuardBandPixels / static_cast<float>(viewport.width) - 1.0f,
+          2.0f * kGuardBandPixels / static_cast<float>(viewport.height) - 1.0f};
 }
 
 namespace {
@@ -29,7 +28,7 @@ std::int32_t round_to_int(float x) noexcept { return _mm_cvtss_si32(_mm_set_ss(x
 
 bool project_xyzw(float x, float y, float zc, float w, const Viewport& viewport, ScreenVertex& out) noexcept {
   const float half_w = 0.5f * static_cast<float>(viewport.width), half_h = 0.5f * static_cast<float>(viewport.height);
-  const float g = raster::kGuardBandPixels;
+  const float g = kGuardBandPixels;
   const float inv_w = 1.0f / w;
   float sx = (x * inv_w + 1.0f) * half_w;
   float sy = (1.0f - y * inv_w) * half_h;
@@ -40,8 +39,8 @@ bool project_xyzw(float x, float y, float zc, float w, const Viewport& viewport,
   // Clipping keeps these inside the guard band up to rounding; the clamp makes overflow impossible.
   sx = std::clamp(sx, -g, g);
   sy = std::clamp(sy, -g, g);
-  out.x = round_to_int(sx * float(raster::kSubpixelOne));
-  out.y = round_to_int(sy * float(raster::kSubpixelOne));
+  out.x = round_to_int(sx * float(kSubpixelOne));
+  out.y = round_to_int(sy * float(kSubpixelOne));
   out.z = std::clamp(viewport.depth.reversed ? -viewport.depth.near * inv_w : z, viewport.depth.lo(), viewport.depth.far());
   out.inv_w = inv_w;
   return true;

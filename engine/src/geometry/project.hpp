@@ -13,6 +13,12 @@
 
 namespace facet::geometry {
 
+// The raster's fixed point: screen positions snap to 1/256 pixel (24.8), within a guard band of
+// +-32768 pixels (so |fixed| <= 2^23, and the rasterizers' edge products stay inside int64).
+inline constexpr int kSubpixelBits = 8;
+inline constexpr std::int32_t kSubpixelOne = 1 << kSubpixelBits;
+inline constexpr float kGuardBandPixels = 32768.0f;
+
 // How a pass stores depth (RenderOptions::depth). GL: window depth 0.5 z/w + 0.5 in [0, 1], far
 // 1. Reversed: -near / w in [-1, 0), far (infinity) 0: float keeps the same relative precision at
 // every distance (it is spent near 1 in GL's), and the LESS test and its code stay GL's. Callers
@@ -35,7 +41,7 @@ struct Viewport {
 // (likewise y).
 ClipPlanes guard_band_planes(const Viewport& viewport) noexcept;
 
-// A vertex after projection, snapped to the raster's fixed point (raster/triangle_setup.hpp).
+// A vertex after projection, snapped to the raster's fixed point (kSubpixelOne).
 struct ScreenVertex {
   std::int32_t x, y;
   float z, inv_w;

@@ -15,7 +15,6 @@
 #include <xsimd/xsimd.hpp>
 
 #include "geometry/project.hpp"
-#include "raster/triangle_setup.hpp"
 
 namespace facet::geometry::simd {
 namespace {
@@ -39,7 +38,7 @@ struct Transform {
                   const ClipPlanes& planes, const Viewport& viewport, std::array<float, 4>* clip, ScreenVertex* screen) {
     const float* m = mvp.m;
     const float half_w = 0.5f * static_cast<float>(viewport.width), half_h = 0.5f * static_cast<float>(viewport.height);
-    const float g = raster::kGuardBandPixels;
+    const float g = kGuardBandPixels;
     std::size_t i = begin;
     for (; i + W <= end; i += W) {
       alignas(64) float px[W], py[W], pz[W];
@@ -71,7 +70,7 @@ struct Transform {
       // std::clamp(v, -g, g) on finite v: v < -g ? -g : (g < v ? g : v).
       sx = xsimd::select(sx < F(-g), F(-g), xsimd::select(F(g) < sx, F(g), sx));
       sy = xsimd::select(sy < F(-g), F(-g), xsimd::select(F(g) < sy, F(g), sy));
-      const F one_sub(static_cast<float>(raster::kSubpixelOne));
+      const F one_sub(static_cast<float>(kSubpixelOne));
       const I ix = round_to_int(sx * one_sub), iy = round_to_int(sy * one_sub);  // |value| <= 2^23
       // Reversed depth (project.hpp): -near / w, on a finite 1/w (sz checks it above).
       const F rz = viewport.depth.reversed ? F(-viewport.depth.near) * inv_w : sz;

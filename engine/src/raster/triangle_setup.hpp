@@ -17,13 +17,14 @@
 #include <cstring>
 
 #include "geometry/clip.hpp"
+#include "geometry/project.hpp"
 
 namespace facet::raster {
 
-inline constexpr int kSubpixelBits = 8;
-inline constexpr std::int32_t kSubpixelOne = 1 << kSubpixelBits;
+using geometry::kGuardBandPixels;
+using geometry::kSubpixelBits;
+using geometry::kSubpixelOne;
 inline constexpr std::int32_t kPixelCentre = kSubpixelOne / 2;
-inline constexpr float kGuardBandPixels = 32768.0f;
 
 // An attribute as an affine function of the pixel position (screen space, pixels, y down):
 // f(x, y) = at_v0 + dx (x - x0) + dy (y - y0), where (x0, y0) is vertex 0. Depth is affine in

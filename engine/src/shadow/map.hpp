@@ -1,5 +1,5 @@
 // Internal: shadow maps (shadow buffers). A light's map is one depth image per face, rendered
-// from the light by depth-only passes of the renderer's own tile pipeline (raster/pass.hpp), and
+// from the light by depth-only passes of the renderer's own tile pipeline (frame/pass.hpp), and
 // a lookup that decides a shaded point's visibility of the light from it:
 //   - a directional light: one orthographic face looking along the light, fitted to the box of
 //     the casters' bounds in light space, cut to the light-space footprint of the camera's

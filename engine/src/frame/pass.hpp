@@ -1,9 +1,9 @@
 // Internal: a render pass — one view of the scene into one set of targets, and everything the
-// frame decides once for it: the view and projection, the viewport and its tile grid, the face
-// rules, the shading mode and the clear colour (each draw's varying layout is planned per object). A frame
-// is a list of passes run in order; today's frame is one pass, the camera's, into the caller's
-// colour and depth views, after a depth-only pass per shadow-map face (environment maps will be
-// passes of their own too, on the same machinery).
+// frame decides once for it: the view and projection, the viewport (with its depth format) and
+// its tile grid, the face rules, the shading mode and the clear colour (each draw's varyings and
+// pixel program are planned per draw, plan.hpp). A frame is a list of passes run in order: a
+// depth-only pass per shadow-map face, the camera's depth for shadow volumes, then the camera's
+// pass into the caller's colour and depth views.
 #pragma once
 
 #include <array>
@@ -16,7 +16,7 @@
 #include "facet/scene.hpp"
 #include "raster/assemble.hpp"
 
-namespace facet::raster {
+namespace facet::frame {
 
 struct RenderPass {
   Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
@@ -24,7 +24,7 @@ struct RenderPass {
   ShadingMode shading = ShadingMode::gouraud;
   std::array<float, 4> clear_color{};
   int tile_size = 64, tiles_x = 0, tiles_y = 0;
-  AssemblyFrame assembly;  // viewport, clip planes, cull mode, two-sidedness, tile grid
+  raster::AssemblyFrame assembly;  // viewport, clip planes, cull mode, two-sidedness, tile grid
   // Targets: the caller's views (validated; depth may be null), or, for a depth-only pass, a depth
   // view alone (a shadow map's face).
   const ImageView* color = nullptr;
@@ -53,4 +53,4 @@ RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const I
 RenderPass depth_pass(const Eigen::Matrix4d& view, const Eigen::Matrix4d& projection, const DepthView& depth,
                       int tile_size);
 
-}  // namespace facet::raster
+}  // namespace facet::frame

@@ -1,0 +1,419 @@
+#include "frame/plan.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <tbb/info.h>
+
+#include "common/format.hpp"
+#include "common/look_at.hpp"
+#include "common/parallel.hpp"
+#include "geometry/project.hpp"
+#include "lighting/point_shader.hpp"
+#include "raster/triangle_setup.hpp"
+#include "scene/validate.hpp"
+#include "shadow/volume.hpp"
+
+namespace facet {
+
+const char* to_string(ShadingMode mode) noexcept {
+  switch (mode) {
+    case ShadingMode::flat: return "flat";
+    case ShadingMode::gouraud: return "gouraud";
+    case ShadingMode::phong: return "phong";
+  }
+  return "unknown";
+}
+
+DepthMode depth_mode_for(const Camera& camera, DepthMode mode) noexcept {
+  if (mode != DepthMode::automatic) return mode;
+  const bool reversed = !std::isfinite(camera.far) || double(camera.far) > 1e5 * double(camera.near);
+  return reversed ? DepthMode::reversed : DepthMode::gl;
+}
+
+const char* to_string(DepthMode mode) noexcept {
+  switch (mode) {
+    case DepthMode::automatic: return "auto";
+    case DepthMode::gl: return "gl";
+    case DepthMode::reversed: return "reversed";
+  }
+  return "unknown";
+}
+
+Status check_render_options(const RenderOptions& options) noexcept {
+  try {
+    return frame::check_options(options);
+  } catch (const std::exception&) {
+    return {ErrorCode::out_of_memory, "options", "out of memory while checking the options"};
+  }
+}
+
+std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& options, int width, int height) noexcept {
+  using U = std::uint64_t;
+  const auto sat_add = [](U a, U b) { return a > ~U{0} - b ? ~U{0} : a + b; };
+  const auto sat_mul = [](U a, U b) { return b != 0 && a > ~U{0} / b ? ~U{0} : a * b; };
+  // Per vertex: clip position, screen vertex, front and back colour, eye position and normal.
+  const U per_vertex = 16 + 24 + 2 * 12 + 2 * 12;
+  // Per triangle: its record, its entry between the set-up's two phases (4 + 1 bytes) and its
+  // bin entries (one tile each, for unclipped small triangles); for flat shading also its
+  // centroid, face normal and two colours (4 x 12 bytes).
+  U bytes = 0, max_vertices = 0, max_triangles = 0;
+  for (const Instance& inst : scene.objects) {
+    if (inst.mesh >= scene.meshes.size()) continue;
+    const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    bytes = sat_add(bytes, sat_mul(mesh.triangle_count(), sizeof(raster::ScreenTriangle) + 5 + 3 * 4));
+    max_vertices = std::max<U>(max_vertices, mesh.vertex_count());
+    max_triangles = std::max<U>(max_triangles, mesh.triangle_count());
+  }
+  const U slots = static_cast<U>(
+      parallel::usable_threads(options.threads > 0 ? std::min(options.threads, 256) : tbb::info::default_concurrency()));
+  // Slot 0 holds the largest object; the others at most a small object each.
+  bytes = sat_add(bytes, sat_add(sat_mul(max_vertices, per_vertex), sat_mul(max_triangles, 4 * 12)));
+  bytes = sat_add(bytes, sat_mul(slots, frame::kSmallObjectVertices * per_vertex + frame::kSmallObjectTriangles * 4 * 12));
+  // Per object: its shader's copy of the lights.
+  bytes = sat_add(bytes, sat_mul(sat_mul(scene.objects.size(), scene.lights.size()), 512));
+  // Per thread: tile planes and SoA lighting scratch; per tile: its bin.
+  const U tile = static_cast<U>(std::clamp(options.tile_size, 8, 256));
+  bytes = sat_add(bytes, sat_mul(slots, 5 * tile * tile * 4 + 64 * 1024));
+  const U tiles = (static_cast<U>(std::max(width, 1)) / tile + 1) * (static_cast<U>(std::max(height, 1)) / tile + 1);
+  bytes = sat_add(bytes, sat_mul(tiles, 64));
+  // Ray-cast shadows: Embree's copy of the casters (12 bytes a vertex and a triangle's indices)
+  // and its hierarchy (allowed 96 bytes a triangle), and the per-thread visibility scratch.
+  const bool raycast = frame::casts_shadows(scene, ShadowMethod::raycast);
+  if (raycast) {
+    for (const Instance& inst : scene.objects) {
+      if (inst.mesh >= scene.meshes.size() || !inst.cast_shadows) continue;
+      const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+      bytes = sat_add(bytes, sat_add(sat_mul(mesh.vertex_count(), 12), sat_mul(mesh.triangle_count(), 12 + 96)));
+    }
+  }
+  // Shadow maps: their depth images (every face) and their passes' bins; and the per-thread
+  // visibility scratch of every shadowed light.
+  bool maps = false;
+  for (const Light& l : scene.lights) {
+    if (!l.enabled || l.shadow.method != ShadowMethod::map) continue;
+    maps = true;
+    const U texels = static_cast<U>(shadow::ShadowMap::bytes(l)) / 4;
+    bytes = sat_add(bytes, sat_add(texels * 4, (texels / (tile * tile) + 6) * 64));
+  }
+  // Shadow volumes: the camera's depth, the masks, the volumes' triangles, the casters' adjacency.
+  std::size_t volume_lights = 0, casters = 0;
+  for (const Light& l : scene.lights) volume_lights += l.enabled && l.shadow.method == ShadowMethod::volume;
+  if (volume_lights > 0) {
+    for (const Instance& inst : scene.objects) {
+      if (inst.mesh < scene.meshes.size() && inst.cast_shadows) casters += scene.meshes[inst.mesh].mesh.triangle_count();
+    }
+    bytes = sat_add(bytes, shadow::ShadowVolumes::bytes(width, height, volume_lights, casters));
+  }
+  // Flat and Gouraud shadows: three float frames and a visibility per shadowed light
+  // (render_composite).
+  std::size_t shadowed = 0;
+  for (const Light& l : scene.lights) shadowed += l.enabled && l.shadow.method != ShadowMethod::none;
+  if (shadowed > 0 && options.shading != ShadingMode::phong) {
+    const U pixels = static_cast<U>(std::max(width, 1)) * static_cast<U>(std::max(height, 1));
+    bytes = sat_add(bytes, sat_mul(pixels, 3 * 16 + 4 * U(shadowed)));
+  }
+  if (raycast || maps || volume_lights > 0) {
+    bytes = sat_add(bytes, sat_mul(slots, U(kMaxShadowedLights) * (frame::kVertexChunk + frame::kTriangleRange) * 8));
+  }
+  return bytes;
+}
+
+Status check_render(const Scene& scene, const RenderOptions& options, int width, int height) noexcept {
+  try {
+    if (width < 1 || height < 1 || width > kMaxImageDimension || height > kMaxImageDimension) {
+      return {ErrorCode::invalid_argument, "image",
+              "image: expected a size of 1.." + std::to_string(kMaxImageDimension) + " per side"};
+    }
+    if (Status s = frame::check_options(options); !s.ok()) return s;
+    if (Status s = validate_scene(scene); !s.ok()) return s;
+    // Flat and Gouraud shadows sum sub-frames per pixel (render_composite): only for materials
+    // whose colour is linear in the lighting.
+    const bool shadowed = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
+      return l.enabled && l.shadow.method != ShadowMethod::none;
+    });
+    if (shadowed && options.shading != ShadingMode::phong) {
+      for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+        const Material& mat = scene.materials[m];
+        const bool textured = mat.diffuse_texture != kNoTexture;
+        const std::string field = "materials[" + std::to_string(m) + "]";
+        if (textured && mat.texture_mode != TextureMode::modulate) {
+          return {ErrorCode::unsupported, field + ".texture_mode",
+                  field + ".texture_mode: with shadows in flat or Gouraud shading, textures modulate the lighting "
+                          "(\"modulate\"), or draw in Phong shading (--shading phong)"};
+        }
+        if (mat.blend != BlendMode::opaque && mat.blend != BlendMode::alpha && mat.blend != BlendMode::premultiplied) {
+          return {ErrorCode::unsupported, field + ".blend",
+                  field + ".blend: with shadows in flat or Gouraud shading, blending is opaque, alpha or "
+                          "premultiplied, or draw in Phong shading (--shading phong)"};
+        }
+      }
+    }
+    return frame::check_frame_limits(scene, options, width, height);
+  } catch (const std::bad_alloc&) {
+    return {ErrorCode::out_of_memory, "scene", "out of memory while checking the scene"};
+  }
+}
+
+}  // namespace facet
+
+namespace facet::frame {
+
+Status check_options(const RenderOptions& o) {
+  auto bad = [](const char* field, const std::string& what) {
+    return Status{ErrorCode::invalid_argument, field, std::string(field) + ": " + what};
+  };
+  if (o.shading != ShadingMode::flat && o.shading != ShadingMode::gouraud && o.shading != ShadingMode::phong) {
+    return bad("options.shading", "unknown shading mode");
+  }
+  if (o.path != LightingPath::reference && o.path != LightingPath::scalar && o.path != LightingPath::simd) {
+    return bad("options.path", "unknown lighting path");
+  }
+  if (o.isa != Isa::best && o.isa != Isa::sse2 && o.isa != Isa::avx2 && o.isa != Isa::avx512) {
+    return bad("options.isa", "unknown instruction set");
+  }
+  if (o.pow_tier != PowTier::automatic && o.pow_tier != PowTier::exact && o.pow_tier != PowTier::fast &&
+      o.pow_tier != PowTier::integer && o.pow_tier != PowTier::schlick) {
+    return bad("options.pow_tier", "unknown pow tier");
+  }
+  if (o.path == LightingPath::simd && !isa_supported(o.isa)) {
+    return {ErrorCode::unsupported, "options.isa",
+            std::string("options.isa: this CPU has no ") + to_string(o.isa) + " (best available: " +
+                to_string(best_isa()) + ")"};
+  }
+  if (o.cull != CullMode::none && o.cull != CullMode::back && o.cull != CullMode::front) {
+    return bad("options.cull", "unknown cull mode");
+  }
+  if (o.depth != DepthMode::automatic && o.depth != DepthMode::gl && o.depth != DepthMode::reversed) {
+    return bad("options.depth", "unknown depth mode");
+  }
+  if (o.tile_size < 8 || o.tile_size > 256 || o.tile_size % 8 != 0) {
+    return bad("options.tile_size", "expected a multiple of 8 in [8, 256], found " + std::to_string(o.tile_size));
+  }
+  if (o.threads < 0 || o.threads > 256) {
+    return bad("options.threads", "expected 0 (all cores) or 1..256, found " + std::to_string(o.threads));
+  }
+  for (float c : o.clear_color) {
+    if (!std::isfinite(c)) return bad("options.clear_color", "expected finite components");
+  }
+  return {};
+}
+
+bool writes_depth(const Material& m) {
+  return m.depth_write == DepthWrite::on || (m.depth_write == DepthWrite::automatic && m.blend == BlendMode::opaque);
+}
+void plan_units(const Scene& scene, const RenderPass& p, std::vector<DrawUnit>& units,
+                std::vector<scene_order::ObjectKey>& keys, bool depth_writers_only) {
+  units.clear();
+  const bool casters_only = p.depth_only && p.casters_only;
+  const bool depth_writers = (p.depth_only && !p.casters_only) || depth_writers_only;
+  const bool sorted = !p.depth_only && scene.transparent_order == TransparentOrder::back_to_front &&
+                      scene_order::order_objects(scene, p.view, keys);
+  for (std::size_t k = 0; k < scene.objects.size(); ++k) {
+    const std::size_t o = sorted ? keys[k].object : k;
+    const Instance& inst = scene.objects[o];
+    if (casters_only && !inst.cast_shadows) continue;
+    if (depth_writers && !inst.mesh_materials && !writes_depth(scene.materials[inst.material])) continue;
+    const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    if (!inst.mesh_materials) {
+      units.push_back({static_cast<std::uint32_t>(o), inst.material, 0, mesh.triangle_count(), 0, mesh.vertex_count()});
+      continue;
+    }
+    for (const MaterialGroup& g : mesh.groups) {  // validated: every name is a scene material
+      DrawUnit u{static_cast<std::uint32_t>(o), static_cast<std::uint32_t>(find_material(scene, g.material)),
+                 g.first_triangle, std::size_t{g.first_triangle} + g.triangle_count, mesh.vertex_count(), 0};
+      if (depth_writers && !writes_depth(scene.materials[u.material])) continue;
+      for (std::size_t t = u.first_triangle; t < u.end_triangle; ++t) {
+        for (std::uint32_t v : mesh.triangles[t]) {
+          u.first_vertex = std::min<std::size_t>(u.first_vertex, v);
+          u.end_vertex = std::max<std::size_t>(u.end_vertex, std::size_t{v} + 1);
+        }
+      }
+      if (u.end_vertex < u.first_vertex) u.first_vertex = u.end_vertex = 0;  // no triangles
+      units.push_back(u);
+    }
+  }
+}
+
+namespace {
+std::string mib(std::uint64_t bytes) {
+  return std::to_string((bytes + (std::uint64_t{1} << 20) - 1) >> 20) + " MiB";
+}
+
+// The set-up ranges an object takes: one per kTriangleRange triangles of each of its draws.
+std::size_t object_ranges(const Scene& scene, const Instance& inst) {
+  const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+  if (!inst.mesh_materials) return ranges_of(mesh.triangle_count());
+  std::size_t n = 0;
+  for (const MaterialGroup& g : mesh.groups) n += ranges_of(g.triangle_count);
+  return n;
+}
+}  // namespace
+
+Status check_frame_limits(const Scene& scene, const RenderOptions& options, int width, int height) {
+  std::size_t ranges = 0;
+  for (const Instance& inst : scene.objects) ranges += object_ranges(scene, inst);
+  if (ranges > kMaxRanges) {
+    return {ErrorCode::unsupported, "objects",
+            "objects: the frame needs " + std::to_string(ranges) + " set-up ranges, at most " +
+                std::to_string(kMaxRanges) + " fit in one frame (each object, or material group, takes one range per " +
+                std::to_string(kTriangleRange) + " triangles, at least one: at most " + std::to_string(kMaxRanges) +
+                " objects and " + std::to_string(kMaxRanges * kTriangleRange) + " triangles)"};
+  }
+  const std::uint64_t need = estimate_frame_bytes(scene, options, width, height);
+  if (options.memory_budget_bytes != 0 && need > options.memory_budget_bytes) {
+    return {ErrorCode::out_of_memory, "options.memory_budget_bytes",
+            "options.memory_budget_bytes: the frame needs about " + mib(need) + " of scratch memory, over its budget of " +
+                format_bytes(options.memory_budget_bytes) +
+                " (raise RenderOptions::memory_budget_bytes, or facet render --memory-budget-mb)"};
+  }
+  return {};
+}
+
+bool casts_shadows(const Scene& scene, ShadowMethod method) {
+  return std::any_of(scene.lights.begin(), scene.lights.end(),
+                     [method](const Light& l) { return l.enabled && l.shadow.method == method; });
+}
+
+// World-space boxes of the objects that cast shadows (their finite vertices' model-space boxes,
+// corners through the model matrix).
+void bound_casters(const Scene& scene, shadow::CasterBounds& out) {
+  out.lo.clear();
+  out.hi.clear();
+  for (const Instance& inst : scene.objects) {
+    const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    Eigen::Vector3d lo, hi;
+    if (!inst.cast_shadows || mesh.triangles.empty() || !lighting::finite_box(mesh.positions, lo, hi)) continue;
+    const Eigen::Matrix4d model = inst.model.cast<double>();
+    Eigen::AlignedBox3d box;
+    for (int k = 0; k < 8; ++k) {
+      const Eigen::Vector3d c((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
+      box.extend((model * c.homogeneous()).head<3>());
+    }
+    if (!box.min().allFinite() || !box.max().allFinite()) continue;
+    out.lo.push_back(box.min());
+    out.hi.push_back(box.max());
+  }
+}
+
+std::uint64_t pass_work(const Scene& scene, const RenderPass& p, std::span<const DrawUnit> pass_draws,
+                        bool light_every_vertex) {
+  std::uint64_t work = static_cast<std::uint64_t>(p.tile_count());
+  const bool placed = !p.depth_only && p.shading != ShadingMode::phong && !light_every_vertex;
+  for (const DrawUnit& u : pass_draws) {  // ranges, clip chunks, then lighting or centroid chunks
+    work += u.ranges() + (u.vertices() + kVertexChunk - 1) / kVertexChunk;
+    if (!p.depth_only) {
+      work += (u.vertices() + kVertexChunk - 1) / kVertexChunk +
+              (u.triangles() + kVertexChunk - 1) / kVertexChunk *
+                  (p.two_sided() || scene.objects[u.object].double_sided ? 2 : 1);
+    }
+    if (placed) work += u.ranges();  // the placing phase
+  }
+  return work;
+}
+
+RenderPass depth_pass(const Eigen::Matrix4d& view, const Eigen::Matrix4d& projection, const DepthView& depth,
+                      int tile_size) {
+  RenderPass p;
+  p.view = view;
+  p.projection = projection;
+  p.shading = ShadingMode::flat;
+  p.depth_only = true;
+  p.casters_only = true;
+  p.tile_size = tile_size;
+  p.tiles_x = (depth.width + tile_size - 1) / tile_size;
+  p.tiles_y = (depth.height + tile_size - 1) / tile_size;
+  p.assembly.viewport = {depth.width, depth.height};
+  p.assembly.planes = geometry::guard_band_planes(p.assembly.viewport);
+  p.assembly.cull = CullMode::none;
+  p.assembly.two_sided = true;
+  p.assembly.grid = {p.tile_size, p.tiles_x, p.tiles_y};
+  p.depth = &depth;
+  return p;
+}
+RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth) {
+  RenderPass p;
+  const int width = color.width, height = color.height;
+  const float aspect = scene.camera.aspect > 0.0f ? scene.camera.aspect : float(width) / float(height);
+  p.view = look_at_d(scene.camera);
+  p.projection = projection_matrix(scene.camera, aspect).cast<double>();
+  p.shading = options.shading;
+  p.clear_color = options.clear_color;
+  p.tile_size = options.tile_size;
+  p.tiles_x = (width + p.tile_size - 1) / p.tile_size;
+  p.tiles_y = (height + p.tile_size - 1) / p.tile_size;
+  p.assembly.viewport = {width, height, {depth_mode_for(scene.camera, options.depth) == DepthMode::reversed, scene.camera.near}};
+  p.assembly.planes = geometry::guard_band_planes(p.assembly.viewport);
+  p.assembly.cull = options.cull;
+  p.assembly.two_sided = scene.two_sided;
+  p.assembly.grid = {p.tile_size, p.tiles_x, p.tiles_y};
+  p.color = &color;
+  p.depth = depth;
+  return p;
+}
+
+bool PassDraws::any_two_sided() const { return std::find(two_sided.begin(), two_sided.end(), 1) != two_sided.end(); }
+
+raster::simd::Fog plan_fog(const Fog& f) {
+  raster::simd::Fog fog;
+  fog.mode = static_cast<int>(f.mode);
+  for (int c = 0; c < 3; ++c) fog.color[c] = f.color[c];
+  fog.start = f.start, fog.end = f.end, fog.density = f.density;
+  fog.scale = f.end > f.start ? static_cast<float>(1.0 / (double(f.end) - double(f.start))) : 0.0f;
+  return fog;
+}
+
+// An untextured opaque material without alpha test or fog (and, lit per pixel, without vertex
+// colours) runs the plain kernels: exactly what ran before surfaces existed.
+void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPass& p, std::span<const DrawUnit> units,
+                const FrameKind& kind, std::span<const texture::Sampler> samplers, PassDraws& out) {
+  const Fog& f = kind.plain() ? Fog{} : kind.lights_of(scene).fog;
+  const bool clamp = !(options.hdr && p.color && p.color->format == PixelFormat::rgba32f);
+  const raster::LitAt lit = p.shading == ShadingMode::flat      ? raster::LitAt::triangle
+                            : p.shading == ShadingMode::gouraud ? raster::LitAt::vertex
+                                                                : raster::LitAt::pixel;
+  out.programs.resize(units.size());
+  out.features.resize(units.size());
+  out.two_sided.resize(units.size());
+  for (std::size_t o = 0; o < units.size(); ++o) {
+    const Instance& inst = scene.objects[units[o].object];
+    const Material& m = scene.materials[units[o].material];
+    const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    const bool plain = kind.plain();
+    const bool textured = !plain && m.diffuse_texture != kNoTexture;
+    const bool colours = !plain && !mesh.colors.empty();
+    // Emission after the texture environment (adds_emission_after_texture); none in the
+    // visibility and part sub-frames.
+    const bool emission_stage = !plain && !kind.without_emission && adds_emission_after_texture(m);
+    const bool emission_texture = emission_stage && m.emissive_texture != kNoTexture;
+    out.two_sided[o] = p.two_sided() || inst.double_sided;
+    lighting::LightingFeatures& lf = out.features[o];
+    lf.color_material = colours;
+    lf.separate_specular = textured;
+    raster::SurfaceNeeds needs;
+    needs.secondary = textured && lit == raster::LitAt::vertex;
+    needs.albedo = colours && lit == raster::LitAt::pixel;
+    needs.uv = textured || emission_texture;
+    raster::simd::Draw& d = out.programs[o];
+    d = raster::simd::Draw{};
+    if (p.depth_only) continue;  // no varying, no program: depth alone (every caster is opaque)
+    d.layout = raster::plan_varyings(lit, out.two_sided[o] != 0, needs);
+    d.texture = textured ? &samplers[static_cast<std::size_t>(m.diffuse_texture)] : nullptr;
+    d.texture_env = static_cast<int>(m.texture_mode);
+    if (emission_stage) {
+      d.emission = 1;
+      for (int c = 0; c < 3; ++c) d.emission_rgb[c] = m.emissive[c];
+      if (emission_texture) d.emission_texture = &samplers[static_cast<std::size_t>(m.emissive_texture)];
+    }
+    d.uv_scale[0] = m.uv_scale.x(), d.uv_scale[1] = m.uv_scale.y();
+    d.alpha_cutoff = m.alpha_cutoff;
+    d.blend = plain ? static_cast<int>(BlendMode::opaque) : static_cast<int>(m.blend);
+    d.depth_write = writes_depth(m);
+    d.clamp = clamp ? 1 : 0;
+    d.program = textured || d.emission || d.blend != static_cast<int>(BlendMode::opaque) || m.alpha_cutoff > 0.0f ||
+                !d.depth_write || f.mode != FogMode::none || needs.albedo;
+  }
+}
+
+}  // namespace facet::frame

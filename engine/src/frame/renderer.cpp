@@ -1,0 +1,213 @@
+// The frame, on the renderer's own task arena: plan its passes (shadow-map faces, the camera's
+// depth for shadow volumes, the camera's pass), then run each: per draw, transform and light the
+// vertices and assemble triangles in parallel fixed ranges (object_setup.cpp); merge the ranges'
+// bins in order; rasterize and resolve every tile, one task per tile (pass.cpp). Flat and Gouraud
+// frames with shadows are sums of such frames (composite.cpp).
+#include <algorithm>
+#include <cmath>
+#include <new>
+
+#include <tbb/info.h>
+
+#include "frame/frame.hpp"
+
+namespace facet {
+
+void Renderer::Impl::unit_done() {
+  const std::uint64_t done = work_done.fetch_add(1, std::memory_order_relaxed) + 1;
+  if (!progress || cancelled.load(std::memory_order_relaxed)) return;
+  std::unique_lock<std::mutex> lock(progress_mutex, std::try_to_lock);
+  // After a report that said stop, no other report follows.
+  if (!lock.owns_lock() || cancelled.load(std::memory_order_relaxed)) return;
+  // Reports never go backwards, whichever thread's count arrives first.
+  progress_reported = std::max(progress_reported, std::min(1.0, static_cast<double>(done) / static_cast<double>(work_total)));
+  if (!(*progress)(progress_reported)) cancelled.store(true, std::memory_order_relaxed);
+}
+
+Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
+Renderer::Renderer(const RenderOptions& config) : impl_(std::make_unique<Impl>()) { impl_->config = config; }
+
+const RenderOptions& Renderer::config() const noexcept {
+  static const RenderOptions kDefaults;  // immutable; for a moved-from renderer
+  return impl_ ? impl_->config : kDefaults;
+}
+
+void Renderer::set_config(const RenderOptions& config) noexcept {
+  if (impl_) impl_->config = config;
+}
+
+Status Renderer::render(const Scene& scene, const ImageView& color, const DepthView* depth,
+                        FrameStats* stats) noexcept {
+  if (!impl_) return {ErrorCode::invalid_argument, "renderer", "renderer: used after being moved from"};
+  return render(scene, impl_->config, color, depth, stats);
+}
+
+FrameStats Renderer::last_stats() const noexcept { return impl_ ? impl_->last_stats : FrameStats{}; }
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+Status Renderer::render(const Scene& scene, const RenderOptions& options, const ImageView& color,
+                        const DepthView* depth, FrameStats* stats) noexcept {
+  try {
+    if (!impl_) return {ErrorCode::invalid_argument, "renderer", "renderer: used after being moved from"};
+    if (Status s = validate_image_view(color); !s.ok()) return s;
+    if (depth) {
+      if (Status s = validate_depth_view(*depth, color.width, color.height); !s.ok()) return s;
+    }
+    if (Status s = check_render(scene, options, color.width, color.height); !s.ok()) return s;
+    const int threads = parallel::usable_threads(options.threads > 0 ? options.threads : tbb::info::default_concurrency());
+    if (!impl_->arena || impl_->arena_threads != threads) {
+      impl_->arena = std::make_unique<parallel::Arena>(threads);
+      impl_->arena_threads = impl_->arena->threads();
+      impl_->workers.clear();
+      impl_->workers.resize(static_cast<std::size_t>(impl_->arena_threads));
+    }
+    impl_->progress = options.progress ? &options.progress : nullptr;
+    impl_->cancelled.store(false);
+    impl_->work_done.store(0);
+    impl_->progress_reported = 0;
+    impl_->frame_status = {};
+    const bool composite = options.shading != ShadingMode::phong &&
+                           std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
+                             return l.enabled && l.shadow.method != ShadowMethod::none;
+                           });
+    impl_->arena->execute([&] {
+      if (composite) {
+        impl_->render_composite(scene, options, color, depth);
+      } else {
+        impl_->render(scene, options, color, depth);
+      }
+    });
+    if (!impl_->frame_status.ok()) return impl_->frame_status;
+    if (impl_->cancelled.load()) {
+      return {ErrorCode::cancelled, "options.progress", "options.progress: the frame was cancelled"};
+    }
+    impl_->last_stats = impl_->stats;
+    if (stats) *stats = impl_->stats;
+    return {};
+  } catch (const std::bad_alloc&) {
+    return {ErrorCode::out_of_memory, "scene", "out of memory while rendering"};
+  } catch (const std::exception& e) {
+    return {ErrorCode::invalid_argument, "scene", std::string("render failed: ") + e.what()};
+  }
+}
+
+void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, const ImageView& color,
+                            const DepthView* depth, const FrameKind& frame_kind) {
+  const auto frame_start = Clock::now();
+  kind = frame_kind;
+  stats = FrameStats{};
+  stats.threads = arena_threads;
+  for (WorkerScratch& w : workers) {  // grows only when the tile size or the chunk size grows
+    w.tile.resize(options.tile_size);
+    // The most points one lighting call takes: a vertex chunk, or a set-up range's triangles (flat).
+    w.soa.reserve_padded(std::max(kVertexChunk, kTriangleRange));
+  }
+  // A part of a flat or Gouraud frame with shadows is drawn without them (render_composite).
+  const bool shadows = kind.shadows();
+  const bool raycast = shadows && frame::casts_shadows(scene, ShadowMethod::raycast);
+  const bool map_shadows = shadows && frame::casts_shadows(scene, ShadowMethod::map);
+  // The shadowed lights' visibility of a lighting call's points, and its padded copies.
+  if (raycast || map_shadows || (shadows && frame::casts_shadows(scene, ShadowMethod::volume))) {
+    const std::size_t points = lighting::simd::padded(std::max(kVertexChunk, kTriangleRange));
+    for (WorkerScratch& w : workers) {
+      if (w.soa.visibility.size() < 2 * kMaxShadowedLights * points) w.soa.visibility.resize(2 * kMaxShadowedLights * points);
+    }
+  }
+  light_every_vertex = options.light_every_vertex;
+  samplers.resize(scene.textures.size());
+  for (std::size_t i = 0; i < scene.textures.size(); ++i) samplers[i] = texture::make_sampler(scene.textures[i]);
+  simd_raster = options.path == LightingPath::simd;
+  simd_kernels = simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr;
+  passes.clear();
+  RenderPass camera = frame::camera_pass(scene, options, color, depth);
+  camera.assembly.place = simd_kernels ? simd_kernels->place : nullptr;
+  // Shadow maps: fitted to the casters and the camera, then one depth-only pass per face, before
+  // the camera's pass.
+  frame_maps.assign(scene.lights.size(), nullptr);
+  bool any_map = false;
+  if (map_shadows) {
+    const auto start = Clock::now();
+    frame::bound_casters(scene, caster_bounds);
+    if (maps.size() < scene.lights.size()) maps.resize(scene.lights.size());
+    map_views.clear();
+    map_views.reserve(6 * kMaxShadowedLights);  // validated: the passes' pointers stay put
+    for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+      const Light& light = scene.lights[l];
+      if (!light.enabled || light.shadow.method != ShadowMethod::map || map_views.size() + 6 > map_views.capacity()) continue;
+      shadow::ShadowMap& map = maps[l];
+      map.plan(light, caster_bounds, camera.view, camera.projection);
+      if (map.empty()) continue;  // nothing can shade a visible point: the light is not shadowed
+      map.set_kernel(simd_kernels ? simd_kernels->shadow_map : nullptr);
+      frame_maps[l] = &map;
+      any_map = true;
+      for (int f = 0; f < map.face_count(); ++f) {
+        map_views.push_back(map.depth_view(f));
+        passes.push_back(frame::depth_pass(map.face_view(f), map.face_projection(f), map_views.back(), options.tile_size));
+        passes.back().depth_dirty = map.dirty_tiles(f, options.tile_size);
+        passes.back().assembly.place = camera.assembly.place;
+        stats.shadow_map_texels += static_cast<std::uint64_t>(map.resolution()) * static_cast<std::uint64_t>(map.resolution());
+      }
+    }
+    for (const Instance& inst : scene.objects) {
+      if (inst.cast_shadows) stats.shadow_casters += scene.meshes[inst.mesh].mesh.triangle_count();
+    }
+    stats.seconds_shadows += seconds_since(start);
+  }
+  // Shadow volumes: the camera's depth alone, then (after that pass) the volumes' masks.
+  if (shadows) {
+    volumes.plan(scene, camera.width(), camera.height());
+  } else {
+    volumes.disable();
+  }
+  if (volumes.active()) {
+    volume_depth = volumes.depth_view();
+    RenderPass d = camera;  // the same view, culling and triangles
+    d.shading = ShadingMode::flat;
+    d.depth_only = true;
+    d.casters_only = false;
+    d.color = nullptr;
+    d.depth = &volume_depth;
+    d.depth_dirty = volumes.dirty_tiles(options.tile_size);
+    passes.push_back(d);
+    for (const Instance& inst : scene.objects) {
+      if (inst.cast_shadows && !map_shadows) stats.shadow_casters += scene.meshes[inst.mesh].mesh.triangle_count();
+    }
+  }
+  passes.push_back(camera);
+  // Ray-cast shadows: the casters as Embree sees them, built here, in this renderer's arena.
+  frame_caster = nullptr;
+  if (raycast) {
+    const auto start = Clock::now();
+    frame_status = caster.build(scene, camera.view);
+    stats.seconds_shadows += seconds_since(start);
+    stats.shadow_casters = caster.triangle_count();
+    if (!frame_status.ok()) return;
+    frame_caster = &caster;
+  }
+  frame_shadows = {frame_caster, frame_maps, volumes.active() ? &volumes : nullptr};
+  has_shadows = frame_caster || any_map || volumes.active();
+  work_total = 0;
+  if (pass_units.size() < passes.size()) pass_units.resize(passes.size());
+  for (std::size_t k = 0; k < passes.size(); ++k) {
+    frame::plan_units(scene, passes[k], pass_units[k], order_keys, kind.plain());
+    work_total += frame::pass_work(scene, passes[k], pass_units[k], light_every_vertex);
+  }
+  work_total = std::max<std::uint64_t>(work_total, 1);
+  for (std::size_t k = 0; k < passes.size(); ++k) {
+    const RenderPass& p = passes[k];
+    const auto start = Clock::now();
+    run_pass(scene, options, p, pass_units[k]);
+    if (p.depth_only && !p.casters_only && !cancelled.load(std::memory_order_relaxed)) {
+      volumes.build(scene, camera.view, camera.projection, *arena);  // the camera's depth is drawn
+    }
+    if (p.depth_only) stats.seconds_shadows += seconds_since(start);
+    if (cancelled.load(std::memory_order_relaxed)) break;
+  }
+  pass = nullptr;
+  units = {};
+  stats.seconds_total = seconds_since(frame_start);
+}
+
+}  // namespace facet
