@@ -60,7 +60,7 @@ class Coverage {
     simd::Draw draw;  // plain, flat: no varyings (the triangle is object 0)
     draw.layout = plan_varyings(LitAt::triangle, false);
     const simd::Fog fog;
-    simd::TileJob job{0, &range, &bin, 1, 0, 0, w_, h_, nullptr, &draw, &fog};
+    simd::TileJob job{ShadingMode::flat, &range, &bin, 1, 0, 0, w_, h_, nullptr, &draw, &fog};
     simd::TileCounters counters;
     kernels_->raster(job, tile_.view({0, 0, 0, 1}, {}), counters);
     std::uint64_t found = 0;

@@ -58,7 +58,7 @@ std::vector<float> raster_depth(const simd::Kernels& k, std::span<const ScreenTr
   simd::Draw draw;  // plain, flat: no varyings (every triangle here is object 0)
   draw.layout = plan_varyings(LitAt::triangle, false);
   const simd::Fog fog;
-  simd::TileJob job{static_cast<int>(shading), &range, bin.data(), bin.size(), rect.x0, rect.y0, rect.x1, rect.y1,
+  simd::TileJob job{shading, &range, bin.data(), bin.size(), rect.x0, rect.y0, rect.x1, rect.y1,
                     nullptr, &draw, &fog};
   k.raster(job, tile.view({0, 0, 0, 1}, {}), counters);
   std::vector<float> depth(static_cast<std::size_t>(tile_size * tile_size), 1.0f);

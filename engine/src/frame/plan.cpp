@@ -357,7 +357,7 @@ bool PassDraws::any_two_sided() const { return std::find(two_sided.begin(), two_
 
 raster::simd::Fog plan_fog(const Fog& f) {
   raster::simd::Fog fog;
-  fog.mode = static_cast<int>(f.mode);
+  fog.mode = f.mode;
   for (int c = 0; c < 3; ++c) fog.color[c] = f.color[c];
   fog.start = f.start, fog.end = f.end, fog.density = f.density;
   fog.scale = f.end > f.start ? static_cast<float>(1.0 / (double(f.end) - double(f.start))) : 0.0f;
@@ -400,18 +400,18 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     if (p.depth_only) continue;  // no varying, no program: depth alone (every caster is opaque)
     d.layout = raster::plan_varyings(lit, out.two_sided[o] != 0, needs);
     d.texture = textured ? &samplers[static_cast<std::size_t>(m.diffuse_texture)] : nullptr;
-    d.texture_env = static_cast<int>(m.texture_mode);
+    d.texture_env = m.texture_mode;
     if (emission_stage) {
-      d.emission = 1;
+      d.emission = true;
       for (int c = 0; c < 3; ++c) d.emission_rgb[c] = m.emissive[c];
       if (emission_texture) d.emission_texture = &samplers[static_cast<std::size_t>(m.emissive_texture)];
     }
     d.uv_scale[0] = m.uv_scale.x(), d.uv_scale[1] = m.uv_scale.y();
     d.alpha_cutoff = m.alpha_cutoff;
-    d.blend = plain ? static_cast<int>(BlendMode::opaque) : static_cast<int>(m.blend);
+    d.blend = plain ? BlendMode::opaque : m.blend;
     d.depth_write = writes_depth(m);
-    d.clamp = clamp ? 1 : 0;
-    d.program = textured || d.emission || d.blend != static_cast<int>(BlendMode::opaque) || m.alpha_cutoff > 0.0f ||
+    d.clamp = clamp;
+    d.program = textured || d.emission || d.blend != BlendMode::opaque || m.alpha_cutoff > 0.0f ||
                 !d.depth_write || f.mode != FogMode::none || needs.albedo;
   }
 }

@@ -14,6 +14,9 @@
 #include <cstdint>
 
 #include "facet/image.hpp"
+#include "facet/material.hpp"
+#include "facet/render.hpp"
+#include "facet/scene.hpp"
 #include "geometry/project.hpp"
 #include "raster/triangle_setup.hpp"
 #include "raster/varyings.hpp"
@@ -55,26 +58,23 @@ struct TileView {
 //   interpolate -> sample the textures -> texture environment (primary colour and texel) -> add the
 //   emission (Material::emission_after_texture) -> add the secondary colour -> fog -> alpha test ->
 //   depth test and write -> blend -> store.
-enum : int { kEnvModulate = 0, kEnvReplace = 1, kEnvDecal = 2, kEnvAdd = 3 };
-enum : int { kBlendOpaque = 0, kBlendAlpha = 1, kBlendPremultiplied = 2, kBlendAdd = 3, kBlendMultiply = 4, kBlendSubtract = 5 };
-enum : int { kFogNone = 0, kFogLinear = 1, kFogExp = 2, kFogExp2 = 3 };
 
 struct Draw {
   VaryingLayout layout;  // this draw's varyings (ScreenTriangle::attr and the attribute planes)
-  int program = 0;       // 0: plain; 1: the surface program
+  bool program = false;  // false: plain; true: the surface program
   const texture::Sampler* texture = nullptr;  // null: untextured
-  int texture_env = kEnvModulate;
-  // 1: the emission is added after the texture environment (the lighting leaves it out):
-  // emission_rgb, times the RGB of emission_texture when there is one. 0: none (any emission is
-  // in the lit colour).
-  int emission = 0;
+  TextureMode texture_env = TextureMode::modulate;
+  // The emission is added after the texture environment (the lighting leaves it out):
+  // emission_rgb, times the RGB of emission_texture when there is one. False: none (any emission
+  // is in the lit colour).
+  bool emission = false;
   float emission_rgb[3] = {};
   const texture::Sampler* emission_texture = nullptr;
   float uv_scale[2] = {1.0f, 1.0f};
   float alpha_cutoff = 0.0f;  // alpha test: the fragment is kept when alpha >= cutoff (0: every fragment)
-  int blend = kBlendOpaque;
-  int depth_write = 1;
-  int clamp = 1;  // blend results saturate to [0, 1]; 0 (HDR float output): only below at 0
+  BlendMode blend = BlendMode::opaque;
+  bool depth_write = true;
+  bool clamp = true;  // blend results saturate to [0, 1]; false (HDR float output): only below at 0
 };
 
 // Fog on the eye-space depth z = -z_eye = clip w (exact for facet's perspective projection: the
@@ -83,7 +83,7 @@ struct Draw {
 //   exp    f = e^(-density z);   exp2  f = e^(-(density z)^2);
 // colour = f colour + (1 - f) fog colour; alpha unchanged.
 struct Fog {
-  int mode = kFogNone;
+  FogMode mode = FogMode::none;
   float color[3] = {};
   float start = 0.0f, end = 1.0f, density = 1.0f;
   float scale = 1.0f;  // linear: 1 / (end - start), 0 when end == start
@@ -109,7 +109,7 @@ struct PhongSink {
 };
 
 struct TileJob {
-  int shading;  // ShadingMode as int
+  ShadingMode shading;
   const ScreenTriangle* const* ranges;  // set-up ranges; a bin entry is (range << 16) | index
   const std::uint32_t* bin;
   std::size_t bin_size;

@@ -335,10 +335,10 @@ struct TileKernel {
     filled += xsimd::select(xsimd::bool_cast(pass), I(1), I(0));
     float* depth = planes[4] + at;
     if (d.depth_write) xsimd::select(pass, z, F::load_unaligned(depth)).store_unaligned(depth);
-    const F f = job.fog->mode != kFogNone ? surface::fog_factor(*job.fog, cw) : F(1.0f);
+    const F f = job.fog->mode != FogMode::none ? surface::fog_factor(*job.fog, cw) : F(1.0f);
     F emitted[3];
     if (d.emission) emission_batch(d, &uv, emitted);
-    if (job.shading == 2) {  // Phong: light at flush
+    if (job.shading == ShadingMode::phong) {  // light at flush
       F v[17];
       const int position = d.layout.at(Varying::eye_position), normal = d.layout.at(Varying::normal);
       const int albedo = d.layout.at(Varying::albedo);
@@ -369,7 +369,7 @@ struct TileKernel {
     }
     F p[3], sec[3];
     const F* secondary = nullptr;
-    if (job.shading == 0) {
+    if (job.shading == ShadingMode::flat) {
       for (int c = 0; c < 3; ++c) p[c] = F(t.flat_rgb[c]), sec[c] = F(t.flat_secondary[c]);
       if (texel) secondary = sec;
     } else {
@@ -394,7 +394,8 @@ struct TileKernel {
   // same order as surface_tail with shade_fragment and blend, so the same bits, without the
   // branches on the draw's settings.
   static bool modulate_fast(const TileJob& job, const Draw& d) {
-    return d.texture && job.shading == 1 && d.texture_env == kEnvModulate && !d.emission && d.blend == kBlendOpaque &&
+    return d.texture && job.shading == ShadingMode::gouraud && d.texture_env == TextureMode::modulate && !d.emission &&
+           d.blend == BlendMode::opaque &&
            d.clamp && d.alpha_cutoff <= 0.0f && d.layout.at(Varying::front_secondary) >= 0;
   }
   // P batches of the same triangle (1 or 2: the sampler's interleaving, sample_simd.hpp), each
@@ -555,7 +556,7 @@ struct TileKernel {
     PlaneEval z_plane, w_plane, attr[kAttributes];
     z_plane.set(t.plane[kPlaneZ]);
     [[maybe_unused]] const Program program =
-        Mode == 3 && modulate_fast(job, d) ? (job.fog->mode == kFogNone ? kModulate : kModulateFog) : kGeneral;
+        Mode == 3 && modulate_fast(job, d) ? (job.fog->mode == FogMode::none ? kModulate : kModulateFog) : kGeneral;
     if constexpr (kSurface) {
       w_plane.set(t.plane[kPlaneInvW]);
       for (int a = 0; a < attributes; ++a) attr[a].set(t.plane[kPlaneAttr + a]);
@@ -729,7 +730,7 @@ struct TileKernel {
         const auto* p = reinterpret_cast<const char*>(&job.ranges[ahead >> kRangeShift][ahead & kIndexMask]);
         __builtin_prefetch(p);  // a plain Gouraud triangle's kernel data: its first two lines (triangle_setup.hpp)
         __builtin_prefetch(p + 64);
-        if (job.shading != 1) {  // flat colour, Phong's six attributes
+        if (job.shading != ShadingMode::gouraud) {  // flat colour, Phong's six attributes
           __builtin_prefetch(p + 128);
           __builtin_prefetch(p + 192);
         }
@@ -743,11 +744,11 @@ struct TileKernel {
         const int colour = at[static_cast<int>(Varying::front_color)];
         const int position = at[static_cast<int>(Varying::eye_position)], normal = at[static_cast<int>(Varying::normal)];
         for (int c = 0; c < 3; ++c) {
-          plane_of[c] = job.shading == 2 ? position + c : colour + c;
-          plane_of[3 + c] = job.shading == 2 ? normal + c : 0;
+          plane_of[c] = job.shading == ShadingMode::phong ? position + c : colour + c;
+          plane_of[3 + c] = job.shading == ShadingMode::phong ? normal + c : 0;
         }
       }
-      if (job.shading == 2) {
+      if (job.shading == ShadingMode::phong) {
         if (phong.count > 0 && (t.object != phong.object || t.alpha != phong.alpha)) phong.flush();
         phong.object = t.object;
         phong.alpha = t.alpha;
@@ -761,8 +762,8 @@ struct TileKernel {
         continue;
       }
       switch (job.shading) {
-        case 0: triangle<0>(job, tv, t, plane_of, phong, counters); break;
-        case 1: triangle<1>(job, tv, t, plane_of, phong, counters); break;
+        case ShadingMode::flat: triangle<0>(job, tv, t, plane_of, phong, counters); break;
+        case ShadingMode::gouraud: triangle<1>(job, tv, t, plane_of, phong, counters); break;
         default: triangle<2>(job, tv, t, plane_of, phong, counters); break;
       }
     }

@@ -20,7 +20,6 @@ namespace {
 
 using simd::Draw;
 using simd::Fog;
-using namespace simd;  // the program's enums (kEnv*, kBlend*, kFog*)
 
 // Selection and bounds for both value types (NaN compares false: a NaN input becomes the "else").
 inline float pick(bool c, float a, float b) { return c ? a : b; }
@@ -37,7 +36,7 @@ V positive(const V& x) {  // >= 0; NaN -> 0
   return pick(x > V(0.0f), x, V(0.0f));
 }
 template <class V>
-V finish(const V& x, int clamp) {
+V finish(const V& x, bool clamp) {
   return clamp ? saturate(x) : positive(x);
 }
 
@@ -80,12 +79,12 @@ inline constexpr float kLog2e = 1.44269504088896f;
 // The fog factor at eye depth z (Fog in raster_kernels.hpp), in [0, 1].
 template <class V>
 V fog_factor(const Fog& fog, const V& z) {
-  if (fog.mode == kFogLinear) {
+  if (fog.mode == FogMode::linear) {
     if (fog.scale == 0.0f) return pick(z < V(fog.end), V(1.0f), V(0.0f));
     return saturate((V(fog.end) - z) * V(fog.scale));
   }
   const V t = V(fog.density) * z;
-  const V e = fog.mode == kFogExp ? t : t * t;
+  const V e = fog.mode == FogMode::exp ? t : t * t;
   return saturate(exp2_nonpositive(V(0.0f) - e * V(kLog2e)));
 }
 
@@ -101,15 +100,15 @@ void shade_fragment(const Draw& d, const Fog& fog, const V (&p)[3], const V& a, 
     c[3] = a;
   } else {
     switch (d.texture_env) {
-      case kEnvReplace:
+      case TextureMode::replace:
         for (int k = 0; k < 3; ++k) c[k] = t[k];
         c[3] = t[3];
         break;
-      case kEnvDecal:
+      case TextureMode::decal:
         for (int k = 0; k < 3; ++k) c[k] = p[k] * (V(1.0f) - t[3]) + t[k] * t[3];
         c[3] = a;
         break;
-      case kEnvAdd:
+      case TextureMode::add:
         for (int k = 0; k < 3; ++k) c[k] = finish(p[k] + t[k], d.clamp);
         c[3] = a * t[3];
         break;
@@ -125,7 +124,7 @@ void shade_fragment(const Draw& d, const Fog& fog, const V (&p)[3], const V& a, 
   if (s) {
     for (int k = 0; k < 3; ++k) c[k] = finish(c[k] + s[k], d.clamp);
   }
-  if (f && fog.mode != kFogNone) {
+  if (f && fog.mode != FogMode::none) {
     for (int k = 0; k < 3; ++k) c[k] = *f * c[k] + (V(1.0f) - *f) * V(fog.color[k]);
   }
 }
@@ -134,8 +133,8 @@ void shade_fragment(const Draw& d, const Fog& fog, const V (&p)[3], const V& a, 
 template <class V>
 V fragment_alpha(const Draw& d, const V& a, const V* t) {
   if (!t) return a;
-  if (d.texture_env == kEnvReplace) return t[3];
-  if (d.texture_env == kEnvDecal) return a;
+  if (d.texture_env == TextureMode::replace) return t[3];
+  if (d.texture_env == TextureMode::decal) return a;
   return a * t[3];
 }
 
@@ -148,11 +147,11 @@ void blend(const Draw& d, const V (&c)[4], V (&dst)[4]) {
   for (int k = 0; k < 4; ++k) {
     V out;
     switch (d.blend) {
-      case kBlendAlpha: out = c[k] * a + dst[k] * (V(1.0f) - a); break;
-      case kBlendPremultiplied: out = c[k] + dst[k] * (V(1.0f) - a); break;
-      case kBlendAdd: out = c[k] + dst[k]; break;
-      case kBlendMultiply: out = c[k] * dst[k]; break;
-      case kBlendSubtract: out = dst[k] - c[k]; break;
+      case BlendMode::alpha: out = c[k] * a + dst[k] * (V(1.0f) - a); break;
+      case BlendMode::premultiplied: out = c[k] + dst[k] * (V(1.0f) - a); break;
+      case BlendMode::add: out = c[k] + dst[k]; break;
+      case BlendMode::multiply: out = c[k] * dst[k]; break;
+      case BlendMode::subtract: out = dst[k] - c[k]; break;
       default: out = c[k]; break;
     }
     dst[k] = finish(out, d.clamp);

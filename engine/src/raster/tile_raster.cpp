@@ -145,7 +145,7 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
   sink.pixel = tile.phong_pixel.data();
   sink.context = &context;
   sink.shade = shade_phong;
-  simd::TileJob tj{static_cast<int>(job.shading),
+  simd::TileJob tj{job.shading,
                    job.ranges,
                    bin.data(),
                    bin.size(),
@@ -258,7 +258,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
         if (!(surface::fragment_alpha(d, t.alpha, tex) >= d.alpha_cutoff)) return;  // the alpha test
         if (d.depth_write) depth[pixel] = z;
         ++counters.filled;
-        const float f = fog.mode != simd::kFogNone ? surface::fog_factor(fog, inv_sum) : 1.0f;
+        const float f = fog.mode != FogMode::none ? surface::fog_factor(fog, inv_sum) : 1.0f;
         float emitted[3];
         if (d.emission) {  // Draw::emission: added after the texture environment
           float e[4] = {1.0f, 1.0f, 1.0f, 1.0f};
