@@ -411,8 +411,25 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     d.blend = plain ? BlendMode::opaque : m.blend;
     d.depth_write = writes_depth(m);
     d.clamp = clamp;
-    d.program = textured || d.emission || d.blend != BlendMode::opaque || m.alpha_cutoff > 0.0f ||
-                !d.depth_write || f.mode != FogMode::none || needs.albedo;
+    const bool surface = textured || d.emission || d.blend != BlendMode::opaque || m.alpha_cutoff > 0.0f ||
+                         !d.depth_write || f.mode != FogMode::none || needs.albedo;
+    using raster::simd::PixelProgram;
+    if (!surface) {
+      d.program = lit == raster::LitAt::triangle ? PixelProgram::flat
+                  : lit == raster::LitAt::vertex ? PixelProgram::gouraud
+                                                 : PixelProgram::phong;
+    } else if (!textured) {
+      d.program = PixelProgram::surface;
+    } else {
+      // The fused program's settings: Gouraud, modulate, the specular added after the texture, no
+      // emission after it, opaque, clamped, no alpha test (the fragment's alpha is never NaN).
+      const bool modulate = lit == raster::LitAt::vertex && d.texture_env == TextureMode::modulate && !d.emission &&
+                            d.blend == BlendMode::opaque && d.clamp && d.alpha_cutoff <= 0.0f &&
+                            d.layout.has(raster::Varying::front_secondary);
+      d.program = !modulate                   ? PixelProgram::surface_textured
+                  : f.mode == FogMode::none ? PixelProgram::modulate
+                                              : PixelProgram::modulate_fog;
+    }
   }
 }
 

@@ -51,17 +51,21 @@ struct TileView {
   bool depth_reversed = false;
 };
 
-// The pixel program of one draw (an object with one material), decided by the frame plan. A plain
-// draw (opaque, untextured, no alpha test, no fog, no vertex colours lit per pixel) runs the plain
-// kernels (flat colour, interpolated colour, or Phong lighting): what ran before surfaces existed.
-// Any other runs the surface program, GL 2.1's order (§3.8.13, §3.10, §4.1):
+// The pixel program of one draw (an object with one material), decided by the frame plan
+// (frame/plan.cpp). A plain draw (opaque, untextured, no alpha test, no fog, no vertex colours lit
+// per pixel) runs the lighting's own program: the flat colour, the interpolated colour, or Phong
+// lighting. Any other runs the surface program, GL 2.1's order (pixel/stages.hpp):
 //   interpolate -> sample the textures -> texture environment (primary colour and texel) -> add the
 //   emission (Material::emission_after_texture) -> add the secondary colour -> fog -> alpha test ->
-//   depth test and write -> blend -> store.
+//   depth test and write -> blend -> store;
+// or, for its commonest textured case, the same stages fused with their settings fixed at compile
+// time (pixel/programs_simd.hpp: modulate, modulate_fog). The scalar rasterizer runs the stages
+// for any surface program.
+enum class PixelProgram : std::uint8_t { flat, gouraud, phong, surface, surface_textured, modulate, modulate_fog };
 
 struct Draw {
   VaryingLayout layout;  // this draw's varyings (ScreenTriangle::attr and the attribute planes)
-  bool program = false;  // false: plain; true: the surface program
+  PixelProgram program = PixelProgram::flat;
   const texture::Sampler* texture = nullptr;  // null: untextured
   TextureMode texture_env = TextureMode::modulate;
   // The emission is added after the texture environment (the lighting leaves it out):

@@ -9,6 +9,7 @@
 #include "geometry/transform_simd.hpp"
 #include "raster/place_simd.hpp"
 #include "raster/raster_simd.hpp"
+#include "raster/resolve_simd.hpp"
 #include "shadow/map_simd.hpp"
 #include "texture/sample_simd.hpp"
 
@@ -28,11 +29,11 @@ void raster_tile(const TileJob& job, const TileView& tile, TileCounters& counter
 void resolve_tile(const TileView& tile, int x0, int y0, int x1, int y1, const ImageView& color,
                   const DepthView* depth) {
   // The common 8-bit case 16 pixels at a time; the others on rows of 8 (the avx2 half).
-  if (TileKernel<xsimd::avx512bw>::fast_resolve(tile, x0, x1, color, depth)) {
-    TileKernel<xsimd::avx512bw>::resolve_unorm8(tile, x0, y0, x1, y1, color);
+  if (Resolve<xsimd::avx512bw>::fast_resolve(tile, x0, x1, color, depth)) {
+    Resolve<xsimd::avx512bw>::resolve_unorm8(tile, x0, y0, x1, y1, color);
     return;
   }
-  TileKernel<xsimd::fma3<xsimd::avx2>>::resolve(tile, x0, y0, x1, y1, color, depth);
+  Resolve<xsimd::fma3<xsimd::avx2>>::resolve(tile, x0, y0, x1, y1, color, depth);
 }
 void sample_texture(const texture::Sampler& sampler, std::size_t count, const float* const* in, float* const* out) {
   texture::simd::SampleSimd<xsimd::avx512bw>::sample_streams(sampler, count, in, out);

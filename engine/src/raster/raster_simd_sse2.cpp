@@ -9,6 +9,7 @@
 #include "geometry/transform_simd.hpp"
 #include "raster/place_simd.hpp"
 #include "raster/raster_simd.hpp"
+#include "raster/resolve_simd.hpp"
 #include "shadow/map_simd.hpp"
 #include "texture/sample_simd.hpp"
 
@@ -27,7 +28,7 @@ void raster_tile(const TileJob& job, const TileView& tile, TileCounters& counter
 }
 void resolve_tile(const TileView& tile, int x0, int y0, int x1, int y1, const ImageView& color,
                   const DepthView* depth) {
-  TileKernel<xsimd::sse2>::resolve(tile, x0, y0, x1, y1, color, depth);
+  Resolve<xsimd::sse2>::resolve(tile, x0, y0, x1, y1, color, depth);
 }
 void sample_texture(const texture::Sampler& sampler, std::size_t count, const float* const* in, float* const* out) {
   texture::simd::SampleSimd<xsimd::sse2>::sample_streams(sampler, count, in, out);

@@ -5,10 +5,12 @@
 
 #include "io/image_convert.hpp"
 #include "io/srgb.hpp"
-#include "raster/surface_program.hpp"
+#include "pixel/stages.hpp"
 #include "texture/sampler.hpp"
 
 namespace facet::raster {
+
+namespace stages = facet::pixel;  // the pixel stages (a local here is named pixel)
 
 void TileBuffers::resize(int tile_size) {
   size = tile_size;
@@ -71,11 +73,12 @@ class PixelBatch {
   void flush(const lighting::PointShader& shader, const simd::Draw& d, const simd::Fog& fog, float alpha,
              TileBuffers& tile, RasterCounters& counters) {
     if (count_ == 0) return;
-    const bool textured = d.program && d.texture != nullptr;
+    const bool surface = d.program >= simd::PixelProgram::surface;
+    const bool textured = surface && d.texture != nullptr;
     shader.shade_points(static_cast<std::size_t>(count_), p_, n_, out_, scratch_, albedo_, textured ? spec_ : nullptr);
     for (int i = 0; i < count_; ++i) {
       const auto p = static_cast<std::size_t>(index_[i]);
-      if (!d.program) {
+      if (!surface) {
         tile.plane(0)[p] = out_[i].x();
         tile.plane(1)[p] = out_[i].y();
         tile.plane(2)[p] = out_[i].z();
@@ -85,10 +88,10 @@ class PixelBatch {
       const float primary[3] = {out_[i].x(), out_[i].y(), out_[i].z()};
       const float secondary[3] = {spec_[i].x(), spec_[i].y(), spec_[i].z()};
       float c[4];
-      surface::shade_fragment(d, fog, primary, alpha, textured ? texel_[i] : nullptr, d.emission ? emitted_[i] : nullptr,
+      stages::shade_fragment(d, fog, primary, alpha, textured ? texel_[i] : nullptr, d.emission ? emitted_[i] : nullptr,
                               textured ? secondary : nullptr, &fog_[i], c);
       float dst[4] = {tile.plane(0)[p], tile.plane(1)[p], tile.plane(2)[p], tile.plane(3)[p]};
-      surface::blend(d, c, dst);
+      stages::blend(d, c, dst);
       for (int ch = 0; ch < 4; ++ch) tile.plane(ch)[p] = dst[ch];
     }
     counters.shaded += static_cast<std::uint64_t>(count_);
@@ -207,7 +210,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
     const lighting::PointShader& shading = job.objects[t.object];
     const simd::Draw& d = job.draws[t.object];
     const VaryingLayout& layout = d.layout;
-    const int colour_at = layout.at(Varying::front_color), secondary_at = layout.at(Varying::front_secondary);
+    const int colour_at = layout.at(Varying::front_color);
     const int position_at = layout.at(Varying::eye_position), normal_at = layout.at(Varying::normal);
     const int albedo_at = layout.at(Varying::albedo), uv_at = layout.at(Varying::uv);
     const simd::Fog& fog = *job.fog;
@@ -229,42 +232,32 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
       auto plane_at = [&](const Plane& q) { return static_cast<float>(q.at_v0 + q.dx * cx + q.dy * cy); };
       const float inv_sum = 1.0f / plane_at(t.plane[kPlaneInvW]);  // clip w: the eye-space depth
       auto interp = [&](int a) { return plane_at(t.plane[kPlaneAttr + a]) * inv_sum; };
-      if (d.program) {
-        // The surface program (raster_kernels.hpp, Draw), as the SIMD kernels run it.
+      if (d.program >= simd::PixelProgram::surface) {
+        // The surface program's stages (pixel/stages.hpp), one pixel at a time.
         float texel[4];
         const float* tex = nullptr;
-        float uv[6] = {};  // u, v, du/dx, dv/dx, du/dy, dv/dy, scaled by uv_scale
+        stages::Uv<float> uv{};
         if (uv_at >= 0) {
-          // u = U / W' with U = u/w and W' = 1/w affine on screen: du/dx = (dU/dx - u dW'/dx) / W'.
           const Plane& pw = t.plane[kPlaneInvW];
           const Plane& pu = t.plane[kPlaneAttr + uv_at];
           const Plane& pv = t.plane[kPlaneAttr + uv_at + 1];
-          const float u = interp(uv_at), v = interp(uv_at + 1);
-          const float dudx = (pu.dx - u * pw.dx) * inv_sum, dudy = (pu.dy - u * pw.dy) * inv_sum;
-          const float dvdx = (pv.dx - v * pw.dx) * inv_sum, dvdy = (pv.dy - v * pw.dy) * inv_sum;
-          const float su = d.uv_scale[0], sv = d.uv_scale[1];
-          const float scaled[6] = {su * u, sv * v, su * dudx, sv * dvdx, su * dudy, sv * dvdy};
-          std::copy(scaled, scaled + 6, uv);
+          uv = stages::uv_from_planes(d, plane_at(pu), plane_at(pv), inv_sum, pu.dx, pu.dy, pv.dx, pv.dy, pw.dx, pw.dy);
         }
         auto sample_at = [&uv](const texture::Sampler& sampler, float (&out)[4]) {
-          const float lambda = texture::lod_scalar(sampler, uv[2], uv[3], uv[4], uv[5]);
-          const auto sample = texture::sample_scalar(sampler, uv[0], uv[1], lambda);
+          const float lambda = texture::lod_scalar(sampler, uv.dudx, uv.dvdx, uv.dudy, uv.dvdy);
+          const auto sample = texture::sample_scalar(sampler, uv.u, uv.v, lambda);
           for (int c = 0; c < 4; ++c) out[c] = sample[c];
         };
         if (d.texture) {
           sample_at(*d.texture, texel);
           tex = texel;
         }
-        if (!(surface::fragment_alpha(d, t.alpha, tex) >= d.alpha_cutoff)) return;  // the alpha test
+        if (!(stages::fragment_alpha(d, t.alpha, tex) >= d.alpha_cutoff)) return;  // the alpha test
         if (d.depth_write) depth[pixel] = z;
         ++counters.filled;
-        const float f = fog.mode != FogMode::none ? surface::fog_factor(fog, inv_sum) : 1.0f;
+        const float f = fog.mode != FogMode::none ? stages::fog_factor(fog, inv_sum) : 1.0f;
         float emitted[3];
-        if (d.emission) {  // Draw::emission: added after the texture environment
-          float e[4] = {1.0f, 1.0f, 1.0f, 1.0f};
-          if (d.emission_texture) sample_at(*d.emission_texture, e);
-          for (int c = 0; c < 3; ++c) emitted[c] = d.emission_texture ? d.emission_rgb[c] * e[c] : d.emission_rgb[c];
-        }
+        if (d.emission) stages::emission(d, sample_at, emitted);  // added after the texture environment
         if (job.shading == ShadingMode::phong) {
           const Color3 albedo = albedo_at >= 0 ? Color3(interp(albedo_at), interp(albedo_at + 1), interp(albedo_at + 2))
                                                : Color3(1.0f, 1.0f, 1.0f);
@@ -275,21 +268,11 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
           return;
         }
         float primary[3], secondary[3];
-        const float* sec = nullptr;
-        if (job.shading == ShadingMode::flat) {
-          for (int c = 0; c < 3; ++c) primary[c] = t.flat_rgb[c], secondary[c] = t.flat_secondary[c];
-          if (tex) sec = secondary;
-        } else {
-          for (int c = 0; c < 3; ++c) primary[c] = interp(colour_at + c);
-          if (secondary_at >= 0) {
-            for (int c = 0; c < 3; ++c) secondary[c] = interp(secondary_at + c);
-            sec = secondary;
-          }
-        }
+        const float* sec = stages::vertex_colours(job.shading, d, t, interp, tex != nullptr, primary, secondary);
         float c[4];
-        surface::shade_fragment(d, fog, primary, t.alpha, tex, d.emission ? emitted : nullptr, sec, &f, c);
+        stages::shade_fragment(d, fog, primary, t.alpha, tex, d.emission ? emitted : nullptr, sec, &f, c);
         float dst[4] = {tile.plane(0)[pixel], tile.plane(1)[pixel], tile.plane(2)[pixel], tile.plane(3)[pixel]};
-        surface::blend(d, c, dst);
+        stages::blend(d, c, dst);
         for (int ch = 0; ch < 4; ++ch) tile.plane(ch)[pixel] = dst[ch];
         return;
       }

@@ -1,0 +1,242 @@
+// Internal: the pixel stages, each written once as a template on the value type: V = float (the
+// scalar rasterizer, one pixel) or an xsimd batch (the SIMD programs, programs_simd.hpp, one
+// batch of pixels). Both do the same IEEE operations in the same order (every file that includes
+// this is built with -ffp-contract=off), so the scalar and SIMD paths give the same bits for the
+// same interpolated inputs. A draw's pixel program (raster_kernels.hpp, Draw) runs, in GL 2.1's
+// order (§3.8.13, §3.10, §4.1):
+//   texture coordinates (uv_from_planes) -> sample -> alpha test (fragment_alpha) -> depth write
+//   -> fog factor -> emission -> primary and secondary colour (vertex_colours; Phong: light) ->
+//   texture environment -> add emission -> colour sum -> fog -> blend -> store.
+// The stages are always inlined: a program is the sequence of its stages' code, with no call
+// between them (out of line, GCC left calls to the colour, blend and fragment stages in the
+// blended program). Everything is in an unnamed namespace: no inline function crosses ISA files (an inline function
+// compiled into files with different ISA flags is merged by the linker, and the wider copy may run
+// on a CPU without it).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+
+#include <xsimd/xsimd.hpp>
+
+#include "raster/raster_kernels.hpp"
+#include "raster/triangle_setup.hpp"
+#include "raster/varyings.hpp"
+
+namespace facet::pixel {
+namespace {
+
+using raster::simd::Draw;
+using raster::simd::Fog;
+
+// Selection and bounds for both value types (NaN compares false: a NaN input becomes the "else").
+inline float pick(bool c, float a, float b) { return c ? a : b; }
+template <class B, class M>
+B pick(const M& c, const B& a, const B& b) {
+  return xsimd::select(c, a, b);
+}
+template <class V>
+V saturate(const V& x) {  // [0, 1]; NaN -> 0
+  return pick(x > V(0.0f), pick(x < V(1.0f), x, V(1.0f)), V(0.0f));
+}
+template <class V>
+V positive(const V& x) {  // >= 0; NaN -> 0
+  return pick(x > V(0.0f), x, V(0.0f));
+}
+// The clamp of a colour sum and of blending: to [0, 1], or (HDR float output) only below at 0.
+template <class V>
+V finish(const V& x, bool clamp) {
+  return clamp ? saturate(x) : positive(x);
+}
+
+// 2^y for y <= 0, |relative error| < 2e-7: y = n + r with n = floor(y + 1/2), r in [-1/2, 1/2),
+// 2^r by its Taylor series to degree 6 (remainder (ln2/2)^7 / 7! < 1.4e-7), 2^n through the
+// exponent bits. y < -126 (and NaN) gives 0.
+inline constexpr float kExp2Taylor[7] = {1.0f,
+                                         0.693147180559945f,
+                                         0.240226506959101f,
+                                         0.0555041086648216f,
+                                         0.00961812910762848f,
+                                         0.00133335581464284f,
+                                         0.000154035303933816f};
+inline float exp2_nonpositive(float y) {
+  if (!(y >= -126.0f)) return 0.0f;
+  const float n = std::floor(y + 0.5f);
+  const float r = y - n;
+  float p = kExp2Taylor[6];
+  for (int k = 5; k >= 0; --k) p = p * r + kExp2Taylor[k];
+  const std::int32_t bits = (static_cast<std::int32_t>(n) + 127) << 23;
+  float scale;
+  std::memcpy(&scale, &bits, 4);
+  return p * scale;
+}
+template <class B>
+B exp2_nonpositive(const B& y) {
+  using I = xsimd::batch<std::int32_t, typename B::arch_type>;
+  const auto ok = y >= B(-126.0f);
+  const B ys = xsimd::select(ok, y, B(0.0f));
+  const B n = xsimd::floor(ys + B(0.5f));
+  const B r = ys - n;
+  B p(kExp2Taylor[6]);
+  for (int k = 5; k >= 0; --k) p = p * r + B(kExp2Taylor[k]);
+  const I bits = (xsimd::batch_cast<std::int32_t>(n) + I(127)) << 23;
+  return xsimd::select(ok, p * xsimd::bitwise_cast<B>(bits), B(0.0f));
+}
+
+inline constexpr float kLog2e = 1.44269504088896f;
+
+// The fog factor at eye depth z (Fog in raster_kernels.hpp), in [0, 1].
+template <class V>
+V fog_factor(const Fog& fog, const V& z) {
+  if (fog.mode == FogMode::linear) {
+    if (fog.scale == 0.0f) return pick(z < V(fog.end), V(1.0f), V(0.0f));
+    return saturate((V(fog.end) - z) * V(fog.scale));
+  }
+  const V t = V(fog.density) * z;
+  const V e = fog.mode == FogMode::exp ? t : t * t;
+  return saturate(exp2_nonpositive(V(0.0f) - e * V(kLog2e)));
+}
+
+// Texture coordinates at a pixel, scaled by the draw's uv_scale, and their screen derivatives
+// (for the LOD): u = U / W' with U = u/w and W' = 1/w affine on screen, so
+// du/dx = (dU/dx - u dW'/dx) / W'. `big_u`, `big_v`: U and V interpolated; cw: 1 / W' (clip w);
+// u_dx .. w_dy: the U, V and W' planes' steps.
+template <class V>
+struct Uv {
+  V u, v, dudx, dvdx, dudy, dvdy;
+};
+template <class V, class D>
+[[gnu::always_inline]] inline Uv<V> uv_from_planes(const Draw& d, const V& big_u, const V& big_v, const V& cw, const D& u_dx, const D& u_dy,
+                     const D& v_dx, const D& v_dy, const D& w_dx, const D& w_dy) {
+  const V u = big_u * cw, v = big_v * cw;
+  const V dudx = (u_dx - u * w_dx) * cw, dudy = (u_dy - u * w_dy) * cw;
+  const V dvdx = (v_dx - v * w_dx) * cw, dvdy = (v_dy - v * w_dy) * cw;
+  const V su(d.uv_scale[0]), sv(d.uv_scale[1]);
+  return {su * u, sv * v, su * dudx, sv * dvdx, su * dudy, sv * dvdy};
+}
+
+// The emission the draw adds after its texture environment (Draw::emission): the material's,
+// times the RGB of its emission texture when it has one; sample(sampler, rgba) samples it.
+template <class V, class Sample>
+[[gnu::always_inline]] inline void emission(const Draw& d, const Sample& sample, V (&e)[3]) {
+  if (d.emission_texture) {
+    V t[4];
+    sample(*d.emission_texture, t);
+    for (int k = 0; k < 3; ++k) e[k] = V(d.emission_rgb[k]) * t[k];
+  } else {
+    for (int k = 0; k < 3; ++k) e[k] = V(d.emission_rgb[k]);
+  }
+}
+
+// Flat and Gouraud lighting's colours at a pixel: the primary colour p and, where the lighting
+// kept the specular apart (a textured draw), the secondary colour s; returns s, or null when the
+// specular is in p. Flat: the triangle's colours; Gouraud: value(a) interpolates attribute a.
+template <class V, class Value>
+[[gnu::always_inline]] inline const V* vertex_colours(ShadingMode shading, const Draw& d, const raster::ScreenTriangle& t, const Value& value,
+                        bool textured, V (&p)[3], V (&s)[3]) {
+  if (shading == ShadingMode::flat) {
+    for (int c = 0; c < 3; ++c) p[c] = V(t.flat_rgb[c]), s[c] = V(t.flat_secondary[c]);
+    return textured ? s : nullptr;
+  }
+  const int colour = d.layout.at(raster::Varying::front_color), second = d.layout.at(raster::Varying::front_secondary);
+  for (int c = 0; c < 3; ++c) p[c] = value(colour + c);
+  if (second < 0) return nullptr;
+  for (int c = 0; c < 3; ++c) s[c] = value(second + c);
+  return s;
+}
+
+// The texture environment (GL 2.1 table 3.22, RGBA texture) on primary colour p and fragment
+// alpha a with texel t, into c (RGB, alpha): texture_environment_as with the mode fixed at
+// compile time (a fused program's), texture_environment with the draw's (t null: no texture).
+// GL_MODULATE on one channel (colour or alpha): fragment times texel.
+template <class V>
+[[gnu::always_inline]] inline V modulate(const V& fragment, const V& texel) {
+  return fragment * texel;
+}
+template <TextureMode M, class V>
+[[gnu::always_inline]] inline void texture_environment_as(const Draw& d, const V (&p)[3], const V& a, const V* t, V (&c)[4]) {
+  if constexpr (M == TextureMode::replace) {
+    for (int k = 0; k < 3; ++k) c[k] = t[k];
+    c[3] = t[3];
+  } else if constexpr (M == TextureMode::decal) {
+    for (int k = 0; k < 3; ++k) c[k] = p[k] * (V(1.0f) - t[3]) + t[k] * t[3];
+    c[3] = a;
+  } else if constexpr (M == TextureMode::add) {
+    for (int k = 0; k < 3; ++k) c[k] = finish(p[k] + t[k], d.clamp);
+    c[3] = a * t[3];
+  } else {
+    for (int k = 0; k < 3; ++k) c[k] = modulate(p[k], t[k]);
+    c[3] = modulate(a, t[3]);
+  }
+}
+template <class V>
+[[gnu::always_inline]] inline void texture_environment(const Draw& d, const V (&p)[3], const V& a, const V* t, V (&c)[4]) {
+  if (!t) {
+    for (int k = 0; k < 3; ++k) c[k] = p[k];
+    c[3] = a;
+    return;
+  }
+  switch (d.texture_env) {
+    case TextureMode::replace: texture_environment_as<TextureMode::replace>(d, p, a, t, c); break;
+    case TextureMode::decal: texture_environment_as<TextureMode::decal>(d, p, a, t, c); break;
+    case TextureMode::add: texture_environment_as<TextureMode::add>(d, p, a, t, c); break;
+    default: texture_environment_as<TextureMode::modulate>(d, p, a, t, c); break;
+  }
+}
+// Adds x[0..2] (the emission after texturing, as a second texture unit under GL_ADD would, or the
+// secondary colour: the colour sum) to c's RGB.
+template <class V>
+[[gnu::always_inline]] inline void add_colour(const Draw& d, const V* x, V (&c)[4]) {
+  for (int k = 0; k < 3; ++k) c[k] = finish(c[k] + x[k], d.clamp);
+}
+// Fog with factor f: c = f c + (1 - f) fog colour; alpha unchanged.
+template <class V>
+[[gnu::always_inline]] inline void apply_fog(const Fog& fog, const V& f, V (&c)[4]) {
+  for (int k = 0; k < 3; ++k) c[k] = f * c[k] + (V(1.0f) - f) * V(fog.color[k]);
+}
+
+// One fragment's colour (c[0..2]) and alpha (c[3]): the texture environment on primary colour p,
+// fragment alpha a and texel t, then the emission e (null: none), then the colour sum with the
+// secondary colour s (null: none), then fog with factor f (f null: no fog).
+template <class V>
+[[gnu::always_inline]] inline void shade_fragment(const Draw& d, const Fog& fog, const V (&p)[3], const V& a, const V* t, const V* e, const V* s,
+                    const V* f, V (&c)[4]) {
+  texture_environment(d, p, a, t, c);
+  if (e) add_colour(d, e, c);
+  if (s) add_colour(d, s, c);
+  if (f && fog.mode != FogMode::none) apply_fog(fog, *f, c);
+}
+
+// The alpha a fragment will have (what the alpha test sees) without computing its colour.
+template <class V>
+[[gnu::always_inline]] inline V fragment_alpha(const Draw& d, const V& a, const V* t) {
+  if (!t) return a;
+  if (d.texture_env == TextureMode::replace) return t[3];
+  if (d.texture_env == TextureMode::decal) return a;
+  return a * t[3];
+}
+
+// Blends source c (RGBA) over destination dst (RGBA) with GL's factors (the same for alpha as for
+// colour): alpha (SRC_ALPHA, ONE_MINUS_SRC_ALPHA), premultiplied (ONE, ONE_MINUS_SRC_ALPHA), add
+// (ONE, ONE), multiply (DST_COLOR, ZERO), subtract (reverse subtract: dst - src); saturated.
+template <class V>
+[[gnu::always_inline]] inline void blend(const Draw& d, const V (&c)[4], V (&dst)[4]) {
+  const V a = c[3];
+  for (int k = 0; k < 4; ++k) {
+    V out;
+    switch (d.blend) {
+      case BlendMode::alpha: out = c[k] * a + dst[k] * (V(1.0f) - a); break;
+      case BlendMode::premultiplied: out = c[k] + dst[k] * (V(1.0f) - a); break;
+      case BlendMode::add: out = c[k] + dst[k]; break;
+      case BlendMode::multiply: out = c[k] * dst[k]; break;
+      case BlendMode::subtract: out = dst[k] - c[k]; break;
+      default: out = c[k]; break;
+    }
+    dst[k] = finish(out, d.clamp);
+  }
+}
+
+}  // namespace
+}  // namespace facet::pixel

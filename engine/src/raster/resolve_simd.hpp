@@ -1,0 +1,205 @@
+// Internal: the SIMD resolve, a template on the xsimd architecture: a tile's float planes into
+// the caller's image (8-bit RGBA or BGRA, linear or sRGB-encoded, or float RGBA) and depth view,
+// rows flipped for y-up views. Blocks no triangle touched are written from the clear colour.
+// Included only by the per-ISA raster files (-ffp-contract=off); templates only.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+
+#include <immintrin.h>
+#include <xsimd/xsimd.hpp>
+
+#include "raster/raster_kernels.hpp"
+
+namespace facet::raster::simd {
+namespace {
+
+template <class Arch>
+struct Resolve {
+  using F = xsimd::batch<float, Arch>;
+  using I = xsimd::batch<std::int32_t, Arch>;
+  static constexpr int W = static_cast<int>(F::size);
+  static int imin(int a, int b) { return a < b ? a : b; }
+
+  static std::uint32_t unorm8(float v) {
+    const float c = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
+    return static_cast<std::uint32_t>(c * 255.0f + 0.5f);  // as to_unorm8 (io/image_convert.hpp)
+  }
+  // A colour channel of 8-bit output: linear, or sRGB-encoded with the table's thresholds (the
+  // search of io/srgb.hpp, written here again: no inline function is shared across ISA files).
+  static std::uint32_t colour8(const TileView& tv, float v) {
+    if (!tv.srgb) return unorm8(v);
+    int k = 0;
+    for (int step = 128; step >= 1; step >>= 1) {
+      if (v >= tv.srgb[k + step]) k += step;
+    }
+    return static_cast<std::uint32_t>(k);
+  }
+  template <class A>
+  static xsimd::batch<std::int32_t, A> unorm8(const xsimd::batch<float, A>& v) {
+    using B = xsimd::batch<float, A>;
+    const B c = xsimd::select(v > B(0.0f), xsimd::min(v, B(1.0f)), B(0.0f));
+    return xsimd::batch_cast<std::int32_t>(c * B(255.0f) + B(0.5f));  // truncation, as the cast above
+  }
+
+  // The commonest resolve: 8-bit RGBA or BGRA, linear, no depth output, whole blocks across the
+  // tile (fast_resolve). The same conversion as resolve() with nothing decided per pixel: one row
+  // of the image at a time, a block's row of 8 pixels per step (avx512: two blocks' rows, 16
+  // horizontally adjacent pixels, when both blocks were touched), the planes read at a fixed step.
+  static bool fast_resolve(const TileView& tv, int x0, int x1, const ImageView& color, const DepthView* depth) {
+    return !depth && !tv.srgb && color.format != PixelFormat::rgba32f && (x1 - x0) % kBlock == 0;
+  }
+  static std::uint32_t clear_word(const TileView& tv, int red_shift, int blue_shift) {
+    return (colour8(tv, tv.clear[0]) << red_shift) | (colour8(tv, tv.clear[1]) << 8) |
+           (colour8(tv, tv.clear[2]) << blue_shift) | (unorm8(tv.clear[3]) << 24);
+  }
+  static void resolve_unorm8(const TileView& tv, int x0, int y0, int x1, int y1, const ImageView& color) {
+    static_assert(W == 4 || W == 8 || W == 16);
+    const int red_shift = color.format == PixelFormat::bgra8 ? 16 : 0, blue_shift = 16 - red_shift;
+    const int blocks_per_row = tv.size / kBlock, blocks = (x1 - x0) / kBlock;
+    const std::uint32_t clear = clear_word(tv, red_shift, blue_shift);
+    constexpr int kLane = W < kBlock ? W : kBlock;  // pixels per store in the one-block steps
+    using Half = std::conditional_t<W == 16, xsimd::batch<std::int32_t, xsimd::fma3<xsimd::avx2>>, I>;
+    using HalfF = std::conditional_t<W == 16, xsimd::batch<float, xsimd::fma3<xsimd::avx2>>, F>;
+    static_assert(Half::size == kLane);
+    const auto word = [&](const auto& r, const auto& g, const auto& b, const auto& a) {
+      return (unorm8(r) << red_shift) | (unorm8(g) << 8) | (unorm8(b) << blue_shift) | (unorm8(a) << 24);
+    };
+    for (int y = y0; y < y1; ++y) {
+      const int ty = y - y0;
+      const int image_row = color.y_up ? color.height - 1 - y : y;
+      auto* dst = reinterpret_cast<std::int32_t*>(static_cast<std::uint8_t*>(color.data) +
+                                                  static_cast<std::size_t>(image_row) * color.stride_bytes +
+                                                  4 * static_cast<std::size_t>(x0));
+      const std::uint8_t* touched = tv.touched + (ty / kBlock) * blocks_per_row;
+      const std::size_t first = static_cast<std::size_t>((ty / kBlock) * blocks_per_row) * kBlockPixels +
+                                static_cast<std::size_t>((ty % kBlock) * kBlock);
+      const float *r = tv.plane[0] + first, *g = tv.plane[1] + first, *b = tv.plane[2] + first,
+                  *a = tv.plane[3] + first;
+      for (int bx = 0; bx < blocks;) {
+        std::int32_t* out = dst + bx * kBlock;
+        const std::size_t at = static_cast<std::size_t>(bx) * kBlockPixels;
+        if constexpr (W == 16) {  // the rows of two touched blocks in one batch, the left block low
+          if (bx + 1 < blocks && touched[bx] && touched[bx + 1]) {
+            const auto pair = [&](const float* p) {
+              p += at;
+              return F(_mm512_insertf32x8(_mm512_castps256_ps512(_mm256_load_ps(p)), _mm256_load_ps(p + kBlockPixels), 1));
+            };
+            word(pair(r), pair(g), pair(b), pair(a)).store_unaligned(out);  // image rows need not be aligned
+            bx += 2;
+            continue;
+          }
+        }
+        if (!touched[bx]) {
+          for (int i = 0; i < kBlock; i += kLane) Half(static_cast<std::int32_t>(clear)).store_unaligned(out + i);
+        } else {
+          for (int i = 0; i < kBlock; i += kLane) {
+            word(HalfF::load_aligned(r + at + i), HalfF::load_aligned(g + at + i), HalfF::load_aligned(b + at + i),
+                 HalfF::load_aligned(a + at + i))
+                .store_unaligned(out + i);
+          }
+        }
+        ++bx;
+      }
+    }
+  }
+
+  // Resolve works on rows of 8 pixels: avx512 uses its avx2 half (see raster_simd_avx512.cpp).
+  static void resolve(const TileView& tv, int x0, int y0, int x1, int y1, const ImageView& color,
+                      const DepthView* depth) {
+    const int blocks_per_row = tv.size / kBlock;
+    const int width = x1 - x0;
+    // RGBA8 and BGRA8 as little-endian words: channel c goes to byte shift[c] / 8.
+    const int red_shift = color.format == PixelFormat::bgra8 ? 16 : 0, blue_shift = 16 - red_shift;
+    const std::uint32_t clear_word = Resolve::clear_word(tv, red_shift, blue_shift);
+    const std::uint8_t clear_bytes[4] = {static_cast<std::uint8_t>(clear_word), static_cast<std::uint8_t>(clear_word >> 8),
+                                         static_cast<std::uint8_t>(clear_word >> 16),
+                                         static_cast<std::uint8_t>(clear_word >> 24)};
+    if (fast_resolve(tv, x0, x1, color, depth)) {
+      resolve_unorm8(tv, x0, y0, x1, y1, color);
+      return;
+    }
+    for (int y = y0; y < y1; ++y) {
+      const int ty = y - y0;
+      const int image_row = color.y_up ? color.height - 1 - y : y;
+      auto* row = static_cast<std::uint8_t*>(color.data) + static_cast<std::size_t>(image_row) * color.stride_bytes;
+      // Depth and float colour buffers may have any alignment (image.hpp): bytes and memcpy only.
+      std::uint8_t* depth_row = nullptr;
+      if (depth) {
+        const int depth_row_index = depth->y_up ? depth->height - 1 - y : y;
+        depth_row = reinterpret_cast<std::uint8_t*>(depth->data) + static_cast<std::size_t>(depth_row_index) * depth->stride_bytes;
+      }
+      for (int bx = 0; bx * kBlock < width; ++bx) {
+        const int block = (ty / kBlock) * blocks_per_row + bx;
+        const std::size_t src =
+            static_cast<std::size_t>(block) * kBlockPixels + static_cast<std::size_t>((ty % kBlock) * kBlock);
+        const int x = x0 + bx * kBlock;
+        const int n = imin(kBlock, width - bx * kBlock);
+        if (!tv.touched[block]) {  // still the clear colour: converted once per tile, as below
+          if (depth_row) {
+            const float f = tv.depth_reversed ? 0.0f - tv.depth_far : tv.depth_far;  // the output's far value (0, not -0)
+            const float far_depth[kBlock] = {f, f, f, f, f, f, f, f};
+            std::memcpy(depth_row + 4 * static_cast<std::size_t>(x), far_depth, 4 * static_cast<std::size_t>(n));
+          }
+          if (color.format == PixelFormat::rgba32f) {
+            for (int i = 0; i < n; ++i) std::memcpy(row + 16 * static_cast<std::size_t>(x + i), tv.clear, 16);
+          } else {
+            auto* dst = reinterpret_cast<std::int32_t*>(row + 4 * static_cast<std::size_t>(x));
+            int i = 0;
+            if constexpr (W <= kBlock) {
+              for (; i + W <= n; i += W) I(static_cast<std::int32_t>(clear_word)).store_unaligned(dst + i);
+            }
+            for (; i < n; ++i) std::memcpy(dst + i, clear_bytes, 4);
+          }
+          continue;
+        }
+        const float* r = tv.plane[0] + src;
+        const float* g = tv.plane[1] + src;
+        const float* b = tv.plane[2] + src;
+        const float* a = tv.plane[3] + src;
+        if (depth_row) {
+          if (tv.depth_reversed) {  // the output is near / w: the stored value negated
+            float out[kBlock];
+            for (int i = 0; i < n; ++i) out[i] = 0.0f - tv.plane[4][src + static_cast<std::size_t>(i)];
+            std::memcpy(depth_row + 4 * static_cast<std::size_t>(x), out, 4 * static_cast<std::size_t>(n));
+          } else {
+            std::memcpy(depth_row + 4 * static_cast<std::size_t>(x), tv.plane[4] + src, 4 * static_cast<std::size_t>(n));
+          }
+        }
+        if (color.format == PixelFormat::rgba32f) {
+          float rgba[4 * kBlock];
+          for (int i = 0; i < n; ++i) {
+            rgba[4 * i + 0] = r[i], rgba[4 * i + 1] = g[i], rgba[4 * i + 2] = b[i], rgba[4 * i + 3] = a[i];
+          }
+          std::memcpy(row + 16 * static_cast<std::size_t>(x), rgba, 16 * static_cast<std::size_t>(n));
+          continue;
+        }
+        auto* dst = reinterpret_cast<std::uint32_t*>(row + 4 * static_cast<std::size_t>(x));
+        int i = 0;
+        if constexpr (W <= kBlock) {
+          if (n == kBlock && !tv.srgb) {
+            for (; i < kBlock; i += W) {
+              const I word = (unorm8(F::load_unaligned(r + i)) << red_shift) |
+                             (unorm8(F::load_unaligned(g + i)) << 8) |
+                             (unorm8(F::load_unaligned(b + i)) << blue_shift) | (unorm8(F::load_unaligned(a + i)) << 24);
+              // Unaligned store: image rows need not be 4-byte aligned.
+              word.store_unaligned(reinterpret_cast<std::int32_t*>(dst + i));
+            }
+          }
+        }
+        for (; i < n; ++i) {
+          const std::uint32_t u = (colour8(tv, r[i]) << red_shift) | (colour8(tv, g[i]) << 8) | (colour8(tv, b[i]) << blue_shift) |
+                                  (unorm8(a[i]) << 24);
+          auto* d = reinterpret_cast<std::uint8_t*>(dst + i);
+          d[0] = static_cast<std::uint8_t>(u), d[1] = static_cast<std::uint8_t>(u >> 8);
+          d[2] = static_cast<std::uint8_t>(u >> 16), d[3] = static_cast<std::uint8_t>(u >> 24);
+        }
+      }
+    }
+  }
+};
+
+}  // namespace
+}  // namespace facet::raster::simd
