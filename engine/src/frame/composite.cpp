@@ -1,6 +1,7 @@
 // Flat and Gouraud frames with shadows, as sums of sub-frames (FrameKind).
 #include <functional>
 
+#include "io/rows.hpp"
 #include "frame/frame.hpp"
 
 namespace facet {
@@ -103,8 +104,7 @@ void Renderer::Impl::render_composite(const Scene& scene, const RenderOptions& o
   const float* srgb_threshold = options.srgb && color.format != PixelFormat::rgba32f ? srgb.threshold : nullptr;
   const std::size_t bytes = color.format == PixelFormat::rgba32f ? 16 : 4;
   for (int y = 0; y < h; ++y) {
-    const int row = color.y_up ? h - 1 - y : y;
-    auto* dst = static_cast<std::uint8_t*>(color.data) + static_cast<std::size_t>(row) * color.stride_bytes;
+    std::uint8_t* dst = io::row_bytes(color, y);
     for (int x = 0; x < w; ++x) {
       float* rgba = composite_base.data() + 4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x));
       if (clamp) {

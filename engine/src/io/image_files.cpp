@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 
+#include "io/rows.hpp"
 #include "common/format.hpp"
 #include "facet/image.hpp"
 #include "io/file_access.hpp"
@@ -102,10 +103,8 @@ Status write_pfm_rows(const std::string& path, const char* magic, int width, int
 
 Status write_pfm(const std::string& path, const ImageView& image) {
   if (Status s = validate_image_view(image); !s.ok()) return s;
-  const auto* base = static_cast<const std::uint8_t*>(image.data);
   return write_pfm_rows(path, "PF", image.width, image.height, 3, [&](int x, int y, float* out) {
-    const int row = image.y_up ? image.height - 1 - y : y;
-    const std::uint8_t* p = base + static_cast<std::size_t>(row) * image.stride_bytes + bytes_per_pixel(image.format) * static_cast<std::size_t>(x);
+    const std::uint8_t* p = io::row_bytes(image, y) + bytes_per_pixel(image.format) * static_cast<std::size_t>(x);
     if (image.format == PixelFormat::rgba32f) {
       std::memcpy(out, p, 3 * sizeof(float));
     } else {
@@ -117,10 +116,8 @@ Status write_pfm(const std::string& path, const ImageView& image) {
 
 Status write_pfm(const std::string& path, const DepthView& depth) {
   if (Status s = validate_depth_view(depth, depth.width, depth.height); !s.ok()) return s;
-  const auto* base = reinterpret_cast<const std::uint8_t*>(depth.data);
   return write_pfm_rows(path, "Pf", depth.width, depth.height, 1, [&](int x, int y, float* out) {
-    const int row = depth.y_up ? depth.height - 1 - y : y;
-    std::memcpy(out, base + static_cast<std::size_t>(row) * depth.stride_bytes + sizeof(float) * static_cast<std::size_t>(x), sizeof(float));
+    std::memcpy(out, io::row_bytes(depth, y) + sizeof(float) * static_cast<std::size_t>(x), sizeof(float));
   });
 }
 

@@ -2,6 +2,7 @@
 #include <cstring>
 #include <limits>
 
+#include "io/rows.hpp"
 #include "facet/image.hpp"
 #include "io/image_convert.hpp"
 
@@ -74,10 +75,8 @@ Rgba8Image to_rgba8(const ImageView& view) {
   out.width = view.width;
   out.height = view.height;
   out.pixels.resize(static_cast<std::size_t>(view.width) * static_cast<std::size_t>(view.height) * 4);
-  const auto* base = static_cast<const std::uint8_t*>(view.data);
   for (int y = 0; y < view.height; ++y) {
-    const int src_row = view.y_up ? view.height - 1 - y : y;
-    const std::uint8_t* src = base + static_cast<std::size_t>(src_row) * view.stride_bytes;
+    const std::uint8_t* src = io::row_bytes(view, y);
     std::uint8_t* dst = out.pixels.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(view.width) * 4;
     for (int x = 0; x < view.width; ++x, dst += 4) {
       switch (view.format) {

@@ -11,6 +11,7 @@
 #include <immintrin.h>
 #include <xsimd/xsimd.hpp>
 
+#include "io/rows.hpp"
 #include "raster/raster_kernels.hpp"
 
 namespace facet::raster::simd {
@@ -69,10 +70,7 @@ struct Resolve {
     };
     for (int y = y0; y < y1; ++y) {
       const int ty = y - y0;
-      const int image_row = color.y_up ? color.height - 1 - y : y;
-      auto* dst = reinterpret_cast<std::int32_t*>(static_cast<std::uint8_t*>(color.data) +
-                                                  static_cast<std::size_t>(image_row) * color.stride_bytes +
-                                                  4 * static_cast<std::size_t>(x0));
+      auto* dst = reinterpret_cast<std::int32_t*>(io::row_bytes(color, y) + 4 * static_cast<std::size_t>(x0));
       const std::uint8_t* touched = tv.touched + (ty / kBlock) * blocks_per_row;
       const std::size_t first = static_cast<std::size_t>((ty / kBlock) * blocks_per_row) * kBlockPixels +
                                 static_cast<std::size_t>((ty % kBlock) * kBlock);
@@ -123,14 +121,9 @@ struct Resolve {
     }
     for (int y = y0; y < y1; ++y) {
       const int ty = y - y0;
-      const int image_row = color.y_up ? color.height - 1 - y : y;
-      auto* row = static_cast<std::uint8_t*>(color.data) + static_cast<std::size_t>(image_row) * color.stride_bytes;
+      std::uint8_t* row = io::row_bytes(color, y);
       // Depth and float colour buffers may have any alignment (image.hpp): bytes and memcpy only.
-      std::uint8_t* depth_row = nullptr;
-      if (depth) {
-        const int depth_row_index = depth->y_up ? depth->height - 1 - y : y;
-        depth_row = reinterpret_cast<std::uint8_t*>(depth->data) + static_cast<std::size_t>(depth_row_index) * depth->stride_bytes;
-      }
+      std::uint8_t* depth_row = depth ? io::row_bytes(*depth, y) : nullptr;
       for (int bx = 0; bx * kBlock < width; ++bx) {
         const int block = (ty / kBlock) * blocks_per_row + bx;
         const std::size_t src =

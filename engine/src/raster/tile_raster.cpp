@@ -1,3 +1,4 @@
+#include "io/rows.hpp"
 #include "raster/tile_raster.hpp"
 
 #include <algorithm>
@@ -300,31 +301,12 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
 
 void resolve_tile(const RasterJob& job, TileBuffers& tile, const TileRect& rect, const ImageView& color,
                   const DepthView* depth) {
-  if (job.kernels) {
-    job.kernels->resolve(tile.view(job.clear_color, job.depth, job.srgb), rect.x0, rect.y0, rect.x1, rect.y1, color, depth);
-    return;
-  }
-  const std::size_t bpp = bytes_per_pixel(color.format);
-  const int n = rect.x1 - rect.x0;
-  for (int y = rect.y0; y < rect.y1; ++y) {
-    const int image_row = color.y_up ? color.height - 1 - y : y;
-    auto* dst = static_cast<std::uint8_t*>(color.data) + static_cast<std::size_t>(image_row) * color.stride_bytes +
-                static_cast<std::size_t>(rect.x0) * bpp;
-    for (int x = 0; x < n; ++x, dst += bpp) {
-      const std::size_t p = tile.index(x, y - rect.y0);
-      const float rgba[4] = {tile.plane(0)[p], tile.plane(1)[p], tile.plane(2)[p], tile.plane(3)[p]};
-      store_pixel(rgba, color.format, job.srgb, dst);
-    }
-    if (depth) {
-      const int depth_row = depth->y_up ? depth->height - 1 - y : y;
-      auto* d = reinterpret_cast<std::uint8_t*>(depth->data) + static_cast<std::size_t>(depth_row) * depth->stride_bytes +
-                static_cast<std::size_t>(rect.x0) * sizeof(float);
-      for (int x = 0; x < n; ++x, d += sizeof(float)) {
-        const float out = job.depth.output(tile.plane(4)[tile.index(x, y - rect.y0)]);
-        std::memcpy(d, &out, 4);
-      }
-    }
-  }
+  // One resolve for both rasterizers: the scalar one fills every block of its tile, so they are
+  // all marked touched and go through the sse2 kernel (every x86-64 CPU has it), which converts
+  // as store_pixel does.
+  const simd::Kernels* kernels = job.kernels ? job.kernels : simd_raster_kernels(Isa::sse2);
+  if (!job.kernels) std::fill(tile.touched.begin(), tile.touched.end(), std::uint8_t{1});
+  kernels->resolve(tile.view(job.clear_color, job.depth, job.srgb), rect.x0, rect.y0, rect.x1, rect.y1, color, depth);
 }
 
 void resolve_clear_tile(const std::array<float, 4>& clear_color, const float* srgb, const TileRect& rect,
@@ -337,9 +319,7 @@ void resolve_clear_tile(const std::array<float, 4>& clear_color, const float* sr
   const std::uint8_t* first_color = nullptr;
   const std::uint8_t* first_depth = nullptr;
   for (int y = rect.y0; y < rect.y1; ++y) {
-    const int image_row = color.y_up ? color.height - 1 - y : y;
-    auto* dst = static_cast<std::uint8_t*>(color.data) + static_cast<std::size_t>(image_row) * color.stride_bytes +
-                static_cast<std::size_t>(rect.x0) * bpp;
+    std::uint8_t* dst = io::row_bytes(color, y) + static_cast<std::size_t>(rect.x0) * bpp;
     if (first_color) {
       std::memcpy(dst, first_color, row_bytes);  // every row is the same as the first
     } else {
@@ -351,9 +331,7 @@ void resolve_clear_tile(const std::array<float, 4>& clear_color, const float* sr
       first_color = dst;
     }
     if (depth) {
-      const int depth_row = depth->y_up ? depth->height - 1 - y : y;
-      auto* d = reinterpret_cast<std::uint8_t*>(depth->data) + static_cast<std::size_t>(depth_row) * depth->stride_bytes +
-                static_cast<std::size_t>(rect.x0) * sizeof(float);
+      std::uint8_t* d = io::row_bytes(*depth, y) + static_cast<std::size_t>(rect.x0) * sizeof(float);
       if (first_depth) {
         std::memcpy(d, first_depth, static_cast<std::size_t>(rect.x1 - rect.x0) * sizeof(float));
       } else {
@@ -365,10 +343,7 @@ void resolve_clear_tile(const std::array<float, 4>& clear_color, const float* sr
 }
 
 namespace {
-float* depth_row(const DepthView& depth, int y) {
-  const int row = depth.y_up ? depth.height - 1 - y : y;
-  return reinterpret_cast<float*>(reinterpret_cast<std::uint8_t*>(depth.data) + static_cast<std::size_t>(row) * depth.stride_bytes);
-}
+float* depth_row(const DepthView& depth, int y) { return reinterpret_cast<float*>(io::row_bytes(depth, y)); }
 }  // namespace
 
 void resolve_depth_tile(const RasterJob& job, const TileBuffers& tile, const TileRect& rect, const DepthView& depth) {
