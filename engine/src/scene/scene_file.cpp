@@ -20,56 +20,21 @@
 #include "io/assets.hpp"
 #include "io/file_access.hpp"
 #include "texture/texture_file.hpp"
+#include "scene/json_fields.hpp"
 #include "scene/json_lines.hpp"
 
 namespace facet {
 namespace {
 
 using json = nlohmann::json;
+using scene_json::child;
+using scene_json::describe;
+using scene_json::join;
 
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
-std::string describe(const json& j) {
-  switch (j.type()) {
-    case json::value_t::null: return "null";
-    case json::value_t::boolean: return std::string("boolean ") + (j.get<bool>() ? "true" : "false");
-    case json::value_t::string: return "string " + quote(j.get<std::string>(), 40);
-    case json::value_t::array: return "an array of " + std::to_string(j.size()) + " elements";
-    case json::value_t::object: return "an object";
-    case json::value_t::number_integer:
-    case json::value_t::number_unsigned:
-    case json::value_t::number_float: return "number " + j.dump();
-    default: return "a value of another type";
-  }
-}
-
-std::string join(const std::vector<std::string>& names) {
-  std::string s;
-  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
-  return s;
-}
-
-std::string child(const std::string& path, std::string_view key) {
-  return path.empty() ? std::string(key) : path + "." + std::string(key);
-}
-
-class SceneReader {
+class SceneReader : public scene_json::JsonFields {
  public:
   SceneReader(std::string source, const JsonLines& lines, std::string base_dir, const LoadOptions& options)
-      : source_(std::move(source)), lines_(lines), base_dir_(std::move(base_dir)), options_(options),
+      : JsonFields(std::move(source), lines), base_dir_(std::move(base_dir)), options_(options),
         folder_(options.assets, base_dir_) {}
 
   Status read(const json& root, Scene& scene) {
@@ -136,138 +101,6 @@ class SceneReader {
     return {};
   }
 
-  // "file:line: message" for a field path.
-  Status located(const std::string& path, ErrorCode code, const std::string& message) const {
-    const std::size_t line = lines_.line_of(path);
-    return {code, path, source_ + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + message};
-  }
-
- private:
-  Status mismatch(const std::string& path, const std::string& expected, const json& found) const {
-    return located(path, ErrorCode::invalid_argument,
-                   (path.empty() ? std::string("top level") : path) + ": expected " + expected + ", found " +
-                       describe(found));
-  }
-  Status invalid(const std::string& path, const std::string& what) const {
-    return located(path, ErrorCode::invalid_argument, path + ": " + what);
-  }
-
-  Status expect_object(const json& j, const std::string& path, std::initializer_list<std::string_view> allowed) const {
-    if (!j.is_object()) return mismatch(path, "an object", j);
-    for (const auto& [key, value] : j.items()) {
-      bool known = false;
-      for (auto a : allowed) known |= a == key;
-      if (known) continue;
-      std::string hint;
-      std::size_t best = 3;
-      std::vector<std::string> names;
-      for (auto a : allowed) {
-        names.emplace_back(a);
-        if (const std::size_t d = edit_distance(key, a); d < best) {
-          best = d;
-          hint = " (did you mean '" + std::string(a) + "'?)";
-        }
-      }
-      const std::string where = path.empty() ? std::string("top level") : path;
-      return located(child(path, key), ErrorCode::invalid_argument,
-                     where + ": unknown field " + quote(key, 32) + hint + "; known fields: " + join(names));
-    }
-    return {};
-  }
-
-  template <class Fn>
-  Status read_list(const json& root, const char* key, Fn fn) {
-    if (!root.contains(key)) return {};
-    const json& list = root[key];
-    if (!list.is_array()) return mismatch(key, "an array", list);
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      FACET_TRY(fn(list[i], std::string(key) + "[" + std::to_string(i) + "]"));
-    }
-    return {};
-  }
-
-  Status read_number(const json& j, const std::string& path, float& out) const {
-    if (!j.is_number()) return mismatch(path, "a number", j);
-    const double v = j.get<double>();
-    if (!std::isfinite(v) || std::abs(v) > std::numeric_limits<float>::max()) {
-      return mismatch(path, "a finite number within float range", j);
-    }
-    out = static_cast<float>(v);
-    return {};
-  }
-
-  Status opt_number(const json& obj, const std::string& path, const char* key, float& out) const {
-    return obj.contains(key) ? read_number(obj[key], child(path, key), out) : Status{};
-  }
-
-  Status opt_int(const json& obj, const std::string& path, const char* key, int lo, int hi, int& out) const {
-    if (!obj.contains(key)) return {};
-    const json& j = obj[key];
-    const std::string p = child(path, key);
-    if (!j.is_number_integer()) return mismatch(p, "an integer", j);
-    const auto v = j.get<long long>();
-    if (v < lo || v > hi) {
-      return mismatch(p, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", j);
-    }
-    out = static_cast<int>(v);
-    return {};
-  }
-
-  Status opt_bool(const json& obj, const std::string& path, const char* key, bool& out) const {
-    if (!obj.contains(key)) return {};
-    const json& j = obj[key];
-    if (!j.is_boolean()) return mismatch(child(path, key), "true or false", j);
-    out = j.get<bool>();
-    return {};
-  }
-
-  Status opt_string(const json& obj, const std::string& path, const char* key, std::string& out) const {
-    if (!obj.contains(key)) return {};
-    const json& j = obj[key];
-    if (!j.is_string()) return mismatch(child(path, key), "a string", j);
-    out = j.get<std::string>();
-    return {};
-  }
-
-  Status read_vec3(const json& j, const std::string& path, Vec3& out) const {
-    if (!j.is_array() || j.size() != 3) return mismatch(path, "an array of 3 numbers", j);
-    for (std::size_t i = 0; i < 3; ++i) {
-      float v = 0;
-      FACET_TRY(read_number(j[i], path + "[" + std::to_string(i) + "]", v));
-      out[static_cast<Eigen::Index>(i)] = v;
-    }
-    return {};
-  }
-
-  Status opt_vec3(const json& obj, const std::string& path, const char* key, Vec3& out) const {
-    return obj.contains(key) ? read_vec3(obj[key], child(path, key), out) : Status{};
-  }
-
-  // A colour is [r, g, b] or one number for a grey.
-  Status opt_color(const json& obj, const std::string& path, const char* key, Color3& out) const {
-    if (!obj.contains(key)) return {};
-    const json& j = obj[key];
-    const std::string p = child(path, key);
-    if (j.is_number()) {
-      float g = 0;
-      FACET_TRY(read_number(j, p, g));
-      out = Color3(g, g, g);
-      return {};
-    }
-    if (!j.is_array()) return mismatch(p, "a colour: [r, g, b] or one number", j);
-    return read_vec3(j, p, out);
-  }
-
-  Status read_enum(const json& j, const std::string& path, std::initializer_list<std::string_view> choices,
-                   std::string& out) const {
-    std::vector<std::string> names(choices.begin(), choices.end());
-    const std::string expected = "one of \"" + join(names) + "\"";
-    if (!j.is_string()) return mismatch(path, expected, j);
-    out = j.get<std::string>();
-    for (auto c : choices)
-      if (c == out) return {};
-    return mismatch(path, expected, j);
-  }
 
   Status read_camera(const json& j, Camera& c) const {
     const std::string p = "camera";
@@ -780,8 +613,6 @@ class SceneReader {
     return {};
   }
 
-  std::string source_;
-  const JsonLines& lines_;
   std::string base_dir_;
   const LoadOptions& options_;
   io::AssetFolder folder_;  // the files the scene names: in its folder (facet/assets.hpp)

@@ -1,0 +1,111 @@
+// The C API: per-vertex data and textures.
+#include "c_api/handles.hpp"
+
+using namespace facet::c_api;  // NOLINT(google-build-using-namespace): the C API's shared helpers
+
+namespace {
+// Per-vertex uvs (colours = false) or colours of mesh_id, validated as validate_mesh would.
+facet_status set_vertex_data(facet_scene* scene, uint32_t mesh_id, const float* data, bool colours) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (mesh_id >= scene->scene.meshes.size()) return fail(scene->error, "mesh_id", "no such mesh");
+    facet::Mesh& mesh = scene->scene.meshes[mesh_id].mesh;
+    facet::Mesh candidate;  // checked on a copy of the arrays' shape: a failure changes nothing
+    candidate.positions = mesh.positions;
+    candidate.normals = mesh.normals;
+    candidate.triangles = mesh.triangles;
+    const std::size_t n = data ? mesh.vertex_count() : 0;
+    if (colours) {
+      candidate.colors.resize(n);
+      for (std::size_t v = 0; v < n; ++v) candidate.colors[v] = facet::Color3(data[3 * v], data[3 * v + 1], data[3 * v + 2]);
+    } else {
+      candidate.uvs.resize(n);
+      for (std::size_t v = 0; v < n; ++v) candidate.uvs[v] = facet::Vec2(data[2 * v], data[2 * v + 1]);
+    }
+    if (facet::Status st = facet::validate_mesh(candidate, "meshes[" + std::to_string(mesh_id) + "]"); !st.ok()) {
+      return report(scene->error, st);
+    }
+    if (colours) {
+      mesh.colors = std::move(candidate.colors);
+    } else {
+      mesh.uvs = std::move(candidate.uvs);
+    }
+    return report(scene->error, {});
+  });
+}
+
+facet_status add_texture(facet_scene* scene, facet::Result<facet::Texture> texture, uint32_t* texture_id) {
+  if (!texture) return report(scene->error, texture.status());
+  const auto id = static_cast<std::uint32_t>(scene->scene.textures.size());
+  scene->scene.textures.push_back(std::move(*texture));
+  if (texture_id) *texture_id = id;
+  return report(scene->error, {});
+}
+
+facet::TextureOptions texture_options(facet_texture_filter filter, facet_texture_wrap wrap) {
+  facet::TextureOptions o;
+  o.filter = static_cast<facet::TextureFilter>(filter);
+  o.wrap = static_cast<facet::TextureWrap>(wrap);
+  return o;
+}
+}  // namespace
+
+extern "C" {
+
+facet_status facet_scene_set_mesh_uvs(facet_scene* scene, uint32_t mesh_id, const float* uvs) {
+  return set_vertex_data(scene, mesh_id, uvs, false);
+}
+
+facet_status facet_scene_set_mesh_colors(facet_scene* scene, uint32_t mesh_id, const float* rgb) {
+  return set_vertex_data(scene, mesh_id, rgb, true);
+}
+
+facet_status facet_scene_add_texture_rgba8(facet_scene* scene, const uint8_t* rgba, int width, int height,
+                                           facet_texture_filter filter, facet_texture_wrap wrap, uint32_t* texture_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!rgba) return fail(scene->error, "rgba", "null");
+    if (filter < FACET_NEAREST || filter > FACET_TRILINEAR) return fail(scene->error, "filter", "unknown texture filter");
+    if (wrap < FACET_WRAP_REPEAT || wrap > FACET_WRAP_MIRROR) return fail(scene->error, "wrap", "unknown wrap mode");
+    if (width < 1 || height < 1 || width > facet::kMaxTextureDimension || height > facet::kMaxTextureDimension) {
+      return fail(scene->error, "width", "a texture is 1 to 16384 texels per side");
+    }
+    const std::size_t bytes = 4 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    const auto id = static_cast<std::uint32_t>(scene->scene.textures.size());
+    return add_texture(scene,
+                       facet::make_texture("texture" + std::to_string(id), width, height,
+                                           std::span<const std::uint8_t>(rgba, bytes), texture_options(filter, wrap)),
+                       texture_id);
+  });
+}
+
+facet_status facet_scene_load_texture(facet_scene* scene, const char* path, facet_texture_filter filter,
+                                      facet_texture_wrap wrap, uint32_t* texture_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!path) return fail(scene->error, "path", "null");
+    if (filter < FACET_NEAREST || filter > FACET_TRILINEAR) return fail(scene->error, "filter", "unknown texture filter");
+    if (wrap < FACET_WRAP_REPEAT || wrap > FACET_WRAP_MIRROR) return fail(scene->error, "wrap", "unknown wrap mode");
+    const auto id = static_cast<std::uint32_t>(scene->scene.textures.size());
+    return add_texture(scene, facet::load_texture(path, "texture" + std::to_string(id), texture_options(filter, wrap)),
+                       texture_id);
+  });
+}
+
+facet_status facet_scene_add_texture_encoded(facet_scene* scene, const void* bytes, size_t size,
+                                             facet_texture_filter filter, facet_texture_wrap wrap, uint32_t* texture_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!bytes && size > 0) return fail(scene->error, "bytes", "null with a non-zero size");
+    if (filter < FACET_NEAREST || filter > FACET_TRILINEAR) return fail(scene->error, "filter", "unknown texture filter");
+    if (wrap < FACET_WRAP_REPEAT || wrap > FACET_WRAP_MIRROR) return fail(scene->error, "wrap", "unknown wrap mode");
+    const auto id = static_cast<std::uint32_t>(scene->scene.textures.size());
+    const std::string name = "texture" + std::to_string(id);
+    return add_texture(scene,
+                       facet::decode_texture(std::span<const std::uint8_t>(static_cast<const std::uint8_t*>(bytes), size),
+                                             name, name, texture_options(filter, wrap)),
+                       texture_id);
+  });
+}
+
+}  // extern "C"
