@@ -43,6 +43,39 @@ const char* to_string(DepthWrite mode) noexcept;
 // No texture (Material::diffuse_texture).
 inline constexpr std::int32_t kNoTexture = -1;
 
+// Environment mapping: a picture of the surroundings looked up by the eye-space direction a
+// surface reflects or faces (GL 2.1 §2.11.4 texture-coordinate generation), with u the unit vector
+// from the eye to the point, n the unit eye-space normal and r = u - 2 n (n . u) the reflection:
+enum class EnvironmentMode : std::uint8_t {
+  none,
+  sphere,  // GL_SPHERE_MAP: m = 2 sqrt(rx^2 + ry^2 + (rz + 1)^2), (s, t) = (rx / m + 1/2, ry / m + 1/2)
+  cube,    // GL_REFLECTION_MAP into a cube map: the face of r's major axis (GL 2.1 §3.8.6), with r
+           // turned into world space (GL: the texture matrix holds the view's inverse rotation),
+           // so the room stays put as the camera moves
+  normal,  // the eye-space normal's x and y: (s, t) = (nx / 2 + 1/2, ny / 2 + 1/2) (a precomputed
+           // light texture looked up per normal, as the classic "environment-mapped" Gouraud does)
+};
+// How the environment's colour E combines with the textured colour C, strength k in [0, 1]:
+enum class EnvironmentBlend : std::uint8_t {
+  add,       // C + k E (a reflection or highlight on top; saturated)
+  modulate,  // C (1 - k + k E)
+  mix,       // C (1 - k) + k E (a mirror at k = 1)
+};
+struct Environment {
+  EnvironmentMode mode = EnvironmentMode::none;
+  // sphere, normal: maps[0] (a picture with up at its top); cube: the faces +X, -X, +Y, -Y, +Z,
+  // -Z (square, the same size; each face's picture as the usual skybox images are drawn: GL's t
+  // runs down the picture, as GL reads faces uploaded top row first), indices into Scene::textures.
+  std::int32_t maps[6] = {kNoTexture, kNoTexture, kNoTexture, kNoTexture, kNoTexture, kNoTexture};
+  float strength = 1.0f;  // [0, 1]
+  EnvironmentBlend blend = EnvironmentBlend::add;
+  // Lit per pixel (Phong): looked up per pixel from the interpolated position and normal. Flat and
+  // Gouraud: the coordinates are generated at the vertices and interpolated (as GL's texgen), and
+  // the map looked up per pixel.
+};
+const char* to_string(EnvironmentMode mode) noexcept;
+const char* to_string(EnvironmentBlend mode) noexcept;
+
 struct Material {
   std::string name;
   Color3 emissive{0.0f, 0.0f, 0.0f};
@@ -68,6 +101,11 @@ struct Material {
   // Without either texture both rules give the same colour, and the emission stays in the lighting.
   std::int32_t emissive_texture = kNoTexture;  // index into Scene::textures
   bool emission_after_texture = false;
+
+  // Applied after the texture environment, before the emission added after texturing and the
+  // separate specular (GL: a second texture unit). Sampled at level 0 (no mipmaps: texgen
+  // coordinates have no derivatives per pixel).
+  Environment environment;
 };
 
 // Whether the renderer adds the material's emission after the texture environment (and leaves it

@@ -89,7 +89,8 @@ struct Renderer::Impl {
   std::span<const DrawUnit> units;
   std::vector<lighting::PointShader> shaders;  // one per draw
   PassDraws draws;  // the running pass's: per draw its pixel program, lighting features and faces (plan.hpp)
-  std::vector<texture::Sampler> samplers;        // one per scene texture
+  std::vector<texture::Sampler> samplers;       // one per scene texture
+  std::vector<texture::Sampler> edge_samplers;  // the same clamped to the edge (environment maps)
   raster::simd::Fog fog;
   SrgbTable srgb;  // made once per renderer (RenderOptions::srgb)
   Impl() { make_srgb_table(srgb); }
@@ -105,6 +106,7 @@ struct Renderer::Impl {
     std::vector<Color3> front, back;
     std::vector<Color3> front_spec, back_spec, flat_albedo;  // textured: specular apart; flat: mean vertex colour
     std::vector<Vec3> eye_p, eye_n, centroid, face_normal;
+    std::vector<Vec3> environment;  // flat and Gouraud with an environment map: texgen coordinates per vertex
     // Gouraud: 1 for a vertex of a triangle that may be drawn (or clipped; marked by
     // raster::place_range), and per vertex chunk the list of those vertices.
     std::vector<std::uint8_t> drawn;

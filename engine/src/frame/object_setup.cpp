@@ -7,6 +7,7 @@
 
 #include "frame/frame.hpp"
 #include "lighting/setup.hpp"
+#include "pixel/stages.hpp"
 
 namespace facet {
 
@@ -19,9 +20,12 @@ void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t tr
     lit_index.reserve(vertices);
     front.reserve(vertices);
     if (both_faces) back.reserve(vertices);
-    if (surfaces) {  // a textured object's specular, kept apart
+    if (surfaces) {  // a textured object's specular, kept apart; an environment map's coordinates
       front_spec.reserve(vertices);
       if (both_faces) back_spec.reserve(vertices);
+      eye_p.reserve(vertices);
+      eye_n.reserve(vertices);
+      environment.reserve(vertices);
     }
     return;
   }
@@ -30,6 +34,7 @@ void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t tr
     if (surfaces) {
       front_spec.reserve(triangles);
       if (both_faces) back_spec.reserve(triangles);
+      environment.reserve(vertices);
     }
   }
   eye_p.reserve(vertices);
@@ -211,6 +216,34 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   std::vector<Vec3>&eye_p = os.eye_p, &eye_n = os.eye_n, &centroid = os.centroid, &face_normal = os.face_normal;
 
   const bool split = lf.separate_specular;
+  // Eye-space positions and normals: flat and Phong light with them, and flat and Gouraud draws
+  // with an environment map generate its coordinates from them at the vertices (GL's texgen).
+  const raster::simd::Draw& draw = draws.programs[object];
+  const bool texgen = draw.layout.has(raster::Varying::environment);
+  if (shading != ShadingMode::gouraud || texgen) {
+    const auto xf = lighting::make_eye_transform<float>(view, inst.model);
+    eye_p.resize(n);
+    eye_n.resize(n);
+    for (std::size_t i = v0; i < v1; ++i) {
+      const Vec3& p = mesh.positions[i];
+      const Vec3& nn = mesh.normals[i];
+      const float* m = xf.position;
+      const float* q = xf.normal;
+      eye_p[i] = Vec3(m[0] * p.x() + m[1] * p.y() + m[2] * p.z() + m[3], m[4] * p.x() + m[5] * p.y() + m[6] * p.z() + m[7],
+                      m[8] * p.x() + m[9] * p.y() + m[10] * p.z() + m[11]);
+      eye_n[i] = Vec3(q[0] * nn.x() + q[1] * nn.y() + q[2] * nn.z(), q[3] * nn.x() + q[4] * nn.y() + q[5] * nn.z(),
+                      q[6] * nn.x() + q[7] * nn.y() + q[8] * nn.z());
+    }
+  }
+  if (texgen) {
+    os.environment.resize(n);
+    for (std::size_t i = v0; i < v1; ++i) {
+      const float p[3] = {eye_p[i].x(), eye_p[i].y(), eye_p[i].z()}, nn[3] = {eye_n[i].x(), eye_n[i].y(), eye_n[i].z()};
+      float c[3];
+      pixel::environment_coords(draw.environment, draw.environment_to_world, p, nn, c);
+      os.environment[i] = Vec3(c[0], c[1], c[2]);
+    }
+  }
   if (shading == ShadingMode::gouraud) {
     front.resize(n);
     if (two_sided) back.resize(n);
@@ -260,20 +293,6 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
     return;
   }
 
-  // Flat and Phong need eye-space positions and normals.
-  const auto xf = lighting::make_eye_transform<float>(view, inst.model);
-  eye_p.resize(n);
-  eye_n.resize(n);
-  for (std::size_t i = v0; i < v1; ++i) {
-    const Vec3& p = mesh.positions[i];
-    const Vec3& nn = mesh.normals[i];
-    const float* m = xf.position;
-    const float* q = xf.normal;
-    eye_p[i] = Vec3(m[0] * p.x() + m[1] * p.y() + m[2] * p.z() + m[3], m[4] * p.x() + m[5] * p.y() + m[6] * p.z() + m[7],
-                    m[8] * p.x() + m[9] * p.y() + m[10] * p.z() + m[11]);
-    eye_n[i] = Vec3(q[0] * nn.x() + q[1] * nn.y() + q[2] * nn.z(), q[3] * nn.x() + q[4] * nn.y() + q[5] * nn.z(),
-                    q[6] * nn.x() + q[7] * nn.y() + q[8] * nn.z());
-  }
   if (shading == ShadingMode::flat) {
     // One evaluation per triangle: the face normal (from the eye-space corners) at the centroid.
     const std::size_t t_count = mesh.triangle_count(), t0 = unit.first_triangle, t1 = unit.end_triangle;
@@ -399,6 +418,7 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   source(Varying::normal, os.eye_n);
   source(Varying::albedo, mesh.colors);
   source(Varying::uv, mesh.uvs);
+  source(Varying::environment, os.environment);
   vertices.flat_front = flat ? os.front.data() : nullptr;
   vertices.flat_back = flat && two_sided ? os.back.data() : nullptr;
   vertices.flat_secondary_front = flat && lf.separate_specular ? os.front_spec.data() : nullptr;

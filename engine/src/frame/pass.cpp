@@ -15,7 +15,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   units = pass_draws;
   bins.resize(static_cast<std::size_t>(p.tile_count()));
   for (auto& bin : bins) bin.clear();
-  frame::plan_draws(scene, options, p, units, kind, samplers, draws);
+  frame::plan_draws(scene, options, p, units, kind, samplers, edge_samplers, draws);
   fog = frame::plan_fog(kind.plain() ? Fog{} : kind.lights_of(scene).fog);
   set_up_objects(scene, options);
   const int tiles_x = p.tiles_x, tile_size = p.tile_size;

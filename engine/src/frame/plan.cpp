@@ -367,7 +367,8 @@ raster::simd::Fog plan_fog(const Fog& f) {
 // An untextured opaque material without alpha test or fog (and, lit per pixel, without vertex
 // colours) runs the plain kernels: exactly what ran before surfaces existed.
 void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPass& p, std::span<const DrawUnit> units,
-                const FrameKind& kind, std::span<const texture::Sampler> samplers, PassDraws& out) {
+                const FrameKind& kind, std::span<const texture::Sampler> samplers,
+                std::span<const texture::Sampler> edge_samplers, PassDraws& out) {
   const Fog& f = kind.plain() ? Fog{} : kind.lights_of(scene).fog;
   const bool clamp = !(options.hdr && p.color && p.color->format == PixelFormat::rgba32f);
   const raster::LitAt lit = p.shading == ShadingMode::flat      ? raster::LitAt::triangle
@@ -395,6 +396,9 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     needs.secondary = textured && lit == raster::LitAt::vertex;
     needs.albedo = colours && lit == raster::LitAt::pixel;
     needs.uv = textured || emission_texture;
+    const Environment& env = m.environment;
+    const bool environment = !plain && env.mode != EnvironmentMode::none;
+    needs.environment = environment;
     raster::simd::Draw& d = out.programs[o];
     d = raster::simd::Draw{};
     if (p.depth_only) continue;  // no varying, no program: depth alone (every caster is opaque)
@@ -406,13 +410,24 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
       for (int c = 0; c < 3; ++c) d.emission_rgb[c] = m.emissive[c];
       if (emission_texture) d.emission_texture = &samplers[static_cast<std::size_t>(m.emissive_texture)];
     }
+    if (environment) {
+      d.environment = env.mode;
+      d.environment_blend = env.blend;
+      d.environment_strength = env.strength;
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) d.environment_to_world[3 * r + c] = static_cast<float>(p.view(c, r));
+      }
+      for (int k = 0; k < 6; ++k) {
+        if (env.maps[k] != kNoTexture) d.environment_map[k] = &edge_samplers[static_cast<std::size_t>(env.maps[k])];
+      }
+    }
     d.uv_scale[0] = m.uv_scale.x(), d.uv_scale[1] = m.uv_scale.y();
     d.alpha_cutoff = m.alpha_cutoff;
     d.blend = plain ? BlendMode::opaque : m.blend;
     d.depth_write = writes_depth(m);
     d.clamp = clamp;
     const bool surface = textured || d.emission || d.blend != BlendMode::opaque || m.alpha_cutoff > 0.0f ||
-                         !d.depth_write || f.mode != FogMode::none || needs.albedo;
+                         !d.depth_write || f.mode != FogMode::none || needs.albedo || environment;
     using raster::simd::PixelProgram;
     if (!surface) {
       d.program = lit == raster::LitAt::triangle ? PixelProgram::flat
@@ -422,9 +437,10 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
       d.program = PixelProgram::surface;
     } else {
       // The fused program's settings: Gouraud, modulate, the specular added after the texture, no
-      // emission after it, opaque, clamped, no alpha test (the fragment's alpha is never NaN).
+      // emission after it, opaque, clamped, no alpha test (the fragment's alpha is never NaN), no
+      // environment.
       const bool modulate = lit == raster::LitAt::vertex && d.texture_env == TextureMode::modulate && !d.emission &&
-                            d.blend == BlendMode::opaque && d.clamp && d.alpha_cutoff <= 0.0f &&
+                            d.blend == BlendMode::opaque && d.clamp && d.alpha_cutoff <= 0.0f && !environment &&
                             d.layout.has(raster::Varying::front_secondary);
       d.program = !modulate                   ? PixelProgram::surface_textured
                   : f.mode == FogMode::none ? PixelProgram::modulate

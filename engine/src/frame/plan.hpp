@@ -96,7 +96,9 @@ struct PassDraws {
 };
 // The fog of the frame's pixel programs.
 raster::simd::Fog plan_fog(const Fog& fog);
+// `samplers`: one per scene texture; `edge_samplers`: the same, clamped to the edge (environment maps).
 void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPass& p, std::span<const DrawUnit> units,
-                const FrameKind& kind, std::span<const texture::Sampler> samplers, PassDraws& out);
+                const FrameKind& kind, std::span<const texture::Sampler> samplers,
+                std::span<const texture::Sampler> edge_samplers, PassDraws& out);
 
 }  // namespace facet::frame

@@ -12,7 +12,9 @@
 
 namespace facet::geometry {
 
-inline constexpr int kMaxAttributes = 14;
+// Floats a vertex carries through clipping at most (raster/varyings.hpp: a two-sided Gouraud draw
+// with a texture, separate specular and an environment map carries 17).
+inline constexpr int kMaxAttributes = 17;
 
 struct ClipVertex {
   float x, y, z, w;

@@ -15,6 +15,7 @@
 #include "pixel/batch_simd.hpp"
 #include "pixel/stages.hpp"
 #include "raster/raster_kernels.hpp"
+#include "texture/sample_simd.hpp"
 
 namespace facet::pixel::simd {
 namespace {
@@ -153,9 +154,19 @@ struct PhongBatch {
                       F::load_unaligned(s.ta + k)};
       const F e[3] = {F::load_unaligned(s.er + k), F::load_unaligned(s.eg + k), F::load_unaligned(s.eb + k)};
       const F f = F::load_unaligned(s.fog + k);
+      F env[3];
+      if (d.environment != EnvironmentMode::none) {  // generated per pixel from the gathered position and normal
+        const F position[3] = {F::load_unaligned(s.px + k), F::load_unaligned(s.py + k), F::load_unaligned(s.pz + k)};
+        const F normal[3] = {F::load_unaligned(s.nx + k), F::load_unaligned(s.ny + k), F::load_unaligned(s.nz + k)};
+        F coords[3];
+        pixel::environment_coords(d.environment, d.environment_to_world, position, normal, coords);
+        pixel::environment_colour(d, coords, [](const texture::Sampler& m, const F& u, const F& v, F(&rgba)[4]) {
+          texture::simd::SampleSimd<Arch>::sample(m, u, v, F(0.0f), rgba);
+        }, env);
+      }
       F c[4];
       pixel::shade_fragment(d, *job->fog, p, F(alpha), textured ? t : nullptr, d.emission ? e : nullptr,
-                              secondary ? sec : nullptr, &f, c);
+                            secondary ? sec : nullptr, &f, c, d.environment != EnvironmentMode::none ? env : nullptr);
       c[0].store_unaligned(s.r + k);
       c[1].store_unaligned(s.g + k);
       c[2].store_unaligned(s.b + k);

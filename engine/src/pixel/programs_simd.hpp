@@ -154,6 +154,10 @@ struct Texturing {
     return uv_from_planes(d, in.over_w(a, fi, fj), in.over_w(a + 1, fi, fj), cw, in.attr[a].dx, in.attr[a].dy,
                           in.attr[a + 1].dx, in.attr[a + 1].dy, in.w.dx, in.w.dy);
   }
+  // A map at (u, v) on its level 0 (environment maps: texgen coordinates have no derivatives).
+  static void level0(const texture::Sampler& sampler, const F& u, const F& v, F (&rgba)[4]) {
+    Sampler::sample(sampler, u, v, F(0.0f), rgba);
+  }
   // One texture at those coordinates (RGBA in tex): the LOD, the sample.
   static void sample(const texture::Sampler& sampler, const Uv<F>& c, F (&tex)[4]) {
     const F lambda = Sampler::lod(sampler, c.dudx, c.dvdx, c.dudy, c.dvdy);
@@ -212,7 +216,7 @@ struct SurfaceProgram {
   using F = typename Types<Arch>::F;
   using I = typename Types<Arch>::I;
   using BF = typename Types<Arch>::BF;
-  static constexpr int kAttributes = geometry::kMaxAttributes;
+  static constexpr int kAttributes = raster::kMaxRasterAttributes;
   static constexpr bool kClipW = true;
   static constexpr int kHeld = Textured ? kHold<Arch> : 1;
   using In = Interpolants<Arch, kAttributes>;
@@ -286,8 +290,15 @@ struct SurfaceProgram {
     }
     F p[3], sec[3];
     const F* secondary = vertex_colours(job.shading, d, cx.t, value, texel != nullptr, p, sec);
+    F env[3];
+    if (d.environment != EnvironmentMode::none) {  // the vertices' texgen coordinates, interpolated
+      const int a = d.layout.at(Varying::environment);
+      const F coords[3] = {value(a), value(a + 1), value(a + 2)};
+      environment_colour(d, coords, Texturing<Arch>::level0, env);
+    }
     F c[4];
-    shade_fragment(d, *job.fog, p, alpha, texel, d.emission ? emitted : nullptr, secondary, &f, c);
+    shade_fragment(d, *job.fog, p, alpha, texel, d.emission ? emitted : nullptr, secondary, &f, c,
+                   d.environment != EnvironmentMode::none ? env : nullptr);
     F old[4], out[4];
     for (int ch = 0; ch < 4; ++ch) out[ch] = old[ch] = F::load_unaligned(cx.planes[ch] + b.at);
     blend(d, c, out);
@@ -298,7 +309,7 @@ struct SurfaceProgram {
 template <class Arch, bool Fogged>
 struct ModulateProgram {
   using F = typename Types<Arch>::F;
-  static constexpr int kAttributes = geometry::kMaxAttributes;
+  static constexpr int kAttributes = raster::kMaxRasterAttributes;
   static constexpr bool kClipW = true;
   static constexpr int kHeld = kHold<Arch>;
   using BF = typename Types<Arch>::BF;

@@ -197,13 +197,136 @@ template <class V>
   for (int k = 0; k < 3; ++k) c[k] = f * c[k] + (V(1.0f) - f) * V(fog.color[k]);
 }
 
-// One fragment's colour (c[0..2]) and alpha (c[3]): the texture environment on primary colour p,
-// fragment alpha a and texel t, then the emission e (null: none), then the colour sum with the
-// secondary colour s (null: none), then fog with factor f (f null: no fog).
+// --- Environment mapping (Material::environment) --------------------------------------------
+
+// Whether any lane of a mask is set (bool: the one lane).
+inline bool any_lane(bool m) { return m; }
+template <class M>
+bool any_lane(const M& m) {
+  return xsimd::any(m);
+}
+// Lane-wise and, not for both mask types.
+inline bool lane_and(bool a, bool b) { return a && b; }
+template <class M>
+M lane_and(const M& a, const M& b) {
+  return a & b;
+}
+inline bool lane_not(bool a) { return !a; }
+template <class M>
+M lane_not(const M& a) {
+  return ~a;
+}
+// sqrt for both value types (IEEE: correctly rounded on every path).
+inline float root(float x) { return std::sqrt(x); }
 template <class V>
-[[gnu::always_inline]] inline void shade_fragment(const Draw& d, const Fog& fog, const V (&p)[3], const V& a, const V* t, const V* e, const V* s,
-                    const V* f, V (&c)[4]) {
+V root(const V& x) {
+  return xsimd::sqrt(x);
+}
+
+// The texture coordinates the environment is looked up with, from eye-space position p and
+// normal n (neither need be unit): GL's texgen (Material::environment). sphere and normal: (s, t,
+// 0); cube: the reflection r turned into world space by `to_world` (3x3, row-major: the view's
+// rotation transposed; GL's texture matrix), any length (only its direction picks the texel). A point at the
+// eye looks down -z; a zero normal reflects nothing (r = u). The sphere map's singular direction,
+// r = (0, 0, -1) (m = 0: grazing the silhouette straight ahead), reads its rim at (1, 1/2).
+template <class V>
+[[gnu::always_inline]] inline void environment_coords(EnvironmentMode mode, const float* to_world, const V (&p)[3],
+                                                      const V (&n)[3], V (&c)[3]) {
+  const V nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+  const V n_len = root(nn);
+  const V n_inv = pick(n_len > V(0.0f), V(1.0f) / n_len, V(0.0f));
+  const V nu[3] = {n[0] * n_inv, n[1] * n_inv, n[2] * n_inv};
+  if (mode == EnvironmentMode::normal) {
+    c[0] = nu[0] * V(0.5f) + V(0.5f);
+    c[1] = nu[1] * V(0.5f) + V(0.5f);
+    c[2] = V(0.0f);
+    return;
+  }
+  const V p_len = root(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+  const V at_eye = pick(p_len > V(0.0f), V(0.0f), V(1.0f));  // 1 where p is the eye itself
+  const V p_inv = pick(p_len > V(0.0f), V(1.0f) / p_len, V(0.0f));
+  const V u[3] = {p[0] * p_inv, p[1] * p_inv, p[2] * p_inv - at_eye};
+  const V d = nu[0] * u[0] + nu[1] * u[1] + nu[2] * u[2];
+  const V r[3] = {u[0] - V(2.0f) * nu[0] * d, u[1] - V(2.0f) * nu[1] * d, u[2] - V(2.0f) * nu[2] * d};
+  if (mode == EnvironmentMode::cube) {  // in world space: the room stays put as the camera moves
+    for (int k = 0; k < 3; ++k) c[k] = V(to_world[3 * k]) * r[0] + V(to_world[3 * k + 1]) * r[1] + V(to_world[3 * k + 2]) * r[2];
+    return;
+  }
+  const V z1 = r[2] + V(1.0f);
+  const V m = V(2.0f) * root(r[0] * r[0] + r[1] * r[1] + z1 * z1);
+  const V m_inv = pick(m > V(0.0f), V(1.0f) / m, V(0.0f));
+  c[0] = pick(m > V(0.0f), r[0] * m_inv + V(0.5f), V(1.0f));
+  c[1] = pick(m > V(0.0f), r[1] * m_inv + V(0.5f), V(0.5f));
+  c[2] = V(0.0f);
+}
+
+// A cube map's face and (s, t) for direction r (GL 2.1 §3.8.6, table 3.21): the major axis picks
+// the face (ties: x before y before z; +X, -X, +Y, -Y, +Z, -Z = 0..5), s = (sc / |ma| + 1) / 2,
+// and GL's t = (tc / |ma| + 1) / 2 counted from the top of the face's picture (GL reads faces
+// uploaded top row first), so facet's t (from the bottom) is 1 minus it. A zero r reads the +Z
+// face's centre.
+template <class V>
+[[gnu::always_inline]] inline void cube_face(const V (&r)[3], V& face, V& s, V& t) {
+  const V ax = pick(r[0] < V(0.0f), V(0.0f) - r[0], r[0]), ay = pick(r[1] < V(0.0f), V(0.0f) - r[1], r[1]);
+  const V az = pick(r[2] < V(0.0f), V(0.0f) - r[2], r[2]);
+  const auto x_major = lane_and(ax >= ay, ax >= az);
+  const auto y_major = lane_and(lane_not(x_major), ay >= az);
+  // Per face: sc, tc (table 3.21).
+  const V sc = pick(x_major, pick(r[0] >= V(0.0f), V(0.0f) - r[2], r[2]), pick(y_major, r[0], pick(r[2] >= V(0.0f), r[0], V(0.0f) - r[0])));
+  const V tc = pick(y_major, pick(r[1] >= V(0.0f), r[2], V(0.0f) - r[2]), V(0.0f) - r[1]);
+  const V ma = pick(x_major, ax, pick(y_major, ay, az));
+  face = pick(x_major, pick(r[0] >= V(0.0f), V(0.0f), V(1.0f)),
+              pick(y_major, pick(r[1] >= V(0.0f), V(2.0f), V(3.0f)), pick(r[2] >= V(0.0f), V(4.0f), V(5.0f))));
+  const V inv = pick(ma > V(0.0f), V(1.0f) / ma, V(0.0f));
+  s = V(0.5f) * (sc * inv + V(1.0f));
+  t = V(0.5f) * (V(1.0f) - tc * inv);  // GL's t runs down a face's picture; facet's t = 0 is a picture's bottom
+}
+
+// The environment's colour E (RGB) at coordinates c (environment_coords, or their interpolation):
+// sample(sampler, s, t, rgba) reads a map at level 0. A cube map reads each face its lanes need.
+template <class V, class Sample>
+[[gnu::always_inline]] inline void environment_colour(const Draw& d, const V (&c)[3], const Sample& sample, V (&e)[3]) {
+  V rgba[4];
+  if (d.environment != EnvironmentMode::cube) {
+    sample(*d.environment_map[0], c[0], c[1], rgba);
+    for (int k = 0; k < 3; ++k) e[k] = rgba[k];
+    return;
+  }
+  V face, s, t;
+  cube_face(c, face, s, t);
+  for (int k = 0; k < 3; ++k) e[k] = V(0.0f);
+  for (int f = 0; f < 6; ++f) {
+    const auto on = face == V(static_cast<float>(f));
+    if (!any_lane(on)) continue;
+    sample(*d.environment_map[f], s, t, rgba);
+    for (int k = 0; k < 3; ++k) e[k] = pick(on, rgba[k], e[k]);
+  }
+}
+
+// The environment stage: E combined with the textured colour c (alpha unchanged) as the draw's
+// blend says, strength k: add c + k E (saturated), modulate c (1 - k + k E), mix c (1 - k) + k E.
+template <class V>
+[[gnu::always_inline]] inline void apply_environment(const Draw& d, const V* e, V (&c)[4]) {
+  const V k(d.environment_strength), keep = V(1.0f) - k;
+  for (int ch = 0; ch < 3; ++ch) {
+    switch (d.environment_blend) {
+      case EnvironmentBlend::modulate: c[ch] = c[ch] * (keep + k * e[ch]); break;
+      case EnvironmentBlend::mix: c[ch] = c[ch] * keep + k * e[ch]; break;
+      default: c[ch] = finish(c[ch] + k * e[ch], d.clamp); break;
+    }
+  }
+}
+
+// One fragment's colour (c[0..2]) and alpha (c[3]): the texture environment on primary colour p,
+// fragment alpha a and texel t, then the environment's colour env (null: none), then the emission
+// e (null: none), then the colour sum with the secondary colour s (null: none), then fog with
+// factor f (f null: no fog).
+template <class V>
+[[gnu::always_inline]] inline void shade_fragment(const Draw& d, const Fog& fog, const V (&p)[3], const V& a, const V* t,
+                                                  const V* e, const V* s, const V* f, V (&c)[4],
+                                                  const V* env = nullptr) {
   texture_environment(d, p, a, t, c);
+  if (env) apply_environment(d, env, c);
   if (e) add_colour(d, e, c);
   if (s) add_colour(d, s, c);
   if (f && fog.mode != FogMode::none) apply_fog(fog, *f, c);

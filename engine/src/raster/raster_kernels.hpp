@@ -74,6 +74,15 @@ struct Draw {
   bool emission = false;
   float emission_rgb[3] = {};
   const texture::Sampler* emission_texture = nullptr;
+  // Environment mapping (Material::environment; pixel/stages.hpp): the maps clamped to the edge
+  // (sphere and normal: environment_map[0]; cube: the faces +X, -X, +Y, -Y, +Z, -Z). Flat and
+  // Gouraud draws carry the vertices' generated coordinates in Varying::environment; Phong draws
+  // generate them per pixel.
+  EnvironmentMode environment = EnvironmentMode::none;
+  EnvironmentBlend environment_blend = EnvironmentBlend::add;
+  float environment_strength = 1.0f;
+  const texture::Sampler* environment_map[6] = {};
+  float environment_to_world[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // cube: eye to world rotation, row-major
   float uv_scale[2] = {1.0f, 1.0f};
   float alpha_cutoff = 0.0f;  // alpha test: the fragment is kept when alpha >= cutoff (0: every fragment)
   BlendMode blend = BlendMode::opaque;

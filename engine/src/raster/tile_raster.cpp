@@ -48,6 +48,12 @@ const simd::Kernels* simd_raster_kernels(Isa isa) noexcept {
 
 namespace {
 
+// A map at (u, v) on its level 0 (environment maps: texgen coordinates have no derivatives).
+void level0(const texture::Sampler& sampler, float u, float v, float (&rgba)[4]) {
+  const auto texel = texture::sample_scalar(sampler, u, v, 0.0f);
+  for (int c = 0; c < 4; ++c) rgba[c] = texel[c];
+}
+
 // Phong pixels of one triangle, lit in batches by the lighting kernel; a surface draw's pixels
 // carry their albedo, texel and fog factor, and finish the pixel program after lighting.
 class PixelBatch {
@@ -88,9 +94,16 @@ class PixelBatch {
       }
       const float primary[3] = {out_[i].x(), out_[i].y(), out_[i].z()};
       const float secondary[3] = {spec_[i].x(), spec_[i].y(), spec_[i].z()};
+      float env[3];
+      if (d.environment != EnvironmentMode::none) {  // generated per pixel from its position and normal
+        const float position[3] = {p_[i].x(), p_[i].y(), p_[i].z()}, normal[3] = {n_[i].x(), n_[i].y(), n_[i].z()};
+        float coords[3];
+        stages::environment_coords(d.environment, d.environment_to_world, position, normal, coords);
+        stages::environment_colour(d, coords, level0, env);
+      }
       float c[4];
       stages::shade_fragment(d, fog, primary, alpha, textured ? texel_[i] : nullptr, d.emission ? emitted_[i] : nullptr,
-                              textured ? secondary : nullptr, &fog_[i], c);
+                             textured ? secondary : nullptr, &fog_[i], c, d.environment != EnvironmentMode::none ? env : nullptr);
       float dst[4] = {tile.plane(0)[p], tile.plane(1)[p], tile.plane(2)[p], tile.plane(3)[p]};
       stages::blend(d, c, dst);
       for (int ch = 0; ch < 4; ++ch) tile.plane(ch)[p] = dst[ch];
@@ -270,8 +283,15 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
         }
         float primary[3], secondary[3];
         const float* sec = stages::vertex_colours(job.shading, d, t, interp, tex != nullptr, primary, secondary);
+        float env[3];
+        if (d.environment != EnvironmentMode::none) {  // the vertices' texgen coordinates, interpolated
+          const int a = layout.at(Varying::environment);
+          const float coords[3] = {interp(a), interp(a + 1), interp(a + 2)};
+          stages::environment_colour(d, coords, level0, env);
+        }
         float c[4];
-        stages::shade_fragment(d, fog, primary, t.alpha, tex, d.emission ? emitted : nullptr, sec, &f, c);
+        stages::shade_fragment(d, fog, primary, t.alpha, tex, d.emission ? emitted : nullptr, sec, &f, c,
+                               d.environment != EnvironmentMode::none ? env : nullptr);
         float dst[4] = {tile.plane(0)[pixel], tile.plane(1)[pixel], tile.plane(2)[pixel], tile.plane(3)[pixel]};
         stages::blend(d, c, dst);
         for (int ch = 0; ch < 4; ++ch) tile.plane(ch)[pixel] = dst[ch];

@@ -25,17 +25,18 @@ enum class Varying : std::uint8_t {
   normal,           // Phong: eye-space normal (xyz), negated by select_face on back faces of a two-sided scene
   albedo,           // Phong with vertex colours: the colour-material albedo (RGB)
   uv,               // textured: the mesh's texture coordinates (the pixel program applies uv_scale)
+  environment,      // flat and Gouraud with an environment map: the vertices' texgen coordinates (xyz)
   back_color,       // Gouraud, two-sided: the back face's colour; moved to front_color by select_face
   back_secondary,   // Gouraud, two-sided, separate specular: moved to front_secondary by select_face
   count
 };
 inline constexpr int kVaryingKinds = static_cast<int>(Varying::count);
 // Floats per varying: colours, positions and normals three, texture coordinates two.
-inline constexpr int kVaryingWidth[kVaryingKinds] = {3, 3, 3, 3, 3, 2, 3, 3};
+inline constexpr int kVaryingWidth[kVaryingKinds] = {3, 3, 3, 3, 3, 2, 3, 3, 3};
 constexpr int width_of(Varying v) { return kVaryingWidth[static_cast<int>(v)]; }
 
 struct VaryingLayout {
-  std::int8_t offset[kVaryingKinds] = {-1, -1, -1, -1, -1, -1, -1, -1};  // first float of each varying, -1: absent
+  std::int8_t offset[kVaryingKinds] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};  // first float of each varying, -1: absent
   int clipped = 0;  // floats carried through clipping
   int raster = 0;   // floats interpolated per pixel (after select_face)
 
@@ -53,6 +54,7 @@ struct SurfaceNeeds {
   bool secondary = false;  // separate specular (a texture modulates the primary colour only)
   bool albedo = false;     // vertex colours, lit per pixel
   bool uv = false;         // a texture
+  bool environment = false;  // an environment map generated at the vertices (flat, Gouraud)
 };
 
 constexpr VaryingLayout plan_varyings(LitAt lit, bool two_sided, SurfaceNeeds needs = {}) {
@@ -70,6 +72,7 @@ constexpr VaryingLayout plan_varyings(LitAt lit, bool two_sided, SurfaceNeeds ne
     if (needs.albedo) add(Varying::albedo);
   }
   if (needs.uv) add(Varying::uv);
+  if (needs.environment && lit != LitAt::pixel) add(Varying::environment);
   l.raster = l.clipped;
   if (lit == LitAt::vertex && two_sided) {  // one face's values only: after `raster`
     add(Varying::back_color);
@@ -77,9 +80,9 @@ constexpr VaryingLayout plan_varyings(LitAt lit, bool two_sided, SurfaceNeeds ne
   }
   return l;
 }
-static_assert(plan_varyings(LitAt::pixel, true, {true, true, true}).clipped <= geometry::kMaxAttributes);
-static_assert(plan_varyings(LitAt::pixel, true, {true, true, true}).raster <= kMaxRasterAttributes);
-static_assert(plan_varyings(LitAt::vertex, true, {true, true, true}).raster <= kMaxRasterAttributes);
-static_assert(plan_varyings(LitAt::vertex, true, {true, true, true}).clipped <= geometry::kMaxAttributes);
+static_assert(plan_varyings(LitAt::pixel, true, {true, true, true, true}).clipped <= geometry::kMaxAttributes);
+static_assert(plan_varyings(LitAt::pixel, true, {true, true, true, true}).raster <= kMaxRasterAttributes);
+static_assert(plan_varyings(LitAt::vertex, true, {true, true, true, true}).raster <= kMaxRasterAttributes);
+static_assert(plan_varyings(LitAt::vertex, true, {true, true, true, true}).clipped <= geometry::kMaxAttributes);
 
 }  // namespace facet::raster

@@ -48,6 +48,25 @@ const char* to_string(BlendMode mode) noexcept {
   return "unknown";
 }
 
+const char* to_string(EnvironmentMode mode) noexcept {
+  switch (mode) {
+    case EnvironmentMode::none: return "none";
+    case EnvironmentMode::sphere: return "sphere";
+    case EnvironmentMode::cube: return "cube";
+    case EnvironmentMode::normal: return "normal";
+  }
+  return "unknown";
+}
+
+const char* to_string(EnvironmentBlend mode) noexcept {
+  switch (mode) {
+    case EnvironmentBlend::add: return "add";
+    case EnvironmentBlend::modulate: return "modulate";
+    case EnvironmentBlend::mix: return "mix";
+  }
+  return "unknown";
+}
+
 const char* to_string(DepthWrite mode) noexcept {
   switch (mode) {
     case DepthWrite::automatic: return "auto";
@@ -170,6 +189,26 @@ Status validate_material(const Material& m, const Field& f) {
   if (static_cast<unsigned>(m.depth_write) > static_cast<unsigned>(DepthWrite::off)) {
     return invalid(f("depth_write"), "unknown depth-write mode");
   }
+  const Environment& e = m.environment;
+  if (static_cast<unsigned>(e.mode) > static_cast<unsigned>(EnvironmentMode::normal)) {
+    return invalid(f("environment.mode"), "unknown environment mode");
+  }
+  if (static_cast<unsigned>(e.blend) > static_cast<unsigned>(EnvironmentBlend::mix)) {
+    return invalid(f("environment.blend"), "unknown environment blend");
+  }
+  FACET_TRY(check_range(e.strength, 0.0f, 1.0f, f, "environment.strength"));
+  const int needed = e.mode == EnvironmentMode::none ? 0 : e.mode == EnvironmentMode::cube ? 6 : 1;
+  for (int k = 0; k < 6; ++k) {  // (messages made only on failure: validation runs every frame)
+    auto member = [&] { return f(("environment.maps[" + std::to_string(k) + "]").c_str()); };
+    if (k < needed && e.maps[k] < 0) {
+      return invalid(member(), std::string("a ") + to_string(e.mode) + " environment needs " +
+                                   (needed == 6 ? "six cube faces (+X, -X, +Y, -Y, +Z, -Z)" : "a map") + ", found " +
+                                   std::to_string(e.maps[k]));
+    }
+    if (k >= needed && e.maps[k] != kNoTexture) {
+      return invalid(member(), "expected -1 (unused by this mode), found " + std::to_string(e.maps[k]));
+    }
+  }
   return {};
 }
 
@@ -287,6 +326,24 @@ Status validate_lighting_inputs(const Scene& scene) {
       if (index != kNoTexture && static_cast<std::size_t>(index) >= scene.textures.size()) {
         return invalid(f(member), "texture index " + std::to_string(index) + " is out of range (" +
                                       std::to_string(scene.textures.size()) + " textures)");
+      }
+    }
+    for (int k = 0; k < 6; ++k) {
+      const std::int32_t index = m.environment.maps[k];
+      if (index == kNoTexture) continue;
+      auto member = [&] { return f(("environment.maps[" + std::to_string(k) + "]").c_str()); };
+      if (static_cast<std::size_t>(index) >= scene.textures.size()) {
+        return invalid(member(), "texture index " + std::to_string(index) + " is out of range (" +
+                                              std::to_string(scene.textures.size()) + " textures)");
+      }
+      if (m.environment.mode != EnvironmentMode::cube) continue;
+      const Texture& face = scene.textures[static_cast<std::size_t>(index)];
+      const Texture& first = scene.textures[static_cast<std::size_t>(m.environment.maps[0])];
+      if (face.width() != face.height() || face.width() != first.width()) {
+        return invalid(member(), "cube faces are square and the same size: face " + std::to_string(k) + " is " +
+                                              std::to_string(face.width()) + "x" + std::to_string(face.height()) +
+                                              ", face 0 " + std::to_string(first.width()) + "x" +
+                                              std::to_string(first.height()));
       }
     }
   }

@@ -123,7 +123,7 @@ class SceneReader : public scene_json::JsonFields {
   Status read_material(const json& j, const std::string& p, const Scene& scene, Material& m) const {
     FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "alpha",
                                    "diffuse_texture", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write",
-                                   "emissive_texture", "emission_after_texture"}));
+                                   "emissive_texture", "emission_after_texture", "environment"}));
     FACET_TRY(opt_string(j, p, "name", m.name));
     FACET_TRY(opt_color(j, p, "emissive", m.emissive));
     FACET_TRY(opt_color(j, p, "ambient", m.ambient));
@@ -180,6 +180,41 @@ class SceneReader : public scene_json::JsonFields {
         FACET_TRY(read_enum(d, child(p, "depth_write"), {"auto"}, mode));
         m.depth_write = DepthWrite::automatic;
       }
+    }
+    if (j.contains("environment")) FACET_TRY(read_environment(j["environment"], child(p, "environment"), scene, m.environment));
+    return {};
+  }
+
+  // "environment": {"mode": "sphere" | "normal", "texture": NAME} or {"mode": "cube", "faces":
+  // [+X, -X, +Y, -Y, +Z, -Z names]}, with "strength" and "blend".
+  Status read_environment(const json& j, const std::string& p, const Scene& scene, Environment& e) const {
+    FACET_TRY(expect_object(j, p, {"mode", "texture", "faces", "strength", "blend"}));
+    if (!j.contains("mode")) return invalid(child(p, "mode"), "missing (\"sphere\", \"cube\" or \"normal\")");
+    std::string mode;
+    FACET_TRY(read_enum(j["mode"], child(p, "mode"), {"sphere", "cube", "normal"}, mode));
+    e.mode = mode == "sphere" ? EnvironmentMode::sphere : mode == "cube" ? EnvironmentMode::cube : EnvironmentMode::normal;
+    if (e.mode == EnvironmentMode::cube) {
+      if (j.contains("texture")) return invalid(child(p, "texture"), "a cube environment takes \"faces\": six texture names");
+      if (!j.contains("faces")) return invalid(child(p, "faces"), "missing: six texture names, +X, -X, +Y, -Y, +Z, -Z");
+      const json& faces = j["faces"];
+      const std::string fp = child(p, "faces");
+      if (!faces.is_array() || faces.size() != 6) return mismatch(fp, "an array of six texture names", faces);
+      for (std::size_t k = 0; k < 6; ++k) {
+        std::uint32_t index = 0;
+        FACET_TRY(find_name(faces[k], fp + "[" + std::to_string(k) + "]", scene.textures, "texture", index));
+        e.maps[k] = static_cast<std::int32_t>(index);
+      }
+    } else {
+      if (j.contains("faces")) return invalid(child(p, "faces"), "only a cube environment has faces; this one takes \"texture\"");
+      if (!j.contains("texture")) return invalid(child(p, "texture"), "missing: the name of the map");
+      std::uint32_t index = 0;
+      FACET_TRY(find_name(j["texture"], child(p, "texture"), scene.textures, "texture", index));
+      e.maps[0] = static_cast<std::int32_t>(index);
+    }
+    FACET_TRY(opt_number(j, p, "strength", e.strength));
+    if (j.contains("blend")) {
+      FACET_TRY(read_enum(j["blend"], child(p, "blend"), {"add", "modulate", "mix"}, mode));
+      e.blend = mode == "add" ? EnvironmentBlend::add : mode == "modulate" ? EnvironmentBlend::modulate : EnvironmentBlend::mix;
     }
     return {};
   }
@@ -341,7 +376,12 @@ class SceneReader : public scene_json::JsonFields {
                       const char* kind, std::uint32_t& out) const {
     const std::string p = child(path, key);
     if (!obj.contains(key)) return invalid(p, std::string("missing: every object names its ") + kind);
-    const json& j = obj[key];
+    return find_name(obj[key], p, items, kind, out);
+  }
+  // The index of the item named by string j (at path p).
+  template <class Named>
+  Status find_name(const json& j, const std::string& p, const std::vector<Named>& items, const char* kind,
+                   std::uint32_t& out) const {
     if (!j.is_string()) return mismatch(p, std::string("the name of a ") + kind, j);
     const std::string name = j.get<std::string>();
     std::vector<std::string> names;
