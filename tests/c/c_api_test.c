@@ -147,6 +147,32 @@ static void setters_change_the_picture(void) {
   CHANGES("set_light", facet_scene_set_light(s, light, &l2), facet_scene_set_light(s, light, &l));
   const float colors[12] = {1, 1, 0, 1, 1, 0, 0, 1, 1, 0, 1, 1};
   CHANGES("set_mesh_colors", facet_scene_set_mesh_colors(s, m_quad, colors), facet_scene_set_mesh_colors(s, m_quad, NULL));
+  /* An environment map: a cube of six one-texel faces, mixed in at full strength. */
+  {
+    uint32_t faces[6];
+    const uint8_t face_rgba[6][4] = {{255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255},
+                                     {255, 255, 0, 255}, {0, 255, 255, 255}, {255, 0, 255, 255}};
+    for (int k = 0; k < 6; ++k) {
+      CHECK(facet_scene_add_texture_rgba8(s, face_rgba[k], 1, 1, FACET_BILINEAR, FACET_WRAP_CLAMP, &faces[k]) == FACET_OK);
+    }
+    facet_material chrome = m;
+    CHECK(chrome.environment_mode == FACET_ENVIRONMENT_NONE && chrome.environment_maps[0] == -1 &&
+          chrome.environment_strength == 1.0f && chrome.environment_blend == FACET_ENVIRONMENT_ADD);
+    chrome.environment_mode = FACET_ENVIRONMENT_CUBE;
+    chrome.environment_blend = FACET_ENVIRONMENT_MIX;
+    for (int k = 0; k < 6; ++k) chrome.environment_maps[k] = (int32_t)faces[k];
+    CHANGES("environment", facet_scene_set_material(s, red, &chrome), facet_scene_set_material(s, red, &m));
+    facet_material bad = chrome;
+    bad.environment_maps[5] = -1;
+    CHECK(facet_scene_set_material(s, red, &bad) == FACET_INVALID_ARGUMENT);
+    CHECK(strstr(facet_scene_last_error(s), "environment.maps[5]") != NULL);
+    bad = chrome;
+    bad.environment_mode = (facet_environment_mode)9;
+    CHECK(facet_scene_set_material(s, red, &bad) == FACET_INVALID_ARGUMENT);
+    bad = chrome;
+    bad.environment_maps[2] = 9999;
+    CHECK(facet_scene_set_material(s, red, &bad) == FACET_INVALID_ARGUMENT);
+  }
   /* Two-sided lighting shows on back faces that are drawn: with culling off. */
   CHECK(facet_scene_set_two_sided(s, 1) == FACET_OK);
   draw(r_all, s, px);

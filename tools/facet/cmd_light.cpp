@@ -352,6 +352,14 @@ int check(const CheckState& st) {
                                                                              : "in scene order",
                 to_string(scene->fog.mode));
   }
+  std::size_t environment[4] = {}, mirrored = 0;
+  for (const Material& m : scene->materials) ++environment[static_cast<int>(m.environment.mode)];
+  for (const auto& obj : scene->objects) mirrored += scene->materials[obj.material].environment.mode != EnvironmentMode::none;
+  if (environment[1] + environment[2] + environment[3] > 0) {
+    std::printf("  environment: %zu sphere-mapped, %zu cube-mapped and %zu normal-mapped materials on %zu objects; "
+                "generated per vertex in flat and Gouraud shading, per pixel in Phong\n",
+                environment[1], environment[2], environment[3], mirrored);
+  }
   return 0;
 }
 

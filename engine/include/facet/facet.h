@@ -53,6 +53,13 @@ typedef enum facet_blend {
 } facet_blend;
 typedef enum facet_depth_write { FACET_DEPTH_WRITE_AUTO = 0, FACET_DEPTH_WRITE_ON = 1, FACET_DEPTH_WRITE_OFF = 2 } facet_depth_write;
 typedef enum facet_fog_mode { FACET_FOG_NONE = 0, FACET_FOG_LINEAR = 1, FACET_FOG_EXP = 2, FACET_FOG_EXP2 = 3 } facet_fog_mode;
+/* Environment mapping (facet::Environment): the lookup, and how the map's colour combines. */
+typedef enum facet_environment_mode {
+  FACET_ENVIRONMENT_NONE = 0, FACET_ENVIRONMENT_SPHERE = 1, FACET_ENVIRONMENT_CUBE = 2, FACET_ENVIRONMENT_NORMAL = 3
+} facet_environment_mode;
+typedef enum facet_environment_blend {
+  FACET_ENVIRONMENT_ADD = 0, FACET_ENVIRONMENT_MODULATE = 1, FACET_ENVIRONMENT_MIX = 2
+} facet_environment_blend;
 
 /* How the simd path evaluates x^s (specular shininess, spot exponent); see docs. */
 typedef enum facet_pow_tier {
@@ -113,6 +120,12 @@ typedef struct facet_material {
   int32_t emissive_texture;
   int emission_after_texture; /* non-zero: the emission is added after the texture environment even
                                  without emissive_texture (GL, default 0: the diffuse texture modulates it) */
+  /* Environment mapping after the texture environment (docs/environment.md). Sphere and normal:
+   * environment_maps[0]; cube: the faces +X, -X, +Y, -Y, +Z, -Z (square, one size); unused: -1. */
+  facet_environment_mode environment_mode;   /* default FACET_ENVIRONMENT_NONE */
+  int32_t environment_maps[6];               /* facet_scene_add_texture* ids */
+  float environment_strength;                /* [0, 1], default 1 */
+  facet_environment_blend environment_blend; /* default FACET_ENVIRONMENT_ADD */
 } facet_material;
 
 typedef struct facet_fog {

@@ -46,6 +46,10 @@ facet_material facet_material_default(void) {
   c.depth_write = static_cast<facet_depth_write>(m.depth_write);
   c.emissive_texture = m.emissive_texture;
   c.emission_after_texture = m.emission_after_texture ? 1 : 0;
+  c.environment_mode = static_cast<facet_environment_mode>(m.environment.mode);
+  for (int k = 0; k < 6; ++k) c.environment_maps[k] = m.environment.maps[k];
+  c.environment_strength = m.environment.strength;
+  c.environment_blend = static_cast<facet_environment_blend>(m.environment.blend);
   return c;
 }
 

@@ -163,6 +163,12 @@ inline facet::Material to_material(const facet_material& c) {
     m.depth_write = static_cast<facet::DepthWrite>(material->depth_write);
     m.emissive_texture = material->emissive_texture;
     m.emission_after_texture = material->emission_after_texture != 0;
+    // Enums read through their bits (any int may arrive); out of range: a value validation refuses.
+    const long mode = raw(material->environment_mode), blend = raw(material->environment_blend);
+    m.environment.mode = static_cast<facet::EnvironmentMode>(mode >= 0 && mode <= 3 ? mode : 255);
+    m.environment.blend = static_cast<facet::EnvironmentBlend>(blend >= 0 && blend <= 2 ? blend : 255);
+    for (int k = 0; k < 6; ++k) m.environment.maps[k] = material->environment_maps[k];
+    m.environment.strength = material->environment_strength;
   return m;
 }
 
@@ -172,6 +178,12 @@ inline bool textures_exist(const facet::Material& m, const facet::Scene& s, cons
                                     std::pair{m.emissive_texture, "material.emissive_texture"}}) {
     if (index != facet::kNoTexture && (index < 0 || static_cast<std::size_t>(index) >= s.textures.size())) {
       field = name;
+      return false;
+    }
+  }
+  for (const std::int32_t index : m.environment.maps) {
+    if (index != facet::kNoTexture && (index < 0 || static_cast<std::size_t>(index) >= s.textures.size())) {
+      field = "material.environment_maps";
       return false;
     }
   }

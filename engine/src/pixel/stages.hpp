@@ -263,7 +263,7 @@ template <class V>
 // A cube map's face and (s, t) for direction r (GL 2.1 §3.8.6, table 3.21): the major axis picks
 // the face (ties: x before y before z; +X, -X, +Y, -Y, +Z, -Z = 0..5), s = (sc / |ma| + 1) / 2,
 // and GL's t = (tc / |ma| + 1) / 2 counted from the top of the face's picture (GL reads faces
-// uploaded top row first), so facet's t (from the bottom) is 1 minus it. A zero r reads the +Z
+// uploaded top row first), so facet's t (from the bottom) is 1 minus it. A zero r reads the +X
 // face's centre.
 template <class V>
 [[gnu::always_inline]] inline void cube_face(const V (&r)[3], V& face, V& s, V& t) {
