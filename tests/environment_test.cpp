@@ -202,7 +202,7 @@ TEST(EnvironmentStage, SingularAndDegenerateInputsGiveFiniteCoordinates) {
   }
   // Grazing: sphere coordinates stay in [0, 1] as the normal turns to 90 degrees from the view.
   for (int k = 0; k <= 1000; ++k) {
-    const float a = 1.5707964f * k / 1000.0f, n[3] = {std::sin(a), 0, std::cos(a)};
+    const float a = 1.5707964f * static_cast<float>(k) / 1000.0f, n[3] = {std::sin(a), 0, std::cos(a)};
     pixel::environment_coords(EnvironmentMode::sphere, to_world, ahead, n, c);
     EXPECT_TRUE(c[0] >= 0.0f && c[0] <= 1.0f && c[1] >= 0.0f && c[1] <= 1.0f) << a;
   }

@@ -338,6 +338,37 @@ TEST(SceneFile, SurfaceFieldsAndTheirErrors) {
   expect_error(scene(R"({ "name": "m", "alpha_cutoff": 2 })"), 4, "materials[0].alpha_cutoff", {"[0, 1]"});
   expect_error(scene(R"({ "name": "m" })", R"("fog": { "mode": "linear", "start": 5, "end": 1 },)" "\n"), 6, "fog.end", {});
   expect_error(scene(R"({ "name": "m" })", R"("fog": { "start": 5 },)" "\n"), 6, "fog.mode", {"missing"});
+  // Environment maps: a sphere map, a cube of six faces, and their errors (line 4: the material).
+  Result<Scene> env = parse(scene(R"({ "name": "m", "environment": { "mode": "sphere", "texture": "t", "strength": 0.5,
+    "blend": "mix" } })"));
+  ASSERT_TRUE(env.ok()) << env.status().message();
+  EXPECT_EQ(env->materials[0].environment.mode, EnvironmentMode::sphere);
+  EXPECT_EQ(env->materials[0].environment.maps[0], 0);
+  EXPECT_EQ(env->materials[0].environment.maps[1], kNoTexture);
+  EXPECT_EQ(env->materials[0].environment.strength, 0.5f);
+  EXPECT_EQ(env->materials[0].environment.blend, EnvironmentBlend::mix);
+  env = parse(scene(R"({ "name": "m", "environment": { "mode": "cube", "faces": ["t", "t", "t", "t", "t", "t"] } })"));
+  ASSERT_TRUE(env.ok()) << env.status().message();
+  EXPECT_EQ(env->materials[0].environment.mode, EnvironmentMode::cube);
+  EXPECT_EQ(env->materials[0].environment.maps[5], 0);
+  EXPECT_EQ(env->materials[0].environment.blend, EnvironmentBlend::add);
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "cube", "faces": ["t", "t", "t", "t", "t"] } })"), 4,
+               "materials[0].environment.faces", {"six texture names"});
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "cube", "faces": ["t", "t", "t", "t", "t", "x"] } })"), 4,
+               "materials[0].environment.faces[5]", {"no texture named"});
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "sphere" } })"), 4, "materials[0].environment.texture",
+               {"missing"});
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "mirror", "texture": "t" } })"), 4,
+               "materials[0].environment.mode", {"sphere"});
+  expect_error(scene(R"({ "name": "m", "environment": { "texture": "t" } })"), 4, "materials[0].environment.mode", {"missing"});
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "normal", "texture": "t", "strength": 2 } })"), 4,
+               "materials[0].environment.strength", {"[0, 1]"});
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "sphere", "texture": "t", "blend": "screen" } })"), 4,
+               "materials[0].environment.blend", {"mix"});
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "sphere", "texture": "t", "faces": [] } })"), 4,
+               "materials[0].environment.faces", {"only a cube"});
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "sphere", "texture": "t", "mirror": 1 } })"), 4,
+               "materials[0].environment", {"unknown field"});
   // A texture file that is missing or not an image: the scene file's line, the field and the image's path.
   expect_error(R"({ "textures": [ { "name": "t", "file": "textures/absent.png" } ] })", 1, "textures[0].file",
                {"absent.png"});

@@ -7,7 +7,8 @@
 // Textures as bytes: an input "JSON \0 IMAGE" also decodes IMAGE (PNG or JPEG, under a 64 MiB
 // budget) with decode_texture; a refusal must name the image; a decoded texture must validate, and
 // is then put on every material of the scene (when every object's mesh has texture coordinates),
-// so the decoders' output goes through the samplers and the pixel program.
+// and on some inputs as every material's environment map (sphere, or cube when square), so the
+// decoders' output goes through the samplers and the pixel program.
 #include "fuzz_support.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -39,6 +40,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
         const auto index = static_cast<std::int32_t>(scene->textures.size());
         scene->textures.push_back(std::move(*texture));
+        // As an environment map on every material: a sphere map, or (square) every face of a cube.
+        const bool square = scene->textures.back().width() == scene->textures.back().height();
+        for (auto& m : scene->materials) {
+          if (!(size & 16)) break;
+          m.environment.mode = square && (size & 32) ? facet::EnvironmentMode::cube : facet::EnvironmentMode::sphere;
+          for (int f = 0; f < 6; ++f) {
+            m.environment.maps[f] = m.environment.mode == facet::EnvironmentMode::cube || f == 0 ? index : facet::kNoTexture;
+          }
+          m.environment.blend = static_cast<facet::EnvironmentBlend>((size >> 6) % 3);
+        }
         if (uvs) {
           for (auto& m : scene->materials) {
             m.diffuse_texture = index;
