@@ -19,10 +19,15 @@
 // environment and a texture matrix for uv_scale; GL_SEPARATE_SPECULAR_COLOR for textured
 // materials; vertex colours through glColorMaterial(AMBIENT_AND_DIFFUSE); blending (glBlendFunc,
 // glBlendEquation for subtract), glDepthMask, the alpha test (GEQUAL) and fog. Emission after the
-// texture (emissive textures, emission_after_texture) is a second texture unit under GL_ADD whose
+// texture (emissive textures, emission_after_texture) is a third texture unit under GL_ADD whose
 // texels are emissive x the emissive texture's (or one texel of the emissive colour), alpha 1, with
-// the material's GL emission 0: GL adds it after unit 0 and before the separate specular, as facet
-// does (8-bit texels of the product: half a step more than facet's float product). Scenes with
+// the material's GL emission 0: GL adds it after units 0 and 1 and before the separate specular,
+// as facet does (8-bit texels of the product: half a step more than facet's float product).
+// Environment maps are the second unit, through texgen (GL_SPHERE_MAP, GL_REFLECTION_MAP into a
+// cube map with the view's inverse rotation as texture matrix, GL_NORMAL_MAP scaled to [0, 1]),
+// level 0 with linear filtering clamped to the edge, the strength folded into the texels or the
+// environment colour (gl_prepare); facet's flat and Gouraud shading generate the same coordinates
+// at the vertices, so the two are compared per vertex. Scenes with
 // surfaces are held to the surfaces target (mean <= 1 step, >= 97 % of covered pixels within 2
 // steps): llvmpipe filters textures in 8-bit fixed point and chooses the LOD per 2x2 quad, facet
 // in float per pixel, and both round blends differently (8-bit framebuffer against float tiles).
@@ -85,7 +90,7 @@ struct Result {
 };
 
 bool has_surfaces(const facet::Scene& s) {
-  if (!s.textures.empty() || s.fog.mode != facet::FogMode::none) return true;  // includes emissive textures
+  if (!s.textures.empty() || s.fog.mode != facet::FogMode::none) return true;  // includes emissive and environment maps
   for (const auto& m : s.materials)
     if (m.blend != facet::BlendMode::opaque || m.alpha_cutoff > 0 || m.diffuse_texture != facet::kNoTexture) return true;
   for (const auto& m : s.meshes)
@@ -165,6 +170,7 @@ void gl_colour(GLenum light_or_face, GLenum what, const facet::Color3& c, float 
 struct GlScene {
   std::vector<GLuint> textures;
   std::vector<GLuint> emission;             // per material: its emission unit's texture, 0: none
+  std::vector<GLuint> environment;          // per material: its environment unit's texture, 0: none
   std::vector<std::vector<float>> colours;  // per object, empty without vertex colours
   std::vector<std::size_t> order;           // the objects in facet's drawing order (facet::draw_order)
 };
@@ -234,6 +240,51 @@ GlScene gl_prepare(const facet::Scene& s) {
     }
     gl_sampling(t);
   }
+  // Environment units: the map's texels pre-combined with the strength where GL's environment
+  // cannot scale them (add: k E under GL_ADD; modulate: 1 - k + k E under GL_MODULATE; mix: E
+  // under GL_COMBINE's INTERPOLATE with k as the constant), alpha 1. Cube faces go up top row
+  // first, as GL reads a face (facet stores textures bottom row first); sphere and normal maps as
+  // they are (GL's t = 0 is the bottom row, as facet's).
+  g.environment.assign(s.materials.size(), 0);
+  for (std::size_t i = 0; i < s.materials.size(); ++i) {
+    const facet::Environment& e = s.materials[i].environment;
+    if (e.mode == facet::EnvironmentMode::none) continue;
+    const bool cube = e.mode == facet::EnvironmentMode::cube;
+    const GLenum target = cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D;
+    glGenTextures(1, &g.environment[i]);
+    glBindTexture(target, g.environment[i]);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (int f = 0; f < (cube ? 6 : 1); ++f) {
+      const facet::Texture& t = s.textures[static_cast<std::size_t>(e.maps[f])];
+      const int w = t.levels[0].width, h = t.levels[0].height;
+      std::vector<std::uint8_t> texels(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+      const auto* from = reinterpret_cast<const std::uint8_t*>(t.texels.data());
+      for (int y = 0; y < h; ++y) {
+        const int row = cube ? h - 1 - y : y;
+        for (int x = 0; x < w; ++x) {
+          const std::uint8_t* in = from + 4 * (static_cast<std::size_t>(row) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x));
+          std::uint8_t* out = texels.data() + 4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x));
+          for (int c = 0; c < 3; ++c) {
+            const double v = in[c] / 255.0, k = e.strength;
+            const double scaled = e.blend == facet::EnvironmentBlend::add ? k * v
+                                  : e.blend == facet::EnvironmentBlend::modulate ? 1.0 - k + k * v
+                                                                               : v;
+            out[c] = static_cast<std::uint8_t>(std::lround(255.0 * scaled));
+          }
+          out[3] = 255;
+        }
+      }
+      glTexImage2D(cube ? GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f) : GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA,
+                   GL_UNSIGNED_BYTE, texels.data());
+    }
+    const bool nearest = s.textures[static_cast<std::size_t>(e.maps[0])].filter == facet::TextureFilter::nearest;
+    glTexParameteri(target, GL_TEXTURE_MAX_LEVEL, 0);  // level 0, as facet reads environment maps
+    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, nearest ? GL_NEAREST : GL_LINEAR);
+    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, nearest ? GL_NEAREST : GL_LINEAR);
+    glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    if (cube) glTexParameteri(target, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+  }
   g.order = facet::draw_order(s);
   for (const auto& o : s.objects) {
     const facet::Mesh& mesh = s.meshes[o.mesh].mesh;
@@ -250,6 +301,61 @@ void gl_release(GlScene& g) {
   for (GLuint& t : g.emission)
     if (t) glDeleteTextures(1, &t);
   g.emission.clear();
+  for (GLuint& t : g.environment)
+    if (t) glDeleteTextures(1, &t);
+  g.environment.clear();
+}
+
+// Texture unit 1: the environment map through texgen (GL 2.1 §2.11.4), or off.
+void gl_environment(const facet::Scene& s, const GlScene& g, const facet::Material& m, std::size_t material) {
+  glActiveTexture(GL_TEXTURE1);
+  glClientActiveTexture(GL_TEXTURE1);
+  glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+  glDisable(GL_TEXTURE_2D);
+  glDisable(GL_TEXTURE_CUBE_MAP);
+  for (GLenum c : {GL_TEXTURE_GEN_S, GL_TEXTURE_GEN_T, GL_TEXTURE_GEN_R}) glDisable(c);
+  const facet::Environment& e = m.environment;
+  if (e.mode == facet::EnvironmentMode::none) return;
+  const bool cube = e.mode == facet::EnvironmentMode::cube;
+  glEnable(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D);
+  glBindTexture(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, g.environment[material]);
+  const GLint mode = e.mode == facet::EnvironmentMode::sphere ? GL_SPHERE_MAP
+                     : cube                                    ? GL_REFLECTION_MAP
+                                                               : GL_NORMAL_MAP;
+  for (GLenum c : {GL_S, GL_T, GL_R}) {
+    if (c == GL_R && mode == GL_SPHERE_MAP) break;  // a sphere map generates s and t only
+    glTexGeni(c, GL_TEXTURE_GEN_MODE, mode);
+    glEnable(c == GL_S ? GL_TEXTURE_GEN_S : c == GL_T ? GL_TEXTURE_GEN_T : GL_TEXTURE_GEN_R);
+  }
+  glMatrixMode(GL_TEXTURE);
+  glLoadIdentity();
+  if (cube) {  // world space: the view's inverse rotation
+    const facet::Mat4 view = facet::view_matrix(s.camera);
+    facet::Mat4 to_world = facet::Mat4::Identity();
+    to_world.topLeftCorner<3, 3>() = view.topLeftCorner<3, 3>().transpose();
+    glLoadMatrixf(to_world.data());
+  } else if (e.mode == facet::EnvironmentMode::normal) {  // (s, t) = n / 2 + 1/2
+    glTranslatef(0.5f, 0.5f, 0.0f);
+    glScalef(0.5f, 0.5f, 1.0f);
+  }
+  glMatrixMode(GL_MODELVIEW);
+  if (e.blend == facet::EnvironmentBlend::mix) {  // C (1 - k) + k E: INTERPOLATE(E, C, k)
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, GL_INTERPOLATE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_RGB, GL_TEXTURE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_RGB, GL_PREVIOUS);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE2_RGB, GL_CONSTANT);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB, GL_SRC_COLOR);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_RGB, GL_SRC_COLOR);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND2_RGB, GL_SRC_ALPHA);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, GL_REPLACE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA, GL_PREVIOUS);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, GL_SRC_ALPHA);
+    const GLfloat k[4] = {0, 0, 0, e.strength};
+    glTexEnvfv(GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, k);
+  } else {
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, e.blend == facet::EnvironmentBlend::add ? GL_ADD : GL_MODULATE);
+  }
 }
 
 // GL 2.1 state for a material's surface (see the header comment).
@@ -259,7 +365,8 @@ void gl_surface(const facet::Scene& s, const GlScene& g, std::size_t object) {
   const facet::Mesh& mesh = s.meshes[o.mesh].mesh;
   const bool textured = m.diffuse_texture != facet::kNoTexture;
   glLightModeli(GL_LIGHT_MODEL_COLOR_CONTROL, textured ? GL_SEPARATE_SPECULAR_COLOR : GL_SINGLE_COLOR);
-  // Unit 0: the diffuse texture; unit 1: the emission after it (GL_ADD), at the same coordinates and scale.
+  // Unit 0: the diffuse texture; unit 1: the environment map (texgen); unit 2: the emission after
+  // them (GL_ADD), at the diffuse texture's coordinates and scale.
   auto unit = [&](GLenum which, GLuint texture, GLint env) {
     glActiveTexture(which);
     glClientActiveTexture(which);
@@ -279,7 +386,8 @@ void gl_surface(const facet::Scene& s, const GlScene& g, std::size_t object) {
     }
   };
   const GLint env[] = {GL_MODULATE, GL_REPLACE, GL_DECAL, GL_ADD};
-  unit(GL_TEXTURE1, g.emission[o.material], GL_ADD);
+  unit(GL_TEXTURE2, g.emission[o.material], GL_ADD);
+  gl_environment(s, g, m, o.material);
   unit(GL_TEXTURE0, textured ? g.textures[static_cast<std::size_t>(m.diffuse_texture)] : 0,
        env[static_cast<int>(m.texture_mode)]);
   if (!mesh.colors.empty()) {
@@ -387,7 +495,7 @@ void gl_draw(const facet::Scene& s, const GlScene& g, int w, int h) {
     const facet::Instance& o = s.objects[i];
     const facet::Material& m = s.materials[o.material];
     gl_surface(s, g, i);
-    // Emission after the texture comes from texture unit 1 (gl_surface).
+    // Emission after the texture comes from texture unit 2 (gl_surface).
     gl_colour(GL_FRONT_AND_BACK, GL_EMISSION, facet::adds_emission_after_texture(m) ? facet::Color3::Zero() : m.emissive, m.alpha, true);
     gl_colour(GL_FRONT_AND_BACK, GL_AMBIENT, m.ambient, m.alpha, true);
     gl_colour(GL_FRONT_AND_BACK, GL_DIFFUSE, m.diffuse, m.alpha, true);
