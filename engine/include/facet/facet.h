@@ -126,6 +126,8 @@ typedef struct facet_material {
   int32_t environment_maps[6];               /* facet_scene_add_texture* ids */
   float environment_strength;                /* [0, 1], default 1 */
   facet_environment_blend environment_blend; /* default FACET_ENVIRONMENT_ADD */
+  int environment_dynamic;    /* cube only, non-zero: the faces are rendered from the scene every frame (maps -1) */
+  int environment_resolution; /* dynamic: face size in pixels, 1..4096, default 128 */
 } facet_material;
 
 typedef struct facet_fog {

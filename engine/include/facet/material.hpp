@@ -69,6 +69,13 @@ struct Environment {
   std::int32_t maps[6] = {kNoTexture, kNoTexture, kNoTexture, kNoTexture, kNoTexture, kNoTexture};
   float strength = 1.0f;  // [0, 1]
   EnvironmentBlend blend = EnvironmentBlend::add;
+  // cube only: render the six faces from the scene every frame instead of reading `maps` (which
+  // stay -1): square views of `resolution` pixels from the centre of the box of each object drawn
+  // with this material, the object itself left out (a chrome ball reflects the room it stands in).
+  // Inside those views, other dynamic reflectors are drawn without their reflection, and nothing
+  // is shadowed.
+  bool dynamic = false;
+  int resolution = 128;  // [1, 4096]
   // Lit per pixel (Phong): looked up per pixel from the interpolated position and normal. Flat and
   // Gouraud: the coordinates are generated at the vertices and interpolated (as GL's texgen), and
   // the map looked up per pixel.

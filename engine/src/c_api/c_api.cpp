@@ -50,6 +50,8 @@ facet_material facet_material_default(void) {
   for (int k = 0; k < 6; ++k) c.environment_maps[k] = m.environment.maps[k];
   c.environment_strength = m.environment.strength;
   c.environment_blend = static_cast<facet_environment_blend>(m.environment.blend);
+  c.environment_dynamic = m.environment.dynamic ? 1 : 0;
+  c.environment_resolution = m.environment.resolution;
   return c;
 }
 

@@ -169,6 +169,8 @@ inline facet::Material to_material(const facet_material& c) {
     m.environment.blend = static_cast<facet::EnvironmentBlend>(blend >= 0 && blend <= 2 ? blend : 255);
     for (int k = 0; k < 6; ++k) m.environment.maps[k] = material->environment_maps[k];
     m.environment.strength = material->environment_strength;
+    m.environment.dynamic = material->environment_dynamic != 0;
+    m.environment.resolution = material->environment_resolution;
   return m;
 }
 

@@ -91,6 +91,16 @@ struct Renderer::Impl {
   PassDraws draws;  // the running pass's: per draw its pixel program, lighting features and faces (plan.hpp)
   std::vector<texture::Sampler> samplers;       // one per scene texture
   std::vector<texture::Sampler> edge_samplers;  // the same clamped to the edge (environment maps)
+  // Dynamic environments: per reflecting object, its six faces, drawn every frame by face passes.
+  struct EnvironmentCube {
+    std::array<Texture, 6> faces;
+    std::array<ImageView, 6> views;
+    std::array<bool, 6> mirrored{};
+  };
+  std::vector<EnvironmentCube> cube_faces;
+  frame::DynamicCubes cubes;
+  void plan_environment_faces(const Scene& scene, const RenderOptions& options, const RenderPass& camera);
+  void finish_environment_face(const RenderPass& p);
   raster::simd::Fog fog;
   SrgbTable srgb;  // made once per renderer (RenderOptions::srgb)
   Impl() { make_srgb_table(srgb); }

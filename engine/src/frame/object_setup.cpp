@@ -204,7 +204,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   // Emission left out of the lighting: in the parts of a composite frame, or added by the pixel program.
   if (kind.without_emission || draws.programs[object].emission) material.emissive = Color3(0.0f, 0.0f, 0.0f);
   (void)shader.prepare(kind.lights_of(scene), view, material, lighting, &bounds, lf,
-                       inst.receive_shadows && has_shadows ? &frame_shadows : nullptr);
+                       inst.receive_shadows && has_shadows && !pass->environment_face ? &frame_shadows : nullptr);
   if (kind.kind == FrameKind::Kind::visibility) shader.output_visibility(kind.visibility_lights);
   ObjectCounts& counts = object_counts[object];
   auto count_pairs = [&](std::size_t evaluations) {

@@ -15,7 +15,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   units = pass_draws;
   bins.resize(static_cast<std::size_t>(p.tile_count()));
   for (auto& bin : bins) bin.clear();
-  frame::plan_draws(scene, options, p, units, kind, samplers, edge_samplers, draws);
+  frame::plan_draws(scene, options, p, units, kind, samplers, edge_samplers, cubes, draws);
   fog = frame::plan_fog(kind.plain() ? Fog{} : kind.lights_of(scene).fog);
   set_up_objects(scene, options);
   const int tiles_x = p.tiles_x, tile_size = p.tile_size;
@@ -34,7 +34,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
                               simd_kernels,
                               draws.programs.data(),
                               &fog,
-                              options.srgb && p.color && p.color->format != PixelFormat::rgba32f ? srgb.threshold : nullptr,
+                              options.srgb && p.color && p.color->format != PixelFormat::rgba32f && !p.environment_face ? srgb.threshold : nullptr,
                               p.assembly.viewport.depth};
   const int tile_count = p.tile_count();
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});

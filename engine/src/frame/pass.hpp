@@ -38,6 +38,11 @@ struct RenderPass {
   // Depth only: per tile, 1 when the target's tile may hold anything but far depth (it persists
   // from frame to frame: a tile no caster reaches is cleared once, not every frame), or null.
   std::uint8_t* depth_dirty = nullptr;
+  // An environment face (Environment::dynamic): the object it is seen from is left out, dynamic
+  // reflectors are drawn without their reflection, and nothing is shadowed.
+  std::uint32_t exclude_object = UINT32_MAX;
+  bool environment_face = false;
+  int environment_cube = -1, environment_face_index = 0;  // which face of which cube (frame.hpp)
 
   int width() const { return assembly.viewport.width; }
   int height() const { return assembly.viewport.height; }

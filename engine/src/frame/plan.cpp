@@ -117,6 +117,14 @@ std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& opti
   if (raycast || maps || volume_lights > 0) {
     bytes = sat_add(bytes, sat_mul(slots, U(kMaxShadowedLights) * (frame::kVertexChunk + frame::kTriangleRange) * 8));
   }
+  // Dynamic environments: six RGBA8 faces per reflecting object, and their passes' bins.
+  for (const Instance& inst : scene.objects) {
+    if (inst.material >= scene.materials.size()) continue;
+    const Environment& e = scene.materials[inst.material].environment;
+    if (inst.mesh_materials || !e.dynamic) continue;
+    const U side = static_cast<U>(std::clamp(e.resolution, 1, 4096));
+    bytes = sat_add(bytes, 6 * (side * side * 4 + (side / tile + 1) * (side / tile + 1) * 64));
+  }
   return bytes;
 }
 
@@ -213,6 +221,7 @@ void plan_units(const Scene& scene, const RenderPass& p, std::vector<DrawUnit>& 
   for (std::size_t k = 0; k < scene.objects.size(); ++k) {
     const std::size_t o = sorted ? keys[k].object : k;
     const Instance& inst = scene.objects[o];
+    if (o == p.exclude_object) continue;  // an environment face: the reflector itself
     if (casters_only && !inst.cast_shadows) continue;
     if (depth_writers && !inst.mesh_materials && !writes_depth(scene.materials[inst.material])) continue;
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
@@ -333,17 +342,22 @@ RenderPass depth_pass(const Eigen::Matrix4d& view, const Eigen::Matrix4d& projec
   return p;
 }
 RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth) {
+  return view_pass(scene.camera, scene, options, color, depth);
+}
+
+RenderPass view_pass(const Camera& camera, const Scene& scene, const RenderOptions& options, const ImageView& color,
+                     const DepthView* depth) {
   RenderPass p;
   const int width = color.width, height = color.height;
-  const float aspect = scene.camera.aspect > 0.0f ? scene.camera.aspect : float(width) / float(height);
-  p.view = look_at_d(scene.camera);
-  p.projection = projection_matrix(scene.camera, aspect).cast<double>();
+  const float aspect = camera.aspect > 0.0f ? camera.aspect : float(width) / float(height);
+  p.view = look_at_d(camera);
+  p.projection = projection_matrix(camera, aspect).cast<double>();
   p.shading = options.shading;
   p.clear_color = options.clear_color;
   p.tile_size = options.tile_size;
   p.tiles_x = (width + p.tile_size - 1) / p.tile_size;
   p.tiles_y = (height + p.tile_size - 1) / p.tile_size;
-  p.assembly.viewport = {width, height, {depth_mode_for(scene.camera, options.depth) == DepthMode::reversed, scene.camera.near}};
+  p.assembly.viewport = {width, height, {depth_mode_for(camera, options.depth) == DepthMode::reversed, camera.near}};
   p.assembly.planes = geometry::guard_band_planes(p.assembly.viewport);
   p.assembly.cull = options.cull;
   p.assembly.two_sided = scene.two_sided;
@@ -368,7 +382,7 @@ raster::simd::Fog plan_fog(const Fog& f) {
 // colours) runs the plain kernels: exactly what ran before surfaces existed.
 void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPass& p, std::span<const DrawUnit> units,
                 const FrameKind& kind, std::span<const texture::Sampler> samplers,
-                std::span<const texture::Sampler> edge_samplers, PassDraws& out) {
+                std::span<const texture::Sampler> edge_samplers, const DynamicCubes& cubes, PassDraws& out) {
   const Fog& f = kind.plain() ? Fog{} : kind.lights_of(scene).fog;
   const bool clamp = !(options.hdr && p.color && p.color->format == PixelFormat::rgba32f);
   const raster::LitAt lit = p.shading == ShadingMode::flat      ? raster::LitAt::triangle
@@ -397,7 +411,9 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     needs.albedo = colours && lit == raster::LitAt::pixel;
     needs.uv = textured || emission_texture;
     const Environment& env = m.environment;
-    const bool environment = !plain && env.mode != EnvironmentMode::none;
+    // Inside an environment face, dynamic reflectors are drawn without their reflection.
+    const std::int32_t cube = env.dynamic && units[o].object < cubes.of_object.size() ? cubes.of_object[units[o].object] : -1;
+    const bool environment = !plain && env.mode != EnvironmentMode::none && (!env.dynamic || (cube >= 0 && !p.environment_face));
     needs.environment = environment;
     raster::simd::Draw& d = out.programs[o];
     d = raster::simd::Draw{};
@@ -418,7 +434,11 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
         for (int c = 0; c < 3; ++c) d.environment_to_world[3 * r + c] = static_cast<float>(p.view(c, r));
       }
       for (int k = 0; k < 6; ++k) {
-        if (env.maps[k] != kNoTexture) d.environment_map[k] = &edge_samplers[static_cast<std::size_t>(env.maps[k])];
+        if (env.dynamic) {
+          d.environment_map[k] = &cubes.samplers[6 * static_cast<std::size_t>(cube) + static_cast<std::size_t>(k)];
+        } else if (env.maps[k] != kNoTexture) {
+          d.environment_map[k] = &edge_samplers[static_cast<std::size_t>(env.maps[k])];
+        }
       }
     }
     d.uv_scale[0] = m.uv_scale.x(), d.uv_scale[1] = m.uv_scale.y();

@@ -71,6 +71,10 @@ void bound_casters(const Scene& scene, shadow::CasterBounds& out);
 // The camera's pass: the scene's camera, the options' shading, culling, tile size, depth format
 // and clear colour, into `color` (and `depth`).
 RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth);
+// A colour pass from `camera` (an environment face's, square, 90 degrees), with the scene's faces
+// rules and the options' shading, culling, tile size and clear colour.
+RenderPass view_pass(const Camera& camera, const Scene& scene, const RenderOptions& options, const ImageView& color,
+                     const DepthView* depth);
 // A depth-only pass from `view` and `projection` into `depth` (a square shadow-map face).
 RenderPass depth_pass(const Eigen::Matrix4d& view, const Eigen::Matrix4d& projection, const DepthView& depth,
                       int tile_size);
@@ -84,6 +88,13 @@ void plan_units(const Scene& scene, const RenderPass& p, std::vector<DrawUnit>& 
 bool writes_depth(const Material& m);
 // Progress units of a pass with these draws: its tiles, set-up ranges and vertex chunks.
 std::uint64_t pass_work(const Scene& scene, const RenderPass& p, std::span<const DrawUnit> draws, bool light_every_vertex);
+
+// Dynamic environments (Environment::dynamic): per scene object the index of its cube (-1: none),
+// and six samplers per cube (+X, -X, +Y, -Y, +Z, -Z), filled by the frame's face passes.
+struct DynamicCubes {
+  std::vector<std::int32_t> of_object;
+  std::vector<texture::Sampler> samplers;
+};
 
 // Per draw of a pass: its pixel program (varyings, texture, modes), what its lighting takes and
 // gives, and whether both of its faces are drawn and lit. Parallel arrays: the tile kernels take
@@ -99,6 +110,6 @@ raster::simd::Fog plan_fog(const Fog& fog);
 // `samplers`: one per scene texture; `edge_samplers`: the same, clamped to the edge (environment maps).
 void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPass& p, std::span<const DrawUnit> units,
                 const FrameKind& kind, std::span<const texture::Sampler> samplers,
-                std::span<const texture::Sampler> edge_samplers, PassDraws& out);
+                std::span<const texture::Sampler> edge_samplers, const DynamicCubes& cubes, PassDraws& out);
 
 }  // namespace facet::frame

@@ -10,8 +10,88 @@
 #include <tbb/info.h>
 
 #include "frame/frame.hpp"
+#include "lighting/setup.hpp"
 
 namespace facet {
+
+namespace {
+// A dynamic environment's face f (+X, -X, +Y, -Y, +Z, -Z) as a camera sees it: GL's directions
+// (table 3.21) at (s, t) with t counted from the top of the face's picture.
+Eigen::Vector3d face_direction(int f, double s, double t) {
+  const double sc = 2 * s - 1, tc = 2 * t - 1;
+  switch (f) {
+    case 0: return {1, -tc, -sc};
+    case 1: return {-1, -tc, sc};
+    case 2: return {sc, 1, tc};
+    case 3: return {sc, -1, -tc};
+    case 4: return {sc, -tc, 1};
+    default: return {-sc, -tc, -1};
+  }
+}
+}  // namespace
+
+// One face pass per face of each object whose material's environment is dynamic, from the centre
+// of the object's box, 90 degrees square: a camera looking along the face's axis with up towards
+// the top of the face's picture. Faces are drawn into textures stored bottom row first (y_up
+// views), as every texture is; where the face's s runs against the camera's right (GL's cube
+// faces are mirror images of a camera's view), finish_environment_face mirrors the rows.
+void Renderer::Impl::plan_environment_faces(const Scene& scene, const RenderOptions& options, const RenderPass& camera) {
+  cubes.of_object.assign(scene.objects.size(), -1);
+  std::size_t count = 0;
+  if (kind.plain()) return;  // visibility sub-frames draw plain surfaces
+  std::size_t reflectors = 0;  // sized first: the passes point into cube_faces
+  for (const Instance& inst : scene.objects) reflectors += !inst.mesh_materials && scene.materials[inst.material].environment.dynamic;
+  if (cube_faces.size() < reflectors) cube_faces.resize(reflectors);
+  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+    const Instance& inst = scene.objects[o];
+    const Environment& e = scene.materials[inst.material].environment;
+    Eigen::Vector3d lo, hi;
+    if (inst.mesh_materials || !e.dynamic || !lighting::finite_box(scene.meshes[inst.mesh].mesh.positions, lo, hi)) continue;
+    EnvironmentCube& cube = cube_faces[count];
+    const int n = e.resolution;
+    const Eigen::Vector3d centre = (inst.model.cast<double>() * (0.5 * (lo + hi)).homogeneous()).head<3>();
+    for (int f = 0; f < 6; ++f) {
+      Texture& t = cube.faces[static_cast<std::size_t>(f)];
+      t.filter = TextureFilter::bilinear;
+      t.wrap = TextureWrap::clamp;
+      t.levels.assign(1, TextureLevel{n, n, 0});
+      t.texels.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
+      cube.views[static_cast<std::size_t>(f)] = {t.texels.data(), n, n, static_cast<std::size_t>(n) * 4, PixelFormat::rgba8, true};
+      const Eigen::Vector3d forward = face_direction(f, 0.5, 0.5), up = face_direction(f, 0.5, 0.0) - forward;
+      const Eigen::Vector3d right = face_direction(f, 1.0, 0.5) - forward;
+      cube.mirrored[static_cast<std::size_t>(f)] = forward.cross(up).dot(right) < 0.0;
+      Camera view = scene.camera;
+      view.eye = centre.cast<float>();
+      view.target = (centre + forward).cast<float>();
+      view.up = up.cast<float>();
+      view.vertical_fov_deg = 90.0f;
+      view.aspect = 1.0f;
+      RenderPass p = frame::view_pass(view, scene, options, cube.views[static_cast<std::size_t>(f)], nullptr);
+      p.assembly.place = camera.assembly.place;
+      p.exclude_object = static_cast<std::uint32_t>(o);
+      p.environment_face = true;
+      p.environment_cube = static_cast<int>(count);
+      p.environment_face_index = f;
+      passes.push_back(p);
+    }
+    cubes.of_object[o] = static_cast<std::int32_t>(count++);
+  }
+  cubes.samplers.resize(6 * count);
+}
+
+void Renderer::Impl::finish_environment_face(const RenderPass& p) {
+  EnvironmentCube& cube = cube_faces[static_cast<std::size_t>(p.environment_cube)];
+  const auto f = static_cast<std::size_t>(p.environment_face_index);
+  Texture& t = cube.faces[f];
+  const int n = t.levels[0].width;
+  if (cube.mirrored[f]) {
+    for (int y = 0; y < n; ++y) {
+      std::uint32_t* row = t.texels.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(n);
+      std::reverse(row, row + n);
+    }
+  }
+  cubes.samplers[6 * static_cast<std::size_t>(p.environment_cube) + f] = texture::make_sampler(t);
+}
 
 void Renderer::Impl::unit_done() {
   const std::uint64_t done = work_done.fetch_add(1, std::memory_order_relaxed) + 1;
@@ -180,6 +260,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
       if (inst.cast_shadows && !map_shadows) stats.shadow_casters += scene.meshes[inst.mesh].mesh.triangle_count();
     }
   }
+  plan_environment_faces(scene, options, camera);
   passes.push_back(camera);
   // Ray-cast shadows: the casters as Embree sees them, built here, in this renderer's arena.
   frame_caster = nullptr;
@@ -204,6 +285,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     const RenderPass& p = passes[k];
     const auto start = Clock::now();
     run_pass(scene, options, p, pass_units[k]);
+    if (p.environment_face) finish_environment_face(p);
     if (p.depth_only && !p.casters_only && !cancelled.load(std::memory_order_relaxed)) {
       volumes.build(scene, camera.view, camera.projection, *arena);  // the camera's depth is drawn
     }

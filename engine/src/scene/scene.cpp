@@ -197,7 +197,13 @@ Status validate_material(const Material& m, const Field& f) {
     return invalid(f("environment.blend"), "unknown environment blend");
   }
   FACET_TRY(check_range(e.strength, 0.0f, 1.0f, f, "environment.strength"));
-  const int needed = e.mode == EnvironmentMode::none ? 0 : e.mode == EnvironmentMode::cube ? 6 : 1;
+  if (e.dynamic && e.mode != EnvironmentMode::cube) {
+    return invalid(f("environment.dynamic"), "only a cube environment is rendered from the scene");
+  }
+  if (e.dynamic && (e.resolution < 1 || e.resolution > 4096)) {
+    return invalid(f("environment.resolution"), "expected 1..4096 pixels, found " + std::to_string(e.resolution));
+  }
+  const int needed = e.mode == EnvironmentMode::none || e.dynamic ? 0 : e.mode == EnvironmentMode::cube ? 6 : 1;
   for (int k = 0; k < 6; ++k) {  // (messages made only on failure: validation runs every frame)
     auto member = [&] { return f(("environment.maps[" + std::to_string(k) + "]").c_str()); };
     if (k < needed && e.maps[k] < 0) {

@@ -188,12 +188,22 @@ class SceneReader : public scene_json::JsonFields {
   // "environment": {"mode": "sphere" | "normal", "texture": NAME} or {"mode": "cube", "faces":
   // [+X, -X, +Y, -Y, +Z, -Z names]}, with "strength" and "blend".
   Status read_environment(const json& j, const std::string& p, const Scene& scene, Environment& e) const {
-    FACET_TRY(expect_object(j, p, {"mode", "texture", "faces", "strength", "blend"}));
+    FACET_TRY(expect_object(j, p, {"mode", "texture", "faces", "strength", "blend", "dynamic", "resolution"}));
     if (!j.contains("mode")) return invalid(child(p, "mode"), "missing (\"sphere\", \"cube\" or \"normal\")");
     std::string mode;
     FACET_TRY(read_enum(j["mode"], child(p, "mode"), {"sphere", "cube", "normal"}, mode));
     e.mode = mode == "sphere" ? EnvironmentMode::sphere : mode == "cube" ? EnvironmentMode::cube : EnvironmentMode::normal;
-    if (e.mode == EnvironmentMode::cube) {
+    FACET_TRY(opt_bool(j, p, "dynamic", e.dynamic));
+    if (j.contains("resolution")) {
+      if (!e.dynamic) return invalid(child(p, "resolution"), "only a dynamic environment (\"dynamic\": true) has a resolution");
+      FACET_TRY(opt_int(j, p, "resolution", 1, 4096, e.resolution));
+    }
+    if (e.dynamic) {
+      if (e.mode != EnvironmentMode::cube) return invalid(child(p, "dynamic"), "only a cube environment is rendered from the scene");
+      if (j.contains("faces") || j.contains("texture")) {
+        return invalid(child(p, j.contains("faces") ? "faces" : "texture"), "a dynamic environment is rendered, not read");
+      }
+    } else if (e.mode == EnvironmentMode::cube) {
       if (j.contains("texture")) return invalid(child(p, "texture"), "a cube environment takes \"faces\": six texture names");
       if (!j.contains("faces")) return invalid(child(p, "faces"), "missing: six texture names, +X, -X, +Y, -Y, +Z, -Z");
       const json& faces = j["faces"];
