@@ -116,6 +116,7 @@ Errors against_exact(const Scene& s, ShadingMode shading, LightingPath path = Li
   for (std::size_t f = 0; f < 6; ++f) exact.faces.push_back(texture::make_sampler(s.textures[f]));
   const double fov = s.camera.vertical_fov_deg * M_PI / 180.0, k = std::tan(0.5 * fov);
   const Eigen::Vector3d eye = s.camera.eye.cast<double>();
+  const Eigen::Vector3d centre = s.objects[0].model.cast<double>().topRightCorner<3, 1>();
   const Eigen::Matrix3d to_eye = view_matrix(s.camera).cast<double>().topLeftCorner<3, 3>();
   exact.to_world = to_eye.transpose();
   Errors e;
@@ -127,11 +128,12 @@ Errors against_exact(const Scene& s, ShadingMode shading, LightingPath path = Li
           to_eye.transpose() * Eigen::Vector3d((2.0 * (x + 0.5) / w - 1) * k, (1 - 2.0 * (y + 0.5) / h) * k, -1).normalized();
       // Ray eye + t dir against the unit sphere; only pixels well inside the silhouette (the
       // tessellated outline differs from the true one).
-      const double b = eye.dot(dir), cc = eye.squaredNorm() - 1.0, disc = b * b - cc;
+      const Eigen::Vector3d oc = eye - centre;
+      const double b = oc.dot(dir), cc = oc.squaredNorm() - 1.0, disc = b * b - cc;
       if (disc < 0.15) continue;
       const double t = -b - std::sqrt(disc);
-      const Eigen::Vector3d hit = eye + t * dir;  // world space; the unit sphere's normal is the hit point
-      const Eigen::Vector3d want = exact.colour(to_eye * (hit - eye), to_eye * hit);
+      const Eigen::Vector3d hit = eye + t * dir;  // world space; the unit sphere's normal is hit - centre
+      const Eigen::Vector3d want = exact.colour(to_eye * (hit - eye), to_eye * (hit - centre));
       for (int ch = 0; ch < 3; ++ch) {
         const double d = std::abs(c.byte(x, y, ch) - 255.0 * want[ch]);
         sum += d;
@@ -234,9 +236,12 @@ TEST(Environment, MirrorBallAgainstExactReflections) {
       EXPECT_LE(gouraud.mean, 1.0);
     }
   }
-  // Cube maps are looked up in world space: the same room from a camera on +x, looking back.
+  // Cube maps are looked up in world space: the same room from a camera on +x, looking back, the
+  // ball off the view axis (so that eye-space positions and normals differ in every component).
   Scene turned = mirror_ball(32, 96);
   turned.camera.eye = Vec3(3.2f, 0.0f, 0.0f);
+  turned.objects[0].model.topRightCorner<3, 1>() = Vec3(0.0f, 0.25f, 0.3f);
+  turned.camera.target = Vec3(0.0f, 0.0f, 0.0f);
   for (ShadingMode shading : {ShadingMode::phong, ShadingMode::gouraud}) {
     const Errors e = against_exact(turned, shading);
     EXPECT_LE(e.mean, 1.0) << to_string(shading);
@@ -346,6 +351,125 @@ TEST(Environment, ValidationNamesTheField) {
   s = mirror_ball(4, 12, EnvironmentMode::sphere);
   s.materials[0].environment.maps[1] = 1;  // unused by a sphere map
   EXPECT_FALSE(validate_scene(s).ok());
+}
+
+}  // namespace
+}  // namespace facet
+
+namespace facet {
+namespace {
+
+// A mirror ball (radius 0.5) at the centre of a closed room (half-size 6) whose six walls glow in
+// six colours, seen from inside the room: each pixel of the ball whose reflection (from the
+// ball's centre, as a cube map assumes) points well inside one wall shows that wall's colour.
+Scene mirror_in_room(int resolution) {
+  Scene s;
+  s.camera.eye = Vec3(0.3f, 0.4f, 3.0f);
+  s.camera.target = Vec3(0, 0, 0);
+  s.camera.near = 0.1f;
+  s.camera.far = 50.0f;
+  s.global_ambient = Color3(0, 0, 0);
+  const Color3 colours[6] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0, 1, 1}, {1, 0, 1}};  // +X .. -Z walls
+  s.meshes.push_back({"wall", make_plane(12.0f, 12.0f, 1)});  // normal +y
+  for (int f = 0; f < 6; ++f) {
+    Material m;
+    m.ambient = m.diffuse = Color3(0, 0, 0);
+    m.emissive = colours[f];
+    s.materials.push_back(m);
+    // Each wall 6 from the centre, facing it: rotate the plane's +y normal to -axis.
+    const Eigen::Vector3f axis = Eigen::Vector3f::Unit(f / 2) * (f % 2 == 0 ? 1.0f : -1.0f);
+    const Eigen::Quaternionf turn = Eigen::Quaternionf::FromTwoVectors(Eigen::Vector3f::UnitY(), -axis);
+    Instance wall;
+    wall.material = static_cast<std::uint32_t>(f);
+    wall.model = (Eigen::Translation3f(6.0f * axis) * turn).matrix();
+    wall.double_sided = true;
+    s.objects.push_back(wall);
+  }
+  Material chrome;
+  chrome.ambient = chrome.diffuse = Color3(0, 0, 0);
+  chrome.environment.mode = EnvironmentMode::cube;
+  chrome.environment.dynamic = true;
+  chrome.environment.resolution = resolution;
+  chrome.environment.blend = EnvironmentBlend::mix;
+  s.materials.push_back(chrome);
+  s.meshes.push_back({"ball", make_uv_sphere(0.5f, 64, 32)});
+  Instance ball;
+  ball.mesh = 1;
+  ball.material = 6;
+  s.objects.push_back(ball);
+  return s;
+}
+
+TEST(DynamicEnvironment, MirrorBallShowsTheWallItReflects) {
+  const Scene s = mirror_in_room(32);
+  const Color3 colours[6] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0, 1, 1}, {1, 0, 1}};
+  for (ShadingMode shading : {ShadingMode::phong, ShadingMode::gouraud}) {
+    const int w = 96, h = 96;
+    Canvas c(w, h);
+    RenderOptions o;
+    o.shading = shading;
+    Renderer r;
+    ASSERT_TRUE(r.render(s, o, c.view()).ok());
+    const Eigen::Matrix3d to_eye = view_matrix(s.camera).cast<double>().topLeftCorner<3, 3>();
+    const Eigen::Vector3d eye = s.camera.eye.cast<double>();
+    const double k = std::tan(0.5 * s.camera.vertical_fov_deg * M_PI / 180.0);
+    int checked = 0, wrong = 0;
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const Eigen::Vector3d dir = (to_eye.transpose() * Eigen::Vector3d((2.0 * (x + 0.5) / w - 1) * k,
+                                                                           (1 - 2.0 * (y + 0.5) / h) * k, -1))
+                                        .normalized();
+        const double b = eye.dot(dir), disc = b * b - (eye.squaredNorm() - 0.25);
+        if (disc < 0.02) continue;  // off the ball or near its outline
+        const Eigen::Vector3d hit = eye + (-b - std::sqrt(disc)) * dir, n = hit.normalized();
+        const Eigen::Vector3d refl = dir - 2.0 * n * n.dot(dir);
+        const Eigen::Vector3d a = refl.cwiseAbs();
+        int axis = 0;
+        a.maxCoeff(&axis);
+        double second = 0;
+        for (int i = 0; i < 3; ++i)
+          if (i != axis) second = std::max(second, a[i]);
+        if (a[axis] < 1.5 * second) continue;  // near a wall's edge: parallax from the ball's surface
+        const int f = 2 * axis + (refl[axis] >= 0 ? 0 : 1);
+        ++checked;
+        bool ok = true;
+        for (int ch = 0; ch < 3; ++ch) ok = ok && std::abs(c.byte(x, y, ch) - 255.0 * colours[f][ch]) <= 2.0;
+        wrong += !ok;
+      }
+    }
+    EXPECT_GT(checked, 400) << to_string(shading);
+    EXPECT_LE(wrong, checked / 100) << to_string(shading);
+  }
+}
+
+// The faces are passes of the frame: the same bytes for any thread count and ISA, and the
+// reflector is left out of its own faces (a ball that saw itself would show its own grey).
+TEST(DynamicEnvironment, SameBytesOnEveryIsaAndThreadCount) {
+  const Scene s = mirror_in_room(16);
+  for (ShadingMode shading : {ShadingMode::flat, ShadingMode::phong}) {
+    const auto first = picture(s, shading, LightingPath::simd, Isa::sse2, 1);
+    for (Isa isa : {Isa::avx2, Isa::avx512}) {
+      if (isa_supported(isa)) EXPECT_EQ(picture(s, shading, LightingPath::simd, isa, 1), first) << to_string(isa);
+    }
+    EXPECT_EQ(picture(s, shading, LightingPath::simd, Isa::sse2, 3), first);
+  }
+}
+
+TEST(DynamicEnvironment, Validation) {
+  Scene s = mirror_in_room(16);
+  s.materials[6].environment.resolution = 0;
+  Status st = validate_scene(s);
+  EXPECT_FALSE(st.ok());
+  EXPECT_EQ(st.field(), "materials[6].environment.resolution");
+  s = mirror_in_room(16);
+  s.materials[6].environment.mode = EnvironmentMode::sphere;
+  st = validate_scene(s);
+  EXPECT_EQ(st.field(), "materials[6].environment.dynamic");
+  s = mirror_in_room(4096);
+  RenderOptions o;
+  o.memory_budget_bytes = 64u << 20;  // six 4096^2 faces take 384 MiB
+  st = check_render(s, o, 64, 64);
+  EXPECT_EQ(st.code(), ErrorCode::out_of_memory) << st.message();
 }
 
 }  // namespace
