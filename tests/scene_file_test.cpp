@@ -352,6 +352,19 @@ TEST(SceneFile, SurfaceFieldsAndTheirErrors) {
   EXPECT_EQ(env->materials[0].environment.mode, EnvironmentMode::cube);
   EXPECT_EQ(env->materials[0].environment.maps[5], 0);
   EXPECT_EQ(env->materials[0].environment.blend, EnvironmentBlend::add);
+  env = parse(scene(R"({ "name": "m", "environment": { "mode": "cube", "dynamic": true, "resolution": 64 } })"));
+  ASSERT_TRUE(env.ok()) << env.status().message();
+  EXPECT_TRUE(env->materials[0].environment.dynamic);
+  EXPECT_EQ(env->materials[0].environment.resolution, 64);
+  EXPECT_EQ(env->materials[0].environment.maps[0], kNoTexture);
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "sphere", "texture": "t", "dynamic": true } })"), 4,
+               "materials[0].environment.dynamic", {"only a cube"});
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "cube", "dynamic": true, "resolution": 0 } })"), 4,
+               "materials[0].environment.resolution", {"4096"});
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "cube", "faces": ["t", "t", "t", "t", "t", "t"], "resolution": 8 } })"),
+               4, "materials[0].environment.resolution", {"only a dynamic"});
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "cube", "dynamic": true, "faces": ["t", "t", "t", "t", "t", "t"] } })"),
+               4, "materials[0].environment.faces", {"rendered, not read"});
   expect_error(scene(R"({ "name": "m", "environment": { "mode": "cube", "faces": ["t", "t", "t", "t", "t"] } })"), 4,
                "materials[0].environment.faces", {"six texture names"});
   expect_error(scene(R"({ "name": "m", "environment": { "mode": "cube", "faces": ["t", "t", "t", "t", "t", "x"] } })"), 4,

@@ -162,6 +162,14 @@ static void setters_change_the_picture(void) {
     chrome.environment_blend = FACET_ENVIRONMENT_MIX;
     for (int k = 0; k < 6; ++k) chrome.environment_maps[k] = (int32_t)faces[k];
     CHANGES("environment", facet_scene_set_material(s, red, &chrome), facet_scene_set_material(s, red, &m));
+    CHECK(chrome.environment_dynamic == 0 && chrome.environment_resolution == 128);
+    facet_material dynamic = chrome;
+    for (int k = 0; k < 6; ++k) dynamic.environment_maps[k] = -1;
+    dynamic.environment_dynamic = 1;
+    dynamic.environment_resolution = 16;
+    CHANGES("dynamic environment", facet_scene_set_material(s, red, &dynamic), facet_scene_set_material(s, red, &m));
+    dynamic.environment_resolution = 0;
+    CHECK(facet_scene_set_material(s, red, &dynamic) == FACET_INVALID_ARGUMENT);
     facet_material bad = chrome;
     bad.environment_maps[5] = -1;
     CHECK(facet_scene_set_material(s, red, &bad) == FACET_INVALID_ARGUMENT);

@@ -352,13 +352,23 @@ int check(const CheckState& st) {
                                                                              : "in scene order",
                 to_string(scene->fog.mode));
   }
-  std::size_t environment[4] = {}, mirrored = 0;
+  std::size_t environment[4] = {}, mirrored = 0, dynamic = 0, dynamic_bytes = 0;
   for (const Material& m : scene->materials) ++environment[static_cast<int>(m.environment.mode)];
-  for (const auto& obj : scene->objects) mirrored += scene->materials[obj.material].environment.mode != EnvironmentMode::none;
+  for (const auto& obj : scene->objects) {
+    const Environment& e = scene->materials[obj.material].environment;
+    mirrored += !obj.mesh_materials && e.mode != EnvironmentMode::none;
+    if (obj.mesh_materials || !e.dynamic) continue;
+    ++dynamic;
+    dynamic_bytes += 6 * std::size_t(e.resolution) * std::size_t(e.resolution) * 4;
+  }
   if (environment[1] + environment[2] + environment[3] > 0) {
     std::printf("  environment: %zu sphere-mapped, %zu cube-mapped and %zu normal-mapped materials on %zu objects; "
                 "generated per vertex in flat and Gouraud shading, per pixel in Phong\n",
                 environment[1], environment[2], environment[3], mirrored);
+  }
+  if (dynamic > 0) {
+    std::printf("  dynamic environments: %zu objects, 6 face passes each every frame (%zu KiB of faces)\n", dynamic,
+                (dynamic_bytes + 1023) / 1024);
   }
   return 0;
 }
