@@ -1,13 +1,15 @@
 // Whole frames and pixel fill (Google Benchmark; UseRealTime because the work runs on the
 // renderer's own TBB threads; the thread count is the benchmark argument).
+//   BM_Environment/<scene>/<shading>: environment maps per vertex (flat, Gouraud) and per pixel
+//                       (Phong), static and dynamic (register_environment);
 //   BM_Fill/<variant>/gouraud: 16 full-screen Gouraud layers at 1920x1080, drawn back to front so
 //       every layer passes the depth test (33 M pixels a frame), no lighting cost to speak of;
 //   BM_Fill/<variant>/phong:   4 full-screen layers lit per pixel (one point light);
 //   BM_Fill/<variant>/small:   200,000 random triangles of 1-16 pixels at 1920x1080;
 //   BM_Fill/<variant>/textured: the 16 Gouraud layers, each with a 256x256 trilinear texture
 //       (GL_MODULATE, minified), lit by a directional light (separate specular);
-//   BM_Fill/<variant>/textured_fog: the textured layers in linear fog (the general surface
-//       program: fog is not in the specialised one);
+//   BM_Fill/<variant>/textured_fog: the textured layers in linear fog (the fused modulate program
+//       with fog);
 //   BM_Fill/<variant>/blended:  the 16 Gouraud layers, each alpha-blended (alpha 0.5);
 //   BM_Frame/<variant>/<scene>/<size>: the built-in scene and each model scene of
 //       tests/data/scenes (skipped when ../shared/models is absent), Gouraud.
@@ -174,8 +176,32 @@ void register_shadows() {
   }
 }
 
+// Environment maps at 1920x1080 on the best ISA: per vertex (flat, Gouraud: texgen at the
+// vertices) against per pixel (Phong), on three balls with a cube, a sphere and a normal map
+// (environment), and a chrome ball with a dynamic cube map in a room (reflections; its six face
+// passes included).
+void register_environment() {
+  for (const char* scene_name : {"environment", "reflections"}) {
+    for (const facet::ShadingMode shading : {facet::ShadingMode::flat, facet::ShadingMode::gouraud, facet::ShadingMode::phong}) {
+      facet::RenderOptions o;
+      o.shading = shading;
+      add(std::string("BM_Environment/") + scene_name + "/" + facet::to_string(shading) + "/1920x1080",
+          [o, scene_name](benchmark::State& state) {
+            std::string error;
+            const facet::Scene* scene = scene_file(scene_name, error);
+            if (!scene) {
+              state.SkipWithError(error.c_str());
+              return;
+            }
+            run_frames(state, *scene, o, 1920, 1080);
+          });
+    }
+  }
+}
+
 void register_all() {
   register_shadows();
+  register_environment();
   const std::vector<std::string> models = {"bunny", "teapot", "suzanne", "spot", "fandisk"};
   for (const Variant& v : kVariants) {
     if (v.path == facet::LightingPath::simd && !facet::isa_supported(v.isa)) continue;
