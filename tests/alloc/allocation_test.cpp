@@ -52,7 +52,7 @@ namespace {
 
 // A scene with a large object (set up on slot 0, its chunks spread over the threads) beside
 // runs of small ones (set up side by side, one task each, on whichever slot takes them), so that
-// both kinds of per-slot scratch are exercised.
+// both kinds of per-slot scratch are exercised, and a dynamic environment's face passes.
 // two_sided also sorts the blended glass sphere back to front (the frame plan's order keys).
 Scene mixed_scene(bool two_sided) {
   Scene scene = make_default_scene();
@@ -63,6 +63,18 @@ Scene mixed_scene(bool two_sided) {
   big.mesh = static_cast<std::uint32_t>(scene.meshes.size() - 1);
   big.model(1, 3) = 1.5f;
   scene.objects.insert(scene.objects.begin() + 2, big);
+  // A chrome ball with a dynamic cube map: six face passes and their textures every frame.
+  Material chrome;
+  chrome.environment.mode = EnvironmentMode::cube;
+  chrome.environment.dynamic = true;
+  chrome.environment.resolution = 24;
+  chrome.environment.blend = EnvironmentBlend::mix;
+  scene.materials.push_back(chrome);
+  Instance ball;
+  ball.mesh = big.mesh;
+  ball.material = static_cast<std::uint32_t>(scene.materials.size() - 1);
+  ball.model(0, 3) = -1.5f;
+  scene.objects.push_back(ball);
   return scene;
 }
 

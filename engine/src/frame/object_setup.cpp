@@ -53,7 +53,7 @@ void Renderer::Impl::set_up_objects(const Scene& scene, const RenderOptions& opt
   const RenderPass& p = *pass;
   const ShadingMode shading = p.shading;
   range_count = 0;  // counted below, per draw
-  shaders.resize(units.size());
+  if (shaders.size() < units.size()) shaders.resize(units.size());  // grow only: passes differ in draw count
   const bool two_sided = draws.any_two_sided();
 
   const Eigen::Matrix4d& view = p.view;
