@@ -80,9 +80,9 @@ void Renderer::Impl::set_up_objects(const Scene& scene, const RenderOptions& opt
   }
   object_counts.assign(object_count, {});
   object_scratch.resize(workers.size());
-  // Runs of two or more small objects are set up side by side, one task per object (the built-in scene's six
-  // objects took 1.6 ms of a 5.8 ms frame one after another on 2 threads). Larger objects are set
-  // up one at a time with their chunks and ranges spread over the threads.
+  // Runs of two or more small objects are set up side by side, one task per object (one after
+  // another, a scene of a few small objects left the second thread idle for much of the frame).
+  // Larger objects are set up one at a time with their chunks and ranges spread over the threads.
   auto small = [&](std::size_t o) {
     const Mesh& mesh = scene.meshes[scene.objects[units[o].object].mesh].mesh;
     const std::size_t lit = shading == ShadingMode::flat ? mesh.triangle_count() : mesh.vertex_count();

@@ -379,7 +379,8 @@ raster::simd::Fog plan_fog(const Fog& f) {
 }
 
 // An untextured opaque material without alpha test or fog (and, lit per pixel, without vertex
-// colours) runs the plain kernels: exactly what ran before surfaces existed.
+// colours) runs its lighting's own program (flat colour, Gouraud colour, Phong): exactly what ran
+// before surfaces existed.
 void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPass& p, std::span<const DrawUnit> units,
                 const FrameKind& kind, std::span<const texture::Sampler> samplers,
                 std::span<const texture::Sampler> edge_samplers, const DynamicCubes& cubes, PassDraws& out) {

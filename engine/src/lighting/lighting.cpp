@@ -14,8 +14,8 @@
 namespace facet {
 namespace {
 
-// Vertices per task when light_instance() runs on several threads: 8192 vertices are 0.1-0.4 ms
-// of work with 4 lights, far above a task's cost, and stay in L2 with their SoA copies.
+// Vertices per task when light_instance() runs on several threads: far more work than a task
+// costs (with a few lights), and few enough to stay in L2 with their SoA copies.
 constexpr std::size_t kParallelChunk = 8192;
 
 }  // namespace

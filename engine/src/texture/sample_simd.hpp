@@ -191,8 +191,8 @@ struct SampleSimd {
   //
   // rs, rt: the coordinates wrapped (wrap_coordinate), once for both levels of a trilinear sample.
   //
-  // Inlined into sample() on avx512 and called on the narrower ISAs, as measured (alternated
-  // runs of the textured fill, ms per frame): inlined, avx512 245 -> 234 but avx2 305 -> 340.
+  // Inlined into sample() on avx512 and called on the narrower ISAs: each measured faster that way
+  // (alternated runs of the textured fill).
   template <int P>
   [[gnu::always_inline]] inline static void sample_levels(const Sampler& s, const I (&level)[P], bool linear,
                                                           const F (&rs)[P], const F (&rt)[P], F (&out)[P][4]) {
@@ -269,9 +269,8 @@ struct SampleSimd {
   // levels are sampled again with the real ones. Kept samples are the same operations on the
   // same levels, so the same bits.
   //
-  // sample_inline: the same, always inlined (for the specialised program of the narrower ISAs,
-  // raster_simd.hpp's modulate_batch: GCC inlined it there until other callers were added, and
-  // out of line the program ran 4 % slower: avx2 textured fill 310 -> 325 ms).
+  // sample_inline: the same, always inlined (for the fused modulate program of the narrower ISAs,
+  // pixel/programs_simd.hpp, where out of line it measured slower).
   static constexpr int kGuessOneLevel = 0x100;
   template <int P>
   static void sample(const Sampler& s, const F (&u)[P], const F (&v)[P], const F (&lambda)[P], F (&out)[P][4],
