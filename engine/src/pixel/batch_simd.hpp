@@ -81,6 +81,16 @@ struct FillCounts {
     using I = typename Types<Arch>::I;
     lanes += xsimd::select(xsimd::bool_cast(pass), I(1), I(0));
   }
+  // Counts a batch that passed the depth test; true when every lane did.
+  bool count(const typename Types<Arch>::BF& pass) {
+    const bool all = xsimd::all(pass);
+    if (all) {
+      whole += Types<Arch>::W;
+    } else {
+      add(pass);
+    }
+    return all;
+  }
 };
 
 // Stores v into plane c at the batch's pixels that pass (all: every lane passes).

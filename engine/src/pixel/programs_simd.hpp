@@ -56,7 +56,6 @@ struct FlatProgram {
   using BF = typename Types<Arch>::BF;
   static constexpr int kAttributes = 0;
   static constexpr bool kClipW = false;
-  static constexpr int kHeld = 1;
   static int plane(const Draw&, int) { return 0; }
   static int attributes(const Draw&) { return 0; }
   const Context<Arch>& cx;
@@ -67,12 +66,7 @@ struct FlatProgram {
   template <bool kFull>
   void batch(const Interpolants<Arch, 0>&, const F& fi, const F& fj, const F& z, const BF& pass, std::size_t at) {
     const Batch<Arch> b{fi, fj, z, pass, at};
-    const bool all = xsimd::all(b.pass);
-    if (all) {
-      filled.whole += Types<Arch>::W;
-    } else {
-      filled.add(b.pass);
-    }
+    const bool all = filled.count(b.pass);
     store(cx.planes, 4, b, all, b.z);
     for (int c = 0; c < 4; ++c) store(cx.planes, c, b, all, flat[c]);
   }
@@ -85,7 +79,6 @@ struct GouraudProgram {
   using BF = typename Types<Arch>::BF;
   static constexpr int kAttributes = 3;
   static constexpr bool kClipW = true;
-  static constexpr int kHeld = 1;
   static int plane(const Draw& d, int a) { return d.layout.at(Varying::front_color) + a; }
   static int attributes(const Draw&) { return 3; }
   const Context<Arch>& cx;
@@ -95,12 +88,7 @@ struct GouraudProgram {
   template <bool kFull>
   void batch(const Interpolants<Arch, 3>& in, const F& fi, const F& fj, const F& z, const BF& pass, std::size_t at) {
     const Batch<Arch> b{fi, fj, z, pass, at};
-    const bool all = xsimd::all(b.pass);
-    if (all) {
-      filled.whole += Types<Arch>::W;
-    } else {
-      filled.add(b.pass);
-    }
+    const bool all = filled.count(b.pass);
     store(cx.planes, 4, b, all, b.z);
     const F inv_w = in.clip_w(b.fi, b.fj);
     for (int c = 0; c < 3; ++c) store(cx.planes, c, b, all, in.over_w(c, b.fi, b.fj) * inv_w);
@@ -115,7 +103,6 @@ struct PhongProgram {
   using BF = typename Types<Arch>::BF;
   static constexpr int kAttributes = 6;
   static constexpr bool kClipW = true;
-  static constexpr int kHeld = 1;
   static int plane(const Draw& d, int a) {
     return a < 3 ? d.layout.at(Varying::eye_position) + a : d.layout.at(Varying::normal) + a - 3;
   }
@@ -126,12 +113,7 @@ struct PhongProgram {
   template <bool kFull>
   void batch(const Interpolants<Arch, 6>& in, const F& fi, const F& fj, const F& z, const BF& pass, std::size_t at) {
     const Batch<Arch> b{fi, fj, z, pass, at};
-    const bool all = xsimd::all(b.pass);
-    if (all) {
-      filled.whole += Types<Arch>::W;
-    } else {
-      filled.add(b.pass);
-    }
+    const bool all = filled.count(b.pass);
     store(cx.planes, 4, b, all, b.z);
     const F inv_w = in.clip_w(b.fi, b.fj);
     F v[6];
@@ -218,7 +200,6 @@ struct SurfaceProgram {
   using BF = typename Types<Arch>::BF;
   static constexpr int kAttributes = raster::kMaxRasterAttributes;
   static constexpr bool kClipW = true;
-  static constexpr int kHeld = Textured ? kHold<Arch> : 1;
   using In = Interpolants<Arch, kAttributes>;
   static int plane(const Draw&, int a) { return a; }
   static int attributes(const Draw& d) { return d.layout.raster; }
@@ -311,7 +292,6 @@ struct ModulateProgram {
   using F = typename Types<Arch>::F;
   static constexpr int kAttributes = raster::kMaxRasterAttributes;
   static constexpr bool kClipW = true;
-  static constexpr int kHeld = kHold<Arch>;
   using BF = typename Types<Arch>::BF;
   using In = Interpolants<Arch, kAttributes>;
   static int plane(const Draw&, int a) { return a; }
