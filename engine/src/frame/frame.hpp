@@ -116,7 +116,7 @@ struct Renderer::Impl {
     std::vector<Color3> front, back;
     std::vector<Color3> front_spec, back_spec, flat_albedo;  // textured: specular apart; flat: mean vertex colour
     std::vector<Vec3> eye_p, eye_n, centroid, face_normal;
-    std::vector<Vec3> environment;  // flat and Gouraud with an environment map: texgen coordinates per vertex
+    std::vector<float> generated[raster::kGeneratedCount];  // raster::kGeneratedVaryings at each vertex
     // Gouraud: 1 for a vertex of a triangle that may be drawn (or clipped; marked by
     // raster::place_range), and per vertex chunk the list of those vertices.
     std::vector<std::uint8_t> drawn;
@@ -127,6 +127,7 @@ struct Renderer::Impl {
     // Capacity for any object of up to `vertices` vertices and `triangles` triangles in this
     // shading mode, so that whichever object a slot gets, set-up allocates nothing.
     void reserve(std::size_t vertices, std::size_t triangles, ShadingMode mode, bool both_faces, bool surfaces);
+    void reserve_generated(std::size_t vertices);
   };
   std::vector<ObjectScratch> object_scratch;
   // Per object: its first set-up range (ranges are numbered in object order, so bins do not

@@ -11,6 +11,12 @@
 
 namespace facet {
 
+void Renderer::Impl::ObjectScratch::reserve_generated(std::size_t vertices) {
+  for (int g = 0; g < raster::kGeneratedCount; ++g) {
+    generated[g].reserve(vertices * static_cast<std::size_t>(raster::width_of(raster::kGeneratedVaryings[g])));
+  }
+}
+
 void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t triangles, ShadingMode mode,
                                             bool both_faces, bool surfaces) {
   clip.reserve(vertices);
@@ -20,12 +26,12 @@ void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t tr
     lit_index.reserve(vertices);
     front.reserve(vertices);
     if (both_faces) back.reserve(vertices);
-    if (surfaces) {  // a textured object's specular, kept apart; an environment map's coordinates
+    if (surfaces) {  // a textured object's specular, kept apart; varyings generated at the vertices
       front_spec.reserve(vertices);
       if (both_faces) back_spec.reserve(vertices);
       eye_p.reserve(vertices);
       eye_n.reserve(vertices);
-      environment.reserve(vertices);
+      reserve_generated(vertices);
     }
     return;
   }
@@ -34,7 +40,7 @@ void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t tr
     if (surfaces) {
       front_spec.reserve(triangles);
       if (both_faces) back_spec.reserve(triangles);
-      environment.reserve(vertices);
+      reserve_generated(vertices);
     }
   }
   eye_p.reserve(vertices);
@@ -216,11 +222,12 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   std::vector<Vec3>&eye_p = os.eye_p, &eye_n = os.eye_n, &centroid = os.centroid, &face_normal = os.face_normal;
 
   const bool split = lf.separate_specular;
-  // Eye-space positions and normals: flat and Phong light with them, and flat and Gouraud draws
-  // with an environment map generate its coordinates from them at the vertices (GL's texgen).
+  // Eye-space positions and normals: flat and Phong light with them, and the pixel stages
+  // generate varyings at the vertices from them (GL's texgen).
   const raster::simd::Draw& draw = draws.programs[object];
-  const bool texgen = draw.layout.has(raster::Varying::environment);
-  if (shading != ShadingMode::gouraud || texgen) {
+  bool generates = false;
+  for (const raster::Varying v : raster::kGeneratedVaryings) generates = generates || draw.layout.has(v);
+  if (shading != ShadingMode::gouraud || generates) {
     const auto xf = lighting::make_eye_transform<float>(view, inst.model);
     eye_p.resize(n);
     eye_n.resize(n);
@@ -235,13 +242,14 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
                       q[6] * nn.x() + q[7] * nn.y() + q[8] * nn.z());
     }
   }
-  if (texgen) {
-    os.environment.resize(n);
+  for (int g = 0; g < raster::kGeneratedCount; ++g) {
+    const raster::Varying v = raster::kGeneratedVaryings[g];
+    if (!draw.layout.has(v)) continue;
+    const auto w = static_cast<std::size_t>(raster::width_of(v));
+    os.generated[g].resize(n * w);
     for (std::size_t i = v0; i < v1; ++i) {
       const float p[3] = {eye_p[i].x(), eye_p[i].y(), eye_p[i].z()}, nn[3] = {eye_n[i].x(), eye_n[i].y(), eye_n[i].z()};
-      float c[3];
-      pixel::environment_coords(draw.environment, draw.environment_to_world, p, nn, c);
-      os.environment[i] = Vec3(c[0], c[1], c[2]);
+      pixel::generate_at_vertex(draw, v, p, nn, os.generated[g].data() + i * w);
     }
   }
   if (shading == ShadingMode::gouraud) {
@@ -418,7 +426,7 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   source(Varying::normal, os.eye_n);
   source(Varying::albedo, mesh.colors);
   source(Varying::uv, mesh.uvs);
-  source(Varying::environment, os.environment);
+  for (int g = 0; g < raster::kGeneratedCount; ++g) source(raster::kGeneratedVaryings[g], os.generated[g]);
   vertices.flat_front = flat ? os.front.data() : nullptr;
   vertices.flat_back = flat && two_sided ? os.back.data() : nullptr;
   vertices.flat_secondary_front = flat && lf.separate_specular ? os.front_spec.data() : nullptr;

@@ -421,6 +421,7 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     if (p.depth_only) continue;  // no varying, no program: depth alone (every caster is opaque)
     d.layout = raster::plan_varyings(lit, out.two_sided[o] != 0, needs);
     d.texture = textured ? &samplers[static_cast<std::size_t>(m.diffuse_texture)] : nullptr;
+    d.separate_specular = lf.separate_specular;
     d.texture_env = m.texture_mode;
     if (emission_stage) {
       d.emission = true;

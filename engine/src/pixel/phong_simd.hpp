@@ -66,22 +66,22 @@ struct PhongBatch {
   // (nothing appended): no room, or a partial batch on sse2; the caller copies lane by lane.
   // (A compressing store straight to memory is microcoded on AMD Zen 4, and measured much slower.)
   template <int Q>
-  bool append(float* const (&dst)[Q], const F (&v)[Q], const BF& pass, std::size_t at) {
+  bool append(float* const (&dst)[Q], const F (&v)[Q], int n, const BF& pass, std::size_t at) {
     if (count + W > kPhongCapacity) return false;
     const U pixel = U(static_cast<std::uint32_t>(at)) + U::load_aligned(kLaneIndex);
     int added = W;
     if (xsimd::all(pass)) {
-      for (int q = 0; q < Q; ++q) v[q].store_unaligned(dst[q] + count);
+      for (int q = 0; q < n; ++q) v[q].store_unaligned(dst[q] + count);
       pixel.store_unaligned(sink->pixel + count);
     } else if constexpr (W == 16) {
       const __mmask16 m = static_cast<typename BF::register_type>(pass);
-      for (int q = 0; q < Q; ++q) _mm512_storeu_ps(dst[q] + count, _mm512_maskz_compress_ps(m, v[q]));
+      for (int q = 0; q < n; ++q) _mm512_storeu_ps(dst[q] + count, _mm512_maskz_compress_ps(m, v[q]));
       _mm512_storeu_si512(sink->pixel + count, _mm512_maskz_compress_epi32(m, pixel));
       added = __builtin_popcount(m);
     } else if constexpr (W == 8) {
       const int m = _mm256_movemask_ps(pass);
       const __m256i order = _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompress8.lanes[m]));
-      for (int q = 0; q < Q; ++q) _mm256_storeu_ps(dst[q] + count, _mm256_permutevar8x32_ps(v[q], order));
+      for (int q = 0; q < n; ++q) _mm256_storeu_ps(dst[q] + count, _mm256_permutevar8x32_ps(v[q], order));
       _mm256_storeu_si256(reinterpret_cast<__m256i*>(sink->pixel + count), _mm256_permutevar8x32_epi32(pixel, order));
       added = __builtin_popcount(static_cast<unsigned>(m));
     } else {
@@ -92,19 +92,19 @@ struct PhongBatch {
     return true;
   }
 
-  // Appends the passing lanes of v (Q streams: dst) for the pixels at tile-buffer index `at`
-  // onwards: as vectors (append) or lane by lane.
+  // Appends the passing lanes of v's first n streams (into dst) for the pixels at tile-buffer
+  // index `at` onwards: as vectors (append) or lane by lane.
   template <int Q>
-  void gather(float* const (&dst)[Q], const F (&v)[Q], const BF& pass, std::size_t at) {
-    if (append(dst, v, pass, at)) return;
+  void gather(float* const (&dst)[Q], const F (&v)[Q], int n, const BF& pass, std::size_t at) {
+    if (append(dst, v, n, pass, at)) return;
     alignas(64) float values[Q][W];
     alignas(64) float mask[W];
-    for (int q = 0; q < Q; ++q) v[q].store_aligned(values[q]);
+    for (int q = 0; q < n; ++q) v[q].store_aligned(values[q]);
     xsimd::select(pass, F(1.0f), F(0.0f)).store_aligned(mask);
     for (int lane = 0; lane < W; ++lane) {
       if (mask[lane] == 0.0f) continue;
       const int k = count++;
-      for (int q = 0; q < Q; ++q) dst[q][k] = values[q][lane];
+      for (int q = 0; q < n; ++q) dst[q][k] = values[q][lane];
       sink->pixel[k] = static_cast<std::uint32_t>(at + static_cast<std::size_t>(lane));
       if (count == kPhongCapacity) flush();
     }
@@ -114,8 +114,10 @@ struct PhongBatch {
     if (count == 0) return;
     int padded = (count + 15) / 16 * 16;
     PhongSink& s = *sink;
-    float* const streams[] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab,
-                              s.tr, s.tg, s.tb, s.ta, s.fog, s.er, s.eg, s.eb};
+    float* const streams[] = {s.px,       s.py,       s.pz,       s.nx,       s.ny,       s.nz,
+                              s.ar,       s.ag,       s.ab,       s.carry[0], s.carry[1], s.carry[2],
+                              s.carry[3], s.carry[4], s.carry[5], s.carry[6], s.carry[7]};
+    static_assert(raster::simd::kMaxCarried == 8);
     for (float* f : streams) {
       for (int k = count; k < padded; ++k) f[k] = 0.0f;
     }
@@ -143,39 +145,33 @@ struct PhongBatch {
       return;
     }
     // The surface program's tail on the lit pixels, W at a time; the colour and alpha replace
-    // r, g, b and ta. Then blend and store in entry order.
-    // A textured draw's shader keeps the specular apart (separate specular); an untextured one sums it.
-    const bool textured = d.texture != nullptr, secondary = textured;
+    // r, g, b and carry[0]. Then blend and store in entry order.
+    const Fog& fog = *job->fog;
+    auto level0 = [](const texture::Sampler& m, const F& u, const F& v, F(&rgba)[4]) {
+      texture::simd::SampleSimd<Arch>::sample(m, u, v, F(0.0f), rgba);
+    };
     for (int k = 0; k < padded; k += W) {
       const F p[3] = {F::load_unaligned(s.r + k), F::load_unaligned(s.g + k), F::load_unaligned(s.b + k)};
       const F sec[3] = {F::load_unaligned(s.sr + k), F::load_unaligned(s.sg + k), F::load_unaligned(s.sb + k)};
-      const F t[4] = {F::load_unaligned(s.tr + k), F::load_unaligned(s.tg + k), F::load_unaligned(s.tb + k),
-                      F::load_unaligned(s.ta + k)};
-      const F e[3] = {F::load_unaligned(s.er + k), F::load_unaligned(s.eg + k), F::load_unaligned(s.eb + k)};
-      const F f = F::load_unaligned(s.fog + k);
-      F env[3];
-      if (d.environment != EnvironmentMode::none) {  // generated per pixel from the gathered position and normal
-        const F position[3] = {F::load_unaligned(s.px + k), F::load_unaligned(s.py + k), F::load_unaligned(s.pz + k)};
-        const F normal[3] = {F::load_unaligned(s.nx + k), F::load_unaligned(s.ny + k), F::load_unaligned(s.nz + k)};
-        F coords[3];
-        pixel::environment_coords(d.environment, d.environment_to_world, position, normal, coords);
-        pixel::environment_colour(d, coords, [](const texture::Sampler& m, const F& u, const F& v, F(&rgba)[4]) {
-          texture::simd::SampleSimd<Arch>::sample(m, u, v, F(0.0f), rgba);
-        }, env);
-      }
+      const F position[3] = {F::load_unaligned(s.px + k), F::load_unaligned(s.py + k), F::load_unaligned(s.pz + k)};
+      const F normal[3] = {F::load_unaligned(s.nx + k), F::load_unaligned(s.ny + k), F::load_unaligned(s.nz + k)};
+      F carried[raster::simd::kMaxCarried];
+      pixel::TailInputs<F> in;
+      in.position = position;
+      in.normal = normal;
+      pixel::uncarry(d, fog, [&](int q) { return F::load_unaligned(s.carry[q] + k); }, carried, in);
       F c[4];
-      pixel::shade_fragment(d, *job->fog, p, F(alpha), textured ? t : nullptr, d.emission ? e : nullptr,
-                            secondary ? sec : nullptr, &f, c, d.environment != EnvironmentMode::none ? env : nullptr);
+      pixel::surface_colour(d, fog, p, d.separate_specular ? sec : nullptr, F(alpha), in, level0, c);
       c[0].store_unaligned(s.r + k);
       c[1].store_unaligned(s.g + k);
       c[2].store_unaligned(s.b + k);
-      c[3].store_unaligned(s.ta + k);
+      c[3].store_unaligned(s.carry[0] + k);
     }
     for (int k = 0; k < count;) {
       const std::uint32_t p = s.pixel[k];
       if (run_at(k)) {  // W consecutive pixels: blended as vectors (the same operations per pixel)
         const F c[4] = {F::load_unaligned(s.r + k), F::load_unaligned(s.g + k), F::load_unaligned(s.b + k),
-                        F::load_unaligned(s.ta + k)};
+                        F::load_unaligned(s.carry[0] + k)};
         F dst[4];
         for (int ch = 0; ch < 4; ++ch) dst[ch] = F::load_unaligned(tile->plane[ch] + p);
         pixel::blend(d, c, dst);
@@ -183,7 +179,7 @@ struct PhongBatch {
         k += W;
         continue;
       }
-      const float c[4] = {s.r[k], s.g[k], s.b[k], s.ta[k]};
+      const float c[4] = {s.r[k], s.g[k], s.b[k], s.carry[0][k]};
       float dst[4] = {tile->plane[0][p], tile->plane[1][p], tile->plane[2][p], tile->plane[3][p]};
       pixel::blend(d, c, dst);
       for (int ch = 0; ch < 4; ++ch) tile->plane[ch][p] = dst[ch];

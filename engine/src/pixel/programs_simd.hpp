@@ -120,7 +120,7 @@ struct PhongProgram {
     for (int a = 0; a < 6; ++a) v[a] = in.over_w(a, b.fi, b.fj) * inv_w;
     PhongSink& s = *cx.phong.sink;
     float* const dst[6] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz};
-    cx.phong.gather(dst, v, b.pass, b.at);
+    cx.phong.gather(dst, v, 6, b.pass, b.at);
   }
   void end_block(const Interpolants<Arch, 6>&) {}
 };
@@ -251,8 +251,12 @@ struct SurfaceProgram {
     const F f = job.fog->mode != FogMode::none ? fog_factor(*job.fog, cw) : F(1.0f);
     F emitted[3];
     if (d.emission) emission(d, [&](const texture::Sampler& s, F(&t)[4]) { Texturing<Arch>::sample(s, uv, t); }, emitted);
+    TailInputs<F> tin;
+    tin.texel = texel;
+    tin.emitted = d.emission ? emitted : nullptr;
+    tin.fog = f;
     if (job.shading == ShadingMode::phong) {  // light at the gather's flush
-      F v[17];
+      F v[9 + raster::simd::kMaxCarried];
       const int position = d.layout.at(Varying::eye_position), normal = d.layout.at(Varying::normal);
       const int albedo = d.layout.at(Varying::albedo);
       for (int c = 0; c < 3; ++c) {
@@ -260,26 +264,18 @@ struct SurfaceProgram {
         v[3 + c] = value(normal + c);
         v[6 + c] = albedo >= 0 ? value(albedo + c) : F(1.0f);
       }
-      for (int c = 0; c < 4; ++c) v[9 + c] = texel ? texel[c] : F(1.0f);
-      v[13] = f;
-      for (int c = 0; c < 3; ++c) v[14 + c] = d.emission ? emitted[c] : F(0.0f);
+      const int n = 9 + carry(d, *job.fog, tin, v + 9);
       PhongSink& s = *cx.phong.sink;
-      float* const dst[17] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab,
-                              s.tr, s.tg, s.tb, s.ta, s.fog, s.er, s.eg, s.eb};
-      cx.phong.gather(dst, v, pass, b.at);
+      float* dst[9 + raster::simd::kMaxCarried] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab};
+      for (int k = 0; k < raster::simd::kMaxCarried; ++k) dst[9 + k] = s.carry[k];
+      cx.phong.gather(dst, v, n, pass, b.at);
       return;
     }
-    F p[3], sec[3];
-    const F* secondary = vertex_colours(job.shading, d, cx.t, value, texel != nullptr, p, sec);
-    F env[3];
-    if (d.environment != EnvironmentMode::none) {  // the vertices' texgen coordinates, interpolated
-      const int a = d.layout.at(Varying::environment);
-      const F coords[3] = {value(a), value(a + 1), value(a + 2)};
-      environment_colour(d, coords, Texturing<Arch>::level0, env);
-    }
+    F p[3], sec[3], generated[3];
+    const F* secondary = vertex_colours(job.shading, d, cx.t, value, p, sec);
+    read_tail_varyings(d, value, generated, tin);
     F c[4];
-    shade_fragment(d, *job.fog, p, alpha, texel, d.emission ? emitted : nullptr, secondary, &f, c,
-                   d.environment != EnvironmentMode::none ? env : nullptr);
+    surface_colour(d, *job.fog, p, secondary, alpha, tin, Texturing<Arch>::level0, c);
     F old[4], out[4];
     for (int ch = 0; ch < 4; ++ch) out[ch] = old[ch] = F::load_unaligned(cx.planes[ch] + b.at);
     blend(d, c, out);

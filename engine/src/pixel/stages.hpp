@@ -134,11 +134,11 @@ template <class V, class Sample>
 // kept the specular apart (a textured draw), the secondary colour s; returns s, or null when the
 // specular is in p. Flat: the triangle's colours; Gouraud: value(a) interpolates attribute a.
 template <class V, class Value>
-[[gnu::always_inline]] inline const V* vertex_colours(ShadingMode shading, const Draw& d, const raster::ScreenTriangle& t, const Value& value,
-                        bool textured, V (&p)[3], V (&s)[3]) {
+[[gnu::always_inline]] inline const V* vertex_colours(ShadingMode shading, const Draw& d, const raster::ScreenTriangle& t,
+                                                    const Value& value, V (&p)[3], V (&s)[3]) {
   if (shading == ShadingMode::flat) {
     for (int c = 0; c < 3; ++c) p[c] = V(t.flat_rgb[c]), s[c] = V(t.flat_secondary[c]);
-    return textured ? s : nullptr;
+    return d.separate_specular ? s : nullptr;
   }
   const int colour = d.layout.at(raster::Varying::front_color), second = d.layout.at(raster::Varying::front_secondary);
   for (int c = 0; c < 3; ++c) p[c] = value(colour + c);
@@ -317,19 +317,95 @@ template <class V>
   }
 }
 
-// One fragment's colour (c[0..2]) and alpha (c[3]): the texture environment on primary colour p,
-// fragment alpha a and texel t, then the environment's colour env (null: none), then the emission
-// e (null: none), then the colour sum with the secondary colour s (null: none), then fog with
-// factor f (f null: no fog).
+// --- The surface program's tail: the stages after lighting ------------------------------------
+
+// What the tail reads besides the lit colours: the inputs computed before lighting (the texel,
+// null when untextured; the emission added after the texture environment, null when none; the
+// fog factor) and what the stages look up per pixel: the varyings generated per vertex for them
+// (interpolated; read_tail_varyings) or, lit per pixel, the eye-space position and normal.
 template <class V>
-[[gnu::always_inline]] inline void shade_fragment(const Draw& d, const Fog& fog, const V (&p)[3], const V& a, const V* t,
-                                                  const V* e, const V* s, const V* f, V (&c)[4],
-                                                  const V* env = nullptr) {
-  texture_environment(d, p, a, t, c);
-  if (env) apply_environment(d, env, c);
-  if (e) add_colour(d, e, c);
+struct TailInputs {
+  const V* texel = nullptr;
+  const V* emitted = nullptr;
+  V fog = V(1.0f);
+  const V* environment = nullptr;  // Varying::environment interpolated; null: generated from position and normal
+  const V* position = nullptr;     // eye space, per pixel (Phong)
+  const V* normal = nullptr;
+};
+
+// A varying of raster::kGeneratedVaryings at a vertex with eye-space position p and normal n,
+// into out (width_of(v) floats): the environment map's texgen coordinates.
+inline void generate_at_vertex(const Draw& d, raster::Varying v, const float (&p)[3], const float (&n)[3], float* out) {
+  if (v == raster::Varying::environment) {
+    float c[3];
+    environment_coords(d.environment, d.environment_to_world, p, n, c);
+    for (int k = 0; k < 3; ++k) out[k] = c[k];
+  }
+}
+
+// The varyings generated per vertex for the tail's stages (generate_at_vertex),
+// interpolated: value(a) interpolates attribute a; `storage` holds them for `in`.
+template <class V, class Value>
+[[gnu::always_inline]] inline void read_tail_varyings(const Draw& d, const Value& value, V (&storage)[3], TailInputs<V>& in) {
+  const int a = d.layout.at(raster::Varying::environment);
+  if (a < 0) return;
+  for (int k = 0; k < 3; ++k) storage[k] = value(a + k);
+  in.environment = storage;
+}
+
+// The values a per-pixel (Phong) surface draw carries from before lighting to its tail (through
+// the PhongSink's carry streams), in this order and only those the draw uses: the texel RGBA,
+// the emission RGB, the fog factor. carried_count says how many; carry packs them into out,
+// uncarry points `in` at them again (load(k) reads carried value k into storage).
+inline int carried_count(const Draw& d, const Fog& fog) {
+  return (d.texture ? 4 : 0) + (d.emission ? 3 : 0) + (fog.mode != FogMode::none ? 1 : 0);
+}
+template <class V>
+[[gnu::always_inline]] inline int carry(const Draw& d, const Fog& fog, const TailInputs<V>& in, V* out) {
+  int n = 0;
+  if (d.texture) for (int k = 0; k < 4; ++k) out[n++] = in.texel ? in.texel[k] : V(1.0f);
+  if (d.emission) for (int k = 0; k < 3; ++k) out[n++] = in.emitted ? in.emitted[k] : V(0.0f);
+  if (fog.mode != FogMode::none) out[n++] = in.fog;
+  return n;
+}
+template <class V, class Load>
+[[gnu::always_inline]] inline void uncarry(const Draw& d, const Fog& fog, const Load& load, V (&storage)[raster::simd::kMaxCarried],
+                                           TailInputs<V>& in) {
+  int n = 0;
+  if (d.texture) {
+    in.texel = storage + n;
+    for (int k = 0; k < 4; ++k, ++n) storage[n] = load(n);
+  }
+  if (d.emission) {
+    in.emitted = storage + n;
+    for (int k = 0; k < 3; ++k, ++n) storage[n] = load(n);
+  }
+  if (fog.mode != FogMode::none) in.fog = load(n);
+}
+
+// One fragment's colour (c[0..2]) and alpha (c[3]) from its primary colour p, secondary colour s
+// (null: the specular is in p; Draw::separate_specular) and alpha a: the texture environment,
+// the environment map, the emission, the colour sum, fog. level0(sampler, s, t, rgba) samples a
+// map at level 0.
+template <class V, class Sample>
+[[gnu::always_inline]] inline void surface_colour(const Draw& d, const Fog& fog, const V (&p)[3], const V* s, const V& a,
+                                                  const TailInputs<V>& in, const Sample& level0, V (&c)[4]) {
+  texture_environment(d, p, a, in.texel, c);
+  if (d.environment != EnvironmentMode::none) {
+    V coords[3], e[3];
+    if (in.environment) {
+      for (int k = 0; k < 3; ++k) coords[k] = in.environment[k];
+    } else {
+      const V position[3] = {in.position[0], in.position[1], in.position[2]};
+      const V normal[3] = {in.normal[0], in.normal[1], in.normal[2]};
+      environment_coords(d.environment, d.environment_to_world, position, normal, coords);
+    }
+    environment_colour(d, coords, level0, e);
+    apply_environment(d, e, c);
+  }
+  if (in.emitted) add_colour(d, in.emitted, c);
   if (s) add_colour(d, s, c);
-  if (f && fog.mode != FogMode::none) apply_fog(fog, *f, c);
+  if (fog.mode != FogMode::none) apply_fog(fog, in.fog, c);
 }
 
 // The alpha a fragment will have (what the alpha test sees) without computing its colour.

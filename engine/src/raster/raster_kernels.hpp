@@ -67,6 +67,9 @@ struct Draw {
   VaryingLayout layout;  // this draw's varyings (ScreenTriangle::attr and the attribute planes)
   PixelProgram program = PixelProgram::flat;
   const texture::Sampler* texture = nullptr;  // null: untextured
+  // The lighting keeps the specular apart (GL's separate specular colour: the texture modulates
+  // the rest, the tail adds it back); the plan sets it for textured draws.
+  bool separate_specular = false;
   TextureMode texture_env = TextureMode::modulate;
   // The emission is added after the texture environment (the lighting leaves it out):
   // emission_rgb, times the RGB of emission_texture when there is one. False: none (any emission
@@ -105,16 +108,15 @@ struct Fog {
 // Per-pixel (Phong) lighting: the kernel gathers the interpolated eye-space positions and normals
 // of visible pixels into these structure-of-arrays buffers (capacity kPhongCapacity), then asks
 // `shade` to light them with the shader of `object`; the colours come back in r, g, b. Surface
-// draws also gather the albedo (vertex colours) and get the secondary colour back, and the pixel
-// program's inputs that do not depend on lighting: the texel (tr..ta), the emission (er..eb) and
-// the fog factor.
+// draws also gather the albedo (vertex colours) and get the secondary colour back, and carry the
+// inputs of their program's tail computed before lighting (pixel/stages.hpp: carry) in `carry`.
 inline constexpr int kPhongCapacity = 256;  // a multiple of the widest batch (16)
-inline constexpr int kPhongStreams = 23;
+inline constexpr int kMaxCarried = 8;
+inline constexpr int kPhongStreams = 15 + kMaxCarried;
 struct PhongSink {
   float *px, *py, *pz, *nx, *ny, *nz, *r, *g, *b;
   float *ar, *ag, *ab, *sr, *sg, *sb;  // albedo in, secondary out
-  float *tr, *tg, *tb, *ta, *fog;      // texel and fog factor (surface draws)
-  float *er, *eg, *eb;                 // emission added after the texture (Draw::emission)
+  float* carry[kMaxCarried];
   std::uint32_t* pixel;  // tile-buffer index of each entry
   void* context;
   // `padded` is `count` rounded up to 16; entries [count, padded) hold zeros.

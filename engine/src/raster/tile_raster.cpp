@@ -55,7 +55,8 @@ void level0(const texture::Sampler& sampler, float u, float v, float (&rgba)[4])
 }
 
 // Phong pixels of one triangle, lit in batches by the lighting kernel; a surface draw's pixels
-// carry their albedo, texel and fog factor, and finish the pixel program after lighting.
+// carry their albedo and the tail's inputs (pixel/stages.hpp: carry), and finish the pixel
+// program after lighting.
 class PixelBatch {
  public:
   static constexpr int kCapacity = 64;
@@ -67,12 +68,10 @@ class PixelBatch {
     n_[count_] = n;
     ++count_;
   }
-  void add_surface(std::size_t index, const Vec3& p, const Vec3& n, const Color3& albedo, const float* texel,
-                   const float* emitted, float fog) {
+  void add_surface(std::size_t index, const Vec3& p, const Vec3& n, const Color3& albedo, const simd::Draw& d,
+                   const simd::Fog& fog, const stages::TailInputs<float>& in) {
     albedo_[count_] = albedo;
-    for (int c = 0; c < 4; ++c) texel_[count_][c] = texel ? texel[c] : 1.0f;
-    for (int c = 0; c < 3; ++c) emitted_[count_][c] = emitted ? emitted[c] : 0.0f;
-    fog_[count_] = fog;
+    stages::carry(d, fog, in, carried_[count_]);
     add(index, p, n);
   }
   bool full() const { return count_ == kCapacity; }
@@ -81,8 +80,8 @@ class PixelBatch {
              TileBuffers& tile, RasterCounters& counters) {
     if (count_ == 0) return;
     const bool surface = d.program >= simd::PixelProgram::surface;
-    const bool textured = surface && d.texture != nullptr;
-    shader.shade_points(static_cast<std::size_t>(count_), p_, n_, out_, scratch_, albedo_, textured ? spec_ : nullptr);
+    const bool separate = surface && d.separate_specular;
+    shader.shade_points(static_cast<std::size_t>(count_), p_, n_, out_, scratch_, albedo_, separate ? spec_ : nullptr);
     for (int i = 0; i < count_; ++i) {
       const auto p = static_cast<std::size_t>(index_[i]);
       if (!surface) {
@@ -94,16 +93,14 @@ class PixelBatch {
       }
       const float primary[3] = {out_[i].x(), out_[i].y(), out_[i].z()};
       const float secondary[3] = {spec_[i].x(), spec_[i].y(), spec_[i].z()};
-      float env[3];
-      if (d.environment != EnvironmentMode::none) {  // generated per pixel from its position and normal
-        const float position[3] = {p_[i].x(), p_[i].y(), p_[i].z()}, normal[3] = {n_[i].x(), n_[i].y(), n_[i].z()};
-        float coords[3];
-        stages::environment_coords(d.environment, d.environment_to_world, position, normal, coords);
-        stages::environment_colour(d, coords, level0, env);
-      }
+      const float position[3] = {p_[i].x(), p_[i].y(), p_[i].z()}, normal[3] = {n_[i].x(), n_[i].y(), n_[i].z()};
+      float carried[simd::kMaxCarried];
+      stages::TailInputs<float> in;
+      in.position = position;
+      in.normal = normal;
+      stages::uncarry(d, fog, [&](int q) { return carried_[i][q]; }, carried, in);
       float c[4];
-      stages::shade_fragment(d, fog, primary, alpha, textured ? texel_[i] : nullptr, d.emission ? emitted_[i] : nullptr,
-                             textured ? secondary : nullptr, &fog_[i], c, d.environment != EnvironmentMode::none ? env : nullptr);
+      stages::surface_colour(d, fog, primary, separate ? secondary : nullptr, alpha, in, level0, c);
       float dst[4] = {tile.plane(0)[p], tile.plane(1)[p], tile.plane(2)[p], tile.plane(3)[p]};
       stages::blend(d, c, dst);
       for (int ch = 0; ch < 4; ++ch) tile.plane(ch)[p] = dst[ch];
@@ -119,9 +116,7 @@ class PixelBatch {
   std::size_t index_[kCapacity];
   Vec3 p_[kCapacity], n_[kCapacity];
   Color3 out_[kCapacity], spec_[kCapacity], albedo_[kCapacity];
-  float texel_[kCapacity][4];
-  float emitted_[kCapacity][3];
-  float fog_[kCapacity];
+  float carried_[kCapacity][simd::kMaxCarried];
   lighting::SoaScratch& scratch_;
 };
 
@@ -154,11 +149,10 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
   float* f = tile.phong.data();
   const std::size_t cap = simd::kPhongCapacity;
   simd::PhongSink sink{};
-  float** slots[simd::kPhongStreams] = {&sink.px, &sink.py, &sink.pz, &sink.nx, &sink.ny, &sink.nz, &sink.r,
-                                        &sink.g,  &sink.b,  &sink.ar, &sink.ag, &sink.ab, &sink.sr, &sink.sg,
-                                        &sink.sb, &sink.tr, &sink.tg, &sink.tb, &sink.ta, &sink.fog,
-                                        &sink.er, &sink.eg, &sink.eb};
-  for (int k = 0; k < simd::kPhongStreams; ++k) *slots[k] = f + static_cast<std::size_t>(k) * cap;
+  float** slots[15] = {&sink.px, &sink.py, &sink.pz, &sink.nx, &sink.ny, &sink.nz, &sink.r, &sink.g,
+                       &sink.b,  &sink.ar, &sink.ag, &sink.ab, &sink.sr, &sink.sg, &sink.sb};
+  for (int k = 0; k < 15; ++k) *slots[k] = f + static_cast<std::size_t>(k) * cap;
+  for (int k = 0; k < simd::kMaxCarried; ++k) sink.carry[k] = f + static_cast<std::size_t>(15 + k) * cap;
   sink.pixel = tile.phong_pixel.data();
   sink.context = &context;
   sink.shade = shade_phong;
@@ -269,29 +263,27 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
         if (!(stages::fragment_alpha(d, t.alpha, tex) >= d.alpha_cutoff)) return;  // the alpha test
         if (d.depth_write) depth[pixel] = z;
         ++counters.filled;
-        const float f = fog.mode != FogMode::none ? stages::fog_factor(fog, inv_sum) : 1.0f;
+        stages::TailInputs<float> in;
+        in.texel = tex;
+        in.fog = fog.mode != FogMode::none ? stages::fog_factor(fog, inv_sum) : 1.0f;
         float emitted[3];
-        if (d.emission) stages::emission(d, sample_at, emitted);  // added after the texture environment
+        if (d.emission) {  // added after the texture environment
+          stages::emission(d, sample_at, emitted);
+          in.emitted = emitted;
+        }
         if (job.shading == ShadingMode::phong) {
           const Color3 albedo = albedo_at >= 0 ? Color3(interp(albedo_at), interp(albedo_at + 1), interp(albedo_at + 2))
                                                : Color3(1.0f, 1.0f, 1.0f);
           batch.add_surface(pixel, Vec3(interp(position_at), interp(position_at + 1), interp(position_at + 2)),
-                            Vec3(interp(normal_at), interp(normal_at + 1), interp(normal_at + 2)), albedo, tex,
-                            d.emission ? emitted : nullptr, f);
+                            Vec3(interp(normal_at), interp(normal_at + 1), interp(normal_at + 2)), albedo, d, fog, in);
           if (batch.full()) batch.flush(shading, d, fog, t.alpha, tile, counters);
           return;
         }
-        float primary[3], secondary[3];
-        const float* sec = stages::vertex_colours(job.shading, d, t, interp, tex != nullptr, primary, secondary);
-        float env[3];
-        if (d.environment != EnvironmentMode::none) {  // the vertices' texgen coordinates, interpolated
-          const int a = layout.at(Varying::environment);
-          const float coords[3] = {interp(a), interp(a + 1), interp(a + 2)};
-          stages::environment_colour(d, coords, level0, env);
-        }
+        float primary[3], secondary[3], generated[3];
+        const float* sec = stages::vertex_colours(job.shading, d, t, interp, primary, secondary);
+        stages::read_tail_varyings(d, interp, generated, in);
         float c[4];
-        stages::shade_fragment(d, fog, primary, t.alpha, tex, d.emission ? emitted : nullptr, sec, &f, c,
-                               d.environment != EnvironmentMode::none ? env : nullptr);
+        stages::surface_colour(d, fog, primary, sec, t.alpha, in, level0, c);
         float dst[4] = {tile.plane(0)[pixel], tile.plane(1)[pixel], tile.plane(2)[pixel], tile.plane(3)[pixel]};
         stages::blend(d, c, dst);
         for (int ch = 0; ch < 4; ++ch) tile.plane(ch)[pixel] = dst[ch];

@@ -35,6 +35,11 @@ inline constexpr int kVaryingKinds = static_cast<int>(Varying::count);
 inline constexpr int kVaryingWidth[kVaryingKinds] = {3, 3, 3, 3, 3, 2, 3, 3, 3};
 constexpr int width_of(Varying v) { return kVaryingWidth[static_cast<int>(v)]; }
 
+// The varyings the pixel stages generate at the vertices from the eye-space position and normal
+// (pixel/stages.hpp: generate_at_vertex; the object set-up fills them, in this order).
+inline constexpr Varying kGeneratedVaryings[] = {Varying::environment};
+inline constexpr int kGeneratedCount = static_cast<int>(sizeof kGeneratedVaryings / sizeof kGeneratedVaryings[0]);
+
 struct VaryingLayout {
   std::int8_t offset[kVaryingKinds] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};  // first float of each varying, -1: absent
   int clipped = 0;  // floats carried through clipping
