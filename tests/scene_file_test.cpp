@@ -1,5 +1,6 @@
 // JSON scene files: a complete example, the defaults, and malformed files. Every error must name
 // the file, the line and the field.
+#include <algorithm>
 #include <filesystem>
 
 #include "test_support.hpp"
@@ -371,6 +372,29 @@ TEST(SceneFile, SurfaceFieldsAndTheirErrors) {
                "materials[0].environment.faces[5]", {"no texture named"});
   expect_error(scene(R"({ "name": "m", "environment": { "mode": "sphere" } })"), 4, "materials[0].environment.texture",
                {"missing"});
+  // A cube from one equirectangular picture: six faces appended once per picture and size.
+  Result<Scene> pano = parse(scene(R"({ "name": "m", "environment": { "mode": "cube", "texture": "t", "face_size": 8 } },
+{ "name": "n", "environment": { "mode": "cube", "texture": "t", "face_size": 8 } },
+{ "name": "o", "environment": { "mode": "cube", "texture": "t" } })"));
+  ASSERT_TRUE(pano.ok()) << pano.status().message();
+  ASSERT_EQ(pano->textures.size(), 13u);  // the picture, then two conversions of six faces
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_EQ(pano->materials[0].environment.maps[k], 1 + k);
+    EXPECT_EQ(pano->materials[1].environment.maps[k], 1 + k);
+    EXPECT_EQ(pano->materials[2].environment.maps[k], 7 + k);
+  }
+  EXPECT_EQ(pano->textures[1].width(), 8);
+  EXPECT_EQ(pano->textures[7].width(), std::max(1, pano->textures[0].width() / 4));
+  EXPECT_EQ(pano->textures[12].wrap, TextureWrap::clamp);
+  EXPECT_TRUE(validate_scene(*pano).ok());
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "cube", "texture": "t", "faces": ["t", "t", "t", "t", "t", "t"] } })"),
+               4, "materials[0].environment.faces", {"not both"});
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "sphere", "texture": "t", "face_size": 8 } })"), 4,
+               "materials[0].environment.face_size", {"equirectangular"});
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "cube", "texture": "t", "face_size": 0 } })"), 4,
+               "materials[0].environment.face_size", {"4096"});
+  expect_error(scene(R"({ "name": "m", "environment": { "mode": "cube", "texture": "x" } })"), 4,
+               "materials[0].environment.texture", {"no texture named"});
   expect_error(scene(R"({ "name": "m", "environment": { "mode": "mirror", "texture": "t" } })"), 4,
                "materials[0].environment.mode", {"sphere"});
   expect_error(scene(R"({ "name": "m", "environment": { "texture": "t" } })"), 4, "materials[0].environment.mode", {"missing"});

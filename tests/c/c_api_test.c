@@ -180,6 +180,22 @@ static void setters_change_the_picture(void) {
     bad = chrome;
     bad.environment_maps[2] = 9999;
     CHECK(facet_scene_set_material(s, red, &bad) == FACET_INVALID_ARGUMENT);
+    /* The same from an equirectangular picture: its top half white (the sky, +Y), bottom black. */
+    uint8_t pano[8 * 4 * 4];
+    for (int k = 0; k < 8 * 4; ++k) {
+      const uint8_t v = k < 16 ? 255 : 0; /* rows bottom first: the last two rows are the top */
+      pano[4 * k] = pano[4 * k + 1] = pano[4 * k + 2] = (uint8_t)(255 - v), pano[4 * k + 3] = 255;
+    }
+    uint32_t picture = 0, first = 0;
+    CHECK(facet_scene_add_texture_rgba8(s, pano, 8, 4, FACET_BILINEAR, FACET_WRAP_REPEAT, &picture) == FACET_OK);
+    CHECK(facet_scene_add_cube_from_equirect(s, picture, 4, &first) == FACET_OK && first == picture + 1);
+    facet_material pano_chrome = chrome;
+    for (int k = 0; k < 6; ++k) pano_chrome.environment_maps[k] = (int32_t)(first + (uint32_t)k);
+    CHANGES("environment from a picture", facet_scene_set_material(s, red, &pano_chrome), facet_scene_set_material(s, red, &m));
+    CHECK(facet_scene_add_cube_from_equirect(s, 9999, 4, &first) == FACET_INVALID_ARGUMENT);
+    CHECK(strstr(facet_scene_last_error(s), "texture_id") != NULL);
+    CHECK(facet_scene_add_cube_from_equirect(s, picture, 0, &first) == FACET_INVALID_ARGUMENT);
+    CHECK(strstr(facet_scene_last_error(s), "face_size") != NULL);
   }
   /* Two-sided lighting shows on back faces that are drawn: with culling off. */
   CHECK(facet_scene_set_two_sided(s, 1) == FACET_OK);

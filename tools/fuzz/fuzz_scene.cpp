@@ -40,13 +40,32 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
         const auto index = static_cast<std::int32_t>(scene->textures.size());
         scene->textures.push_back(std::move(*texture));
-        // As an environment map on every material: a sphere map, or (square) every face of a cube.
+        // As an environment map on every material: a sphere map, or (square) every face of a cube,
+        // or (not square) a cube converted from it as an equirectangular picture.
         const bool square = scene->textures.back().width() == scene->textures.back().height();
+        std::int32_t first_face = index;
+        if (!square && (size & 32)) {
+          facet::TextureOptions faces_options;
+          faces_options.filter = facet::TextureFilter::bilinear;
+          faces_options.wrap = facet::TextureWrap::clamp;
+          faces_options.memory_budget_bytes = std::uint64_t{4} << 20;
+          const int face = 1 + static_cast<int>(size % 24);
+          facet::Result<std::vector<facet::Texture>> faces =
+              facet::cube_faces_from_equirect(scene->textures.back(), face, "fuzz", faces_options);
+          if (!faces.ok()) facet::fuzz::broken("a decoded picture that cube_faces_from_equirect refuses");
+          first_face = static_cast<std::int32_t>(scene->textures.size());
+          for (auto& f : *faces) {
+            if (!facet::validate_texture(f).ok()) facet::fuzz::broken("cube_faces_from_equirect made an invalid face");
+            scene->textures.push_back(std::move(f));
+          }
+        }
         for (auto& m : scene->materials) {
           if (!(size & 16)) break;
-          m.environment.mode = square && (size & 32) ? facet::EnvironmentMode::cube : facet::EnvironmentMode::sphere;
+          m.environment.mode = size & 32 ? facet::EnvironmentMode::cube : facet::EnvironmentMode::sphere;
           for (int f = 0; f < 6; ++f) {
-            m.environment.maps[f] = m.environment.mode == facet::EnvironmentMode::cube || f == 0 ? index : facet::kNoTexture;
+            m.environment.maps[f] = m.environment.mode == facet::EnvironmentMode::cube ? first_face + (square ? 0 : f)
+                                    : f == 0                                       ? index
+                                                                                   : facet::kNoTexture;
           }
           m.environment.blend = static_cast<facet::EnvironmentBlend>((size >> 6) % 3);
         }

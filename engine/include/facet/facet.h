@@ -263,6 +263,14 @@ facet_status facet_scene_load_texture(facet_scene* scene, const char* path, face
 facet_status facet_scene_add_texture_encoded(facet_scene* scene, const void* bytes, size_t size,
                                              facet_texture_filter filter, facet_texture_wrap wrap, uint32_t* texture_id);
 
+/* The six faces of a cube environment map (+X, -X, +Y, -Y, +Z, -Z) converted from texture
+ * `texture_id`, an equirectangular (latitude-longitude) picture, each face_size texels a side
+ * (1..4096): new textures with ids *first_face_id .. *first_face_id + 5, bilinear and clamped to
+ * the edge, for facet_material.environment_maps. The picture's centre looks along -Z, its top is
+ * +Y; each face texel averages 4 x 4 bilinear reads over its footprint (docs/environment.md). */
+facet_status facet_scene_add_cube_from_equirect(facet_scene* scene, uint32_t texture_id, int face_size,
+                                               uint32_t* first_face_id);
+
 /* Replaces the scene's contents with a scene file (.json) or a model (.gltf, .glb, .obj), read
  * with a memory budget (0 = no limit). With FACET_LOAD_ALLOW_MISSING a model's missing .mtl,
  * texture or image files are warnings; with FACET_LOAD_FRAME a model without a camera gets one

@@ -82,6 +82,24 @@ Result<Texture> decode_texture(std::span<const std::uint8_t> bytes, const std::s
 // The same from a file (regular files only), refused if larger than the budget.
 Result<Texture> load_texture(const std::string& path, std::string name, const TextureOptions& options = {});
 
+// Cube maps from an equirectangular (latitude-longitude) picture: the six faces, in the order
+// +X, -X, +Y, -Y, +Z, -Z and GL's orientation (GL 2.1 table 3.21; rows bottom first, as every
+// facet texture), each face_size x face_size (1 to kEquirectMaxFace), named `name` + "+x" ... "-z",
+// made with `options` (their budget counts the faces). Picture coordinates of a direction d:
+// u = 1/2 + atan2(d.x, -d.z) / 2 pi (the picture's centre looks along -Z, +X a quarter turn to its
+// right; u wraps), v = 1/2 + asin(d.y / |d|) / pi (+Y, the picture's top, is up). Each face texel
+// is the mean of kEquirectSamples x kEquirectSamples directions spread evenly over it, each read
+// bilinearly from the picture's level 0 (v held within the first and last rows' centres, so the
+// filter never reaches across a pole), rounded to the nearest 8-bit value: a box filter over the
+// texel's footprint, which matches the picture's own resolution when face_size is about a quarter
+// of its width and averages away the rows that crowd towards the poles.
+inline constexpr int kEquirectMaxFace = 4096;
+inline constexpr int kEquirectSamples = 4;
+Result<std::vector<Texture>> cube_faces_from_equirect(const Texture& equirect, int face_size, const std::string& name,
+                                                      const TextureOptions& options = {});
+// The picture coordinates (u, v) of direction d, as cube_faces_from_equirect reads them.
+void equirect_coordinates(const double (&d)[3], double& u, double& v);
+
 // Checks that the levels and texels are consistent with the filter (as make_texture builds
 // them). `field` prefixes the error's field name.
 Status validate_texture(const Texture& texture, const std::string& field = "texture");

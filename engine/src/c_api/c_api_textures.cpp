@@ -108,4 +108,22 @@ facet_status facet_scene_add_texture_encoded(facet_scene* scene, const void* byt
   });
 }
 
+facet_status facet_scene_add_cube_from_equirect(facet_scene* scene, uint32_t texture_id, int face_size,
+                                               uint32_t* first_face_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (texture_id >= scene->scene.textures.size()) return fail(scene->error, "texture_id", "no such texture");
+    facet::TextureOptions o;
+    o.filter = facet::TextureFilter::bilinear;  // environment maps are read at level 0
+    o.wrap = facet::TextureWrap::clamp;
+    const auto first = static_cast<std::uint32_t>(scene->scene.textures.size());
+    facet::Result<std::vector<facet::Texture>> faces = facet::cube_faces_from_equirect(
+        scene->scene.textures[texture_id], face_size, "texture" + std::to_string(first), o);
+    if (!faces) return report(scene->error, faces.status());
+    for (facet::Texture& f : *faces) scene->scene.textures.push_back(std::move(f));
+    if (first_face_id) *first_face_id = first;
+    return report(scene->error, {});
+  });
+}
+
 }  // extern "C"

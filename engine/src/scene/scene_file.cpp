@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <initializer_list>
 #include <limits>
 #include <numbers>
@@ -120,7 +121,7 @@ class SceneReader : public scene_json::JsonFields {
     return opt_number(j, p, "far", c.far);
   }
 
-  Status read_material(const json& j, const std::string& p, const Scene& scene, Material& m) const {
+  Status read_material(const json& j, const std::string& p, Scene& scene, Material& m) {
     FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "alpha",
                                    "diffuse_texture", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write",
                                    "emissive_texture", "emission_after_texture", "environment"}));
@@ -186,9 +187,10 @@ class SceneReader : public scene_json::JsonFields {
   }
 
   // "environment": {"mode": "sphere" | "normal", "texture": NAME} or {"mode": "cube", "faces":
-  // [+X, -X, +Y, -Y, +Z, -Z names]}, with "strength" and "blend".
-  Status read_environment(const json& j, const std::string& p, const Scene& scene, Environment& e) const {
-    FACET_TRY(expect_object(j, p, {"mode", "texture", "faces", "strength", "blend", "dynamic", "resolution"}));
+  // [+X, -X, +Y, -Y, +Z, -Z names]} or {"mode": "cube", "texture": an equirectangular picture,
+  // "face_size": N}, with "strength" and "blend".
+  Status read_environment(const json& j, const std::string& p, Scene& scene, Environment& e) {
+    FACET_TRY(expect_object(j, p, {"mode", "texture", "faces", "face_size", "strength", "blend", "dynamic", "resolution"}));
     if (!j.contains("mode")) return invalid(child(p, "mode"), "missing (\"sphere\", \"cube\" or \"normal\")");
     std::string mode;
     FACET_TRY(read_enum(j["mode"], child(p, "mode"), {"sphere", "cube", "normal"}, mode));
@@ -198,14 +200,26 @@ class SceneReader : public scene_json::JsonFields {
       if (!e.dynamic) return invalid(child(p, "resolution"), "only a dynamic environment (\"dynamic\": true) has a resolution");
       FACET_TRY(opt_int(j, p, "resolution", 1, 4096, e.resolution));
     }
+    const bool cube_picture = e.mode == EnvironmentMode::cube && !e.dynamic && j.contains("texture");
+    if (j.contains("face_size") && !cube_picture) {
+      return invalid(child(p, "face_size"), "only a cube environment read from an equirectangular \"texture\" has a face size");
+    }
     if (e.dynamic) {
       if (e.mode != EnvironmentMode::cube) return invalid(child(p, "dynamic"), "only a cube environment is rendered from the scene");
       if (j.contains("faces") || j.contains("texture")) {
         return invalid(child(p, j.contains("faces") ? "faces" : "texture"), "a dynamic environment is rendered, not read");
       }
+    } else if (cube_picture) {
+      if (j.contains("faces")) {
+        return invalid(child(p, "faces"), "a cube environment takes \"faces\" or one equirectangular \"texture\", not both");
+      }
+      std::uint32_t index = 0;
+      FACET_TRY(find_name(j["texture"], child(p, "texture"), scene.textures, "texture", index));
+      FACET_TRY(cube_from_equirect(j, p, scene, index, e));
     } else if (e.mode == EnvironmentMode::cube) {
-      if (j.contains("texture")) return invalid(child(p, "texture"), "a cube environment takes \"faces\": six texture names");
-      if (!j.contains("faces")) return invalid(child(p, "faces"), "missing: six texture names, +X, -X, +Y, -Y, +Z, -Z");
+      if (!j.contains("faces")) {
+        return invalid(child(p, "faces"), "missing: six texture names, +X, -X, +Y, -Y, +Z, -Z (or one equirectangular \"texture\")");
+      }
       const json& faces = j["faces"];
       const std::string fp = child(p, "faces");
       if (!faces.is_array() || faces.size() != 6) return mismatch(fp, "an array of six texture names", faces);
@@ -226,6 +240,35 @@ class SceneReader : public scene_json::JsonFields {
       FACET_TRY(read_enum(j["blend"], child(p, "blend"), {"add", "modulate", "mix"}, mode));
       e.blend = mode == "add" ? EnvironmentBlend::add : mode == "modulate" ? EnvironmentBlend::modulate : EnvironmentBlend::mix;
     }
+    return {};
+  }
+
+  // The six faces converted from equirectangular texture `picture` (cube_faces_from_equirect),
+  // face_size texels a side (default: a quarter of the picture's width), appended to the scene's
+  // textures once per picture and size, counted against the memory budget.
+  Status cube_from_equirect(const json& j, const std::string& p, Scene& scene, std::uint32_t picture, Environment& e) {
+    const Texture& source = scene.textures[picture];
+    int size = std::max(1, std::min(kEquirectMaxFace, source.width() / 4));
+    FACET_TRY(opt_int(j, p, "face_size", 1, kEquirectMaxFace, size));
+    const std::uint64_t key = std::uint64_t{picture} << 32 | static_cast<std::uint32_t>(size);
+    auto [at, added] = converted_.try_emplace(key, static_cast<std::int32_t>(scene.textures.size()));
+    if (added) {
+      TextureOptions options;
+      options.filter = TextureFilter::bilinear;  // read at level 0 only (texgen has no derivatives)
+      options.wrap = TextureWrap::clamp;
+      options.memory_budget_bytes = left();
+      Result<std::vector<Texture>> faces = cube_faces_from_equirect(source, size, source.name, options);
+      if (!faces) {
+        converted_.erase(at);
+        return located(child(p, "texture"), faces.status().code(),
+                       child(p, "texture") + ": " + faces.status().message() +
+                           (faces.status().code() == ErrorCode::out_of_memory ? spent() : ""));
+      }
+      const std::uint64_t bytes = 6 * std::uint64_t{4} * static_cast<std::uint64_t>(size) * static_cast<std::uint64_t>(size);
+      FACET_TRY(reserve(child(p, "texture"), bytes, "its six cube faces (" + std::to_string(size) + "x" + std::to_string(size) + ")"));
+      for (Texture& f : *faces) scene.textures.push_back(std::move(f));
+    }
+    for (int k = 0; k < 6; ++k) e.maps[k] = at->second + k;
     return {};
   }
 
@@ -667,6 +710,7 @@ class SceneReader : public scene_json::JsonFields {
   const LoadOptions& options_;
   io::AssetFolder folder_;  // the files the scene names: in its folder (facet/assets.hpp)
   std::uint64_t used_ = 0;  // bytes of the meshes and textures read so far
+  std::map<std::uint64_t, std::int32_t> converted_;  // (picture << 32 | face size) -> its first cube face
   bool imported_camera_ = false, imported_lights_ = false;  // an import brought the camera, lights
 };
 
