@@ -338,6 +338,33 @@ if shadow_rows:
     save(fig, "shadows_speed_vs_accuracy")
     charts.append("shadows_speed_vs_accuracy")
 
+# --- 6. environment maps: per vertex against per pixel, ms per frame against error ------------------
+env_rows = [r for r in accuracy if r["kind"] == "environment"]
+if env_rows:
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    colours = {"per vertex (gouraud)": "#1f77b4", "per pixel (phong)": "#d62728"}
+    for method, colour in colours.items():
+        pts = [r for r in env_rows if r["method"] == method]
+        pts.sort(key=lambda r: int(r["item"].split("=")[1]))
+        ax.plot([r["mean_lsb"] for r in pts], [r["ms_per_frame"] for r in pts], color=colour, marker="o", label=method)
+        for r in pts:
+            if "ms_per_frame_min" in r:
+                ax.errorbar([r["mean_lsb"]], [r["ms_per_frame"]],
+                            yerr=[[r["ms_per_frame"] - r["ms_per_frame_min"]], [r["ms_per_frame_max"] - r["ms_per_frame"]]],
+                            color=colour, lw=0.7, capsize=2)
+            ax.annotate(r["item"].split("=")[1], (r["mean_lsb"], r["ms_per_frame"]), textcoords="offset points",
+                        xytext=(4, 3), fontsize=7, color=colour)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("mean error against exact reflection rays (8-bit steps)")
+    ax.set_ylabel("ms per frame (1 thread)")
+    ax.set_title(f"Environment maps: a mirror ball, cost against error (labels: segments around; simd {best})")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    save(fig, "environment_speed_vs_accuracy")
+    charts.append("environment_speed_vs_accuracy")
+
 # --- summary -----------------------------------------------------------------------------------------
 ctx = lighting["context"]
 points_rate = {}  # (method, threads) -> row, for 4 point lights on 64 Ki vertices
