@@ -264,14 +264,24 @@ TEST(Surfaces, FogFollowsGL) {
     s.fog.mode = c.mode;
     s.fog.color = fog;
     s.fog.start = c.start, s.fog.end = c.end, s.fog.density = c.density;
-    double want[3];
-    for (int k = 0; k < 3; ++k) want[k] = c.f * e[k] + (1 - c.f) * fog[k];
-    for (auto [path, isa] : every_path()) {
-      for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
-        SCOPED_TRACE(std::string(to_string(c.mode)) + " " + std::to_string(c.start) + " " + to_string(path) + " " +
-                     to_string(isa) + " " + to_string(shading));
-        const Pixel p = render_centre(s, path, shading, isa);
-        EXPECT_PIXEL_NEAR(p, step(want[0]), step(want[1]), step(want[2]), 255);
+    // Untextured, and through a one-texel texture t (modulate): a Phong draw then carries the
+    // texel beside the fog factor from before lighting to the fog stage.
+    const std::array<std::uint8_t, 4> t = {153, 255, 204, 255};
+    for (const bool textured : {false, true}) {
+      if (textured) {
+        add_uvs(s);
+        s.textures = {texture_from(1, 1, TextureFilter::nearest, [&](int, int) { return t; })};
+        s.materials.back().diffuse_texture = 0;
+      }
+      double want[3];
+      for (int k = 0; k < 3; ++k) want[k] = c.f * e[k] * (textured ? t[k] / 255.0 : 1.0) + (1 - c.f) * fog[k];
+      for (auto [path, isa] : every_path()) {
+        for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+          SCOPED_TRACE(std::string(to_string(c.mode)) + " " + std::to_string(c.start) + " " + to_string(path) + " " +
+                       to_string(isa) + " " + to_string(shading) + (textured ? " textured" : ""));
+          const Pixel p = render_centre(s, path, shading, isa);
+          EXPECT_PIXEL_NEAR(p, step(want[0]), step(want[1]), step(want[2]), 255);
+        }
       }
     }
   }
