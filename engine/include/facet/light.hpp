@@ -4,20 +4,10 @@
 
 #include <string>
 
+#include "facet/light_kinds.hpp"
 #include "facet/types.hpp"
 
 namespace facet {
-
-enum class LightType { directional, point, spot };
-
-// How a spot light fades towards the edge of its cone.
-enum class SpotShape {
-  // OpenGL: (cos angle)^exponent inside `cutoff_deg`, zero outside; cutoff 180 = no cone.
-  cutoff_exponent,
-  // D3D9 / glTF KHR_lights_punctual: 1 inside `inner_deg`, 0 outside `outer_deg`, and between them
-  // t^falloff with t the linear ramp in cos(angle) (falloff 2 is glTF's curve).
-  smooth_cone,
-};
 
 // Shadows of one light (docs/shadows.md). `raycast` is exact: a shadow ray per shaded point
 // through Intel Embree; `map` draws a shadow map (spot: one perspective face; directional: one

@@ -58,27 +58,15 @@ void copy3(T (&dst)[3], const V3<T>& v) {
   dst[2] = v.z;
 }
 
+// The SIMD kernels' method for each light's spot exponent (or smooth cone's falloff) under `tier`;
+// Schlick is a specular model, so spot exponents keep a real pow under it.
 template <class T>
-simd::LightT<T> to_simd(const EyeLight<T>& L, PowTier tier) {
-  simd::LightT<T> s;
-  s.type = L.type == LightType::directional ? simd::kDirectional : L.type == LightType::point ? simd::kPoint : simd::kSpot;
-  copy3(s.position, L.position);
-  copy3(s.to_light, L.to_light);
-  copy3(s.axis, L.spot_axis);
-  s.k0 = L.k0, s.k1 = L.k1, s.k2 = L.k2, s.inv_range = L.inv_range;
-  s.smooth_cone = L.spot_shape == SpotShape::smooth_cone ? 1 : 0;
-  s.has_cone = L.has_cone ? 1 : 0;
-  s.cos_cutoff = L.cos_cutoff;
-  s.cos_outer = L.cos_outer;
-  s.inv_cone_span = L.inv_cone_span;
-  // Schlick is a specular model; spot exponents keep a real pow.
+void resolve_spot_pows(std::vector<EyeLight<T>>& lights, PowTier tier) {
   const PowTier spot_tier = tier == PowTier::schlick ? PowTier::automatic : tier;
-  s.spot_pow = resolve_pow(static_cast<float>(s.smooth_cone ? L.spot_falloff : L.spot_exponent), spot_tier);
-  copy3(s.ambient, L.ambient);
-  copy3(s.diffuse, L.diffuse);
-  copy3(s.specular, L.specular);
-  s.shadow = L.shadow;
-  return s;
+  for (EyeLight<T>& L : lights) {
+    const T s = L.spot_shape == SpotShape::smooth_cone ? L.spot_falloff : L.spot_exponent;
+    L.spot_pow = resolve_pow(static_cast<float>(s), spot_tier);
+  }
 }
 
 }  // namespace
@@ -150,15 +138,10 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
       make_shade_params(scene, view, material, options.clamp, scalar_, features);
       remove_lights(scalar_, drop);
       same_slots(scalar_);
-      simd_lights_.clear();
-      simd_lights_d_.clear();
       simd::Params& p = simd_params_;
       p.exact_math = options.pow_tier == PowTier::exact ? 1 : 0;
-      if (p.exact_math) {
-        for (const auto& L : reference_.lights) simd_lights_d_.push_back(to_simd(L, options.pow_tier));
-      } else {
-        for (const auto& L : scalar_.lights) simd_lights_.push_back(to_simd(L, options.pow_tier));
-      }
+      resolve_spot_pows(scalar_.lights, options.pow_tier);
+      resolve_spot_pows(reference_.lights, options.pow_tier);
       copy3(p.base, scalar_.base);
       copy3(p.base_d, reference_.base);
       p.color_material = features.color_material ? 1 : 0;
@@ -169,8 +152,8 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
       p.specular_on = material.specular.isZero() ? 0 : 1;
       p.local_viewer = scalar_.local_viewer ? 1 : 0;
       p.clamp = options.clamp ? 1 : 0;
-      p.lights = simd_lights_.data();
-      p.lights_d = simd_lights_d_.data();
+      p.lights = scalar_.lights.data();  // the kernels read the same lights as the scalar path
+      p.lights_d = reference_.lights.data();
       p.light_count = static_cast<int>(scalar_.lights.size());
       break;
     }

@@ -72,8 +72,6 @@ class PointShader {
   LightingFeatures features_;
   ShadeParams<float> scalar_;
   ShadeParams<double> reference_;
-  std::vector<simd::Light> simd_lights_;     // float kernel
-  std::vector<simd::LightD> simd_lights_d_;  // the exact tier's double kernel
   simd::Params simd_params_;
   simd::ShadeFunction simd_shade_ = nullptr;
   std::size_t culled_ = 0;

@@ -23,13 +23,10 @@
 #include "facet/light.hpp"
 #include "facet/mesh.hpp"
 #include "facet/types.hpp"
+#include "lighting/simd_types.hpp"
 
 namespace facet::lighting {
 
-template <class T>
-struct V3 {
-  T x, y, z;
-};
 template <class T> V3<T> operator+(V3<T> a, V3<T> b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 template <class T> V3<T> operator-(V3<T> a, V3<T> b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 template <class T> V3<T> operator*(T s, V3<T> a) { return {s * a.x, s * a.y, s * a.z}; }
@@ -52,27 +49,6 @@ V3<T> normalize_or_zero(V3<T> v) {
 
 // NaN -> 0 (the comparison order is deliberate: NaN fails `x > 0`).
 template <class T> T clamp01(T x) { return x > T(0) ? (x < T(1) ? x : T(1)) : T(0); }
-
-// One light in eye space, with its colours already multiplied by the material's.
-template <class T>
-struct EyeLight {
-  LightType type = LightType::directional;
-  V3<T> position{};   // point, spot
-  V3<T> to_light{};   // directional: unit vector towards the light
-  V3<T> spot_axis{};  // spot: unit vector the light travels along
-  T k0 = 1, k1 = 0, k2 = 0;
-  T inv_range = 0;  // 0 = no range window
-  SpotShape spot_shape = SpotShape::cutoff_exponent;
-  bool has_cone = false;  // cutoff_exponent with cutoff < 180
-  T cos_cutoff = -1, spot_exponent = 0;
-  T cos_outer = -1, inv_cone_span = 0, spot_falloff = 0;  // smooth_cone; inv_cone_span 0 = hard edge
-  V3<T> ambient{}, diffuse{}, specular{};  // a_m a_i, d_m d_i, s_m s_i
-  int scene_light = -1;  // index in Scene::lights
-  // Shadowed: the slot of this light's visibility per point (0 in shadow, 1 lit, a filtered shadow
-  // map's edge between), which multiplies
-  // its diffuse and specular terms (never its ambient term); -1: never shadowed.
-  int shadow = -1;
-};
 
 template <class T>
 struct ShadeParams {

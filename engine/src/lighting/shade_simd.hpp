@@ -164,7 +164,7 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
   using B = xsimd::batch<T, Arch>;
   constexpr std::size_t lanes = B::size;
   const B zero(0.0f), one(1.0f);
-  const LightT<T>* lights = nullptr;
+  const EyeLight<T>* lights = nullptr;
   const T* base = nullptr;
   const T* scene_ambient = nullptr;
   const T *xf_position = nullptr, *xf_normal = nullptr;
@@ -206,13 +206,13 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
     B spr(0.0f), spg(0.0f), spb(0.0f);
 
     for (int li = 0; li < prm.light_count; ++li) {
-      const LightT<T>& L = lights[li];
+      const EyeLight<T>& L = lights[li];
       V<B> vp;
       B att = one;
-      if (L.type == kDirectional) {
-        vp = {B(L.to_light[0]), B(L.to_light[1]), B(L.to_light[2])};
+      if (L.type == LightType::directional) {
+        vp = {B(L.to_light.x), B(L.to_light.y), B(L.to_light.z)};
       } else {
-        V<B> diff{B(L.position[0]) - p.x, B(L.position[1]) - p.y, B(L.position[2]) - p.z};
+        V<B> diff{B(L.position.x) - p.x, B(L.position.y) - p.y, B(L.position.z) - p.z};
         const B d2 = dot3(diff, diff);
         B d, inv_d;
         typename B::batch_bool_type finite, has_dir;
@@ -241,15 +241,15 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
           const B w = fastmath::clamp01(one - x2 * x2);
           att *= w * w;
         }
-        if (L.type == kSpot) {
-          const B cos_angle = -dot3(vp, V<B>{B(L.axis[0]), B(L.axis[1]), B(L.axis[2])});
+        if (L.type == LightType::spot) {
+          const B cos_angle = -dot3(vp, V<B>{B(L.spot_axis.x), B(L.spot_axis.y), B(L.spot_axis.z)});
           B spot;
-          if (!L.smooth_cone) {
+          if (L.spot_shape == SpotShape::cutoff_exponent) {
             if (!L.has_cone) {
               spot = one;
             } else {
               const B factor = L.spot_pow.method == PowMethod::exact
-                                   ? pow_cos_exact(V<B>{-diff.x, -diff.y, -diff.z}, V<B>{B(L.axis[0]), B(L.axis[1]), B(L.axis[2])},
+                                   ? pow_cos_exact(V<B>{-diff.x, -diff.y, -diff.z}, V<B>{B(L.spot_axis.x), B(L.spot_axis.y), B(L.spot_axis.z)},
                                                    L.spot_pow.exponent)
                                    : pow_spot(cos_angle, L.spot_pow);
               spot = xsimd::select(cos_angle >= B(L.cos_cutoff), factor, zero);
@@ -264,7 +264,7 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
       }
       const B n_dot_l = dot3(n, vp);
       const auto lit = n_dot_l > zero;
-      B sr = B(L.ambient[0]), sg = B(L.ambient[1]), sb = B(L.ambient[2]);
+      B sr = B(L.ambient.x), sg = B(L.ambient.y), sb = B(L.ambient.z);
       // A shadowed light's visibility at each point (1 lit, 0 in shadow, between on a filtered
       // edge); only its diffuse and
       // specular terms are blocked.
@@ -273,9 +273,9 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
       if (xsimd::any(lit)) {
         B kd = xsimd::select(lit, n_dot_l, zero);
         if (shadowed) kd *= vis;
-        sr = xsimd::fma(kd, B(L.diffuse[0]), sr);
-        sg = xsimd::fma(kd, B(L.diffuse[1]), sg);
-        sb = xsimd::fma(kd, B(L.diffuse[2]), sb);
+        sr = xsimd::fma(kd, B(L.diffuse.x), sr);
+        sg = xsimd::fma(kd, B(L.diffuse.y), sg);
+        sb = xsimd::fma(kd, B(L.diffuse.z), sb);
         if (prm.specular_on) {
           const V<B> half{vp.x + eye.x, vp.y + eye.y, vp.z + eye.z};
           B pow_nh;
@@ -301,13 +301,13 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
           if (shadowed) ks *= vis;
           if (split) {
             const B aks = att * ks;
-            spr = xsimd::fma(aks, B(L.specular[0]), spr);
-            spg = xsimd::fma(aks, B(L.specular[1]), spg);
-            spb = xsimd::fma(aks, B(L.specular[2]), spb);
+            spr = xsimd::fma(aks, B(L.specular.x), spr);
+            spg = xsimd::fma(aks, B(L.specular.y), spg);
+            spb = xsimd::fma(aks, B(L.specular.z), spb);
           } else {
-            sr = xsimd::fma(ks, B(L.specular[0]), sr);
-            sg = xsimd::fma(ks, B(L.specular[1]), sg);
-            sb = xsimd::fma(ks, B(L.specular[2]), sb);
+            sr = xsimd::fma(ks, B(L.specular.x), sr);
+            sg = xsimd::fma(ks, B(L.specular.y), sg);
+            sb = xsimd::fma(ks, B(L.specular.z), sb);
           }
         }
       }

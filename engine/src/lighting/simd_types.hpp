@@ -5,6 +5,8 @@
 
 #include <cstddef>
 
+#include "facet/light_kinds.hpp"
+
 namespace facet::lighting::simd {
 
 // Widest batch (avx512: 16 floats). Streams are padded to a multiple of it: no tail loops.
@@ -20,24 +22,45 @@ struct PowSpec {
   int integer_exponent = 0;
 };
 
-enum : int { kDirectional = 0, kPoint = 1, kSpot = 2 };
+}  // namespace facet::lighting::simd
 
-// One light, set up for the kernel in T: float for every tier but exact, double for the exact tier
-// (whose kernel computes in double lanes; see shade_simd.hpp).
+namespace facet::lighting {
+
 template <class T>
-struct LightT {
-  int type = kDirectional;
-  T position[3] = {}, to_light[3] = {}, axis[3] = {};
-  T k0 = 1, k1 = 0, k2 = 0, inv_range = 0;
-  int smooth_cone = 0;  // 0: GL cutoff + exponent; 1: inner/outer ramp
-  int has_cone = 0;
-  T cos_cutoff = -1, cos_outer = -1, inv_cone_span = 0;
-  PowSpec spot_pow;
-  T ambient[3] = {}, diffuse[3] = {}, specular[3] = {};  // already times the material's
-  int shadow = -1;  // shadowed: Streams::visibility[shadow] multiplies the diffuse and specular terms
+struct V3 {
+  T x, y, z;
 };
-using Light = LightT<float>;
-using LightD = LightT<double>;
+
+// One light in eye space: the one representation the reference (T = double), scalar (float) and
+// SIMD kernels (float lanes, or double lanes for the exact tier) all read, made once per draw by
+// make_shade_params (setup.hpp). Its colours are already multiplied by the material's (GL's
+// "light products": a_m a_i, d_m d_i, s_m s_i, as Mesa's fixed-function programs precompute them),
+// because the material is the same at every point of a draw; where it is not (colour material:
+// the vertex colours), the lights carry a_i and d_i alone and the albedo enters per point.
+template <class T>
+struct EyeLight {
+  LightType type = LightType::directional;
+  V3<T> position{};   // point, spot
+  V3<T> to_light{};   // directional: unit vector towards the light
+  V3<T> spot_axis{};  // spot: unit vector the light travels along
+  T k0 = 1, k1 = 0, k2 = 0;
+  T inv_range = 0;  // 0 = no range window
+  SpotShape spot_shape = SpotShape::cutoff_exponent;
+  bool has_cone = false;  // cutoff_exponent with cutoff < 180
+  T cos_cutoff = -1, spot_exponent = 0;
+  T cos_outer = -1, inv_cone_span = 0, spot_falloff = 0;  // smooth_cone; inv_cone_span 0 = hard edge
+  simd::PowSpec spot_pow;  // the SIMD kernels' method for the spot exponent (or falloff) under the pow tier
+  V3<T> ambient{}, diffuse{}, specular{};  // a_m a_i, d_m d_i, s_m s_i
+  int scene_light = -1;  // index in Scene::lights
+  // Shadowed: the slot of this light's visibility per point (0 in shadow, 1 lit, a filtered shadow
+  // map's edge between), which multiplies its diffuse and specular terms (never its ambient
+  // term); -1: never shadowed.
+  int shadow = -1;
+};
+
+}  // namespace facet::lighting
+
+namespace facet::lighting::simd {
 
 struct Params {
   float base[3] = {};  // e_m + a_m a_scene; with color_material: e_m
@@ -54,8 +77,8 @@ struct Params {
   // 1: the exact tier's kernel, in double lanes, reading base_d, lights_d and the Transform's
   // double matrices; 0: the float kernel, reading base, lights and the float matrices.
   int exact_math = 0;
-  const Light* lights = nullptr;
-  const LightD* lights_d = nullptr;
+  const EyeLight<float>* lights = nullptr;
+  const EyeLight<double>* lights_d = nullptr;
   int light_count = 0;
 };
 
@@ -76,7 +99,7 @@ struct Streams {
   std::size_t count;
   const float *ar = nullptr, *ag = nullptr, *ab = nullptr;  // albedo: read with Params::color_material
   float *sr = nullptr, *sg = nullptr, *sb = nullptr;        // secondary: written with Params::separate_specular
-  // Shadowed lights (Light::shadow >= 0): per shadow slot, each point's visibility of that light.
+  // Shadowed lights (EyeLight::shadow >= 0): per shadow slot, each point's visibility of that light.
   const float* const* visibility = nullptr;
 };
 
