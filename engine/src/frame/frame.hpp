@@ -89,8 +89,7 @@ struct Renderer::Impl {
   std::span<const DrawUnit> units;
   std::vector<lighting::PointShader> shaders;  // one per draw
   PassDraws draws;  // the running pass's: per draw its pixel program, lighting features and faces (plan.hpp)
-  std::vector<texture::Sampler> samplers;       // one per scene texture
-  std::vector<texture::Sampler> edge_samplers;  // the same clamped to the edge (environment maps)
+  frame::SceneSamplers samplers;  // the scene's textures as the pixel programs read them (plan.hpp)
   // Dynamic environments: per reflecting object, its six faces, drawn every frame by face passes.
   struct EnvironmentCube {
     std::array<Texture, 6> faces;

@@ -369,6 +369,21 @@ RenderPass view_pass(const Camera& camera, const Scene& scene, const RenderOptio
 
 bool PassDraws::any_two_sided() const { return std::find(two_sided.begin(), two_sided.end(), 1) != two_sided.end(); }
 
+void make_samplers(const Scene& scene, SceneSamplers& out) {
+  out.as_made.resize(scene.textures.size());
+  out.clamped.resize(scene.textures.size());
+  for (std::size_t i = 0; i < scene.textures.size(); ++i) out.as_made[i] = texture::make_sampler(scene.textures[i]);
+  for (const Material& m : scene.materials) {
+    if (m.environment.mode == EnvironmentMode::none || m.environment.dynamic) continue;
+    for (const std::int32_t map : m.environment.maps) {
+      if (map == kNoTexture) continue;
+      texture::Sampler& s = out.clamped[static_cast<std::size_t>(map)];
+      s = out.as_made[static_cast<std::size_t>(map)];
+      s.wrap = static_cast<std::int32_t>(TextureWrap::clamp);
+    }
+  }
+}
+
 raster::simd::Fog plan_fog(const Fog& f) {
   raster::simd::Fog fog;
   fog.mode = f.mode;
@@ -382,8 +397,7 @@ raster::simd::Fog plan_fog(const Fog& f) {
 // colours) runs its lighting's own program (flat colour, Gouraud colour, Phong): exactly what ran
 // before surfaces existed.
 void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPass& p, std::span<const DrawUnit> units,
-                const FrameKind& kind, std::span<const texture::Sampler> samplers,
-                std::span<const texture::Sampler> edge_samplers, const DynamicCubes& cubes, PassDraws& out) {
+                const FrameKind& kind, const SceneSamplers& samplers, const DynamicCubes& cubes, PassDraws& out) {
   const Fog& f = kind.plain() ? Fog{} : kind.lights_of(scene).fog;
   const bool clamp = !(options.hdr && p.color && p.color->format == PixelFormat::rgba32f);
   const raster::LitAt lit = p.shading == ShadingMode::flat      ? raster::LitAt::triangle
@@ -420,13 +434,13 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     d = raster::simd::Draw{};
     if (p.depth_only) continue;  // no varying, no program: depth alone (every caster is opaque)
     d.layout = raster::plan_varyings(lit, out.two_sided[o] != 0, needs);
-    d.texture = textured ? &samplers[static_cast<std::size_t>(m.diffuse_texture)] : nullptr;
+    d.texture = textured ? &samplers.as_made[static_cast<std::size_t>(m.diffuse_texture)] : nullptr;
     d.separate_specular = lf.separate_specular;
     d.texture_env = m.texture_mode;
     if (emission_stage) {
       d.emission = true;
       for (int c = 0; c < 3; ++c) d.emission_rgb[c] = m.emissive[c];
-      if (emission_texture) d.emission_texture = &samplers[static_cast<std::size_t>(m.emissive_texture)];
+      if (emission_texture) d.emission_texture = &samplers.as_made[static_cast<std::size_t>(m.emissive_texture)];
     }
     if (environment) {
       d.environment = env.mode;
@@ -439,7 +453,7 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
         if (env.dynamic) {
           d.environment_map[k] = &cubes.samplers[6 * static_cast<std::size_t>(cube) + static_cast<std::size_t>(k)];
         } else if (env.maps[k] != kNoTexture) {
-          d.environment_map[k] = &edge_samplers[static_cast<std::size_t>(env.maps[k])];
+          d.environment_map[k] = &samplers.clamped[static_cast<std::size_t>(env.maps[k])];
         }
       }
     }

@@ -107,9 +107,15 @@ struct PassDraws {
 };
 // The fog of the frame's pixel programs.
 raster::simd::Fog plan_fog(const Fog& fog);
-// `samplers`: one per scene texture; `edge_samplers`: the same, clamped to the edge (environment maps).
+// The samplers the pixel programs read the scene's textures with, made once per frame
+// (make_samplers): `as_made`, one per texture, as the texture says; `clamped`, the same clamped to
+// the edge, made only for the textures that environment maps read (the others are left as they
+// were).
+struct SceneSamplers {
+  std::vector<texture::Sampler> as_made, clamped;
+};
+void make_samplers(const Scene& scene, SceneSamplers& out);
 void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPass& p, std::span<const DrawUnit> units,
-                const FrameKind& kind, std::span<const texture::Sampler> samplers,
-                std::span<const texture::Sampler> edge_samplers, const DynamicCubes& cubes, PassDraws& out);
+                const FrameKind& kind, const SceneSamplers& samplers, const DynamicCubes& cubes, PassDraws& out);
 
 }  // namespace facet::frame

@@ -196,13 +196,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     }
   }
   light_every_vertex = options.light_every_vertex;
-  samplers.resize(scene.textures.size());
-  edge_samplers.resize(scene.textures.size());
-  for (std::size_t i = 0; i < scene.textures.size(); ++i) {
-    samplers[i] = texture::make_sampler(scene.textures[i]);
-    edge_samplers[i] = samplers[i];
-    edge_samplers[i].wrap = static_cast<std::int32_t>(TextureWrap::clamp);
-  }
+  frame::make_samplers(scene, samplers);
   simd_raster = options.path == LightingPath::simd;
   simd_kernels = simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr;
   passes.clear();

@@ -12,9 +12,11 @@
 
 namespace facet::geometry {
 
-// Floats a vertex carries through clipping at most (raster/varyings.hpp: a two-sided Gouraud draw
-// with a texture, separate specular and an environment map carries 17).
-inline constexpr int kMaxAttributes = 17;
+// Floats a vertex carries through clipping at most: room for any draw's varyings (the largest
+// layout, raster/varyings.hpp, a two-sided Gouraud draw with a texture, separate specular and an
+// environment map, carries 17; varyings.hpp asserts every layout fits), with room for the stages
+// to come, so that a stage's varyings do not reach into clipping.
+inline constexpr int kMaxAttributes = 24;
 
 struct ClipVertex {
   float x, y, z, w;

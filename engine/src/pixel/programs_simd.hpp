@@ -257,11 +257,12 @@ struct SurfaceProgram {
     tin.fog = f;
     if (job.shading == ShadingMode::phong) {  // light at the gather's flush
       F v[9 + raster::simd::kMaxCarried];
-      const int position = d.layout.at(Varying::eye_position), normal = d.layout.at(Varying::normal);
-      const int albedo = d.layout.at(Varying::albedo);
+      const int position = d.layout.at(Varying::eye_position), albedo = d.layout.at(Varying::albedo);
+      F normal[3];
+      pixel_normal(d, value, normal);
       for (int c = 0; c < 3; ++c) {
         v[c] = value(position + c);
-        v[3 + c] = value(normal + c);
+        v[3 + c] = normal[c];
         v[6 + c] = albedo >= 0 ? value(albedo + c) : F(1.0f);
       }
       const int n = 9 + carry(d, *job.fog, tin, v + 9);

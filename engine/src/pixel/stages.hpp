@@ -343,6 +343,15 @@ inline void generate_at_vertex(const Draw& d, raster::Varying v, const float (&p
   }
 }
 
+// The normal a pixel lit per pixel (Phong) is lit with: the interpolated eye-space normal
+// (value(a) interpolates attribute a). Stages that perturb it before lighting (normal and bump
+// maps) belong here.
+template <class V, class Value>
+[[gnu::always_inline]] inline void pixel_normal(const Draw& d, const Value& value, V (&n)[3]) {
+  const int a = d.layout.at(raster::Varying::normal);
+  for (int c = 0; c < 3; ++c) n[c] = value(a + c);
+}
+
 // The varyings generated per vertex for the tail's stages (generate_at_vertex),
 // interpolated: value(a) interpolates attribute a; `storage` holds them for `in`.
 template <class V, class Value>
