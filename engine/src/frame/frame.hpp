@@ -115,7 +115,7 @@ struct Renderer::Impl {
     std::vector<Color3> front, back;
     std::vector<Color3> front_spec, back_spec, flat_albedo;  // textured: specular apart; flat: mean vertex colour
     std::vector<Vec3> eye_p, eye_n, centroid, face_normal;
-    std::vector<float> generated[raster::kGeneratedCount];  // raster::kGeneratedVaryings at each vertex
+    std::array<std::vector<float>, raster::kGeneratedVaryings.size()> generated;  // raster::kGeneratedVaryings at each vertex
     // Gouraud: 1 for a vertex of a triangle that may be drawn (or clipped; marked by
     // raster::place_range), and per vertex chunk the list of those vertices.
     std::vector<std::uint8_t> drawn;

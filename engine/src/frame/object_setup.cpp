@@ -12,7 +12,7 @@
 namespace facet {
 
 void Renderer::Impl::ObjectScratch::reserve_generated(std::size_t vertices) {
-  for (int g = 0; g < raster::kGeneratedCount; ++g) {
+  for (std::size_t g = 0; g < raster::kGeneratedVaryings.size(); ++g) {
     generated[g].reserve(vertices * static_cast<std::size_t>(raster::width_of(raster::kGeneratedVaryings[g])));
   }
 }
@@ -242,7 +242,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
                       q[6] * nn.x() + q[7] * nn.y() + q[8] * nn.z());
     }
   }
-  for (int g = 0; g < raster::kGeneratedCount; ++g) {
+  for (std::size_t g = 0; g < raster::kGeneratedVaryings.size(); ++g) {
     const raster::Varying v = raster::kGeneratedVaryings[g];
     if (!draw.layout.has(v)) continue;
     const auto w = static_cast<std::size_t>(raster::width_of(v));
@@ -426,7 +426,7 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   source(Varying::normal, os.eye_n);
   source(Varying::albedo, mesh.colors);
   source(Varying::uv, mesh.uvs);
-  for (int g = 0; g < raster::kGeneratedCount; ++g) source(raster::kGeneratedVaryings[g], os.generated[g]);
+  for (std::size_t g = 0; g < raster::kGeneratedVaryings.size(); ++g) source(raster::kGeneratedVaryings[g], os.generated[g]);
   vertices.flat_front = flat ? os.front.data() : nullptr;
   vertices.flat_back = flat && two_sided ? os.back.data() : nullptr;
   vertices.flat_secondary_front = flat && lf.separate_specular ? os.front_spec.data() : nullptr;

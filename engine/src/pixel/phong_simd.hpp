@@ -161,7 +161,7 @@ struct PhongBatch {
       in.normal = normal;
       pixel::uncarry(d, fog, [&](int q) { return F::load_unaligned(s.carry[q] + k); }, carried, in);
       F c[4];
-      pixel::surface_colour(d, fog, p, d.separate_specular ? sec : nullptr, F(alpha), in, level0, c);
+      pixel::surface_colour<true>(d, fog, p, d.separate_specular ? sec : nullptr, F(alpha), in, level0, c);
       c[0].store_unaligned(s.r + k);
       c[1].store_unaligned(s.g + k);
       c[2].store_unaligned(s.b + k);

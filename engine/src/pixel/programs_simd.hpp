@@ -276,7 +276,7 @@ struct SurfaceProgram {
     const F* secondary = vertex_colours(job.shading, d, cx.t, value, p, sec);
     read_tail_varyings(d, value, generated, tin);
     F c[4];
-    surface_colour(d, *job.fog, p, secondary, alpha, tin, Texturing<Arch>::level0, c);
+    surface_colour<false>(d, *job.fog, p, secondary, alpha, tin, Texturing<Arch>::level0, c);
     F old[4], out[4];
     for (int ch = 0; ch < 4; ++ch) out[ch] = old[ch] = F::load_unaligned(cx.planes[ch] + b.at);
     blend(d, c, out);

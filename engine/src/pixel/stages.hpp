@@ -395,14 +395,16 @@ template <class V, class Load>
 // One fragment's colour (c[0..2]) and alpha (c[3]) from its primary colour p, secondary colour s
 // (null: the specular is in p; Draw::separate_specular) and alpha a: the texture environment,
 // the environment map, the emission, the colour sum, fog. level0(sampler, s, t, rgba) samples a
-// map at level 0.
-template <class V, class Sample>
+// map at level 0. kPerPixel: lit per pixel (the stages may look up the eye-space position and
+// normal); otherwise only the interpolated varyings (the per-vertex programs carry none of the
+// per-pixel stages' code).
+template <bool kPerPixel, class V, class Sample>
 [[gnu::always_inline]] inline void surface_colour(const Draw& d, const Fog& fog, const V (&p)[3], const V* s, const V& a,
                                                   const TailInputs<V>& in, const Sample& level0, V (&c)[4]) {
   texture_environment(d, p, a, in.texel, c);
   if (d.environment != EnvironmentMode::none) {
     V coords[3], e[3];
-    if (in.environment) {
+    if constexpr (!kPerPixel) {
       for (int k = 0; k < 3; ++k) coords[k] = in.environment[k];
     } else {
       const V position[3] = {in.position[0], in.position[1], in.position[2]};

@@ -100,7 +100,7 @@ class PixelBatch {
       in.normal = normal;
       stages::uncarry(d, fog, [&](int q) { return carried_[i][q]; }, carried, in);
       float c[4];
-      stages::surface_colour(d, fog, primary, separate ? secondary : nullptr, alpha, in, level0, c);
+      stages::surface_colour<true>(d, fog, primary, separate ? secondary : nullptr, alpha, in, level0, c);
       float dst[4] = {tile.plane(0)[p], tile.plane(1)[p], tile.plane(2)[p], tile.plane(3)[p]};
       stages::blend(d, c, dst);
       for (int ch = 0; ch < 4; ++ch) tile.plane(ch)[p] = dst[ch];
@@ -285,7 +285,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
         const float* sec = stages::vertex_colours(job.shading, d, t, interp, primary, secondary);
         stages::read_tail_varyings(d, interp, generated, in);
         float c[4];
-        stages::surface_colour(d, fog, primary, sec, t.alpha, in, level0, c);
+        stages::surface_colour<false>(d, fog, primary, sec, t.alpha, in, level0, c);
         float dst[4] = {tile.plane(0)[pixel], tile.plane(1)[pixel], tile.plane(2)[pixel], tile.plane(3)[pixel]};
         stages::blend(d, c, dst);
         for (int ch = 0; ch < 4; ++ch) tile.plane(ch)[pixel] = dst[ch];

@@ -11,6 +11,7 @@
 // inline function compiled with different ISA flags, and the wider copy may run on a CPU without it).
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "geometry/clip.hpp"
@@ -37,8 +38,7 @@ constexpr int width_of(Varying v) { return kVaryingWidth[static_cast<int>(v)]; }
 
 // The varyings the pixel stages generate at the vertices from the eye-space position and normal
 // (pixel/stages.hpp: generate_at_vertex; the object set-up fills them, in this order).
-inline constexpr Varying kGeneratedVaryings[] = {Varying::environment};
-inline constexpr int kGeneratedCount = static_cast<int>(sizeof kGeneratedVaryings / sizeof kGeneratedVaryings[0]);
+inline constexpr std::array<Varying, 1> kGeneratedVaryings = {Varying::environment};
 
 struct VaryingLayout {
   std::int8_t offset[kVaryingKinds] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};  // first float of each varying, -1: absent
