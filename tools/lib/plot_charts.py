@@ -358,7 +358,7 @@ if env_rows:
     ax.set_yscale("log")
     ax.set_xlabel("mean error against exact reflection rays (8-bit steps)")
     ax.set_ylabel("ms per frame (1 thread)")
-    ax.set_title(f"Environment maps: a mirror ball, cost against error (labels: segments around; simd {best})")
+    ax.set_title(f"Environment maps on a mirror ball (labels: segments; simd {best})")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
