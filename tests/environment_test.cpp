@@ -334,6 +334,41 @@ TEST(Environment, BlendsAsDocumented) {
   EXPECT_NEAR(mix[1], 255 * c * (1 - k), 1.0);
 }
 
+// Maps are read clamped to the edge whatever the texture's wrap mode: a 2 x 1 normal map (left
+// texel black, right white) made to repeat, on a quad whose normals lean 60 degrees towards +x,
+// reads s = 1/2 + sin 60 / 2 = 0.93, in the right texel's outer half: white when clamped, a third
+// black when the filter wraps round to the left texel.
+TEST(Environment, MapsAreClampedToTheEdge) {
+  Scene s = test::camera_scene();
+  test::add_quad(s, -5, -5, 5, 5, -3, Color3(0.2f, 0.2f, 0.2f));
+  const float lean = std::sin(60.0f * float(M_PI) / 180.0f);
+  s.meshes.back().mesh.normals.assign(4, Vec3(lean, 0.0f, 0.5f));
+  const std::uint8_t texels[8] = {0, 0, 0, 255, 255, 255, 255, 255};
+  TextureOptions o;
+  o.filter = TextureFilter::bilinear;
+  o.wrap = TextureWrap::repeat;
+  Result<Texture> map = make_texture("lean", 2, 1, texels, o);
+  ASSERT_TRUE(map.ok());
+  s.textures.push_back(std::move(*map));
+  Environment& e = s.materials.back().environment;
+  e.mode = EnvironmentMode::normal;
+  e.maps[0] = 0;
+  e.blend = EnvironmentBlend::mix;
+  e.strength = 1.0f;
+  for (const ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+    for (const LightingPath path : {LightingPath::scalar, LightingPath::simd}) {
+      SCOPED_TRACE(std::string(to_string(shading)) + " " + to_string(path));
+      Canvas c(32, 32);
+      RenderOptions opt;
+      opt.shading = shading;
+      opt.path = path;
+      Renderer r;
+      ASSERT_TRUE(r.render(s, opt, c.view()).ok());
+      EXPECT_GE(c.byte(16, 16, 0), 254);
+    }
+  }
+}
+
 TEST(Environment, ValidationNamesTheField) {
   Scene s = mirror_ball(4, 12);
   s.materials[0].environment.maps[3] = kNoTexture;

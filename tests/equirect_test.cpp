@@ -117,6 +117,29 @@ TEST(EquirectToCube, PolesAndOneTexelFacesAreTheMeansOfTheirFaces) {
       for (int i = 0; i < 5; ++i) EXPECT_EQ(texel(face, i, j), (std::array<int, 4>{10, 200, 30, 128}));
 }
 
+TEST(EquirectToCube, NeverFiltersAcrossAPole) {
+  // The picture's top half white, its bottom half black (4 rows: row centres at latitudes +-22.5
+  // and +-67.5 degrees): every direction of the +Y face reads white rows only and every direction
+  // of the -Y face black ones, so a filter that wrapped over a pole would show.
+  std::vector<std::uint8_t> rgba(8 * 4 * 4);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 8; ++x) {
+      std::uint8_t* p = &rgba[static_cast<std::size_t>(y * 8 + x) * 4];
+      p[0] = p[1] = p[2] = y < 2 ? 255 : 0;  // top row first
+      p[3] = 255;
+    }
+  Result<Texture> picture = make_texture("poles", 8, 4, rgba);
+  ASSERT_TRUE(picture.ok());
+  Result<std::vector<Texture>> faces = cube_faces_from_equirect(*picture, 16, "poles");
+  ASSERT_TRUE(faces.ok());
+  for (int j = 0; j < 16; ++j) {
+    for (int i = 0; i < 16; ++i) {
+      EXPECT_EQ(texel((*faces)[2], i, j)[0], 255) << i << ", " << j;
+      EXPECT_EQ(texel((*faces)[3], i, j)[0], 0) << i << ", " << j;
+    }
+  }
+}
+
 TEST(EquirectToCube, CoordinatesOfTheAxes) {
   auto at = [](double x, double y, double z) {
     const double d[3] = {x, y, z};
