@@ -364,11 +364,9 @@ template <class V, class Value>
 
 // The values a per-pixel (Phong) surface draw carries from before lighting to its tail (through
 // the PhongSink's carry streams), in this order and only those the draw uses: the texel RGBA,
-// the emission RGB, the fog factor. carried_count says how many; carry packs them into out,
-// uncarry points `in` at them again (load(k) reads carried value k into storage).
-inline int carried_count(const Draw& d, const Fog& fog) {
-  return (d.texture ? 4 : 0) + (d.emission ? 3 : 0) + (fog.mode != FogMode::none ? 1 : 0);
-}
+// the emission RGB, the fog factor. carry packs them into out and says how many; uncarry points
+// `in` at them again (load(k) reads carried value k into storage).
+static_assert(4 + 3 + 1 <= raster::simd::kMaxCarried, "the sink has a stream for every carried value");
 template <class V>
 [[gnu::always_inline]] inline int carry(const Draw& d, const Fog& fog, const TailInputs<V>& in, V* out) {
   int n = 0;
