@@ -52,23 +52,12 @@ std::array<std::uint8_t, 4> sky(const Eigen::Vector3d& d) {
 
 // The double-precision twin: GL's reflection and cube-face selection, then the reference sampler.
 struct Exact {
-  std::vector<texture::Sampler> faces;
+  texture::Sampler faces[6];
   Eigen::Matrix3d to_world = Eigen::Matrix3d::Identity();
   Eigen::Vector3d colour(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const {
     const Eigen::Vector3d u = p.normalized(), nn = n.normalized();
     const Eigen::Vector3d r = to_world * (u - 2.0 * nn * nn.dot(u));
-    const Eigen::Vector3d a = r.cwiseAbs();
-    int f;
-    double sc, tc, ma;
-    if (a.x() >= a.y() && a.x() >= a.z()) {
-      f = r.x() >= 0 ? 0 : 1, sc = r.x() >= 0 ? -r.z() : r.z(), tc = -r.y(), ma = a.x();
-    } else if (a.y() >= a.z()) {
-      f = r.y() >= 0 ? 2 : 3, sc = r.x(), tc = r.y() >= 0 ? r.z() : -r.z(), ma = a.y();
-    } else {
-      f = r.z() >= 0 ? 4 : 5, sc = r.z() >= 0 ? r.x() : -r.x(), tc = -r.y(), ma = a.z();
-    }
-    const double s = 0.5 * (sc / ma + 1), t = 0.5 * (1 - tc / ma);
-    const auto c = texture::sample_reference(faces[static_cast<std::size_t>(f)], s, t, 0.0);
+    const auto c = texture::sample_cube_reference(faces, r.x(), r.y(), r.z());
     return {c[0], c[1], c[2]};
   }
 };
@@ -113,7 +102,7 @@ Errors against_exact(const Scene& s, ShadingMode shading, LightingPath path = Li
   Renderer r;
   EXPECT_TRUE(r.render(s, o, c.view()).ok());
   Exact exact;
-  for (std::size_t f = 0; f < 6; ++f) exact.faces.push_back(texture::make_sampler(s.textures[f]));
+  for (std::size_t f = 0; f < 6; ++f) exact.faces[f] = texture::make_sampler(s.textures[f]);
   const double fov = s.camera.vertical_fov_deg * M_PI / 180.0, k = std::tan(0.5 * fov);
   const Eigen::Vector3d eye = s.camera.eye.cast<double>();
   const Eigen::Vector3d centre = s.objects[0].model.cast<double>().topRightCorner<3, 1>();

@@ -967,25 +967,15 @@ Status environment_accuracy(bool quick, std::vector<Row>& rows) {
   for (int f = 0; f < 6; ++f) m.environment.maps[f] = f;
   s.materials.push_back(m);
   s.objects.push_back({});
-  std::vector<texture::Sampler> faces;
-  for (const Texture& t : s.textures) faces.push_back(texture::make_sampler(t));
+  texture::Sampler faces[6];
+  for (int f = 0; f < 6; ++f) faces[f] = texture::make_sampler(s.textures[static_cast<std::size_t>(f)]);
   const Eigen::Matrix3d to_eye = view_matrix(s.camera).cast<double>().topLeftCorner<3, 3>();
   const Eigen::Vector3d eye = s.camera.eye.cast<double>();
   const double k = std::tan(0.5 * s.camera.vertical_fov_deg * std::numbers::pi / 180.0);
   auto exact = [&](const Eigen::Vector3d& hit) {  // world space; the unit sphere's normal is hit
     const Eigen::Vector3d u = (hit - eye).normalized(), n = hit.normalized();
     const Eigen::Vector3d r = u - 2.0 * n * n.dot(u);
-    const Eigen::Vector3d a = r.cwiseAbs();
-    int f;
-    double sc, tc, ma;
-    if (a.x() >= a.y() && a.x() >= a.z()) {
-      f = r.x() >= 0 ? 0 : 1, sc = r.x() >= 0 ? -r.z() : r.z(), tc = -r.y(), ma = a.x();
-    } else if (a.y() >= a.z()) {
-      f = r.y() >= 0 ? 2 : 3, sc = r.x(), tc = r.y() >= 0 ? r.z() : -r.z(), ma = a.y();
-    } else {
-      f = r.z() >= 0 ? 4 : 5, sc = r.z() >= 0 ? r.x() : -r.x(), tc = -r.y(), ma = a.z();
-    }
-    return texture::sample_reference(faces[static_cast<std::size_t>(f)], 0.5 * (sc / ma + 1), 0.5 * (1 - tc / ma), 0.0);
+    return texture::sample_cube_reference(faces, r.x(), r.y(), r.z());
   };
   const std::vector<int> tessellations = quick ? std::vector<int>{24, 96} : std::vector<int>{12, 24, 48, 96, 192};
   for (const int segments : tessellations) {

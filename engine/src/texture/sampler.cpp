@@ -172,4 +172,18 @@ std::array<double, 4> sample_reference(const Sampler& s, double u, double v, dou
   return sample<double>(s, u, v, lambda);
 }
 
+std::array<double, 4> sample_cube_reference(const Sampler (&faces)[6], double rx, double ry, double rz) noexcept {
+  const double ax = std::abs(rx), ay = std::abs(ry), az = std::abs(rz);
+  int f;
+  double sc, tc, ma;
+  if (ax >= ay && ax >= az) {
+    f = rx >= 0 ? 0 : 1, sc = rx >= 0 ? -rz : rz, tc = -ry, ma = ax;
+  } else if (ay >= az) {
+    f = ry >= 0 ? 2 : 3, sc = rx, tc = ry >= 0 ? rz : -rz, ma = ay;
+  } else {
+    f = rz >= 0 ? 4 : 5, sc = rz >= 0 ? rx : -rx, tc = -ry, ma = az;
+  }
+  return sample<double>(faces[f], 0.5 * (sc / ma + 1), 0.5 * (1 - tc / ma), 0.0);
+}
+
 }  // namespace facet::texture

@@ -67,5 +67,10 @@ double lod_reference(const Sampler& s, double dsdx, double dtdx, double dsdy, do
 // RGBA in [0, 1] at (s, t) with level of detail lambda (ignored unless trilinear).
 std::array<float, 4> sample_scalar(const Sampler& s, float u, float v, float lambda) noexcept;
 std::array<double, 4> sample_reference(const Sampler& s, double u, double v, double lambda) noexcept;
+// The double-precision twin of a cube-map lookup (the pixel stages' cube_face, pixel/stages.hpp):
+// the face of direction r's major axis and its (s, t) by GL 2.1 table 3.21 (ties: x before y
+// before z; t from the face's bottom row), read from faces[0..5] (+X, -X, +Y, -Y, +Z, -Z) at
+// level 0.
+std::array<double, 4> sample_cube_reference(const Sampler (&faces)[6], double rx, double ry, double rz) noexcept;
 
 }  // namespace facet::texture
