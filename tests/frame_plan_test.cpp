@@ -140,6 +140,34 @@ TEST(FramePlan, LightsToDropUsesRangeAndTheAttenuationBudget) {
   EXPECT_FALSE(drop[4]);
 }
 
+// A linear-range light is zero from d = max + min on: dropped there, kept inside, its bound the
+// attenuation at the sphere's nearest point.
+TEST(FramePlan, LightsToDropUsesTheLinearRange) {
+  Scene s = test::camera_scene();
+  Material m;
+  m.ambient = m.diffuse = m.specular = Color3(1, 1, 1);
+  auto point = [](float min, float max) {
+    Light l;
+    l.type = LightType::point;
+    l.position = Vec3(0, 0, -20);
+    l.attenuation_model = AttenuationModel::linear_range;
+    l.range_min = min, l.range_max = max;
+    l.ambient = Color3(0.1f, 0.1f, 0.1f);
+    return l;
+  };
+  s.lights = {point(1, 8), point(1, 8.5f), point(0, 9), point(4.5f, 4.5f)};
+  const auto params = lighting::make_shade_params<double>(s, Eigen::Matrix4d::Identity(), m, true);
+  const lighting::EyeSphere sphere{Eigen::Vector3d(0, 0, -10), 1.0};  // d_min 9
+  std::vector<bool> drop;
+  std::vector<lighting::CullCandidate> scratch;
+  lighting::lights_to_drop(params, sphere, lighting::kLightCullBudget, drop, scratch);
+  ASSERT_EQ(drop.size(), 4u);
+  EXPECT_TRUE(drop[0]) << "zero from 9 on";
+  EXPECT_FALSE(drop[1]) << "zero from 9.5 on: bound 2.1 * 0.5 / 8.5";
+  EXPECT_TRUE(drop[2]) << "min 0, max 9: zero from 9 on";
+  EXPECT_TRUE(drop[3]) << "min = max = 4.5: zero from 9 on";
+}
+
 // The attenuation budget is spent in full and never overspent: four lights each bounded by 0.3
 // of it, unattenuated (denominator 1), so three are dropped (0.9) and the fourth would cross it.
 TEST(FramePlan, LightsToDropNeverSpendsMoreThanTheBudget) {

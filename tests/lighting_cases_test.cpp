@@ -322,6 +322,53 @@ TEST_P(LightingCase, RangeWindow) {
   EXPECT_GREY(front(kOrigin, kFacingEye), 0.0);
 }
 
+// Seed 003's linear range: clamp((max - d + min) / max, 0, 1), d = 5 here.
+TEST_P(LightingCase, LinearRangeAttenuation) {
+  material().diffuse = Color3::Ones();
+  Light l = point_at(Vec3(0, 0, 2));
+  l.attenuation_model = AttenuationModel::linear_range;
+  l.range_min = 1, l.range_max = 8;
+  scene.lights.push_back(l);
+  EXPECT_GREY(front(kOrigin, kFacingEye), 0.5);  // (8 - 5 + 1) / 8
+  scene.lights[0].range_min = 6, scene.lights[0].range_max = 10;  // 1.1: clamped
+  EXPECT_GREY(front(kOrigin, kFacingEye), 1.0);
+  scene.lights[0].range_min = 3, scene.lights[0].range_max = 3;  // min = max: (3 - 5 + 3) / 3
+  EXPECT_GREY(front(kOrigin, kFacingEye), 1.0 / 3.0);
+  scene.lights[0].range_min = 1, scene.lights[0].range_max = 4;  // d = max + min: nothing
+  EXPECT_GREY(front(kOrigin, kFacingEye), 0.0);
+  scene.lights[0].range_min = 0, scene.lights[0].range_max = 2;  // beyond: nothing, not negative
+  EXPECT_GREY(front(kOrigin, kFacingEye), 0.0);
+  scene.lights[0].constant_attenuation = 100;  // GL's coefficients are not read
+  scene.lights[0].range_min = 1, scene.lights[0].range_max = 8;
+  EXPECT_GREY(front(kOrigin, kFacingEye), 0.5);
+}
+
+// Phong's lobe: R = 2 (n.L) n - L mirrors L = unit(0, 1, 1) about n = z to unit(0, -1, 1), 45
+// degrees from V = z, so (R.V)^10 = 2^-5, where Blinn's half vector (22.5 degrees) gives 0.453.
+TEST_P(LightingCase, PhongLobeOnReflectionAndView) {
+  material().specular = Color3(1.0f, 0.5f, 0.25f);
+  material().shininess = 10;
+  material().specular_model = SpecularModel::phong;
+  scene.viewer = ViewerMode::infinite;
+  scene.lights.push_back(directional_towards(Vec3(0, 1, 1)));
+  EXPECT_COLOR(front(kOrigin, kFacingEye), 1.0 / 32, 0.5 / 32, 0.25 / 32);
+}
+
+// R.V < 0 on the lit side (a local viewer on the light's side of a grazing light) counts as 0:
+// no highlight at shininess 10, and 0^0 = 1 at shininess 0, as Blinn's lobe gives.
+TEST_P(LightingCase, PhongLobeNegativeReflectionCountsAsZero) {
+  material().specular = Color3::Ones();
+  material().diffuse = Color3::Zero();
+  material().specular_model = SpecularModel::phong;
+  material().shininess = 10;
+  scene.viewer = ViewerMode::local;
+  scene.lights.push_back(directional_towards(Vec3(-1, 0, 0.1f)));
+  // V = (3, 0, -4): unit(V -> eye) = (-0.6, 0, 0.8); R = (0.995, 0, 0.0995): R.V = -0.517.
+  EXPECT_GREY(front(Vec3(3, 0, -4), kFacingEye), 0.0);
+  material().shininess = 0;
+  EXPECT_GREY(front(Vec3(3, 0, -4), kFacingEye), 1.0);
+}
+
 TEST_P(LightingCase, DisabledLightContributesNothing) {
   material().diffuse = Color3::Ones();
   material().ambient = Color3::Ones();

@@ -212,6 +212,29 @@ TEST(SceneFile, SpotFieldsOfBothShapes) {
                "lights[0].spot", {"not both"});
 }
 
+TEST(SceneFile, LinearRangeAttenuationAndPhongLobe) {
+  Result<Scene> s = parse(R"({"lights": [{"type": "point", "attenuation": {"model": "linear_range", "min": 1, "max": 8}}],
+    "materials": [{"name": "m", "specular_model": "phong"}, {"name": "n"}]})");
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  EXPECT_EQ(s->lights[0].attenuation_model, AttenuationModel::linear_range);
+  EXPECT_EQ(s->lights[0].range_min, 1.0f);
+  EXPECT_EQ(s->lights[0].range_max, 8.0f);
+  EXPECT_EQ(s->materials[0].specular_model, SpecularModel::phong);
+  EXPECT_EQ(s->materials[1].specular_model, SpecularModel::blinn);  // the default
+  expect_error("{\"lights\": [{\"type\": \"point\",\n \"attenuation\": {\"model\": \"linear_range\", \"min\": 1}}]}", 2,
+               "lights[0].attenuation.max", {"missing"});
+  expect_error("{\"lights\": [{\"type\": \"point\",\n \"attenuation\": {\"model\": \"linear_range\", \"min\": 9, \"max\": 8}}]}", 2,
+               "lights[0].attenuation.min", {"[0, 8]", "found 9"});
+  expect_error("{\"lights\": [{\"type\": \"point\",\n \"attenuation\": {\"model\": \"linear_range\", \"max\": 0}}]}", 2,
+               "lights[0].attenuation.max", {"(0, 1e+30]", "found 0"});
+  expect_error("{\"lights\": [{\"type\": \"point\",\n \"attenuation\": {\"model\": \"linear_range\", \"max\": 4, \"quadratic\": 1}}]}", 2,
+               "lights[0].attenuation.quadratic", {"not GL's coefficients"});
+  expect_error("{\"lights\": [{\"type\": \"point\",\n \"attenuation\": {\"max\": 4}}]}", 2,
+               "lights[0].attenuation.max", {"only the linear_range model"});
+  expect_error("{\"materials\": [\n {\"specular_model\": \"cook-torrance\"}]}", 2, "materials[0].specular_model",
+               {"one of \"blinn, phong\""});
+}
+
 TEST(SceneFile, UnknownLightType) {
   expect_error("{\"lights\": [\n{\"type\": \"lamp\"}]}", 2, "lights[0].type",
                {"one of \"directional, point, spot\"", "found string 'lamp'"});

@@ -649,6 +649,12 @@ int main(void) {
     CHECK(facet_scene_add_object(e, mesh_e, mat_a, NULL, NULL) == FACET_INVALID_ARGUMENT); /* removed */
     blue.diffuse[1] = 1;
     CHECK(facet_scene_set_material(e, mat_b, &blue) == FACET_OK);
+    CHECK(blue.specular_model == FACET_SPECULAR_BLINN);
+    blue.specular_model = FACET_SPECULAR_PHONG;
+    CHECK(facet_scene_set_material(e, mat_b, &blue) == FACET_OK);
+    blue.specular_model = (facet_specular_model)3;
+    CHECK(facet_scene_set_material(e, mat_b, &blue) == FACET_INVALID_ARGUMENT);
+    blue.specular_model = FACET_SPECULAR_PHONG;
     blue.shininess = -1;
     CHECK(facet_scene_set_material(e, mat_b, &blue) == FACET_INVALID_ARGUMENT);
     /* Lights: update (a smooth cone, a range, disabled) and remove by id. */
@@ -662,6 +668,19 @@ int main(void) {
     spot.spot_inner_deg = 30; /* inner > outer */
     CHECK(facet_scene_set_light(e, light_b, &spot) == FACET_INVALID_ARGUMENT);
     spot.spot_inner_deg = 10;
+    /* The linear min/max range: max must be > 0, min within [0, max]; an unknown model is refused. */
+    CHECK(spot.attenuation_model == FACET_ATTENUATION_GL);
+    spot.attenuation_model = FACET_ATTENUATION_LINEAR_RANGE;
+    CHECK(facet_scene_set_light(e, light_b, &spot) == FACET_INVALID_ARGUMENT); /* max 0 */
+    CHECK(strstr(facet_scene_last_error(e), "attenuation.max") != NULL);
+    spot.range_min = 1, spot.range_max = 8;
+    CHECK(facet_scene_set_light(e, light_b, &spot) == FACET_OK);
+    spot.range_min = 9;
+    CHECK(facet_scene_set_light(e, light_b, &spot) == FACET_INVALID_ARGUMENT);
+    spot.range_min = 1;
+    spot.attenuation_model = (facet_attenuation_model)5;
+    CHECK(facet_scene_set_light(e, light_b, &spot) == FACET_INVALID_ARGUMENT);
+    spot.attenuation_model = FACET_ATTENUATION_LINEAR_RANGE;
     spot.enabled = 0;
     CHECK(facet_scene_set_light(e, light_b, &spot) == FACET_OK);
     CHECK(facet_scene_remove_light(e, light_a) == FACET_OK);

@@ -370,6 +370,14 @@ int check(const CheckState& st) {
     std::printf("  dynamic environments: %zu objects, 6 face passes each every frame (%zu KiB of faces)\n", dynamic,
                 (dynamic_bytes + 1023) / 1024);
   }
+  std::size_t phong_lobes = 0, linear_range = 0;
+  for (const Material& m : scene->materials) phong_lobes += m.specular_model == SpecularModel::phong;
+  for (const Light& l : scene->lights) linear_range += l.type != LightType::directional && l.attenuation_model == AttenuationModel::linear_range;
+  if (phong_lobes + linear_range > 0) {
+    std::printf("  lighting: %zu materials on Phong's R.V lobe (the rest Blinn's n.h), %zu lights with linear "
+                "min/max range attenuation (each costs nothing beyond max + min)\n",
+                phong_lobes, linear_range);
+  }
   return 0;
 }
 

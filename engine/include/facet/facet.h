@@ -105,6 +105,9 @@ typedef struct facet_render_config {
   facet_depth_mode depth_mode;
 } facet_render_config;
 
+/* The specular lobe (facet::SpecularModel): Blinn's n.h (GL's) or Phong's R.V. */
+typedef enum facet_specular_model { FACET_SPECULAR_BLINN = 0, FACET_SPECULAR_PHONG = 1 } facet_specular_model;
+
 typedef struct facet_material {
   float emissive[3], ambient[3], diffuse[3], specular[3];
   float shininess; /* [0, 4096] */
@@ -128,6 +131,7 @@ typedef struct facet_material {
   facet_environment_blend environment_blend; /* default FACET_ENVIRONMENT_ADD */
   int environment_dynamic;    /* cube only, non-zero: the faces are rendered from the scene every frame (maps -1) */
   int environment_resolution; /* dynamic: face size in pixels, 1..4096, default 128 */
+  facet_specular_model specular_model; /* default FACET_SPECULAR_BLINN */
 } facet_material;
 
 typedef struct facet_fog {
@@ -151,6 +155,11 @@ typedef enum facet_shadow_filter {
   FACET_SHADOW_PCF3X3 = 2,
   FACET_SHADOW_PCF5X5 = 3
 } facet_shadow_filter;
+
+typedef enum facet_attenuation_model {
+  FACET_ATTENUATION_GL = 0,
+  FACET_ATTENUATION_LINEAR_RANGE = 1
+} facet_attenuation_model;
 
 typedef struct facet_light {
   facet_light_type type;
@@ -177,6 +186,11 @@ typedef struct facet_light {
    * spot_inner_deg, 0 outside spot_outer_deg, t^spot_falloff between (falloff 2 is glTF's) */
   int spot_smooth;
   float spot_inner_deg, spot_outer_deg, spot_falloff;
+  /* point, spot: FACET_ATTENUATION_GL (default: the three coefficients above) or
+   * FACET_ATTENUATION_LINEAR_RANGE: clamp((range_max - d + range_min) / range_max, 0, 1), with
+   * 0 <= range_min <= range_max and 0 < range_max <= 1e30 (facet::AttenuationModel) */
+  facet_attenuation_model attenuation_model;
+  float range_min, range_max;
 } facet_light;
 
 typedef struct facet_camera {

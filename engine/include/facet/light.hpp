@@ -55,7 +55,12 @@ struct Light {
   Color3 diffuse{1.0f, 1.0f, 1.0f};
   Color3 specular{1.0f, 1.0f, 1.0f};
 
-  // Point and spot: att = 1 / (constant + linear d + quadratic d^2); all >= 0, not all zero.
+  // Point and spot: how the light fades with distance. gl: att = 1 / (constant + linear d +
+  // quadratic d^2), all >= 0, not all zero. linear_range: att = clamp((range_max - d + range_min) /
+  // range_max, 0, 1) with 0 <= range_min <= range_max, range_max > 0 (the coefficients are unused).
+  AttenuationModel attenuation_model = AttenuationModel::gl;
+  float range_min = 0.0f;
+  float range_max = 0.0f;
   float constant_attenuation = 1.0f;
   float linear_attenuation = 0.0f;
   float quadratic_attenuation = 0.0f;

@@ -15,4 +15,14 @@ enum class SpotShape {
   smooth_cone,
 };
 
+// How a point or spot light fades with the distance d from it.
+enum class AttenuationModel {
+  // OpenGL: 1 / (k0 + k1 d + k2 d^2) (Light::constant/linear/quadratic_attenuation).
+  gl,
+  // The linear min/max range of the classic software-rendering tutorials: clamp((max - d + min) /
+  // max, 0, 1) (Light::range_min, range_max): 1 up to d = min, falling linearly to 0 at
+  // d = max + min, nothing beyond.
+  linear_range,
+};
+
 }  // namespace facet

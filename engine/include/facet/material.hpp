@@ -32,6 +32,14 @@ enum class BlendMode : std::uint8_t {
   subtract,       // C = Cd - Cs                   (reverse subtract, ONE, ONE)
 };
 
+// The specular lobe: cos^shininess of the angle between
+enum class SpecularModel : std::uint8_t {
+  blinn,  // the normal and the half vector h = unit(L + V) (GL's, the default)
+  phong,  // the reflected light direction R = 2 (n.L) n - L and the view direction V (Phong 1975);
+          // R.V < 0 counts as 0, so shininess 0 still gives 1 on the lit side, as Blinn's does
+};
+const char* to_string(SpecularModel model) noexcept;
+
 // Whether the material's fragments write depth: `automatic` writes for opaque materials and not
 // for blended ones (they test depth but do not hide what is drawn after them).
 enum class DepthWrite : std::uint8_t { automatic, on, off };
@@ -89,7 +97,8 @@ struct Material {
   Color3 ambient{0.2f, 0.2f, 0.2f};
   Color3 diffuse{0.8f, 0.8f, 0.8f};
   Color3 specular{0.0f, 0.0f, 0.0f};
-  float shininess = 0.0f;  // Blinn-Phong exponent in [0, kMaxShininess]; 0^0 = 1 as in GL
+  float shininess = 0.0f;  // specular exponent in [0, kMaxShininess]; 0^0 = 1 as in GL
+  SpecularModel specular_model = SpecularModel::blinn;
   float alpha = 1.0f;      // [0, 1]: the fragment's alpha (blending, alpha test, the output's alpha)
 
   // Surface (see docs/surfaces.md). A texture needs the mesh's uvs.

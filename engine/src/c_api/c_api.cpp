@@ -52,6 +52,7 @@ facet_material facet_material_default(void) {
   c.environment_blend = static_cast<facet_environment_blend>(m.environment.blend);
   c.environment_dynamic = m.environment.dynamic ? 1 : 0;
   c.environment_resolution = m.environment.resolution;
+  c.specular_model = static_cast<facet_specular_model>(m.specular_model);
   return c;
 }
 
@@ -89,6 +90,9 @@ facet_light facet_light_default(void) {
   c.spot_inner_deg = l.spot_inner_deg;
   c.spot_outer_deg = l.spot_outer_deg;
   c.spot_falloff = l.spot_falloff;
+  c.attenuation_model = static_cast<facet_attenuation_model>(l.attenuation_model);
+  c.range_min = l.range_min;
+  c.range_max = l.range_max;
   return c;
 }
 

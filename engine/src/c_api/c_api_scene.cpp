@@ -201,6 +201,12 @@ facet_status to_light(facet_scene* scene, const facet_light* light, std::size_t 
     l.spot_inner_deg = light->spot_inner_deg;
     l.spot_outer_deg = light->spot_outer_deg;
     l.spot_falloff = light->spot_falloff;
+    const long model = raw(light->attenuation_model);
+    l.attenuation_model = model == FACET_ATTENUATION_LINEAR_RANGE ? facet::AttenuationModel::linear_range
+                          : model == FACET_ATTENUATION_GL        ? facet::AttenuationModel::gl
+                                                                 : static_cast<facet::AttenuationModel>(255);
+    l.range_min = light->range_min;
+    l.range_max = light->range_max;
     if (facet::Status st = facet::validate_light(l, index); !st.ok()) return report(scene->error, st);
     return FACET_OK;
 }

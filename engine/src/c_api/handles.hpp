@@ -171,6 +171,8 @@ inline facet::Material to_material(const facet_material& c) {
     m.environment.strength = material->environment_strength;
     m.environment.dynamic = material->environment_dynamic != 0;
     m.environment.resolution = material->environment_resolution;
+    const long lobe = raw(material->specular_model);
+    m.specular_model = static_cast<facet::SpecularModel>(lobe >= 0 && lobe <= 1 ? lobe : 255);
   return m;
 }
 

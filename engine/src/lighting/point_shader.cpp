@@ -115,6 +115,10 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
                           : static_cast<float>(L.spot_shape == SpotShape::smooth_cone ? L.cos_outer : L.cos_cutoff);
     }
     if (L.inv_range > 0.0) t.range = static_cast<float>(1.0 / L.inv_range);
+    if (L.linear_range) {  // zero from max + min on
+      const float reach = static_cast<float>(L.range_max + L.range_min);
+      t.range = t.range > 0.0f ? std::min(t.range, reach) : reach;
+    }
     L.shadow = shadow_slots_++;
   }
   auto same_slots = [this](ShadeParams<float>& params) {
@@ -150,6 +154,7 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
       p.separate_specular = features.separate_specular ? 1 : 0;
       p.specular_pow = resolve_pow(scalar_.shininess, options.pow_tier);
       p.specular_on = material.specular.isZero() ? 0 : 1;
+      p.phong_lobe = scalar_.phong_lobe ? 1 : 0;
       p.local_viewer = scalar_.local_viewer ? 1 : 0;
       p.clamp = options.clamp ? 1 : 0;
       p.lights = scalar_.lights.data();  // the kernels read the same lights as the scalar path

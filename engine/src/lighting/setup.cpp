@@ -42,6 +42,7 @@ void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Ma
                 ? v3<T>(material.emissive.cast<double>())
                 : v3<T>(material.emissive.cast<double>() + am.cwiseProduct(scene.global_ambient.cast<double>()));
   sp.shininess = T(material.shininess);
+  sp.phong_lobe = material.specular_model == SpecularModel::phong;
   sp.local_viewer = scene.viewer == ViewerMode::local;
   sp.clamp = clamp;
   const Eigen::Matrix3d rot = view.topLeftCorner<3, 3>();
@@ -63,6 +64,12 @@ void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Ma
       L.k1 = T(light.linear_attenuation);
       L.k2 = T(light.quadratic_attenuation);
       L.inv_range = light.range > 0.0f ? T(1.0 / double(light.range)) : T(0);
+      if (light.attenuation_model == AttenuationModel::linear_range) {
+        L.linear_range = true;
+        L.range_min = T(light.range_min);
+        L.range_max = T(light.range_max);
+        L.inv_range_max = T(1.0 / double(light.range_max));
+      }
     }
     if (light.type == LightType::spot) {
       L.spot_axis = v3<T>(axis);
@@ -192,14 +199,15 @@ void lights_to_drop(const ShadeParams<double>& params, const EyeSphere& sphere, 
     if (L.type == LightType::directional) continue;
     const Eigen::Vector3d pos(L.position.x, L.position.y, L.position.z);
     const double d_min = std::max(0.0, (pos - sphere.centre).norm() - sphere.radius);
-    if (L.inv_range > 0.0 && d_min * L.inv_range >= 1.0) {
-      drop[i] = true;
+    if ((L.inv_range > 0.0 && d_min * L.inv_range >= 1.0) || (L.linear_range && d_min >= L.range_max + L.range_min)) {
+      drop[i] = true;  // the light is zero at every point of the object
       continue;
     }
-    const double denom = std::max(L.k0 + L.k1 * d_min + L.k2 * d_min * d_min, 1e-6);
+    const double att = L.linear_range ? std::clamp((L.range_max - d_min + L.range_min) / L.range_max, 0.0, 1.0)
+                                      : 1.0 / std::max(L.k0 + L.k1 * d_min + L.k2 * d_min * d_min, 1e-6);
     const double colour = std::max({L.ambient.x + L.diffuse.x + L.specular.x, L.ambient.y + L.diffuse.y + L.specular.y,
                                     L.ambient.z + L.diffuse.z + L.specular.z});
-    candidates.push_back({i, colour / denom});
+    candidates.push_back({i, colour * att});
   }
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
     return a.bound < b.bound || (a.bound == b.bound && a.index < b.index);

@@ -5,6 +5,8 @@
 //
 //   colour = e_m + a_m a_scene + sum_i att_i spot_i [a_m a_i + (n.VP_i)+ d_m d_i + f_i (n.h_i)+^s s_m s_i]
 //
+// with Phong's lobe (R_i.V)+ in place of Blinn's (n.h_i)+ when the material asks for it.
+//
 // Two variations, decided per object by the frame plan (ShadeParams):
 //   - colour material (glColorMaterial(AMBIENT_AND_DIFFUSE)): a per-point albedo c replaces a_m and
 //     d_m, so the lights carry a_i and d_i alone and
@@ -57,6 +59,7 @@ struct ShadeParams {
   bool color_material = false;      // albedo per point; lights carry a_i, d_i unmultiplied
   bool separate_specular = false;   // specular to the secondary output
   T shininess = 0;
+  bool phong_lobe = false;  // SpecularModel::phong: the lobe on R.V instead of n.h
   bool local_viewer = true;
   bool clamp = true;
   std::vector<EyeLight<T>> lights;  // enabled lights only
@@ -88,8 +91,12 @@ void light_contribution(const ShadeParams<T>& sp, const EyeLight<T>& L, V3<T> p,
     const T d = std::sqrt(d2);
     if (!(d <= std::numeric_limits<T>::max())) return;  // NaN/Inf position or distance: no contribution
     vp = d > kMinLength<T> ? (T(1) / d) * diff : V3<T>{T(0), T(0), T(0)};
-    const T denom = L.k0 + L.k1 * d + L.k2 * d2;
-    att = T(1) / (denom > kMinAttenuationDenominator<T> ? denom : kMinAttenuationDenominator<T>);
+    if (L.linear_range) {
+      att = clamp01((L.range_max - d + L.range_min) / L.range_max);
+    } else {
+      const T denom = L.k0 + L.k1 * d + L.k2 * d2;
+      att = T(1) / (denom > kMinAttenuationDenominator<T> ? denom : kMinAttenuationDenominator<T>);
+    }
     if (L.inv_range > T(0)) {
       const T x = d * L.inv_range, x2 = x * x;
       const T w = clamp01(T(1) - x2 * x2);
@@ -101,8 +108,11 @@ void light_contribution(const ShadeParams<T>& sp, const EyeLight<T>& L, V3<T> p,
   const T n_dot_l = dot(n, vp);
   V3<T> sum = L.ambient;
   if (n_dot_l > T(0)) {
-    const T n_dot_h = clamp01(dot(n, normalize_or_zero(vp + eye_dir)));
-    T kd = n_dot_l, ks = std::pow(n_dot_h, sp.shininess);
+    // Blinn: n.h; Phong: R.V with R = 2 (n.L) n - L the mirror direction of the light (unit when
+    // n and L are), negative R.V counting as 0.
+    const T cos_lobe = sp.phong_lobe ? clamp01(dot(T(2) * n_dot_l * n - vp, eye_dir))
+                                     : clamp01(dot(n, normalize_or_zero(vp + eye_dir)));
+    T kd = n_dot_l, ks = std::pow(cos_lobe, sp.shininess);
     if (L.shadow >= 0 && visibility) {
       const T v = T(visibility[L.shadow]);
       kd *= v, ks *= v;

@@ -199,6 +199,7 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
     }
     n = normalize_or_zero<Exact>(n);
     const V<B> eye = prm.local_viewer ? normalize_or_zero<Exact>(V<B>{-p.x, -p.y, -p.z}) : V<B>{zero, zero, one};
+    const B n_dot_v = prm.phong_lobe ? dot3(n, eye) : zero;  // Phong's lobe
     // Colour material and separate specular keep the specular sum apart (spr, spg, spb).
     const bool split = prm.color_material || prm.separate_specular;
     const T* start = prm.color_material ? scene_ambient : base;
@@ -230,7 +231,13 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
         vp = {xsimd::select(has_dir, diff.x * inv_d, zero), xsimd::select(has_dir, diff.y * inv_d, zero),
               xsimd::select(has_dir, diff.z * inv_d, zero)};
         const B denom = xsimd::fma(B(L.k2), d2, xsimd::fma(B(L.k1), d, B(L.k0)));
-        if constexpr (Exact) {
+        if (L.linear_range) {
+          if constexpr (Exact) {
+            att = fastmath::clamp01((B(L.range_max) - d + B(L.range_min)) / B(L.range_max));
+          } else {
+            att = fastmath::clamp01((B(L.range_max) - d + B(L.range_min)) * B(L.inv_range_max));
+          }
+        } else if constexpr (Exact) {
           att = one / xsimd::select(denom > B(1e-6f), denom, B(1e-6f));
         } else {
           // max(NaN, 1e-6) is 1e-6 (maxps returns its second operand); Inf becomes FLT_MAX.
@@ -280,9 +287,20 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
           const V<B> half{vp.x + eye.x, vp.y + eye.y, vp.z + eye.z};
           B pow_nh;
           if constexpr (Spec == PowMethod::one) {
-            pow_nh = one;  // shininess 0: x^0 = 1, even at n.h = 0
+            pow_nh = one;  // shininess 0: x^0 = 1, even at n.h = 0 (and at R.V <= 0)
           } else if constexpr (Spec == PowMethod::exact) {
-            pow_nh = pow_cos_exact(n, half, prm.specular_pow.exponent);
+            if (prm.phong_lobe) {
+              const B k = n_dot_l + n_dot_l;  // R = 2 (n.L) n - L
+              const V<B> refl{xsimd::fms(k, n.x, vp.x), xsimd::fms(k, n.y, vp.y), xsimd::fms(k, n.z, vp.z)};
+              pow_nh = pow_cos_exact(refl, eye, prm.specular_pow.exponent);
+            } else {
+              pow_nh = pow_cos_exact(n, half, prm.specular_pow.exponent);
+            }
+          } else if (prm.phong_lobe) {
+            // R.V = 2 (n.L)(n.V) - L.V: no reflected vector; n.V is the same for every light.
+            // R and V are unit (to the normalisation's 2^-22), so R.V needs no division.
+            const B r_dot_v = xsimd::fms(n_dot_l + n_dot_l, n_dot_v, dot3(vp, eye));
+            pow_nh = pow_fixed<Spec>(fastmath::clamp01(r_dot_v), prm.specular_pow);
           } else {
             // n.h / |h|: one estimate and no normalised h. A zero h (L = -V) gives 0.
             const B h2 = dot3(half, half);

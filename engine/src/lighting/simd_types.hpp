@@ -44,6 +44,10 @@ struct EyeLight {
   V3<T> to_light{};   // directional: unit vector towards the light
   V3<T> spot_axis{};  // spot: unit vector the light travels along
   T k0 = 1, k1 = 0, k2 = 0;
+  // AttenuationModel::linear_range: clamp01((range_max - d + range_min) / range_max) replaces
+  // 1 / (k0 + k1 d + k2 d^2); inv_range_max = 1 / range_max for the float kernels.
+  bool linear_range = false;
+  T range_min = 0, range_max = 1, inv_range_max = 1;
   T inv_range = 0;  // 0 = no range window
   SpotShape spot_shape = SpotShape::cutoff_exponent;
   bool has_cone = false;  // cutoff_exponent with cutoff < 180
@@ -72,6 +76,7 @@ struct Params {
   int separate_specular = 0;  // the specular sum goes to Streams::sr/sg/sb
   PowSpec specular_pow;
   int specular_on = 1;  // 0 when the material's specular colour is black
+  int phong_lobe = 0;   // SpecularModel::phong: the lobe on R.V instead of n.h
   int local_viewer = 1;
   int clamp = 1;
   // 1: the exact tier's kernel, in double lanes, reading base_d, lights_d and the Transform's

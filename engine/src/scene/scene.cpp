@@ -67,6 +67,14 @@ const char* to_string(EnvironmentBlend mode) noexcept {
   return "unknown";
 }
 
+const char* to_string(SpecularModel model) noexcept {
+  switch (model) {
+    case SpecularModel::blinn: return "blinn";
+    case SpecularModel::phong: return "phong";
+  }
+  return "unknown";
+}
+
 const char* to_string(DepthWrite mode) noexcept {
   switch (mode) {
     case DepthWrite::automatic: return "auto";
@@ -170,6 +178,9 @@ Status validate_material(const Material& m, const Field& f) {
   FACET_TRY(check_color(m.diffuse, f, "diffuse"));
   FACET_TRY(check_color(m.specular, f, "specular"));
   FACET_TRY(check_range(m.shininess, 0.0f, kMaxShininess, f, "shininess"));
+  if (static_cast<unsigned>(m.specular_model) > static_cast<unsigned>(SpecularModel::phong)) {
+    return invalid(f("specular_model"), "unknown specular model");
+  }
   FACET_TRY(check_range(m.alpha, 0.0f, 1.0f, f, "alpha"));
   FACET_TRY(check_range(m.alpha_cutoff, 0.0f, 1.0f, f, "alpha_cutoff"));
   if (!m.uv_scale.allFinite() || m.uv_scale.x() == 0.0f || m.uv_scale.y() == 0.0f) {
@@ -254,11 +265,21 @@ Status validate_light(const Light& l, const Field& f) {
   }
   if (!finite(l.position)) return invalid(f("position"), "expected finite coordinates, found " + describe(l.position));
   const float big = 3.0e38f;
-  FACET_TRY(check_range(l.constant_attenuation, 0.0f, big, f, "attenuation.constant"));
-  FACET_TRY(check_range(l.linear_attenuation, 0.0f, big, f, "attenuation.linear"));
-  FACET_TRY(check_range(l.quadratic_attenuation, 0.0f, big, f, "attenuation.quadratic"));
-  if (!(l.constant_attenuation + l.linear_attenuation + l.quadratic_attenuation > 0.0f)) {
-    return invalid(f("attenuation"), "at least one attenuation coefficient must be > 0");
+  if (l.attenuation_model == AttenuationModel::linear_range) {
+    // Capped so that max + min stays a finite float.
+    if (!(l.range_max > 0.0f && l.range_max <= 1e30f)) {
+      return invalid(f("attenuation.max"), "expected a number in (0, 1e+30], found " + format_number(l.range_max));
+    }
+    FACET_TRY(check_range(l.range_min, 0.0f, l.range_max, f, "attenuation.min"));
+  } else if (l.attenuation_model != AttenuationModel::gl) {
+    return invalid(f("attenuation.model"), "unknown attenuation model");
+  } else {
+    FACET_TRY(check_range(l.constant_attenuation, 0.0f, big, f, "attenuation.constant"));
+    FACET_TRY(check_range(l.linear_attenuation, 0.0f, big, f, "attenuation.linear"));
+    FACET_TRY(check_range(l.quadratic_attenuation, 0.0f, big, f, "attenuation.quadratic"));
+    if (!(l.constant_attenuation + l.linear_attenuation + l.quadratic_attenuation > 0.0f)) {
+      return invalid(f("attenuation"), "at least one attenuation coefficient must be > 0");
+    }
   }
   FACET_TRY(check_range(l.range, 0.0f, big, f, "range"));
   if (l.type != LightType::spot) return {};

@@ -122,8 +122,8 @@ class SceneReader : public scene_json::JsonFields {
   }
 
   Status read_material(const json& j, const std::string& p, Scene& scene, Material& m) {
-    FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "alpha",
-                                   "diffuse_texture", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write",
+    FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "specular_model",
+                                   "alpha", "diffuse_texture", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write",
                                    "emissive_texture", "emission_after_texture", "environment"}));
     FACET_TRY(opt_string(j, p, "name", m.name));
     FACET_TRY(opt_color(j, p, "emissive", m.emissive));
@@ -131,6 +131,11 @@ class SceneReader : public scene_json::JsonFields {
     FACET_TRY(opt_color(j, p, "diffuse", m.diffuse));
     FACET_TRY(opt_color(j, p, "specular", m.specular));
     FACET_TRY(opt_number(j, p, "shininess", m.shininess));
+    if (j.contains("specular_model")) {
+      std::string model;
+      FACET_TRY(read_enum(j["specular_model"], child(p, "specular_model"), {"blinn", "phong"}, model));
+      m.specular_model = model == "phong" ? SpecularModel::phong : SpecularModel::blinn;
+    }
     FACET_TRY(opt_number(j, p, "alpha", m.alpha));
     if (j.contains("diffuse_texture")) {
       std::uint32_t index = 0;
@@ -650,10 +655,25 @@ class SceneReader : public scene_json::JsonFields {
       if (l.type == LightType::directional) return invalid(child(p, "attenuation"), "a directional light has no attenuation");
       const json& a = j["attenuation"];
       const std::string ap = child(p, "attenuation");
-      FACET_TRY(expect_object(a, ap, {"constant", "linear", "quadratic"}));
-      FACET_TRY(opt_number(a, ap, "constant", l.constant_attenuation));
-      FACET_TRY(opt_number(a, ap, "linear", l.linear_attenuation));
-      FACET_TRY(opt_number(a, ap, "quadratic", l.quadratic_attenuation));
+      FACET_TRY(expect_object(a, ap, {"model", "constant", "linear", "quadratic", "min", "max"}));
+      std::string model = "gl";
+      if (a.contains("model")) FACET_TRY(read_enum(a["model"], child(ap, "model"), {"gl", "linear_range"}, model));
+      if (model == "linear_range") {
+        l.attenuation_model = AttenuationModel::linear_range;
+        for (const char* k : {"constant", "linear", "quadratic"}) {
+          if (a.contains(k)) return invalid(child(ap, k), "the linear_range model takes \"min\" and \"max\", not GL's coefficients");
+        }
+        if (!a.contains("max")) return invalid(child(ap, "max"), "missing: the linear_range model needs \"max\" (> 0)");
+        FACET_TRY(opt_number(a, ap, "min", l.range_min));
+        FACET_TRY(opt_number(a, ap, "max", l.range_max));
+      } else {
+        for (const char* k : {"min", "max"}) {
+          if (a.contains(k)) return invalid(child(ap, k), "only the linear_range model has \"min\" and \"max\"");
+        }
+        FACET_TRY(opt_number(a, ap, "constant", l.constant_attenuation));
+        FACET_TRY(opt_number(a, ap, "linear", l.linear_attenuation));
+        FACET_TRY(opt_number(a, ap, "quadratic", l.quadratic_attenuation));
+      }
     }
     FACET_TRY(opt_number(j, p, "range", l.range));
     if (j.contains("spot")) {
