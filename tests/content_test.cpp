@@ -96,6 +96,7 @@ Scene expected_quad_scene(const std::string& texture_path) {
   TextureOptions to;
   to.filter = TextureFilter::nearest;
   to.wrap = TextureWrap::clamp;
+  to.encoding = TextureEncoding::srgb;  // base colour (and emissive) textures are sRGB in glTF
   Result<Texture> t = load_texture(texture_path, "tex.png", to);
   EXPECT_TRUE(t.ok());
   s.textures.push_back(*t);

@@ -3,6 +3,7 @@
 // against the double-precision reference (within a step of 8-bit output), GL's wrap rules at the
 // exact texel borders, and hostile coordinates (1e7, infinities, NaN).
 #include <png.h>
+#include <zlib.h>
 #include <stb_image_write.h>
 
 #include <cmath>
@@ -13,6 +14,7 @@
 #include "raster/tile_raster.hpp"
 #include "test_support.hpp"
 #include "texture/sampler.hpp"
+#include "texture/srgb_table.hpp"
 
 namespace facet {
 namespace {
@@ -26,8 +28,11 @@ std::vector<std::uint8_t> rgba_pattern(int w, int h, unsigned seed) {
   return px;
 }
 
-Texture must_make(int w, int h, TextureFilter filter, TextureWrap wrap, unsigned seed = 1) {
-  Result<Texture> t = make_texture("t", w, h, rgba_pattern(w, h, seed), {filter, wrap});
+Texture must_make(int w, int h, TextureFilter filter, TextureWrap wrap, unsigned seed = 1,
+                  TextureEncoding encoding = TextureEncoding::linear) {
+  TextureOptions o{filter, wrap};
+  o.encoding = encoding;
+  Result<Texture> t = make_texture("t", w, h, rgba_pattern(w, h, seed), o);
   EXPECT_TRUE(t.ok()) << t.status().message();
   return std::move(*t);
 }
@@ -236,8 +241,9 @@ TEST_P(TextureSampler, SimdMatchesItsScalarTwinBitForBit) {
   const int sizes[][2] = {{1, 1}, {1, 7}, {2, 2}, {3, 5}, {16, 16}, {5, 3}, {64, 32}, {16384, 1}};
   for (const auto& size : sizes) {
     for (TextureFilter filter : {TextureFilter::nearest, TextureFilter::bilinear, TextureFilter::trilinear}) {
-      for (TextureWrap wrap : {TextureWrap::repeat, TextureWrap::clamp, TextureWrap::mirror}) {
-        const Texture tex = must_make(size[0], size[1], filter, wrap, 7);
+      for (TextureWrap wrap : {TextureWrap::repeat, TextureWrap::clamp, TextureWrap::mirror})
+      for (TextureEncoding encoding : {TextureEncoding::linear, TextureEncoding::srgb}) {
+        const Texture tex = must_make(size[0], size[1], filter, wrap, 7, encoding);
         const Sampler s = texture::make_sampler(tex);
         const Inputs in = sample_inputs(11, size[0], size[1]);
         Outputs simd;
@@ -250,7 +256,8 @@ TEST_P(TextureSampler, SimdMatchesItsScalarTwinBitForBit) {
           const auto scalar = texture::sample_scalar(s, in.u[i], in.v[i], lambda);
           for (int c = 0; c < 4; ++c) {
             ASSERT_EQ(std::bit_cast<std::uint32_t>(simd.c[c][i]), std::bit_cast<std::uint32_t>(scalar[c]))
-                << to_string(filter) << " " << to_string(wrap) << " " << size[0] << "x" << size[1] << " sample " << i
+                << to_string(filter) << " " << to_string(wrap) << " " << to_string(encoding) << " " << size[0] << "x"
+                << size[1] << " sample " << i
                 << " (u " << in.u[i] << ", v " << in.v[i] << ", lambda " << lambda << ") channel " << c;
           }
         }
@@ -283,9 +290,10 @@ TEST(TextureSampler, Log2AndLodAgainstExact) {
 // float rounding of a texel border.
 TEST(TextureSampler, ScalarAgainstReference) {
   for (TextureFilter filter : {TextureFilter::bilinear, TextureFilter::trilinear, TextureFilter::nearest}) {
-    for (TextureWrap wrap : {TextureWrap::repeat, TextureWrap::clamp, TextureWrap::mirror}) {
+    for (TextureWrap wrap : {TextureWrap::repeat, TextureWrap::clamp, TextureWrap::mirror})
+    for (TextureEncoding encoding : {TextureEncoding::linear, TextureEncoding::srgb}) {
       for (const auto& size : {std::array<int, 2>{64, 32}, std::array<int, 2>{5, 3}, std::array<int, 2>{1, 1}}) {
-        const Texture tex = must_make(size[0], size[1], filter, wrap, 3);
+        const Texture tex = must_make(size[0], size[1], filter, wrap, 3, encoding);
         const Sampler s = texture::make_sampler(tex);
         const Inputs in = sample_inputs(5, size[0], size[1]);
         double worst = 0;
@@ -312,8 +320,8 @@ TEST(TextureSampler, ScalarAgainstReference) {
           }
           worst = std::max(worst, d);
         }
-        std::printf("%s %s %dx%d: largest difference from the reference %.4f steps (%zu nearest samples on borders)\n",
-                    to_string(filter), to_string(wrap), size[0], size[1], worst, near_border);
+        std::printf("%s %s %s %dx%d: largest difference from the reference %.4f steps (%zu nearest samples on borders)\n",
+                    to_string(filter), to_string(wrap), to_string(encoding), size[0], size[1], worst, near_border);
         EXPECT_LT(worst, 1.0);
       }
     }
@@ -360,6 +368,88 @@ TEST(TextureSampler, WrapRulesAtTexelBorders) {
       for (float v : c) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v <= 1.0f) << u;
     }
   }
+}
+
+// The sRGB table is the transfer function (IEC 61966-2-1) computed in double and rounded to float,
+// entry by entry; its ends and the linear segment's join are exact.
+TEST(TextureEncoding, TableIsTheTransferFunction) {
+  for (int i = 0; i < 256; ++i) {
+    const double c = i / 255.0;
+    const double linear = c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+    ASSERT_EQ(texture::kSrgbDecode255[i], static_cast<float>(255.0 * linear)) << i;
+  }
+  EXPECT_EQ(texture::kSrgbDecode255[0], 0.0f);
+  EXPECT_EQ(texture::kSrgbDecode255[255], 255.0f);
+}
+
+// Decode, then filter (EXT_texture_sRGB): a bilinear sample halfway between sRGB 0 and 255 is
+// linear 0.5, not the decoding of 127.5; the alpha channel is read as stored; mipmaps average in
+// linear light, so a black and white checkerboard's 1x1 level is sRGB 188 (linear 0.5), not 128.
+TEST(TextureEncoding, SrgbDecodesBeforeFilteringAndMipmapsInLinear) {
+  const std::vector<std::uint8_t> two = {0, 0, 0, 0, 255, 255, 255, 128};  // 2x1: black, white
+  TextureOptions o{TextureFilter::bilinear, TextureWrap::clamp};
+  o.encoding = TextureEncoding::srgb;
+  const Result<Texture> t = make_texture("t", 2, 1, two, o);
+  ASSERT_TRUE(t.ok()) << t.status().message();
+  const Sampler s = texture::make_sampler(*t);
+  const auto mid = texture::sample_scalar(s, 0.5f, 0.5f, 0.0f);
+  const auto ref = texture::sample_reference(s, 0.5, 0.5, 0.0);
+  EXPECT_NEAR(mid[0], 0.5f, 1e-6f);
+  EXPECT_NEAR(ref[0], 0.5, 1e-12);
+  EXPECT_NEAR(mid[3], 64.0f / 255.0f, 1e-6f);  // alpha: (0 + 128) / 2, linear
+  std::vector<std::uint8_t> checker(4 * 4 * 4);
+  for (int i = 0; i < 16; ++i) {
+    const std::uint8_t v = ((i % 4) + (i / 4)) % 2 ? 255 : 0;
+    checker[4 * i] = checker[4 * i + 1] = checker[4 * i + 2] = v, checker[4 * i + 3] = 255;
+  }
+  TextureOptions tri{TextureFilter::trilinear, TextureWrap::repeat};
+  tri.encoding = TextureEncoding::srgb;
+  const Result<Texture> m = make_texture("m", 4, 4, checker, tri);
+  ASSERT_TRUE(m.ok());
+  EXPECT_EQ(m->texels.back() & 0xffu, 188u) << "the 1x1 level of an sRGB checkerboard";
+  tri.encoding = TextureEncoding::linear;
+  const Result<Texture> l = make_texture("l", 4, 4, checker, tri);
+  EXPECT_EQ(l->texels.back() & 0xffu, 128u) << "the same stored linear";
+}
+
+// A PNG's colour tags decide an untold encoding: sRGB and iCCP chunks and gAMA 1/2.2 are sRGB,
+// gAMA 1 linear, untagged linear; another gamma is refused with the file's name; a told encoding wins.
+TEST(TextureEncoding, PngTagsDecideWhenNotTold) {
+  const std::uint8_t pixel[4] = {200, 100, 50, 255};
+  auto untagged = [&] {  // stb_image_write writes no colour chunk
+    std::vector<std::uint8_t> out;
+    stbi_write_png_to_func([](void* c, void* d, int n) {
+      auto* o = static_cast<std::vector<std::uint8_t>*>(c);
+      o->insert(o->end(), static_cast<std::uint8_t*>(d), static_cast<std::uint8_t*>(d) + n);
+    }, &out, 1, 1, 4, pixel, 4);
+    return out;
+  };
+  auto png_with = [&](const char* type, const std::vector<std::uint8_t>& data) {
+    std::vector<std::uint8_t> png = untagged();
+    // The chunk goes after IHDR (8 bytes of signature + 25 of IHDR).
+    std::vector<std::uint8_t> chunk = {0, 0, 0, static_cast<std::uint8_t>(data.size())};
+    for (int k = 0; k < 4; ++k) chunk.push_back(static_cast<std::uint8_t>(type[k]));
+    chunk.insert(chunk.end(), data.begin(), data.end());
+    const auto crc = static_cast<std::uint32_t>(::crc32(0, chunk.data() + 4, static_cast<uInt>(chunk.size() - 4)));
+    for (int k = 3; k >= 0; --k) chunk.push_back(static_cast<std::uint8_t>(crc >> (8 * k)));
+    png.insert(png.begin() + 33, chunk.begin(), chunk.end());
+    return png;
+  };
+  auto encoding_of = [](const std::vector<std::uint8_t>& bytes, std::optional<TextureEncoding> told = std::nullopt) {
+    TextureOptions o;
+    o.encoding = told;
+    return decode_texture(bytes, "tagged.png", "t", o);
+  };
+  EXPECT_EQ(encoding_of(untagged())->encoding, TextureEncoding::linear);
+  EXPECT_EQ(encoding_of(png_with("sRGB", {0}))->encoding, TextureEncoding::srgb);
+  EXPECT_EQ(encoding_of(png_with("gAMA", {0, 0, 0xb1, 0x8f}))->encoding, TextureEncoding::srgb);  // 45455
+  EXPECT_EQ(encoding_of(png_with("gAMA", {0, 0x01, 0x86, 0xa0}))->encoding, TextureEncoding::linear);  // 100000
+  const auto odd = encoding_of(png_with("gAMA", {0, 0, 0x75, 0x30}));  // 30000: gamma 0.3
+  ASSERT_FALSE(odd.ok());
+  EXPECT_NE(odd.status().message().find("tagged.png"), std::string::npos) << odd.status().message();
+  EXPECT_NE(odd.status().message().find("gamma 0.3"), std::string::npos) << odd.status().message();
+  EXPECT_EQ(encoding_of(png_with("gAMA", {0, 0, 0x75, 0x30}), TextureEncoding::linear)->encoding, TextureEncoding::linear);
+  EXPECT_EQ(encoding_of(png_with("sRGB", {0}), TextureEncoding::linear)->encoding, TextureEncoding::linear);
 }
 
 }  // namespace

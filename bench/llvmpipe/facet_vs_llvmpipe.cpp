@@ -23,6 +23,9 @@
 // texels are emissive x the emissive texture's (or one texel of the emissive colour), alpha 1, with
 // the material's GL emission 0: GL adds it after units 0 and 1 and before the separate specular,
 // as facet does (8-bit texels of the product: half a step more than facet's float product).
+// sRGB textures are GL_SRGB8_ALPHA8 (decoded per texel, then filtered); --srgb draws into a
+// framebuffer object with an sRGB colour buffer and GL_FRAMEBUFFER_SRGB (blending in linear, each
+// write encoded) against facet's RenderOptions::srgb.
 // Environment maps are the second unit, through texgen (GL_SPHERE_MAP, GL_REFLECTION_MAP into a
 // cube map with the view's inverse rotation as texture matrix, GL_NORMAL_MAP scaled to [0, 1]),
 // level 0 with linear filtering clamped to the edge, the strength folded into the texels or the
@@ -33,7 +36,7 @@
 // in float per pixel, and both round blends differently (8-bit framebuffer against float tiles).
 //
 //   facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick]
-//                     [--check] [--rounds] [--filter TEXT] [--json FILE] [SCENE.json ...]
+//                     [--check] [--rounds] [--filter TEXT] [--json FILE] [--srgb] [SCENE.json ...]
 // --rounds prints each renderer's three timed rounds (the drift the medians leave out).
 // --lights N gives scene files N of the built-in cases' lights (GL 2.1-expressible: scene files may
 // use smooth cones or light ranges, which GL 2.1 lacks) and caps shininess at 128.
@@ -48,6 +51,7 @@
 // CPU's llvmpipe, and are 20x tighter than the project's GL-compatibility target (mean <= 1 step,
 // >= 99 % within 2), which a wrong attenuation, cone or pow would still have passed.
 #include <GL/gl.h>
+#include <GL/glext.h>
 #include <GL/osmesa.h>
 
 #include <algorithm>
@@ -76,6 +80,7 @@ struct Options {
   std::string filter;  // run only the cases whose name contains it
   std::string json;    // also write the rows there
   int lights = 0;      // > 0: scene files get this many of the built-in cases' GL 2.1 lights instead of theirs
+  bool srgb = false;   // --srgb: both encode their output to sRGB (facet: RenderOptions::srgb; GL: an sRGB FBO)
   std::vector<std::string> scenes;
 };
 
@@ -148,10 +153,18 @@ std::string gl_incompatibility(const facet::Scene& s) {
     if (l.type == facet::LightType::spot && l.spot_shape != facet::SpotShape::cutoff_exponent)
       return "lights[" + std::to_string(i) + "]: smooth cones are not OpenGL 2.1";
     if (l.range > 0) return "lights[" + std::to_string(i) + "]: light ranges are not OpenGL 2.1";
+    if (l.type != facet::LightType::directional && l.attenuation_model != facet::AttenuationModel::gl)
+      return "lights[" + std::to_string(i) + "]: linear range attenuation is not OpenGL 2.1";
   }
   if (s.lights.size() > 8) return "more than 8 lights (GL_MAX_LIGHTS)";
   for (std::size_t i = 0; i < s.materials.size(); ++i) {
-    if (s.materials[i].shininess > 128) return "materials[" + std::to_string(i) + "]: shininess above 128 (GL's limit)";
+    const facet::Material& m = s.materials[i];
+    if (m.shininess > 128) return "materials[" + std::to_string(i) + "]: shininess above 128 (GL's limit)";
+    if (m.specular_model != facet::SpecularModel::blinn) return "materials[" + std::to_string(i) + "]: GL 2.1's lobe is Blinn's";
+    if (m.emissive_texture != facet::kNoTexture &&
+        s.textures[static_cast<std::size_t>(m.emissive_texture)].encoding != facet::TextureEncoding::linear) {
+      return "materials[" + std::to_string(i) + "]: an sRGB emissive texture (this program premultiplies emissive textures as stored)";
+    }
   }
   return {};
 }
@@ -196,9 +209,11 @@ GlScene gl_prepare(const facet::Scene& s) {
     const facet::Texture& t = s.textures[i];
     glBindTexture(GL_TEXTURE_2D, g.textures[i]);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    // sRGB textures as GL_SRGB8_ALPHA8 (GL 2.1, EXT_texture_sRGB): decoded per texel, then filtered.
+    const GLint format = t.encoding == facet::TextureEncoding::srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8;
     for (std::size_t k = 0; k < t.levels.size(); ++k) {
       const facet::TextureLevel& l = t.levels[k];
-      glTexImage2D(GL_TEXTURE_2D, static_cast<GLint>(k), GL_RGBA8, l.width, l.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+      glTexImage2D(GL_TEXTURE_2D, static_cast<GLint>(k), format, l.width, l.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
                    t.texels.data() + l.offset);
     }
     gl_sampling(t);
@@ -511,6 +526,59 @@ void gl_draw(const facet::Scene& s, const GlScene& g, int w, int h) {
   glFinish();
 }
 
+// A framebuffer object with an sRGB colour and a depth renderbuffer, bound, GL_FRAMEBUFFER_SRGB on
+// (GL 3.0's entry points, from OSMesa).
+struct SrgbTarget {
+  GLuint fbo = 0, colour = 0, depth = 0;
+  PFNGLGENFRAMEBUFFERSPROC gen_framebuffers = nullptr;
+  PFNGLBINDFRAMEBUFFERPROC bind_framebuffer = nullptr;
+  PFNGLGENRENDERBUFFERSPROC gen_renderbuffers = nullptr;
+  PFNGLBINDRENDERBUFFERPROC bind_renderbuffer = nullptr;
+  PFNGLRENDERBUFFERSTORAGEPROC storage = nullptr;
+  PFNGLFRAMEBUFFERRENDERBUFFERPROC attach = nullptr;
+  PFNGLCHECKFRAMEBUFFERSTATUSPROC check = nullptr;
+  PFNGLDELETEFRAMEBUFFERSPROC delete_framebuffers = nullptr;
+  PFNGLDELETERENDERBUFFERSPROC delete_renderbuffers = nullptr;
+  template <class P>
+  static bool get(P& p, const char* name) {
+    p = reinterpret_cast<P>(OSMesaGetProcAddress(name));
+    return p != nullptr;
+  }
+  bool make(int w, int h) {
+    if (!get(gen_framebuffers, "glGenFramebuffers") || !get(bind_framebuffer, "glBindFramebuffer") ||
+        !get(gen_renderbuffers, "glGenRenderbuffers") || !get(bind_renderbuffer, "glBindRenderbuffer") ||
+        !get(storage, "glRenderbufferStorage") || !get(attach, "glFramebufferRenderbuffer") ||
+        !get(check, "glCheckFramebufferStatus") || !get(delete_framebuffers, "glDeleteFramebuffers") ||
+        !get(delete_renderbuffers, "glDeleteRenderbuffers")) {
+      std::fprintf(stderr, "--srgb: this GL has no framebuffer objects\n");
+      return false;
+    }
+    gen_framebuffers(1, &fbo);
+    bind_framebuffer(GL_FRAMEBUFFER, fbo);
+    gen_renderbuffers(1, &colour);
+    bind_renderbuffer(GL_RENDERBUFFER, colour);
+    storage(GL_RENDERBUFFER, GL_SRGB8_ALPHA8, w, h);
+    attach(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
+    gen_renderbuffers(1, &depth);
+    bind_renderbuffer(GL_RENDERBUFFER, depth);
+    storage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+    attach(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    if (check(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+      std::fprintf(stderr, "--srgb: the sRGB framebuffer is not complete\n");
+      return false;
+    }
+    glEnable(GL_FRAMEBUFFER_SRGB);
+    return true;
+  }
+  void release() {
+    glDisable(GL_FRAMEBUFFER_SRGB);
+    bind_framebuffer(GL_FRAMEBUFFER, 0);
+    delete_renderbuffers(1, &colour);
+    delete_renderbuffers(1, &depth);
+    delete_framebuffers(1, &fbo);
+  }
+};
+
 template <class Fn>
 double ms_per_frame(Fn&& frame, double seconds) {
   frame();  // warm-up (JIT compilation, buffers)
@@ -533,6 +601,11 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
     std::fprintf(stderr, "OSMesaMakeCurrent failed\n");
     return false;
   }
+  // --srgb: llvmpipe draws into a framebuffer object with an sRGB colour buffer and
+  // GL_FRAMEBUFFER_SRGB on (EXT_framebuffer_sRGB: blending in linear, each write encoded), read
+  // back after the timed rounds; facet encodes its linear result once when it stores it.
+  SrgbTarget srgb_target;
+  if (opt.srgb && !srgb_target.make(w, h)) return false;
   GlScene g = gl_prepare(scene);
   // facet, into the same layout (OSMesa's buffer is bottom row first: y_up).
   std::vector<std::uint8_t> facet_pixels(static_cast<std::size_t>(w * h * 4));
@@ -541,6 +614,7 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
   const facet::DepthView dview{facet_depth.data(), w, h, static_cast<std::size_t>(w) * sizeof(float), true};
   facet::RenderOptions ro;
   ro.threads = opt.threads;
+  ro.srgb = opt.srgb;
   ro.depth = facet::DepthMode::gl;  // GL's window depth, compared with llvmpipe's
   facet::Renderer renderer(ro);
   facet::Status status;
@@ -568,6 +642,11 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
   r.surfaces = has_surfaces(scene);
   std::vector<float> gl_depth(static_cast<std::size_t>(w * h));
   glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, gl_depth.data());
+  if (opt.srgb) {
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, gl_pixels.data());
+    srgb_target.release();
+  }
   if (!status.ok()) {
     std::fprintf(stderr, "facet: %s\n", status.message().c_str());
     return false;
@@ -641,8 +720,9 @@ int main(int argc, char** argv) {
     else if (a == "--filter") opt.filter = next();
     else if (a == "--json") opt.json = next();
     else if (a == "--lights") opt.lights = std::atoi(next());
+    else if (a == "--srgb") opt.srgb = true;
     else if (a == "-h" || a == "--help") {
-      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--rounds] [--filter TEXT] [--json FILE] [--lights N] [SCENE.json ...]");
+      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--rounds] [--filter TEXT] [--json FILE] [--lights N] [--srgb] [SCENE.json ...]");
       return 0;
     } else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "facet_vs_llvmpipe: unknown option %s\n", a.c_str());

@@ -428,6 +428,15 @@ int main(void) {
     CHECK(facet_scene_set_mesh_uvs(s, q, uvs) == FACET_OK);
     CHECK(facet_scene_add_texture_rgba8(s, texel, 1, 1, FACET_BILINEAR, FACET_WRAP_REPEAT, &tex) == FACET_OK && tex == 0);
     CHECK(facet_scene_add_texture_rgba8(s, texel, 0, 1, FACET_BILINEAR, FACET_WRAP_REPEAT, NULL) == FACET_INVALID_ARGUMENT);
+    /* Encoding: caller texels start linear; sRGB and back; unknown values and ids are refused. */
+    facet_texture_encoding enc = FACET_ENCODING_SRGB;
+    CHECK(facet_scene_texture_encoding(s, tex, &enc) == FACET_OK && enc == FACET_ENCODING_LINEAR);
+    CHECK(facet_scene_set_texture_encoding(s, tex, FACET_ENCODING_SRGB) == FACET_OK);
+    CHECK(facet_scene_texture_encoding(s, tex, &enc) == FACET_OK && enc == FACET_ENCODING_SRGB);
+    CHECK(facet_scene_set_texture_encoding(s, tex, (facet_texture_encoding)7) == FACET_INVALID_ARGUMENT);
+    CHECK(facet_scene_set_texture_encoding(s, 99, FACET_ENCODING_SRGB) == FACET_INVALID_ARGUMENT);
+    CHECK(facet_scene_texture_encoding(s, 99, &enc) == FACET_INVALID_ARGUMENT);
+    CHECK(facet_scene_set_texture_encoding(s, tex, FACET_ENCODING_LINEAR) == FACET_OK);
     CHECK(facet_scene_load_texture(s, "/nonexistent/t.png", FACET_TRILINEAR, FACET_WRAP_CLAMP, NULL) == FACET_IO_ERROR);
     CHECK(strstr(facet_scene_last_error(s), "t.png") != NULL);
     facet_material sm = facet_material_default();

@@ -286,7 +286,8 @@ int check(const CheckState& st) {
     emissive += scene->materials[obj.material].emissive_texture != kNoTexture;
   }
   std::uint64_t texels = 0;
-  for (const auto& t : scene->textures) texels += t.texels.size();
+  std::size_t srgb_textures = 0;
+  for (const auto& t : scene->textures) texels += t.texels.size(), srgb_textures += t.encoding == TextureEncoding::srgb;
   std::printf("%s: ok — %zu meshes, %zu materials, %zu objects (%zu vertices, %zu triangles), %zu lights; a %d x %d "
               "frame needs about %llu MiB\n",
               scene_path.c_str(), scene->meshes.size(), scene->materials.size(), scene->objects.size(),
@@ -344,9 +345,9 @@ int check(const CheckState& st) {
                 closed, open_count, open_count ? open.c_str() : "none", open_count > 5 ? ", ..." : "");
   }
   if (!scene->textures.empty() || blended > 0 || scene->fog.mode != FogMode::none) {
-    std::printf("  surfaces: %zu textures (%llu KiB with their mipmaps), %zu textured (%zu with an emissive texture) "
-                "and %zu blended objects (drawn %s), fog %s\n",
-                scene->textures.size(), static_cast<unsigned long long>((4 * texels + 1023) / 1024), textured, emissive,
+    std::printf("  surfaces: %zu textures (%zu sRGB, decoded to linear before filtering; %llu KiB with their mipmaps), "
+                "%zu textured (%zu with an emissive texture) and %zu blended objects (drawn %s), fog %s\n",
+                scene->textures.size(), srgb_textures, static_cast<unsigned long long>((4 * texels + 1023) / 1024), textured, emissive,
                 blended,
                 scene->transparent_order == TransparentOrder::back_to_front ? "back to front, after the opaque ones"
                                                                              : "in scene order",

@@ -277,6 +277,15 @@ facet_status facet_scene_load_texture(facet_scene* scene, const char* path, face
 facet_status facet_scene_add_texture_encoded(facet_scene* scene, const void* bytes, size_t size,
                                              facet_texture_filter filter, facet_texture_wrap wrap, uint32_t* texture_id);
 
+/* How a texture's colour channels encode light (facet::TextureEncoding): as stored (linear, like
+ * GL_RGBA8) or sRGB, decoded to linear per texel before filtering (like GL_SRGB8_ALPHA8); alpha
+ * is always linear. Textures from caller texels start linear; from files, as the file is tagged
+ * (a PNG's sRGB, iCCP or gAMA chunk), else linear. Setting it rebuilds the texture's mipmaps from
+ * level 0 (averaged in linear light for sRGB). */
+typedef enum facet_texture_encoding { FACET_ENCODING_LINEAR = 0, FACET_ENCODING_SRGB = 1 } facet_texture_encoding;
+facet_status facet_scene_set_texture_encoding(facet_scene* scene, uint32_t texture_id, facet_texture_encoding encoding);
+facet_status facet_scene_texture_encoding(const facet_scene* scene, uint32_t texture_id, facet_texture_encoding* encoding);
+
 /* The six faces of a cube environment map (+X, -X, +Y, -Y, +Z, -Z) converted from texture
  * `texture_id`, an equirectangular (latitude-longitude) picture, each face_size texels a side
  * (1..4096): new textures with ids *first_face_id .. *first_face_id + 5, bilinear and clamped to

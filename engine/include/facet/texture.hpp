@@ -7,10 +7,13 @@
 //    top-right corner: decoders deliver the top row first, so rows are stored bottom row first
 //    (the flip an OpenGL program does before glTexImage2D for OBJ/glTF-style coordinates);
 //  - texel (i, j) has its centre at ((i + 1/2) / width, (j + 1/2) / height);
-//  - values are used as they are stored (no sRGB decoding), like a GL_RGBA8 texture.
+//  - a linear texture's values are used as they are stored, like a GL_RGBA8 texture; an sRGB
+//    texture's colour channels are decoded to linear per texel before filtering, like a
+//    GL_SRGB8_ALPHA8 texture (EXT_texture_sRGB: decode, then filter; alpha is linear).
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -32,8 +35,15 @@ enum class TextureWrap {
   clamp,   // GL_CLAMP_TO_EDGE
   mirror,  // GL_MIRRORED_REPEAT
 };
+// How the stored colour channels encode light (alpha is always linear).
+enum class TextureEncoding {
+  linear,  // stored value v / 255 is the colour (normal, occlusion and metal-roughness maps)
+  srgb,    // the sRGB transfer function: linear = c / 12.92 for c <= 0.04045, ((c + 0.055) / 1.055)^2.4
+           // above, c = v / 255 (colour pictures: glTF base colour and emission)
+};
 const char* to_string(TextureFilter filter) noexcept;
 const char* to_string(TextureWrap wrap) noexcept;
+const char* to_string(TextureEncoding encoding) noexcept;
 
 struct TextureLevel {
   int width = 0, height = 0;
@@ -44,6 +54,7 @@ struct Texture {
   std::string name;
   TextureFilter filter = TextureFilter::trilinear;
   TextureWrap wrap = TextureWrap::repeat;
+  TextureEncoding encoding = TextureEncoding::linear;
   // RGBA8 texels as little-endian words (R in the low byte), level after level, each level's rows
   // bottom row first. A trilinear texture has every level down to 1x1 (level k is
   // max(1, width >> k) x max(1, height >> k), as in GL); the others have level 0 only.
@@ -60,6 +71,10 @@ struct TextureOptions {
   // A texture whose decoding and texels would need more memory than this is refused
   // (ErrorCode::out_of_memory) before it is decoded. 0 = no limit.
   std::uint64_t memory_budget_bytes = std::uint64_t{4} << 30;
+  // The texels' encoding; none: the file's own tag where it has one (a PNG's sRGB or iCCP chunk:
+  // sRGB; a gAMA chunk of 1/2.2, within 2 %: sRGB; of 1: linear; another gamma is refused, as
+  // facet cannot decode it exactly), otherwise linear (GL_RGBA8's rule), and linear for caller pixels.
+  std::optional<TextureEncoding> encoding = std::nullopt;
 };
 
 // From caller pixels: width x height RGBA8, top row first, rows packed (4 * width bytes). Any size
@@ -69,7 +84,8 @@ struct TextureOptions {
 // level averages the rectangle of the larger level it covers, with fractional weights at the
 // edges when a side is odd (a 5-texel row becomes 2 texels of 2.5 texels each), so every texel of
 // level k contributes equally to level k + 1. The average is taken in float on the stored values
-// (no sRGB decoding, as glGenerateMipmap on GL_RGBA8) and rounded to the nearest 8-bit value.
+// (as glGenerateMipmap on GL_RGBA8) and rounded to the nearest 8-bit value; for an sRGB texture
+// on the decoded (linear) colour channels, encoded back to the nearest sRGB byte.
 Result<Texture> make_texture(std::string name, int width, int height, std::span<const std::uint8_t> rgba8,
                              const TextureOptions& options = {});
 

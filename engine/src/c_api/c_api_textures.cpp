@@ -108,6 +108,41 @@ facet_status facet_scene_add_texture_encoded(facet_scene* scene, const void* byt
   });
 }
 
+facet_status facet_scene_set_texture_encoding(facet_scene* scene, uint32_t texture_id, facet_texture_encoding encoding) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (texture_id >= scene->scene.textures.size()) return fail(scene->error, "texture_id", "no such texture");
+    const long e = raw(encoding);
+    if (e != FACET_ENCODING_LINEAR && e != FACET_ENCODING_SRGB) return fail(scene->error, "encoding", "unknown texture encoding");
+    facet::Texture& t = scene->scene.textures[texture_id];
+    const auto want = e == FACET_ENCODING_SRGB ? facet::TextureEncoding::srgb : facet::TextureEncoding::linear;
+    if (t.encoding == want) return report(scene->error, {});
+    // Level 0 again, top row first as make_texture takes it, and the mipmaps rebuilt.
+    const int w = t.width(), h = t.height();
+    std::vector<std::uint8_t> rgba(4 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+    for (int j = 0; j < h; ++j) {
+      const std::uint32_t* row = t.texels.data() + static_cast<std::size_t>(h - 1 - j) * static_cast<std::size_t>(w);
+      std::uint8_t* out = rgba.data() + 4 * static_cast<std::size_t>(j) * static_cast<std::size_t>(w);
+      for (int i = 0; i < w; ++i)
+        for (int c = 0; c < 4; ++c) out[4 * i + c] = static_cast<std::uint8_t>(row[i] >> (8 * c));
+    }
+    facet::TextureOptions o = texture_options(static_cast<facet_texture_filter>(t.filter), static_cast<facet_texture_wrap>(t.wrap));
+    o.memory_budget_bytes = 0;
+    o.encoding = want;
+    facet::Result<facet::Texture> remade = facet::make_texture(t.name, w, h, rgba, o);
+    if (!remade) return report(scene->error, remade.status());
+    t = std::move(*remade);
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_texture_encoding(const facet_scene* scene, uint32_t texture_id, facet_texture_encoding* encoding) {
+  if (!scene || !encoding || texture_id >= scene->scene.textures.size()) return FACET_INVALID_ARGUMENT;
+  *encoding = scene->scene.textures[texture_id].encoding == facet::TextureEncoding::srgb ? FACET_ENCODING_SRGB
+                                                                                         : FACET_ENCODING_LINEAR;
+  return FACET_OK;
+}
+
 facet_status facet_scene_add_cube_from_equirect(facet_scene* scene, uint32_t texture_id, int face_size,
                                                uint32_t* first_face_id) {
   if (!scene) return FACET_INVALID_ARGUMENT;

@@ -38,7 +38,7 @@ std::uint32_t Reader::untextured_twin(std::uint32_t index) {
 // A textureInfo: the texture, and its KHR_texture_transform. A texture read from another set of
 // texture coordinates is drawn without, with a warning.
 Status Reader::texture_info(const Json& ti, const std::string& tp, std::int32_t& t, UvTransform& transform,
-                            bool& has_transform) {
+                            bool& has_transform, TextureEncoding encoding) {
   FACET_TRY(f_.object(ti, tp));
   int index = -1;
   std::uint64_t tex_coord = 0;
@@ -71,7 +71,7 @@ Status Reader::texture_info(const Json& ti, const std::string& tp, std::int32_t&
     has_transform = false;
     return {};
   }
-  return texture(index, t);
+  return texture(index, t, encoding);
 }
 
 Status Reader::material(int index, MaterialInfo& info) {
@@ -145,7 +145,7 @@ Status Reader::material(int index, MaterialInfo& info) {
     bool base_has = false, emissive_has = false;
     if (const Json* bt = Fields::find(*pbr, "baseColorTexture")) {
       std::int32_t t = kNoTexture;
-      FACET_TRY(texture_info(*bt, pp + ".baseColorTexture", t, base_transform, base_has));
+      FACET_TRY(texture_info(*bt, pp + ".baseColorTexture", t, base_transform, base_has, TextureEncoding::srgb));
       if (t != kNoTexture) {
         mat.diffuse_texture = t;
         mat.texture_mode = TextureMode::modulate;
@@ -161,7 +161,7 @@ Status Reader::material(int index, MaterialInfo& info) {
       mat.emission_after_texture = true;
       if (et) {
         std::int32_t t = kNoTexture;
-        FACET_TRY(texture_info(*et, p + ".emissiveTexture", t, emissive_transform, emissive_has));
+        FACET_TRY(texture_info(*et, p + ".emissiveTexture", t, emissive_transform, emissive_has, TextureEncoding::srgb));
         if (t != kNoTexture) {
           mat.emissive_texture = t;
           if (!info.needs_uvs) info.uv_transform = emissive_transform;
@@ -184,7 +184,7 @@ Status Reader::material(int index, MaterialInfo& info) {
   return {};
 }
 
-Status Reader::texture(int index, std::int32_t& out) {
+Status Reader::texture(int index, std::int32_t& out, TextureEncoding encoding) {
   const Json& t = doc_.item("textures", static_cast<std::size_t>(index));
   const std::string p = Fields::at("textures", static_cast<std::size_t>(index));
   int source = -1, sampler = -1;
@@ -195,6 +195,7 @@ Status Reader::texture(int index, std::int32_t& out) {
     return {};
   }
   TextureOptions topt;
+  topt.encoding = encoding;
   if (sampler >= 0) {
     const Json& s = doc_.item("samplers", static_cast<std::size_t>(sampler));
     const std::string sp = Fields::at("samplers", static_cast<std::size_t>(sampler));
@@ -221,7 +222,7 @@ Status Reader::texture(int index, std::int32_t& out) {
     if (s_wrap != t_wrap) warn(sp + ": wrapS and wrapT differ; facet has one wrap mode per texture and uses wrapS's");
     topt.wrap = s_wrap;
   }
-  const auto key = std::make_tuple(source, topt.filter, topt.wrap);
+  const auto key = std::make_tuple(source, topt.filter, topt.wrap, encoding);
   if (auto it = textures_.find(key); it != textures_.end()) {
     out = it->second;
     return {};

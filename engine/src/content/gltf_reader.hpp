@@ -73,8 +73,11 @@ class Reader {
 
   // gltf_material.cpp
   Status material(int index, MaterialInfo& info);
-  Status texture_info(const Json& ti, const std::string& tp, std::int32_t& t, UvTransform& transform, bool& has_transform);
-  Status texture(int index, std::int32_t& out);
+  // `encoding`: glTF's rule for the slot (base colour and emission sRGB, the others linear),
+  // whatever the image file says.
+  Status texture_info(const Json& ti, const std::string& tp, std::int32_t& t, UvTransform& transform, bool& has_transform,
+                      TextureEncoding encoding);
+  Status texture(int index, std::int32_t& out, TextureEncoding encoding);
   std::uint32_t untextured_twin(std::uint32_t index);
   Status add_camera(int camera, const std::string& p, const Eigen::Matrix4d& world);
   Status add_light(const Json& ext, const std::string& p, const Eigen::Matrix4d& world);
@@ -89,7 +92,7 @@ class Reader {
   std::map<std::pair<std::size_t, std::size_t>, std::tuple<std::uint32_t, std::uint32_t, bool>> primitives_;
   std::map<int, MaterialInfo> materials_;
   std::map<std::uint32_t, std::uint32_t> untextured_;
-  std::map<std::tuple<int, TextureFilter, TextureWrap>, std::int32_t> textures_;
+  std::map<std::tuple<int, TextureFilter, TextureWrap, TextureEncoding>, std::int32_t> textures_;
   std::set<std::string> ignored_attributes_;
 };
 

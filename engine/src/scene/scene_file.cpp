@@ -279,7 +279,7 @@ class SceneReader : public scene_json::JsonFields {
 
   // A texture file, resolved against the scene file's folder, decoded with its filter and wrap.
   Status read_texture(const json& j, const std::string& p, Texture& out) {
-    FACET_TRY(expect_object(j, p, {"name", "file", "filter", "wrap"}));
+    FACET_TRY(expect_object(j, p, {"name", "file", "filter", "wrap", "encoding"}));
     std::string name, file, mode;
     FACET_TRY(opt_string(j, p, "name", name));
     if (!j.contains("file")) return invalid(child(p, "file"), "missing: every texture names its image file");
@@ -293,6 +293,10 @@ class SceneReader : public scene_json::JsonFields {
     if (j.contains("wrap")) {
       FACET_TRY(read_enum(j["wrap"], child(p, "wrap"), {"repeat", "clamp", "mirror"}, mode));
       options.wrap = mode == "repeat" ? TextureWrap::repeat : mode == "clamp" ? TextureWrap::clamp : TextureWrap::mirror;
+    }
+    if (j.contains("encoding")) {  // "auto" (the default): the file's tag, else linear
+      FACET_TRY(read_enum(j["encoding"], child(p, "encoding"), {"auto", "srgb", "linear"}, mode));
+      if (mode != "auto") options.encoding = mode == "srgb" ? TextureEncoding::srgb : TextureEncoding::linear;
     }
     const std::string fp = child(p, "file");
     Result<Texture> t = facet::read_texture(folder_, file, fp, name, options);

@@ -59,6 +59,10 @@ Result<std::vector<Texture>> cube_faces_from_equirect(const Texture& equirect, i
     const double v_lo = 0.5 / equirect.height(), v_hi = 1.0 - v_lo;
     std::vector<Texture> faces;
     std::vector<std::uint8_t> rgba(4 * side * side);
+    // The faces keep the picture's encoding.
+    const bool srgb = equirect.encoding == TextureEncoding::srgb;
+    TextureOptions face_options = options;
+    face_options.encoding = equirect.encoding;
     static constexpr const char* kFace[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
     for (int f = 0; f < 6; ++f) {
       for (int j = 0; j < face_size; ++j) {
@@ -79,13 +83,16 @@ Result<std::vector<Texture>> cube_faces_from_equirect(const Texture& equirect, i
           // make_texture takes the top row first; j counts from the bottom.
           std::uint8_t* out = rgba.data() + 4 * ((side - 1 - static_cast<std::uint64_t>(j)) * side + static_cast<std::uint64_t>(i));
           for (int c = 0; c < 4; ++c) {
-            const double mean = sum[c] / (kEquirectSamples * kEquirectSamples);
+            double mean = sum[c] / (kEquirectSamples * kEquirectSamples);
+            if (srgb && c < 3) {  // averaged decoded (the reference sampler decodes): encoded back
+              mean = mean <= 0.0031308 ? 12.92 * mean : 1.055 * std::pow(mean, 1.0 / 2.4) - 0.055;
+            }
             const double byte = std::floor(mean * 255.0 + 0.5);
             out[c] = static_cast<std::uint8_t>(byte < 0.0 ? 0.0 : byte > 255.0 ? 255.0 : byte);
           }
         }
       }
-      Result<Texture> t = make_texture(name + kFace[f], face_size, face_size, rgba, options);
+      Result<Texture> t = make_texture(name + kFace[f], face_size, face_size, rgba, face_options);
       if (!t) return t.status();
       faces.push_back(std::move(*t));
     }

@@ -53,6 +53,8 @@ struct Header {
   png_byte trans_alpha[256];
   png_color_16 trans_color;
   bool has_trans_color = false;
+  bool srgb = false, iccp = false;
+  double gamma = 0.0;
 };
 
 // Phase 1 reads the header; phase 2 the rows into `pixels` (sized by the caller from the header).
@@ -76,6 +78,13 @@ bool run_libpng(Input& input, State& state, Header& h, const std::function<std::
   png_set_user_limits(png, 0x7fffffffu, 0x7fffffffu);  // facet checks the size itself, after the header
   png_read_info(png, info);
   png_get_IHDR(png, info, &h.width, &h.height, &h.bit_depth, &h.color_type, nullptr, nullptr, nullptr);
+  // The colour-space tags (only recorded: the samples stay as they are stored).
+  h.srgb = png_get_valid(png, info, PNG_INFO_sRGB) != 0;
+  h.iccp = png_get_valid(png, info, PNG_INFO_iCCP) != 0;
+  if (png_get_valid(png, info, PNG_INFO_gAMA)) {
+    png_fixed_point g = 0;
+    if (png_get_gAMA_fixed(png, info, &g)) h.gamma = double(g) / 100000.0;
+  }
   if (h.color_type == PNG_COLOR_TYPE_PALETTE) {
     png_colorp pal = nullptr;
     if (png_get_PLTE(png, info, &pal, &h.palette_size) == 0) png_error(png, "a palette image without a palette");
@@ -163,6 +172,7 @@ Result<PngPixels> decode_png(std::span<const std::uint8_t> bytes, const std::str
   PngPixels out;
   out.width = int(h.width);
   out.height = int(h.height);
+  out.srgb_chunk = h.srgb, out.iccp_chunk = h.iccp, out.gamma = h.gamma;
   const std::size_t n = std::size_t(h.width) * h.height;
   try {
     out.rgba.resize(4 * n);

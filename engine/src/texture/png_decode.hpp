@@ -14,6 +14,10 @@ namespace facet {
 struct PngPixels {
   int width = 0, height = 0;
   std::vector<std::uint8_t> rgba;  // top row first, packed
+  // What the file says of its colour encoding: an sRGB or iCCP chunk (srgb), a gAMA chunk (gamma
+  // = its value, 1/2.2 for sRGB-like files), or nothing (untagged, gamma 0).
+  bool srgb_chunk = false, iccp_chunk = false;
+  double gamma = 0.0;
 };
 
 // `admit` is asked, once the header is read and before any pixel memory is taken, whether

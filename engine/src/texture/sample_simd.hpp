@@ -99,6 +99,15 @@ struct SampleSimd {
       }
     }
   }
+  // channel<c>, or for the colour channels of an sRGB texture 255 x their decoding, gathered from
+  // the sampler's table (the scalar twin reads the same floats).
+  template <int c>
+  static F value(const Sampler& s, const I& texel) {
+    if constexpr (c < 3) {
+      if (s.decode) return gather(s.decode, (texel >> (8 * c)) & I(0xff));
+    }
+    return channel<c>(texel);
+  }
   // f(std::integral_constant<int, c>) for c = 0, 1, 2, 3 (the callee reads c as a constant).
   template <class Fn>
   static void each_channel(Fn&& f) {
@@ -220,7 +229,7 @@ struct SampleSimd {
         const I t00 = texels_at(s, l.base + jj * l.wi + ii);
         each_channel([&](auto c) {
           constexpr int k = decltype(c)::value;
-          out[p][k] = channel<k>(t00) * F(1.0f / 255.0f);
+          out[p][k] = value<k>(s, t00) * F(1.0f / 255.0f);
         });
       }
       return;
@@ -250,8 +259,8 @@ struct SampleSimd {
       const F ra = F(1.0f) - a[p], rb = F(1.0f) - b[p];
       each_channel([&](auto c) {
         constexpr int k = decltype(c)::value;
-        const F top = channel<k>(t00[p]) * ra + channel<k>(t10[p]) * a[p];
-        const F bottom = channel<k>(t01[p]) * ra + channel<k>(t11[p]) * a[p];
+        const F top = value<k>(s, t00[p]) * ra + value<k>(s, t10[p]) * a[p];
+        const F bottom = value<k>(s, t01[p]) * ra + value<k>(s, t11[p]) * a[p];
         out[p][k] = (top * rb + bottom * b[p]) * F(1.0f / 255.0f);
       });
     }

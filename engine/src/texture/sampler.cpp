@@ -2,6 +2,8 @@
 // see sampler.hpp for the arithmetic both follow. Built with -ffp-contract=off, as the raster kernels.
 #include "texture/sampler.hpp"
 
+#include "texture/srgb_table.hpp"
+
 #include <cfloat>
 #include <cmath>
 #include <cstring>
@@ -43,9 +45,20 @@ int fold(int i, int n, int wrap) {
   return i;
 }
 
+// Channel c as 0..255: the stored byte, or for an sRGB texture's colour channels 255 x its decoding
+// (the float samplers from the table, the reference in double).
 template <class T>
-T channel(std::uint32_t texel, int c) {
-  return static_cast<T>((texel >> (8 * c)) & 0xffu);
+T channel(std::uint32_t texel, int c, const float* decode) {
+  const std::uint32_t v = (texel >> (8 * c)) & 0xffu;
+  if (decode && c < 3) {
+    if constexpr (std::is_same_v<T, float>) {
+      return decode[v];
+    } else {
+      const double x = v / 255.0;
+      return 255.0 * (x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
+    }
+  }
+  return static_cast<T>(v);
 }
 
 // 0..255 to 0..1: the float samplers multiply by the float 1/255 (as the SIMD twin), the reference divides.
@@ -64,7 +77,7 @@ std::uint32_t texel_at(const SamplerLevel& l, int i, int j) {
 
 // One level, nearest or bilinear, in T (float: the twin of the SIMD sampler; double: the reference).
 template <class T>
-std::array<T, 4> sample_level(const SamplerLevel& l, int wrap, bool linear, T s, T t) {
+std::array<T, 4> sample_level(const SamplerLevel& l, int wrap, bool linear, T s, T t, const float* decode) {
   const T fw = static_cast<T>(l.fwidth), fh = static_cast<T>(l.fheight);
   const T rs = wrap_coordinate(s, wrap), rt = wrap_coordinate(t, wrap);
   std::array<T, 4> out{};
@@ -72,7 +85,7 @@ std::array<T, 4> sample_level(const SamplerLevel& l, int wrap, bool linear, T s,
     const int i = fold(static_cast<int>(std::floor(rs * fw)), l.width, wrap);
     const int j = fold(static_cast<int>(std::floor(rt * fh)), l.height, wrap);
     const std::uint32_t t00 = texel_at(l, i, j);
-    for (int c = 0; c < 4; ++c) out[c] = unit(channel<T>(t00, c));
+    for (int c = 0; c < 4; ++c) out[c] = unit(channel<T>(t00, c, decode));
     return out;
   }
   const T x = rs * fw - T(0.5), y = rt * fh - T(0.5);
@@ -85,8 +98,8 @@ std::array<T, 4> sample_level(const SamplerLevel& l, int wrap, bool linear, T s,
   const std::uint32_t t01 = texel_at(l, ia, j1), t11 = texel_at(l, i1, j1);
   const T ra = T(1) - a, rb = T(1) - b;
   for (int c = 0; c < 4; ++c) {
-    const T top = channel<T>(t00, c) * ra + channel<T>(t10, c) * a;
-    const T bottom = channel<T>(t01, c) * ra + channel<T>(t11, c) * a;
+    const T top = channel<T>(t00, c, decode) * ra + channel<T>(t10, c, decode) * a;
+    const T bottom = channel<T>(t01, c, decode) * ra + channel<T>(t11, c, decode) * a;
     out[c] = unit(top * rb + bottom * b);
   }
   return out;
@@ -94,15 +107,15 @@ std::array<T, 4> sample_level(const SamplerLevel& l, int wrap, bool linear, T s,
 
 template <class T>
 std::array<T, 4> sample(const Sampler& s, T u, T v, T lambda) {
-  if (s.filter != kTrilinear || !(lambda > T(0))) return sample_level<T>(s.level[0], s.wrap, s.filter != kNearest, u, v);
+  if (s.filter != kTrilinear || !(lambda > T(0))) return sample_level<T>(s.level[0], s.wrap, s.filter != kNearest, u, v, s.decode);
   const int q = s.levels - 1;
   const T l = lambda < T(q) ? lambda : T(q);
   const T d1 = std::floor(l);
   const int k = static_cast<int>(d1);
-  if (k >= q) return sample_level<T>(s.level[q], s.wrap, true, u, v);
+  if (k >= q) return sample_level<T>(s.level[q], s.wrap, true, u, v, s.decode);
   const T f = l - d1;
-  const std::array<T, 4> c1 = sample_level<T>(s.level[k], s.wrap, true, u, v);
-  const std::array<T, 4> c2 = sample_level<T>(s.level[k + 1], s.wrap, true, u, v);
+  const std::array<T, 4> c1 = sample_level<T>(s.level[k], s.wrap, true, u, v, s.decode);
+  const std::array<T, 4> c2 = sample_level<T>(s.level[k + 1], s.wrap, true, u, v, s.decode);
   std::array<T, 4> out{};
   for (int c = 0; c < 4; ++c) out[c] = c1[c] * (T(1) - f) + c2[c] * f;
   return out;
@@ -125,6 +138,7 @@ Sampler make_sampler(const Texture& texture) noexcept {
     s.fwidth[k] = static_cast<float>(l.width), s.fheight[k] = static_cast<float>(l.height);
   }
   s.texels = texture.texels.data();
+  s.decode = texture.encoding == TextureEncoding::srgb ? kSrgbDecode255 : nullptr;
   return s;
 }
 

@@ -12,7 +12,9 @@
 //   nearest: i = floor(r n), then folded into [0, n) by the wrap mode;
 //   linear:  x = r n - 1/2, i0 = floor(x), i1 = i0 + 1, a = x - i0; both folded into [0, n)
 //            (repeat: modulo n; mirror: modulo 2n, then i >= n reads 2n - 1 - i; clamp: to the edge);
-//            c = ((t00 (1 - a) + t10 a) (1 - b) + (t01 (1 - a) + t11 a) b) / 255 per channel.
+//            c = ((t00 (1 - a) + t10 a) (1 - b) + (t01 (1 - a) + t11 a) b) / 255 per channel, with
+//            t the stored byte, or for the colour channels of an sRGB texture 255 x its decoding
+//            (the float samplers read it from a table rounded to float, the reference computes it).
 //   LOD:     rho^2 = max((ds/dx w)^2 + (dt/dx h)^2, (ds/dy w)^2 + (dt/dy h)^2) from the derivatives
 //            of (s, t) in the pixel (w, h: level 0's size), lambda = log2(rho^2) / 2 (GL's
 //            isotropic rho = max of the two lengths). log2 in float is the exponent plus a
@@ -55,6 +57,10 @@ struct Sampler {
   const std::uint32_t* texels;
   std::int32_t width[kMaxLevels], height[kMaxLevels], offset[kMaxLevels];
   float fwidth[kMaxLevels], fheight[kMaxLevels];
+  // sRGB textures: the float samplers read the colour channels through this table (kSrgbDecode255,
+  // stored byte -> 255 x linear) instead of as stored, before filtering; the reference sampler
+  // decodes in double. Null: linear.
+  const float* decode;
 };
 Sampler make_sampler(const Texture& texture) noexcept;
 

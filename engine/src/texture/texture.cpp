@@ -16,6 +16,7 @@
 #include "io/file_access.hpp"
 #include "texture/jpeg_decode.hpp"
 #include "texture/png_decode.hpp"
+#include "texture/srgb_table.hpp"
 #include "texture/texture_file.hpp"
 
 namespace facet {
@@ -76,7 +77,15 @@ float span_weight(const Span& s, int k) {
   return 1.0f;
 }
 
-void build_level(const std::uint32_t* src, int sw, int sh, std::uint32_t* dst, int dw, int dh) {
+// The nearest sRGB byte to a linear value (IEC 61966-2-1's encoding, in double).
+std::uint32_t encode_srgb(double linear) {
+  const double l = std::clamp(linear, 0.0, 1.0);
+  const double c = l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055;
+  return static_cast<std::uint32_t>(std::clamp(std::lround(255.0 * c), 0l, 255l));
+}
+
+// srgb: the colour channels are averaged decoded (texture::kSrgbDecode255) and encoded back.
+void build_level(const std::uint32_t* src, int sw, int sh, std::uint32_t* dst, int dw, int dh, bool srgb) {
   std::vector<Span> xs(static_cast<std::size_t>(dw));
   for (int i = 0; i < dw; ++i) xs[static_cast<std::size_t>(i)] = box_span(i, sw, dw);
   for (int j = 0; j < dh; ++j) {
@@ -89,13 +98,17 @@ void build_level(const std::uint32_t* src, int sw, int sh, std::uint32_t* dst, i
         for (int xx = x.first; xx <= x.last; ++xx) {
           const float w = wy * span_weight(x, xx);
           const std::uint32_t t = src[static_cast<std::size_t>(y) * static_cast<std::size_t>(sw) + static_cast<std::size_t>(xx)];
-          for (int c = 0; c < 4; ++c) sum[c] += w * static_cast<float>((t >> (8 * c)) & 0xffu);
+          for (int c = 0; c < 4; ++c) {
+            const std::uint32_t v = (t >> (8 * c)) & 0xffu;
+            sum[c] += w * (srgb && c < 3 ? texture::kSrgbDecode255[v] : static_cast<float>(v));
+          }
         }
       }
       std::uint32_t out = 0;
       for (int c = 0; c < 4; ++c) {
         const float v = sum[c] * x.inv_size * ys.inv_size;
-        const auto q = static_cast<std::uint32_t>(std::clamp(v + 0.5f, 0.0f, 255.0f));
+        const auto q = srgb && c < 3 ? encode_srgb(double(v) / 255.0)
+                                     : static_cast<std::uint32_t>(std::clamp(v + 0.5f, 0.0f, 255.0f));
         out |= q << (8 * c);
       }
       dst[static_cast<std::size_t>(j) * static_cast<std::size_t>(dw) + static_cast<std::size_t>(i)] = out;
@@ -220,6 +233,14 @@ const char* to_string(TextureFilter filter) noexcept {
   return "?";
 }
 
+const char* to_string(TextureEncoding encoding) noexcept {
+  switch (encoding) {
+    case TextureEncoding::linear: return "linear";
+    case TextureEncoding::srgb: return "srgb";
+  }
+  return "?";
+}
+
 const char* to_string(TextureWrap wrap) noexcept {
   switch (wrap) {
     case TextureWrap::repeat: return "repeat";
@@ -243,12 +264,17 @@ Result<Texture> make_texture(std::string name, int width, int height, std::span<
   const int filter = static_cast<int>(options.filter), wrap = static_cast<int>(options.wrap);
   if (filter < 0 || filter > 2) return invalid("filter", "unknown texture filter " + std::to_string(filter));
   if (wrap < 0 || wrap > 2) return invalid("wrap", "unknown texture wrap mode " + std::to_string(wrap));
+  const TextureEncoding encoding = options.encoding.value_or(TextureEncoding::linear);
+  if (encoding != TextureEncoding::linear && encoding != TextureEncoding::srgb) {
+    return invalid("encoding", "unknown texture encoding " + std::to_string(static_cast<int>(encoding)));
+  }
   const std::uint64_t bytes = texel_bytes(width, height, options.filter);
   FACET_TRY(check_budget(bytes, options, "texture '" + name + "'"));
   try {
     Texture t;
     t.filter = options.filter;
     t.wrap = options.wrap;
+    t.encoding = encoding;
     const int levels = options.filter == TextureFilter::trilinear ? level_count(width, height) : 1;
     t.texels.resize(static_cast<std::size_t>(bytes / 4));
     std::size_t offset = 0;
@@ -268,7 +294,8 @@ Result<Texture> make_texture(std::string name, int width, int height, std::span<
     for (int k = 1; k < levels; ++k) {
       const TextureLevel& a = t.levels[static_cast<std::size_t>(k - 1)];
       const TextureLevel& b = t.levels[static_cast<std::size_t>(k)];
-      build_level(t.texels.data() + a.offset, a.width, a.height, t.texels.data() + b.offset, b.width, b.height);
+      build_level(t.texels.data() + a.offset, a.width, a.height, t.texels.data() + b.offset, b.width, b.height,
+                  t.encoding == TextureEncoding::srgb);
     }
     t.name = std::move(name);
     return t;
@@ -295,7 +322,23 @@ Result<Texture> decode_texture(std::span<const std::uint8_t> bytes, const std::s
   if (is_png(bytes)) {
     Result<PngPixels> png = decode_png(bytes, source_name, admit);
     if (!png) return png.status();
-    Result<Texture> t = make_texture(std::move(name), png->width, png->height, png->rgba, options);
+    TextureOptions tagged = options;
+    if (!tagged.encoding) {  // the file's own tag (TextureOptions::encoding)
+      if (png->srgb_chunk || png->iccp_chunk) {
+        tagged.encoding = TextureEncoding::srgb;
+      } else if (png->gamma > 0.0) {
+        if (std::abs(png->gamma * 2.2 - 1.0) <= 0.02) {
+          tagged.encoding = TextureEncoding::srgb;
+        } else if (png->gamma == 1.0) {
+          tagged.encoding = TextureEncoding::linear;
+        } else {
+          return fail(ErrorCode::unsupported, "its gAMA chunk gives gamma " + format_number(png->gamma) +
+                                                  ", neither sRGB's 1/2.2 nor linear's 1: facet cannot decode it "
+                                                  "exactly (give the texture an encoding to read it as sRGB or linear)");
+        }
+      }
+    }
+    Result<Texture> t = make_texture(std::move(name), png->width, png->height, png->rgba, tagged);
     if (!t) return fail(t.status().code(), t.status().message());
     return t;
   }
@@ -362,6 +405,9 @@ Status validate_texture(const Texture& t, const std::string& field) {
   const int filter = static_cast<int>(t.filter), wrap = static_cast<int>(t.wrap);
   if (filter < 0 || filter > 2) return invalid(field + ".filter", "unknown texture filter " + std::to_string(filter));
   if (wrap < 0 || wrap > 2) return invalid(field + ".wrap", "unknown texture wrap mode " + std::to_string(wrap));
+  if (t.encoding != TextureEncoding::linear && t.encoding != TextureEncoding::srgb) {
+    return invalid(field + ".encoding", "unknown texture encoding " + std::to_string(static_cast<int>(t.encoding)));
+  }
   if (t.levels.empty()) return invalid(field + ".levels", "a texture needs at least level 0");
   const int w = t.levels[0].width, h = t.levels[0].height;
   if (w < 1 || h < 1 || w > kMaxTextureDimension || h > kMaxTextureDimension) {
