@@ -118,6 +118,14 @@ struct Material {
   std::int32_t emissive_texture = kNoTexture;  // index into Scene::textures
   bool emission_after_texture = false;
 
+  // Relief (docs/relief.md). A tangent-space normal map (glTF normalTexture, linear): the texel's
+  // RGB as n = (2 rgb - 1) with x and y times normal_scale, in the frame of the mesh's tangents
+  // (Mesh::tangents: t, b = w cross(normal, t), the normal), perturbs the normal each pixel is lit
+  // with. Lit per pixel only (Phong): flat and Gouraud shading light the vertex normals, as GL does.
+  // Needs the mesh's uvs and tangents (generate_tangents); sampled at the diffuse texture's uvs.
+  std::int32_t normal_texture = kNoTexture;  // index into Scene::textures
+  float normal_scale = 1.0f;                 // finite, |scale| <= 1e6
+
   // Applied after the texture environment, before the emission added after texturing and the
   // separate specular (GL: a second texture unit). Sampled at level 0 (no mipmaps: texgen
   // coordinates have no derivatives per pixel).
@@ -133,7 +141,7 @@ inline bool adds_emission_after_texture(const Material& m) noexcept {
 
 // Whether the material samples a texture (and so needs the mesh's uvs).
 inline bool uses_textures(const Material& m) noexcept {
-  return m.diffuse_texture != kNoTexture || m.emissive_texture != kNoTexture;
+  return m.diffuse_texture != kNoTexture || m.emissive_texture != kNoTexture || m.normal_texture != kNoTexture;
 }
 
 }  // namespace facet

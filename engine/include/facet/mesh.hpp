@@ -32,6 +32,10 @@ struct Mesh {
   // Optional per-vertex data: empty, or one entry per position.
   std::vector<Vec2> uvs;        // texture coordinates; (0, 0) is the image's bottom-left corner, as in GL
   std::vector<Color3> colors;   // linear RGB in [0, 1]; replaces the material's ambient and diffuse colour
+  // Tangent space for normal maps (glTF TANGENT): xyz the direction of increasing u, finite; w = +1
+  // or -1, the bitangent being w cross(normal, xyz) (the direction of increasing v). Made by
+  // generate_tangents when a file gives none.
+  std::vector<Vec4> tangents;
   // Optional: empty (the object's material for every triangle), or consecutive runs that cover
   // every triangle in order. An object chooses whether to use them (scene.hpp, Object::materials).
   std::vector<MaterialGroup> groups;
@@ -56,6 +60,17 @@ Result<Mesh> mesh_from_arrays(std::span<const float> positions_xyz, std::span<co
 // the seams of a UV-mapped mesh are smoothed). Degenerate triangles get no weight; a vertex with
 // no usable face gets a zero normal. Triangles and their winding are kept; `normals` is replaced.
 void compute_vertex_normals(Mesh& mesh, float crease_angle_deg = kDefaultCreaseAngleDeg);
+
+// Tangents by the MikkTSpace algorithm (Mikkelsen 2008, the tangent space of glTF and Blender's
+// bakers): per triangle the direction of increasing u in the plane of its positions, and the sign
+// of its uv area (w); at each corner that direction projected into the plane of the vertex's
+// normal and normalised; per vertex the sum over its corners of one orientation, weighted by the
+// corner's angle, normalised. A vertex whose corners have both orientations (a mirrored UV seam
+// through it) is split in two, as compute_vertex_normals splits creases. Triangles with a
+// degenerate uv area or positions contribute nothing; a vertex left with no direction gets one
+// perpendicular to its normal (any: its normal map then has no defined orientation). Needs uvs;
+// `tangents` is replaced (triangles may be re-indexed, their order and winding kept).
+Status generate_tangents(Mesh& mesh);
 
 // Procedural shapes, centred on the origin. Tessellation arguments are clamped to their minimum
 // (noted per shape) and to 4096 per axis.

@@ -101,6 +101,12 @@ Status validate_scene(const Scene& scene);
 // The index of the scene material called `name` (the first, if several are), or -1.
 std::int64_t find_material(const Scene& scene, const std::string& name) noexcept;
 
+// Tangents (generate_tangents) for every mesh an object draws with a normal-mapped material (its
+// own, or a material group's) that has texture coordinates and no tangents. Scene files and
+// models call it after loading; hosts that build scenes call it (or give Mesh::tangents) before
+// rendering one with normal maps.
+Status generate_missing_tangents(Scene& scene);
+
 // Parts of validate_scene, for callers that build a scene piece by piece (the C API checks each
 // piece as it is added): the same checks and messages, naming materials[index], lights[index],
 // camera.* and global_ambient.

@@ -115,6 +115,8 @@ struct Renderer::Impl {
     std::vector<Color3> front, back;
     std::vector<Color3> front_spec, back_spec, flat_albedo;  // textured: specular apart; flat: mean vertex colour
     std::vector<Vec3> eye_p, eye_n, centroid, face_normal;
+    std::vector<Vec3> eye_t;          // Phong with a normal map: the tangents in eye space
+    std::vector<float> tangent_sign;  // and their w, negated by a mirroring model matrix
     std::array<std::vector<float>, raster::kGeneratedVaryings.size()> generated;  // raster::kGeneratedVaryings at each vertex
     // Gouraud: 1 for a vertex of a triangle that may be drawn (or clipped; marked by
     // raster::place_range), and per vertex chunk the list of those vertices.

@@ -241,6 +241,20 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       eye_n[i] = Vec3(q[0] * nn.x() + q[1] * nn.y() + q[2] * nn.z(), q[3] * nn.x() + q[4] * nn.y() + q[5] * nn.z(),
                       q[6] * nn.x() + q[7] * nn.y() + q[8] * nn.z());
     }
+    // Tangents are directions on the surface: the model-view's linear part moves them (normals take
+    // its inverse transpose). A mirror reverses cross(n, t) against the moved bitangent: w flips.
+    if (draw.layout.has(raster::Varying::tangent)) {
+      os.eye_t.resize(n);
+      os.tangent_sign.resize(n);
+      const float* m = xf.position;
+      const float flip = os.mirrored ? -1.0f : 1.0f;
+      for (std::size_t i = v0; i < v1; ++i) {
+        const Vec4& t = mesh.tangents[i];
+        os.eye_t[i] = Vec3(m[0] * t.x() + m[1] * t.y() + m[2] * t.z(), m[4] * t.x() + m[5] * t.y() + m[6] * t.z(),
+                           m[8] * t.x() + m[9] * t.y() + m[10] * t.z());
+        os.tangent_sign[i] = flip * t.w();
+      }
+    }
   }
   for (std::size_t g = 0; g < raster::kGeneratedVaryings.size(); ++g) {
     const raster::Varying v = raster::kGeneratedVaryings[g];
@@ -426,6 +440,8 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   source(Varying::normal, os.eye_n);
   source(Varying::albedo, mesh.colors);
   source(Varying::uv, mesh.uvs);
+  source(Varying::tangent, os.eye_t);
+  source(Varying::tangent_sign, os.tangent_sign);
   for (std::size_t g = 0; g < raster::kGeneratedVaryings.size(); ++g) source(raster::kGeneratedVaryings[g], os.generated[g]);
   vertices.flat_front = flat ? os.front.data() : nullptr;
   vertices.flat_back = flat && two_sided ? os.back.data() : nullptr;

@@ -424,7 +424,12 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     raster::SurfaceNeeds needs;
     needs.secondary = textured && lit == raster::LitAt::vertex;
     needs.albedo = colours && lit == raster::LitAt::pixel;
-    needs.uv = textured || emission_texture;
+    // A normal map: lit per pixel, with the mesh's tangents; not with vertex colours, whose albedo
+    // takes the varyings the tangent would need (docs/relief.md).
+    const bool normal_map = !plain && lit == raster::LitAt::pixel && m.normal_texture != kNoTexture && !needs.albedo &&
+                            mesh.tangents.size() == mesh.positions.size() && !mesh.positions.empty();
+    needs.tangent = normal_map;
+    needs.uv = textured || emission_texture || normal_map;
     const Environment& env = m.environment;
     // Inside an environment face, dynamic reflectors are drawn without their reflection.
     const std::int32_t cube = env.dynamic && units[o].object < cubes.of_object.size() ? cubes.of_object[units[o].object] : -1;
@@ -457,13 +462,17 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
         }
       }
     }
+    if (normal_map) {
+      d.normal_map = &samplers.as_made[static_cast<std::size_t>(m.normal_texture)];
+      d.normal_scale = m.normal_scale;
+    }
     d.uv_scale[0] = m.uv_scale.x(), d.uv_scale[1] = m.uv_scale.y();
     d.alpha_cutoff = m.alpha_cutoff;
     d.blend = plain ? BlendMode::opaque : m.blend;
     d.depth_write = writes_depth(m);
     d.clamp = clamp;
     const bool surface = textured || d.emission || d.blend != BlendMode::opaque || m.alpha_cutoff > 0.0f ||
-                         !d.depth_write || f.mode != FogMode::none || needs.albedo || environment;
+                         !d.depth_write || f.mode != FogMode::none || needs.albedo || environment || normal_map;
     using raster::simd::PixelProgram;
     if (!surface) {
       d.program = lit == raster::LitAt::triangle ? PixelProgram::flat

@@ -259,7 +259,8 @@ struct SurfaceProgram {
       F v[9 + raster::simd::kMaxCarried];
       const int position = d.layout.at(Varying::eye_position), albedo = d.layout.at(Varying::albedo);
       F normal[3];
-      pixel_normal(d, value, normal);
+      pixel_normal(d, value, cx.t.bitangent_negative,
+                   [&](const texture::Sampler& s, F(&t)[4]) { Texturing<Arch>::sample(s, uv, t); }, normal);
       for (int c = 0; c < 3; ++c) {
         v[c] = value(position + c);
         v[3 + c] = normal[c];

@@ -344,12 +344,30 @@ inline void generate_at_vertex(const Draw& d, raster::Varying v, const float (&p
 }
 
 // The normal a pixel lit per pixel (Phong) is lit with: the interpolated eye-space normal
-// (value(a) interpolates attribute a). Stages that perturb it before lighting (normal and bump
-// maps) belong here.
-template <class V, class Value>
-[[gnu::always_inline]] inline void pixel_normal(const Draw& d, const Value& value, V (&n)[3]) {
+// (value(a) interpolates attribute a), perturbed by the draw's normal map. sample(sampler, rgba)
+// samples a map at the pixel's texture coordinates; bitangent_negative: the triangle's tangent
+// frame is mirrored (ScreenTriangle::bitangent_negative).
+//
+// The normal map: m = 2 rgb - 1, x and y times normal_scale, in the frame of the interpolated
+// normal N and tangent T, neither normalised, the bitangent B = w cross(N, T):
+//   n = m.x T + m.y B + m.z N,
+// MikkTSpace's pixel-shader rule (its tangents are baked for exactly that frame); the lighting
+// normalises n. A zero tangent (a degenerate uv triangle) leaves m.z N.
+template <class V, class Value, class Sample>
+[[gnu::always_inline]] inline void pixel_normal(const Draw& d, const Value& value, bool bitangent_negative,
+                                                const Sample& sample, V (&n)[3]) {
   const int a = d.layout.at(raster::Varying::normal);
   for (int c = 0; c < 3; ++c) n[c] = value(a + c);
+  if (!d.normal_map) return;
+  const int ta = d.layout.at(raster::Varying::tangent);
+  const V t[3] = {value(ta), value(ta + 1), value(ta + 2)};
+  const V w(bitangent_negative ? -1.0f : 1.0f);
+  const V b[3] = {w * (n[1] * t[2] - n[2] * t[1]), w * (n[2] * t[0] - n[0] * t[2]), w * (n[0] * t[1] - n[1] * t[0])};
+  V rgba[4];
+  sample(*d.normal_map, rgba);
+  const V k(d.normal_scale);
+  const V mx = (V(2.0f) * rgba[0] - V(1.0f)) * k, my = (V(2.0f) * rgba[1] - V(1.0f)) * k, mz = V(2.0f) * rgba[2] - V(1.0f);
+  for (int c = 0; c < 3; ++c) n[c] = mx * t[c] + my * b[c] + mz * n[c];
 }
 
 // The varyings generated per vertex for the tail's stages (generate_at_vertex),

@@ -12,7 +12,10 @@ using geometry::ScreenVertex;
 Placement place_triangle(ScreenTriangle& t, CullMode cull, bool two_sided, bool mirrored,
                          const geometry::Viewport& viewport, bool& swapped) {
   const std::int64_t area2 = signed_area2(t);
-  if (const Placement p = orient(area2, cull, two_sided, mirrored, t.back_facing); p != Placement::placed) return p;
+  bool back_facing = false;
+  const Placement p = orient(area2, cull, two_sided, mirrored, back_facing);
+  t.back_facing = back_facing;
+  if (p != Placement::placed) return p;
   return place_oriented(t, area2, viewport, swapped);
 }
 
@@ -40,9 +43,10 @@ void select_face(const VaryingLayout& l, float (&attr)[3][geometry::kMaxAttribut
   for (auto& a : attr) {
     move(a, Varying::back_color, Varying::front_color);
     move(a, Varying::back_secondary, Varying::front_secondary);
-    if (l.has(Varying::normal)) {
-      const int n = l.at(Varying::normal);
-      for (int c = 0; c < width_of(Varying::normal); ++c) a[n + c] = -a[n + c];
+    for (const Varying v : {Varying::normal, Varying::tangent}) {
+      if (!l.has(v)) continue;
+      const int n = l.at(v);
+      for (int c = 0; c < width_of(v); ++c) a[n + c] = -a[n + c];
     }
   }
 }
@@ -258,6 +262,14 @@ class RangeAssembler {
     t.flat_secondary[1] = spec.y();
     t.flat_secondary[2] = spec.z();
     if (use_back) select_face(object_.layout, attr);
+    // The triangle's tangent frame: the sign most of its vertices carry (MikkTSpace gives one per
+    // triangle), flipped with the back face (whose normal and tangent select_face negated).
+    bool negative = false;
+    if (object_.layout.has(Varying::tangent_sign)) {
+      const int s = object_.layout.at(Varying::tangent_sign);
+      negative = (attr[0][s] + attr[1][s] + attr[2][s] < 0.0f) != use_back;
+    }
+    t.bitangent_negative = negative;
     t.alpha = object_.alpha;
     t.object = object_.object;
     compute_planes(t, attr, object_.layout.raster);

@@ -86,6 +86,10 @@ struct Draw {
   float environment_strength = 1.0f;
   const texture::Sampler* environment_map[6] = {};
   float environment_to_world[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // cube: eye to world rotation, row-major
+  // A tangent-space normal map (Material::normal_texture), lit per pixel: pixel_normal perturbs the
+  // interpolated normal in the frame of Varying::tangent. Null: none.
+  const texture::Sampler* normal_map = nullptr;
+  float normal_scale = 1.0f;
   float uv_scale[2] = {1.0f, 1.0f};
   float alpha_cutoff = 0.0f;  // alpha test: the fragment is kept when alpha >= cutoff (0: every fragment)
   BlendMode blend = BlendMode::opaque;

@@ -60,7 +60,10 @@ struct alignas(64) ScreenTriangle {
   float alpha;
   std::uint32_t object;
   std::int8_t bias[3];  // 0 on top-left edges, -1 on the others
-  bool back_facing;
+  bool back_facing : 1;
+  // A normal-mapped draw's bitangent is -cross(normal, tangent) (Varying::tangent_sign, with the
+  // back face's flip): the tangent frame is mirrored.
+  bool bitangent_negative : 1;
   Plane plane[kPlaneCount];  // set by compute_planes
   float flat_rgb[3];
   float flat_secondary[3];  // flat shading of a textured draw: the specular, added after the texture

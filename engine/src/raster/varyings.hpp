@@ -29,11 +29,14 @@ enum class Varying : std::uint8_t {
   environment,      // flat and Gouraud with an environment map: the vertices' texgen coordinates (xyz)
   back_color,       // Gouraud, two-sided: the back face's colour; moved to front_color by select_face
   back_secondary,   // Gouraud, two-sided, separate specular: moved to front_secondary by select_face
+  tangent,          // Phong with a normal map: eye-space tangent (xyz), negated by select_face with the normal
+  tangent_sign,     // Phong with a normal map: the bitangent's sign w per vertex; set-up makes it the
+                    // triangle's (ScreenTriangle::bitangent_negative), never interpolated
   count
 };
 inline constexpr int kVaryingKinds = static_cast<int>(Varying::count);
 // Floats per varying: colours, positions and normals three, texture coordinates two.
-inline constexpr int kVaryingWidth[kVaryingKinds] = {3, 3, 3, 3, 3, 2, 3, 3, 3};
+inline constexpr int kVaryingWidth[kVaryingKinds] = {3, 3, 3, 3, 3, 2, 3, 3, 3, 3, 1};
 constexpr int width_of(Varying v) { return kVaryingWidth[static_cast<int>(v)]; }
 
 // The varyings the pixel stages generate at the vertices from the eye-space position and normal
@@ -41,7 +44,7 @@ constexpr int width_of(Varying v) { return kVaryingWidth[static_cast<int>(v)]; }
 inline constexpr std::array<Varying, 1> kGeneratedVaryings = {Varying::environment};
 
 struct VaryingLayout {
-  std::int8_t offset[kVaryingKinds] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};  // first float of each varying, -1: absent
+  std::int8_t offset[kVaryingKinds] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};  // first float of each varying, -1: absent
   int clipped = 0;  // floats carried through clipping
   int raster = 0;   // floats interpolated per pixel (after select_face)
 
@@ -60,6 +63,7 @@ struct SurfaceNeeds {
   bool albedo = false;     // vertex colours, lit per pixel
   bool uv = false;         // a texture
   bool environment = false;  // an environment map generated at the vertices (flat, Gouraud)
+  bool tangent = false;      // a normal map, lit per pixel
 };
 
 constexpr VaryingLayout plan_varyings(LitAt lit, bool two_sided, SurfaceNeeds needs = {}) {
@@ -78,15 +82,21 @@ constexpr VaryingLayout plan_varyings(LitAt lit, bool two_sided, SurfaceNeeds ne
   }
   if (needs.uv) add(Varying::uv);
   if (needs.environment && lit != LitAt::pixel) add(Varying::environment);
+  const bool tangent = needs.tangent && lit == LitAt::pixel;
+  if (tangent) add(Varying::tangent);
   l.raster = l.clipped;
+  if (tangent) add(Varying::tangent_sign);  // read by set-up only: after `raster`
   if (lit == LitAt::vertex && two_sided) {  // one face's values only: after `raster`
     add(Varying::back_color);
     if (needs.secondary) add(Varying::back_secondary);
   }
   return l;
 }
-static_assert(plan_varyings(LitAt::pixel, true, {true, true, true, true}).clipped <= geometry::kMaxAttributes);
+// Every per-pixel combination fits, but a normal map with vertex colours (the frame plan leaves the
+// normal map out there: docs/relief.md).
+static_assert(plan_varyings(LitAt::pixel, true, {true, true, true, true, true}).clipped <= geometry::kMaxAttributes);
 static_assert(plan_varyings(LitAt::pixel, true, {true, true, true, true}).raster <= kMaxRasterAttributes);
+static_assert(plan_varyings(LitAt::pixel, true, {true, false, true, true, true}).raster <= kMaxRasterAttributes);
 static_assert(plan_varyings(LitAt::vertex, true, {true, true, true, true}).raster <= kMaxRasterAttributes);
 static_assert(plan_varyings(LitAt::vertex, true, {true, true, true, true}).clipped <= geometry::kMaxAttributes);
 

@@ -47,6 +47,14 @@ Status validate_mesh(const Mesh& mesh, const std::string& field) {
   };
   if (Status s = per_vertex("uvs", mesh.uvs.size()); !s.ok()) return s;
   if (Status s = per_vertex("colors", mesh.colors.size()); !s.ok()) return s;
+  if (Status s = per_vertex("tangents", mesh.tangents.size()); !s.ok()) return s;
+  for (std::size_t i = 0; i < mesh.tangents.size(); ++i) {
+    const Vec4& t = mesh.tangents[i];
+    if (!t.allFinite() || (t.w() != 1.0f && t.w() != -1.0f)) {
+      const std::string f = field + ".tangents[" + std::to_string(i) + "]";
+      return {ErrorCode::invalid_argument, f, f + ": expected a finite direction and w = 1 or -1"};
+    }
+  }
   for (std::size_t i = 0; i < mesh.uvs.size(); ++i) {
     if (!mesh.uvs[i].allFinite()) {
       const std::string f = field + ".uvs[" + std::to_string(i) + "]";

@@ -193,6 +193,12 @@ Status validate_material(const Material& m, const Field& f) {
   if (m.emissive_texture < kNoTexture) {
     return invalid(f("emissive_texture"), "expected a texture index or -1 (none), found " + std::to_string(m.emissive_texture));
   }
+  if (m.normal_texture < kNoTexture) {
+    return invalid(f("normal_texture"), "expected a texture index or -1 (none), found " + std::to_string(m.normal_texture));
+  }
+  if (!(std::abs(m.normal_scale) <= 1e6f)) {
+    return invalid(f("normal_scale"), "expected a number in [-1e+06, 1e+06], found " + format_number(m.normal_scale));
+  }
   if (static_cast<unsigned>(m.texture_mode) > static_cast<unsigned>(TextureMode::add)) {
     return invalid(f("texture_mode"), "unknown texture mode");
   }
@@ -349,7 +355,8 @@ Status validate_lighting_inputs(const Scene& scene) {
     const Material& m = scene.materials[i];
     const Field f{"materials", i, true};
     FACET_TRY(validate_material(m, f));
-    for (const auto& [index, member] : {std::pair{m.diffuse_texture, "diffuse_texture"}, std::pair{m.emissive_texture, "emissive_texture"}}) {
+    for (const auto& [index, member] : {std::pair{m.diffuse_texture, "diffuse_texture"}, std::pair{m.emissive_texture, "emissive_texture"},
+                                        std::pair{m.normal_texture, "normal_texture"}}) {
       if (index != kNoTexture && static_cast<std::size_t>(index) >= scene.textures.size()) {
         return invalid(f(member), "texture index " + std::to_string(index) + " is out of range (" +
                                       std::to_string(scene.textures.size()) + " textures)");
@@ -417,6 +424,10 @@ Status validate_lighting_inputs(const Scene& scene) {
           return invalid(f("mesh_materials"), "material " + quote(mesh.groups[g].material, 40) + " is textured but meshes[" +
                                                   std::to_string(inst.mesh) + "] has no texture coordinates (uvs)");
         }
+        if (scene.materials[static_cast<std::size_t>(m)].normal_texture != kNoTexture && mesh.tangents.size() != mesh.positions.size()) {
+          return invalid(f("mesh_materials"), "material " + quote(mesh.groups[g].material, 40) + " has a normal map but meshes[" +
+                                                  std::to_string(inst.mesh) + "] has no tangents (generate_tangents makes them)");
+        }
       }
     }
     const Material& material = scene.materials[inst.material];
@@ -424,10 +435,38 @@ Status validate_lighting_inputs(const Scene& scene) {
       return invalid(f("material"), "materials[" + std::to_string(inst.material) + "] is textured but meshes[" +
                                         std::to_string(inst.mesh) + "] has no texture coordinates (uvs)");
     }
+    if (material.normal_texture != kNoTexture && !inst.mesh_materials && mesh.tangents.size() != mesh.positions.size()) {
+      return invalid(f("material"), "materials[" + std::to_string(inst.material) + "] has a normal map but meshes[" +
+                                        std::to_string(inst.mesh) + "] has no tangents (generate_tangents makes them)");
+    }
     if (mesh.normals.size() != mesh.positions.size()) {
       return invalid(Field{"meshes", inst.mesh, true}("normals"),
                      "expected one normal per position (" + std::to_string(mesh.positions.size()) + "), found " +
                          std::to_string(mesh.normals.size()));
+    }
+  }
+  return {};
+}
+
+Status generate_missing_tangents(Scene& scene) {
+  std::vector<char> wanted(scene.meshes.size(), 0);
+  auto normal_mapped = [&](std::int64_t m) {
+    return m >= 0 && static_cast<std::size_t>(m) < scene.materials.size() &&
+           scene.materials[static_cast<std::size_t>(m)].normal_texture != kNoTexture;
+  };
+  for (const Instance& inst : scene.objects) {
+    if (inst.mesh >= scene.meshes.size()) continue;  // validation reports it
+    bool needs = !inst.mesh_materials && normal_mapped(inst.material);
+    if (inst.mesh_materials) {
+      for (const MaterialGroup& g : scene.meshes[inst.mesh].mesh.groups) needs = needs || normal_mapped(find_material(scene, g.material));
+    }
+    wanted[inst.mesh] = wanted[inst.mesh] || needs;
+  }
+  for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
+    Mesh& mesh = scene.meshes[i].mesh;
+    if (!wanted[i] || !mesh.tangents.empty() || mesh.uvs.size() != mesh.positions.size()) continue;
+    if (Status s = generate_tangents(mesh); !s.ok()) {
+      return {s.code(), "meshes[" + std::to_string(i) + "].tangents", "meshes[" + std::to_string(i) + "]: " + s.message()};
     }
   }
   return {};

@@ -98,6 +98,7 @@ class SceneReader : public scene_json::JsonFields {
     FACET_TRY(read_list(root, "objects", add_object));
     FACET_TRY(read_list(root, "lights", add_light));
     FACET_TRY(frame_imports(root, scene));
+    if (Status s = generate_missing_tangents(scene); !s.ok()) return located(s.field(), s.code(), s.message());
     if (Status s = validate_scene(scene); !s.ok()) return located(s.field(), s.code(), s.message());
     return {};
   }
@@ -123,7 +124,7 @@ class SceneReader : public scene_json::JsonFields {
 
   Status read_material(const json& j, const std::string& p, Scene& scene, Material& m) {
     FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "specular_model",
-                                   "alpha", "diffuse_texture", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write",
+                                   "alpha", "diffuse_texture", "normal_texture", "normal_scale", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write",
                                    "emissive_texture", "emission_after_texture", "environment"}));
     FACET_TRY(opt_string(j, p, "name", m.name));
     FACET_TRY(opt_color(j, p, "emissive", m.emissive));
@@ -148,6 +149,12 @@ class SceneReader : public scene_json::JsonFields {
       m.emissive_texture = static_cast<std::int32_t>(index);
     }
     FACET_TRY(opt_bool(j, p, "emission_after_texture", m.emission_after_texture));
+    if (j.contains("normal_texture")) {
+      std::uint32_t index = 0;
+      FACET_TRY(find_by_name(j, p, "normal_texture", scene.textures, "texture", index));
+      m.normal_texture = static_cast<std::int32_t>(index);
+    }
+    FACET_TRY(opt_number(j, p, "normal_scale", m.normal_scale));
     std::string mode;
     if (j.contains("texture_mode")) {
       FACET_TRY(read_enum(j["texture_mode"], child(p, "texture_mode"), {"modulate", "replace", "decal", "add"}, mode));

@@ -1,0 +1,222 @@
+// Relief: tangent-space normal maps against the geometry they stand for, and the tangents
+// generate_tangents makes (MikkTSpace) against their definition.
+#include <cmath>
+#include <random>
+
+#include "render_support.hpp"
+
+namespace facet {
+namespace {
+
+// The byte that encodes component v of a normal map, and what the renderer decodes from it.
+std::uint8_t encode(double v) { return static_cast<std::uint8_t>(std::lround((v * 0.5 + 0.5) * 255.0)); }
+double decode(std::uint8_t b) { return 2.0 * b / 255.0 - 1.0; }
+
+// A 3 x 3 quad grid in the xz plane facing +y (uvs: u along +x, v along -z), seen from above by
+// a camera looking down, lit by a point light and a directional one, with a local viewer.
+Scene plane_scene() {
+  Scene s;
+  Mesh m = make_plane(4.0f, 4.0f, 3);
+  s.meshes.push_back({"plane", m});
+  Material mat;
+  mat.ambient = Color3(0.1f, 0.1f, 0.1f);
+  mat.diffuse = Color3(0.6f, 0.5f, 0.4f);
+  mat.specular = Color3(0.5f, 0.5f, 0.5f);
+  mat.shininess = 20;
+  s.materials.push_back(mat);
+  s.objects.push_back({0, 0, Mat4::Identity()});
+  s.camera.eye = Vec3(0.3f, 5.0f, 0.4f);
+  s.camera.target = Vec3(0, 0, 0);
+  s.camera.up = Vec3(0, 0, -1);
+  s.camera.vertical_fov_deg = 40;
+  Light point;
+  point.type = LightType::point;
+  point.position = Vec3(1.5f, 2.0f, 1.0f);
+  s.lights.push_back(point);
+  Light sun;
+  sun.direction = Vec3(-0.5f, -1.0f, 0.3f);
+  sun.diffuse = Color3(0.4f, 0.4f, 0.5f);
+  s.lights.push_back(sun);
+  return s;
+}
+
+// A 1 x 1 normal map of tangent-space normal m (each component encoded as a byte).
+std::int32_t add_normal_map(Scene& s, const std::uint8_t (&rgb)[3]) {
+  TextureOptions o{TextureFilter::nearest, TextureWrap::repeat};
+  o.encoding = TextureEncoding::linear;
+  const std::vector<std::uint8_t> texel = {rgb[0], rgb[1], rgb[2], 255};
+  Result<Texture> t = make_texture("normal", 1, 1, texel, o);
+  EXPECT_TRUE(t.ok());
+  s.textures.push_back(*t);
+  return static_cast<std::int32_t>(s.textures.size() - 1);
+}
+
+std::vector<std::uint8_t> render(const Scene& s, LightingPath path, Isa isa = Isa::best) {
+  test::Canvas c(96, 96);
+  RenderOptions o;
+  o.shading = ShadingMode::phong;
+  o.path = path;
+  o.isa = isa;
+  const Status st = Renderer(o).render(s, c.view());
+  EXPECT_TRUE(st.ok()) << st.message();
+  return c.pixels();
+}
+
+int largest_difference(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+  int worst = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(int(a[i]) - int(b[i])));
+  return worst;
+}
+
+// A plane whose normal map holds one tilted normal m shades as the same plane whose vertex normals
+// are m in its tangent frame (t, b = w cross(n, t), n): on every path and ISA, within one step
+// (the two differ by float rounding of the normal). With u mirrored (w = -1), with a mirroring
+// model matrix, and with the map's x and y scaled, the frame follows.
+TEST(NormalMaps, AConstantMapShadesAsTheTiltedNormal) {
+  const std::uint8_t rgb[3] = {encode(0.45), encode(-0.3), encode(0.84)};
+  const Eigen::Vector3d m(decode(rgb[0]), decode(rgb[1]), decode(rgb[2]));
+  struct Case {
+    const char* name;
+    bool mirror_u, mirror_model;
+    float scale;
+  };
+  for (const Case& k : {Case{"plain", false, false, 1.0f}, Case{"u mirrored", true, false, 1.0f},
+                        Case{"model mirrored", false, true, 1.0f}, Case{"scale 0.5", false, false, 0.5f},
+                        Case{"scale -1", false, false, -1.0f}}) {
+    Scene mapped = plane_scene();
+    Mesh& mesh = mapped.meshes[0].mesh;
+    if (k.mirror_u)
+      for (Vec2& uv : mesh.uvs) uv.x() = 1.0f - uv.x();
+    ASSERT_TRUE(generate_tangents(mesh).ok());
+    if (k.mirror_model) mapped.objects[0].model.block<3, 3>(0, 0) = Eigen::Vector3f(-1, 1, 1).asDiagonal();
+    Scene tilted = mapped;
+    mapped.materials[0].normal_texture = add_normal_map(mapped, rgb);
+    mapped.materials[0].normal_scale = k.scale;
+    // The vertex normals of the tilted twin: m in each vertex's frame, in model space.
+    Mesh& flat = tilted.meshes[0].mesh;
+    for (std::size_t i = 0; i < flat.positions.size(); ++i) {
+      const Eigen::Vector3d n = flat.normals[i].cast<double>();
+      const Eigen::Vector3d t = mesh.tangents[i].head<3>().cast<double>();
+      const Eigen::Vector3d b = mesh.tangents[i].w() * n.cross(t);
+      flat.normals[i] = (k.scale * m.x() * t + k.scale * m.y() * b + m.z() * n).normalized().cast<float>();
+    }
+    flat.tangents.clear();
+    for (LightingPath path : {LightingPath::simd, LightingPath::scalar}) {
+      const auto a = render(mapped, path), b = render(tilted, path);
+      EXPECT_LE(largest_difference(a, b), 1) << k.name << " " << to_string(path);
+      EXPECT_NE(a, render(plane_scene(), path)) << k.name << ": the map changed nothing";
+    }
+    for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+      if (!isa_supported(isa)) continue;
+      EXPECT_LE(largest_difference(render(mapped, LightingPath::simd, isa), render(tilted, LightingPath::simd, isa)), 1)
+          << k.name << " " << to_string(isa);
+    }
+  }
+}
+
+// Flat and Gouraud shading do not read the map (GL computes no normal per pixel there).
+TEST(NormalMaps, PerVertexShadingIgnoresTheMap) {
+  Scene s = plane_scene();
+  ASSERT_TRUE(generate_tangents(s.meshes[0].mesh).ok());
+  const std::uint8_t tilted[3] = {200, 60, 200};
+  s.materials[0].normal_texture = add_normal_map(s, tilted);
+  for (ShadingMode mode : {ShadingMode::flat, ShadingMode::gouraud}) {
+    Scene unmapped = s;
+    unmapped.materials[0].normal_texture = kNoTexture;
+    test::Canvas a(64, 64), b(64, 64);
+    RenderOptions o;
+    o.shading = mode;
+    ASSERT_TRUE(Renderer(o).render(s, a.view()).ok());
+    ASSERT_TRUE(Renderer(o).render(unmapped, b.view()).ok());
+    EXPECT_EQ(a.pixels(), b.pixels()) << to_string(mode);
+  }
+}
+
+// A normal map needs tangents: validation says so, and generate_missing_tangents makes them.
+TEST(NormalMaps, MissingTangentsAreNamedAndGenerated) {
+  Scene s = plane_scene();
+  const std::uint8_t up[3] = {128, 128, 255};
+  s.materials[0].normal_texture = add_normal_map(s, up);
+  const Status st = validate_scene(s);
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("no tangents"), std::string::npos) << st.message();
+  ASSERT_TRUE(generate_missing_tangents(s).ok());
+  EXPECT_EQ(s.meshes[0].mesh.tangents.size(), s.meshes[0].mesh.positions.size());
+  EXPECT_TRUE(validate_scene(s).ok());
+  s.materials[0].normal_scale = std::nanf("");
+  EXPECT_FALSE(validate_scene(s).ok());
+}
+
+// MikkTSpace's tangent at a vertex of a smooth mesh: unit, perpendicular to the normal, along
+// increasing u (positive dot with dP/du), w the sign of the uv area. On a uv sphere that is the
+// direction of increasing longitude up to the tilt each triangle's diagonal gives its dP/du, which
+// shrinks as the square of the faces' size (1 - |t . east| measured 0.0033 at 32 x 16 segments,
+// 0.00023 at 128 x 64); with u mirrored, the opposite direction and w flipped.
+TEST(Tangents, FollowIncreasingUOnASphere) {
+  float first_w = 0, first_along = 0;
+  for (bool mirrored : {false, true}) {
+    Mesh m = make_uv_sphere(1.0f, 128, 64);
+    if (mirrored)
+      for (Vec2& uv : m.uvs) uv.x() = 1.0f - uv.x();
+    const std::size_t before = m.positions.size();
+    ASSERT_TRUE(generate_tangents(m).ok());
+    EXPECT_EQ(m.positions.size(), before) << "no mixed orientation on a sphere";
+    ASSERT_TRUE(validate_mesh(m).ok());
+    double worst = 0;
+    for (std::size_t i = 0; i < m.positions.size(); ++i) {
+      const Vec3 p = m.positions[i];
+      const Vec3 n = m.normals[i];
+      const Vec3 t = m.tangents[i].head<3>();
+      if (std::abs(p.y()) > 0.9f) continue;  // near the poles the fans' uvs shear the face tangents
+      EXPECT_NEAR(t.norm(), 1.0f, 1e-5f);
+      EXPECT_NEAR(t.dot(n), 0.0f, 1e-5f);
+      // Longitude increases towards (-z, 0, x) or its opposite, depending on the sphere's u.
+      const Vec3 east = Vec3(-p.z(), 0, p.x()).normalized();
+      worst = std::max<double>(worst, 1.0 - std::abs(t.dot(east)));
+      EXPECT_EQ(m.tangents[i].w(), m.tangents[0].w());
+    }
+    EXPECT_LT(worst, 1e-3) << "tangents along the parallels";
+    std::printf("sphere tangents: largest 1 - |t . east| %.3g\n", worst);
+    // Along increasing u: the mirrored sphere's tangents point the other way, its w flips.
+    const std::size_t i = m.positions.size() / 2;
+    const Vec3 east = Vec3(-m.positions[i].z(), 0, m.positions[i].x()).normalized();
+    const float along = m.tangents[i].head<3>().dot(east);
+    if (!mirrored) {
+      first_w = m.tangents[0].w();
+      first_along = along;
+    } else {
+      EXPECT_EQ(m.tangents[0].w(), -first_w);
+      EXPECT_LT(along * first_along, 0.0f);
+    }
+  }
+}
+
+// A vertex shared by triangles of both uv orientations (a mirrored seam) is split in two; a
+// triangle with no uv area gets a direction perpendicular to its normal; w is +1 or -1.
+TEST(Tangents, MirroredSeamsSplitAndDegenerateUvsStayFinite) {
+  Mesh m;
+  m.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(-1, 0, 0), Vec3(5, 5, 0), Vec3(6, 5, 0), Vec3(5, 6, 0)};
+  m.normals.assign(m.positions.size(), Vec3(0, 0, 1));
+  // Triangles 0 and 1 share the edge 0-2; u mirrors across it. Triangle 2 has all uvs equal.
+  m.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1), Vec2(1, 0), Vec2(0.5f, 0.5f), Vec2(0.5f, 0.5f), Vec2(0.5f, 0.5f)};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}};
+  ASSERT_TRUE(generate_tangents(m).ok());
+  ASSERT_TRUE(validate_mesh(m).ok());
+  EXPECT_EQ(m.positions.size(), 9u) << "vertices 0 and 2 split";
+  const auto& a = m.triangles[0];
+  const auto& b = m.triangles[1];
+  EXPECT_EQ(m.tangents[a[0]].w(), 1.0f);
+  EXPECT_EQ(m.tangents[b[0]].w(), -1.0f);
+  EXPECT_NE(a[0], b[0]);
+  EXPECT_GT(m.tangents[a[0]].x(), 0.99f);   // u increases along +x on the right
+  EXPECT_LT(m.tangents[b[0]].x(), -0.99f);  // and along -x on the left; v along +y on both sides
+  for (int k = 0; k < 3; ++k) {
+    const Vec4& t = m.tangents[m.triangles[2][k]];
+    EXPECT_TRUE(t.allFinite());
+    EXPECT_NEAR(t.head<3>().norm(), 1.0f, 1e-6f);
+    EXPECT_NEAR(t.z(), 0.0f, 1e-6f);
+  }
+}
+
+}  // namespace
+}  // namespace facet
