@@ -161,6 +161,53 @@ TEST(GltfImport, TexturedQuadIsTheSceneDocsDescribe) {
 
 // emissiveFactor x emissiveTexture is added after the base colour's texture (glTF's rule), the
 // same picture as the facet scene docs/content.md describes; KHR_materials_unlit ignores it.
+// normalTexture: a linear texture (the same image as the sRGB base colour is a second facet
+// texture), its scale; TANGENT read as given (w snapped within 1e-3), generated (MikkTSpace) when
+// absent or when a w is neither +1 nor -1, with a warning naming the element.
+TEST(GltfImport, NormalTexturesAndTangents) {
+  TempDir dir;
+  const std::string png = write_test_png(dir / "tex.png");
+  auto load = [&](GltfBuilder& b) {
+    test::write_text(dir / "quad.bin", b.bin);
+    test::write_text(dir / "quad.gltf", b.external("quad.bin"));
+    return load_model(dir / "quad.gltf");
+  };
+  GltfBuilder b = textured_quad(png, "uri");
+  b.doc["materials"][0]["normalTexture"] = {{"index", 0}, {"scale", 0.75}};
+  Result<Model> m = load(b);
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_TRUE(m->warnings.empty()) << m->warnings[0];
+  const Material& mat = m->scene.materials[0];
+  ASSERT_NE(mat.normal_texture, kNoTexture);
+  EXPECT_NE(mat.normal_texture, mat.diffuse_texture);
+  EXPECT_EQ(m->scene.textures[std::size_t(mat.normal_texture)].encoding, TextureEncoding::linear);
+  EXPECT_EQ(m->scene.textures[std::size_t(mat.diffuse_texture)].encoding, TextureEncoding::srgb);
+  EXPECT_EQ(mat.normal_scale, 0.75f);
+  Mesh generated = m->scene.meshes[0].mesh;
+  ASSERT_EQ(generated.tangents.size(), 4u);
+  Mesh expected = generated;
+  ASSERT_TRUE(generate_tangents(expected).ok());
+  EXPECT_EQ(generated.tangents, expected.tangents);
+  EXPECT_GT(generated.tangents[0].x(), 0.99f);  // u runs along +x
+
+  const std::vector<float> given = {0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, -1.0005f, 0, 1, 0, 1};
+  b.doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = b.vec4(given);
+  m = load(b);
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_TRUE(m->warnings.empty()) << m->warnings[0];
+  EXPECT_EQ(m->scene.meshes[0].mesh.tangents[0], Vec4(0, 1, 0, 1));
+  EXPECT_EQ(m->scene.meshes[0].mesh.tangents[2], Vec4(0, 1, 0, -1));
+
+  GltfBuilder c = textured_quad(png, "uri");
+  c.doc["materials"][0]["normalTexture"] = {{"index", 0}};
+  c.doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = c.vec4({0, 1, 0, 1, 0, 1, 0, 0.5f, 0, 1, 0, 1, 0, 1, 0, 1});
+  m = load(c);
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  ASSERT_EQ(m->warnings.size(), 1u);
+  EXPECT_NE(m->warnings[0].find("TANGENT: element 1 has w = 0.5"), std::string::npos) << m->warnings[0];
+  EXPECT_EQ(m->scene.meshes[0].mesh.tangents, expected.tangents);
+}
+
 TEST(GltfImport, EmissiveTexturesAreAddedAfterTheBaseColour) {
   TempDir dir;
   const std::string png = write_test_png(dir / "tex.png");
@@ -720,6 +767,29 @@ TEST(ObjMtlImport, EmissiveTexturesFromMapKe) {
   Scene r = s;
   r.camera = *frame_scene(r, 64.0f / 48.0f);
   EXPECT_TRUE(validate_scene(r).ok()) << validate_scene(r).message();
+}
+
+// norm: a tangent-space normal map (linear) with -bm as its scale; the mesh gets tangents.
+TEST(ObjMtlImport, NormalMapsFromNorm) {
+  TempDir dir;
+  write_test_png(dir / "tex.png");
+  test::write_text(dir / "m.mtl", "newmtl bumpy\nKd 1 1 1\nmap_Kd tex.png\nnorm -bm 0.5 tex.png\n");
+  test::write_text(dir / "m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+                                  "usemtl bumpy\nf 1/1 2/2 3/3\n");
+  Result<Model> m = load_model(dir / "m.obj");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  for (const auto& w : m->warnings) EXPECT_EQ(w.find("norm"), std::string::npos) << w;
+  const Material& mat = m->scene.materials[std::size_t(find_material(m->scene, "bumpy"))];
+  ASSERT_NE(mat.normal_texture, kNoTexture);
+  EXPECT_EQ(mat.normal_scale, 0.5f);
+  EXPECT_EQ(m->scene.textures[std::size_t(mat.normal_texture)].encoding, TextureEncoding::linear);
+  const Mesh& mesh = m->scene.meshes[0].mesh;
+  ASSERT_EQ(mesh.tangents.size(), mesh.positions.size());
+  EXPECT_GT(mesh.tangents[0].x(), 0.99f);
+  test::write_text(dir / "m.mtl", "newmtl bumpy\nnorm -bm x tex.png\n");
+  m = load_model(dir / "m.obj");
+  ASSERT_FALSE(m.ok());
+  EXPECT_NE(m.status().message().find("m.mtl:2: norm -bm"), std::string::npos) << m.status().message();
 }
 
 TEST(ObjMtlImport, MissingFilesAreErrorsUnlessAllowed) {

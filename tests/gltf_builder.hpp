@@ -57,6 +57,7 @@ struct GltfBuilder {
   }
   int vec3(const std::vector<float>& v) { return floats(v, "VEC3", 3); }
   int vec2(const std::vector<float>& v) { return floats(v, "VEC2", 2); }
+  int vec4(const std::vector<float>& v) { return floats(v, "VEC4", 4); }
   int indices16(const std::vector<std::uint16_t>& v) { return accessor(view(v.data(), v.size() * 2), 5123, v.size(), "SCALAR"); }
   int indices32(const std::vector<std::uint32_t>& v) { return accessor(view(v.data(), v.size() * 4), 5125, v.size(), "SCALAR"); }
 

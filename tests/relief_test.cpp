@@ -79,11 +79,19 @@ TEST(NormalMaps, AConstantMapShadesAsTheTiltedNormal) {
     const char* name;
     bool mirror_u, mirror_model;
     float scale;
+    bool below = false;  // two-sided, seen from below: the back face, lit with the negated frame
   };
   for (const Case& k : {Case{"plain", false, false, 1.0f}, Case{"u mirrored", true, false, 1.0f},
                         Case{"model mirrored", false, true, 1.0f}, Case{"scale 0.5", false, false, 0.5f},
-                        Case{"scale -1", false, false, -1.0f}}) {
+                        Case{"scale -1", false, false, -1.0f}, Case{"back face", false, false, 1.0f, true},
+                        Case{"back face, u mirrored", true, false, 1.0f, true}}) {
     Scene mapped = plane_scene();
+    if (k.below) {
+      mapped.two_sided = true;
+      mapped.camera.eye = Vec3(0.3f, -5.0f, 0.4f);
+      mapped.lights[0].position = Vec3(1.5f, -2.0f, 1.0f);
+      mapped.lights[1].direction = Vec3(-0.5f, 1.0f, 0.3f);
+    }
     Mesh& mesh = mapped.meshes[0].mesh;
     if (k.mirror_u)
       for (Vec2& uv : mesh.uvs) uv.x() = 1.0f - uv.x();
@@ -104,7 +112,9 @@ TEST(NormalMaps, AConstantMapShadesAsTheTiltedNormal) {
     for (LightingPath path : {LightingPath::simd, LightingPath::scalar}) {
       const auto a = render(mapped, path), b = render(tilted, path);
       EXPECT_LE(largest_difference(a, b), 1) << k.name << " " << to_string(path);
-      EXPECT_NE(a, render(plane_scene(), path)) << k.name << ": the map changed nothing";
+      Scene unmapped = mapped;
+      unmapped.materials[0].normal_texture = kNoTexture;
+      EXPECT_NE(a, render(unmapped, path)) << k.name << ": the map changed nothing";
     }
     for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
       if (!isa_supported(isa)) continue;
@@ -129,6 +139,40 @@ TEST(NormalMaps, PerVertexShadingIgnoresTheMap) {
     ASSERT_TRUE(Renderer(o).render(s, a.view()).ok());
     ASSERT_TRUE(Renderer(o).render(unmapped, b.view()).ok());
     EXPECT_EQ(a.pixels(), b.pixels()) << to_string(mode);
+  }
+}
+
+// The relief scene (normal maps on a plane, a sphere and a cube, one scaled -1; an sRGB diffuse
+// texture; Phong's lobe; a linear-range light): the same bytes for any thread count on the scalar
+// and SIMD paths, and every ISA and the scalar path within a step of each other.
+TEST(NormalMaps, ReliefSceneIsByteIdenticalForAnyThreadCount) {
+  Result<Scene> s = load_scene_file(test::data_dir() + "/scenes/relief.json", test::scene_options());
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  std::vector<std::uint8_t> simd;
+  for (LightingPath path : {LightingPath::simd, LightingPath::scalar}) {
+    std::vector<std::uint8_t> one;
+    for (int threads : {1, 2, 8}) {
+      test::Canvas c(200, 120);
+      RenderOptions o;
+      o.shading = ShadingMode::phong;
+      o.path = path;
+      o.threads = threads;
+      o.tile_size = 32;
+      ASSERT_TRUE(Renderer(o).render(*s, c.view()).ok());
+      if (threads == 1) one = c.pixels();
+      else EXPECT_TRUE(c.pixels() == one) << to_string(path) << " threads " << threads;
+    }
+    if (path == LightingPath::simd) simd = one;
+    else EXPECT_LE(largest_difference(simd, one), 1) << "scalar against simd";
+  }
+  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+    if (!isa_supported(isa)) continue;
+    test::Canvas c(200, 120);
+    RenderOptions o;
+    o.shading = ShadingMode::phong;
+    o.isa = isa;
+    ASSERT_TRUE(Renderer(o).render(*s, c.view()).ok());
+    EXPECT_LE(largest_difference(simd, c.pixels()), 1) << to_string(isa);
   }
 }
 

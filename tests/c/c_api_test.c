@@ -437,6 +437,23 @@ int main(void) {
     CHECK(facet_scene_set_texture_encoding(s, 99, FACET_ENCODING_SRGB) == FACET_INVALID_ARGUMENT);
     CHECK(facet_scene_texture_encoding(s, 99, &enc) == FACET_INVALID_ARGUMENT);
     CHECK(facet_scene_set_texture_encoding(s, tex, FACET_ENCODING_LINEAR) == FACET_OK);
+    /* Tangents: given (w must be +-1) or generated from the uvs; a normal map needs them. */
+    {
+      const float tangents[] = {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1};
+      const float bad_tangents[] = {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 0.5f, 1, 0, 0, 1};
+      CHECK(facet_scene_set_mesh_tangents(s, q, bad_tangents) == FACET_INVALID_ARGUMENT);
+      CHECK(strstr(facet_scene_last_error(s), "tangents[2]") != NULL);
+      CHECK(facet_scene_set_mesh_tangents(s, q, tangents) == FACET_OK);
+      CHECK(facet_scene_set_mesh_tangents(s, q, NULL) == FACET_OK);
+      CHECK(facet_scene_generate_tangents(s, q) == FACET_OK);
+      CHECK(facet_scene_generate_tangents(s, 77) == FACET_INVALID_ARGUMENT);
+      facet_material bumpy = facet_material_default();
+      CHECK(bumpy.normal_texture == -1 && bumpy.normal_scale == 1.0f);
+      bumpy.normal_texture = (int32_t)tex;
+      bumpy.normal_scale = INFINITY;
+      CHECK(facet_scene_add_material(s, &bumpy, NULL) == FACET_INVALID_ARGUMENT);
+      CHECK(strstr(facet_scene_last_error(s), "normal_scale") != NULL);
+    }
     CHECK(facet_scene_load_texture(s, "/nonexistent/t.png", FACET_TRILINEAR, FACET_WRAP_CLAMP, NULL) == FACET_IO_ERROR);
     CHECK(strstr(facet_scene_last_error(s), "t.png") != NULL);
     facet_material sm = facet_material_default();

@@ -371,6 +371,27 @@ int check(const CheckState& st) {
     std::printf("  dynamic environments: %zu objects, 6 face passes each every frame (%zu KiB of faces)\n", dynamic,
                 (dynamic_bytes + 1023) / 1024);
   }
+  // Relief: normal-mapped objects, and where the map is not applied.
+  std::size_t normal_mapped = 0, coloured = 0;
+  for (const auto& obj : scene->objects) {
+    if (obj.mesh_materials) {
+      for (const MaterialGroup& g : scene->meshes[obj.mesh].mesh.groups) {
+        const std::int64_t m = find_material(*scene, g.material);
+        normal_mapped += m >= 0 && scene->materials[std::size_t(m)].normal_texture != kNoTexture;
+      }
+    } else if (scene->materials[obj.material].normal_texture != kNoTexture) {
+      ++normal_mapped;
+      coloured += !scene->meshes[obj.mesh].mesh.colors.empty();
+    }
+  }
+  if (normal_mapped > 0) {
+    std::printf("  relief: %zu normal-mapped objects (or material groups), tangent space (MikkTSpace where the file has no "
+                "tangents); %s%s\n",
+                normal_mapped,
+                options.shading == ShadingMode::phong ? "lit per pixel"
+                                                      : "NOT applied: normal maps are lit per pixel, use --shading phong",
+                coloured > 0 ? "; not applied to objects with vertex colours" : "");
+  }
   std::size_t phong_lobes = 0, linear_range = 0;
   for (const Material& m : scene->materials) phong_lobes += m.specular_model == SpecularModel::phong;
   for (const Light& l : scene->lights) linear_range += l.type != LightType::directional && l.attenuation_model == AttenuationModel::linear_range;

@@ -132,6 +132,11 @@ typedef struct facet_material {
   int environment_dynamic;    /* cube only, non-zero: the faces are rendered from the scene every frame (maps -1) */
   int environment_resolution; /* dynamic: face size in pixels, 1..4096, default 128 */
   facet_specular_model specular_model; /* default FACET_SPECULAR_BLINN */
+  /* A tangent-space normal map (docs/relief.md), lit per pixel (FACET_PHONG): -1 none (default);
+   * the mesh needs uvs and tangents (facet_scene_generate_tangents). Scale: x and y of the map's
+   * normals times it, |scale| <= 1e6, default 1. */
+  int32_t normal_texture;
+  float normal_scale;
 } facet_material;
 
 typedef struct facet_fog {
@@ -267,6 +272,11 @@ facet_status facet_scene_add_mesh(facet_scene* scene, const float* positions, si
  * diffuse colours) of a mesh; NULL removes them. The data is copied. */
 facet_status facet_scene_set_mesh_uvs(facet_scene* scene, uint32_t mesh_id, const float* uvs);
 facet_status facet_scene_set_mesh_colors(facet_scene* scene, uint32_t mesh_id, const float* rgb);
+/* Tangents for normal maps: 4 floats per vertex (xyz the direction of increasing u, w = +1 or -1:
+ * the bitangent is w cross(normal, xyz)); NULL removes them. Or made from the mesh's uvs by the
+ * MikkTSpace algorithm (facet::generate_tangents), which may add vertices along mirrored uv seams. */
+facet_status facet_scene_set_mesh_tangents(facet_scene* scene, uint32_t mesh_id, const float* xyzw);
+facet_status facet_scene_generate_tangents(facet_scene* scene, uint32_t mesh_id);
 /* A texture from RGBA8 texels (width x height, rows bottom first as glTexImage2D, 4 bytes per
  * texel; copied), or from a PNG or JPEG file. Sides 1..16384. */
 facet_status facet_scene_add_texture_rgba8(facet_scene* scene, const uint8_t* rgba, int width, int height,

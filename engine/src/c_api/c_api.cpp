@@ -53,6 +53,8 @@ facet_material facet_material_default(void) {
   c.environment_dynamic = m.environment.dynamic ? 1 : 0;
   c.environment_resolution = m.environment.resolution;
   c.specular_model = static_cast<facet_specular_model>(m.specular_model);
+  c.normal_texture = m.normal_texture;
+  c.normal_scale = m.normal_scale;
   return c;
 }
 

@@ -5,7 +5,9 @@ using namespace facet::c_api;  // NOLINT(google-build-using-namespace): the C AP
 
 namespace {
 // Per-vertex uvs (colours = false) or colours of mesh_id, validated as validate_mesh would.
-facet_status set_vertex_data(facet_scene* scene, uint32_t mesh_id, const float* data, bool colours) {
+enum class VertexData { uvs, colours, tangents };
+facet_status set_vertex_data(facet_scene* scene, uint32_t mesh_id, const float* data, VertexData what) {
+  const bool colours = what == VertexData::colours;
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
     if (mesh_id >= scene->scene.meshes.size()) return fail(scene->error, "mesh_id", "no such mesh");
@@ -15,7 +17,11 @@ facet_status set_vertex_data(facet_scene* scene, uint32_t mesh_id, const float* 
     candidate.normals = mesh.normals;
     candidate.triangles = mesh.triangles;
     const std::size_t n = data ? mesh.vertex_count() : 0;
-    if (colours) {
+    if (what == VertexData::tangents) {
+      candidate.tangents.resize(n);
+      for (std::size_t v = 0; v < n; ++v)
+        candidate.tangents[v] = facet::Vec4(data[4 * v], data[4 * v + 1], data[4 * v + 2], data[4 * v + 3]);
+    } else if (colours) {
       candidate.colors.resize(n);
       for (std::size_t v = 0; v < n; ++v) candidate.colors[v] = facet::Color3(data[3 * v], data[3 * v + 1], data[3 * v + 2]);
     } else {
@@ -25,7 +31,9 @@ facet_status set_vertex_data(facet_scene* scene, uint32_t mesh_id, const float* 
     if (facet::Status st = facet::validate_mesh(candidate, "meshes[" + std::to_string(mesh_id) + "]"); !st.ok()) {
       return report(scene->error, st);
     }
-    if (colours) {
+    if (what == VertexData::tangents) {
+      mesh.tangents = std::move(candidate.tangents);
+    } else if (colours) {
       mesh.colors = std::move(candidate.colors);
     } else {
       mesh.uvs = std::move(candidate.uvs);
@@ -53,11 +61,26 @@ facet::TextureOptions texture_options(facet_texture_filter filter, facet_texture
 extern "C" {
 
 facet_status facet_scene_set_mesh_uvs(facet_scene* scene, uint32_t mesh_id, const float* uvs) {
-  return set_vertex_data(scene, mesh_id, uvs, false);
+  return set_vertex_data(scene, mesh_id, uvs, VertexData::uvs);
+}
+
+facet_status facet_scene_set_mesh_tangents(facet_scene* scene, uint32_t mesh_id, const float* xyzw) {
+  return set_vertex_data(scene, mesh_id, xyzw, VertexData::tangents);
+}
+
+facet_status facet_scene_generate_tangents(facet_scene* scene, uint32_t mesh_id) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (mesh_id >= scene->scene.meshes.size()) return fail(scene->error, "mesh_id", "no such mesh");
+    facet::Mesh candidate = scene->scene.meshes[mesh_id].mesh;  // a failure changes nothing
+    if (facet::Status st = facet::generate_tangents(candidate); !st.ok()) return report(scene->error, st);
+    scene->scene.meshes[mesh_id].mesh = std::move(candidate);
+    return report(scene->error, {});
+  });
 }
 
 facet_status facet_scene_set_mesh_colors(facet_scene* scene, uint32_t mesh_id, const float* rgb) {
-  return set_vertex_data(scene, mesh_id, rgb, true);
+  return set_vertex_data(scene, mesh_id, rgb, VertexData::colours);
 }
 
 facet_status facet_scene_add_texture_rgba8(facet_scene* scene, const uint8_t* rgba, int width, int height,

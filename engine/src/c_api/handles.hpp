@@ -173,6 +173,8 @@ inline facet::Material to_material(const facet_material& c) {
     m.environment.resolution = material->environment_resolution;
     const long lobe = raw(material->specular_model);
     m.specular_model = static_cast<facet::SpecularModel>(lobe >= 0 && lobe <= 1 ? lobe : 255);
+    m.normal_texture = material->normal_texture;
+    m.normal_scale = material->normal_scale;
   return m;
 }
 

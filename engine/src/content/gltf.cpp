@@ -88,6 +88,9 @@ bool allowed(const char* semantic, int components, int component, bool normalize
   } else if (s == "TEXCOORD_0") {
     if (components != 2) return false;
     forms = {{kFloat, 0}, {kByte, 2}, {kUnsignedByte, 2}, {kShort, 2}, {kUnsignedShort, 2}};
+  } else if (s == "TANGENT") {
+    if (components != 4) return false;
+    forms = {{kFloat, 0}, {kByte, 1}, {kShort, 1}};
   } else if (s == "COLOR_0") {
     if (components != 3 && components != 4) return false;
     forms = {{kFloat, 0}, {kUnsignedByte, 1}, {kUnsignedShort, 1}};
@@ -429,7 +432,8 @@ Status Reader::primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index
     FACET_TRY(draco_attributes(*draco, p + ".extensions.KHR_draco_mesh_compression", attributes, values, idxs));
     have_indices = true;
   } else {
-    for (const char* name : {"POSITION", "NORMAL", "TEXCOORD_0", "COLOR_0"}) {
+    for (const char* name : {"POSITION", "NORMAL", "TEXCOORD_0", "COLOR_0", "TANGENT"}) {
+      if (std::string(name) == "TANGENT" && !info.normal_map) continue;  // read only for a normal map
       if (auto it = attributes.find(name); it != attributes.end()) {
         FACET_TRY(read_accessor(it->second, p + ".attributes." + name, name, values[name]));
       }
@@ -442,8 +446,24 @@ Status Reader::primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index
   Mesh mesh;
   mesh.positions.resize(n);
   for (std::size_t i = 0; i < n; ++i) mesh.positions[i] = Vec3(float(pos.v[3 * i]), float(pos.v[3 * i + 1]), float(pos.v[3 * i + 2]));
-  for (const char* name : {"NORMAL", "TEXCOORD_0", "COLOR_0"}) {
+  for (const char* name : {"NORMAL", "TEXCOORD_0", "COLOR_0", "TANGENT"}) {
     if (values.count(name) && values[name].count() != n) return f_.error(p + ".attributes." + name, "count differs from POSITION's");
+  }
+  if (values.count("TANGENT") && values.count("NORMAL")) {  // without NORMAL the normals are the faces': tangents generated
+    const std::vector<double>& v = values["TANGENT"].v;
+    FACET_TRY(reserve(std::uint64_t(n) * sizeof(Vec4), p + ".attributes.TANGENT"));
+    mesh.tangents.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double w = v[4 * i + 3];
+      // glTF: w is +1 or -1; within 1e-3 of either is taken as it (quantized files round).
+      if (!(std::abs(std::abs(w) - 1.0) <= 1e-3)) {
+        warn(p + ".attributes.TANGENT: element " + std::to_string(i) + " has w = " + format_number(w) +
+             ", not +1 or -1; tangents generated instead (MikkTSpace)");
+        mesh.tangents.clear();
+        break;
+      }
+      mesh.tangents[i] = Vec4(float(v[4 * i]), float(v[4 * i + 1]), float(v[4 * i + 2]), w > 0 ? 1.0f : -1.0f);
+    }
   }
   if (values.count("NORMAL")) {
     const std::vector<double>& v = values["NORMAL"].v;
@@ -520,6 +540,10 @@ Status Reader::primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index
   if (info.needs_uvs && mesh.uvs.empty()) {
     warn(p + ": its material is textured but it has no TEXCOORD_0; drawn untextured");
     info.index = untextured_twin(info.index);
+    mesh.tangents.clear();
+  } else if (info.normal_map && mesh.tangents.empty()) {
+    FACET_TRY(reserve(std::uint64_t(n) * sizeof(Vec4), p + ".attributes.TANGENT"));
+    if (Status s = generate_tangents(mesh); !s.ok()) return f_.error(p, s.message(), s.code());
   }
   std::string name;
   FACET_TRY(f_.string(gm, Fields::at("meshes", m), "name", name));

@@ -27,7 +27,7 @@ TextureFilter sampler_filter(int min, int mag) {
 std::uint32_t Reader::untextured_twin(std::uint32_t index) {
   if (auto it = untextured_.find(index); it != untextured_.end()) return it->second;
   Material copy = out_.scene.materials[index];
-  copy.diffuse_texture = copy.emissive_texture = kNoTexture;
+  copy.diffuse_texture = copy.emissive_texture = copy.normal_texture = kNoTexture;
   copy.name += " (untextured)";
   out_.scene.materials.push_back(copy);
   const auto twin = static_cast<std::uint32_t>(out_.scene.materials.size() - 1);
@@ -173,9 +173,30 @@ Status Reader::material(int index, MaterialInfo& info) {
         }
       }
     }
-    for (const char* what : {"normalTexture", "occlusionTexture"}) {
-      if (Fields::find(g, what)) warn(p + "." + what + ": not supported; ignored");
+    // The normal map (tangent space, linear), read with the base colour's coordinates.
+    if (const Json* nt = Fields::find(g, "normalTexture"); nt && unlit) {
+      warn(p + ".normalTexture: ignored by KHR_materials_unlit");
+    } else if (nt) {
+      const std::string np = p + ".normalTexture";
+      std::int32_t t = kNoTexture;
+      UvTransform normal_transform;
+      bool normal_has = false;
+      FACET_TRY(texture_info(*nt, np, t, normal_transform, normal_has, TextureEncoding::linear));
+      double scale = 1.0;
+      FACET_TRY(f_.number(*nt, np, "scale", scale, -1e6, 1e6));
+      if (t != kNoTexture) {
+        mat.normal_texture = t;
+        mat.normal_scale = static_cast<float>(scale);
+        if (!info.needs_uvs) info.uv_transform = normal_transform;
+        else if (!(normal_transform == info.uv_transform)) {
+          warn(np + ": its KHR_texture_transform differs from the base colour texture's; facet samples both at one set "
+                    "of coordinates and uses the base colour texture's transform");
+        }
+        info.needs_uvs = true;
+        info.normal_map = true;
+      }
     }
+    if (Fields::find(g, "occlusionTexture")) warn(p + ".occlusionTexture: not supported; ignored");
     if (Fields::find(*pbr, "metallicRoughnessTexture")) warn(pp + ".metallicRoughnessTexture: not supported; ignored");
   }
   out_.scene.materials.push_back(std::move(mat));

@@ -45,6 +45,7 @@ class Reader {
     bool double_sided = false;
     bool needs_uvs = false;
     bool uses_alpha = false;  // alphaMode MASK or BLEND
+    bool normal_map = false;  // needs tangents: TANGENT, or generated
     UvTransform uv_transform;
   };
   // One attribute's values, count x components doubles.

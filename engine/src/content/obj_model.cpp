@@ -2,6 +2,7 @@
 // MTL reader below. MTL is a small line format; facet reads every statement itself so that each
 // error names the file and line, and lists what it ignores in Model::warnings.
 #include <algorithm>
+#include <optional>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -51,7 +52,7 @@ Status for_each_line(const std::string& text, Fn fn) {
 
 // Statements read by facet, and those it knows and ignores (with a warning).
 constexpr std::string_view kIgnored[] = {"Ni", "Tf", "sharpness", "map_Ka", "map_Ks", "map_Ns", "map_bump",
-                                         "map_Bump", "bump", "disp", "decal", "refl", "norm", "map_Pr", "map_Pm",
+                                         "map_Bump", "bump", "disp", "decal", "refl", "map_Pr", "map_Pm",
                                          "map_Ps", "Pr", "Pm", "Ps", "Pc", "Pcr", "aniso", "anisor", "map_aat"};
 
 class MtlReader {
@@ -93,6 +94,7 @@ class MtlReader {
       map_kd_.clear();
       map_d_.clear();
       map_ke_.clear();
+      map_norm_.clear();
       has_ke_ = false;
       return {};
     }
@@ -100,7 +102,7 @@ class MtlReader {
       // Before the first material, only what an MTL file may say is quoted: anything else may be
       // the first bytes of a file that is not an MTL file at all.
       bool known = key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "map_Kd" || key == "map_d" ||
-                   key == "map_Ke" || key == "d" || key == "Tr" || key == "Ns";
+                   key == "map_Ke" || key == "norm" || key == "d" || key == "Tr" || key == "Ns";
       for (std::string_view i : kIgnored) known |= key == i;
       if (!known) return error(line, "not an MTL file: its first statement is neither 'newmtl' nor another MTL statement");
       return error(line, quote(key, 24) + " before any 'newmtl'");
@@ -148,7 +150,7 @@ class MtlReader {
       illum_line_ = line;
       return {};
     }
-    if (key == "map_Kd" || key == "map_d" || key == "map_Ke") return texture_statement(line, s, key);
+    if (key == "map_Kd" || key == "map_d" || key == "map_Ke" || key == "norm") return texture_statement(line, s, key);
     for (std::string_view i : kIgnored) {
       if (key == i) {
         ignore(line, key);
@@ -183,7 +185,8 @@ class MtlReader {
     return {};
   }
 
-  // map_Kd / map_d / map_Ke [options] file: -s (uv_scale) and -clamp are read, the other options ignored.
+  // map_Kd / map_d / map_Ke / norm [options] file: -s (uv_scale) and -clamp are read, and norm's
+  // -bm (the normal map's scale); the other options are ignored.
   Status texture_statement(std::size_t line, std::string_view s, std::string_view key) {
     std::vector<std::string_view> tok = split_ws(s);
     std::size_t i = 1;
@@ -218,6 +221,10 @@ class MtlReader {
         if (i + 1 >= tok.size() || (tok[i + 1] != "on" && tok[i + 1] != "off")) return error(line, std::string(key) + " " + std::string(opt) + ": expected on or off");
         ignore(line, std::string(key) + " " + std::string(opt));
         i += 2;
+      } else if (opt == "-bm" && key == "norm") {
+        i = numbers(i + 1, 1, nums);
+        if (nums.size() != 1 || !(std::abs(nums[0]) <= 1e6f)) return error(line, "norm -bm: expected a number in [-1e6, 1e6]");
+        ref.bump = nums[0];
       } else if (opt == "-bm" || opt == "-boost" || opt == "-texres" || opt == "-imfchan") {
         if (i + 1 >= tok.size()) return error(line, std::string(key) + " " + std::string(opt) + ": expected a value");
         ignore(line, std::string(key) + " " + std::string(opt));
@@ -235,7 +242,7 @@ class MtlReader {
     const std::size_t at = static_cast<std::size_t>(tok[i].data() - s.data());
     ref.file = std::string(trim(s.substr(at)));
     std::replace(ref.file.begin(), ref.file.end(), '\\', '/');
-    (key == "map_Kd" ? map_kd_ : key == "map_d" ? map_d_ : map_ke_) = ref;
+    (key == "map_Kd" ? map_kd_ : key == "map_d" ? map_d_ : key == "norm" ? map_norm_ : map_ke_) = ref;
     return {};
   }
 
@@ -244,6 +251,7 @@ class MtlReader {
     std::size_t line = 0;
     Vec2 scale{1.0f, 1.0f};
     bool clamp = false;
+    float bump = 1.0f;  // norm -bm
     bool empty() const { return file.empty(); }
     void clear() { file.clear(); }
   };
@@ -271,6 +279,7 @@ class MtlReader {
     illum_ = 2;
     if (!map_kd_.empty() || !map_d_.empty()) FACET_TRY(attach_texture());
     if (!map_ke_.empty()) FACET_TRY(attach_emissive_texture());
+    if (!map_norm_.empty()) FACET_TRY(attach_normal_texture());
     if (current_.alpha < 1.0f || !map_d_.empty()) current_.blend = BlendMode::alpha;
     scene_.materials.push_back(current_);
     return {};
@@ -348,9 +357,27 @@ class MtlReader {
     return {};
   }
 
+  // norm: a tangent-space normal map (linear), scaled by -bm, at map_Kd's coordinates.
+  Status attach_normal_texture() {
+    Result<Texture> n = load(map_norm_, TextureEncoding::linear);
+    if (!n) return n.status();
+    if (n->width() == 0) return {};
+    if (current_.diffuse_texture == kNoTexture && current_.emissive_texture == kNoTexture) {
+      current_.uv_scale = map_norm_.scale;
+    } else if (map_norm_.scale != current_.uv_scale) {
+      warnings_.push_back(source_ + ":" + std::to_string(map_norm_.line) + ": norm -s differs from map_Kd's; facet has "
+                                                                            "one uv scale per material, map_Kd's is used");
+    }
+    scene_.textures.push_back(std::move(*n));
+    current_.normal_texture = static_cast<std::int32_t>(scene_.textures.size() - 1);
+    current_.normal_scale = map_norm_.bump;
+    return {};
+  }
+
   // A texture file, or an empty texture (and a warning) when it is missing and that is allowed.
-  Result<Texture> load(const TextureRef& ref) {
+  Result<Texture> load(const TextureRef& ref, std::optional<TextureEncoding> encoding = std::nullopt) {
     TextureOptions topt;
+    topt.encoding = encoding;
     topt.wrap = ref.clamp ? TextureWrap::clamp : TextureWrap::repeat;
     topt.memory_budget_bytes = left();
     Result<Texture> t = read_texture(folder_, ref.file, source_ + ":" + std::to_string(ref.line) + ": texture", ref.file, topt);
@@ -388,7 +415,7 @@ class MtlReader {
   bool has_d_ = false, has_tr_ = false;
   int illum_ = 2;
   std::size_t illum_line_ = 0;
-  TextureRef map_kd_, map_d_, map_ke_;
+  TextureRef map_kd_, map_d_, map_ke_, map_norm_;
   bool has_ke_ = false;
   std::map<std::string, std::string> ignored_;  // what -> the first lines it was on
 };
@@ -494,7 +521,7 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
         if (uses_textures(m) && (used.count(m.name) || mesh->groups.empty())) {
           model.warnings.push_back(path + ": material " + quote(m.name, 40) +
                                    " is textured but the mesh has no texture coordinates (vt); drawn untextured");
-          m.diffuse_texture = m.emissive_texture = kNoTexture;
+          m.diffuse_texture = m.emissive_texture = m.normal_texture = kNoTexture;
         }
       }
     }
@@ -516,6 +543,7 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
       inst.material = static_cast<std::uint32_t>(scene.materials.size() - 1);
     }
     scene.objects.push_back(inst);
+    if (Status s = generate_missing_tangents(scene); !s.ok()) return Status{s.code(), s.field(), path + ": " + s.message()};
     if (Status s = validate_scene(scene); !s.ok()) {
       return Status{s.code(), s.field(), path + ": the imported scene is not valid: " + s.message()};
     }
