@@ -174,10 +174,14 @@ TEST(GltfImport, NormalTexturesAndTangents) {
   };
   GltfBuilder b = textured_quad(png, "uri");
   b.doc["materials"][0]["normalTexture"] = {{"index", 0}, {"scale", 0.75}};
+  b.doc["materials"][0]["occlusionTexture"] = {{"index", 0}, {"strength", 0.4}};
   Result<Model> m = load(b);
   ASSERT_TRUE(m.ok()) << m.status().message();
   EXPECT_TRUE(m->warnings.empty()) << m->warnings[0];
   const Material& mat = m->scene.materials[0];
+  ASSERT_NE(mat.occlusion_texture, kNoTexture);
+  EXPECT_EQ(mat.occlusion_texture, mat.normal_texture) << "one linear texture for both slots";
+  EXPECT_EQ(mat.occlusion_strength, 0.4f);
   ASSERT_NE(mat.normal_texture, kNoTexture);
   EXPECT_NE(mat.normal_texture, mat.diffuse_texture);
   EXPECT_EQ(m->scene.textures[std::size_t(mat.normal_texture)].encoding, TextureEncoding::linear);

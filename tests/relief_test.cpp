@@ -176,6 +176,58 @@ TEST(NormalMaps, ReliefSceneIsByteIdenticalForAnyThreadCount) {
   }
 }
 
+// An occlusion map of red r and strength k shades as the same scene whose global ambient and
+// lights' ambient colours are times o = 1 + k (r - 1): occlusion multiplies exactly the ambient
+// terms. On every path and ISA, within a step; with vertex colours (colour material) too. Flat and
+// Gouraud shading do not read the map.
+TEST(OcclusionMaps, DarkenExactlyTheAmbientTerms) {
+  for (const bool coloured : {false, true}) {
+    for (const float strength : {1.0f, 0.6f, 0.0f}) {
+      Scene mapped = plane_scene();
+      mapped.global_ambient = Color3(0.5f, 0.4f, 0.3f);
+      mapped.materials[0].ambient = Color3(0.9f, 0.8f, 0.7f);
+      mapped.materials[0].emissive = Color3(0.05f, 0.0f, 0.1f);
+      for (Light& l : mapped.lights) l.ambient = Color3(0.3f, 0.25f, 0.2f);
+      if (coloured) mapped.meshes[0].mesh.colors.assign(mapped.meshes[0].mesh.positions.size(), Color3(0.7f, 0.9f, 0.5f));
+      const std::uint8_t texel[3] = {77, 200, 13};  // the red channel is read
+      TextureOptions o{TextureFilter::bilinear, TextureWrap::repeat};
+      o.encoding = TextureEncoding::linear;
+      Result<Texture> t = make_texture("ao", 1, 1, std::vector<std::uint8_t>{texel[0], texel[1], texel[2], 255}, o);
+      ASSERT_TRUE(t.ok());
+      Scene scaled = mapped;
+      mapped.textures.push_back(*t);
+      mapped.materials[0].occlusion_texture = 0;
+      mapped.materials[0].occlusion_strength = strength;
+      ASSERT_TRUE(validate_scene(mapped).ok()) << validate_scene(mapped).message();
+      const float occ = 1.0f + strength * (77.0f / 255.0f - 1.0f);
+      scaled.global_ambient *= occ;
+      for (Light& l : scaled.lights) l.ambient *= occ;
+      for (LightingPath path : {LightingPath::simd, LightingPath::scalar, LightingPath::reference}) {
+        EXPECT_LE(largest_difference(render(mapped, path), render(scaled, path)), 1)
+            << to_string(path) << " strength " << strength << (coloured ? " coloured" : "");
+      }
+      for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+        if (!isa_supported(isa)) continue;
+        EXPECT_LE(largest_difference(render(mapped, LightingPath::simd, isa), render(scaled, LightingPath::simd, isa)), 1)
+            << to_string(isa);
+      }
+      if (strength == 1.0f && !coloured) {
+        Scene unmapped = mapped;
+        unmapped.materials[0].occlusion_texture = kNoTexture;
+        EXPECT_NE(render(mapped, LightingPath::simd), render(unmapped, LightingPath::simd)) << "the map changed nothing";
+        for (ShadingMode mode : {ShadingMode::flat, ShadingMode::gouraud}) {
+          test::Canvas a(64, 64), b(64, 64);
+          RenderOptions ro;
+          ro.shading = mode;
+          ASSERT_TRUE(Renderer(ro).render(mapped, a.view()).ok());
+          ASSERT_TRUE(Renderer(ro).render(unmapped, b.view()).ok());
+          EXPECT_EQ(a.pixels(), b.pixels()) << to_string(mode);
+        }
+      }
+    }
+  }
+}
+
 // A normal map needs tangents: validation says so, and generate_missing_tangents makes them.
 TEST(NormalMaps, MissingTangentsAreNamedAndGenerated) {
   Scene s = plane_scene();

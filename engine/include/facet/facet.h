@@ -137,6 +137,10 @@ typedef struct facet_material {
    * normals times it, |scale| <= 1e6, default 1. */
   int32_t normal_texture;
   float normal_scale;
+  /* An ambient-occlusion map's red channel darkens the ambient terms by 1 + strength (r - 1), lit
+   * per pixel (FACET_PHONG): -1 none (default); strength in [0, 1], default 1. */
+  int32_t occlusion_texture;
+  float occlusion_strength;
 } facet_material;
 
 typedef struct facet_fog {

@@ -125,6 +125,11 @@ struct Material {
   // Needs the mesh's uvs and tangents (generate_tangents); sampled at the diffuse texture's uvs.
   std::int32_t normal_texture = kNoTexture;  // index into Scene::textures
   float normal_scale = 1.0f;                 // finite, |scale| <= 1e6
+  // An ambient-occlusion map (glTF occlusionTexture, linear): its red channel r darkens every
+  // ambient term (the scene's and each light's) by 1 + occlusion_strength (r - 1); direct light is
+  // untouched. Lit per pixel only (Phong), like the normal map; sampled at the same uvs.
+  std::int32_t occlusion_texture = kNoTexture;
+  float occlusion_strength = 1.0f;  // [0, 1]
 
   // Applied after the texture environment, before the emission added after texturing and the
   // separate specular (GL: a second texture unit). Sampled at level 0 (no mipmaps: texgen
@@ -141,7 +146,8 @@ inline bool adds_emission_after_texture(const Material& m) noexcept {
 
 // Whether the material samples a texture (and so needs the mesh's uvs).
 inline bool uses_textures(const Material& m) noexcept {
-  return m.diffuse_texture != kNoTexture || m.emissive_texture != kNoTexture || m.normal_texture != kNoTexture;
+  return m.diffuse_texture != kNoTexture || m.emissive_texture != kNoTexture || m.normal_texture != kNoTexture ||
+         m.occlusion_texture != kNoTexture;
 }
 
 }  // namespace facet

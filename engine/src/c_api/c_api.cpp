@@ -55,6 +55,8 @@ facet_material facet_material_default(void) {
   c.specular_model = static_cast<facet_specular_model>(m.specular_model);
   c.normal_texture = m.normal_texture;
   c.normal_scale = m.normal_scale;
+  c.occlusion_texture = m.occlusion_texture;
+  c.occlusion_strength = m.occlusion_strength;
   return c;
 }
 

@@ -175,6 +175,8 @@ inline facet::Material to_material(const facet_material& c) {
     m.specular_model = static_cast<facet::SpecularModel>(lobe >= 0 && lobe <= 1 ? lobe : 255);
     m.normal_texture = material->normal_texture;
     m.normal_scale = material->normal_scale;
+    m.occlusion_texture = material->occlusion_texture;
+    m.occlusion_strength = material->occlusion_strength;
   return m;
 }
 

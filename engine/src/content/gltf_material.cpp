@@ -27,7 +27,7 @@ TextureFilter sampler_filter(int min, int mag) {
 std::uint32_t Reader::untextured_twin(std::uint32_t index) {
   if (auto it = untextured_.find(index); it != untextured_.end()) return it->second;
   Material copy = out_.scene.materials[index];
-  copy.diffuse_texture = copy.emissive_texture = copy.normal_texture = kNoTexture;
+  copy.diffuse_texture = copy.emissive_texture = copy.normal_texture = copy.occlusion_texture = kNoTexture;
   copy.name += " (untextured)";
   out_.scene.materials.push_back(copy);
   const auto twin = static_cast<std::uint32_t>(out_.scene.materials.size() - 1);
@@ -196,7 +196,28 @@ Status Reader::material(int index, MaterialInfo& info) {
         info.normal_map = true;
       }
     }
-    if (Fields::find(g, "occlusionTexture")) warn(p + ".occlusionTexture: not supported; ignored");
+    // The occlusion map (linear, red channel), strength in [0, 1].
+    if (const Json* ot = Fields::find(g, "occlusionTexture"); ot && unlit) {
+      warn(p + ".occlusionTexture: ignored by KHR_materials_unlit");
+    } else if (ot) {
+      const std::string op = p + ".occlusionTexture";
+      std::int32_t t = kNoTexture;
+      UvTransform occlusion_transform;
+      bool occlusion_has = false;
+      FACET_TRY(texture_info(*ot, op, t, occlusion_transform, occlusion_has, TextureEncoding::linear));
+      double strength = 1.0;
+      FACET_TRY(f_.number(*ot, op, "strength", strength, 0.0, 1.0));
+      if (t != kNoTexture) {
+        mat.occlusion_texture = t;
+        mat.occlusion_strength = static_cast<float>(strength);
+        if (!info.needs_uvs) info.uv_transform = occlusion_transform;
+        else if (!(occlusion_transform == info.uv_transform)) {
+          warn(op + ": its KHR_texture_transform differs from the base colour texture's; facet samples both at one set "
+                    "of coordinates and uses the base colour texture's transform");
+        }
+        info.needs_uvs = true;
+      }
+    }
     if (Fields::find(*pbr, "metallicRoughnessTexture")) warn(pp + ".metallicRoughnessTexture: not supported; ignored");
   }
   out_.scene.materials.push_back(std::move(mat));

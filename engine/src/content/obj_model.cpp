@@ -521,7 +521,7 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
         if (uses_textures(m) && (used.count(m.name) || mesh->groups.empty())) {
           model.warnings.push_back(path + ": material " + quote(m.name, 40) +
                                    " is textured but the mesh has no texture coordinates (vt); drawn untextured");
-          m.diffuse_texture = m.emissive_texture = m.normal_texture = kNoTexture;
+          m.diffuse_texture = m.emissive_texture = m.normal_texture = m.occlusion_texture = kNoTexture;
         }
       }
     }

@@ -429,7 +429,10 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     const bool normal_map = !plain && lit == raster::LitAt::pixel && m.normal_texture != kNoTexture && !needs.albedo &&
                             mesh.tangents.size() == mesh.positions.size() && !mesh.positions.empty();
     needs.tangent = normal_map;
-    needs.uv = textured || emission_texture || normal_map;
+    // An occlusion map: per pixel, into the lighting's ambient terms.
+    const bool occlusion_map = !plain && lit == raster::LitAt::pixel && m.occlusion_texture != kNoTexture;
+    lf.occlusion = occlusion_map;
+    needs.uv = textured || emission_texture || normal_map || occlusion_map;
     const Environment& env = m.environment;
     // Inside an environment face, dynamic reflectors are drawn without their reflection.
     const std::int32_t cube = env.dynamic && units[o].object < cubes.of_object.size() ? cubes.of_object[units[o].object] : -1;
@@ -466,13 +469,18 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
       d.normal_map = &samplers.as_made[static_cast<std::size_t>(m.normal_texture)];
       d.normal_scale = m.normal_scale;
     }
+    if (occlusion_map) {
+      d.occlusion_map = &samplers.as_made[static_cast<std::size_t>(m.occlusion_texture)];
+      d.occlusion_strength = m.occlusion_strength;
+    }
     d.uv_scale[0] = m.uv_scale.x(), d.uv_scale[1] = m.uv_scale.y();
     d.alpha_cutoff = m.alpha_cutoff;
     d.blend = plain ? BlendMode::opaque : m.blend;
     d.depth_write = writes_depth(m);
     d.clamp = clamp;
     const bool surface = textured || d.emission || d.blend != BlendMode::opaque || m.alpha_cutoff > 0.0f ||
-                         !d.depth_write || f.mode != FogMode::none || needs.albedo || environment || normal_map;
+                         !d.depth_write || f.mode != FogMode::none || needs.albedo || environment || normal_map ||
+                         occlusion_map;
     using raster::simd::PixelProgram;
     if (!surface) {
       d.program = lit == raster::LitAt::triangle ? PixelProgram::flat

@@ -11,7 +11,7 @@ namespace facet::lighting {
 
 void SoaScratch::reserve_padded(std::size_t count) {
   const std::size_t n = simd::padded(count);
-  for (auto* v : {&px, &py, &pz, &nx, &ny, &nz, &r, &g, &b, &ar, &ag, &ab, &sr, &sg, &sb}) {
+  for (auto* v : {&px, &py, &pz, &nx, &ny, &nz, &r, &g, &b, &ar, &ag, &ab, &sr, &sg, &sb, &ao}) {
     if (v->size() < n) v->resize(n);
   }
 }
@@ -148,6 +148,11 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
       resolve_spot_pows(reference_.lights, options.pow_tier);
       copy3(p.base, scalar_.base);
       copy3(p.base_d, reference_.base);
+      p.occlusion = features.occlusion ? 1 : 0;
+      copy3(p.emission, scalar_.emission);
+      copy3(p.emission_d, reference_.emission);
+      copy3(p.ambient, scalar_.ambient);
+      copy3(p.ambient_d, reference_.ambient);
       p.color_material = features.color_material ? 1 : 0;
       copy3(p.scene_ambient, scalar_.scene_ambient);
       copy3(p.scene_ambient_d, reference_.scene_ambient);
@@ -186,7 +191,7 @@ constexpr std::size_t kSimdChunk = 2048;
 void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd::Transform* xf, std::size_t count,
               const Vec3* positions, const Vec3* normals, float normal_sign, const Color3* albedo, Color3* out,
               Color3* secondary, SoaScratch& scratch, const std::uint32_t* index = nullptr,
-              const float* visibility = nullptr, int slots = 0) {
+              const float* visibility = nullptr, int slots = 0, const float* occlusion = nullptr) {
   scratch.reserve_padded(std::min(kSimdChunk, count));
   const std::size_t chunk_stride = simd::padded(std::min(kSimdChunk, count));
   const std::size_t visibility_at = static_cast<std::size_t>(slots) * count;  // the chunk copies follow the input
@@ -221,6 +226,11 @@ void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd:
       s.ar = scratch.ar.data(), s.ag = scratch.ag.data(), s.ab = scratch.ab.data();
     }
     if (params.separate_specular) s.sr = scratch.sr.data(), s.sg = scratch.sg.data(), s.sb = scratch.sb.data();
+    if (params.occlusion) {  // (points, never indexed vertices)
+      std::copy_n(occlusion + start, n, scratch.ao.data());
+      std::fill(scratch.ao.begin() + static_cast<std::ptrdiff_t>(n), scratch.ao.begin() + static_cast<std::ptrdiff_t>(padded), 1.0f);
+      s.ao = scratch.ao.data();
+    }
     if (slots > 0) {  // each slot's chunk, padded with 1 (lit)
       for (int k = 0; k < slots; ++k) {
         float* dst = scratch.visibility.data() + visibility_at + static_cast<std::size_t>(k) * chunk_stride;
@@ -297,7 +307,7 @@ void PointShader::find_visibility(std::size_t count, const float* px, const floa
 }
 
 void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out,
-                               SoaScratch& scratch, const Color3* albedo, Color3* secondary) const {
+                               SoaScratch& scratch, const Color3* albedo, Color3* secondary, const float* occlusion) const {
   const float* visibility = nullptr;
   if (shadow_slots_ > 0) {
     // The points' visibility, then (simd path) room for its padded chunk copies.
@@ -317,15 +327,15 @@ void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3*
   }
   switch (path_) {
     case LightingPath::reference:
-      lighting::shade_points(reference_, count, p_eye, n_eye, albedo, out, secondary, visibility, shadow_slots_);
+      lighting::shade_points(reference_, count, p_eye, n_eye, albedo, out, secondary, visibility, shadow_slots_, occlusion);
       return;
     case LightingPath::scalar:
-      lighting::shade_points(scalar_, count, p_eye, n_eye, albedo, out, secondary, visibility, shadow_slots_);
+      lighting::shade_points(scalar_, count, p_eye, n_eye, albedo, out, secondary, visibility, shadow_slots_, occlusion);
       return;
     case LightingPath::simd: break;
   }
   run_simd(simd_shade_, simd_params_, nullptr, count, p_eye, n_eye, 1.0f, albedo, out, secondary, scratch, nullptr,
-           visibility, shadow_slots_);
+           visibility, shadow_slots_, occlusion);
 }
 
 void PointShader::shade_soa(const simd::Streams& streams, float* visibility) const {
@@ -352,11 +362,12 @@ void PointShader::shade_soa(const simd::Streams& streams, float* visibility) con
     const Color3 albedo = s.ar ? Color3(s.ar[i], s.ag[i], s.ab[i]) : Color3(1.0f, 1.0f, 1.0f);
     float vis[kMaxShadowedLights];
     for (int k = 0; k < shadow_slots_; ++k) vis[k] = slot_streams[k][i];
+    const float* ao = s.ao ? s.ao + i : nullptr;
     Color3 c, spec;
     if (path_ == LightingPath::reference) {
-      lighting::shade_points(reference_, 1, &p, &n, &albedo, &c, &spec, vis, shadow_slots_);
+      lighting::shade_points(reference_, 1, &p, &n, &albedo, &c, &spec, vis, shadow_slots_, ao);
     } else {
-      lighting::shade_points(scalar_, 1, &p, &n, &albedo, &c, &spec, vis, shadow_slots_);
+      lighting::shade_points(scalar_, 1, &p, &n, &albedo, &c, &spec, vis, shadow_slots_, ao);
     }
     s.r[i] = c.x(), s.g[i] = c.y(), s.b[i] = c.z();
     if (s.sr) s.sr[i] = spec.x(), s.sg[i] = spec.y(), s.sb[i] = spec.z();

@@ -21,6 +21,7 @@ namespace facet::lighting {
 struct SoaScratch {
   std::vector<float> px, py, pz, nx, ny, nz, r, g, b;
   std::vector<float> ar, ag, ab, sr, sg, sb;  // albedo in, secondary out (when the shader uses them)
+  std::vector<float> ao;                      // ambient occlusion in (LightingFeatures::occlusion)
   std::vector<float> visibility;              // shadowed lights: per slot, per point
   void reserve_padded(std::size_t count);
 };
@@ -47,9 +48,9 @@ class PointShader {
                   const std::uint32_t* index = nullptr) const;
 
   // Lights `count` eye-space points (albedo read with color_material, secondary written with
-  // separate_specular).
+  // separate_specular, each point's ambient occlusion read with LightingFeatures::occlusion).
   void shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out, SoaScratch& scratch,
-                    const Color3* albedo = nullptr, Color3* secondary = nullptr) const;
+                    const Color3* albedo = nullptr, Color3* secondary = nullptr, const float* occlusion = nullptr) const;
 
   // Lights eye-space points given as padded structure-of-arrays streams (positions and normals in,
   // colours out; s.count a multiple of simd::kMaxLanes): what the SIMD rasterizer's Phong pixels use.

@@ -41,6 +41,9 @@ void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Ma
   sp.base = features.color_material
                 ? v3<T>(material.emissive.cast<double>())
                 : v3<T>(material.emissive.cast<double>() + am.cwiseProduct(scene.global_ambient.cast<double>()));
+  sp.occlusion = features.occlusion;
+  sp.emission = v3<T>(material.emissive.cast<double>());
+  sp.ambient = features.color_material ? V3<T>{} : v3<T>(am.cwiseProduct(scene.global_ambient.cast<double>()));
   sp.shininess = T(material.shininess);
   sp.phong_lobe = material.specular_model == SpecularModel::phong;
   sp.local_viewer = scene.viewer == ViewerMode::local;

@@ -19,6 +19,7 @@ namespace facet::lighting {
 struct LightingFeatures {
   bool color_material = false;
   bool separate_specular = false;
+  bool occlusion = false;  // a per-point ambient occlusion multiplies every ambient term (Phong with an occlusion map)
 };
 
 // Fills `out` (its light list keeps its capacity, so a steady frame allocates nothing).

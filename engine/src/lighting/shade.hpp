@@ -13,7 +13,10 @@
 //       colour = e_m + c (a_scene + sum_i att_i spot_i [a_i + (n.VP_i)+ d_i]) + specular;
 //   - separate specular (GL_SEPARATE_SPECULAR_COLOR): the specular sum goes to its own output (the
 //     secondary colour, clamped on its own) instead of into the colour, so that a texture can
-//     modulate the rest and the highlight is added after it.
+//     modulate the rest and the highlight is added after it;
+//   - occlusion (an occlusion map, lit per pixel): a per-point factor o in [0, 1] multiplies every
+//     ambient term, a_m a_scene and each light's a_m a_i (glTF: occlusion darkens indirect light),
+//       colour = e_m + o a_m a_scene + sum_i att_i spot_i [o a_m a_i + diffuse + specular].
 //
 // Edge-case rules (public contract in facet/lighting.hpp): see light_contribution().
 #pragma once
@@ -57,6 +60,8 @@ struct ShadeParams {
   V3<T> base{};  // e_m + a_m a_scene; with colour_material: e_m
   V3<T> scene_ambient{};  // colour_material only: a_scene (the albedo multiplies it)
   bool color_material = false;      // albedo per point; lights carry a_i, d_i unmultiplied
+  bool occlusion = false;           // base splits into emission + o ambient (o per point)
+  V3<T> emission{}, ambient{};      // occlusion only: e_m and a_m a_scene (base = their sum)
   bool separate_specular = false;   // specular to the secondary output
   T shininess = 0;
   bool phong_lobe = false;  // SpecularModel::phong: the lobe on R.V instead of n.h
@@ -80,7 +85,7 @@ T spot_factor(const EyeLight<T>& L, T cos_angle) {
 // `colour`, or with `specular` its ambient and diffuse parts to `colour` and its specular to `specular`.
 template <class T>
 void light_contribution(const ShadeParams<T>& sp, const EyeLight<T>& L, V3<T> p, V3<T> n, V3<T> eye_dir,
-                        V3<T>& colour, V3<T>* specular, const float* visibility = nullptr) {
+                        V3<T>& colour, V3<T>* specular, const float* visibility = nullptr, T occlusion = T(1)) {
   V3<T> vp;
   T att = T(1);
   if (L.type == LightType::directional) {
@@ -106,7 +111,7 @@ void light_contribution(const ShadeParams<T>& sp, const EyeLight<T>& L, V3<T> p,
     if (att == T(0)) return;
   }
   const T n_dot_l = dot(n, vp);
-  V3<T> sum = L.ambient;
+  V3<T> sum = sp.occlusion ? occlusion * L.ambient : L.ambient;
   if (n_dot_l > T(0)) {
     // Blinn: n.h; Phong: R.V with R = 2 (n.L) n - L the mirror direction of the light (unit when
     // n and L are), negative R.V counting as 0.
@@ -138,19 +143,21 @@ V3<T> finish_colour(const ShadeParams<T>& sp, V3<T> c) {
 // The colour at p with normal n_in; `albedo` is read with colour_material, `secondary` written
 // with separate_specular.
 // `visibility`: per shadow slot (EyeLight::shadow), this point's visibility of that light.
+// `occlusion`: the point's ambient occlusion (read with ShadeParams::occlusion).
 template <class T>
 V3<T> shade_vertex(const ShadeParams<T>& sp, V3<T> p, V3<T> n_in, V3<T> albedo = {T(1), T(1), T(1)},
-                   V3<T>* secondary = nullptr, const float* visibility = nullptr) {
+                   V3<T>* secondary = nullptr, const float* visibility = nullptr, T occlusion = T(1)) {
   const V3<T> n = normalize_or_zero(n_in);
   const V3<T> eye_dir = sp.local_viewer ? normalize_or_zero(V3<T>{-p.x, -p.y, -p.z}) : V3<T>{T(0), T(0), T(1)};
+  const V3<T> base = sp.occlusion ? sp.emission + occlusion * sp.ambient : sp.base;
   if (!sp.color_material && !sp.separate_specular) {  // the common case, in one sum
-    V3<T> colour = sp.base;
-    for (const EyeLight<T>& L : sp.lights) light_contribution<T>(sp, L, p, n, eye_dir, colour, nullptr, visibility);
+    V3<T> colour = base;
+    for (const EyeLight<T>& L : sp.lights) light_contribution<T>(sp, L, p, n, eye_dir, colour, nullptr, visibility, occlusion);
     return finish_colour(sp, colour);
   }
-  V3<T> colour = sp.color_material ? sp.scene_ambient : sp.base;
+  V3<T> colour = sp.color_material ? (sp.occlusion ? occlusion * sp.scene_ambient : sp.scene_ambient) : base;
   V3<T> specular{T(0), T(0), T(0)};
-  for (const EyeLight<T>& L : sp.lights) light_contribution(sp, L, p, n, eye_dir, colour, &specular, visibility);
+  for (const EyeLight<T>& L : sp.lights) light_contribution(sp, L, p, n, eye_dir, colour, &specular, visibility, occlusion);
   if (sp.color_material) colour = sp.base + V3<T>{albedo.x * colour.x, albedo.y * colour.y, albedo.z * colour.z};
   if (sp.separate_specular) {
     if (secondary) *secondary = finish_colour(sp, specular);
@@ -197,10 +204,11 @@ void light_mesh(const ShadeParams<T>& sp, const EyeTransform<T>& xf, const Mesh&
 // the per-pixel (Phong) and per-centroid (flat) entry to the same kernel. `albedo` is read with
 // colour_material, `secondary` written with separate_specular. `visibility` (with shadowed
 // lights): point i's visibility of the light in shadow slot k is visibility[k * count + i].
+// `occlusion` (with ShadeParams::occlusion): each point's ambient occlusion.
 template <class T>
 void shade_points(const ShadeParams<T>& sp, std::size_t count, const Vec3* p_eye, const Vec3* n_eye,
                   const Color3* albedo, Color3* out, Color3* secondary, const float* visibility = nullptr,
-                  int shadow_slots = 0) {
+                  int shadow_slots = 0, const float* occlusion = nullptr) {
   for (std::size_t i = 0; i < count; ++i) {
     float vis[kMaxShadowedLights];
     for (int k = 0; k < shadow_slots; ++k) vis[k] = visibility[static_cast<std::size_t>(k) * count + i];
@@ -208,7 +216,8 @@ void shade_points(const ShadeParams<T>& sp, std::size_t count, const Vec3* p_eye
     const V3<T> n{T(n_eye[i].x()), T(n_eye[i].y()), T(n_eye[i].z())};
     V3<T> a{T(1), T(1), T(1)}, spec{};
     if (sp.color_material) a = {T(albedo[i].x()), T(albedo[i].y()), T(albedo[i].z())};
-    const V3<T> c = shade_vertex(sp, p, n, a, &spec, shadow_slots > 0 ? vis : nullptr);
+    const T o = occlusion ? T(occlusion[i]) : T(1);
+    const V3<T> c = shade_vertex(sp, p, n, a, &spec, shadow_slots > 0 ? vis : nullptr, o);
     out[i] = Color3(float(c.x), float(c.y), float(c.z));
     if (sp.separate_specular) secondary[i] = Color3(float(spec.x), float(spec.y), float(spec.z));
   }
@@ -220,8 +229,8 @@ extern template void light_mesh<double>(const ShadeParams<double>&, const EyeTra
 extern template void light_mesh<float>(const ShadeParams<float>&, const EyeTransform<float>&, const Mesh&, bool,
                                        std::size_t, std::size_t, Color3*, Color3*, const std::uint32_t*);
 extern template void shade_points<double>(const ShadeParams<double>&, std::size_t, const Vec3*, const Vec3*,
-                                          const Color3*, Color3*, Color3*, const float*, int);
+                                          const Color3*, Color3*, Color3*, const float*, int, const float*);
 extern template void shade_points<float>(const ShadeParams<float>&, std::size_t, const Vec3*, const Vec3*,
-                                         const Color3*, Color3*, Color3*, const float*, int);
+                                         const Color3*, Color3*, Color3*, const float*, int, const float*);
 
 }  // namespace facet::lighting

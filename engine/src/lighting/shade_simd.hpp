@@ -168,10 +168,13 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
   const T* base = nullptr;
   const T* scene_ambient = nullptr;
   const T *xf_position = nullptr, *xf_normal = nullptr;
+  const T *emission = nullptr, *ambient_base = nullptr;  // occlusion: base = emission + ambient_base
   if constexpr (Exact) {
+    emission = prm.emission_d, ambient_base = prm.ambient_d;
     lights = prm.lights_d, base = prm.base_d, scene_ambient = prm.scene_ambient_d;
     if (xf) xf_position = xf->position_d, xf_normal = xf->normal_d;
   } else {
+    emission = prm.emission, ambient_base = prm.ambient;
     lights = prm.lights, base = prm.base, scene_ambient = prm.scene_ambient;
     if (xf) xf_position = xf->position, xf_normal = xf->normal;
   }
@@ -204,6 +207,17 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
     const bool split = prm.color_material || prm.separate_specular;
     const T* start = prm.color_material ? scene_ambient : base;
     B r(start[0]), g(start[1]), b(start[2]);
+    B ao = one;  // the point's ambient occlusion (streams are float; double lanes widen them)
+    if (prm.occlusion) {
+      ao = B::load_unaligned(s.ao + i);
+      if (prm.color_material) {
+        r = ao * r, g = ao * g, b = ao * b;
+      } else {
+        const T* e = emission;
+        const T* a = ambient_base;
+        r = xsimd::fma(ao, B(a[0]), B(e[0])), g = xsimd::fma(ao, B(a[1]), B(e[1])), b = xsimd::fma(ao, B(a[2]), B(e[2]));
+      }
+    }
     B spr(0.0f), spg(0.0f), spb(0.0f);
 
     for (int li = 0; li < prm.light_count; ++li) {
@@ -272,6 +286,7 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
       const B n_dot_l = dot3(n, vp);
       const auto lit = n_dot_l > zero;
       B sr = B(L.ambient.x), sg = B(L.ambient.y), sb = B(L.ambient.z);
+      if (prm.occlusion) sr *= ao, sg *= ao, sb *= ao;
       // A shadowed light's visibility at each point (1 lit, 0 in shadow, between on a filtered
       // edge); only its diffuse and
       // specular terms are blocked.

@@ -74,6 +74,11 @@ struct Params {
   float scene_ambient[3] = {};
   double scene_ambient_d[3] = {};
   int separate_specular = 0;  // the specular sum goes to Streams::sr/sg/sb
+  // Occlusion (shade.hpp): Streams::ao multiplies a_m a_scene (here `ambient`, base less the
+  // emission `emission`), the scene ambient under colour material, and each light's ambient.
+  int occlusion = 0;
+  float emission[3] = {}, ambient[3] = {};
+  double emission_d[3] = {}, ambient_d[3] = {};
   PowSpec specular_pow;
   int specular_on = 1;  // 0 when the material's specular colour is black
   int phong_lobe = 0;   // SpecularModel::phong: the lobe on R.V instead of n.h
@@ -106,6 +111,7 @@ struct Streams {
   float *sr = nullptr, *sg = nullptr, *sb = nullptr;        // secondary: written with Params::separate_specular
   // Shadowed lights (EyeLight::shadow >= 0): per shadow slot, each point's visibility of that light.
   const float* const* visibility = nullptr;
+  const float* ao = nullptr;  // per point ambient occlusion: read with Params::occlusion
 };
 
 using ShadeFunction = void (*)(const Params&, const Transform*, const Streams&);

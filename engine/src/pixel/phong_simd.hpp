@@ -114,7 +114,7 @@ struct PhongBatch {
     if (count == 0) return;
     int padded = (count + 15) / 16 * 16;
     PhongSink& s = *sink;
-    float* const streams[] = {s.px,       s.py,       s.pz,       s.nx,       s.ny,       s.nz,
+    float* const streams[] = {s.px,       s.py,       s.pz,       s.nx,       s.ny,       s.nz,       s.ao,
                               s.ar,       s.ag,       s.ab,       s.carry[0], s.carry[1], s.carry[2],
                               s.carry[3], s.carry[4], s.carry[5], s.carry[6], s.carry[7]};
     static_assert(raster::simd::kMaxCarried == 8);

@@ -256,7 +256,7 @@ struct SurfaceProgram {
     tin.emitted = d.emission ? emitted : nullptr;
     tin.fog = f;
     if (job.shading == ShadingMode::phong) {  // light at the gather's flush
-      F v[9 + raster::simd::kMaxCarried];
+      F v[10 + raster::simd::kMaxCarried];
       const int position = d.layout.at(Varying::eye_position), albedo = d.layout.at(Varying::albedo);
       F normal[3];
       pixel_normal(d, value, cx.t.bitangent_negative,
@@ -266,10 +266,14 @@ struct SurfaceProgram {
         v[3 + c] = normal[c];
         v[6 + c] = albedo >= 0 ? value(albedo + c) : F(1.0f);
       }
-      const int n = 9 + carry(d, *job.fog, tin, v + 9);
+      int n = 9 + carry(d, *job.fog, tin, v + 9);
       PhongSink& s = *cx.phong.sink;
-      float* dst[9 + raster::simd::kMaxCarried] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab};
+      float* dst[10 + raster::simd::kMaxCarried] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab};
       for (int k = 0; k < raster::simd::kMaxCarried; ++k) dst[9 + k] = s.carry[k];
+      if (d.occlusion_map) {  // after the carried values: the lighting reads it from s.ao
+        dst[n] = s.ao;
+        v[n++] = occlusion<F>(d, [&](const texture::Sampler& sm, F(&t)[4]) { Texturing<Arch>::sample(sm, uv, t); });
+      }
       cx.phong.gather(dst, v, n, pass, b.at);
       return;
     }

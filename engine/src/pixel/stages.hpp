@@ -370,6 +370,16 @@ template <class V, class Value, class Sample>
   for (int c = 0; c < 3; ++c) n[c] = mx * t[c] + my * b[c] + mz * n[c];
 }
 
+// A per-pixel draw's ambient occlusion (Draw::occlusion_map): 1 + strength (r - 1), r the map's
+// red channel at the pixel (sample(sampler, rgba)); 1 without a map.
+template <class V, class Sample>
+[[gnu::always_inline]] inline V occlusion(const Draw& d, const Sample& sample) {
+  if (!d.occlusion_map) return V(1.0f);
+  V rgba[4];
+  sample(*d.occlusion_map, rgba);
+  return V(1.0f) + V(d.occlusion_strength) * (rgba[0] - V(1.0f));
+}
+
 // The varyings generated per vertex for the tail's stages (generate_at_vertex),
 // interpolated: value(a) interpolates attribute a; `storage` holds them for `in`.
 template <class V, class Value>

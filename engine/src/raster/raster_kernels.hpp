@@ -90,6 +90,11 @@ struct Draw {
   // interpolated normal in the frame of Varying::tangent. Null: none.
   const texture::Sampler* normal_map = nullptr;
   float normal_scale = 1.0f;
+  // An occlusion map (Material::occlusion_texture), lit per pixel: its red channel r gives the
+  // pixel's ambient occlusion 1 + strength (r - 1), which the lighting multiplies every ambient
+  // term by. Null: none.
+  const texture::Sampler* occlusion_map = nullptr;
+  float occlusion_strength = 1.0f;
   float uv_scale[2] = {1.0f, 1.0f};
   float alpha_cutoff = 0.0f;  // alpha test: the fragment is kept when alpha >= cutoff (0: every fragment)
   BlendMode blend = BlendMode::opaque;
@@ -116,10 +121,11 @@ struct Fog {
 // inputs of their program's tail computed before lighting (pixel/stages.hpp: carry) in `carry`.
 inline constexpr int kPhongCapacity = 256;  // a multiple of the widest batch (16)
 inline constexpr int kMaxCarried = 8;
-inline constexpr int kPhongStreams = 15 + kMaxCarried;
+inline constexpr int kPhongStreams = 16 + kMaxCarried;
 struct PhongSink {
   float *px, *py, *pz, *nx, *ny, *nz, *r, *g, *b;
   float *ar, *ag, *ab, *sr, *sg, *sb;  // albedo in, secondary out
+  float* ao;                           // ambient occlusion in (a draw with an occlusion map)
   float* carry[kMaxCarried];
   std::uint32_t* pixel;  // tile-buffer index of each entry
   void* context;

@@ -68,9 +68,10 @@ class PixelBatch {
     n_[count_] = n;
     ++count_;
   }
-  void add_surface(std::size_t index, const Vec3& p, const Vec3& n, const Color3& albedo, const simd::Draw& d,
-                   const simd::Fog& fog, const stages::TailInputs<float>& in) {
+  void add_surface(std::size_t index, const Vec3& p, const Vec3& n, const Color3& albedo, float occlusion,
+                   const simd::Draw& d, const simd::Fog& fog, const stages::TailInputs<float>& in) {
     albedo_[count_] = albedo;
+    occlusion_[count_] = occlusion;
     stages::carry(d, fog, in, carried_[count_]);
     add(index, p, n);
   }
@@ -81,7 +82,8 @@ class PixelBatch {
     if (count_ == 0) return;
     const bool surface = d.program >= simd::PixelProgram::surface;
     const bool separate = surface && d.separate_specular;
-    shader.shade_points(static_cast<std::size_t>(count_), p_, n_, out_, scratch_, albedo_, separate ? spec_ : nullptr);
+    shader.shade_points(static_cast<std::size_t>(count_), p_, n_, out_, scratch_, albedo_, separate ? spec_ : nullptr,
+                        occlusion_);
     for (int i = 0; i < count_; ++i) {
       const auto p = static_cast<std::size_t>(index_[i]);
       if (!surface) {
@@ -116,6 +118,7 @@ class PixelBatch {
   std::size_t index_[kCapacity];
   Vec3 p_[kCapacity], n_[kCapacity];
   Color3 out_[kCapacity], spec_[kCapacity], albedo_[kCapacity];
+  float occlusion_[kCapacity];
   float carried_[kCapacity][simd::kMaxCarried];
   lighting::SoaScratch& scratch_;
 };
@@ -137,6 +140,7 @@ void shade_phong(void* context, std::uint32_t object, std::size_t count, std::si
                         f + 8 * cap, padded};
   streams.ar = f + 9 * cap, streams.ag = f + 10 * cap, streams.ab = f + 11 * cap;
   streams.sr = f + 12 * cap, streams.sg = f + 13 * cap, streams.sb = f + 14 * cap;
+  streams.ao = f + 15 * cap;  // read when the object's lighting has occlusion
   shader.shade_soa(streams, f + simd::kPhongStreams * cap);
   c.counters->shaded += count;
   c.counters->light_pairs += count * shader.light_count();
@@ -149,10 +153,10 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
   float* f = tile.phong.data();
   const std::size_t cap = simd::kPhongCapacity;
   simd::PhongSink sink{};
-  float** slots[15] = {&sink.px, &sink.py, &sink.pz, &sink.nx, &sink.ny, &sink.nz, &sink.r, &sink.g,
-                       &sink.b,  &sink.ar, &sink.ag, &sink.ab, &sink.sr, &sink.sg, &sink.sb};
-  for (int k = 0; k < 15; ++k) *slots[k] = f + static_cast<std::size_t>(k) * cap;
-  for (int k = 0; k < simd::kMaxCarried; ++k) sink.carry[k] = f + static_cast<std::size_t>(15 + k) * cap;
+  float** slots[16] = {&sink.px, &sink.py, &sink.pz, &sink.nx, &sink.ny, &sink.nz, &sink.r,  &sink.g,
+                       &sink.b,  &sink.ar, &sink.ag, &sink.ab, &sink.sr, &sink.sg, &sink.sb, &sink.ao};
+  for (int k = 0; k < 16; ++k) *slots[k] = f + static_cast<std::size_t>(k) * cap;
+  for (int k = 0; k < simd::kMaxCarried; ++k) sink.carry[k] = f + static_cast<std::size_t>(16 + k) * cap;
   sink.pixel = tile.phong_pixel.data();
   sink.context = &context;
   sink.shade = shade_phong;
@@ -277,7 +281,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
           float n[3];
           stages::pixel_normal(d, interp, t.bitangent_negative, sample_at, n);
           batch.add_surface(pixel, Vec3(interp(position_at), interp(position_at + 1), interp(position_at + 2)),
-                            Vec3(n[0], n[1], n[2]), albedo, d, fog, in);
+                            Vec3(n[0], n[1], n[2]), albedo, stages::occlusion<float>(d, sample_at), d, fog, in);
           if (batch.full()) batch.flush(shading, d, fog, t.alpha, tile, counters);
           return;
         }

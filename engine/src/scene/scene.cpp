@@ -196,6 +196,10 @@ Status validate_material(const Material& m, const Field& f) {
   if (m.normal_texture < kNoTexture) {
     return invalid(f("normal_texture"), "expected a texture index or -1 (none), found " + std::to_string(m.normal_texture));
   }
+  if (m.occlusion_texture < kNoTexture) {
+    return invalid(f("occlusion_texture"), "expected a texture index or -1 (none), found " + std::to_string(m.occlusion_texture));
+  }
+  FACET_TRY(check_range(m.occlusion_strength, 0.0f, 1.0f, f, "occlusion_strength"));
   if (!(std::abs(m.normal_scale) <= 1e6f)) {
     return invalid(f("normal_scale"), "expected a number in [-1e+06, 1e+06], found " + format_number(m.normal_scale));
   }
@@ -356,7 +360,7 @@ Status validate_lighting_inputs(const Scene& scene) {
     const Field f{"materials", i, true};
     FACET_TRY(validate_material(m, f));
     for (const auto& [index, member] : {std::pair{m.diffuse_texture, "diffuse_texture"}, std::pair{m.emissive_texture, "emissive_texture"},
-                                        std::pair{m.normal_texture, "normal_texture"}}) {
+                                        std::pair{m.normal_texture, "normal_texture"}, std::pair{m.occlusion_texture, "occlusion_texture"}}) {
       if (index != kNoTexture && static_cast<std::size_t>(index) >= scene.textures.size()) {
         return invalid(f(member), "texture index " + std::to_string(index) + " is out of range (" +
                                       std::to_string(scene.textures.size()) + " textures)");

@@ -124,7 +124,8 @@ class SceneReader : public scene_json::JsonFields {
 
   Status read_material(const json& j, const std::string& p, Scene& scene, Material& m) {
     FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "specular_model",
-                                   "alpha", "diffuse_texture", "normal_texture", "normal_scale", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write",
+                                   "alpha", "diffuse_texture", "normal_texture", "normal_scale",
+                                   "occlusion_texture", "occlusion_strength", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write",
                                    "emissive_texture", "emission_after_texture", "environment"}));
     FACET_TRY(opt_string(j, p, "name", m.name));
     FACET_TRY(opt_color(j, p, "emissive", m.emissive));
@@ -155,6 +156,12 @@ class SceneReader : public scene_json::JsonFields {
       m.normal_texture = static_cast<std::int32_t>(index);
     }
     FACET_TRY(opt_number(j, p, "normal_scale", m.normal_scale));
+    if (j.contains("occlusion_texture")) {
+      std::uint32_t index = 0;
+      FACET_TRY(find_by_name(j, p, "occlusion_texture", scene.textures, "texture", index));
+      m.occlusion_texture = static_cast<std::int32_t>(index);
+    }
+    FACET_TRY(opt_number(j, p, "occlusion_strength", m.occlusion_strength));
     std::string mode;
     if (j.contains("texture_mode")) {
       FACET_TRY(read_enum(j["texture_mode"], child(p, "texture_mode"), {"modulate", "replace", "decal", "add"}, mode));
