@@ -700,7 +700,7 @@ TEST(ObjMtlImport, MaterialsTexturesAndGroups) {
   test::write_text(dir / "m.mtl",
                    "# two materials\n"
                    "newmtl red\nKa 0.1 0 0\nKd 0.9 0.1 0.1\nKs 0.5\nNs 64\nKe 0 0 0.25\nillum 2\n"
-                   "newmtl glass\nKd 1 1 1\nd 0.25\nTr 0.75\nmap_Kd -s 2 3 -clamp on tex.png\nmap_Bump n.png\n");
+                   "newmtl glass\nKd 1 1 1\nd 0.25\nTr 0.75\nmap_Kd -s 2 3 -clamp on tex.png\nmap_Ns n.png\n");
   test::write_text(dir / "m.obj",
                    "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
                    "usemtl red\nf 1/1 2/2 3/3\nusemtl glass\nf 1/1 3/3 4/4\n");
@@ -723,7 +723,7 @@ TEST(ObjMtlImport, MaterialsTexturesAndGroups) {
   EXPECT_EQ(glass.uv_scale, Vec2(2, 3));
   EXPECT_EQ(s.textures[std::size_t(glass.diffuse_texture)].wrap, TextureWrap::clamp);
   bool bump_warned = false;
-  for (const auto& w : m->warnings) bump_warned |= w.find("map_Bump") != std::string::npos && w.find("m.mtl") != std::string::npos;
+  for (const auto& w : m->warnings) bump_warned |= w.find("map_Ns") != std::string::npos && w.find("m.mtl") != std::string::npos;
   EXPECT_TRUE(bump_warned);
   EXPECT_GT(render_rgba([&] {
               Scene r = s;
@@ -777,7 +777,7 @@ TEST(ObjMtlImport, EmissiveTexturesFromMapKe) {
 TEST(ObjMtlImport, NormalMapsFromNorm) {
   TempDir dir;
   write_test_png(dir / "tex.png");
-  test::write_text(dir / "m.mtl", "newmtl bumpy\nKd 1 1 1\nmap_Kd tex.png\nnorm -bm 0.5 tex.png\n");
+  test::write_text(dir / "m.mtl", "newmtl bumpy\nKd 1 1 1\nmap_Kd tex.png\nnorm -bm 0.5 tex.png\nmap_Bump -bm 3 tex.png\n");
   test::write_text(dir / "m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
                                   "usemtl bumpy\nf 1/1 2/2 3/3\n");
   Result<Model> m = load_model(dir / "m.obj");
@@ -787,6 +787,8 @@ TEST(ObjMtlImport, NormalMapsFromNorm) {
   ASSERT_NE(mat.normal_texture, kNoTexture);
   EXPECT_EQ(mat.normal_scale, 0.5f);
   EXPECT_EQ(m->scene.textures[std::size_t(mat.normal_texture)].encoding, TextureEncoding::linear);
+  ASSERT_NE(mat.bump_texture, kNoTexture);
+  EXPECT_EQ(mat.bump_scale, 3.0f);
   const Mesh& mesh = m->scene.meshes[0].mesh;
   ASSERT_EQ(mesh.tangents.size(), mesh.positions.size());
   EXPECT_GT(mesh.tangents[0].x(), 0.99f);

@@ -228,6 +228,109 @@ TEST(OcclusionMaps, DarkenExactlyTheAmbientTerms) {
   }
 }
 
+// A height map rising along u (or v) by 2/255 per texel (read bilinear, away from its edges):
+// every pixel's slopes are (k 2/255, 0) (or (0, k 2/255)), so it shades as the tangent-space
+// normal (-k 2/255, 0, 1) (or (0, -k 2/255, 1)), on every path and ISA, within a step. Scale 0 is
+// no bump; scale 1e6 stays finite.
+TEST(BumpMaps, ARampShadesAsItsSlope) {
+  std::vector<std::uint8_t> ramp(64 * 4);
+  for (int i = 0; i < 64; ++i) ramp[4 * i] = ramp[4 * i + 1] = ramp[4 * i + 2] = static_cast<std::uint8_t>(2 * i), ramp[4 * i + 3] = 255;
+  TextureOptions o{TextureFilter::bilinear, TextureWrap::clamp};
+  o.encoding = TextureEncoding::linear;
+  for (const bool along_v : {false, true})
+  for (const float k : {20.0f, -7.0f}) {
+    // make_texture takes the top row first: a column rising upwards is the ramp reversed.
+    std::vector<std::uint8_t> column(ramp.rbegin(), ramp.rend());
+    for (int i = 0; i < 64; ++i) std::swap(column[4 * i], column[4 * i + 3]), std::swap(column[4 * i + 1], column[4 * i + 2]);
+    Result<Texture> height = along_v ? make_texture("ramp", 1, 64, column, o) : make_texture("ramp", 64, 1, ramp, o);
+    ASSERT_TRUE(height.ok());
+    Scene bumped = plane_scene();
+    Mesh& mesh = bumped.meshes[0].mesh;
+    for (Vec2& uv : mesh.uvs) uv = Vec2(0.25f, 0.25f) + 0.5f * uv;  // inside the ramp, away from the clamped ends
+    ASSERT_TRUE(generate_tangents(mesh).ok());
+    Scene tilted = bumped;
+    bumped.textures.push_back(*height);
+    bumped.materials[0].bump_texture = 0;
+    bumped.materials[0].bump_scale = k;
+    const double slope = k * 2.0 / 255.0;
+    Mesh& flat = tilted.meshes[0].mesh;
+    for (std::size_t i = 0; i < flat.positions.size(); ++i) {
+      const Eigen::Vector3d n = flat.normals[i].cast<double>(), t = mesh.tangents[i].head<3>().cast<double>();
+      const Eigen::Vector3d b = mesh.tangents[i].w() * n.cross(t);
+      flat.normals[i] = (-slope * (along_v ? b : t) + n).normalized().cast<float>();
+    }
+    flat.tangents.clear();
+    for (LightingPath path : {LightingPath::simd, LightingPath::scalar}) {
+      EXPECT_LE(largest_difference(render(bumped, path), render(tilted, path)), 1)
+          << to_string(path) << " scale " << k << (along_v ? " along v" : " along u");
+    }
+    for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+      if (!isa_supported(isa)) continue;
+      EXPECT_LE(largest_difference(render(bumped, LightingPath::simd, isa), render(tilted, LightingPath::simd, isa)), 1)
+          << to_string(isa);
+    }
+    Scene unbumped = bumped;
+    unbumped.materials[0].bump_texture = kNoTexture;
+    bumped.materials[0].bump_scale = 0.0f;
+    EXPECT_EQ(render(bumped, LightingPath::simd), render(unbumped, LightingPath::simd)) << "scale 0";
+    bumped.materials[0].bump_scale = 1e6f;
+    ASSERT_TRUE(validate_scene(bumped).ok());
+    EXPECT_NE(render(bumped, LightingPath::simd), render(unbumped, LightingPath::simd)) << "scale 1e6";
+  }
+}
+
+// Environment-mapped bump (flat and Gouraud, a normal-mode environment map): the height's slopes
+// move the environment's coordinates. On a plane facing the eye the normal mode reads (1/2, 1/2)
+// everywhere; a ramp of slope k 2/255 moves that to (1/2 + k 2/255, 1/2): the colour of a
+// horizontal ramp environment there. Scale 0 is no bump; scalar and SIMD agree within a step.
+TEST(BumpMaps, EnvironmentBumpMovesTheLookup) {
+  Scene s;
+  s.camera.eye = Vec3(0, 0, 3);
+  s.camera.target = Vec3(0, 0, 0);
+  s.camera.vertical_fov_deg = 30;
+  s.global_ambient = Color3::Zero();
+  Mesh quad;
+  quad.positions = {Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)};
+  quad.normals.assign(4, Vec3(0, 0, 1));
+  quad.uvs = {Vec2(0.25f, 0.25f), Vec2(0.75f, 0.25f), Vec2(0.75f, 0.75f), Vec2(0.25f, 0.75f)};
+  quad.triangles = {{0, 1, 2}, {0, 2, 3}};
+  ASSERT_TRUE(generate_tangents(quad).ok());
+  s.meshes.push_back({"quad", quad});
+  std::vector<std::uint8_t> ramp(64 * 4), env(256 * 4);
+  for (int i = 0; i < 64; ++i) ramp[4 * i] = ramp[4 * i + 1] = ramp[4 * i + 2] = static_cast<std::uint8_t>(2 * i), ramp[4 * i + 3] = 255;
+  for (int i = 0; i < 256; ++i) env[4 * i] = static_cast<std::uint8_t>(i), env[4 * i + 1] = env[4 * i + 2] = 0, env[4 * i + 3] = 255;
+  TextureOptions o{TextureFilter::bilinear, TextureWrap::clamp};
+  o.encoding = TextureEncoding::linear;
+  s.textures.push_back(*make_texture("ramp", 64, 1, ramp, o));
+  s.textures.push_back(*make_texture("env", 256, 1, env, o));
+  Material m;
+  m.ambient = m.diffuse = m.specular = Color3::Zero();
+  m.environment.mode = EnvironmentMode::normal;
+  m.environment.maps[0] = 1;
+  m.environment.blend = EnvironmentBlend::add;
+  m.bump_texture = 0;
+  m.bump_scale = 12.0f;
+  s.materials.push_back(m);
+  s.objects.push_back({0, 0, Mat4::Identity()});
+  ASSERT_TRUE(validate_scene(s).ok()) << validate_scene(s).message();
+  auto draw = [&](const Scene& scene, LightingPath path) {
+    test::Canvas c(32, 32);
+    RenderOptions ro;
+    ro.shading = ShadingMode::gouraud;
+    ro.path = path;
+    EXPECT_TRUE(Renderer(ro).render(scene, c.view()).ok());
+    return c;
+  };
+  test::Canvas simd = draw(s, LightingPath::simd), scalar = draw(s, LightingPath::scalar);
+  EXPECT_LE(largest_difference(simd.pixels(), scalar.pixels()), 1);
+  // The environment's red at s = 1/2 + 12 x 2/255, bilinear over 256 texels of value i / 255.
+  const double at = (0.5 + 12.0 * 2.0 / 255.0) * 256.0 - 0.5;
+  EXPECT_NEAR(simd.byte(16, 16, 0), std::lround(at), 1.0);
+  Scene flat = s;
+  flat.materials[0].bump_scale = 0.0f;
+  EXPECT_NEAR(draw(flat, LightingPath::simd).byte(16, 16, 0), std::lround(0.5 * 256.0 - 0.5), 1.0);
+}
+
 // A normal map needs tangents: validation says so, and generate_missing_tangents makes them.
 TEST(NormalMaps, MissingTangentsAreNamedAndGenerated) {
   Scene s = plane_scene();

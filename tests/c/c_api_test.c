@@ -732,13 +732,13 @@ int main(void) {
     CHECK(strlen(facet_scene_last_error(e)) > 0);
     /* A model file: OBJ + MTL, framed and lit. */
     FILE* f = fopen("facet_c_api_test.mtl", "w");
-    fputs("newmtl green\nKd 0 1 0\nmap_Bump bump.png\n", f);
+    fputs("newmtl green\nKd 0 1 0\nmap_Ks specular.png\n", f);
     fclose(f);
     f = fopen("facet_c_api_test.obj", "w");
     fputs("mtllib facet_c_api_test.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl green\nf 1 2 3\n", f);
     fclose(f);
     CHECK(facet_scene_load_file(e, "facet_c_api_test.obj", FACET_LOAD_FRAME, (float)W / H, 0) == FACET_OK);
-    CHECK(strstr(facet_scene_warnings(e), "map_Bump") != NULL);
+    CHECK(strstr(facet_scene_warnings(e), "map_Ks") != NULL);
     CHECK(facet_render(er, e, after, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, &st) == FACET_OK);
     CHECK(st.pixels_filled > 50);
     int green_px = 0;

@@ -372,28 +372,31 @@ int check(const CheckState& st) {
                 (dynamic_bytes + 1023) / 1024);
   }
   // Relief: normal-mapped objects, and where the map is not applied.
-  std::size_t normal_mapped = 0, coloured = 0, occluded = 0;
+  std::size_t normal_mapped = 0, coloured = 0, occluded = 0, bumped = 0;
   for (const auto& obj : scene->objects) {
     if (obj.mesh_materials) {
       for (const MaterialGroup& g : scene->meshes[obj.mesh].mesh.groups) {
         const std::int64_t m = find_material(*scene, g.material);
         normal_mapped += m >= 0 && scene->materials[std::size_t(m)].normal_texture != kNoTexture;
         occluded += m >= 0 && scene->materials[std::size_t(m)].occlusion_texture != kNoTexture;
+        bumped += m >= 0 && scene->materials[std::size_t(m)].bump_texture != kNoTexture;
       }
       continue;
     }
     occluded += scene->materials[obj.material].occlusion_texture != kNoTexture;
+    bumped += scene->materials[obj.material].bump_texture != kNoTexture;
     if (scene->materials[obj.material].normal_texture != kNoTexture) {
       ++normal_mapped;
       coloured += !scene->meshes[obj.mesh].mesh.colors.empty();
     }
   }
-  if (normal_mapped + occluded > 0) {
-    std::printf("  relief: %zu normal-mapped and %zu occlusion-mapped objects (or material groups), tangent space "
-                "(MikkTSpace where the file has no tangents); %s%s\n",
-                normal_mapped, occluded,
+  if (normal_mapped + occluded + bumped > 0) {
+    std::printf("  relief: %zu normal-mapped, %zu occlusion-mapped and %zu bump-mapped objects (or material groups), "
+                "tangent space (MikkTSpace where the file has no tangents); %s%s\n",
+                normal_mapped, occluded, bumped,
                 options.shading == ShadingMode::phong ? "lit per pixel"
-                                                      : "NOT applied: normal and occlusion maps are lit per pixel, use --shading phong",
+                                                      : "NOT applied: normal, occlusion and bump maps are lit per pixel, use --shading phong "
+                                                        "(bump maps move 2D environment maps per vertex)",
                 coloured > 0 ? "; not applied to objects with vertex colours" : "");
   }
   std::size_t phong_lobes = 0, linear_range = 0;

@@ -141,6 +141,11 @@ typedef struct facet_material {
    * per pixel (FACET_PHONG): -1 none (default); strength in [0, 1], default 1. */
   int32_t occlusion_texture;
   float occlusion_strength;
+  /* A height map (red channel): per pixel its slopes tilt the normal like a normal map (needs the
+   * mesh's tangents); flat and Gouraud with a sphere or normal environment map move its
+   * coordinates. -1 none (default); |bump_scale| <= 1e6, default 1. */
+  int32_t bump_texture;
+  float bump_scale;
 } facet_material;
 
 typedef struct facet_fog {

@@ -130,6 +130,13 @@ struct Material {
   // untouched. Lit per pixel only (Phong), like the normal map; sampled at the same uvs.
   std::int32_t occlusion_texture = kNoTexture;
   float occlusion_strength = 1.0f;  // [0, 1]
+  // A height map (Blinn's bump mapping; linear, red channel h): its differences over one texel,
+  // dh/du and dh/dv, tilt the normal as the tangent-space normal (-bump_scale dh/du, -bump_scale
+  // dh/dv, 1) would (lit per pixel, with the normal map's tangents; both maps add). Flat and
+  // Gouraud: with a sphere or normal environment map, the differences move the environment's
+  // coordinates by bump_scale (dh/du, dh/dv) instead (environment-mapped bump mapping).
+  std::int32_t bump_texture = kNoTexture;
+  float bump_scale = 1.0f;  // finite, |scale| <= 1e6
 
   // Applied after the texture environment, before the emission added after texturing and the
   // separate specular (GL: a second texture unit). Sampled at level 0 (no mipmaps: texgen
@@ -144,10 +151,16 @@ inline bool adds_emission_after_texture(const Material& m) noexcept {
   return differs && (m.emissive.array() != 0.0f).any();
 }
 
+// Whether the material perturbs normals in tangent space (a normal or a bump map: the mesh needs
+// tangents, Mesh::tangents).
+inline bool needs_tangents(const Material& m) noexcept {
+  return m.normal_texture != kNoTexture || m.bump_texture != kNoTexture;
+}
+
 // Whether the material samples a texture (and so needs the mesh's uvs).
 inline bool uses_textures(const Material& m) noexcept {
   return m.diffuse_texture != kNoTexture || m.emissive_texture != kNoTexture || m.normal_texture != kNoTexture ||
-         m.occlusion_texture != kNoTexture;
+         m.occlusion_texture != kNoTexture || m.bump_texture != kNoTexture;
 }
 
 }  // namespace facet

@@ -57,6 +57,8 @@ facet_material facet_material_default(void) {
   c.normal_scale = m.normal_scale;
   c.occlusion_texture = m.occlusion_texture;
   c.occlusion_strength = m.occlusion_strength;
+  c.bump_texture = m.bump_texture;
+  c.bump_scale = m.bump_scale;
   return c;
 }
 

@@ -177,6 +177,8 @@ inline facet::Material to_material(const facet_material& c) {
     m.normal_scale = material->normal_scale;
     m.occlusion_texture = material->occlusion_texture;
     m.occlusion_strength = material->occlusion_strength;
+    m.bump_texture = material->bump_texture;
+    m.bump_scale = material->bump_scale;
   return m;
 }
 

@@ -27,7 +27,7 @@ TextureFilter sampler_filter(int min, int mag) {
 std::uint32_t Reader::untextured_twin(std::uint32_t index) {
   if (auto it = untextured_.find(index); it != untextured_.end()) return it->second;
   Material copy = out_.scene.materials[index];
-  copy.diffuse_texture = copy.emissive_texture = copy.normal_texture = copy.occlusion_texture = kNoTexture;
+  copy.diffuse_texture = copy.emissive_texture = copy.normal_texture = copy.occlusion_texture = copy.bump_texture = kNoTexture;
   copy.name += " (untextured)";
   out_.scene.materials.push_back(copy);
   const auto twin = static_cast<std::uint32_t>(out_.scene.materials.size() - 1);

@@ -51,8 +51,7 @@ Status for_each_line(const std::string& text, Fn fn) {
 }
 
 // Statements read by facet, and those it knows and ignores (with a warning).
-constexpr std::string_view kIgnored[] = {"Ni", "Tf", "sharpness", "map_Ka", "map_Ks", "map_Ns", "map_bump",
-                                         "map_Bump", "bump", "disp", "decal", "refl", "map_Pr", "map_Pm",
+constexpr std::string_view kIgnored[] = {"Ni", "Tf", "sharpness", "map_Ka", "map_Ks", "map_Ns", "disp", "decal", "refl", "map_Pr", "map_Pm",
                                          "map_Ps", "Pr", "Pm", "Ps", "Pc", "Pcr", "aniso", "anisor", "map_aat"};
 
 class MtlReader {
@@ -95,6 +94,7 @@ class MtlReader {
       map_d_.clear();
       map_ke_.clear();
       map_norm_.clear();
+      map_bump_.clear();
       has_ke_ = false;
       return {};
     }
@@ -102,7 +102,8 @@ class MtlReader {
       // Before the first material, only what an MTL file may say is quoted: anything else may be
       // the first bytes of a file that is not an MTL file at all.
       bool known = key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "map_Kd" || key == "map_d" ||
-                   key == "map_Ke" || key == "norm" || key == "d" || key == "Tr" || key == "Ns";
+                   key == "map_Ke" || key == "norm" || key == "bump" || key == "map_Bump" || key == "map_bump" || key == "d" ||
+                   key == "Tr" || key == "Ns";
       for (std::string_view i : kIgnored) known |= key == i;
       if (!known) return error(line, "not an MTL file: its first statement is neither 'newmtl' nor another MTL statement");
       return error(line, quote(key, 24) + " before any 'newmtl'");
@@ -151,6 +152,7 @@ class MtlReader {
       return {};
     }
     if (key == "map_Kd" || key == "map_d" || key == "map_Ke" || key == "norm") return texture_statement(line, s, key);
+    if (key == "bump" || key == "map_Bump" || key == "map_bump") return texture_statement(line, s, "bump");
     for (std::string_view i : kIgnored) {
       if (key == i) {
         ignore(line, key);
@@ -221,9 +223,11 @@ class MtlReader {
         if (i + 1 >= tok.size() || (tok[i + 1] != "on" && tok[i + 1] != "off")) return error(line, std::string(key) + " " + std::string(opt) + ": expected on or off");
         ignore(line, std::string(key) + " " + std::string(opt));
         i += 2;
-      } else if (opt == "-bm" && key == "norm") {
+      } else if (opt == "-bm" && (key == "norm" || key == "bump")) {
         i = numbers(i + 1, 1, nums);
-        if (nums.size() != 1 || !(std::abs(nums[0]) <= 1e6f)) return error(line, "norm -bm: expected a number in [-1e6, 1e6]");
+        if (nums.size() != 1 || !(std::abs(nums[0]) <= 1e6f)) {
+          return error(line, std::string(key) + " -bm: expected a number in [-1e6, 1e6]");
+        }
         ref.bump = nums[0];
       } else if (opt == "-bm" || opt == "-boost" || opt == "-texres" || opt == "-imfchan") {
         if (i + 1 >= tok.size()) return error(line, std::string(key) + " " + std::string(opt) + ": expected a value");
@@ -242,7 +246,7 @@ class MtlReader {
     const std::size_t at = static_cast<std::size_t>(tok[i].data() - s.data());
     ref.file = std::string(trim(s.substr(at)));
     std::replace(ref.file.begin(), ref.file.end(), '\\', '/');
-    (key == "map_Kd" ? map_kd_ : key == "map_d" ? map_d_ : key == "norm" ? map_norm_ : map_ke_) = ref;
+    (key == "map_Kd" ? map_kd_ : key == "map_d" ? map_d_ : key == "norm" ? map_norm_ : key == "bump" ? map_bump_ : map_ke_) = ref;
     return {};
   }
 
@@ -280,6 +284,7 @@ class MtlReader {
     if (!map_kd_.empty() || !map_d_.empty()) FACET_TRY(attach_texture());
     if (!map_ke_.empty()) FACET_TRY(attach_emissive_texture());
     if (!map_norm_.empty()) FACET_TRY(attach_normal_texture());
+    if (!map_bump_.empty()) FACET_TRY(attach_bump_texture());
     if (current_.alpha < 1.0f || !map_d_.empty()) current_.blend = BlendMode::alpha;
     scene_.materials.push_back(current_);
     return {};
@@ -374,6 +379,23 @@ class MtlReader {
     return {};
   }
 
+  // bump / map_Bump: a height map (linear, red channel), scaled by -bm, at map_Kd's coordinates.
+  Status attach_bump_texture() {
+    Result<Texture> h = load(map_bump_, TextureEncoding::linear);
+    if (!h) return h.status();
+    if (h->width() == 0) return {};
+    if (current_.diffuse_texture == kNoTexture && current_.emissive_texture == kNoTexture && current_.normal_texture == kNoTexture) {
+      current_.uv_scale = map_bump_.scale;
+    } else if (map_bump_.scale != current_.uv_scale) {
+      warnings_.push_back(source_ + ":" + std::to_string(map_bump_.line) + ": bump -s differs from map_Kd's; facet has "
+                                                                            "one uv scale per material, map_Kd's is used");
+    }
+    scene_.textures.push_back(std::move(*h));
+    current_.bump_texture = static_cast<std::int32_t>(scene_.textures.size() - 1);
+    current_.bump_scale = map_bump_.bump;
+    return {};
+  }
+
   // A texture file, or an empty texture (and a warning) when it is missing and that is allowed.
   Result<Texture> load(const TextureRef& ref, std::optional<TextureEncoding> encoding = std::nullopt) {
     TextureOptions topt;
@@ -415,7 +437,7 @@ class MtlReader {
   bool has_d_ = false, has_tr_ = false;
   int illum_ = 2;
   std::size_t illum_line_ = 0;
-  TextureRef map_kd_, map_d_, map_ke_, map_norm_;
+  TextureRef map_kd_, map_d_, map_ke_, map_norm_, map_bump_;
   bool has_ke_ = false;
   std::map<std::string, std::string> ignored_;  // what -> the first lines it was on
 };
@@ -521,7 +543,7 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
         if (uses_textures(m) && (used.count(m.name) || mesh->groups.empty())) {
           model.warnings.push_back(path + ": material " + quote(m.name, 40) +
                                    " is textured but the mesh has no texture coordinates (vt); drawn untextured");
-          m.diffuse_texture = m.emissive_texture = m.normal_texture = m.occlusion_texture = kNoTexture;
+          m.diffuse_texture = m.emissive_texture = m.normal_texture = m.occlusion_texture = m.bump_texture = kNoTexture;
         }
       }
     }

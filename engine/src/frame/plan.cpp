@@ -424,19 +424,23 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     raster::SurfaceNeeds needs;
     needs.secondary = textured && lit == raster::LitAt::vertex;
     needs.albedo = colours && lit == raster::LitAt::pixel;
-    // A normal map: lit per pixel, with the mesh's tangents; not with vertex colours, whose albedo
-    // takes the varyings the tangent would need (docs/relief.md).
-    const bool normal_map = !plain && lit == raster::LitAt::pixel && m.normal_texture != kNoTexture && !needs.albedo &&
-                            mesh.tangents.size() == mesh.positions.size() && !mesh.positions.empty();
-    needs.tangent = normal_map;
-    // An occlusion map: per pixel, into the lighting's ambient terms.
-    const bool occlusion_map = !plain && lit == raster::LitAt::pixel && m.occlusion_texture != kNoTexture;
-    lf.occlusion = occlusion_map;
-    needs.uv = textured || emission_texture || normal_map || occlusion_map;
+    // A normal or bump map: lit per pixel, with the mesh's tangents; not with vertex colours, whose
+    // albedo takes the varyings the tangent would need (docs/relief.md).
+    const bool tangent_space = !plain && lit == raster::LitAt::pixel && !needs.albedo &&
+                               mesh.tangents.size() == mesh.positions.size() && !mesh.positions.empty();
+    const bool normal_map = tangent_space && m.normal_texture != kNoTexture;
     const Environment& env = m.environment;
     // Inside an environment face, dynamic reflectors are drawn without their reflection.
     const std::int32_t cube = env.dynamic && units[o].object < cubes.of_object.size() ? cubes.of_object[units[o].object] : -1;
     const bool environment = !plain && env.mode != EnvironmentMode::none && (!env.dynamic || (cube >= 0 && !p.environment_face));
+    // A bump map: per pixel it tilts the normal; per vertex it moves a 2D environment's coordinates.
+    const bool bump_map = !plain && m.bump_texture != kNoTexture &&
+                          (tangent_space || (lit != raster::LitAt::pixel && environment && env.mode != EnvironmentMode::cube));
+    needs.tangent = normal_map || (bump_map && lit == raster::LitAt::pixel);
+    // An occlusion map: per pixel, into the lighting's ambient terms.
+    const bool occlusion_map = !plain && lit == raster::LitAt::pixel && m.occlusion_texture != kNoTexture;
+    lf.occlusion = occlusion_map;
+    needs.uv = textured || emission_texture || normal_map || occlusion_map || bump_map;
     needs.environment = environment;
     raster::simd::Draw& d = out.programs[o];
     d = raster::simd::Draw{};
@@ -473,6 +477,13 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
       d.occlusion_map = &samplers.as_made[static_cast<std::size_t>(m.occlusion_texture)];
       d.occlusion_strength = m.occlusion_strength;
     }
+    if (bump_map) {
+      const Texture& h = scene.textures[static_cast<std::size_t>(m.bump_texture)];
+      d.bump_map = &samplers.as_made[static_cast<std::size_t>(m.bump_texture)];
+      d.bump_scale = m.bump_scale;
+      d.bump_du = 1.0f / static_cast<float>(h.width());
+      d.bump_dv = 1.0f / static_cast<float>(h.height());
+    }
     d.uv_scale[0] = m.uv_scale.x(), d.uv_scale[1] = m.uv_scale.y();
     d.alpha_cutoff = m.alpha_cutoff;
     d.blend = plain ? BlendMode::opaque : m.blend;
@@ -480,7 +491,7 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     d.clamp = clamp;
     const bool surface = textured || d.emission || d.blend != BlendMode::opaque || m.alpha_cutoff > 0.0f ||
                          !d.depth_write || f.mode != FogMode::none || needs.albedo || environment || normal_map ||
-                         occlusion_map;
+                         occlusion_map || bump_map;
     using raster::simd::PixelProgram;
     if (!surface) {
       d.program = lit == raster::LitAt::triangle ? PixelProgram::flat

@@ -255,12 +255,17 @@ struct SurfaceProgram {
     tin.texel = texel;
     tin.emitted = d.emission ? emitted : nullptr;
     tin.fog = f;
+    // A map at the pixel's coordinates moved by (du, dv), with its LOD (normal, bump, occlusion maps).
+    auto sample_moved = [&](const texture::Sampler& s, float du, float dv, F(&t)[4]) {
+      Uv<F> moved = uv;
+      moved.u = moved.u + F(du), moved.v = moved.v + F(dv);
+      Texturing<Arch>::sample(s, moved, t);
+    };
     if (job.shading == ShadingMode::phong) {  // light at the gather's flush
       F v[10 + raster::simd::kMaxCarried];
       const int position = d.layout.at(Varying::eye_position), albedo = d.layout.at(Varying::albedo);
       F normal[3];
-      pixel_normal(d, value, cx.t.bitangent_negative,
-                   [&](const texture::Sampler& s, F(&t)[4]) { Texturing<Arch>::sample(s, uv, t); }, normal);
+      pixel_normal(d, value, cx.t.bitangent_negative, sample_moved, normal);
       for (int c = 0; c < 3; ++c) {
         v[c] = value(position + c);
         v[3 + c] = normal[c];
@@ -272,14 +277,18 @@ struct SurfaceProgram {
       for (int k = 0; k < raster::simd::kMaxCarried; ++k) dst[9 + k] = s.carry[k];
       if (d.occlusion_map) {  // after the carried values: the lighting reads it from s.ao
         dst[n] = s.ao;
-        v[n++] = occlusion<F>(d, [&](const texture::Sampler& sm, F(&t)[4]) { Texturing<Arch>::sample(sm, uv, t); });
+        v[n++] = occlusion<F>(d, [&](const texture::Sampler& sm, F(&t)[4]) { sample_moved(sm, 0.0f, 0.0f, t); });
       }
       cx.phong.gather(dst, v, n, pass, b.at);
       return;
     }
-    F p[3], sec[3], generated[3];
+    F p[3], sec[3], generated[3], moved[2];
     const F* secondary = vertex_colours(job.shading, d, cx.t, value, p, sec);
     read_tail_varyings(d, value, generated, tin);
+    if (d.bump_map && d.environment != EnvironmentMode::none) {  // environment-mapped bump
+      bump_slopes(d, sample_moved, moved[0], moved[1]);
+      tin.environment_offset = moved;
+    }
     F c[4];
     surface_colour<false>(d, *job.fog, p, secondary, alpha, tin, Texturing<Arch>::level0, c);
     F old[4], out[4];

@@ -331,6 +331,7 @@ struct TailInputs {
   const V* environment = nullptr;  // Varying::environment interpolated; null: generated from position and normal
   const V* position = nullptr;     // eye space, per pixel (Phong)
   const V* normal = nullptr;
+  const V* environment_offset = nullptr;  // flat, Gouraud: a bump map's move of the 2D environment coordinates
 };
 
 // A varying of raster::kGeneratedVaryings at a vertex with eye-space position p and normal n,
@@ -343,30 +344,55 @@ inline void generate_at_vertex(const Draw& d, raster::Varying v, const float (&p
   }
 }
 
+// The height map's differences over one level-0 texel at the pixel, (h(u + du) - h(u), h(v + dv)
+// - h(v)) of its red channel, times bump_scale (Draw::bump_map): sample(sampler, du, dv, rgba)
+// samples a map at the pixel's texture coordinates moved by (du, dv), with the pixel's LOD.
+template <class V, class Sample>
+[[gnu::always_inline]] inline void bump_slopes(const Draw& d, const Sample& sample, V& su, V& sv) {
+  V h0[4], hu[4], hv[4];
+  sample(*d.bump_map, 0.0f, 0.0f, h0);
+  sample(*d.bump_map, d.bump_du, 0.0f, hu);
+  sample(*d.bump_map, 0.0f, d.bump_dv, hv);
+  const V k(d.bump_scale);
+  su = k * (hu[0] - h0[0]);
+  sv = k * (hv[0] - h0[0]);
+}
+
 // The normal a pixel lit per pixel (Phong) is lit with: the interpolated eye-space normal
-// (value(a) interpolates attribute a), perturbed by the draw's normal map. sample(sampler, rgba)
-// samples a map at the pixel's texture coordinates; bitangent_negative: the triangle's tangent
-// frame is mirrored (ScreenTriangle::bitangent_negative).
+// (value(a) interpolates attribute a), perturbed by the draw's normal and bump maps.
+// sample(sampler, du, dv, rgba) samples a map at the pixel's texture coordinates moved by (du,
+// dv); bitangent_negative: the triangle's tangent frame is mirrored
+// (ScreenTriangle::bitangent_negative).
 //
-// The normal map: m = 2 rgb - 1, x and y times normal_scale, in the frame of the interpolated
-// normal N and tangent T, neither normalised, the bitangent B = w cross(N, T):
+// In the frame of the interpolated normal N and tangent T, neither normalised, the bitangent
+// B = w cross(N, T), the tangent-space normal m becomes
 //   n = m.x T + m.y B + m.z N,
 // MikkTSpace's pixel-shader rule (its tangents are baked for exactly that frame); the lighting
-// normalises n. A zero tangent (a degenerate uv triangle) leaves m.z N.
+// normalises n. The normal map gives m = 2 rgb - 1 with x and y times normal_scale, the bump map
+// (Blinn 1978, as a normal map made from the height's slopes) subtracts its slopes from m.x and
+// m.y (m = (-su, -sv, 1) alone). A zero tangent (a degenerate uv triangle) leaves m.z N.
 template <class V, class Value, class Sample>
 [[gnu::always_inline]] inline void pixel_normal(const Draw& d, const Value& value, bool bitangent_negative,
                                                 const Sample& sample, V (&n)[3]) {
   const int a = d.layout.at(raster::Varying::normal);
   for (int c = 0; c < 3; ++c) n[c] = value(a + c);
-  if (!d.normal_map) return;
+  if (!d.normal_map && !d.bump_map) return;
   const int ta = d.layout.at(raster::Varying::tangent);
   const V t[3] = {value(ta), value(ta + 1), value(ta + 2)};
   const V w(bitangent_negative ? -1.0f : 1.0f);
   const V b[3] = {w * (n[1] * t[2] - n[2] * t[1]), w * (n[2] * t[0] - n[0] * t[2]), w * (n[0] * t[1] - n[1] * t[0])};
-  V rgba[4];
-  sample(*d.normal_map, rgba);
-  const V k(d.normal_scale);
-  const V mx = (V(2.0f) * rgba[0] - V(1.0f)) * k, my = (V(2.0f) * rgba[1] - V(1.0f)) * k, mz = V(2.0f) * rgba[2] - V(1.0f);
+  V mx(0.0f), my(0.0f), mz(1.0f);
+  if (d.normal_map) {
+    V rgba[4];
+    sample(*d.normal_map, 0.0f, 0.0f, rgba);
+    const V k(d.normal_scale);
+    mx = (V(2.0f) * rgba[0] - V(1.0f)) * k, my = (V(2.0f) * rgba[1] - V(1.0f)) * k, mz = V(2.0f) * rgba[2] - V(1.0f);
+  }
+  if (d.bump_map) {
+    V su, sv;
+    bump_slopes(d, sample, su, sv);
+    mx = mx - su, my = my - sv;
+  }
   for (int c = 0; c < 3; ++c) n[c] = mx * t[c] + my * b[c] + mz * n[c];
 }
 
@@ -432,6 +458,7 @@ template <bool kPerPixel, class V, class Sample>
     V coords[3], e[3];
     if constexpr (!kPerPixel) {
       for (int k = 0; k < 3; ++k) coords[k] = in.environment[k];
+      if (in.environment_offset) coords[0] = coords[0] + in.environment_offset[0], coords[1] = coords[1] + in.environment_offset[1];
     } else {
       const V position[3] = {in.position[0], in.position[1], in.position[2]};
       const V normal[3] = {in.normal[0], in.normal[1], in.normal[2]};

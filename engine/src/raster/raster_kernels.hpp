@@ -95,6 +95,12 @@ struct Draw {
   // term by. Null: none.
   const texture::Sampler* occlusion_map = nullptr;
   float occlusion_strength = 1.0f;
+  // A height map (Material::bump_texture): its red channel's differences over one level-0 texel
+  // (bump_du, bump_dv in texture coordinates) tilt the per-pixel normal (pixel_normal) or, in flat
+  // and Gouraud draws with a 2D environment map, move the environment's coordinates. Null: none.
+  const texture::Sampler* bump_map = nullptr;
+  float bump_scale = 1.0f;
+  float bump_du = 0.0f, bump_dv = 0.0f;
   float uv_scale[2] = {1.0f, 1.0f};
   float alpha_cutoff = 0.0f;  // alpha test: the fragment is kept when alpha >= cutoff (0: every fragment)
   BlendMode blend = BlendMode::opaque;

@@ -255,11 +255,13 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
           const Plane& pv = t.plane[kPlaneAttr + uv_at + 1];
           uv = stages::uv_from_planes(d, plane_at(pu), plane_at(pv), inv_sum, pu.dx, pu.dy, pv.dx, pv.dy, pw.dx, pw.dy);
         }
-        auto sample_at = [&uv](const texture::Sampler& sampler, float (&out)[4]) {
+        // A map at the pixel's coordinates moved by (du, dv), with its LOD.
+        auto sample_moved = [&uv](const texture::Sampler& sampler, float du, float dv, float (&out)[4]) {
           const float lambda = texture::lod_scalar(sampler, uv.dudx, uv.dvdx, uv.dudy, uv.dvdy);
-          const auto sample = texture::sample_scalar(sampler, uv.u, uv.v, lambda);
+          const auto sample = texture::sample_scalar(sampler, uv.u + du, uv.v + dv, lambda);
           for (int c = 0; c < 4; ++c) out[c] = sample[c];
         };
+        auto sample_at = [&](const texture::Sampler& sampler, float (&out)[4]) { sample_moved(sampler, 0.0f, 0.0f, out); };
         if (d.texture) {
           sample_at(*d.texture, texel);
           tex = texel;
@@ -279,15 +281,19 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
           const Color3 albedo = albedo_at >= 0 ? Color3(interp(albedo_at), interp(albedo_at + 1), interp(albedo_at + 2))
                                                : Color3(1.0f, 1.0f, 1.0f);
           float n[3];
-          stages::pixel_normal(d, interp, t.bitangent_negative, sample_at, n);
+          stages::pixel_normal(d, interp, t.bitangent_negative, sample_moved, n);
           batch.add_surface(pixel, Vec3(interp(position_at), interp(position_at + 1), interp(position_at + 2)),
                             Vec3(n[0], n[1], n[2]), albedo, stages::occlusion<float>(d, sample_at), d, fog, in);
           if (batch.full()) batch.flush(shading, d, fog, t.alpha, tile, counters);
           return;
         }
-        float primary[3], secondary[3], generated[3];
+        float primary[3], secondary[3], generated[3], moved[2];
         const float* sec = stages::vertex_colours(job.shading, d, t, interp, primary, secondary);
         stages::read_tail_varyings(d, interp, generated, in);
+        if (d.bump_map && d.environment != EnvironmentMode::none) {  // environment-mapped bump
+          stages::bump_slopes(d, sample_moved, moved[0], moved[1]);
+          in.environment_offset = moved;
+        }
         float c[4];
         stages::surface_colour<false>(d, fog, primary, sec, t.alpha, in, level0, c);
         float dst[4] = {tile.plane(0)[pixel], tile.plane(1)[pixel], tile.plane(2)[pixel], tile.plane(3)[pixel]};

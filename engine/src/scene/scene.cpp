@@ -200,6 +200,12 @@ Status validate_material(const Material& m, const Field& f) {
     return invalid(f("occlusion_texture"), "expected a texture index or -1 (none), found " + std::to_string(m.occlusion_texture));
   }
   FACET_TRY(check_range(m.occlusion_strength, 0.0f, 1.0f, f, "occlusion_strength"));
+  if (m.bump_texture < kNoTexture) {
+    return invalid(f("bump_texture"), "expected a texture index or -1 (none), found " + std::to_string(m.bump_texture));
+  }
+  if (!(std::abs(m.bump_scale) <= 1e6f)) {
+    return invalid(f("bump_scale"), "expected a number in [-1e+06, 1e+06], found " + format_number(m.bump_scale));
+  }
   if (!(std::abs(m.normal_scale) <= 1e6f)) {
     return invalid(f("normal_scale"), "expected a number in [-1e+06, 1e+06], found " + format_number(m.normal_scale));
   }
@@ -360,7 +366,8 @@ Status validate_lighting_inputs(const Scene& scene) {
     const Field f{"materials", i, true};
     FACET_TRY(validate_material(m, f));
     for (const auto& [index, member] : {std::pair{m.diffuse_texture, "diffuse_texture"}, std::pair{m.emissive_texture, "emissive_texture"},
-                                        std::pair{m.normal_texture, "normal_texture"}, std::pair{m.occlusion_texture, "occlusion_texture"}}) {
+                                        std::pair{m.normal_texture, "normal_texture"}, std::pair{m.occlusion_texture, "occlusion_texture"},
+                                        std::pair{m.bump_texture, "bump_texture"}}) {
       if (index != kNoTexture && static_cast<std::size_t>(index) >= scene.textures.size()) {
         return invalid(f(member), "texture index " + std::to_string(index) + " is out of range (" +
                                       std::to_string(scene.textures.size()) + " textures)");
@@ -428,8 +435,8 @@ Status validate_lighting_inputs(const Scene& scene) {
           return invalid(f("mesh_materials"), "material " + quote(mesh.groups[g].material, 40) + " is textured but meshes[" +
                                                   std::to_string(inst.mesh) + "] has no texture coordinates (uvs)");
         }
-        if (scene.materials[static_cast<std::size_t>(m)].normal_texture != kNoTexture && mesh.tangents.size() != mesh.positions.size()) {
-          return invalid(f("mesh_materials"), "material " + quote(mesh.groups[g].material, 40) + " has a normal map but meshes[" +
+        if (needs_tangents(scene.materials[static_cast<std::size_t>(m)]) && mesh.tangents.size() != mesh.positions.size()) {
+          return invalid(f("mesh_materials"), "material " + quote(mesh.groups[g].material, 40) + " has a normal or bump map but meshes[" +
                                                   std::to_string(inst.mesh) + "] has no tangents (generate_tangents makes them)");
         }
       }
@@ -439,8 +446,8 @@ Status validate_lighting_inputs(const Scene& scene) {
       return invalid(f("material"), "materials[" + std::to_string(inst.material) + "] is textured but meshes[" +
                                         std::to_string(inst.mesh) + "] has no texture coordinates (uvs)");
     }
-    if (material.normal_texture != kNoTexture && !inst.mesh_materials && mesh.tangents.size() != mesh.positions.size()) {
-      return invalid(f("material"), "materials[" + std::to_string(inst.material) + "] has a normal map but meshes[" +
+    if (needs_tangents(material) && !inst.mesh_materials && mesh.tangents.size() != mesh.positions.size()) {
+      return invalid(f("material"), "materials[" + std::to_string(inst.material) + "] has a normal or bump map but meshes[" +
                                         std::to_string(inst.mesh) + "] has no tangents (generate_tangents makes them)");
     }
     if (mesh.normals.size() != mesh.positions.size()) {
@@ -456,7 +463,7 @@ Status generate_missing_tangents(Scene& scene) {
   std::vector<char> wanted(scene.meshes.size(), 0);
   auto normal_mapped = [&](std::int64_t m) {
     return m >= 0 && static_cast<std::size_t>(m) < scene.materials.size() &&
-           scene.materials[static_cast<std::size_t>(m)].normal_texture != kNoTexture;
+           needs_tangents(scene.materials[static_cast<std::size_t>(m)]);
   };
   for (const Instance& inst : scene.objects) {
     if (inst.mesh >= scene.meshes.size()) continue;  // validation reports it

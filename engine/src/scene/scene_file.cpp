@@ -125,7 +125,7 @@ class SceneReader : public scene_json::JsonFields {
   Status read_material(const json& j, const std::string& p, Scene& scene, Material& m) {
     FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "specular_model",
                                    "alpha", "diffuse_texture", "normal_texture", "normal_scale",
-                                   "occlusion_texture", "occlusion_strength", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write",
+                                   "occlusion_texture", "occlusion_strength", "bump_texture", "bump_scale", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write",
                                    "emissive_texture", "emission_after_texture", "environment"}));
     FACET_TRY(opt_string(j, p, "name", m.name));
     FACET_TRY(opt_color(j, p, "emissive", m.emissive));
@@ -162,6 +162,12 @@ class SceneReader : public scene_json::JsonFields {
       m.occlusion_texture = static_cast<std::int32_t>(index);
     }
     FACET_TRY(opt_number(j, p, "occlusion_strength", m.occlusion_strength));
+    if (j.contains("bump_texture")) {
+      std::uint32_t index = 0;
+      FACET_TRY(find_by_name(j, p, "bump_texture", scene.textures, "texture", index));
+      m.bump_texture = static_cast<std::int32_t>(index);
+    }
+    FACET_TRY(opt_number(j, p, "bump_scale", m.bump_scale));
     std::string mode;
     if (j.contains("texture_mode")) {
       FACET_TRY(read_enum(j["texture_mode"], child(p, "texture_mode"), {"modulate", "replace", "decal", "add"}, mode));
