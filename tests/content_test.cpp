@@ -875,7 +875,7 @@ namespace {
 
 TEST(SceneFileImports, ModelsArePlacedPrefixedAndWarned) {
   TempDir dir;
-  test::write_text(dir / "m.mtl", "newmtl red\nKd 1 0 0\nmap_Bump b.png\n");
+  test::write_text(dir / "m.mtl", "newmtl red\nKd 1 0 0\nmap_Ks b.png\n");
   test::write_text(dir / "m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n");
   test::write_text(dir / "s.json", R"({
     "imports": [{"file": "m.obj", "translate": [5, 0, 0]}],
@@ -895,7 +895,7 @@ TEST(SceneFileImports, ModelsArePlacedPrefixedAndWarned) {
   EXPECT_EQ(s->meshes[0].mesh.groups[0].material, "m.obj:red");
   ASSERT_EQ(warnings.size(), 3u);
   EXPECT_NE(warnings[0].find("imports[0]"), std::string::npos) << warnings[0];
-  EXPECT_NE(warnings[0].find("map_Bump"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("map_Ks"), std::string::npos) << warnings[0];
   // No camera and no lights of its own: framed and lit as `facet render MODEL` would.
   EXPECT_NE(warnings[1].find("no \"camera\""), std::string::npos) << warnings[1];
   EXPECT_NE(warnings[2].find("no \"lights\""), std::string::npos) << warnings[2];

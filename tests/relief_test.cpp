@@ -331,6 +331,98 @@ TEST(BumpMaps, EnvironmentBumpMovesTheLookup) {
   EXPECT_NEAR(draw(flat, LightingPath::simd).byte(16, 16, 0), std::lround(0.5 * 256.0 - 0.5), 1.0);
 }
 
+// A spot light straight down onto a plane seen from above (world +x to the image's right, +z down).
+Scene projector_scene(const std::vector<std::uint8_t>& picture, int w, int h, ProjectorMode mode) {
+  Scene s;
+  s.meshes.push_back({"plane", make_plane(8.0f, 8.0f, 8)});
+  Material m;
+  m.ambient = Color3::Zero();
+  m.diffuse = Color3(0.9f, 0.9f, 0.9f);
+  m.specular = Color3(0.3f, 0.3f, 0.3f);
+  m.shininess = 8;
+  s.materials.push_back(m);
+  s.objects.push_back({0, 0, Mat4::Identity()});
+  s.camera.eye = Vec3(0, 6, 0.001f);
+  s.camera.target = Vec3(0, 0, 0);
+  s.camera.up = Vec3(0, 0, -1);
+  s.camera.vertical_fov_deg = 60;
+  s.global_ambient = Color3::Zero();
+  Light spot;
+  spot.type = LightType::spot;
+  spot.position = Vec3(0, 2, 0);
+  spot.direction = Vec3(0, -1, 0);
+  spot.spot_cutoff_deg = 45;  // the picture spans x, z in [-2, 2] on the plane
+  spot.diffuse = Color3(1, 0.8f, 0.6f);
+  s.lights.push_back(spot);
+  TextureOptions o{TextureFilter::nearest, TextureWrap::clamp};
+  o.encoding = TextureEncoding::linear;
+  s.textures.push_back(*make_texture("picture", w, h, picture, o));
+  s.lights[0].projector.texture = 0;
+  s.lights[0].projector.mode = mode;
+  return s;
+}
+
+// A one-colour picture c filters the light as the light's colours times c would (modulate), or
+// times c's luminance (gobo), on every path and ISA within a step; flat and Gouraud ignore it.
+TEST(Projectors, AOneColourPictureFiltersTheLight) {
+  const std::vector<std::uint8_t> c = {200, 100, 40, 255};
+  for (ProjectorMode mode : {ProjectorMode::modulate, ProjectorMode::gobo}) {
+    const Scene projected = projector_scene(c, 1, 1, mode);
+    ASSERT_TRUE(validate_scene(projected).ok()) << validate_scene(projected).message();
+    Scene filtered = projected;
+    filtered.lights[0].projector.texture = -1;
+    const Color3 f = Color3(200, 100, 40) / 255.0f;
+    const float lum = 0.2126f * f.x() + 0.7152f * f.y() + 0.0722f * f.z();
+    const Color3 k = mode == ProjectorMode::modulate ? f : Color3(lum, lum, lum);
+    filtered.lights[0].diffuse = filtered.lights[0].diffuse.cwiseProduct(k);
+    filtered.lights[0].specular = filtered.lights[0].specular.cwiseProduct(k);
+    for (LightingPath path : {LightingPath::simd, LightingPath::scalar, LightingPath::reference}) {
+      EXPECT_LE(largest_difference(render(projected, path), render(filtered, path)), 1) << to_string(path);
+    }
+    for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+      if (!isa_supported(isa)) continue;
+      EXPECT_LE(largest_difference(render(projected, LightingPath::simd, isa), render(filtered, LightingPath::simd, isa)), 1)
+          << to_string(isa);
+    }
+    test::Canvas a(48, 48), b(48, 48);
+    RenderOptions ro;
+    ro.shading = ShadingMode::gouraud;
+    Scene unprojected = projected;
+    unprojected.lights[0].projector.texture = -1;
+    ASSERT_TRUE(Renderer(ro).render(projected, a.view()).ok());
+    ASSERT_TRUE(Renderer(ro).render(unprojected, b.view()).ok());
+    EXPECT_EQ(a.pixels(), b.pixels());
+  }
+}
+
+// The picture's orientation: a light pointing straight down has +x as its up (the vertical
+// light's rule), so the picture's top (t > 1/2) falls on +x and its right (s > 1/2) on +z. Each
+// quadrant of a 2 x 2 picture lands there; outside the picture's square no light arrives.
+TEST(Projectors, ThePictureLandsTheRightWayRound) {
+  // Top row first: top-left red, top-right green, bottom-left blue, bottom-right white.
+  const std::vector<std::uint8_t> quads = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255};
+  const Scene s = projector_scene(quads, 2, 2, ProjectorMode::modulate);
+  test::Canvas c(96, 96);
+  RenderOptions o;
+  o.shading = ShadingMode::phong;
+  ASSERT_TRUE(Renderer(o).render(s, c.view()).ok());
+  // Image position of world (x, 0, z): +x right, +z down, 6 units away with a 60-degree view.
+  auto at = [&](float x, float z, int ch) {
+    const float scale = 48.0f / (6.0f * std::tan(30.0f * 3.14159265f / 180.0f));
+    return c.byte(static_cast<int>(48 + x * scale), static_cast<int>(48 + z * scale), ch);
+  };
+  // Top (t > 1/2) on +x, right (s > 1/2) on +z: top-right green at (+x, +z), top-left red at (+x, -z).
+  EXPECT_GT(at(1.0f, 1.0f, 1), 100);
+  EXPECT_LT(at(1.0f, 1.0f, 0), 10);
+  EXPECT_GT(at(1.0f, -1.0f, 0), 100);
+  EXPECT_LT(at(1.0f, -1.0f, 1), 10);
+  EXPECT_GT(at(-1.0f, -1.0f, 2), 60);  // bottom-left blue at (-x, -z)
+  EXPECT_LT(at(-1.0f, -1.0f, 0), 10);
+  EXPECT_GT(at(-1.0f, 1.0f, 0), 100);  // bottom-right white at (-x, +z)
+  EXPECT_GT(at(-1.0f, 1.0f, 1), 80);
+  EXPECT_EQ(at(2.6f, 0.0f, 0), 0);  // outside the cone: dark
+}
+
 // A normal map needs tangents: validation says so, and generate_missing_tangents makes them.
 TEST(NormalMaps, MissingTangentsAreNamedAndGenerated) {
   Scene s = plane_scene();

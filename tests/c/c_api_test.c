@@ -707,6 +707,15 @@ int main(void) {
     spot.attenuation_model = (facet_attenuation_model)5;
     CHECK(facet_scene_set_light(e, light_b, &spot) == FACET_INVALID_ARGUMENT);
     spot.attenuation_model = FACET_ATTENUATION_LINEAR_RANGE;
+    /* A projector needs a texture that exists and a known mode. */
+    CHECK(spot.projector_texture == -1 && spot.projector_mode == FACET_PROJECTOR_MODULATE);
+    spot.projector_texture = 999;
+    CHECK(facet_scene_set_light(e, light_b, &spot) == FACET_INVALID_ARGUMENT);
+    spot.projector_texture = -1;
+    spot.projector_mode = (facet_projector_mode)4;
+    CHECK(facet_scene_set_light(e, light_b, &spot) == FACET_INVALID_ARGUMENT);
+    spot.projector_mode = FACET_PROJECTOR_GOBO;
+    CHECK(facet_scene_set_light(e, light_b, &spot) == FACET_OK);
     spot.enabled = 0;
     CHECK(facet_scene_set_light(e, light_b, &spot) == FACET_OK);
     CHECK(facet_scene_remove_light(e, light_a) == FACET_OK);

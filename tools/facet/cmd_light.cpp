@@ -399,6 +399,12 @@ int check(const CheckState& st) {
                                                         "(bump maps move 2D environment maps per vertex)",
                 coloured > 0 ? "; not applied to objects with vertex colours" : "");
   }
+  std::size_t projectors = 0;
+  for (const Light& l : scene->lights) projectors += l.enabled && l.type == LightType::spot && l.projector.texture >= 0;
+  if (projectors > 0) {
+    std::printf("  projectors: %zu spot lights project a picture; %s\n", projectors,
+                options.shading == ShadingMode::phong ? "lit per pixel" : "NOT applied: projectors are lit per pixel, use --shading phong");
+  }
   std::size_t phong_lobes = 0, linear_range = 0;
   for (const Material& m : scene->materials) phong_lobes += m.specular_model == SpecularModel::phong;
   for (const Light& l : scene->lights) linear_range += l.type != LightType::directional && l.attenuation_model == AttenuationModel::linear_range;

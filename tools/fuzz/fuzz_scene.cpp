@@ -7,8 +7,9 @@
 // Textures as bytes: an input "JSON \0 IMAGE" also decodes IMAGE (PNG or JPEG, under a 64 MiB
 // budget) with decode_texture; a refusal must name the image; a decoded texture must validate, and
 // is then put on every material of the scene (when every object's mesh has texture coordinates),
-// and on some inputs as every material's environment map (sphere, or cube when square), so the
-// decoders' output goes through the samplers and the pixel program.
+// and on some inputs as every material's environment map (sphere, or cube when square), as a
+// normal, bump and occlusion map (with tangents generated) and as every spot light's projector,
+// so the decoders' output goes through the samplers, the pixel program and the lighting kernels.
 #include "fuzz_support.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -76,6 +77,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
               m.emissive_texture = index;
               if (m.emissive == facet::Color3::Zero()) m.emissive = facet::Color3(0.5f, 0.25f, 1.0f);
             }
+            if (size & 128) m.normal_texture = index, m.normal_scale = (size & 256) ? -2.0f : 1.0f;
+            if (size & 512) m.bump_texture = index, m.bump_scale = 5.0f;
+            if (size & 1024) m.occlusion_texture = index;
+          }
+          if (!facet::generate_missing_tangents(*scene).ok()) facet::fuzz::broken("tangents refused for a valid mesh");
+        }
+        int projectors = 0;
+        for (auto& l : scene->lights) {
+          if (l.type == facet::LightType::spot && l.enabled && projectors < facet::kMaxProjectors && (size & 2048)) {
+            l.projector.texture = index, ++projectors;
+            l.projector.mode = (size & 4096) ? facet::ProjectorMode::gobo : facet::ProjectorMode::modulate;
           }
         }
       }

@@ -175,6 +175,8 @@ typedef enum facet_attenuation_model {
   FACET_ATTENUATION_LINEAR_RANGE = 1
 } facet_attenuation_model;
 
+typedef enum facet_projector_mode { FACET_PROJECTOR_MODULATE = 0, FACET_PROJECTOR_GOBO = 1 } facet_projector_mode;
+
 typedef struct facet_light {
   facet_light_type type;
   float position[3];  /* point, spot: world space */
@@ -205,6 +207,11 @@ typedef struct facet_light {
    * 0 <= range_min <= range_max and 0 < range_max <= 1e30 (facet::AttenuationModel) */
   facet_attenuation_model attenuation_model;
   float range_min, range_max;
+  /* spot: a picture the light projects (facet::Projector; lit per pixel): a facet_scene_add_texture*
+   * id, or -1 (default) for none; its mode FACET_PROJECTOR_MODULATE (per channel, default) or
+   * FACET_PROJECTOR_GOBO (its luminance) */
+  int32_t projector_texture;
+  facet_projector_mode projector_mode;
 } facet_light;
 
 typedef struct facet_camera {

@@ -2,6 +2,7 @@
 // equation; the defaults are GL's light 0 (white diffuse and specular, no attenuation).
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "facet/light_kinds.hpp"
@@ -34,6 +35,23 @@ struct ShadowBias {
   float constant = 0.0f;  // map: towards the light
   float slope = 0.0f;     // map: towards the light, times the tangent of the angle between normal and light (capped at 10)
   float normal = 1.5f;    // map and raycast: along the point's normal
+};
+
+// A spot light that projects a picture (a slide projector, or a gobo cut-out), as GL's eye-linear
+// texgen with the light's matrix does: a point's texture coordinates are its direction from the
+// light in the light's view (looking along `direction`, world +y up, +x when the light points
+// within 8 degrees of the vertical: the spot shadow map's view), s = 1/2 + x / (2 |z| tan(cone)),
+// t = 1/2 + y / (2 |z| tan(cone)), cone the spot's cutoff (GL cone) or outer angle (smooth
+// cone), so the picture's square spans the cone's width. The picture, read bilinear from level 0
+// (its wrap mode ignored: outside [0, 1] and behind the light it throws no light), multiplies the
+// light's diffuse and specular terms (never its ambient) at each point, per colour channel
+// (`modulate`) or by its luminance 0.2126 R + 0.7152 G + 0.0722 B (`gobo`: the light keeps its
+// colour). Lit per pixel only (Phong); flat and Gouraud shading light the spot without it.
+enum class ProjectorMode { modulate, gobo };
+inline constexpr int kMaxProjectors = 4;  // enabled spot lights with a projector per scene
+struct Projector {
+  std::int32_t texture = -1;  // index into Scene::textures; -1: none
+  ProjectorMode mode = ProjectorMode::modulate;
 };
 
 struct Shadow {
@@ -77,6 +95,7 @@ struct Light {
   float spot_falloff = 2.0f;      // smooth_cone: exponent of the ramp, [0, kMaxShininess]
 
   Shadow shadow;  // what blocks this light's diffuse and specular terms (its ambient term is never blocked)
+  Projector projector;  // spot lights only
 };
 
 // How many faces a light's shadow map has: 6 (a cube) for point lights and for spot lights whose

@@ -99,6 +99,8 @@ facet_light facet_light_default(void) {
   c.attenuation_model = static_cast<facet_attenuation_model>(l.attenuation_model);
   c.range_min = l.range_min;
   c.range_max = l.range_max;
+  c.projector_texture = l.projector.texture;
+  c.projector_mode = static_cast<facet_projector_mode>(l.projector.mode);
   return c;
 }
 

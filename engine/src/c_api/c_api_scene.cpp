@@ -207,7 +207,15 @@ facet_status to_light(facet_scene* scene, const facet_light* light, std::size_t 
                                                                  : static_cast<facet::AttenuationModel>(255);
     l.range_min = light->range_min;
     l.range_max = light->range_max;
+    l.projector.texture = light->projector_texture;
+    const long pmode = raw(light->projector_mode);
+    l.projector.mode = pmode == FACET_PROJECTOR_GOBO       ? facet::ProjectorMode::gobo
+                       : pmode == FACET_PROJECTOR_MODULATE ? facet::ProjectorMode::modulate
+                                                           : static_cast<facet::ProjectorMode>(255);
     if (facet::Status st = facet::validate_light(l, index); !st.ok()) return report(scene->error, st);
+    if (l.projector.texture >= 0 && static_cast<std::size_t>(l.projector.texture) >= scene->scene.textures.size()) {
+      return fail(scene->error, "light.projector_texture", "no such texture");
+    }
     return FACET_OK;
 }
 // Whether `l`, added (replacing = SIZE_MAX) or put in place of light `replacing`, would make one

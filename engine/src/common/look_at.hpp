@@ -2,6 +2,8 @@
 // float; the lighting set-up keeps it in double.
 #pragma once
 
+#include <cmath>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -21,6 +23,13 @@ inline Eigen::Matrix4d look_along(const Eigen::Vector3d& eye, const Eigen::Vecto
   m(1, 3) = -u.dot(eye);
   m(2, 3) = forward.dot(eye);
   return m;
+}
+
+// The up vector of a light's view along `forward` (spot shadow maps and projectors share it):
+// world +y unless the light is within ~8 degrees of it, then +x. Fixed by the light alone, so the
+// view does not turn with the camera.
+inline Eigen::Vector3d light_up(const Eigen::Vector3d& forward) {
+  return std::abs(forward.y()) < 0.99 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
 }
 
 inline Eigen::Matrix4d look_at_d(const Camera& camera) {

@@ -440,6 +440,7 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     // An occlusion map: per pixel, into the lighting's ambient terms.
     const bool occlusion_map = !plain && lit == raster::LitAt::pixel && m.occlusion_texture != kNoTexture;
     lf.occlusion = occlusion_map;
+    lf.projectors = !plain && lit == raster::LitAt::pixel;  // spot lights' pictures, per pixel
     needs.uv = textured || emission_texture || normal_map || occlusion_map || bump_map;
     needs.environment = environment;
     raster::simd::Draw& d = out.programs[o];

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 
 #include "lighting/setup.hpp"
+#include "common/look_at.hpp"
 #include "lighting/soa.hpp"
 
 namespace facet::lighting {
@@ -121,8 +123,32 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
     }
     L.shadow = shadow_slots_++;
   }
+  // Projector slots, in light order: spot lights with a picture, lit per pixel.
+  projector_slots_ = 0;
+  for (EyeLight<double>& L : reference_.lights) {
+    L.projector = -1;
+    const Light& light = scene.lights[static_cast<std::size_t>(L.scene_light)];
+    if (!features.projectors || light.type != LightType::spot || light.projector.texture < 0 ||
+        projector_slots_ == kMaxProjectors) {
+      continue;
+    }
+    ProjectorSlot& slot = projectors_[projector_slots_];
+    const Eigen::Vector3d forward = light.direction.cast<double>().normalized();
+    const Eigen::Matrix4d to_light = look_along(light.position.cast<double>(), forward, light_up(forward)) * view.inverse();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) slot.to_light[4 * r + c] = static_cast<float>(to_light(r, c));
+    const double cone = light.spot_shape == SpotShape::smooth_cone ? light.spot_outer_deg : light.spot_cutoff_deg;
+    // A cone of 90 degrees or more (or GL's 180, no cone) throws the picture over 89 degrees.
+    slot.inv_tan = static_cast<float>(1.0 / std::tan(std::min(cone, 89.0) * std::numbers::pi / 180.0));
+    slot.picture = texture::make_sampler(scene.textures[static_cast<std::size_t>(light.projector.texture)]);
+    slot.gobo = light.projector.mode == ProjectorMode::gobo;
+    L.projector = projector_slots_++;
+  }
   auto same_slots = [this](ShadeParams<float>& params) {
-    for (std::size_t i = 0; i < params.lights.size(); ++i) params.lights[i].shadow = reference_.lights[i].shadow;
+    for (std::size_t i = 0; i < params.lights.size(); ++i) {
+      params.lights[i].shadow = reference_.lights[i].shadow;
+      params.lights[i].projector = reference_.lights[i].projector;
+    }
   };
   switch (path_) {
     case LightingPath::reference: break;
@@ -191,7 +217,8 @@ constexpr std::size_t kSimdChunk = 2048;
 void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd::Transform* xf, std::size_t count,
               const Vec3* positions, const Vec3* normals, float normal_sign, const Color3* albedo, Color3* out,
               Color3* secondary, SoaScratch& scratch, const std::uint32_t* index = nullptr,
-              const float* visibility = nullptr, int slots = 0, const float* occlusion = nullptr) {
+              const float* visibility = nullptr, int slots = 0, const float* occlusion = nullptr,
+              const float* filters = nullptr, int projector_slots = 0, float* filter_scratch = nullptr) {
   scratch.reserve_padded(std::min(kSimdChunk, count));
   const std::size_t chunk_stride = simd::padded(std::min(kSimdChunk, count));
   const std::size_t visibility_at = static_cast<std::size_t>(slots) * count;  // the chunk copies follow the input
@@ -230,6 +257,16 @@ void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd:
       std::copy_n(occlusion + start, n, scratch.ao.data());
       std::fill(scratch.ao.begin() + static_cast<std::ptrdiff_t>(n), scratch.ao.begin() + static_cast<std::ptrdiff_t>(padded), 1.0f);
       s.ao = scratch.ao.data();
+    }
+    const float* filter_streams[3 * kMaxProjectors] = {};
+    if (projector_slots > 0) {  // each slot's channels, padded with 0 (no light)
+      for (int k = 0; k < 3 * projector_slots; ++k) {
+        float* dst = filter_scratch + static_cast<std::size_t>(k) * chunk_stride;
+        std::copy_n(filters + static_cast<std::size_t>(k) * count + start, n, dst);
+        std::fill(dst + n, dst + padded, 0.0f);
+        filter_streams[k] = dst;
+      }
+      s.projector = filter_streams;
     }
     if (slots > 0) {  // each slot's chunk, padded with 1 (lit)
       for (int k = 0; k < slots; ++k) {
@@ -306,8 +343,49 @@ void PointShader::find_visibility(std::size_t count, const float* px, const floa
   }
 }
 
+void PointShader::find_projector_filters(std::size_t count, const float* px, const float* py, const float* pz,
+                                         std::size_t stride, float* filters) const {
+  for (int k = 0; k < projector_slots_; ++k) {
+    const ProjectorSlot& slot = projectors_[k];
+    const float* m = slot.to_light;
+    float* out[3];
+    for (int c = 0; c < 3; ++c) out[c] = filters + static_cast<std::size_t>(3 * k + c) * count;
+    for (std::size_t i = 0; i < count; ++i) {
+      const float x = px[i * stride], y = py[i * stride], z = pz[i * stride];
+      const float lx = m[0] * x + m[1] * y + m[2] * z + m[3];
+      const float ly = m[4] * x + m[5] * y + m[6] * z + m[7];
+      const float lz = m[8] * x + m[9] * y + m[10] * z + m[11];
+      float rgb[3] = {0.0f, 0.0f, 0.0f};
+      if (lz < 0.0f) {  // in front of the light
+        const float scale = 0.5f * slot.inv_tan / -lz;
+        const float s = 0.5f + lx * scale, t = 0.5f + ly * scale;
+        if (s >= 0.0f && s <= 1.0f && t >= 0.0f && t <= 1.0f) {  // NaN fails: no light
+          const auto texel = texture::sample_scalar(slot.picture, s, t, 0.0f);
+          if (slot.gobo) {
+            const float l = 0.2126f * texel[0] + 0.7152f * texel[1] + 0.0722f * texel[2];
+            rgb[0] = rgb[1] = rgb[2] = l;
+          } else {
+            for (int c = 0; c < 3; ++c) rgb[c] = texel[static_cast<std::size_t>(c)];
+          }
+        }
+      }
+      for (int c = 0; c < 3; ++c) out[c][i] = rgb[c];
+    }
+  }
+}
+
 void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out,
                                SoaScratch& scratch, const Color3* albedo, Color3* secondary, const float* occlusion) const {
+  const float* filters = nullptr;
+  const std::size_t filter_floats = 3 * static_cast<std::size_t>(projector_slots_) * count;
+  if (projector_slots_ > 0) {
+    // The points' filters, then (simd path) room for their padded chunk copies.
+    const std::size_t need = filter_floats + 3 * static_cast<std::size_t>(projector_slots_) * simd::padded(std::min(kSimdChunk, count));
+    if (scratch.projector.size() < need) scratch.projector.resize(need);
+    const float* p = p_eye->data();
+    find_projector_filters(count, p, p + 1, p + 2, 3, scratch.projector.data());
+    filters = scratch.projector.data();
+  }
   const float* visibility = nullptr;
   if (shadow_slots_ > 0) {
     // The points' visibility, then (simd path) room for its padded chunk copies.
@@ -327,19 +405,29 @@ void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3*
   }
   switch (path_) {
     case LightingPath::reference:
-      lighting::shade_points(reference_, count, p_eye, n_eye, albedo, out, secondary, visibility, shadow_slots_, occlusion);
+      lighting::shade_points(reference_, count, p_eye, n_eye, albedo, out, secondary, visibility, shadow_slots_, occlusion,
+                             filters, projector_slots_);
       return;
     case LightingPath::scalar:
-      lighting::shade_points(scalar_, count, p_eye, n_eye, albedo, out, secondary, visibility, shadow_slots_, occlusion);
+      lighting::shade_points(scalar_, count, p_eye, n_eye, albedo, out, secondary, visibility, shadow_slots_, occlusion,
+                             filters, projector_slots_);
       return;
     case LightingPath::simd: break;
   }
+  // The SIMD path lights these points (at most a tile batch's) in one padded chunk.
   run_simd(simd_shade_, simd_params_, nullptr, count, p_eye, n_eye, 1.0f, albedo, out, secondary, scratch, nullptr,
-           visibility, shadow_slots_, occlusion);
+           visibility, shadow_slots_, occlusion, filters, projector_slots_,
+           projector_slots_ > 0 ? scratch.projector.data() + filter_floats : nullptr);
 }
 
-void PointShader::shade_soa(const simd::Streams& streams, float* visibility) const {
+void PointShader::shade_soa(const simd::Streams& streams, float* visibility, float* projector) const {
   simd::Streams s = streams;
+  const float* filter_streams[3 * kMaxProjectors] = {};
+  if (projector_slots_ > 0) {
+    find_projector_filters(s.count, s.px, s.py, s.pz, 1, projector);
+    for (int k = 0; k < 3 * projector_slots_; ++k) filter_streams[k] = projector + static_cast<std::size_t>(k) * s.count;
+    s.projector = filter_streams;
+  }
   const float* slot_streams[kMaxShadowedLights] = {};
   if (shadow_slots_ > 0) {
     find_visibility(s.count, s.px, s.py, s.pz, s.nx, s.ny, s.nz, 1, visibility);
@@ -363,11 +451,13 @@ void PointShader::shade_soa(const simd::Streams& streams, float* visibility) con
     float vis[kMaxShadowedLights];
     for (int k = 0; k < shadow_slots_; ++k) vis[k] = slot_streams[k][i];
     const float* ao = s.ao ? s.ao + i : nullptr;
+    float filter[3 * kMaxProjectors];
+    for (int k = 0; k < 3 * projector_slots_; ++k) filter[k] = filter_streams[k][i];
     Color3 c, spec;
     if (path_ == LightingPath::reference) {
-      lighting::shade_points(reference_, 1, &p, &n, &albedo, &c, &spec, vis, shadow_slots_, ao);
+      lighting::shade_points(reference_, 1, &p, &n, &albedo, &c, &spec, vis, shadow_slots_, ao, filter, projector_slots_);
     } else {
-      lighting::shade_points(scalar_, 1, &p, &n, &albedo, &c, &spec, vis, shadow_slots_, ao);
+      lighting::shade_points(scalar_, 1, &p, &n, &albedo, &c, &spec, vis, shadow_slots_, ao, filter, projector_slots_);
     }
     s.r[i] = c.x(), s.g[i] = c.y(), s.b[i] = c.z();
     if (s.sr) s.sr[i] = spec.x(), s.sg[i] = spec.y(), s.sb[i] = spec.z();

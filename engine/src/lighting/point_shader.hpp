@@ -14,6 +14,7 @@
 #include "lighting/shade.hpp"
 #include "lighting/simd_types.hpp"
 #include "shadow/frame.hpp"
+#include "texture/sampler.hpp"
 
 namespace facet::lighting {
 
@@ -22,6 +23,7 @@ struct SoaScratch {
   std::vector<float> px, py, pz, nx, ny, nz, r, g, b;
   std::vector<float> ar, ag, ab, sr, sg, sb;  // albedo in, secondary out (when the shader uses them)
   std::vector<float> ao;                      // ambient occlusion in (LightingFeatures::occlusion)
+  std::vector<float> projector;               // projectors: per slot and channel, per point
   std::vector<float> visibility;              // shadowed lights: per slot, per point
   void reserve_padded(std::size_t count);
 };
@@ -55,7 +57,9 @@ class PointShader {
   // Lights eye-space points given as padded structure-of-arrays streams (positions and normals in,
   // colours out; s.count a multiple of simd::kMaxLanes): what the SIMD rasterizer's Phong pixels use.
   // With shadowed lights, `visibility` holds shadow_slots() * s.count floats of scratch.
-  void shade_soa(const simd::Streams& s, float* visibility = nullptr) const;
+  // With projectors, `projector` holds 3 projector_slots() * s.count floats of scratch.
+  void shade_soa(const simd::Streams& s, float* visibility = nullptr, float* projector = nullptr) const;
+  int projector_slots() const { return projector_slots_; }
   int shadow_slots() const { return shadow_slots_; }
   // After prepare(): shade_points and shade_soa write each point's visibility of scene lights
   // lights[0..2] as its red, green and blue (1 for a light the point has no slot for: not
@@ -91,6 +95,19 @@ class PointShader {
   // visibility[k * count + i]: point i's visibility of slot k's light (stride as RayCaster).
   void find_visibility(std::size_t count, const float* px, const float* py, const float* pz, const float* nx,
                        const float* ny, const float* nz, std::size_t stride, float* visibility) const;
+  // Projectors (LightingFeatures::projectors): per slot, eye -> the light's view (3x4, row-major),
+  // 1 / tan(cone), the picture and whether it is a gobo.
+  struct ProjectorSlot {
+    float to_light[12];
+    float inv_tan;
+    texture::Sampler picture;
+    bool gobo;
+  };
+  int projector_slots_ = 0;
+  ProjectorSlot projectors_[kMaxProjectors] = {};
+  // filters[(3 k + c) * count + i]: channel c of point i's filter of slot k's light (stride as RayCaster).
+  void find_projector_filters(std::size_t count, const float* px, const float* py, const float* pz, std::size_t stride,
+                              float* filters) const;
   std::vector<bool> drop_;                // frame-plan scratch, kept between frames
   std::vector<CullCandidate> candidates_;
 };

@@ -20,6 +20,7 @@ struct LightingFeatures {
   bool color_material = false;
   bool separate_specular = false;
   bool occlusion = false;  // a per-point ambient occlusion multiplies every ambient term (Phong with an occlusion map)
+  bool projectors = false;  // spot lights with a projector filter their light per point (lit per pixel)
 };
 
 // Fills `out` (its light list keeps its capacity, so a steady frame allocates nothing).

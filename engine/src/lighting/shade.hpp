@@ -41,6 +41,7 @@ template <class T> T dot(V3<T> a, V3<T> b) { return a.x * b.x + a.y * b.y + a.z 
 template <class T> inline constexpr T kMinLength = T(1e-6);
 // Shadowed lights at most (facet::kMaxShadowedLights): the visibility streams a point carries.
 using facet::kMaxShadowedLights;
+using facet::kMaxProjectors;
 // Floor of the attenuation denominator, so a light at the vertex with k0 = 0 stays finite.
 template <class T> inline constexpr T kMinAttenuationDenominator = T(1e-6);
 
@@ -85,7 +86,8 @@ T spot_factor(const EyeLight<T>& L, T cos_angle) {
 // `colour`, or with `specular` its ambient and diffuse parts to `colour` and its specular to `specular`.
 template <class T>
 void light_contribution(const ShadeParams<T>& sp, const EyeLight<T>& L, V3<T> p, V3<T> n, V3<T> eye_dir,
-                        V3<T>& colour, V3<T>* specular, const float* visibility = nullptr, T occlusion = T(1)) {
+                        V3<T>& colour, V3<T>* specular, const float* visibility = nullptr, T occlusion = T(1),
+                        const float* projector = nullptr) {
   V3<T> vp;
   T att = T(1);
   if (L.type == LightType::directional) {
@@ -122,11 +124,17 @@ void light_contribution(const ShadeParams<T>& sp, const EyeLight<T>& L, V3<T> p,
       const T v = T(visibility[L.shadow]);
       kd *= v, ks *= v;
     }
+    V3<T> diffuse = L.diffuse, spec = L.specular;
+    if (L.projector >= 0 && projector) {  // the projected picture filters the light per channel
+      const float* f = projector + 3 * L.projector;
+      diffuse = {T(f[0]) * diffuse.x, T(f[1]) * diffuse.y, T(f[2]) * diffuse.z};
+      spec = {T(f[0]) * spec.x, T(f[1]) * spec.y, T(f[2]) * spec.z};
+    }
     if (specular) {
-      sum = sum + kd * L.diffuse;
-      *specular = *specular + att * (ks * L.specular);
+      sum = sum + kd * diffuse;
+      *specular = *specular + att * (ks * spec);
     } else {
-      sum = sum + kd * L.diffuse + ks * L.specular;
+      sum = sum + kd * diffuse + ks * spec;
     }
   }
   colour = colour + att * sum;
@@ -144,20 +152,22 @@ V3<T> finish_colour(const ShadeParams<T>& sp, V3<T> c) {
 // with separate_specular.
 // `visibility`: per shadow slot (EyeLight::shadow), this point's visibility of that light.
 // `occlusion`: the point's ambient occlusion (read with ShadeParams::occlusion).
+// `projector`: per projector slot (EyeLight::projector), this point's RGB filter of that light.
 template <class T>
 V3<T> shade_vertex(const ShadeParams<T>& sp, V3<T> p, V3<T> n_in, V3<T> albedo = {T(1), T(1), T(1)},
-                   V3<T>* secondary = nullptr, const float* visibility = nullptr, T occlusion = T(1)) {
+                   V3<T>* secondary = nullptr, const float* visibility = nullptr, T occlusion = T(1),
+                   const float* projector = nullptr) {
   const V3<T> n = normalize_or_zero(n_in);
   const V3<T> eye_dir = sp.local_viewer ? normalize_or_zero(V3<T>{-p.x, -p.y, -p.z}) : V3<T>{T(0), T(0), T(1)};
   const V3<T> base = sp.occlusion ? sp.emission + occlusion * sp.ambient : sp.base;
   if (!sp.color_material && !sp.separate_specular) {  // the common case, in one sum
     V3<T> colour = base;
-    for (const EyeLight<T>& L : sp.lights) light_contribution<T>(sp, L, p, n, eye_dir, colour, nullptr, visibility, occlusion);
+    for (const EyeLight<T>& L : sp.lights) light_contribution<T>(sp, L, p, n, eye_dir, colour, nullptr, visibility, occlusion, projector);
     return finish_colour(sp, colour);
   }
   V3<T> colour = sp.color_material ? (sp.occlusion ? occlusion * sp.scene_ambient : sp.scene_ambient) : base;
   V3<T> specular{T(0), T(0), T(0)};
-  for (const EyeLight<T>& L : sp.lights) light_contribution(sp, L, p, n, eye_dir, colour, &specular, visibility, occlusion);
+  for (const EyeLight<T>& L : sp.lights) light_contribution(sp, L, p, n, eye_dir, colour, &specular, visibility, occlusion, projector);
   if (sp.color_material) colour = sp.base + V3<T>{albedo.x * colour.x, albedo.y * colour.y, albedo.z * colour.z};
   if (sp.separate_specular) {
     if (secondary) *secondary = finish_colour(sp, specular);
@@ -204,11 +214,13 @@ void light_mesh(const ShadeParams<T>& sp, const EyeTransform<T>& xf, const Mesh&
 // the per-pixel (Phong) and per-centroid (flat) entry to the same kernel. `albedo` is read with
 // colour_material, `secondary` written with separate_specular. `visibility` (with shadowed
 // lights): point i's visibility of the light in shadow slot k is visibility[k * count + i].
-// `occlusion` (with ShadeParams::occlusion): each point's ambient occlusion.
+// `occlusion` (with ShadeParams::occlusion): each point's ambient occlusion. `projector` (with
+// projector slots): channel c of point i's filter of slot k at projector[(3 k + c) * count + i].
 template <class T>
 void shade_points(const ShadeParams<T>& sp, std::size_t count, const Vec3* p_eye, const Vec3* n_eye,
                   const Color3* albedo, Color3* out, Color3* secondary, const float* visibility = nullptr,
-                  int shadow_slots = 0, const float* occlusion = nullptr) {
+                  int shadow_slots = 0, const float* occlusion = nullptr, const float* projector = nullptr,
+                  int projector_slots = 0) {
   for (std::size_t i = 0; i < count; ++i) {
     float vis[kMaxShadowedLights];
     for (int k = 0; k < shadow_slots; ++k) vis[k] = visibility[static_cast<std::size_t>(k) * count + i];
@@ -217,7 +229,9 @@ void shade_points(const ShadeParams<T>& sp, std::size_t count, const Vec3* p_eye
     V3<T> a{T(1), T(1), T(1)}, spec{};
     if (sp.color_material) a = {T(albedo[i].x()), T(albedo[i].y()), T(albedo[i].z())};
     const T o = occlusion ? T(occlusion[i]) : T(1);
-    const V3<T> c = shade_vertex(sp, p, n, a, &spec, shadow_slots > 0 ? vis : nullptr, o);
+    float filter[3 * kMaxProjectors];
+    for (int k = 0; k < 3 * projector_slots; ++k) filter[k] = projector[static_cast<std::size_t>(k) * count + i];
+    const V3<T> c = shade_vertex(sp, p, n, a, &spec, shadow_slots > 0 ? vis : nullptr, o, projector_slots > 0 ? filter : nullptr);
     out[i] = Color3(float(c.x), float(c.y), float(c.z));
     if (sp.separate_specular) secondary[i] = Color3(float(spec.x), float(spec.y), float(spec.z));
   }
@@ -229,8 +243,8 @@ extern template void light_mesh<double>(const ShadeParams<double>&, const EyeTra
 extern template void light_mesh<float>(const ShadeParams<float>&, const EyeTransform<float>&, const Mesh&, bool,
                                        std::size_t, std::size_t, Color3*, Color3*, const std::uint32_t*);
 extern template void shade_points<double>(const ShadeParams<double>&, std::size_t, const Vec3*, const Vec3*,
-                                          const Color3*, Color3*, Color3*, const float*, int, const float*);
+                                          const Color3*, Color3*, Color3*, const float*, int, const float*, const float*, int);
 extern template void shade_points<float>(const ShadeParams<float>&, std::size_t, const Vec3*, const Vec3*,
-                                         const Color3*, Color3*, Color3*, const float*, int, const float*);
+                                         const Color3*, Color3*, Color3*, const float*, int, const float*, const float*, int);
 
 }  // namespace facet::lighting

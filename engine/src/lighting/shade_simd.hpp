@@ -292,12 +292,26 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
       // specular terms are blocked.
       const bool shadowed = L.shadow >= 0 && s.visibility;
       const B vis = shadowed ? B::load_unaligned(s.visibility[L.shadow] + i) : one;
+      // A projected picture's filter of this light per channel (three streams of its slot).
+      const bool projected = L.projector >= 0 && s.projector;
+      B fr = one, fg = one, fb = one;
+      if (projected) {
+        fr = B::load_unaligned(s.projector[3 * L.projector] + i);
+        fg = B::load_unaligned(s.projector[3 * L.projector + 1] + i);
+        fb = B::load_unaligned(s.projector[3 * L.projector + 2] + i);
+      }
       if (xsimd::any(lit)) {
         B kd = xsimd::select(lit, n_dot_l, zero);
         if (shadowed) kd *= vis;
-        sr = xsimd::fma(kd, B(L.diffuse.x), sr);
-        sg = xsimd::fma(kd, B(L.diffuse.y), sg);
-        sb = xsimd::fma(kd, B(L.diffuse.z), sb);
+        if (projected) {
+          sr = xsimd::fma(kd * fr, B(L.diffuse.x), sr);
+          sg = xsimd::fma(kd * fg, B(L.diffuse.y), sg);
+          sb = xsimd::fma(kd * fb, B(L.diffuse.z), sb);
+        } else {
+          sr = xsimd::fma(kd, B(L.diffuse.x), sr);
+          sg = xsimd::fma(kd, B(L.diffuse.y), sg);
+          sb = xsimd::fma(kd, B(L.diffuse.z), sb);
+        }
         if (prm.specular_on) {
           const V<B> half{vp.x + eye.x, vp.y + eye.y, vp.z + eye.z};
           B pow_nh;
@@ -334,13 +348,13 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
           if (shadowed) ks *= vis;
           if (split) {
             const B aks = att * ks;
-            spr = xsimd::fma(aks, B(L.specular.x), spr);
-            spg = xsimd::fma(aks, B(L.specular.y), spg);
-            spb = xsimd::fma(aks, B(L.specular.z), spb);
+            spr = xsimd::fma(projected ? aks * fr : aks, B(L.specular.x), spr);
+            spg = xsimd::fma(projected ? aks * fg : aks, B(L.specular.y), spg);
+            spb = xsimd::fma(projected ? aks * fb : aks, B(L.specular.z), spb);
           } else {
-            sr = xsimd::fma(ks, B(L.specular.x), sr);
-            sg = xsimd::fma(ks, B(L.specular.y), sg);
-            sb = xsimd::fma(ks, B(L.specular.z), sb);
+            sr = xsimd::fma(projected ? ks * fr : ks, B(L.specular.x), sr);
+            sg = xsimd::fma(projected ? ks * fg : ks, B(L.specular.y), sg);
+            sb = xsimd::fma(projected ? ks * fb : ks, B(L.specular.z), sb);
           }
         }
       }

@@ -60,6 +60,9 @@ struct EyeLight {
   // map's edge between), which multiplies its diffuse and specular terms (never its ambient
   // term); -1: never shadowed.
   int shadow = -1;
+  // Projecting a picture (Light::projector): the slot of this point's RGB filter of the light
+  // (three values), which multiplies its diffuse and specular terms per channel; -1: none.
+  int projector = -1;
 };
 
 }  // namespace facet::lighting
@@ -112,6 +115,8 @@ struct Streams {
   // Shadowed lights (EyeLight::shadow >= 0): per shadow slot, each point's visibility of that light.
   const float* const* visibility = nullptr;
   const float* ao = nullptr;  // per point ambient occlusion: read with Params::occlusion
+  // Projectors (EyeLight::projector >= 0): stream 3 k + c is each point's channel c of slot k's filter.
+  const float* const* projector = nullptr;
 };
 
 using ShadeFunction = void (*)(const Params&, const Transform*, const Streams&);

@@ -19,8 +19,9 @@ void TileBuffers::resize(int tile_size) {
   storage.resize(5 * plane_size_ + 16);  // grows only; + slack for the alignment below
   const auto address = reinterpret_cast<std::uintptr_t>(storage.data());
   offset_ = ((64 - address % 64) % 64) / sizeof(float);
-  // The sink's streams, then the shadowed lights' visibility of its pixels.
-  phong.resize((simd::kPhongStreams + lighting::kMaxShadowedLights) * static_cast<std::size_t>(simd::kPhongCapacity));
+  // The sink's streams, then the shadowed lights' visibility of its pixels, then the projectors' filters.
+  phong.resize((simd::kPhongStreams + lighting::kMaxShadowedLights + 3 * kMaxProjectors) *
+               static_cast<std::size_t>(simd::kPhongCapacity));
   phong_pixel.resize(simd::kPhongCapacity);
   touched.resize(static_cast<std::size_t>(tile_size / simd::kBlock) * static_cast<std::size_t>(tile_size / simd::kBlock));
 }
@@ -141,7 +142,7 @@ void shade_phong(void* context, std::uint32_t object, std::size_t count, std::si
   streams.ar = f + 9 * cap, streams.ag = f + 10 * cap, streams.ab = f + 11 * cap;
   streams.sr = f + 12 * cap, streams.sg = f + 13 * cap, streams.sb = f + 14 * cap;
   streams.ao = f + 15 * cap;  // read when the object's lighting has occlusion
-  shader.shade_soa(streams, f + simd::kPhongStreams * cap);
+  shader.shade_soa(streams, f + simd::kPhongStreams * cap, f + (simd::kPhongStreams + lighting::kMaxShadowedLights) * cap);
   c.counters->shaded += count;
   c.counters->light_pairs += count * shader.light_count();
   c.counters->skipped_pairs += count * shader.culled_lights();

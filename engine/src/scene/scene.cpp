@@ -275,6 +275,13 @@ Status validate_light(const Light& l, const Field& f) {
   FACET_TRY(check_color(l.diffuse, f, "diffuse"));
   FACET_TRY(check_color(l.specular, f, "specular"));
   if (l.type != LightType::point) FACET_TRY(check_direction(l.direction, f, "direction"));
+  if (l.projector.mode != ProjectorMode::modulate && l.projector.mode != ProjectorMode::gobo) {
+    return invalid(f("projector.mode"), "unknown projector mode");
+  }
+  if (l.projector.texture != -1) {
+    if (l.type != LightType::spot) return invalid(f("projector"), "only spot lights project a picture");
+    if (l.projector.texture < 0) return invalid(f("projector.texture"), "expected a texture index or -1 (none), found " + std::to_string(l.projector.texture));
+  }
   if (l.type == LightType::directional) {
     if (l.range != 0.0f) return invalid(f("range"), "only point and spot lights have a range");
     return {};
@@ -392,9 +399,18 @@ Status validate_lighting_inputs(const Scene& scene) {
       }
     }
   }
-  int shadowed = 0;
+  int shadowed = 0, projectors = 0;
   for (std::size_t i = 0; i < scene.lights.size(); ++i) {
     FACET_TRY(validate_light(scene.lights[i], Field{"lights", i, true}));
+    const Projector& pr = scene.lights[i].projector;
+    if (pr.texture != -1 && static_cast<std::size_t>(pr.texture) >= scene.textures.size()) {
+      return invalid(Field{"lights", i, true}("projector.texture"), "texture index " + std::to_string(pr.texture) +
+                                                                        " is out of range (" + std::to_string(scene.textures.size()) + " textures)");
+    }
+    if (scene.lights[i].enabled && pr.texture != -1 && ++projectors > kMaxProjectors) {
+      return invalid(Field{"lights", i, true}("projector"),
+                     "at most " + std::to_string(kMaxProjectors) + " enabled lights can project a picture");
+    }
     if (scene.lights[i].enabled && scene.lights[i].shadow.method != ShadowMethod::none && ++shadowed > kMaxShadowedLights) {
       return invalid(Field{"lights", i, true}("shadow"),
                      "at most " + std::to_string(kMaxShadowedLights) + " enabled lights can cast shadows");

@@ -85,7 +85,7 @@ class SceneReader : public scene_json::JsonFields {
     };
     auto add_light = [&](const json& j, const std::string& p) {
       Light l;
-      FACET_TRY(read_light(j, p, l));
+      FACET_TRY(read_light(j, p, scene, l));
       scene.lights.push_back(std::move(l));
       return Status{};
     };
@@ -655,9 +655,9 @@ class SceneReader : public scene_json::JsonFields {
     return {};
   }
 
-  Status read_light(const json& j, const std::string& p, Light& l) const {
+  Status read_light(const json& j, const std::string& p, const Scene& scene, Light& l) const {
     FACET_TRY(expect_object(j, p, {"name", "type", "enabled", "position", "direction", "ambient", "diffuse",
-                                   "specular", "attenuation", "range", "spot", "shadow"}));
+                                   "specular", "attenuation", "range", "spot", "shadow", "projector"}));
     FACET_TRY(opt_string(j, p, "name", l.name));
     if (!j.contains("type")) return invalid(child(p, "type"), "missing: \"directional\", \"point\" or \"spot\"");
     std::string type;
@@ -718,6 +718,21 @@ class SceneReader : public scene_json::JsonFields {
       FACET_TRY(opt_number(s, sp, "falloff", l.spot_falloff));
     }
     if (j.contains("shadow")) FACET_TRY(read_shadow(j["shadow"], child(p, "shadow"), l.shadow));
+    if (j.contains("projector")) {
+      const std::string pp = child(p, "projector");
+      if (l.type != LightType::spot) return invalid(pp, "only spot lights project a picture");
+      const json& pj = j["projector"];
+      FACET_TRY(expect_object(pj, pp, {"texture", "mode"}));
+      if (!pj.contains("texture")) return invalid(child(pp, "texture"), "missing: the picture's texture name");
+      std::uint32_t index = 0;
+      FACET_TRY(find_by_name(pj, pp, "texture", scene.textures, "texture", index));
+      l.projector.texture = static_cast<std::int32_t>(index);
+      if (pj.contains("mode")) {
+        std::string mode;
+        FACET_TRY(read_enum(pj["mode"], child(pp, "mode"), {"modulate", "gobo"}, mode));
+        l.projector.mode = mode == "gobo" ? ProjectorMode::gobo : ProjectorMode::modulate;
+      }
+    }
     return {};
   }
 

@@ -22,11 +22,7 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kNearFraction = 1e-3;
 
 
-// An up vector for a view along `forward`: world +y unless the light is within ~8 degrees of it,
-// then +x. Fixed by the light alone, so the map does not turn with the camera.
-Eigen::Vector3d up_for(const Eigen::Vector3d& forward) {
-  return std::abs(forward.y()) < 0.99 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
-}
+Eigen::Vector3d up_for(const Eigen::Vector3d& forward) { return light_up(forward); }
 
 // GL's glFrustum for a square field of view; GL's glOrtho.
 Eigen::Matrix4d perspective(double tan_half, double n, double f) {
