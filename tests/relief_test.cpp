@@ -423,6 +423,45 @@ TEST(Projectors, ThePictureLandsTheRightWayRound) {
   EXPECT_EQ(at(2.6f, 0.0f, 0), 0);  // outside the cone: dark
 }
 
+// A glTF written for these tests (tools/data/make_relief_gltf.py): an sRGB base colour, a linear
+// normal and occlusion map, tangents generated; lit per pixel the maps change the picture, and
+// the picture is the same bytes on 1 and 2 threads.
+TEST(NormalMaps, AGltfWithNormalOcclusionAndSrgbTextures) {
+  Result<Model> m = load_model(test::data_dir() + "/gltf/relief_cube.gltf");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_TRUE(m->warnings.empty()) << m->warnings[0];
+  Scene& s = m->scene;
+  const Material& mat = s.materials[0];
+  ASSERT_NE(mat.diffuse_texture, kNoTexture);
+  ASSERT_NE(mat.normal_texture, kNoTexture);
+  ASSERT_NE(mat.occlusion_texture, kNoTexture);
+  EXPECT_EQ(s.textures[std::size_t(mat.diffuse_texture)].encoding, TextureEncoding::srgb);
+  EXPECT_EQ(s.textures[std::size_t(mat.normal_texture)].encoding, TextureEncoding::linear);
+  EXPECT_EQ(s.textures[std::size_t(mat.occlusion_texture)].encoding, TextureEncoding::linear);
+  EXPECT_EQ(s.meshes[0].mesh.tangents.size(), s.meshes[0].mesh.positions.size());
+  s.camera = *frame_scene(s, 1.0f);
+  add_default_lights(s);
+  std::vector<std::uint8_t> pictures[2];
+  for (int threads : {1, 2}) {
+    test::Canvas c(96, 96);
+    RenderOptions o;
+    o.shading = ShadingMode::phong;
+    o.threads = threads;
+    o.srgb = true;
+    ASSERT_TRUE(Renderer(o).render(s, c.view()).ok());
+    pictures[threads - 1] = c.pixels();
+  }
+  EXPECT_EQ(pictures[0], pictures[1]);
+  Scene flat = s;
+  flat.materials[0].normal_texture = flat.materials[0].occlusion_texture = kNoTexture;
+  test::Canvas c(96, 96);
+  RenderOptions o;
+  o.shading = ShadingMode::phong;
+  o.srgb = true;
+  ASSERT_TRUE(Renderer(o).render(flat, c.view()).ok());
+  EXPECT_NE(c.pixels(), pictures[0]);
+}
+
 // A normal map needs tangents: validation says so, and generate_missing_tangents makes them.
 TEST(NormalMaps, MissingTangentsAreNamedAndGenerated) {
   Scene s = plane_scene();
