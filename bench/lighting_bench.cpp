@@ -5,6 +5,8 @@
 //     mesh that fits in L1/L2 and one that does not (1M vertices: 24 MB in, 12 MB out);
 //   BM_Lighting/<method>/<mix>/lights:{1,4,8,16}/vertices:65536: scalar and the best ISA (pow
 //     auto) as the light count grows, for mixed lights and for each type alone;
+//   BM_LightingLobe/<method>/{blinn,phong}/mixed/lights:4/vertices:4096: every method with Blinn's
+//     n.h and Phong's R.V specular lobe (Material::specular_model);
 //   BM_Lighting/<method>/point/lights:{1,4}/vertices:{65536,1048576}/threads:{1,2}: scalar and
 //     the best ISA (pow auto) on one and two threads (LightingOptions::threads; wall time), for
 //     the targets "4 point lights, best ISA, 2 threads" and "1 light, data larger than cache".
@@ -40,7 +42,7 @@ const char* to_string(Mix m) {
   return "?";
 }
 
-facet::Scene bench_scene(int vertex_count, int light_count, Mix mix) {
+facet::Scene bench_scene(int vertex_count, int light_count, Mix mix, bool phong_lobe = false) {
   using facet::Vec3;
   facet::Scene s;
   const int rings = std::max(2, static_cast<int>(std::sqrt(vertex_count / 2.0)));
@@ -50,6 +52,7 @@ facet::Scene bench_scene(int vertex_count, int light_count, Mix mix) {
   m.diffuse = {0.7f, 0.5f, 0.3f};
   m.specular = {0.8f, 0.8f, 0.8f};
   m.shininess = 48.0f;
+  if (phong_lobe) m.specular_model = facet::SpecularModel::phong;
   s.materials.push_back(m);
   s.objects.push_back({0, 0, facet::Mat4::Identity()});
   std::mt19937 rng(1);
@@ -88,8 +91,9 @@ struct Method {
   facet::LightingOptions options;
 };
 
-void run_lighting(benchmark::State& state, const facet::LightingOptions& options, Mix mix, int lights, int vertex_count) {
-  const facet::Scene scene = bench_scene(vertex_count, lights, mix);
+void run_lighting(benchmark::State& state, const facet::LightingOptions& options, Mix mix, int lights, int vertex_count,
+                  bool phong_lobe = false) {
+  const facet::Scene scene = bench_scene(vertex_count, lights, mix, phong_lobe);
   const auto vertices = static_cast<std::int64_t>(scene.meshes[0].mesh.vertex_count());
   facet::VertexColors out;
   const auto start = std::chrono::steady_clock::now();
@@ -150,6 +154,17 @@ void register_all() {
   };
   for (const Method& m : all)
     for (int vertices : {4096, 1 << 20}) add(m, Mix::mixed, 4, vertices);
+  // The specular lobes side by side (the speed-against-accuracy chart's fourth panel): Blinn's n.h
+  // and Phong's R.V, 4 mixed lights, 4096 vertices.
+  for (const Method& m : all) {
+    for (const bool phong : {false, true}) {
+      const std::string name = "BM_LightingLobe/" + m.name + "/" + (phong ? "phong" : "blinn") + "/mixed/lights:4/vertices:4096";
+      const facet::LightingOptions options = m.options;
+      benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& state) {
+        run_lighting(state, options, Mix::mixed, 4, 4096, phong);
+      })->Unit(benchmark::kMillisecond);
+    }
+  }
   for (const Method& m : sweep)
     for (Mix mix : {Mix::mixed, Mix::directional, Mix::point, Mix::spot})
       for (int lights : {1, 4, 8, 16}) add(m, mix, lights, 1 << 16);

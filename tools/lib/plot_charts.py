@@ -96,7 +96,23 @@ for b in bench_rows(lighting):
         continue
     points.append((b["vertex_lights/s"], max(err, FLOOR), label, method))
 
-fig, (ax1, ax2, ax3) = plt.subplots(1, 3, figsize=(21, 6))
+# The specular lobes: Blinn's n.h and Phong's R.V per method (BM_LightingLobe), against the
+# accuracy harness's "random" and "random, phong lobe" rows.
+lobe_error = {("blinn", r["method"]): r["max_lsb"] for r in accuracy if r["kind"] == "vertices" and r["item"] == "random"}
+lobe_error.update({("phong", r["method"]): r["max_lsb"] for r in accuracy
+                   if r["kind"] == "vertices" and r["item"] == "random, phong lobe"})
+lobe_points = []
+for b in bench_rows(lighting):
+    parts = b["name"].split("/")
+    if parts[0] != "BM_LightingLobe":
+        continue
+    method, lobe = parts[1], parts[2]
+    err = 0.0 if method == "reference" else lobe_error.get((lobe, method_label(method)))
+    if err is None:
+        continue
+    lobe_points.append((b["vertex_lights/s"], max(err, FLOOR), lobe, method))
+
+fig, (ax1, ax2, ax3, ax4) = plt.subplots(1, 4, figsize=(28, 6))
 for x, y, label, method in points:
     isa = "reference" if method == "reference" else ("scalar" if method == "scalar" else method.split("_")[1])
     tier = method.split("_")[2] if method.startswith("simd_") else "auto"
@@ -162,6 +178,21 @@ handles = [plt.Line2D([], [], color=c, marker="o", ls="", label=k) for k, c in F
 handles += [plt.Line2D([], [], color="black", marker=m, ls="", label=k) for k, m in ISA_MARKERS.items()]
 ax3.legend(handles=handles, fontsize=8, loc="upper right")
 ax3.grid(True, which="both", alpha=0.2)
+LOBE_MARKERS = {"blinn": "o", "phong": "^"}
+for x, y, lobe, method in lobe_points:
+    isa = "reference" if method == "reference" else ("scalar" if method == "scalar" else method.split("_")[1])
+    ax4.scatter(x / 1e6, y, color=ISA_COLOURS[isa], marker=LOBE_MARKERS[lobe], s=60, zorder=3,
+                facecolors="none" if lobe == "phong" else ISA_COLOURS[isa])
+ax4.set_yscale("log")
+ax4.set_xlabel("vertex-lights per second (millions, 1 thread, 4 mixed lights, 4096 vertices)")
+ax4.set_ylabel("largest error vs the double-precision reference (8-bit steps)")
+ax4.set_title("Specular lobes: Blinn n.h (filled) and Phong R.V (open)")
+handles = [plt.Line2D([], [], color=c, marker="o", ls="", label=k) for k, c in ISA_COLOURS.items()]
+handles += [plt.Line2D([], [], color="black", marker=m, ls="", label=k, markerfacecolor="none" if k == "phong" else "black")
+            for k, m in LOBE_MARKERS.items()]
+ax4.legend(handles=handles, fontsize=8, loc="upper left")
+ax4.axhline(FLOOR, color="#999999", lw=0.5)
+ax4.grid(True, which="both", alpha=0.2)
 fig.suptitle("facet: speed against accuracy", fontsize=13)
 fig.tight_layout()
 save(fig, "speed_vs_accuracy")
