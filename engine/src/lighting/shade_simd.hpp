@@ -157,7 +157,10 @@ B finish(const Params& prm, const B& c) {
   return xsimd::select(c > zero, xsimd::min(c, big), zero);
 }
 
-template <class Arch, bool Exact, PowMethod Spec>
+// Extras: the kernel reads the per-material and per-light options most scenes do not use
+// (occlusion, Phong's lobe, linear range attenuation, projectors); without them those paths are
+// compiled out, so a scene that uses none of them runs the kernel it ran before they existed.
+template <class Arch, bool Exact, PowMethod Spec, bool Extras>
 void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
   static_assert(!Exact || Spec == PowMethod::one || Spec == PowMethod::exact, "the exact tier's methods");
   using T = std::conditional_t<Exact, double, float>;
@@ -202,13 +205,13 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
     }
     n = normalize_or_zero<Exact>(n);
     const V<B> eye = prm.local_viewer ? normalize_or_zero<Exact>(V<B>{-p.x, -p.y, -p.z}) : V<B>{zero, zero, one};
-    const B n_dot_v = prm.phong_lobe ? dot3(n, eye) : zero;  // Phong's lobe
+    const B n_dot_v = Extras && prm.phong_lobe ? dot3(n, eye) : zero;  // Phong's lobe
     // Colour material and separate specular keep the specular sum apart (spr, spg, spb).
     const bool split = prm.color_material || prm.separate_specular;
     const T* start = prm.color_material ? scene_ambient : base;
     B r(start[0]), g(start[1]), b(start[2]);
     B ao = one;  // the point's ambient occlusion (streams are float; double lanes widen them)
-    if (prm.occlusion) {
+    if (Extras && prm.occlusion) {
       ao = B::load_unaligned(s.ao + i);
       if (prm.color_material) {
         r = ao * r, g = ao * g, b = ao * b;
@@ -245,7 +248,7 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
         vp = {xsimd::select(has_dir, diff.x * inv_d, zero), xsimd::select(has_dir, diff.y * inv_d, zero),
               xsimd::select(has_dir, diff.z * inv_d, zero)};
         const B denom = xsimd::fma(B(L.k2), d2, xsimd::fma(B(L.k1), d, B(L.k0)));
-        if (L.linear_range) {
+        if (Extras && L.linear_range) {
           if constexpr (Exact) {
             att = fastmath::clamp01((B(L.range_max) - d + B(L.range_min)) / B(L.range_max));
           } else {
@@ -286,14 +289,14 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
       const B n_dot_l = dot3(n, vp);
       const auto lit = n_dot_l > zero;
       B sr = B(L.ambient.x), sg = B(L.ambient.y), sb = B(L.ambient.z);
-      if (prm.occlusion) sr *= ao, sg *= ao, sb *= ao;
+      if (Extras && prm.occlusion) sr *= ao, sg *= ao, sb *= ao;
       // A shadowed light's visibility at each point (1 lit, 0 in shadow, between on a filtered
       // edge); only its diffuse and
       // specular terms are blocked.
       const bool shadowed = L.shadow >= 0 && s.visibility;
       const B vis = shadowed ? B::load_unaligned(s.visibility[L.shadow] + i) : one;
       // A projected picture's filter of this light per channel (three streams of its slot).
-      const bool projected = L.projector >= 0 && s.projector;
+      const bool projected = Extras && L.projector >= 0 && s.projector;
       B fr = one, fg = one, fb = one;
       if (projected) {
         fr = B::load_unaligned(s.projector[3 * L.projector] + i);
@@ -318,14 +321,14 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
           if constexpr (Spec == PowMethod::one) {
             pow_nh = one;  // shininess 0: x^0 = 1, even at n.h = 0 (and at R.V <= 0)
           } else if constexpr (Spec == PowMethod::exact) {
-            if (prm.phong_lobe) {
+            if (Extras && prm.phong_lobe) {
               const B k = n_dot_l + n_dot_l;  // R = 2 (n.L) n - L
               const V<B> refl{xsimd::fms(k, n.x, vp.x), xsimd::fms(k, n.y, vp.y), xsimd::fms(k, n.z, vp.z)};
               pow_nh = pow_cos_exact(refl, eye, prm.specular_pow.exponent);
             } else {
               pow_nh = pow_cos_exact(n, half, prm.specular_pow.exponent);
             }
-          } else if (prm.phong_lobe) {
+          } else if (Extras && prm.phong_lobe) {
             // R.V = 2 (n.L)(n.V) - L.V: no reflected vector; n.V is the same for every light.
             // R and V are unit (to the normalisation's 2^-22), so R.V needs no division.
             const B r_dot_v = xsimd::fms(n_dot_l + n_dot_l, n_dot_v, dot3(vp, eye));
@@ -383,28 +386,41 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
   }
 }
 
-template <class Arch>
+template <class Arch, bool Extras>
 void shade_precision(const Params& prm, const Transform* xf, const Streams& s) {
   switch (prm.specular_pow.method) {
-    case PowMethod::one: return shade_kernel<Arch, false, PowMethod::one>(prm, xf, s);
-    case PowMethod::exact: return shade_kernel<Arch, false, PowMethod::exact>(prm, xf, s);
-    case PowMethod::fast: return shade_kernel<Arch, false, PowMethod::fast>(prm, xf, s);
-    case PowMethod::integer: return shade_kernel<Arch, false, PowMethod::integer>(prm, xf, s);
-    case PowMethod::schlick: return shade_kernel<Arch, false, PowMethod::schlick>(prm, xf, s);
+    case PowMethod::one: return shade_kernel<Arch, false, PowMethod::one, Extras>(prm, xf, s);
+    case PowMethod::exact: return shade_kernel<Arch, false, PowMethod::exact, Extras>(prm, xf, s);
+    case PowMethod::fast: return shade_kernel<Arch, false, PowMethod::fast, Extras>(prm, xf, s);
+    case PowMethod::integer: return shade_kernel<Arch, false, PowMethod::integer, Extras>(prm, xf, s);
+    case PowMethod::schlick: return shade_kernel<Arch, false, PowMethod::schlick, Extras>(prm, xf, s);
   }
+}
+
+// Whether the call uses any of the kernel's extras (shade_kernel).
+template <class Arch>
+bool uses_extras(const Params& prm, const Streams& s) {  // a template on Arch: no inline code crosses ISA files
+  if (prm.occlusion || prm.phong_lobe || s.projector) return true;
+  for (int i = 0; i < prm.light_count; ++i)
+    if ((prm.exact_math ? prm.lights_d[i].linear_range : prm.lights[i].linear_range)) return true;
+  return false;
 }
 
 template <class Arch>
 void shade_streams(const Params& prm, const Transform* xf, const Streams& s) {
+  const bool extras = uses_extras<Arch>(prm, s);
   if (prm.exact_math) {
     // The exact tier's specular method is exact, or one for shininess 0.
     if (prm.specular_pow.method == PowMethod::one) {
-      shade_kernel<Arch, true, PowMethod::one>(prm, xf, s);
+      extras ? shade_kernel<Arch, true, PowMethod::one, true>(prm, xf, s) : shade_kernel<Arch, true, PowMethod::one, false>(prm, xf, s);
     } else {
-      shade_kernel<Arch, true, PowMethod::exact>(prm, xf, s);
+      extras ? shade_kernel<Arch, true, PowMethod::exact, true>(prm, xf, s)
+             : shade_kernel<Arch, true, PowMethod::exact, false>(prm, xf, s);
     }
+  } else if (extras) {
+    shade_precision<Arch, true>(prm, xf, s);
   } else {
-    shade_precision<Arch>(prm, xf, s);
+    shade_precision<Arch, false>(prm, xf, s);
   }
 }
 
