@@ -1,5 +1,6 @@
 // Relief: tangent-space normal maps against the geometry they stand for, and the tangents
 // generate_tangents makes (MikkTSpace) against their definition.
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -72,8 +73,10 @@ int largest_difference(const std::vector<std::uint8_t>& a, const std::vector<std
 // are m in its tangent frame (t, b = w cross(n, t), n): on every path and ISA, within one step
 // (the two differ by float rounding of the normal). With u mirrored (w = -1), with a mirroring
 // model matrix, and with the map's x and y scaled, the frame follows.
+// A map pointing below the surface (m.z < 0) is lit as that normal too, with no NaN.
 TEST(NormalMaps, AConstantMapShadesAsTheTiltedNormal) {
-  const std::uint8_t rgb[3] = {encode(0.45), encode(-0.3), encode(0.84)};
+  for (const std::array<double, 3> normal : {std::array<double, 3>{0.45, -0.3, 0.84}, std::array<double, 3>{0.6, 0.2, -0.77}}) {
+  const std::uint8_t rgb[3] = {encode(normal[0]), encode(normal[1]), encode(normal[2])};
   const Eigen::Vector3d m(decode(rgb[0]), decode(rgb[1]), decode(rgb[2]));
   struct Case {
     const char* name;
@@ -121,6 +124,7 @@ TEST(NormalMaps, AConstantMapShadesAsTheTiltedNormal) {
       EXPECT_LE(largest_difference(render(mapped, LightingPath::simd, isa), render(tilted, LightingPath::simd, isa)), 1)
           << k.name << " " << to_string(isa);
     }
+  }
   }
 }
 
@@ -392,6 +396,21 @@ TEST(Projectors, AOneColourPictureFiltersTheLight) {
     ASSERT_TRUE(Renderer(ro).render(projected, a.view()).ok());
     ASSERT_TRUE(Renderer(ro).render(unprojected, b.view()).ok());
     EXPECT_EQ(a.pixels(), b.pixels());
+  }
+}
+
+// A light standing on the surface it lights (points at its position and beside it, on its near
+// plane): a white picture changes nothing and nothing becomes NaN.
+TEST(Projectors, ALightOnTheSurfaceItLightsStaysFinite) {
+  const std::vector<std::uint8_t> white = {255, 255, 255, 255};
+  Scene s = projector_scene(white, 1, 1, ProjectorMode::modulate);
+  s.lights[0].position = Vec3(0, 0, 0);
+  s.lights[0].direction = Vec3(1, -1, 0);
+  s.lights[0].spot_cutoff_deg = 80;
+  Scene plain = s;
+  plain.lights[0].projector.texture = -1;
+  for (LightingPath path : {LightingPath::simd, LightingPath::scalar}) {
+    EXPECT_LE(largest_difference(render(s, path), render(plain, path)), 1) << to_string(path);
   }
 }
 
