@@ -64,17 +64,15 @@ class PixelBatch {
   explicit PixelBatch(lighting::SoaScratch& scratch) : scratch_(scratch) {}
 
   void add(std::size_t index, const Vec3& p, const Vec3& n) {
-    index_[count_] = index;
-    p_[count_] = p;
-    n_[count_] = n;
-    ++count_;
+    occlusion_[count_] = 1.0f;
+    push(index, p, n);
   }
   void add_surface(std::size_t index, const Vec3& p, const Vec3& n, const Color3& albedo, float occlusion,
                    const simd::Draw& d, const simd::Fog& fog, const stages::TailInputs<float>& in) {
     albedo_[count_] = albedo;
     occlusion_[count_] = occlusion;
     stages::carry(d, fog, in, carried_[count_]);
-    add(index, p, n);
+    push(index, p, n);
   }
   bool full() const { return count_ == kCapacity; }
 
@@ -115,6 +113,12 @@ class PixelBatch {
   }
 
  private:
+  void push(std::size_t index, const Vec3& p, const Vec3& n) {
+    index_[count_] = index;
+    p_[count_] = p;
+    n_[count_] = n;
+    ++count_;
+  }
   int count_ = 0;
   std::size_t index_[kCapacity];
   Vec3 p_[kCapacity], n_[kCapacity];
