@@ -173,51 +173,37 @@ Status Reader::material(int index, MaterialInfo& info) {
         }
       }
     }
-    // The normal map (tangent space, linear), read with the base colour's coordinates.
-    if (const Json* nt = Fields::find(g, "normalTexture"); nt && unlit) {
-      warn(p + ".normalTexture: ignored by KHR_materials_unlit");
-    } else if (nt) {
-      const std::string np = p + ".normalTexture";
-      std::int32_t t = kNoTexture;
-      UvTransform normal_transform;
-      bool normal_has = false;
-      FACET_TRY(texture_info(*nt, np, t, normal_transform, normal_has, TextureEncoding::linear));
-      double scale = 1.0;
-      FACET_TRY(f_.number(*nt, np, "scale", scale, -1e6, 1e6));
-      if (t != kNoTexture) {
-        mat.normal_texture = t;
-        mat.normal_scale = static_cast<float>(scale);
-        if (!info.needs_uvs) info.uv_transform = normal_transform;
-        else if (!(normal_transform == info.uv_transform)) {
-          warn(np + ": its KHR_texture_transform differs from the base colour texture's; facet samples both at one set "
-                    "of coordinates and uses the base colour texture's transform");
-        }
-        info.needs_uvs = true;
-        info.normal_map = true;
+    // The normal map (tangent space; its `scale`) and the occlusion map (red channel; its
+    // `strength` in [0, 1]): linear, read with the base colour's coordinates.
+    auto linear_map = [&](const char* what, const char* factor_key, double lo, double hi, std::int32_t& texture,
+                          float& factor) -> Status {
+      const Json* node = Fields::find(g, what);
+      if (!node) return {};
+      const std::string np = p + "." + what;
+      if (unlit) {
+        warn(np + ": ignored by KHR_materials_unlit");
+        return {};
       }
-    }
-    // The occlusion map (linear, red channel), strength in [0, 1].
-    if (const Json* ot = Fields::find(g, "occlusionTexture"); ot && unlit) {
-      warn(p + ".occlusionTexture: ignored by KHR_materials_unlit");
-    } else if (ot) {
-      const std::string op = p + ".occlusionTexture";
       std::int32_t t = kNoTexture;
-      UvTransform occlusion_transform;
-      bool occlusion_has = false;
-      FACET_TRY(texture_info(*ot, op, t, occlusion_transform, occlusion_has, TextureEncoding::linear));
-      double strength = 1.0;
-      FACET_TRY(f_.number(*ot, op, "strength", strength, 0.0, 1.0));
-      if (t != kNoTexture) {
-        mat.occlusion_texture = t;
-        mat.occlusion_strength = static_cast<float>(strength);
-        if (!info.needs_uvs) info.uv_transform = occlusion_transform;
-        else if (!(occlusion_transform == info.uv_transform)) {
-          warn(op + ": its KHR_texture_transform differs from the base colour texture's; facet samples both at one set "
-                    "of coordinates and uses the base colour texture's transform");
-        }
-        info.needs_uvs = true;
+      UvTransform transform;
+      bool has = false;
+      FACET_TRY(texture_info(*node, np, t, transform, has, TextureEncoding::linear));
+      double value = 1.0;
+      FACET_TRY(f_.number(*node, np, factor_key, value, lo, hi));
+      if (t == kNoTexture) return {};
+      texture = t;
+      factor = static_cast<float>(value);
+      if (!info.needs_uvs) info.uv_transform = transform;
+      else if (!(transform == info.uv_transform)) {
+        warn(np + ": its KHR_texture_transform differs from the base colour texture's; facet samples both at one set "
+                  "of coordinates and uses the base colour texture's transform");
       }
-    }
+      info.needs_uvs = true;
+      return {};
+    };
+    FACET_TRY(linear_map("normalTexture", "scale", -1e6, 1e6, mat.normal_texture, mat.normal_scale));
+    info.normal_map = mat.normal_texture != kNoTexture;
+    FACET_TRY(linear_map("occlusionTexture", "strength", 0.0, 1.0, mat.occlusion_texture, mat.occlusion_strength));
     if (Fields::find(*pbr, "metallicRoughnessTexture")) warn(pp + ".metallicRoughnessTexture: not supported; ignored");
   }
   out_.scene.materials.push_back(std::move(mat));

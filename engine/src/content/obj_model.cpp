@@ -283,8 +283,8 @@ class MtlReader {
     illum_ = 2;
     if (!map_kd_.empty() || !map_d_.empty()) FACET_TRY(attach_texture());
     if (!map_ke_.empty()) FACET_TRY(attach_emissive_texture());
-    if (!map_norm_.empty()) FACET_TRY(attach_normal_texture());
-    if (!map_bump_.empty()) FACET_TRY(attach_bump_texture());
+    if (!map_norm_.empty()) FACET_TRY(attach_map(map_norm_, "norm", current_.normal_texture, current_.normal_scale));
+    if (!map_bump_.empty()) FACET_TRY(attach_map(map_bump_, "bump", current_.bump_texture, current_.bump_scale));
     if (current_.alpha < 1.0f || !map_d_.empty()) current_.blend = BlendMode::alpha;
     scene_.materials.push_back(current_);
     return {};
@@ -362,37 +362,21 @@ class MtlReader {
     return {};
   }
 
-  // norm: a tangent-space normal map (linear), scaled by -bm, at map_Kd's coordinates.
-  Status attach_normal_texture() {
-    Result<Texture> n = load(map_norm_, TextureEncoding::linear);
-    if (!n) return n.status();
-    if (n->width() == 0) return {};
-    if (current_.diffuse_texture == kNoTexture && current_.emissive_texture == kNoTexture) {
-      current_.uv_scale = map_norm_.scale;
-    } else if (map_norm_.scale != current_.uv_scale) {
-      warnings_.push_back(source_ + ":" + std::to_string(map_norm_.line) + ": norm -s differs from map_Kd's; facet has "
-                                                                            "one uv scale per material, map_Kd's is used");
+  // norm (a tangent-space normal map) and bump / map_Bump (a height map): linear, scaled by -bm,
+  // at the material's one set of coordinates (the first texture's uv scale wins).
+  Status attach_map(const TextureRef& ref, const char* key, std::int32_t& texture, float& scale) {
+    Result<Texture> t = load(ref, TextureEncoding::linear);
+    if (!t) return t.status();
+    if (t->width() == 0) return {};
+    if (!uses_textures(current_)) {
+      current_.uv_scale = ref.scale;
+    } else if (ref.scale != current_.uv_scale) {
+      warnings_.push_back(source_ + ":" + std::to_string(ref.line) + ": " + key +
+                          " -s differs from map_Kd's; facet has one uv scale per material, map_Kd's is used");
     }
-    scene_.textures.push_back(std::move(*n));
-    current_.normal_texture = static_cast<std::int32_t>(scene_.textures.size() - 1);
-    current_.normal_scale = map_norm_.bump;
-    return {};
-  }
-
-  // bump / map_Bump: a height map (linear, red channel), scaled by -bm, at map_Kd's coordinates.
-  Status attach_bump_texture() {
-    Result<Texture> h = load(map_bump_, TextureEncoding::linear);
-    if (!h) return h.status();
-    if (h->width() == 0) return {};
-    if (current_.diffuse_texture == kNoTexture && current_.emissive_texture == kNoTexture && current_.normal_texture == kNoTexture) {
-      current_.uv_scale = map_bump_.scale;
-    } else if (map_bump_.scale != current_.uv_scale) {
-      warnings_.push_back(source_ + ":" + std::to_string(map_bump_.line) + ": bump -s differs from map_Kd's; facet has "
-                                                                            "one uv scale per material, map_Kd's is used");
-    }
-    scene_.textures.push_back(std::move(*h));
-    current_.bump_texture = static_cast<std::int32_t>(scene_.textures.size() - 1);
-    current_.bump_scale = map_bump_.bump;
+    scene_.textures.push_back(std::move(*t));
+    texture = static_cast<std::int32_t>(scene_.textures.size() - 1);
+    scale = ref.bump;
     return {};
   }
 

@@ -122,6 +122,15 @@ class SceneReader : public scene_json::JsonFields {
     return opt_number(j, p, "far", c.far);
   }
 
+  // A texture named by `key` (when present): its index in scene.textures.
+  Status opt_texture(const json& j, const std::string& p, const char* key, const Scene& scene, std::int32_t& out) const {
+    if (!j.contains(key)) return {};
+    std::uint32_t index = 0;
+    FACET_TRY(find_by_name(j, p, key, scene.textures, "texture", index));
+    out = static_cast<std::int32_t>(index);
+    return {};
+  }
+
   Status read_material(const json& j, const std::string& p, Scene& scene, Material& m) {
     FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "specular_model",
                                    "alpha", "diffuse_texture", "normal_texture", "normal_scale",
@@ -139,34 +148,14 @@ class SceneReader : public scene_json::JsonFields {
       m.specular_model = model == "phong" ? SpecularModel::phong : SpecularModel::blinn;
     }
     FACET_TRY(opt_number(j, p, "alpha", m.alpha));
-    if (j.contains("diffuse_texture")) {
-      std::uint32_t index = 0;
-      FACET_TRY(find_by_name(j, p, "diffuse_texture", scene.textures, "texture", index));
-      m.diffuse_texture = static_cast<std::int32_t>(index);
-    }
-    if (j.contains("emissive_texture")) {
-      std::uint32_t index = 0;
-      FACET_TRY(find_by_name(j, p, "emissive_texture", scene.textures, "texture", index));
-      m.emissive_texture = static_cast<std::int32_t>(index);
-    }
+    FACET_TRY(opt_texture(j, p, "diffuse_texture", scene, m.diffuse_texture));
+    FACET_TRY(opt_texture(j, p, "emissive_texture", scene, m.emissive_texture));
     FACET_TRY(opt_bool(j, p, "emission_after_texture", m.emission_after_texture));
-    if (j.contains("normal_texture")) {
-      std::uint32_t index = 0;
-      FACET_TRY(find_by_name(j, p, "normal_texture", scene.textures, "texture", index));
-      m.normal_texture = static_cast<std::int32_t>(index);
-    }
+    FACET_TRY(opt_texture(j, p, "normal_texture", scene, m.normal_texture));
     FACET_TRY(opt_number(j, p, "normal_scale", m.normal_scale));
-    if (j.contains("occlusion_texture")) {
-      std::uint32_t index = 0;
-      FACET_TRY(find_by_name(j, p, "occlusion_texture", scene.textures, "texture", index));
-      m.occlusion_texture = static_cast<std::int32_t>(index);
-    }
+    FACET_TRY(opt_texture(j, p, "occlusion_texture", scene, m.occlusion_texture));
     FACET_TRY(opt_number(j, p, "occlusion_strength", m.occlusion_strength));
-    if (j.contains("bump_texture")) {
-      std::uint32_t index = 0;
-      FACET_TRY(find_by_name(j, p, "bump_texture", scene.textures, "texture", index));
-      m.bump_texture = static_cast<std::int32_t>(index);
-    }
+    FACET_TRY(opt_texture(j, p, "bump_texture", scene, m.bump_texture));
     FACET_TRY(opt_number(j, p, "bump_scale", m.bump_scale));
     std::string mode;
     if (j.contains("texture_mode")) {
@@ -724,9 +713,7 @@ class SceneReader : public scene_json::JsonFields {
       const json& pj = j["projector"];
       FACET_TRY(expect_object(pj, pp, {"texture", "mode"}));
       if (!pj.contains("texture")) return invalid(child(pp, "texture"), "missing: the picture's texture name");
-      std::uint32_t index = 0;
-      FACET_TRY(find_by_name(pj, pp, "texture", scene.textures, "texture", index));
-      l.projector.texture = static_cast<std::int32_t>(index);
+      FACET_TRY(opt_texture(pj, pp, "texture", scene, l.projector.texture));
       if (pj.contains("mode")) {
         std::string mode;
         FACET_TRY(read_enum(pj["mode"], child(pp, "mode"), {"modulate", "gobo"}, mode));

@@ -83,9 +83,10 @@ Result<std::vector<Texture>> cube_faces_from_equirect(const Texture& equirect, i
           // make_texture takes the top row first; j counts from the bottom.
           std::uint8_t* out = rgba.data() + 4 * ((side - 1 - static_cast<std::uint64_t>(j)) * side + static_cast<std::uint64_t>(i));
           for (int c = 0; c < 4; ++c) {
-            double mean = sum[c] / (kEquirectSamples * kEquirectSamples);
+            const double mean = sum[c] / (kEquirectSamples * kEquirectSamples);
             if (srgb && c < 3) {  // averaged decoded (the reference sampler decodes): encoded back
-              mean = mean <= 0.0031308 ? 12.92 * mean : 1.055 * std::pow(mean, 1.0 / 2.4) - 0.055;
+              out[c] = static_cast<std::uint8_t>(texture::encode_srgb8(mean));
+              continue;
             }
             const double byte = std::floor(mean * 255.0 + 0.5);
             out[c] = static_cast<std::uint8_t>(byte < 0.0 ? 0.0 : byte > 255.0 ? 255.0 : byte);

@@ -64,6 +64,10 @@ struct Sampler {
 };
 Sampler make_sampler(const Texture& texture) noexcept;
 
+// The nearest sRGB byte to a linear value in [0, 1] (clamped; NaN gives 0), IEC 61966-2-1's
+// encoding in double: how sRGB mipmaps and converted cube faces store what they averaged decoded.
+std::uint32_t encode_srgb8(double linear) noexcept;
+
 // log2(x) as the float samplers compute it, for x normal and finite (the SIMD twin is in sample_simd.hpp).
 float log2_approx(float x) noexcept;
 // lambda from the derivatives, as the float samplers compute it.

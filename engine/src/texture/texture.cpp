@@ -16,6 +16,7 @@
 #include "io/file_access.hpp"
 #include "texture/jpeg_decode.hpp"
 #include "texture/png_decode.hpp"
+#include "texture/sampler.hpp"
 #include "texture/srgb_table.hpp"
 #include "texture/texture_file.hpp"
 
@@ -77,13 +78,6 @@ float span_weight(const Span& s, int k) {
   return 1.0f;
 }
 
-// The nearest sRGB byte to a linear value (IEC 61966-2-1's encoding, in double).
-std::uint32_t encode_srgb(double linear) {
-  const double l = std::clamp(linear, 0.0, 1.0);
-  const double c = l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055;
-  return static_cast<std::uint32_t>(std::clamp(std::lround(255.0 * c), 0l, 255l));
-}
-
 // srgb: the colour channels are averaged decoded (texture::kSrgbDecode255) and encoded back.
 void build_level(const std::uint32_t* src, int sw, int sh, std::uint32_t* dst, int dw, int dh, bool srgb) {
   std::vector<Span> xs(static_cast<std::size_t>(dw));
@@ -107,7 +101,7 @@ void build_level(const std::uint32_t* src, int sw, int sh, std::uint32_t* dst, i
       std::uint32_t out = 0;
       for (int c = 0; c < 4; ++c) {
         const float v = sum[c] * x.inv_size * ys.inv_size;
-        const auto q = srgb && c < 3 ? encode_srgb(double(v) / 255.0)
+        const auto q = srgb && c < 3 ? texture::encode_srgb8(double(v) / 255.0)
                                      : static_cast<std::uint32_t>(std::clamp(v + 0.5f, 0.0f, 255.0f));
         out |= q << (8 * c);
       }
@@ -223,6 +217,12 @@ struct StbFree {
 };
 
 }  // namespace
+
+std::uint32_t texture::encode_srgb8(double linear) noexcept {
+  const double l = linear > 0.0 ? (linear < 1.0 ? linear : 1.0) : 0.0;  // NaN -> 0
+  const double c = l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055;
+  return static_cast<std::uint32_t>(std::floor(255.0 * c + 0.5));
+}
 
 const char* to_string(TextureFilter filter) noexcept {
   switch (filter) {
