@@ -26,6 +26,10 @@
 // sRGB textures are GL_SRGB8_ALPHA8 (decoded per texel, then filtered); --srgb draws into a
 // framebuffer object with an sRGB colour buffer and GL_FRAMEBUFFER_SRGB (blending in linear, each
 // write encoded) against facet's RenderOptions::srgb.
+// --shading phong lights facet per pixel (GL still per vertex: for finely tessellated scenes) and
+// draws what facet applies only per pixel where GL 2.1 has an equivalent (per_pixel_incompatibility
+// says when): a projector as texture unit 3 (eye-linear texgen, the light's matrix, GL_MODULATE),
+// normal maps as ARB_texture_env_dot3 (the tangent-space light vector as the vertex colour).
 // Environment maps are the second unit, through texgen (GL_SPHERE_MAP, GL_REFLECTION_MAP into a
 // cube map with the view's inverse rotation as texture matrix, GL_NORMAL_MAP scaled to [0, 1]),
 // level 0 with linear filtering clamped to the edge, the strength folded into the texels or the
@@ -36,7 +40,8 @@
 // in float per pixel, and both round blends differently (8-bit framebuffer against float tiles).
 //
 //   facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick]
-//                     [--check] [--rounds] [--filter TEXT] [--json FILE] [--srgb] [SCENE.json ...]
+//                     [--check] [--rounds] [--filter TEXT] [--json FILE] [--srgb] [--shading gouraud|phong]
+//                     [SCENE.json ...]
 // --rounds prints each renderer's three timed rounds (the drift the medians leave out).
 // --lights N gives scene files N of the built-in cases' lights (GL 2.1-expressible: scene files may
 // use smooth cones or light ranges, which GL 2.1 lacks) and caps shininess at 128.
@@ -81,6 +86,7 @@ struct Options {
   std::string json;    // also write the rows there
   int lights = 0;      // > 0: scene files get this many of the built-in cases' GL 2.1 lights instead of theirs
   bool srgb = false;   // --srgb: both encode their output to sRGB (facet: RenderOptions::srgb; GL: an sRGB FBO)
+  bool phong = false;  // --shading phong: facet lights per pixel (GL still per vertex)
   std::vector<std::string> scenes;
 };
 
@@ -147,7 +153,71 @@ void bounds(const facet::Scene& s, facet::Vec3& centre, float& radius) {
   radius = std::max(0.5f * (hi - lo).norm(), 1e-3f);
 }
 
-std::string gl_incompatibility(const facet::Scene& s) {
+// The one enabled light, or nullptr.
+const facet::Light* only_light(const facet::Scene& s) {
+  const facet::Light* one = nullptr;
+  for (const facet::Light& l : s.lights) {
+    if (!l.enabled) continue;
+    if (one) return nullptr;
+    one = &l;
+  }
+  return one;
+}
+
+bool has_projector(const facet::Scene& s) {
+  for (const facet::Light& l : s.lights)
+    if (l.enabled && l.type == facet::LightType::spot && l.projector.texture != facet::kNoTexture) return true;
+  return false;
+}
+
+// Projectors and normal maps, which facet lights per pixel, have GL 2.1 equivalents only in a
+// narrow scene. A projector is a texture unit under GL_MODULATE with eye-linear texgen and the
+// light's matrix: it multiplies the whole fragment, facet one light's diffuse and specular, so the
+// projector must be the only light, with no ambient light and no emission or other textures. A
+// normal map is ARB_texture_env_dot3: the texel dotted with the light vector in tangent space (the
+// vertex colour), times the diffuse colour, so one directional light, diffuse only, no ambient,
+// emission or other maps, and normal_scale 1. Both need --shading phong (facet applies them per
+// pixel only); GL lights per vertex, so the scenes are finely tessellated.
+std::string per_pixel_incompatibility(const facet::Scene& s, bool phong) {
+  bool normal_maps = false;
+  for (const facet::Material& m : s.materials) normal_maps |= m.normal_texture != facet::kNoTexture;
+  const bool projector = has_projector(s);
+  if (!phong) return {};  // Gouraud: facet applies none of them, and GL draws none
+  if (!projector && !normal_maps) {
+    for (const facet::Material& m : s.materials)
+      if (m.occlusion_texture != facet::kNoTexture || m.bump_texture != facet::kNoTexture) {
+        return "occlusion and bump maps have no GL 2.1 equivalent here";
+      }
+    return {};
+  }
+  if (projector && normal_maps) return "a projector and a normal map in one scene";
+  const facet::Light* light = only_light(s);
+  if (!light) return "a projector or normal map needs the scene's only light (GL applies them to the whole fragment)";
+  if (!light->ambient.isZero() || !s.global_ambient.isZero()) return "a projector or normal map needs no ambient light";
+  if (normal_maps && light->type != facet::LightType::directional) return "DOT3 bump mapping needs a directional light";
+  for (std::size_t i = 0; i < s.materials.size(); ++i) {
+    const facet::Material& m = s.materials[i];
+    const std::string at = "materials[" + std::to_string(i) + "]: ";
+    if (!m.emissive.isZero()) return at + "emission with a projector or normal map";
+    if (m.diffuse_texture != facet::kNoTexture || m.emissive_texture != facet::kNoTexture ||
+        m.occlusion_texture != facet::kNoTexture || m.bump_texture != facet::kNoTexture ||
+        m.environment.mode != facet::EnvironmentMode::none) {
+      return at + "another texture with a projector or normal map";
+    }
+    if (projector) {
+      const facet::Texture& t = s.textures[static_cast<std::size_t>(light->projector.texture)];
+      if (light->projector.mode == facet::ProjectorMode::gobo && t.encoding != facet::TextureEncoding::linear)
+        return "an sRGB gobo picture (GL would take the luminance of encoded values)";
+    }
+    if (normal_maps && (m.normal_texture == facet::kNoTexture || !m.specular.isZero() || m.normal_scale != 1.0f))
+      return at + "DOT3 bump mapping needs every material normal-mapped, no specular and normal_scale 1";
+  }
+  for (const auto& nm : s.meshes)
+    if (!nm.mesh.colors.empty()) return "vertex colours with a projector or normal map";
+  return {};
+}
+
+std::string gl_incompatibility(const facet::Scene& s, bool phong) {
   for (std::size_t i = 0; i < s.lights.size(); ++i) {
     const facet::Light& l = s.lights[i];
     if (l.type == facet::LightType::spot && l.spot_shape != facet::SpotShape::cutoff_exponent)
@@ -157,6 +227,7 @@ std::string gl_incompatibility(const facet::Scene& s) {
       return "lights[" + std::to_string(i) + "]: linear range attenuation is not OpenGL 2.1";
   }
   if (s.lights.size() > 8) return "more than 8 lights (GL_MAX_LIGHTS)";
+  if (const std::string why = per_pixel_incompatibility(s, phong); !why.empty()) return why;
   for (std::size_t i = 0; i < s.materials.size(); ++i) {
     const facet::Material& m = s.materials[i];
     if (m.shininess > 128) return "materials[" + std::to_string(i) + "]: shininess above 128 (GL's limit)";
@@ -186,6 +257,8 @@ struct GlScene {
   std::vector<GLuint> environment;          // per material: its environment unit's texture, 0: none
   std::vector<std::vector<float>> colours;  // per object, empty without vertex colours
   std::vector<std::size_t> order;           // the objects in facet's drawing order (facet::draw_order)
+  GLuint projector = 0;                     // --shading phong: the projector's picture (unit 3), 0: none
+  std::vector<std::vector<float>> dot3;     // --shading phong: per object, the tangent-space light vector as RGBA colours
 };
 
 void gl_sampling(const facet::Texture& t) {
@@ -201,7 +274,60 @@ void gl_sampling(const facet::Texture& t) {
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
 }
 
-GlScene gl_prepare(const facet::Scene& s) {
+// --shading phong (per_pixel_incompatibility has let the scene through): the projector's picture,
+// level 0 as facet reads it, clamped to a black border (facet: no light outside [0, 1]); a gobo
+// as the picture's luminance. DOT3: per vertex, the light vector in the tangent frame facet maps
+// normals with (t, w n x t, n; world space) as the colour 1/2 + l/2.
+void gl_prepare_per_pixel(const facet::Scene& s, GlScene& g) {
+  const facet::Light* light = only_light(s);
+  if (light && has_projector(s)) {
+    const facet::Texture& t = s.textures[static_cast<std::size_t>(light->projector.texture)];
+    const facet::TextureLevel& l = t.levels[0];
+    const auto* from = reinterpret_cast<const std::uint8_t*>(t.texels.data() + l.offset);
+    const std::size_t n = static_cast<std::size_t>(l.width) * static_cast<std::size_t>(l.height);
+    std::vector<std::uint8_t> texels(from, from + 4 * n);
+    if (light->projector.mode == facet::ProjectorMode::gobo) {
+      for (std::size_t k = 0; k < n; ++k) {
+        std::uint8_t* p = texels.data() + 4 * k;
+        const auto y = static_cast<std::uint8_t>(std::lround(0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]));
+        p[0] = p[1] = p[2] = y;
+      }
+    }
+    glGenTextures(1, &g.projector);
+    glBindTexture(GL_TEXTURE_2D, g.projector);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    const GLint format = t.encoding == facet::TextureEncoding::srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8;
+    glTexImage2D(GL_TEXTURE_2D, 0, format, l.width, l.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
+    const bool nearest = t.filter == facet::TextureFilter::nearest;
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, nearest ? GL_NEAREST : GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, nearest ? GL_NEAREST : GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+    const GLfloat black[4] = {0, 0, 0, 1};
+    glTexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, black);
+  }
+  g.dot3.assign(s.objects.size(), {});
+  if (!light || light->type != facet::LightType::directional) return;
+  const Eigen::Vector3d to_light = -light->direction.cast<double>().normalized();
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    const facet::Instance& o = s.objects[i];
+    const facet::Mesh& mesh = s.meshes[o.mesh].mesh;
+    if (s.materials[o.material].normal_texture == facet::kNoTexture || mesh.tangents.size() != mesh.positions.size()) continue;
+    const Eigen::Matrix3d m = o.model.topLeftCorner<3, 3>().cast<double>();
+    const Eigen::Matrix3d normal_matrix = m.inverse().transpose();
+    std::vector<float>& c = g.dot3[i];
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+      const Eigen::Vector3d n = (normal_matrix * mesh.normals[v].cast<double>()).normalized();
+      const Eigen::Vector3d t = (m * mesh.tangents[v].head<3>().cast<double>()).normalized();
+      const Eigen::Vector3d b = double(mesh.tangents[v].w()) * n.cross(t);
+      const Eigen::Vector3d l(to_light.dot(t), to_light.dot(b), to_light.dot(n));
+      c.insert(c.end(), {float(0.5 + 0.5 * l.x()), float(0.5 + 0.5 * l.y()), float(0.5 + 0.5 * l.z()), 1.0f});
+    }
+  }
+}
+
+GlScene gl_prepare(const facet::Scene& s, bool phong) {
   GlScene g;
   g.textures.resize(s.textures.size());
   if (!g.textures.empty()) glGenTextures(static_cast<GLsizei>(g.textures.size()), g.textures.data());
@@ -300,6 +426,7 @@ GlScene gl_prepare(const facet::Scene& s) {
     glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     if (cube) glTexParameteri(target, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
   }
+  if (phong) gl_prepare_per_pixel(s, g);
   g.order = facet::draw_order(s);
   for (const auto& o : s.objects) {
     const facet::Mesh& mesh = s.meshes[o.mesh].mesh;
@@ -319,6 +446,8 @@ void gl_release(GlScene& g) {
   for (GLuint& t : g.environment)
     if (t) glDeleteTextures(1, &t);
   g.environment.clear();
+  if (g.projector) glDeleteTextures(1, &g.projector);
+  g.projector = 0;
 }
 
 // Texture unit 1: the environment map through texgen (GL 2.1 §2.11.4), or off.
@@ -437,6 +566,109 @@ void gl_surface(const facet::Scene& s, const GlScene& g, std::size_t object) {
   }
 }
 
+// Texture unit 3: the projector (GL's projected texture: eye-linear texgen whose planes, given
+// under the view matrix, generate world coordinates; the texture matrix takes them into the
+// light's view, (s q, t q, 0, q) = (x / (2 tan c) + q / 2, y / (2 tan c) + q / 2, 0, -z), facet's
+// s = 1/2 + x / (2 |z| tan c) after the division), modulating the whole fragment; or off.
+void gl_projector(const facet::Scene& s, const GlScene& g) {
+  glActiveTexture(GL_TEXTURE3);
+  const GLenum coords[4] = {GL_S, GL_T, GL_R, GL_Q};
+  const GLenum gens[4] = {GL_TEXTURE_GEN_S, GL_TEXTURE_GEN_T, GL_TEXTURE_GEN_R, GL_TEXTURE_GEN_Q};
+  if (!g.projector) {
+    glDisable(GL_TEXTURE_2D);
+    for (GLenum c : gens) glDisable(c);
+    glActiveTexture(GL_TEXTURE0);
+    return;
+  }
+  const facet::Light& light = *only_light(s);
+  glEnable(GL_TEXTURE_2D);
+  glBindTexture(GL_TEXTURE_2D, g.projector);
+  glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+  for (int k = 0; k < 4; ++k) {
+    GLfloat plane[4] = {0, 0, 0, 0};
+    plane[k] = 1;
+    glTexGeni(coords[k], GL_TEXTURE_GEN_MODE, GL_EYE_LINEAR);
+    glTexGenfv(coords[k], GL_EYE_PLANE, plane);  // the modelview is the view: world coordinates
+    glEnable(gens[k]);
+  }
+  // The light's view: looking along its direction, world +y up (+x within 8 degrees of the
+  // vertical), as facet's spot shadow maps and projectors.
+  const Eigen::Vector3d f = light.direction.cast<double>().normalized();
+  const Eigen::Vector3d up = std::abs(f.y()) < 0.99 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d side = f.cross(up).normalized(), u = side.cross(f);
+  const Eigen::Vector3d eye = light.position.cast<double>();
+  Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
+  view.block<1, 3>(0, 0) = side.transpose();
+  view.block<1, 3>(1, 0) = u.transpose();
+  view.block<1, 3>(2, 0) = -f.transpose();
+  view(0, 3) = -side.dot(eye), view(1, 3) = -u.dot(eye), view(2, 3) = f.dot(eye);
+  const double a = 0.5 / std::tan(std::min(double(light.spot_cutoff_deg), 89.0) * 3.14159265358979323846 / 180.0);
+  Eigen::Matrix4d bias = Eigen::Matrix4d::Zero();
+  bias(0, 0) = a, bias(0, 2) = -0.5;
+  bias(1, 1) = a, bias(1, 2) = -0.5;
+  bias(3, 2) = -1;
+  const Eigen::Matrix4f texture = (bias * view).cast<float>();
+  glMatrixMode(GL_TEXTURE);
+  glLoadMatrixf(texture.data());
+  glMatrixMode(GL_MODELVIEW);
+  glActiveTexture(GL_TEXTURE0);
+}
+
+// DOT3 bump mapping for a normal-mapped object (--shading phong): unlit, the vertex colour the
+// tangent-space light vector (gl_prepare_per_pixel); unit 0 dots it with the normal map
+// (4 ((r0 - 1/2)(r1 - 1/2) + ...), clamped to [0, 1]), unit 1 multiplies by the material's diffuse
+// times the light's. Returns false (GL state untouched) for other objects.
+bool gl_dot3(const facet::Scene& s, const GlScene& g, std::size_t object) {
+  if (g.dot3.empty() || g.dot3[object].empty()) {
+    glEnable(GL_LIGHTING);
+    return false;
+  }
+  const facet::Instance& o = s.objects[object];
+  const facet::Material& m = s.materials[o.material];
+  const facet::Mesh& mesh = s.meshes[o.mesh].mesh;
+  const facet::Light& light = *only_light(s);
+  glDisable(GL_LIGHTING);
+  glDisable(GL_COLOR_MATERIAL);
+  glEnableClientState(GL_COLOR_ARRAY);
+  glColorPointer(4, GL_FLOAT, 0, g.dot3[object].data());
+  const GLuint map = g.textures[static_cast<std::size_t>(m.normal_texture)];
+  for (GLenum unit : {GL_TEXTURE0, GL_TEXTURE1}) {
+    glActiveTexture(unit);
+    glClientActiveTexture(unit);
+    for (GLenum c : {GL_TEXTURE_GEN_S, GL_TEXTURE_GEN_T, GL_TEXTURE_GEN_R, GL_TEXTURE_GEN_Q}) glDisable(c);
+    glDisable(GL_TEXTURE_CUBE_MAP);
+    glEnable(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, map);  // unit 1 reads no texel, but a unit without a texture is off
+    glMatrixMode(GL_TEXTURE);
+    glLoadIdentity();
+    glScalef(m.uv_scale.x(), m.uv_scale.y(), 1.0f);
+    glMatrixMode(GL_MODELVIEW);
+    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+    glTexCoordPointer(2, GL_FLOAT, sizeof(facet::Vec2), mesh.uvs.data());
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, GL_REPLACE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA, GL_PRIMARY_COLOR);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, GL_SRC_ALPHA);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB, GL_SRC_COLOR);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_RGB, GL_SRC_COLOR);
+    if (unit == GL_TEXTURE0) {
+      glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, GL_DOT3_RGB);
+      glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_RGB, GL_TEXTURE);
+      glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_RGB, GL_PRIMARY_COLOR);
+    } else {
+      glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, GL_MODULATE);
+      glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_RGB, GL_PREVIOUS);
+      glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_RGB, GL_CONSTANT);
+      const facet::Color3 k = m.diffuse.cwiseProduct(light.diffuse).cwiseMin(1.0f);
+      const GLfloat constant[4] = {k.x(), k.y(), k.z(), 1};
+      glTexEnvfv(GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, constant);
+    }
+  }
+  glActiveTexture(GL_TEXTURE0);
+  glClientActiveTexture(GL_TEXTURE0);
+  return true;
+}
+
 // Draws the scene with fixed-function OpenGL into the current OSMesa buffer.
 void gl_draw(const facet::Scene& s, const GlScene& g, int w, int h) {
   glViewport(0, 0, w, h);
@@ -504,12 +736,14 @@ void gl_draw(const facet::Scene& s, const GlScene& g, int w, int h) {
       glLightf(id, GL_SPOT_CUTOFF, 180);
     }
   }
+  gl_projector(s, g);  // with the view as the modelview
   glEnableClientState(GL_VERTEX_ARRAY);
   glEnableClientState(GL_NORMAL_ARRAY);
   for (const std::size_t i : g.order) {  // as facet draws them (the scene's transparent order)
     const facet::Instance& o = s.objects[i];
     const facet::Material& m = s.materials[o.material];
     gl_surface(s, g, i);
+    gl_dot3(s, g, i);
     // Emission after the texture comes from texture unit 2 (gl_surface).
     gl_colour(GL_FRONT_AND_BACK, GL_EMISSION, facet::adds_emission_after_texture(m) ? facet::Color3::Zero() : m.emissive, m.alpha, true);
     gl_colour(GL_FRONT_AND_BACK, GL_AMBIENT, m.ambient, m.alpha, true);
@@ -606,7 +840,7 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
   // back after the timed rounds; facet encodes its linear result once when it stores it.
   SrgbTarget srgb_target;
   if (opt.srgb && !srgb_target.make(w, h)) return false;
-  GlScene g = gl_prepare(scene);
+  GlScene g = gl_prepare(scene, opt.phong);
   // facet, into the same layout (OSMesa's buffer is bottom row first: y_up).
   std::vector<std::uint8_t> facet_pixels(static_cast<std::size_t>(w * h * 4));
   std::vector<float> facet_depth(static_cast<std::size_t>(w * h));
@@ -616,6 +850,7 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
   ro.threads = opt.threads;
   ro.srgb = opt.srgb;
   ro.depth = facet::DepthMode::gl;  // GL's window depth, compared with llvmpipe's
+  if (opt.phong) ro.shading = facet::ShadingMode::phong;
   facet::Renderer renderer(ro);
   facet::Status status;
   // The two renderers take turns (three rounds when timed), and each reports its median round:
@@ -721,8 +956,16 @@ int main(int argc, char** argv) {
     else if (a == "--json") opt.json = next();
     else if (a == "--lights") opt.lights = std::atoi(next());
     else if (a == "--srgb") opt.srgb = true;
+    else if (a == "--shading") {
+      const std::string v = next();
+      if (v != "gouraud" && v != "phong") {
+        std::fprintf(stderr, "facet_vs_llvmpipe: --shading gouraud|phong\n");
+        return 2;
+      }
+      opt.phong = v == "phong";
+    }
     else if (a == "-h" || a == "--help") {
-      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--rounds] [--filter TEXT] [--json FILE] [--lights N] [--srgb] [SCENE.json ...]");
+      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--rounds] [--filter TEXT] [--json FILE] [--lights N] [--srgb] [--shading gouraud|phong] [SCENE.json ...]");
       return 0;
     } else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "facet_vs_llvmpipe: unknown option %s\n", a.c_str());
@@ -876,15 +1119,16 @@ int main(int argc, char** argv) {
     }
   }
 
-  std::printf("facet vs llvmpipe (OSMesa), %dx%d, %d thread%s each, Gouraud, depth test, back faces culled\n\n",
-              opt.width, opt.height, opt.threads, opt.threads == 1 ? "" : "s");
+  std::printf("facet vs llvmpipe (OSMesa), %dx%d, %d thread%s each, %s, depth test, back faces culled\n\n",
+              opt.width, opt.height, opt.threads, opt.threads == 1 ? "" : "s",
+              opt.phong ? "facet Phong (per pixel), GL Gouraud" : "Gouraud");
   std::printf("%-22s %10s %12s %12s %8s %10s %10s %9s   %s\n", "scene", "triangles", "facet ms", "llvmpipe ms", "ratio",
               "mean diff", "within 2", "PSNR dB", "pixels by largest difference: 0 / 1 / 2 / 3-4 / 5-8 / >8 steps");
   bool ok = true;
   std::string json = "[";
   for (auto& [name, scene] : cases) {
     if (!opt.filter.empty() && name.find(opt.filter) == std::string::npos) continue;
-    if (const std::string why = gl_incompatibility(scene); !why.empty()) {
+    if (const std::string why = gl_incompatibility(scene, opt.phong); !why.empty()) {
       std::printf("%-22s skipped: %s\n", name.c_str(), why.c_str());
       continue;
     }
