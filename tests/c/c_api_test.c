@@ -399,7 +399,8 @@ int main(void) {
   config.shading = (facet_shading)9;
   CHECK(facet_renderer_create(&config, &status) == NULL && status == FACET_INVALID_ARGUMENT);
   config = facet_render_config_default();
-  CHECK(config.pow_tier == FACET_POW_AUTO && config.cull_lights == 1 && config.light_every_vertex == 0 && config.hdr == 0);
+  CHECK(config.pow_tier == FACET_POW_AUTO && config.cull_lights == 1 && config.light_every_vertex == 0 && config.hdr == 0 &&
+        config.vertex_relief == 0);
   config.pow_tier = (facet_pow_tier)5;
   CHECK(facet_renderer_create(&config, &status) == NULL && status == FACET_INVALID_ARGUMENT);
   config.pow_tier = FACET_POW_SCHLICK;
@@ -407,6 +408,42 @@ int main(void) {
     facet_renderer* schlick = facet_renderer_create(&config, &status);
     CHECK(schlick != NULL && status == FACET_OK);
     facet_renderer_destroy(schlick);
+  }
+  /* Per-vertex relief: a quad under a one-texel normal map tilted towards +x, lit from +x; Gouraud
+   * ignores the map unless vertex_relief is set, then the quad is brighter. */
+  {
+    facet_scene* s = facet_scene_create();
+    const float quad[] = {-5, -5, -3, 5, -5, -3, 5, 5, -3, -5, 5, -3};
+    const uint32_t tris[] = {0, 1, 2, 0, 2, 3};
+    const float uvs[] = {0, 0, 1, 0, 1, 1, 0, 1};
+    const unsigned char tilted[4] = {220, 128, 200, 255};
+    uint32_t q = 0, tex = 0, mat = 0;
+    CHECK(facet_scene_add_mesh(s, quad, 4, NULL, tris, 2, &q) == FACET_OK);
+    CHECK(facet_scene_set_mesh_uvs(s, q, uvs) == FACET_OK);
+    CHECK(facet_scene_generate_tangents(s, q) == FACET_OK);
+    CHECK(facet_scene_add_texture_rgba8(s, tilted, 1, 1, FACET_NEAREST, FACET_WRAP_REPEAT, &tex) == FACET_OK);
+    facet_material bumpy = facet_material_default();
+    bumpy.normal_texture = (int32_t)tex;
+    CHECK(facet_scene_add_material(s, &bumpy, &mat) == FACET_OK);
+    CHECK(facet_scene_add_object(s, q, mat, NULL, NULL) == FACET_OK);
+    facet_light from_x = facet_light_default();
+    from_x.direction[0] = -1, from_x.direction[1] = 0, from_x.direction[2] = -0.3f;
+    CHECK(facet_scene_add_light(s, &from_x, NULL) == FACET_OK);
+    facet_camera cam = facet_camera_default();
+    cam.eye[0] = cam.eye[1] = cam.eye[2] = 0;
+    cam.target[0] = 0, cam.target[1] = 0, cam.target[2] = -1;
+    CHECK(facet_scene_set_camera(s, &cam) == FACET_OK);
+    static unsigned char plain[8 * 8 * 4], relief[8 * 8 * 4];
+    facet_render_config rc = facet_render_config_default();
+    facet_renderer* r = facet_renderer_create(&rc, NULL);
+    CHECK(facet_render(r, s, plain, 8, 8, 8 * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
+    facet_renderer_destroy(r);
+    rc.vertex_relief = 1;
+    r = facet_renderer_create(&rc, NULL);
+    CHECK(facet_render(r, s, relief, 8, 8, 8 * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
+    facet_renderer_destroy(r);
+    CHECK(relief[4 * 36] > plain[4 * 36] + 20);
+    facet_scene_destroy(s);
   }
   light.type = (facet_light_type)-3;
   CHECK(facet_scene_add_light(scene, &light, NULL) == FACET_INVALID_ARGUMENT);

@@ -184,7 +184,7 @@ int light(const LightState& st) {
 struct CheckState {
   std::string scene_path, shading = "gouraud", shadows, transparent_order, output, depth, depth_mode = "auto";
   int width = 1280, height = 720, memory_mb = -1;
-  bool allow_missing = false;
+  bool allow_missing = false, vertex_relief = false;
   std::vector<std::string> allow_paths;
   ViewState view;
 };
@@ -214,6 +214,7 @@ Command add_check(CLI::App& facet) {
   app->add_option("--transparent-order", st->transparent_order, kTransparentOrderHelp)
       ->check(one_of({"submission", "back_to_front"}, "order"));
   app->add_option("--memory-budget-mb", st->memory_mb, "as for 'facet render' (default 4096; 0 = no limit)")->check(int_in(0, 1 << 30));
+  app->add_flag("--vertex-relief", st->vertex_relief, "as for 'facet render': Gouraud reads normal and bump maps per vertex");
   app->add_flag("--allow-missing", st->allow_missing, "a model's missing .mtl or texture files are warnings, not errors");
   app->add_option("--allow-path", st->allow_paths, kAllowPathHelp);
   add_view_options(app, st->view);
@@ -247,6 +248,7 @@ int check(const CheckState& st) {
   const int width = st.width, height = st.height;
   RenderOptions options;
   options.shading = *parse_shading(st.shading);
+  options.vertex_relief = st.vertex_relief;
   if (st.memory_mb >= 0) options.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
   options.depth = st.depth_mode == "gl" ? DepthMode::gl : st.depth_mode == "reversed" ? DepthMode::reversed : DepthMode::automatic;
   const std::string ext = st.output.empty() ? ".png" : lower_extension(st.output);
@@ -395,8 +397,10 @@ int check(const CheckState& st) {
                 "tangent space (MikkTSpace where the file has no tangents); %s%s\n",
                 normal_mapped, occluded, bumped,
                 options.shading == ShadingMode::phong ? "lit per pixel"
-                                                      : "NOT applied: normal, occlusion and bump maps are lit per pixel, use --shading phong "
-                                                        "(bump maps move 2D environment maps per vertex)",
+                : options.shading == ShadingMode::gouraud && options.vertex_relief
+                    ? "normal and bump maps perturb the vertex normals (--vertex-relief; occlusion maps are lit per pixel only)"
+                    : "NOT applied: normal, occlusion and bump maps are lit per pixel, use --shading phong, or "
+                      "--vertex-relief with Gouraud (bump maps move 2D environment maps per vertex)",
                 coloured > 0 ? "; not applied to objects with vertex colours" : "");
   }
   std::size_t projectors = 0;

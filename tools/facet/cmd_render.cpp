@@ -183,7 +183,7 @@ struct RenderState {
   std::vector<std::string> allow_paths;
   ViewState view;
   bool stats = false, json = false, allow_missing = false, hdr = false, srgb = false, no_light_culling = false,
-       light_every_vertex = false;
+       light_every_vertex = false, vertex_relief = false;
 };
 
 int render(const RenderState& st);
@@ -223,6 +223,9 @@ Command add_render(CLI::App& facet) {
   app->add_flag("--no-light-culling", st->no_light_culling, "light every object with every enabled light (frame plan off)")->group(draw);
   app->add_flag("--light-every-vertex", st->light_every_vertex,
                 "also light vertices only culled or off-screen triangles use (same image; for measurements)")->group(draw);
+  app->add_flag("--vertex-relief", st->vertex_relief,
+                "Gouraud: light vertex normals perturbed by normal and bump maps (default: maps per pixel in Phong only)")
+      ->group(draw);
   const char* how = "Lighting path";
   app->add_option("--path", st->path, "reference | scalar | simd (default simd)")
       ->check(one_of({"reference", "scalar", "simd"}, "path"))->group(how);
@@ -283,6 +286,7 @@ int render(const RenderState& st) {
   options.srgb = st.srgb;
   options.cull_lights = !st.no_light_culling;
   options.light_every_vertex = st.light_every_vertex;
+  options.vertex_relief = st.vertex_relief;
   if (!st.clear.empty()) {
     const std::string* v = &st.clear;
     std::array<float, 4> c{0.0f, 0.0f, 0.0f, 1.0f};

@@ -103,6 +103,10 @@ typedef struct facet_render_config {
    * float: no z-fighting at near / far ratios like 0.05 / 1e6; the depth output is near / w, 1 at
    * the near plane, 0 at infinity). A camera's far_plane may be INFINITY: an infinite projection. */
   facet_depth_mode depth_mode;
+  /* non-zero: Gouraud lights each vertex of a normal- or bump-mapped object with its normal
+   * perturbed by the maps (read at the vertex, prefiltered to the mesh's triangle size); 0
+   * (default, GL's fixed function): the maps are read per pixel in Phong only. */
+  int vertex_relief;
 } facet_render_config;
 
 /* The specular lobe (facet::SpecularModel): Blinn's n.h (GL's) or Phong's R.V. */

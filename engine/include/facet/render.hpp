@@ -82,6 +82,12 @@ struct RenderOptions {
   // triangle). The image is the same bytes either way (FrameStats::vertices_skipped counts the
   // difference); true is for measurements.
   bool light_every_vertex = false;
+  // Gouraud with normal and bump maps: false (GL's fixed function, the default) lights the vertex
+  // normals and ignores the maps; true lights each vertex with its normal perturbed by them, read
+  // at the vertex's texture coordinates at the one mipmap level whose texels are about the size of
+  // the mesh's triangles (docs/relief.md, "Per-vertex relief"). Flat shading ignores the maps
+  // either way; Phong applies them per pixel either way.
+  bool vertex_relief = false;
   // The most memory one frame may take in the renderer's own scratch (transformed vertices,
   // triangle records, bins, per-thread tiles; not the caller's scene or image), estimated from
   // the scene before anything is allocated (estimate_frame_bytes). A frame over it is refused with

@@ -129,6 +129,7 @@ inline bool to_options(const facet_render_config& c, facet::RenderOptions& o, st
   o.hdr = c.hdr != 0;
   o.cull_lights = c.cull_lights != 0;
   o.light_every_vertex = c.light_every_vertex != 0;
+  o.vertex_relief = c.vertex_relief != 0;
   o.shading = shading[shading_i];
   o.path = path[path_i];
   o.isa = isa[isa_i];

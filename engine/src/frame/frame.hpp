@@ -117,6 +117,7 @@ struct Renderer::Impl {
     std::vector<Vec3> eye_p, eye_n, centroid, face_normal;
     std::vector<Vec3> eye_t;          // Phong with a normal map: the tangents in eye space
     std::vector<float> tangent_sign;  // and their w, negated by a mirroring model matrix
+    std::vector<Vec3> relief_normals; // Gouraud with RenderOptions::vertex_relief: the perturbed normals
     std::array<std::vector<float>, raster::kGeneratedVaryings.size()> generated;  // raster::kGeneratedVaryings at each vertex
     // Gouraud: 1 for a vertex of a triangle that may be drawn (or clipped; marked by
     // raster::place_range), and per vertex chunk the list of those vertices.
@@ -146,6 +147,7 @@ struct Renderer::Impl {
   bool simd_raster = true;  // the simd path rasterizes with the SIMD kernels
   const raster::simd::Kernels* simd_kernels = nullptr;  // its ISA's, when simd_raster
   bool light_every_vertex = false;  // RenderOptions::light_every_vertex
+  bool vertex_relief = false;       // RenderOptions::vertex_relief
   FrameStats stats;
   FrameStats last_stats;  // of the last successful render
   // Progress and cancellation (RenderOptions::progress): work units are vertex chunks, set-up

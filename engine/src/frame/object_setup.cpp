@@ -7,6 +7,7 @@
 
 #include "frame/frame.hpp"
 #include "lighting/setup.hpp"
+#include "frame/vertex_relief.hpp"
 #include "pixel/stages.hpp"
 
 namespace facet {
@@ -278,6 +279,26 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
     // their vertices (raster::place_range, ranges in parallel), then they are listed per vertex
     // chunk. A vertex's colour does not depend on its batch or its neighbours, so the image is
     // the same as with every vertex lit; assemble_object() finishes the placed triangles.
+    // Per-vertex relief: the normals the maps perturb, for the vertices lit.
+    const Material& m = scene.materials[unit.material];
+    const bool relief = vertex_relief && !kind.plain() && (m.normal_texture != kNoTexture || m.bump_texture != kNoTexture) &&
+                        !lf.color_material && mesh.tangents.size() == n && mesh.uvs.size() == n && n > 0;
+    frame::VertexRelief vr;
+    if (relief) {
+      vr.uv_scale[0] = m.uv_scale.x(), vr.uv_scale[1] = m.uv_scale.y();
+      if (m.normal_texture != kNoTexture) {
+        vr.normal_map = &samplers.as_made[static_cast<std::size_t>(m.normal_texture)];
+        vr.normal_scale = m.normal_scale;
+      }
+      if (m.bump_texture != kNoTexture) {
+        vr.bump_map = &samplers.as_made[static_cast<std::size_t>(m.bump_texture)];
+        vr.bump_scale = m.bump_scale;
+        vr.bump_du = 1.0f / vr.bump_map->lod_width, vr.bump_dv = 1.0f / vr.bump_map->lod_height;
+      }
+      vr.lod = frame::vertex_relief_lod(mesh, vr.normal_map ? *vr.normal_map : *vr.bump_map, vr.uv_scale);
+      os.relief_normals.resize(n);
+    }
+    const Vec3* normals = relief ? os.relief_normals.data() : nullptr;
     const std::uint32_t* index = nullptr;
     std::atomic<std::size_t> listed{0};  // vertices lit
     if (!light_every_vertex) {
@@ -301,11 +322,17 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
         end = begin + count;
       }
       listed.fetch_add(end - begin, std::memory_order_relaxed);
+      if (relief) {
+        for (std::size_t k = begin; k != end; ++k) {
+          const std::size_t v = index ? index[k] : k;
+          os.relief_normals[v] = frame::vertex_relief_normal(vr, mesh, v);
+        }
+      }
       shader.light_mesh(mesh, view, inst.model, false, begin, end, front.data(), soa,
-                        split ? os.front_spec.data() : nullptr, index);
+                        split ? os.front_spec.data() : nullptr, index, normals);
       if (two_sided) {
         shader.light_mesh(mesh, view, inst.model, true, begin, end, back.data(), soa,
-                          split ? os.back_spec.data() : nullptr, index);
+                          split ? os.back_spec.data() : nullptr, index, normals);
       }
     });
     const std::size_t lit_vertices = listed.load(std::memory_order_relaxed);

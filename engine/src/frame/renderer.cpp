@@ -196,6 +196,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     }
   }
   light_every_vertex = options.light_every_vertex;
+  vertex_relief = options.vertex_relief;
   frame::make_samplers(scene, samplers);
   simd_raster = options.path == LightingPath::simd;
   simd_kernels = simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr;

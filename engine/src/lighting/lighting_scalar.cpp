@@ -5,7 +5,7 @@
 
 namespace facet::lighting {
 template void light_mesh<float>(const ShadeParams<float>&, const EyeTransform<float>&, const Mesh&, bool, std::size_t,
-                                 std::size_t, Color3*, Color3*, const std::uint32_t*);
+                                 std::size_t, Color3*, Color3*, const std::uint32_t*, const Vec3*);
 template void shade_points<float>(const ShadeParams<float>&, std::size_t, const Vec3*, const Vec3*, const Color3*, Color3*,
                                  Color3*, const float*, int, const float*, const float*, int);
 }  // namespace facet::lighting

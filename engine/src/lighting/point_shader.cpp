@@ -287,15 +287,15 @@ void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd:
 
 void PointShader::light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, bool back_side,
                              std::size_t begin, std::size_t end, Color3* out, SoaScratch& scratch,
-                             Color3* secondary, const std::uint32_t* index) const {
+                             Color3* secondary, const std::uint32_t* index, const Vec3* normals) const {
   switch (path_) {
     case LightingPath::reference:
       lighting::light_mesh(reference_, make_eye_transform<double>(view, model), mesh, back_side, begin, end, out,
-                           secondary, index);
+                           secondary, index, normals);
       return;
     case LightingPath::scalar:
       lighting::light_mesh(scalar_, make_eye_transform<float>(view, model), mesh, back_side, begin, end, out, secondary,
-                           index);
+                           index, normals);
       return;
     case LightingPath::simd: break;
   }
@@ -309,12 +309,13 @@ void PointShader::light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, cons
   for (int k = 0; k < 9; ++k) xf.normal[k] = static_cast<float>(ed.normal[k]);
   const float sign = back_side ? -1.0f : 1.0f;
   const Color3* albedo = features_.color_material ? mesh.colors.data() : nullptr;
+  if (!normals) normals = mesh.normals.data();
   if (index) {
-    run_simd(simd_shade_, simd_params_, &xf, end - begin, mesh.positions.data(), mesh.normals.data(), sign, albedo, out,
+    run_simd(simd_shade_, simd_params_, &xf, end - begin, mesh.positions.data(), normals, sign, albedo, out,
              secondary, scratch, index + begin);
     return;
   }
-  run_simd(simd_shade_, simd_params_, &xf, end - begin, mesh.positions.data() + begin, mesh.normals.data() + begin, sign,
+  run_simd(simd_shade_, simd_params_, &xf, end - begin, mesh.positions.data() + begin, normals + begin, sign,
            albedo ? albedo + begin : nullptr, out + begin, secondary ? secondary + begin : nullptr, scratch);
 }
 

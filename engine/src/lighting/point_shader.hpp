@@ -47,7 +47,7 @@ class PointShader {
   // `index`, lights vertices index[begin, end) instead (out and secondary still indexed by vertex).
   void light_mesh(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, bool back_side, std::size_t begin,
                   std::size_t end, Color3* out, SoaScratch& scratch, Color3* secondary = nullptr,
-                  const std::uint32_t* index = nullptr) const;
+                  const std::uint32_t* index = nullptr, const Vec3* normals = nullptr) const;
 
   // Lights `count` eye-space points (albedo read with color_material, secondary written with
   // separate_specular, each point's ambient occlusion read with LightingFeatures::occlusion).

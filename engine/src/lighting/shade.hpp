@@ -186,18 +186,20 @@ struct EyeTransform {
 
 // Transforms and lights vertices [begin, end) of `mesh`; writes colour i to out[i] (and, with
 // separate_specular, the secondary colour to secondary[i]). colour_material reads mesh.colors.
-// With `index`, vertices index[begin, end) instead.
+// With `index`, vertices index[begin, end) instead. `normals` (one per mesh vertex) replaces
+// mesh.normals when given (per-vertex relief).
 template <class T>
 void light_mesh(const ShadeParams<T>& sp, const EyeTransform<T>& xf, const Mesh& mesh, bool back_side,
                 std::size_t begin, std::size_t end, Color3* out, Color3* secondary,
-                const std::uint32_t* index = nullptr) {
+                const std::uint32_t* index = nullptr, const Vec3* normals = nullptr) {
+  if (!normals) normals = mesh.normals.data();
   const T* m = xf.position;
   const T* nm = xf.normal;
   const T sign = back_side ? T(-1) : T(1);
   for (std::size_t k = begin; k < end; ++k) {
     const std::size_t i = index ? index[k] : k;
     const T px = T(mesh.positions[i].x()), py = T(mesh.positions[i].y()), pz = T(mesh.positions[i].z());
-    const T nx = sign * T(mesh.normals[i].x()), ny = sign * T(mesh.normals[i].y()), nz = sign * T(mesh.normals[i].z());
+    const T nx = sign * T(normals[i].x()), ny = sign * T(normals[i].y()), nz = sign * T(normals[i].z());
     const V3<T> p{m[0] * px + m[1] * py + m[2] * pz + m[3], m[4] * px + m[5] * py + m[6] * pz + m[7],
                   m[8] * px + m[9] * py + m[10] * pz + m[11]};
     const V3<T> n{nm[0] * nx + nm[1] * ny + nm[2] * nz, nm[3] * nx + nm[4] * ny + nm[5] * nz,
@@ -239,9 +241,9 @@ void shade_points(const ShadeParams<T>& sp, std::size_t count, const Vec3* p_eye
 
 // Each precision is instantiated in exactly one file, with that file's compile flags.
 extern template void light_mesh<double>(const ShadeParams<double>&, const EyeTransform<double>&, const Mesh&, bool,
-                                        std::size_t, std::size_t, Color3*, Color3*, const std::uint32_t*);
+                                        std::size_t, std::size_t, Color3*, Color3*, const std::uint32_t*, const Vec3*);
 extern template void light_mesh<float>(const ShadeParams<float>&, const EyeTransform<float>&, const Mesh&, bool,
-                                       std::size_t, std::size_t, Color3*, Color3*, const std::uint32_t*);
+                                       std::size_t, std::size_t, Color3*, Color3*, const std::uint32_t*, const Vec3*);
 extern template void shade_points<double>(const ShadeParams<double>&, std::size_t, const Vec3*, const Vec3*,
                                           const Color3*, Color3*, Color3*, const float*, int, const float*, const float*, int);
 extern template void shade_points<float>(const ShadeParams<float>&, std::size_t, const Vec3*, const Vec3*,
