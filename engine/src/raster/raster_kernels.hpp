@@ -162,6 +162,10 @@ using ResolveTileFunction = void (*)(const TileView&, int x0, int y0, int x1, in
 // The ISA's texture sampler on planar streams: in = u, v, ds/dx, dt/dx, ds/dy, dt/dy; out = R, G, B, A.
 using SampleTextureFunction = void (*)(const texture::Sampler&, std::size_t count, const float* const* in,
                                        float* const* out);
+// The 16-bit tier's fixed-point sampler (texture/sample_fixed_simd.hpp) on the same inputs: packed
+// RGBA8 per sample, the bytes sample_fixed_scalar returns.
+using SampleFixedFunction = void (*)(const texture::Sampler&, std::size_t count, const float* const* in,
+                                     std::uint32_t* out);
 
 // geometry::transform_vertices on the ISA (bit-identical to it); positions are xyz triples.
 using TransformFunction = void (*)(const geometry::Mat4Rows&, const float* positions, std::size_t begin, std::size_t end,
@@ -200,6 +204,7 @@ struct Kernels {
   TransformFunction transform;
   PlaceFunction place;
   shadow::MapVisibilityFunction shadow_map;
+  SampleFixedFunction sample_fixed;
 };
 
 namespace sse2 {
@@ -209,6 +214,7 @@ void place_triangles(const std::uint32_t*, const geometry::ScreenVertex*, const 
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
+void sample_fixed(const texture::Sampler&, std::size_t, const float* const*, std::uint32_t*);
 void shadow_map(const shadow::MapLookup&, std::size_t, const float*, const float*, const float*, const float*,
                 const float*, const float*, std::size_t, float*);
 }  // namespace sse2
@@ -219,6 +225,7 @@ void place_triangles(const std::uint32_t*, const geometry::ScreenVertex*, const 
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
+void sample_fixed(const texture::Sampler&, std::size_t, const float* const*, std::uint32_t*);
 void shadow_map(const shadow::MapLookup&, std::size_t, const float*, const float*, const float*, const float*,
                 const float*, const float*, std::size_t, float*);
 }  // namespace avx2
@@ -229,6 +236,7 @@ void place_triangles(const std::uint32_t*, const geometry::ScreenVertex*, const 
 void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
+void sample_fixed(const texture::Sampler&, std::size_t, const float* const*, std::uint32_t*);
 void shadow_map(const shadow::MapLookup&, std::size_t, const float*, const float*, const float*, const float*,
                 const float*, const float*, std::size_t, float*);
 }  // namespace avx512

@@ -11,6 +11,7 @@
 #include "raster/raster_simd.hpp"
 #include "raster/resolve_simd.hpp"
 #include "shadow/map_simd.hpp"
+#include "texture/sample_fixed_simd.hpp"
 #include "texture/sample_simd.hpp"
 
 namespace facet::raster::simd::avx512 {
@@ -37,6 +38,9 @@ void resolve_tile(const TileView& tile, int x0, int y0, int x1, int y1, const Im
 }
 void sample_texture(const texture::Sampler& sampler, std::size_t count, const float* const* in, float* const* out) {
   texture::simd::SampleSimd<xsimd::avx512bw>::sample_streams(sampler, count, in, out);
+}
+void sample_fixed(const texture::Sampler& sampler, std::size_t count, const float* const* in, std::uint32_t* out) {
+  texture::simd::SampleFixed<xsimd::avx512bw>::sample_streams(sampler, count, in, out);
 }
 void shadow_map(const shadow::MapLookup& map, std::size_t count, const float* px, const float* py, const float* pz,
                 const float* nx, const float* ny, const float* nz, std::size_t stride, float* visible) {

@@ -121,7 +121,46 @@ std::array<T, 4> sample(const Sampler& s, T u, T v, T lambda) {
   return out;
 }
 
+// One level of the fixed-point sampler (sampler.hpp): nearest, or bilinear in 8.8 fixed point.
+std::uint32_t fixed_level(const SamplerLevel& l, int wrap, bool linear, float rs, float rt) {
+  if (!linear) {
+    const int i = fold(static_cast<int>(std::floor(rs * l.fwidth)), l.width, wrap);
+    const int j = fold(static_cast<int>(std::floor(rt * l.fheight)), l.height, wrap);
+    return texel_at(l, i, j);
+  }
+  const int x = static_cast<int>(std::floor(rs * (l.fwidth * 256.0f) - 127.5f));
+  const int y = static_cast<int>(std::floor(rt * (l.fheight * 256.0f) - 127.5f));
+  const int i0 = x >> 8, j0 = y >> 8;  // arithmetic: floor(x / 256)
+  const auto fx = static_cast<std::uint32_t>(x & 255), fy = static_cast<std::uint32_t>(y & 255);
+  const int ia = fold(i0, l.width, wrap), ib = fold(i0 + 1, l.width, wrap);
+  const int ja = fold(j0, l.height, wrap), jb = fold(j0 + 1, l.height, wrap);
+  const std::uint32_t top = lerp_bytes(texel_at(l, ia, ja), texel_at(l, ib, ja), fx);
+  const std::uint32_t bottom = lerp_bytes(texel_at(l, ia, jb), texel_at(l, ib, jb), fx);
+  return lerp_bytes(top, bottom, fy);
+}
+
 }  // namespace
+
+std::uint32_t lerp_bytes(std::uint32_t a, std::uint32_t b, std::uint32_t w) noexcept {
+  std::uint32_t out = 0;
+  for (int c = 0; c < 4; ++c) {
+    const std::uint32_t ac = (a >> (8 * c)) & 0xffu, bc = (b >> (8 * c)) & 0xffu;
+    out |= ((ac * (256u - w) + bc * w + 128u) >> 8) << (8 * c);
+  }
+  return out;
+}
+
+std::uint32_t sample_fixed_scalar(const Sampler& s, float u, float v, float lambda) noexcept {
+  const float rs = wrap_coordinate(u, s.wrap), rt = wrap_coordinate(v, s.wrap);
+  if (s.filter != kTrilinear || !(lambda > 0.0f)) return fixed_level(s.level[0], s.wrap, s.filter != kNearest, rs, rt);
+  const int q = s.levels - 1;
+  const float l = lambda < static_cast<float>(q) ? lambda : static_cast<float>(q);
+  const float d1 = std::floor(l);
+  const int k = static_cast<int>(d1);
+  if (k >= q) return fixed_level(s.level[q], s.wrap, true, rs, rt);
+  const auto w = static_cast<std::uint32_t>(static_cast<int>((l - d1) * 256.0f));
+  return lerp_bytes(fixed_level(s.level[k], s.wrap, true, rs, rt), fixed_level(s.level[k + 1], s.wrap, true, rs, rt), w);
+}
 
 Sampler make_sampler(const Texture& texture) noexcept {
   Sampler s{};

@@ -77,6 +77,22 @@ double lod_reference(const Sampler& s, double dsdx, double dtdx, double dsdy, do
 // RGBA in [0, 1] at (s, t) with level of detail lambda (ignored unless trilinear).
 std::array<float, 4> sample_scalar(const Sampler& s, float u, float v, float lambda) noexcept;
 std::array<double, 4> sample_reference(const Sampler& s, double u, double v, double lambda) noexcept;
+
+// The fixed-point sampler of the 16-bit pixel tier (linear textures; an sRGB texture's decoding
+// needs more than 8 bits, so the tier leaves sRGB textures to the float samplers): the texels,
+// levels, wrapping and LOD of sample_scalar, filtered in integers as llvmpipe's AoS sampler does.
+// A level's texel coordinate in 8.8 fixed point, rounded to the nearest 1/256 texel,
+// x = floor(rs (256 w) - 127.5) (rs the wrapped coordinate, w the level's width: 8 bits below the
+// texel need 22 bits of a float's 24 at 16384 texels), columns i0 = x >> 8 and i0 + 1 with weight
+// x & 255 (likewise rows); each lerp of two
+// bytes (a (256 - f) + b f + 128) >> 8, rounded to a byte: across the row, then down, then for
+// trilinear between the levels with weight floor(256 frac(lambda)). Nearest reads the texel
+// sample_scalar reads. Returns the four bytes packed as a texel (R in the low byte). Every step is
+// an integer or one of the float operations of the SIMD twin (texture/sample_fixed_simd.hpp), so
+// the two agree bit for bit.
+std::uint32_t sample_fixed_scalar(const Sampler& s, float u, float v, float lambda) noexcept;
+// One fixed-point lerp per byte of two packed texels, weight w in [0, 256].
+std::uint32_t lerp_bytes(std::uint32_t a, std::uint32_t b, std::uint32_t w) noexcept;
 // The double-precision twin of a cube-map lookup (the pixel stages' cube_face, pixel/stages.hpp):
 // the face of direction r's major axis and its (s, t) by GL 2.1 table 3.21 (ties: x before y
 // before z; t from the face's bottom row), read from faces[0..5] (+X, -X, +Y, -Y, +Z, -Z) at
