@@ -41,7 +41,9 @@
 //
 //   facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick]
 //                     [--check] [--rounds] [--filter TEXT] [--json FILE] [--srgb] [--shading gouraud|phong]
-//                     [--with-depth] [SCENE.json ...]
+//                     [--with-depth] [--pixel-precision auto|exact|fast] [SCENE.json ...]
+// --pixel-precision sets facet's RenderOptions::pixel_precision (default auto: the 16-bit tier's
+// fixed-point texels where it has a program, as facet renders by default).
 // Both sides do the same work in the timed rounds: each draws into its colour buffer and keeps
 // its depth to itself (llvmpipe inside GL, facet in its tiles); the depth images the comparison
 // uses are read after the timed rounds (glReadPixels; one more facet frame with a depth view).
@@ -52,7 +54,8 @@
 // use smooth cones or light ranges, which GL 2.1 lacks) and caps shininess at 128.
 // --filter runs only the cases whose name contains TEXT (e.g. --filter fill_). --json writes the
 // rows to FILE as well (one object per case: name, triangles, facet_ms, llvmpipe_ms, ratio,
-// mean_diff, within2, psnr, threads, width, height, facet_depth_view_timed), for tools/charts.
+// mean_diff, within2, psnr, threads, width, height, facet_depth_view_timed, pixel_precision), for
+// tools/charts.
 // With no scene file: the built-in scene, the Stanford bunny (when ../shared/models is there) and
 // a 1M-triangle sphere, each with 1, 4 and 8 lights. --check exits 1 unless every comparison has
 // a mean difference <= 0.05 steps, >= 99.9 % of covered pixels within 2 steps and a PSNR >= 50 dB
@@ -93,6 +96,7 @@ struct Options {
   bool srgb = false;   // --srgb: both encode their output to sRGB (facet: RenderOptions::srgb; GL: an sRGB FBO)
   bool phong = false;  // --shading phong: facet lights per pixel (GL still per vertex)
   bool with_depth = false;  // --with-depth: facet writes its depth view in the timed rounds too
+  facet::PixelPrecision precision = facet::PixelPrecision::automatic;  // --pixel-precision
   std::vector<std::string> scenes;
 };
 
@@ -857,6 +861,7 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
   ro.srgb = opt.srgb;
   ro.depth = facet::DepthMode::gl;  // GL's window depth, compared with llvmpipe's
   if (opt.phong) ro.shading = facet::ShadingMode::phong;
+  ro.pixel_precision = opt.precision;
   facet::Renderer renderer(ro);
   facet::Status status;
   // The two renderers take turns (three rounds when timed), and each reports its median round:
@@ -968,6 +973,16 @@ int main(int argc, char** argv) {
     else if (a == "--lights") opt.lights = std::atoi(next());
     else if (a == "--srgb") opt.srgb = true;
     else if (a == "--with-depth") opt.with_depth = true;
+    else if (a == "--pixel-precision") {
+      const std::string v = next();
+      if (v != "auto" && v != "exact" && v != "fast") {
+        std::fprintf(stderr, "facet_vs_llvmpipe: --pixel-precision auto|exact|fast\n");
+        return 2;
+      }
+      opt.precision = v == "exact" ? facet::PixelPrecision::exact
+                      : v == "fast" ? facet::PixelPrecision::fast
+                                    : facet::PixelPrecision::automatic;
+    }
     else if (a == "--shading") {
       const std::string v = next();
       if (v != "gouraud" && v != "phong") {
@@ -977,7 +992,7 @@ int main(int argc, char** argv) {
       opt.phong = v == "phong";
     }
     else if (a == "-h" || a == "--help") {
-      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--rounds] [--filter TEXT] [--json FILE] [--lights N] [--srgb] [--shading gouraud|phong] [--with-depth] [SCENE.json ...]");
+      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--rounds] [--filter TEXT] [--json FILE] [--lights N] [--srgb] [--shading gouraud|phong] [--with-depth] [--pixel-precision auto|exact|fast] [SCENE.json ...]");
       return 0;
     } else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "facet_vs_llvmpipe: unknown option %s\n", a.c_str());
@@ -1156,10 +1171,10 @@ int main(int argc, char** argv) {
     std::snprintf(row, sizeof row,
                   "%s\n  {\"name\": \"%s\", \"triangles\": %zu, \"facet_ms\": %.4f, \"llvmpipe_ms\": %.4f, "
                   "\"ratio\": %.4f, \"mean_diff\": %.4f, \"within2\": %.6f, \"psnr\": %.2f, \"threads\": %d, "
-                  "\"width\": %d, \"height\": %d, \"facet_depth_view_timed\": %s}",
+                  "\"width\": %d, \"height\": %d, \"facet_depth_view_timed\": %s, \"pixel_precision\": \"%s\"}",
                   json.size() > 1 ? "," : "", r.name.c_str(), r.triangles, r.facet_ms, r.gl_ms, r.gl_ms / r.facet_ms,
                   r.mean_diff, r.within2, std::isfinite(r.psnr) ? r.psnr : 999.0, opt.threads, opt.width, opt.height,
-                  opt.with_depth ? "true" : "false");
+                  opt.with_depth ? "true" : "false", facet::to_string(opt.precision));
     json += row;
     if (r.surfaces) {
       if (r.mean_diff > 1.0 || r.within2 < 0.97) ok = false;

@@ -400,7 +400,18 @@ int main(void) {
   CHECK(facet_renderer_create(&config, &status) == NULL && status == FACET_INVALID_ARGUMENT);
   config = facet_render_config_default();
   CHECK(config.pow_tier == FACET_POW_AUTO && config.cull_lights == 1 && config.light_every_vertex == 0 && config.hdr == 0 &&
-        config.vertex_relief == 0);
+        config.vertex_relief == 0 && config.pixel_precision == FACET_PIXELS_AUTO);
+  config.pixel_precision = (facet_pixel_precision)3;
+  {
+    facet_status st = FACET_OK;
+    CHECK(facet_renderer_create(&config, &st) == NULL && st == FACET_INVALID_ARGUMENT);
+  }
+  config.pixel_precision = FACET_PIXELS_EXACT;
+  {
+    facet_renderer* exact = facet_renderer_create(&config, &status);
+    CHECK(exact != NULL && status == FACET_OK);
+    facet_renderer_destroy(exact);
+  }
   config.pow_tier = (facet_pow_tier)5;
   CHECK(facet_renderer_create(&config, &status) == NULL && status == FACET_INVALID_ARGUMENT);
   config.pow_tier = FACET_POW_SCHLICK;

@@ -51,7 +51,7 @@ void print_stats_text(const FrameStats& s, int frames, double seconds) {
 void print_stats_json(const FrameStats& s, int frames, double seconds, const RenderOptions& o, int w, int h,
                       const std::string& fields = "") {
   const double per_frame = seconds / frames;
-  std::printf("{%s\"width\": %d, \"height\": %d, \"shading\": \"%s\", \"path\": \"%s\", \"threads\": %d, "
+  std::printf("{%s\"width\": %d, \"height\": %d, \"shading\": \"%s\", \"path\": \"%s\", \"pixel_precision\": \"%s\", \"threads\": %d, "
               "\"triangles_in\": %llu, \"triangles_drawn\": %llu, \"triangles_culled\": %llu, "
               "\"triangles_outside\": %llu, \"triangles_clipped\": %llu, \"triangles_degenerate\": %llu, "
               "\"triangles_small\": %llu, "
@@ -63,7 +63,8 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               "\"shadow_map_pixels\": %llu, "
               "\"seconds_frame\": %.6g, \"frames\": %d, \"mean_seconds_per_frame\": %.6g, "
               "\"vertices_lit_per_s\": %.6g, \"pixels_filled_per_s\": %.6g, \"nothing_drawn\": %s}\n",
-              fields.c_str(), w, h, to_string(o.shading), describe_path(o.path, o.isa, o.pow_tier).c_str(), s.threads,
+              fields.c_str(), w, h, to_string(o.shading), describe_path(o.path, o.isa, o.pow_tier).c_str(),
+              to_string(o.pixel_precision), s.threads,
               (unsigned long long)s.triangles_in,
               (unsigned long long)s.triangles_drawn, (unsigned long long)s.triangles_culled,
               (unsigned long long)s.triangles_outside, (unsigned long long)s.triangles_clipped,
@@ -176,7 +177,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
 namespace {
 
 struct RenderState {
-  std::string scene_path, output, depth_path, shading = "gouraud", shadows, path = "simd", isa = "auto", pow = "auto",
+  std::string scene_path, output, depth_path, shading = "gouraud", shadows, path = "simd", isa = "auto", pow = "auto", pixel_precision = "auto",
                                                 cull = "back", clear, transparent_order, lights = "auto", depth_mode = "auto";
   int width = 1280, height = 720, threads = 0, tile = 64, memory_mb = -1, frame_count = 1;
   double min_seconds = 0, orbit_deg = 360.0;
@@ -233,6 +234,10 @@ Command add_render(CLI::App& facet) {
       ->check(one_of({"auto", "sse2", "avx2", "avx512"}, "instruction set"))->group(how);
   app->add_option("--pow", st->pow, "auto | exact | fast | integer | schlick: the simd path's pow method (default auto)")
       ->check(one_of({"auto", "exact", "fast", "integer", "schlick"}, "tier"))->group(how);
+  app->add_option("--pixel-precision", st->pixel_precision,
+                  "auto | exact | fast: the simd path's textured pixels in float (exact) or the 16-bit tier's fixed point "
+                  "where it has a program (default auto: fast there)")
+      ->check(one_of({"auto", "exact", "fast"}, "pixel precision"))->group(how);
   app->add_option("--threads", st->threads, "worker threads, 0 = all cores (default 0); the image is the same for any N")
       ->check(int_in(0, 256))->group(how);
   const char* model = "Models";
@@ -277,6 +282,9 @@ int render(const RenderState& st) {
     return fail("--isa " + st.isa + ": this CPU does not have it (best available: " + to_string(best_isa()) + ")");
   }
   options.pow_tier = *parse_pow_tier(st.pow);
+  options.pixel_precision = st.pixel_precision == "exact"  ? PixelPrecision::exact
+                            : st.pixel_precision == "fast" ? PixelPrecision::fast
+                                                           : PixelPrecision::automatic;
   options.threads = st.threads;
   if (st.memory_mb >= 0) options.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
   options.cull = st.cull == "back" ? CullMode::back : st.cull == "front" ? CullMode::front : CullMode::none;
@@ -378,10 +386,10 @@ int render(const RenderState& st) {
   if (json) {
     print_stats_json(frame, frames, elapsed, options, width, height);
   } else if (stats) {
-    std::printf("facet render: %s -> %s (%d x %d, %s shading, %s, %d thread%s)\n",
+    std::printf("facet render: %s -> %s (%d x %d, %s shading, %s, pixels %s, %d thread%s)\n",
                 scene_path.empty() ? "built-in default scene" : scene_path.c_str(), output.c_str(), width, height,
                 to_string(options.shading), describe_path(options.path, options.isa, options.pow_tier).c_str(),
-                frame.threads, frame.threads == 1 ? "" : "s");
+                to_string(options.pixel_precision), frame.threads, frame.threads == 1 ? "" : "s");
     print_stats_text(frame, frames, elapsed);
   }
   return 0;

@@ -62,6 +62,12 @@ typedef enum facet_environment_blend {
 } facet_environment_blend;
 
 /* How the simd path evaluates x^s (specular shininess, spot exponent); see docs. */
+typedef enum facet_pixel_precision {
+  FACET_PIXELS_AUTO = 0,
+  FACET_PIXELS_EXACT = 1,
+  FACET_PIXELS_FAST = 2
+} facet_pixel_precision;
+
 typedef enum facet_pow_tier {
   FACET_POW_AUTO = 0,    /* per exponent, the cheapest tier within 1 step of 8-bit output */
   FACET_POW_EXACT = 1,   /* full-precision exp2(s log2 x) */
@@ -107,6 +113,10 @@ typedef struct facet_render_config {
    * perturbed by the maps (read at the vertex, prefiltered to the mesh's triangle size); 0
    * (default, GL's fixed function): the maps are read per pixel in Phong only. */
   int vertex_relief;
+  /* The simd path's textured pixels (facet::PixelPrecision): FACET_PIXELS_AUTO (default: the
+   * 16-bit tier's fixed-point texels where it has a program), FACET_PIXELS_EXACT (float),
+   * FACET_PIXELS_FAST. */
+  facet_pixel_precision pixel_precision;
 } facet_render_config;
 
 /* The specular lobe (facet::SpecularModel): Blinn's n.h (GL's) or Phong's R.V. */

@@ -53,11 +53,25 @@ DepthMode depth_mode_for(const Camera& camera, DepthMode mode) noexcept;
 
 const char* to_string(ShadingMode mode) noexcept;
 
+// The number format of textured pixels (docs/rasterization.md, "Pixel precision"), a speed against
+// accuracy choice like PowTier. exact: the float programs (every sample within a step of the
+// double reference sampler). fast: the 16-bit tier, texels filtered in fixed point as llvmpipe does
+// (texture::sample_fixed_scalar's contract: bilinear within 1.5 steps of the reference, mean 0.35;
+// trilinear 2 and 0.35; nearest exact), where the tier has a program: Gouraud, GL_MODULATE with the
+// specular added after the texture, opaque, linear (not sRGB) textures, with or without fog; every
+// other draw runs the exact programs. automatic (the default): fast where the tier has a program
+// (its contract holds for every texture it reads), so today the same as fast. The simd path only;
+// the scalar path is the exact tier. Images are byte-identical for any thread count and ISA in
+// either tier.
+enum class PixelPrecision { automatic, exact, fast };
+const char* to_string(PixelPrecision precision) noexcept;
+
 struct RenderOptions {
   ShadingMode shading = ShadingMode::gouraud;
   LightingPath path = LightingPath::simd;
   Isa isa = Isa::best;                    // simd path only; an ISA the CPU lacks is an error
   PowTier pow_tier = PowTier::automatic;  // simd path only
+  PixelPrecision pixel_precision = PixelPrecision::automatic;  // simd path only
   // Faces wind counter-clockwise seen from the front. In a two-sided scene back faces are never
   // culled by CullMode::back: they are drawn with their back-side lighting.
   CullMode cull = CullMode::back;

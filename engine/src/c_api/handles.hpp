@@ -122,6 +122,12 @@ inline bool to_options(const facet_render_config& c, facet::RenderOptions& o, st
   const facet::PowTier pow[] = {facet::PowTier::automatic, facet::PowTier::exact, facet::PowTier::fast,
                                 facet::PowTier::integer, facet::PowTier::schlick};
   o.pow_tier = pow[pow_i];
+  const long pixels_i = raw(c.pixel_precision);
+  if (pixels_i < FACET_PIXELS_AUTO || pixels_i > FACET_PIXELS_FAST)
+    return fail(error, "config.pixel_precision", "unknown pixel precision"), false;
+  const facet::PixelPrecision pixels[] = {facet::PixelPrecision::automatic, facet::PixelPrecision::exact,
+                                          facet::PixelPrecision::fast};
+  o.pixel_precision = pixels[pixels_i];
   const long depth_i = raw(c.depth_mode);
   if (depth_i < FACET_DEPTH_AUTO || depth_i > FACET_DEPTH_REVERSED) return fail(error, "config.depth_mode", "unknown depth mode"), false;
   const facet::DepthMode depth[] = {facet::DepthMode::automatic, facet::DepthMode::gl, facet::DepthMode::reversed};

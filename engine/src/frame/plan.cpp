@@ -26,6 +26,15 @@ const char* to_string(ShadingMode mode) noexcept {
   return "unknown";
 }
 
+const char* to_string(PixelPrecision precision) noexcept {
+  switch (precision) {
+    case PixelPrecision::automatic: return "auto";
+    case PixelPrecision::exact: return "exact";
+    case PixelPrecision::fast: return "fast";
+  }
+  return "unknown";
+}
+
 DepthMode depth_mode_for(const Camera& camera, DepthMode mode) noexcept {
   if (mode != DepthMode::automatic) return mode;
   const bool reversed = !std::isfinite(camera.far) || double(camera.far) > 1e5 * double(camera.near);
@@ -507,9 +516,12 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
       const bool modulate = lit == raster::LitAt::vertex && d.texture_env == TextureMode::modulate && !d.emission &&
                             d.blend == BlendMode::opaque && d.clamp && d.alpha_cutoff <= 0.0f && !environment &&
                             d.layout.has(raster::Varying::front_secondary);
-      d.program = !modulate                   ? PixelProgram::surface_textured
-                  : f.mode == FogMode::none ? PixelProgram::modulate
-                                              : PixelProgram::modulate_fog;
+      // The 16-bit tier's fixed-point sampler where its contract holds (linear textures).
+      const bool fixed = modulate && options.pixel_precision != PixelPrecision::exact &&
+                         scene.textures[static_cast<std::size_t>(m.diffuse_texture)].encoding == TextureEncoding::linear;
+      d.program = !modulate                 ? PixelProgram::surface_textured
+                  : f.mode == FogMode::none ? (fixed ? PixelProgram::modulate_fixed : PixelProgram::modulate)
+                                            : (fixed ? PixelProgram::modulate_fog_fixed : PixelProgram::modulate_fog);
     }
   }
 }

@@ -25,6 +25,7 @@
 #include "pixel/phong_simd.hpp"
 #include "pixel/stages.hpp"
 #include "raster/raster_kernels.hpp"
+#include "texture/sample_fixed_simd.hpp"
 #include "texture/sample_simd.hpp"
 
 namespace facet::pixel::simd {
@@ -298,7 +299,7 @@ struct SurfaceProgram {
   }
 };
 
-template <class Arch, bool Fogged>
+template <class Arch, bool Fogged, bool Fixed = false>
 struct ModulateProgram {
   using F = typename Types<Arch>::F;
   static constexpr int kAttributes = raster::kMaxRasterAttributes;
@@ -344,8 +345,24 @@ struct ModulateProgram {
       cw[p] = in.clip_w(fi[p], fj[p]);
       uv[p] = Texturing<Arch>::uv(d, in, cw[p], fi[p], fj[p]);
     }
-    // Inlined on the narrower ISAs without fog, where out of line it measured slower.
-    Texturing<Arch>::template sample<P, (Types<Arch>::W < 16 && !Fogged)>(*d.texture, uv, tex, level_guess);
+    if constexpr (Fixed) {
+      // The 16-bit tier: each batch's texels filtered in fixed point (sample_fixed_simd.hpp), then
+      // its bytes as floats for the stages below.
+      using Sample = texture::simd::SampleFixed<Arch>;
+      using I = typename Types<Arch>::I;
+      for (int p = 0; p < P; ++p) {
+        const F lambda = texture::simd::SampleSimd<Arch>::lod(*d.texture, uv[p].dudx, uv[p].dvdx, uv[p].dudy, uv[p].dvdy);
+        const I texel = Sample::sample(*d.texture, uv[p].u, uv[p].v, lambda);
+        const auto bits = xsimd::bitwise_cast<typename Sample::U>(texel);
+        for (int c = 0; c < 4; ++c) {
+          tex[p][c] = xsimd::batch_cast<float>(xsimd::bitwise_cast<I>((bits >> (8 * c)) & typename Sample::U(0xffu))) *
+                      F(1.0f / 255.0f);
+        }
+      }
+    } else {
+      // Inlined on the narrower ISAs without fog, where out of line it measured slower.
+      Texturing<Arch>::template sample<P, (Types<Arch>::W < 16 && !Fogged)>(*d.texture, uv, tex, level_guess);
+    }
     // Locals, not members: stores through may_alias vector types would otherwise reload them.
     float* const planes[5] = {cx.planes[0], cx.planes[1], cx.planes[2], cx.planes[3], cx.planes[4]};
     const F alpha(cx.t.alpha);

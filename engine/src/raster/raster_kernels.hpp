@@ -61,7 +61,10 @@ struct TileView {
 // or, for its commonest textured case, the same stages fused with their settings fixed at compile
 // time (pixel/programs_simd.hpp: modulate, modulate_fog). The scalar rasterizer runs the stages
 // for any surface program.
-enum class PixelProgram : std::uint8_t { flat, gouraud, phong, surface, surface_textured, modulate, modulate_fog };
+enum class PixelProgram : std::uint8_t {
+  flat, gouraud, phong, surface, surface_textured, modulate, modulate_fog,
+  modulate_fixed, modulate_fog_fixed  // the 16-bit tier (RenderOptions::pixel_precision): fixed-point texels
+};
 
 struct Draw {
   VaryingLayout layout;  // this draw's varyings (ScreenTriangle::attr and the attribute planes)

@@ -275,6 +275,8 @@ struct TileKernel {
         case PixelProgram::surface_textured: triangle<SurfaceProgram<Arch, true>>(job, tv, t, phong, counters); break;
         case PixelProgram::modulate: triangle<ModulateProgram<Arch, false>>(job, tv, t, phong, counters); break;
         case PixelProgram::modulate_fog: triangle<ModulateProgram<Arch, true>>(job, tv, t, phong, counters); break;
+        case PixelProgram::modulate_fixed: triangle<ModulateProgram<Arch, false, true>>(job, tv, t, phong, counters); break;
+        case PixelProgram::modulate_fog_fixed: triangle<ModulateProgram<Arch, true, true>>(job, tv, t, phong, counters); break;
       }
     }
     phong.flush();
