@@ -6,8 +6,8 @@
 #include <tbb/blocked_range.h>
 
 #include "frame/frame.hpp"
-#include "lighting/setup.hpp"
 #include "frame/vertex_relief.hpp"
+#include "lighting/setup.hpp"
 #include "pixel/stages.hpp"
 
 namespace facet {
@@ -32,6 +32,7 @@ void Renderer::Impl::ObjectScratch::reserve(std::size_t vertices, std::size_t tr
       if (both_faces) back_spec.reserve(vertices);
       eye_p.reserve(vertices);
       eye_n.reserve(vertices);
+      relief_normals.reserve(vertices);  // RenderOptions::vertex_relief
       reserve_generated(vertices);
     }
     return;
@@ -274,11 +275,6 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       os.front_spec.resize(n);
       if (two_sided) os.back_spec.resize(n);
     }
-    // Only the vertices of triangles that may be drawn are lit (the others' colours are never
-    // read): the first phase of assembly places the triangles without their varyings and marks
-    // their vertices (raster::place_range, ranges in parallel), then they are listed per vertex
-    // chunk. A vertex's colour does not depend on its batch or its neighbours, so the image is
-    // the same as with every vertex lit; assemble_object() finishes the placed triangles.
     // Per-vertex relief: the normals the maps perturb, for the vertices lit.
     const Material& m = scene.materials[unit.material];
     const bool relief = vertex_relief && !kind.plain() && (m.normal_texture != kNoTexture || m.bump_texture != kNoTexture) &&
@@ -299,6 +295,11 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       os.relief_normals.resize(n);
     }
     const Vec3* normals = relief ? os.relief_normals.data() : nullptr;
+    // Only the vertices of triangles that may be drawn are lit (the others' colours are never
+    // read): the first phase of assembly places the triangles without their varyings and marks
+    // their vertices (raster::place_range, ranges in parallel), then they are listed per vertex
+    // chunk. A vertex's colour does not depend on its batch or its neighbours, so the image is
+    // the same as with every vertex lit; assemble_object() finishes the placed triangles.
     const std::uint32_t* index = nullptr;
     std::atomic<std::size_t> listed{0};  // vertices lit
     if (!light_every_vertex) {

@@ -62,8 +62,9 @@ std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& opti
   using U = std::uint64_t;
   const auto sat_add = [](U a, U b) { return a > ~U{0} - b ? ~U{0} : a + b; };
   const auto sat_mul = [](U a, U b) { return b != 0 && a > ~U{0} / b ? ~U{0} : a * b; };
-  // Per vertex: clip position, screen vertex, front and back colour, eye position and normal.
-  const U per_vertex = 16 + 24 + 2 * 12 + 2 * 12;
+  // Per vertex: clip position, screen vertex, front and back colour, eye position and normal
+  // (and with vertex_relief the perturbed normal).
+  const U per_vertex = 16 + 24 + 2 * 12 + 2 * 12 + (options.vertex_relief ? 12 : 0);
   // Per triangle: its record, its entry between the set-up's two phases (4 + 1 bytes) and its
   // bin entries (one tile each, for unclipped small triangles); for flat shading also its
   // centroid, face normal and two colours (4 x 12 bytes).
