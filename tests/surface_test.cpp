@@ -386,12 +386,12 @@ TEST(Surfaces, ByteIdenticalForAnyThreadCount) {
 }
 
 // Scalar and SIMD rasterizers run the same pixel program on the same planes: within a step, and
-// almost every pixel identical (the exact tier). The 16-bit tier's textured pixels (the SIMD
-// path's default) stay within its sampler's contract of the scalar path's exact ones: 2 steps.
+// almost every pixel identical (the exact tier). The 16-bit tier's textured pixels stay within
+// its sampler's contract of the scalar path's exact ones: 2 steps.
 TEST(Surfaces, SimdMatchesScalar) {
   const Scene s = surfaces_scene();
   for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
-    for (PixelPrecision precision : {PixelPrecision::exact, PixelPrecision::automatic}) {
+    for (PixelPrecision precision : {PixelPrecision::exact, PixelPrecision::fast}) {
       RenderOptions a, b;
       a.shading = b.shading = shading;
       a.path = LightingPath::scalar;
@@ -406,7 +406,9 @@ TEST(Surfaces, SimdMatchesScalar) {
         differ += d != 0;
       }
       EXPECT_LE(worst, 2) << to_string(shading) << " " << to_string(precision);
-      if (precision == PixelPrecision::exact) EXPECT_LE(differ, pa.size() / 100) << to_string(shading);
+      if (precision == PixelPrecision::exact) {
+        EXPECT_LE(differ, pa.size() / 100) << to_string(shading);
+      }
     }
   }
 }
@@ -452,7 +454,7 @@ TEST(Surfaces, SpecialisedModulateProgramEqualsTheGeneralOne) {
   }
 }
 
-// The 16-bit tier (RenderOptions::pixel_precision fast, the SIMD path's default): the surfaces
+// The 16-bit tier (RenderOptions::pixel_precision fast): the surfaces
 // scene's modulate draws, with each filter and fog mode, are the same bytes for 1, 2 and 8
 // threads; within 2 steps of the exact tier (its sampler's contract under colours <= 1) and not
 // the same picture (the tier ran); with sRGB textures, which it leaves to the float programs,
@@ -484,7 +486,9 @@ TEST(Surfaces, FastPixelTierHoldsItsContract) {
       std::printf("fast pixel tier, %s, fog %s: largest difference from the exact tier %d steps\n", to_string(filter),
                   to_string(fog), worst);
       EXPECT_LE(worst, 2) << to_string(filter) << " " << to_string(fog);
-      if (filter != TextureFilter::nearest) EXPECT_FALSE(fast == exact) << to_string(filter) << ": the tier did not run";
+      if (filter != TextureFilter::nearest) {
+        EXPECT_FALSE(fast == exact) << to_string(filter) << ": the tier did not run";
+      }
       for (Texture& t : s.textures) t.encoding = TextureEncoding::srgb;
       o.pixel_precision = PixelPrecision::fast;
       const auto srgb_fast = render_pixels(s, o);

@@ -42,8 +42,8 @@
 //   facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick]
 //                     [--check] [--rounds] [--filter TEXT] [--json FILE] [--srgb] [--shading gouraud|phong]
 //                     [--with-depth] [--pixel-precision auto|exact|fast] [SCENE.json ...]
-// --pixel-precision sets facet's RenderOptions::pixel_precision (default auto: the 16-bit tier's
-// fixed-point texels where it has a program, as facet renders by default).
+// --pixel-precision sets facet's RenderOptions::pixel_precision (default auto, as facet renders
+// by default; fast: the 16-bit tier's fixed-point texels where it has a program).
 // Both sides do the same work in the timed rounds: each draws into its colour buffer and keeps
 // its depth to itself (llvmpipe inside GL, facet in its tiles); the depth images the comparison
 // uses are read after the timed rounds (glReadPixels; one more facet frame with a depth view).

@@ -114,8 +114,9 @@ typedef struct facet_render_config {
    * (default, GL's fixed function): the maps are read per pixel in Phong only. */
   int vertex_relief;
   /* The simd path's textured pixels (facet::PixelPrecision): FACET_PIXELS_AUTO (default: the
-   * 16-bit tier's fixed-point texels where it has a program), FACET_PIXELS_EXACT (float),
-   * FACET_PIXELS_FAST. */
+   * fast tier where it is within its contract and faster; today the exact tier),
+   * FACET_PIXELS_EXACT (float), FACET_PIXELS_FAST (the 16-bit tier's fixed-point texels where it
+   * has a program). */
   facet_pixel_precision pixel_precision;
 } facet_render_config;
 

@@ -517,8 +517,9 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
       const bool modulate = lit == raster::LitAt::vertex && d.texture_env == TextureMode::modulate && !d.emission &&
                             d.blend == BlendMode::opaque && d.clamp && d.alpha_cutoff <= 0.0f && !environment &&
                             d.layout.has(raster::Varying::front_secondary);
-      // The 16-bit tier's fixed-point sampler where its contract holds (linear textures).
-      const bool fixed = modulate && options.pixel_precision != PixelPrecision::exact &&
+      // The 16-bit tier's fixed-point sampler, when asked for, where its contract holds (linear
+      // textures). automatic picks the exact tier: the fast one is not faster yet.
+      const bool fixed = modulate && options.pixel_precision == PixelPrecision::fast &&
                          scene.textures[static_cast<std::size_t>(m.diffuse_texture)].encoding == TextureEncoding::linear;
       d.program = !modulate                 ? PixelProgram::surface_textured
                   : f.mode == FogMode::none ? (fixed ? PixelProgram::modulate_fixed : PixelProgram::modulate)
