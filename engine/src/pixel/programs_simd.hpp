@@ -350,10 +350,15 @@ struct ModulateProgram {
       // its bytes as floats for the stages below.
       using Sample = texture::simd::SampleFixed<Arch>;
       using I = typename Types<Arch>::I;
+      F u[P], v[P], lambda[P];
       for (int p = 0; p < P; ++p) {
-        const F lambda = texture::simd::SampleSimd<Arch>::lod(*d.texture, uv[p].dudx, uv[p].dvdx, uv[p].dudy, uv[p].dvdy);
-        const I texel = Sample::sample(*d.texture, uv[p].u, uv[p].v, lambda);
-        const auto bits = xsimd::bitwise_cast<typename Sample::U>(texel);
+        u[p] = uv[p].u, v[p] = uv[p].v;
+        lambda[p] = texture::simd::SampleSimd<Arch>::lod(*d.texture, uv[p].dudx, uv[p].dvdx, uv[p].dudy, uv[p].dvdy);
+      }
+      I texels[P];
+      Sample::template sample<P>(*d.texture, u, v, lambda, texels, &level_guess);
+      for (int p = 0; p < P; ++p) {
+        const auto bits = xsimd::bitwise_cast<typename Sample::U>(texels[p]);
         for (int c = 0; c < 4; ++c) {
           tex[p][c] = xsimd::batch_cast<float>(xsimd::bitwise_cast<I>((bits >> (8 * c)) & typename Sample::U(0xffu))) *
                       F(1.0f / 255.0f);

@@ -41,66 +41,142 @@ struct SampleFixed {
     return xsimd::bitwise_cast<I>(((rb >> 8) & mask) | (ag & U(0xff00ff00u)));
   }
 
-  // One level per lane (`level`), nearest or bilinear in 8.8 fixed point; rs, rt wrapped.
-  static I level(const Sampler& s, const I& level, bool linear, const F& rs, const F& rt) {
-    const typename S::LevelLanes l = S::level_lanes(s, level);
+  // One level per lane (`level`), nearest or bilinear in 8.8 fixed point, for P batches at once
+  // (each step for every batch before the next, so two independent chains overlap, as the float
+  // sampler does); rs, rt wrapped.
+  template <int P>
+  [[gnu::always_inline]] inline static void levels(const Sampler& s, const I (&level)[P], bool linear, const F (&rs)[P],
+                                                   const F (&rt)[P], I (&out)[P]) {
+    typename S::LevelLanes l[P];
+    for (int p = 0; p < P; ++p) l[p] = S::level_lanes(s, level[p]);
     if (!linear) {
-      const I ii = S::fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rs * l.fw)), l.wi, s.wrap);
-      const I jj = S::fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rt * l.fh)), l.hi, s.wrap);
-      return S::texels_at(s, l.base + jj * l.wi + ii);
+      for (int p = 0; p < P; ++p) {
+        const I ii = S::fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rs[p] * l[p].fw)), l[p].wi, s.wrap);
+        const I jj = S::fold(xsimd::batch_cast<std::int32_t>(xsimd::floor(rt[p] * l[p].fh)), l[p].hi, s.wrap);
+        out[p] = S::texels_at(s, l[p].base + jj * l[p].wi + ii);
+      }
+      return;
     }
-    const I x = xsimd::batch_cast<std::int32_t>(xsimd::floor(rs * (l.fw * F(256.0f)) - F(127.5f)));
-    const I y = xsimd::batch_cast<std::int32_t>(xsimd::floor(rt * (l.fh * F(256.0f)) - F(127.5f)));
-    const I i0 = x >> 8, j0 = y >> 8;  // arithmetic shifts: floor(x / 256)
-    const I fx = x & I(255), fy = y & I(255);
-    const I ia = S::fold_low(i0, l.wi, s.wrap), ib = S::fold_high(i0 + I(1), l.wi, s.wrap);
-    const I row_a = l.base + S::fold_low(j0, l.hi, s.wrap) * l.wi;
-    const I row_b = l.base + S::fold_high(j0 + I(1), l.hi, s.wrap) * l.wi;
-    I t00, t10, t01, t11;
-    if (W >= 8 && xsimd::all(ib == ia + I(1))) {  // no lane's columns wrap: adjacent pairs
-      S::texel_pairs(s, row_a + ia, t00, t10);
-      S::texel_pairs(s, row_b + ia, t01, t11);
-    } else {
-      t00 = S::texels_at(s, row_a + ia), t10 = S::texels_at(s, row_a + ib);
-      t01 = S::texels_at(s, row_b + ia), t11 = S::texels_at(s, row_b + ib);
+    I fx[P], fy[P], t00[P], t10[P], t01[P], t11[P];
+    for (int p = 0; p < P; ++p) {
+      const I x = xsimd::batch_cast<std::int32_t>(xsimd::floor(rs[p] * (l[p].fw * F(256.0f)) - F(127.5f)));
+      const I y = xsimd::batch_cast<std::int32_t>(xsimd::floor(rt[p] * (l[p].fh * F(256.0f)) - F(127.5f)));
+      const I i0 = x >> 8, j0 = y >> 8;  // arithmetic shifts: floor(x / 256)
+      fx[p] = x & I(255), fy[p] = y & I(255);
+      const I ia = S::fold_low(i0, l[p].wi, s.wrap), ib = S::fold_high(i0 + I(1), l[p].wi, s.wrap);
+      const I row_a = l[p].base + S::fold_low(j0, l[p].hi, s.wrap) * l[p].wi;
+      const I row_b = l[p].base + S::fold_high(j0 + I(1), l[p].hi, s.wrap) * l[p].wi;
+      if (W >= 8 && xsimd::all(ib == ia + I(1))) {  // no lane's columns wrap: adjacent pairs
+        S::texel_pairs(s, row_a + ia, t00[p], t10[p]);
+        S::texel_pairs(s, row_b + ia, t01[p], t11[p]);
+      } else {
+        t00[p] = S::texels_at(s, row_a + ia), t10[p] = S::texels_at(s, row_a + ib);
+        t01[p] = S::texels_at(s, row_b + ia), t11[p] = S::texels_at(s, row_b + ib);
+      }
     }
-    return lerp(lerp(t00, t10, fx), lerp(t01, t11, fx), fy);
+    for (int p = 0; p < P; ++p) out[p] = lerp(lerp(t00[p], t10[p], fx[p]), lerp(t01[p], t11[p], fx[p]), fy[p]);
+  }
+  static I level(const Sampler& s, const I& level, bool linear, const F& rs, const F& rt) {
+    I out[1];
+    levels<1>(s, {level}, linear, {rs}, {rt}, out);
+    return out[0];
   }
 
-  // Packed RGBA8 at (u, v) with level of detail lambda (trilinear textures only read it).
-  static I sample(const Sampler& s, const F& u, const F& v, const F& lambda) {
-    const F rs = S::wrap_coordinate(u, s.wrap), rt = S::wrap_coordinate(v, s.wrap);
+  // Packed RGBA8 at (u, v) with level of detail lambda (trilinear textures only read it), for P
+  // batches. `guess` (may be null) as the float sampler's (SampleSimd::sample): the levels the
+  // previous batches read are sampled while the LOD is turned into levels, and kept when every
+  // lane's levels are the guessed ones; otherwise sampled again. The same operations on the same
+  // levels, so the same bytes.
+  template <int P>
+  [[gnu::always_inline]] inline static void sample(const Sampler& s, const F (&u)[P], const F (&v)[P],
+                                                   const F (&lambda)[P], I (&out)[P], int* guess = nullptr) {
+    constexpr int kOne = S::kGuessOneLevel;
+    F rs[P], rt[P];
+    for (int p = 0; p < P; ++p) rs[p] = S::wrap_coordinate(u[p], s.wrap), rt[p] = S::wrap_coordinate(v[p], s.wrap);
     if (s.filter != static_cast<int>(TextureFilter::trilinear)) {
-      return level(s, I(0), s.filter != static_cast<int>(TextureFilter::nearest), rs, rt);
+      I zero[P];
+      for (int p = 0; p < P; ++p) zero[p] = I(0);
+      levels<P>(s, zero, s.filter != static_cast<int>(TextureFilter::nearest), rs, rt, out);
+      return;
     }
     // As the float sampler: lanes with lambda <= 0 (or NaN) magnify from level 0, lanes at or past
     // the last level q read it alone (weight 0: the lerp returns the first level's bytes).
     const int q = s.levels - 1;
-    const auto minify = lambda > F(0.0f);
-    const F l = xsimd::select(lambda < F(static_cast<float>(q)), lambda, F(static_cast<float>(q)));
-    const F d1 = xsimd::select(minify, xsimd::floor(l), F(0.0f));
-    const I k = xsimd::batch_cast<std::int32_t>(d1);
-    const auto single = (!minify) | (d1 >= F(static_cast<float>(q)));
-    const I w = xsimd::select(xsimd::bool_cast(single), I(0), xsimd::batch_cast<std::int32_t>((l - d1) * F(256.0f)));
-    const I c1 = level(s, k, true, rs, rt);
-    if (xsimd::all(w == I(0))) return c1;
-    const I next = xsimd::select(k >= I(q), k, k + I(1));
-    return lerp(c1, level(s, next, true, rs, rt), w);
+    const bool guessed = guess && *guess >= 0;
+    const bool one_level = guessed && (*guess & kOne);
+    const int guessed_level = guessed ? *guess & (kOne - 1) : 0;
+    const int g = guessed_level < q ? guessed_level : q;
+    I c1[P], c2[P];
+    if (guessed) {
+      I kg[P], ng[P];
+      for (int p = 0; p < P; ++p) kg[p] = I(g), ng[p] = I(g < q ? g + 1 : g);
+      levels<P>(s, kg, true, rs, rt, c1);
+      if (!one_level) levels<P>(s, ng, true, rs, rt, c2);
+    }
+    I k[P], next[P], w[P];
+    bool second = false, hit = guessed;
+    for (int p = 0; p < P; ++p) {
+      const auto minify = lambda[p] > F(0.0f);
+      const F l = xsimd::select(lambda[p] < F(static_cast<float>(q)), lambda[p], F(static_cast<float>(q)));
+      const F d1 = xsimd::select(minify, xsimd::floor(l), F(0.0f));
+      k[p] = xsimd::batch_cast<std::int32_t>(d1);
+      const auto single = (!minify) | (d1 >= F(static_cast<float>(q)));
+      w[p] = xsimd::select(xsimd::bool_cast(single), I(0), xsimd::batch_cast<std::int32_t>((l - d1) * F(256.0f)));
+      next[p] = xsimd::select(k[p] >= I(q), k[p], k[p] + I(1));
+      second = second || xsimd::any(w[p] != I(0));
+      hit = hit && xsimd::all(k[p] == I(g));
+    }
+    // A hit read k and next (= k + 1, or k at the last level); a one-level hit read k alone,
+    // which serves only when no lane needs a second level.
+    if (one_level && second) hit = false;
+    if (!hit) {
+      levels<P>(s, k, true, rs, rt, c1);
+      if (second) levels<P>(s, next, true, rs, rt, c2);
+      if (guess) *guess = k[0].get(0) | (second ? 0 : kOne);
+    } else if (!second && !one_level) {
+      *guess |= kOne;  // the next batches may read one level
+    }
+    for (int p = 0; p < P; ++p) out[p] = second ? lerp(c1[p], c2[p], w[p]) : c1[p];
+  }
+  static I sample(const Sampler& s, const F& u, const F& v, const F& lambda) {
+    I out[1];
+    sample<1>(s, {u}, {v}, {lambda}, out);
+    return out[0];
   }
 
-  // `count` samples from planar inputs (u, v, ds/dx, dt/dx, ds/dy, dt/dy) to packed RGBA8, W at a
-  // time (the LOD as the float sampler computes it).
+  // `count` samples from planar inputs (u, v, ds/dx, dt/dx, ds/dy, dt/dy) to packed RGBA8, two
+  // batches at a time with a level guess carried along (the last batch alone), as a program
+  // samples; the LOD as the float sampler computes it.
   static void sample_streams(const Sampler& s, std::size_t count, const float* const* in, std::uint32_t* out) {
-    for (std::size_t i = 0; i < count; i += static_cast<std::size_t>(W)) {
-      const std::size_t n = count - i < static_cast<std::size_t>(W) ? count - i : static_cast<std::size_t>(W);
-      alignas(64) float lanes[6][W] = {};
-      for (int k = 0; k < 6; ++k)
-        for (std::size_t j = 0; j < n; ++j) lanes[k][j] = in[k][i + j];
-      const F lambda = S::lod(s, F::load_aligned(lanes[2]), F::load_aligned(lanes[3]), F::load_aligned(lanes[4]),
-                              F::load_aligned(lanes[5]));
-      alignas(64) std::int32_t result[W];
-      sample(s, F::load_aligned(lanes[0]), F::load_aligned(lanes[1]), lambda).store_aligned(result);
-      for (std::size_t j = 0; j < n; ++j) out[i + j] = static_cast<std::uint32_t>(result[j]);
+    int guess = -1;
+    for (std::size_t i = 0; i < count; i += static_cast<std::size_t>(2 * W)) {
+      alignas(64) float lanes[2][6][W] = {};
+      std::size_t n[2];
+      for (int p = 0; p < 2; ++p) {
+        const std::size_t from = i + static_cast<std::size_t>(p * W);
+        n[p] = from >= count ? 0 : (count - from < static_cast<std::size_t>(W) ? count - from : static_cast<std::size_t>(W));
+        for (int k = 0; k < 6; ++k)
+          for (std::size_t j = 0; j < n[p]; ++j) lanes[p][k][j] = in[k][from + j];
+      }
+      F u[2], v[2], lambda[2];
+      for (int p = 0; p < 2; ++p) {
+        u[p] = F::load_aligned(lanes[p][0]), v[p] = F::load_aligned(lanes[p][1]);
+        lambda[p] = S::lod(s, F::load_aligned(lanes[p][2]), F::load_aligned(lanes[p][3]), F::load_aligned(lanes[p][4]),
+                           F::load_aligned(lanes[p][5]));
+      }
+      I texel[2];
+      if (n[1] > 0) {
+        sample<2>(s, u, v, lambda, texel, &guess);
+      } else {
+        I one[1];
+        sample<1>(s, {u[0]}, {v[0]}, {lambda[0]}, one, &guess);
+        texel[0] = one[0];
+      }
+      for (int p = 0; p < 2; ++p) {
+        alignas(64) std::int32_t result[W];
+        texel[p].store_aligned(result);
+        for (std::size_t j = 0; j < n[p]; ++j) out[i + static_cast<std::size_t>(p * W) + j] = static_cast<std::uint32_t>(result[j]);
+      }
     }
   }
 };
