@@ -107,6 +107,7 @@ struct SampleFixed {
     const int guessed_level = guessed ? *guess & (kOne - 1) : 0;
     const int g = guessed_level < q ? guessed_level : q;
     I c1[P], c2[P];
+    for (int p = 0; p < P; ++p) c1[p] = c2[p] = I(0);  // each is read only after a sample wrote it
     if (guessed) {
       I kg[P], ng[P];
       for (int p = 0; p < P; ++p) kg[p] = I(g), ng[p] = I(g < q ? g + 1 : g);
