@@ -222,6 +222,18 @@ void register_all() {
       static const facet::Scene scene = facet::bench::layers_scene(16, false, facet::bench::Layers::textured_fog);
       run_frames(state, scene, o, 1920, 1080);
     });
+    if (best) {  // the 16-bit pixel tier (RenderOptions::pixel_precision fast) on the textured layers
+      facet::RenderOptions fast = o;
+      fast.pixel_precision = facet::PixelPrecision::fast;
+      add("BM_Fill" + prefix + "textured_fast", [fast](benchmark::State& state) {
+        static const facet::Scene scene = facet::bench::layers_scene(16, false, facet::bench::Layers::textured);
+        run_frames(state, scene, fast, 1920, 1080);
+      });
+      add("BM_Fill" + prefix + "textured_fog_fast", [fast](benchmark::State& state) {
+        static const facet::Scene scene = facet::bench::layers_scene(16, false, facet::bench::Layers::textured_fog);
+        run_frames(state, scene, fast, 1920, 1080);
+      });
+    }
     add("BM_Fill" + prefix + "blended", [o](benchmark::State& state) {
       static const facet::Scene scene = facet::bench::layers_scene(16, false, facet::bench::Layers::blended);
       run_frames(state, scene, o, 1920, 1080);

@@ -454,6 +454,48 @@ TEST(Surfaces, SpecialisedModulateProgramEqualsTheGeneralOne) {
   }
 }
 
+// The fused blended programs (BlendProgram in pixel/programs_simd.hpp: Gouraud, untextured, alpha,
+// premultiplied or additive blending) against the general program, which an alpha test every
+// fragment passes forces: the same bytes on every ISA and for 3 threads, with the layers
+// overlapping each other, an opaque backdrop and an opaque quad hiding part of them, some writing
+// depth and some not.
+TEST(Surfaces, FusedBlendProgramsEqualTheGeneralOne) {
+  for (BlendMode mode : {BlendMode::alpha, BlendMode::premultiplied, BlendMode::add}) {
+    Scene fused = test::camera_scene();
+    test::add_quad(fused, -3, -3, 3, 3, -4, Color3(0.2f, 0.4f, 0.6f));  // opaque backdrop
+    test::add_quad(fused, 0.5f, 0.5f, 3, 3, -3.0f, Color3(0.7f, 0.7f, 0.1f));  // hides the far layers' corner
+    for (int i = 0; i < 4; ++i) {
+      const float o = 0.4f * static_cast<float>(i);
+      test::add_quad(fused, -1.5f + o, -1.2f + o * 0.5f, 0.8f + o, 1.0f + o * 0.3f, -3.5f + 0.3f * static_cast<float>(i),
+                     Color3(0.9f - 0.2f * static_cast<float>(i), 0.3f + 0.15f * static_cast<float>(i), 0.5f));
+      Material& m = fused.materials.back();
+      m.diffuse = Color3(0.5f, 0.6f, 0.7f);  // lit by the point light: colours vary across each quad
+      m.blend = mode;
+      m.alpha = 0.3f + 0.15f * static_cast<float>(i);
+      m.depth_write = i % 2 == 0 ? DepthWrite::on : DepthWrite::automatic;
+    }
+    Light l;
+    l.type = LightType::point;
+    l.position = Vec3(0.5f, 0.3f, -2.0f);
+    fused.lights.push_back(l);
+    Scene general = fused;
+    for (Material& m : general.materials) {
+      if (m.blend != BlendMode::opaque) m.alpha_cutoff = 1e-6f;
+    }
+    for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+      if (!isa_supported(isa)) continue;
+      RenderOptions o;
+      o.shading = ShadingMode::gouraud;
+      o.path = LightingPath::simd;
+      o.isa = isa;
+      const auto a = render_pixels(fused, o), b = render_pixels(general, o);
+      EXPECT_TRUE(a == b) << to_string(isa) << " " << to_string(mode);
+      o.threads = 3;
+      EXPECT_TRUE(render_pixels(fused, o) == a) << to_string(isa) << " " << to_string(mode) << " threads 3";
+    }
+  }
+}
+
 // The 16-bit tier (RenderOptions::pixel_precision fast): the surfaces
 // scene's modulate draws, with each filter and fog mode, are the same bytes for 1, 2 and 8
 // threads; within 2 steps of the exact tier (its sampler's contract under colours <= 1) and not

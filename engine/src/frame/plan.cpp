@@ -509,7 +509,16 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
                   : lit == raster::LitAt::vertex ? PixelProgram::gouraud
                                                  : PixelProgram::phong;
     } else if (!textured) {
-      d.program = PixelProgram::surface;
+      // The fused blended program's settings: Gouraud, a blend it has, clamped, no alpha test, no
+      // emission, no secondary colour, no fog, nothing per pixel (environment, maps, albedo).
+      const bool fused_blend = lit == raster::LitAt::vertex && !d.emission && d.clamp && d.alpha_cutoff <= 0.0f &&
+                               f.mode == FogMode::none && !needs.albedo && !environment && !normal_map &&
+                               !occlusion_map && !bump_map && !d.layout.has(raster::Varying::front_secondary) &&
+                               (d.blend == BlendMode::alpha || d.blend == BlendMode::premultiplied || d.blend == BlendMode::add);
+      d.program = !fused_blend                      ? PixelProgram::surface
+                  : d.blend == BlendMode::alpha         ? PixelProgram::blend_alpha
+                  : d.blend == BlendMode::premultiplied ? PixelProgram::blend_premultiplied
+                                                        : PixelProgram::blend_add;
     } else {
       // The fused program's settings: Gouraud, modulate, the specular added after the texture, no
       // emission after it, opaque, clamped, no alpha test (the fragment's alpha is never NaN), no

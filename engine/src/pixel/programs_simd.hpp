@@ -8,6 +8,7 @@
 //   PhongProgram     store depth, interpolate position and normal, light (phong_simd.hpp), store
 //   SurfaceProgram   the general program, every stage as the draw's settings say (stages.hpp's
 //                    order); with a texture, batches are held and sampled kHold at a time
+//   BlendProgram     Gouraud, untextured, blended: the blend mode fixed at compile time
 //   ModulateProgram  the commonest textured case with its settings fixed at compile time
 //                    (Gouraud, GL_MODULATE, separate specular, opaque, no alpha test, no emission
 //                    after the texture; fog or none): the same stage functions in the same order
@@ -393,6 +394,49 @@ struct ModulateProgram {
     }
     filled.lanes = lanes;
   }
+};
+
+// Gouraud, untextured, blended with the mode fixed at compile time (alpha, premultiplied, add),
+// clamped, no alpha test (the fragment's alpha is never NaN), no emission, no secondary colour, no
+// fog: the stages SurfaceProgram runs for those settings (its colour is the interpolated primary
+// colour and the triangle's alpha, then blend), so the same bits, without the branches.
+template <class Arch, BlendMode Mode>
+struct BlendProgram {
+  using F = typename Types<Arch>::F;
+  using BF = typename Types<Arch>::BF;
+  static constexpr int kAttributes = 3;
+  static constexpr bool kClipW = true;
+  static int plane(const Draw& d, int a) { return d.layout.at(Varying::front_color) + a; }
+  static int attributes(const Draw&) { return 3; }
+  const Context<Arch>& cx;
+  F alpha;
+  FillCounts<Arch> filled;
+  explicit BlendProgram(const Context<Arch>& c) : cx(c), alpha(c.t.alpha) {}
+  template <bool kFull>
+  [[gnu::always_inline]] inline void batch(const Interpolants<Arch, 3>& in, const F& fi, const F& fj, const F& z,
+                                           const BF& pass, std::size_t at) {
+    const Batch<Arch> b{fi, fj, z, pass, at};
+    const bool all = filled.count(b.pass);
+    if (cx.d.depth_write) store(cx.planes, 4, b, all, b.z);
+    const F inv_w = in.clip_w(b.fi, b.fj);
+    const F c[4] = {in.over_w(0, b.fi, b.fj) * inv_w, in.over_w(1, b.fi, b.fj) * inv_w, in.over_w(2, b.fi, b.fj) * inv_w,
+                    alpha};
+    for (int k = 0; k < 4; ++k) {
+      const F dst = F::load_unaligned(cx.planes[k] + b.at);
+      F out;
+      if constexpr (Mode == BlendMode::alpha) {
+        out = c[k] * alpha + dst * (F(1.0f) - alpha);
+      } else if constexpr (Mode == BlendMode::premultiplied) {
+        out = c[k] + dst * (F(1.0f) - alpha);
+      } else {
+        static_assert(Mode == BlendMode::add);
+        out = c[k] + dst;
+      }
+      out = saturate(out);
+      (all ? out : xsimd::select(b.pass, out, dst)).store_unaligned(cx.planes[k] + b.at);
+    }
+  }
+  void end_block(const Interpolants<Arch, 3>&) {}
 };
 
 }  // namespace

@@ -63,7 +63,8 @@ struct TileView {
 // for any surface program.
 enum class PixelProgram : std::uint8_t {
   flat, gouraud, phong, surface, surface_textured, modulate, modulate_fog,
-  modulate_fixed, modulate_fog_fixed  // the 16-bit tier (RenderOptions::pixel_precision): fixed-point texels
+  modulate_fixed, modulate_fog_fixed,  // the 16-bit tier (RenderOptions::pixel_precision): fixed-point texels
+  blend_alpha, blend_premultiplied, blend_add  // Gouraud, untextured, blended (programs_simd.hpp's BlendProgram)
 };
 
 struct Draw {

@@ -277,6 +277,11 @@ struct TileKernel {
         case PixelProgram::modulate_fog: triangle<ModulateProgram<Arch, true>>(job, tv, t, phong, counters); break;
         case PixelProgram::modulate_fixed: triangle<ModulateProgram<Arch, false, true>>(job, tv, t, phong, counters); break;
         case PixelProgram::modulate_fog_fixed: triangle<ModulateProgram<Arch, true, true>>(job, tv, t, phong, counters); break;
+        case PixelProgram::blend_alpha: triangle<BlendProgram<Arch, BlendMode::alpha>>(job, tv, t, phong, counters); break;
+        case PixelProgram::blend_premultiplied:
+          triangle<BlendProgram<Arch, BlendMode::premultiplied>>(job, tv, t, phong, counters);
+          break;
+        case PixelProgram::blend_add: triangle<BlendProgram<Arch, BlendMode::add>>(job, tv, t, phong, counters); break;
       }
     }
     phong.flush();
