@@ -165,13 +165,16 @@ texture_points = [r for r in accuracy if r["kind"] == "texture" and r.get("rate"
 FILTER_COLOURS = {"nearest": "#1f77b4", "bilinear": "#ff7f0e", "trilinear": "#2ca02c"}
 ISA_MARKERS = {"scalar": "o", "sse2": "s", "avx2": "^", "avx512": "D"}
 for r in texture_points:
-    isa = r["method"].split()[-1]
-    ax3.scatter(r["rate"] / 1e6, max(r["max_lsb"], FLOOR), color=FILTER_COLOURS.get(r["item"], "black"),
+    parts = r["method"].split()  # "scalar", "simd ISA" or "simd ISA 16-bit" (the fixed-point sampler: open)
+    isa = parts[1] if parts[0] == "simd" else parts[0]
+    fixed = parts[-1] == "16-bit"
+    colour = FILTER_COLOURS.get(r["item"], "black")
+    ax3.scatter(r["rate"] / 1e6, max(r["max_lsb"], FLOOR), color=colour, facecolors="none" if fixed else colour,
                 marker=ISA_MARKERS.get(isa, "x"), s=60, zorder=3)
 ax3.set_yscale("log")
 ax3.set_xlabel("texture samples per second (millions, 1 thread, 256x256, random LOD -2..7)")
 ax3.set_ylabel("largest error vs the double-precision reference sampler (8-bit steps)")
-ax3.set_title("Texture filters: scalar and SIMD samplers")
+ax3.set_title("Texture filters: float samplers (filled), 16-bit tier's fixed point (open)")
 ax3.axhline(1.0, color="#bbbbbb", lw=0.8, ls=":")
 ax3.annotate("contract: 1 step", (0, 1.0), textcoords="offset points", xytext=(4, 4), fontsize=7, color="#666666")
 handles = [plt.Line2D([], [], color=c, marker="o", ls="", label=k) for k, c in FILTER_COLOURS.items()]
