@@ -183,7 +183,7 @@ int light(const LightState& st) {
 
 struct CheckState {
   std::string scene_path, shading = "gouraud", shadows, transparent_order, output, depth, depth_mode = "auto";
-  int width = 1280, height = 720, memory_mb = -1;
+  int width = 1280, height = 720, memory_mb = -1, msaa = 1;
   bool allow_missing = false, vertex_relief = false;
   std::vector<std::string> allow_paths;
   ViewState view;
@@ -215,6 +215,8 @@ Command add_check(CLI::App& facet) {
       ->check(one_of({"submission", "back_to_front"}, "order"));
   app->add_option("--memory-budget-mb", st->memory_mb, "as for 'facet render' (default 4096; 0 = no limit)")->check(int_in(0, 1 << 30));
   app->add_flag("--vertex-relief", st->vertex_relief, "as for 'facet render': Gouraud reads normal and bump maps per vertex");
+  app->add_option("--msaa", st->msaa, "1 | 4 | 8 | 16 samples per pixel, as for 'facet render' (the tiles' memory grows N-fold)")
+      ->check(CLI::IsMember({1, 4, 8, 16}));
   app->add_flag("--allow-missing", st->allow_missing, "a model's missing .mtl or texture files are warnings, not errors");
   app->add_option("--allow-path", st->allow_paths, kAllowPathHelp);
   add_view_options(app, st->view);
@@ -249,6 +251,7 @@ int check(const CheckState& st) {
   RenderOptions options;
   options.shading = *parse_shading(st.shading);
   options.vertex_relief = st.vertex_relief;
+  options.samples = st.msaa;
   if (st.memory_mb >= 0) options.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
   options.depth = st.depth_mode == "gl" ? DepthMode::gl : st.depth_mode == "reversed" ? DepthMode::reversed : DepthMode::automatic;
   const std::string ext = st.output.empty() ? ".png" : lower_extension(st.output);
@@ -291,9 +294,10 @@ int check(const CheckState& st) {
   std::size_t srgb_textures = 0;
   for (const auto& t : scene->textures) texels += t.texels.size(), srgb_textures += t.encoding == TextureEncoding::srgb;
   std::printf("%s: ok — %zu meshes, %zu materials, %zu objects (%zu vertices, %zu triangles), %zu lights; a %d x %d "
-              "frame needs about %llu MiB\n",
+              "frame%s needs about %llu MiB\n",
               scene_path.c_str(), scene->meshes.size(), scene->materials.size(), scene->objects.size(),
               scene_vertices(*scene), triangles, scene->lights.size(), width, height,
+              options.samples > 1 ? (" with " + std::to_string(options.samples) + " samples a pixel").c_str() : "",
               static_cast<unsigned long long>((estimate_frame_bytes(*scene, options, width, height) + (1u << 20) - 1) >> 20));
   for (const std::string& n : notes) std::printf("  %s\n", n.c_str());
   const Camera& cam = scene->camera;

@@ -51,7 +51,7 @@ void print_stats_text(const FrameStats& s, int frames, double seconds) {
 void print_stats_json(const FrameStats& s, int frames, double seconds, const RenderOptions& o, int w, int h,
                       const std::string& fields = "") {
   const double per_frame = seconds / frames;
-  std::printf("{%s\"width\": %d, \"height\": %d, \"shading\": \"%s\", \"path\": \"%s\", \"pixel_precision\": \"%s\", \"threads\": %d, "
+  std::printf("{%s\"width\": %d, \"height\": %d, \"shading\": \"%s\", \"path\": \"%s\", \"pixel_precision\": \"%s\", \"samples\": %d, \"threads\": %d, "
               "\"triangles_in\": %llu, \"triangles_drawn\": %llu, \"triangles_culled\": %llu, "
               "\"triangles_outside\": %llu, \"triangles_clipped\": %llu, \"triangles_degenerate\": %llu, "
               "\"triangles_small\": %llu, "
@@ -64,7 +64,7 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               "\"seconds_frame\": %.6g, \"frames\": %d, \"mean_seconds_per_frame\": %.6g, "
               "\"vertices_lit_per_s\": %.6g, \"pixels_filled_per_s\": %.6g, \"nothing_drawn\": %s}\n",
               fields.c_str(), w, h, to_string(o.shading), describe_path(o.path, o.isa, o.pow_tier).c_str(),
-              to_string(o.pixel_precision), s.threads,
+              to_string(o.pixel_precision), o.samples, s.threads,
               (unsigned long long)s.triangles_in,
               (unsigned long long)s.triangles_drawn, (unsigned long long)s.triangles_culled,
               (unsigned long long)s.triangles_outside, (unsigned long long)s.triangles_clipped,
@@ -179,7 +179,7 @@ namespace {
 struct RenderState {
   std::string scene_path, output, depth_path, shading = "gouraud", shadows, path = "simd", isa = "auto", pow = "auto", pixel_precision = "auto",
                                                 cull = "back", clear, transparent_order, lights = "auto", depth_mode = "auto";
-  int width = 1280, height = 720, threads = 0, tile = 64, memory_mb = -1, frame_count = 1;
+  int width = 1280, height = 720, threads = 0, tile = 64, memory_mb = -1, frame_count = 1, msaa = 1;
   double min_seconds = 0, orbit_deg = 360.0;
   std::vector<std::string> allow_paths;
   ViewState view;
@@ -221,6 +221,10 @@ Command add_render(CLI::App& facet) {
       ->check(one_of({"submission", "back_to_front"}, "order"))
       ->group(draw);
   app->add_option("--tile", st->tile, "tile size in pixels, a multiple of 8 in [8, 256] (default 64)")->check(int_in(8, 256))->group(draw);
+  app->add_option("--msaa", st->msaa,
+                  "1 | 4 | 8 | 16 samples per pixel (GL's multisampling: coverage and depth per sample, one colour per "
+                  "pixel, averaged in linear colour; default 1)")
+      ->check(CLI::IsMember({1, 4, 8, 16}))->group(draw);
   app->add_flag("--no-light-culling", st->no_light_culling, "light every object with every enabled light (frame plan off)")->group(draw);
   app->add_flag("--light-every-vertex", st->light_every_vertex,
                 "also light vertices only culled or off-screen triangles use (same image; for measurements)")->group(draw);
@@ -290,6 +294,7 @@ int render(const RenderState& st) {
   options.cull = st.cull == "back" ? CullMode::back : st.cull == "front" ? CullMode::front : CullMode::none;
   options.depth = st.depth_mode == "gl" ? DepthMode::gl : st.depth_mode == "reversed" ? DepthMode::reversed : DepthMode::automatic;
   options.tile_size = st.tile;
+  options.samples = st.msaa;
   options.hdr = st.hdr;
   options.srgb = st.srgb;
   options.cull_lights = !st.no_light_culling;

@@ -118,6 +118,10 @@ typedef struct facet_render_config {
    * FACET_PIXELS_EXACT (float), FACET_PIXELS_FAST (the 16-bit tier's fixed-point texels where it
    * has a program). */
   facet_pixel_precision pixel_precision;
+  /* Samples per pixel (facet::RenderOptions::samples): 1 (default), 4, 8 or 16. GL's
+   * multisampling: coverage and depth per sample, each pixel shaded once, the samples averaged in
+   * linear colour. Any other count fails with FACET_INVALID_ARGUMENT naming config.samples. */
+  int samples;
 } facet_render_config;
 
 /* The specular lobe (facet::SpecularModel): Blinn's n.h (GL's) or Phong's R.V. */

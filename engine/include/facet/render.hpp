@@ -76,6 +76,13 @@ struct RenderOptions {
   // culled by CullMode::back: they are drawn with their back-side lighting.
   CullMode cull = CullMode::back;
   int tile_size = 64;  // pixels; 8..256, a multiple of 8
+  // Multisampling (GL's MSAA): 1, 4, 8 or 16 samples per pixel at the standard positions (4: the
+  // pattern of Direct3D, Vulkan and llvmpipe). Coverage and depth are per sample; each pixel is
+  // shaded once, at its centre, for the samples a triangle covers; blending is per sample; the
+  // samples are averaged in linear colour before the output's conversion (sRGB encoding
+  // included). Shadow maps, ray-cast and volume shadows are looked up per pixel (at the shaded
+  // point); the depth view holds each pixel's nearest sample. Tile memory grows N-fold.
+  int samples = 1;
   // Worker threads of this renderer (its own tbb::task_arena; process-wide TBB settings are
   // never touched): 0 = all cores, otherwise 1..256. The image is byte-identical for any value.
   // More than TBB's process-wide limit (by default the hardware threads) runs that many:

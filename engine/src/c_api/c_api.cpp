@@ -28,6 +28,7 @@ facet_render_config facet_render_config_default(void) {
   c.depth_mode = FACET_DEPTH_AUTO;
   c.vertex_relief = o.vertex_relief ? 1 : 0;
   c.pixel_precision = FACET_PIXELS_AUTO;
+  c.samples = o.samples;
   return c;
 }
 

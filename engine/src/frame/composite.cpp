@@ -52,6 +52,7 @@ void Renderer::Impl::render_composite(const Scene& scene, const RenderOptions& o
   vis.shading = ShadingMode::phong;
   vis.clear_color = {1.0f, 1.0f, 1.0f, 1.0f};
   vis.hdr = false;
+  vis.samples = 1;  // visibility per pixel, at its centre (the shaded point), also when multisampling
   for (std::size_t g = 0; g < shadowed.size(); g += 3) {
     for (std::size_t c = 0; c < 3; ++c) visibility.visibility_lights[c] = g + c < shadowed.size() ? shadowed[g + c] : SIZE_MAX;
     render(scene, vis, float_view(composite_part), nullptr, visibility);

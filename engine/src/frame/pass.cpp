@@ -36,7 +36,8 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
                               draws.programs.data(),
                               &fog,
                               options.srgb && p.color && p.color->format != PixelFormat::rgba32f && !p.environment_face ? srgb.threshold : nullptr,
-                              p.assembly.viewport.depth};
+                              p.assembly.viewport.depth,
+                              p.samples};
   const int tile_count = p.tile_count();
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});
   const auto raster_start = Clock::now();

@@ -15,6 +15,7 @@
 #include "facet/render.hpp"
 #include "facet/scene.hpp"
 #include "raster/assemble.hpp"
+#include "raster/samples.hpp"
 
 namespace facet::frame {
 
@@ -42,6 +43,8 @@ struct RenderPass {
   // reflectors are drawn without their reflection, and nothing is shadowed.
   std::uint32_t exclude_object = UINT32_MAX;
   bool environment_face = false;
+  // Samples per pixel (RenderOptions::samples): the camera's colour pass only.
+  raster::SamplePattern samples{};
   int environment_cube = -1, environment_face_index = 0;  // which face of which cube (frame.hpp)
 
   int width() const { return assembly.viewport.width; }

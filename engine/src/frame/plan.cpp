@@ -85,7 +85,8 @@ std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& opti
   bytes = sat_add(bytes, sat_mul(sat_mul(scene.objects.size(), scene.lights.size()), 512));
   // Per thread: tile planes and SoA lighting scratch; per tile: its bin.
   const U tile = static_cast<U>(std::clamp(options.tile_size, 8, 256));
-  bytes = sat_add(bytes, sat_mul(slots, 5 * tile * tile * 4 + 64 * 1024));
+  const U samples = static_cast<U>(std::clamp(options.samples, 1, 16));
+  bytes = sat_add(bytes, sat_mul(slots, 5 * samples * tile * tile * 4 + 64 * 1024));
   const U tiles = (static_cast<U>(std::max(width, 1)) / tile + 1) * (static_cast<U>(std::max(height, 1)) / tile + 1);
   bytes = sat_add(bytes, sat_mul(tiles, 64));
   // Ray-cast shadows: Embree's copy of the casters (12 bytes a vertex and a triangle's indices)
@@ -208,6 +209,9 @@ Status check_options(const RenderOptions& o) {
   }
   if (o.tile_size < 8 || o.tile_size > 256 || o.tile_size % 8 != 0) {
     return bad("options.tile_size", "expected a multiple of 8 in [8, 256], found " + std::to_string(o.tile_size));
+  }
+  if (o.samples != 1 && o.samples != 4 && o.samples != 8 && o.samples != 16) {
+    return bad("options.samples", "expected 1, 4, 8 or 16 samples per pixel, found " + std::to_string(o.samples));
   }
   if (o.threads < 0 || o.threads > 256) {
     return bad("options.threads", "expected 0 (all cores) or 1..256, found " + std::to_string(o.threads));

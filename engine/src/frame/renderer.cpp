@@ -180,7 +180,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   stats = FrameStats{};
   stats.threads = arena_threads;
   for (WorkerScratch& w : workers) {  // grows only when the tile size or the chunk size grows
-    w.tile.resize(options.tile_size);
+    w.tile.resize(options.tile_size, options.samples);
     // The most points one lighting call takes: a vertex chunk, or a set-up range's triangles (flat).
     w.soa.reserve_padded(std::max(kVertexChunk, kTriangleRange));
   }
@@ -256,6 +256,11 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     }
   }
   plan_environment_faces(scene, options, camera);
+  // Multisampling: the camera's colour pass alone (its depth pass for shadow volumes, the
+  // environment faces and the shadow maps are copied or built above with one sample).
+  camera.samples = raster::sample_pattern(options.samples);
+  camera.assembly.viewport.sample_lo = camera.samples.lo;
+  camera.assembly.viewport.sample_hi = camera.samples.hi;
   passes.push_back(camera);
   // Ray-cast shadows: the casters as Embree sees them, built here, in this renderer's arena.
   frame_caster = nullptr;

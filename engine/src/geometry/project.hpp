@@ -35,6 +35,9 @@ struct DepthFormat {
 struct Viewport {
   int width = 0, height = 0;
   DepthFormat depth{};
+  // The smallest and largest offset of a pixel's samples from its corner on either axis, in
+  // 1/kSubpixelOne pixel (raster/samples.hpp): the centre for one sample.
+  std::int32_t sample_lo = kSubpixelOne / 2, sample_hi = kSubpixelOne / 2;
 };
 
 // Clip planes for a viewport: |x/w| <= 2G/W - 1 keeps screen x within the guard band [-G, G]

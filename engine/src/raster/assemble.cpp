@@ -27,7 +27,7 @@ Placement place_oriented(ScreenTriangle& t, std::int64_t area2, const geometry::
     std::swap(t.z[1], t.z[2]);
     std::swap(t.inv_w[1], t.inv_w[2]);
   }
-  if (!finish_setup(t, viewport.width, viewport.height)) return Placement::no_pixel;
+  if (!finish_setup(t, viewport.width, viewport.height, viewport.sample_lo, viewport.sample_hi)) return Placement::no_pixel;
   return Placement::placed;
 }
 
@@ -73,7 +73,8 @@ class RangeAssembler {
     if (frame_.place && object_.screen.size() < kMaxGatheredVertices) {
       const bool cull_back = frame_.cull == CullMode::back && !(frame_.two_sided || object_.two_sided);
       const simd::PlaceParams params{frame_.viewport.width, frame_.viewport.height, cull_back,
-                                     frame_.cull == CullMode::front, object_.mirrored};
+                                     frame_.cull == CullMode::front, object_.mirrored,
+                                     frame_.viewport.sample_lo, frame_.viewport.sample_hi};
       simd::PlaceGroup group;
       for (; t + simd::kPlaceGroup <= end; t += simd::kPlaceGroup) {
         frame_.place(mesh.triangles[t].data(), object_.screen.data(), params, group);

@@ -109,13 +109,13 @@ struct Place {
       const I oy[3] = {y[0], xsimd::select(swapped, y[2], y[1]), xsimd::select(swapped, y[1], y[2])};
       const I oz[3] = {z[0], xsimd::select(swapped, z[2], z[1]), xsimd::select(swapped, z[1], z[2])};
       const I ow[3] = {w[0], xsimd::select(swapped, w[2], w[1]), xsimd::select(swapped, w[1], w[2])};
-      // finish_setup: pixels whose centre lies in the bounds, clipped to the viewport.
+      // finish_setup: pixels with a sample in the bounds, clipped to the viewport.
       const I lo_x = min(min(x[0], x[1]), x[2]), hi_x = max(max(x[0], x[1]), x[2]);
       const I lo_y = min(min(y[0], y[1]), y[2]), hi_y = max(max(y[0], y[1]), y[2]);
-      const I min_px = max(I(0), sra<kSubpixelBits>(lo_x + I(kSubpixelOne - 1 - kPixelCentre)));
-      const I max_px = min(I(p.width - 1), sra<kSubpixelBits>(hi_x - I(kPixelCentre)));
-      const I min_py = max(I(0), sra<kSubpixelBits>(lo_y + I(kSubpixelOne - 1 - kPixelCentre)));
-      const I max_py = min(I(p.height - 1), sra<kSubpixelBits>(hi_y - I(kPixelCentre)));
+      const I min_px = max(I(0), sra<kSubpixelBits>(lo_x + I(kSubpixelOne - 1 - p.sample_hi)));
+      const I max_px = min(I(p.width - 1), sra<kSubpixelBits>(hi_x - I(p.sample_lo)));
+      const I min_py = max(I(0), sra<kSubpixelBits>(lo_y + I(kSubpixelOne - 1 - p.sample_hi)));
+      const I max_py = min(I(p.height - 1), sra<kSubpixelBits>(hi_y - I(p.sample_lo)));
       const BI empty = (min_px > max_px) | (min_py > max_py);
 
       // The fate, the scalar code's first failing test; the later tests first, overwritten.

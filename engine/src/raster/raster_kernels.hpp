@@ -49,6 +49,13 @@ struct TileView {
   // is the clear value; a reversed pass's output is the negated stored value.
   float depth_lo = 0.0f, depth_far = 1.0f;
   bool depth_reversed = false;
+  // Multisampling (RenderOptions::samples): sample s of tile pixel index p is at p + s *
+  // sample_stride in every plane, at offset (sample_x[s], sample_y[s]) from the pixel's corner
+  // (raster/samples.hpp); one sample: the pixel centre, stride 0.
+  int samples = 1;
+  std::size_t sample_stride = 0;
+  const std::int32_t* sample_x = nullptr;
+  const std::int32_t* sample_y = nullptr;
 };
 
 // The pixel program of one draw (an object with one material), decided by the frame plan
@@ -195,6 +202,7 @@ struct PlaceParams {
   int width, height;                  // the viewport
   bool cull_back, cull_front;         // which facing is culled (CullMode and two-sidedness folded in)
   bool mirrored;                      // the object's front faces wind clockwise on screen
+  std::int32_t sample_lo, sample_hi;  // geometry::Viewport's sample offsets (finish_setup)
 };
 // `triangles`: kPlaceGroup vertex-index triples; `screen`: the object's screen vertices, fewer than
 // 2^31 / 5 of them (gathers index 32-bit words).

@@ -83,13 +83,16 @@ struct TileKernel {
     }
   }
 
-  // First triangle to reach a block: fill it with the clear colour and far depth.
+  // First triangle to reach a block: fill it (every sample of it) with the clear colour and far depth.
   static void touch(const TileView& tv, int block, std::size_t base) {
     if (tv.touched[block]) return;
     tv.touched[block] = 1;
     const F values[5] = {F(tv.clear[0]), F(tv.clear[1]), F(tv.clear[2]), F(tv.clear[3]), F(tv.depth_far)};
-    for (int c = 0; c < 5; ++c) {
-      for (int b = 0; b < kBatches; ++b) values[c].store_unaligned(tv.plane[c] + base + b * W);
+    for (int s = 0; s < tv.samples; ++s) {
+      const std::size_t at = base + static_cast<std::size_t>(s) * tv.sample_stride;
+      for (int c = 0; c < 5; ++c) {
+        for (int b = 0; b < kBatches; ++b) values[c].store_unaligned(tv.plane[c] + at + b * W);
+      }
     }
   }
 
@@ -98,9 +101,12 @@ struct TileKernel {
   // reference (or reading pointers through one) after every pixel store would force a
   // store-to-load round trip per batch. Blocks inside every edge and the tile run a separate
   // instantiation of the batch (kFull: no per-batch coverage work or branches).
+  // Multisampling runs this once per sample (`sample`): coverage and depth at the sample's
+  // position, the program's attributes at the pixel centre (GL's per-pixel shading: every sample
+  // a triangle covers gets the same colour), stored at the sample's pixel index.
   template <class Program>
   static void triangle(const TileJob& job, const TileView& tv, const ScreenTriangle& t, PhongBatch& phong,
-                       TileCounters& counters) {
+                       TileCounters& counters, int sample = 0) {
     I tested(0);                      // per lane, batches partly covered
     std::uint64_t whole_tested = 0;   // whole batches
     float* const planes[5] = {tv.plane[0], tv.plane[1], tv.plane[2], tv.plane[3], tv.plane[4]};
@@ -118,9 +124,12 @@ struct TileKernel {
     std::int64_t e_row[3], step_bx[3], step_by[3], lo[3], hi[3];
     std::int32_t a32[3], b32[3];
     I lane_ab[3];  // A i + B j for the lanes of batch 0
+    const std::int32_t sx = tv.samples > 1 ? tv.sample_x[sample] : kPixelCentre;
+    const std::int32_t sy = tv.samples > 1 ? tv.sample_y[sample] : kPixelCentre;
+    const std::size_t sample_at = static_cast<std::size_t>(sample) * tv.sample_stride;
     {
-      const std::int64_t px = std::int64_t(job.x0 + bx0 * kBlock) * kSubpixelOne + kPixelCentre;
-      const std::int64_t py = std::int64_t(job.y0 + by0 * kBlock) * kSubpixelOne + kPixelCentre;
+      const std::int64_t px = std::int64_t(job.x0 + bx0 * kBlock) * kSubpixelOne + sx;
+      const std::int64_t py = std::int64_t(job.y0 + by0 * kBlock) * kSubpixelOne + sy;
       for (int k = 0; k < 3; ++k) {
         const int a = (k + 1) % 3, b = (k + 2) % 3;
         const std::int64_t A = -(std::int64_t(t.y[b]) - t.y[a]);
@@ -161,6 +170,8 @@ struct TileKernel {
       for (int a = 0; a < in.count; ++a) in.attr[a].set(t.plane[kPlaneAttr + Program::plane(d, a)]);
     }
     const double vx = double(t.x[0]) / kSubpixelOne, vy = double(t.y[0]) / kSubpixelOne;
+    // Depth at the sample: its offset from the pixel centre (0 for one sample).
+    const double zx = double(sx - kPixelCentre) / kSubpixelOne, zy = double(sy - kPixelCentre) / kSubpixelOne;
 
     for (int by = by0; by <= by1; ++by) {
       std::int64_t e[3] = {e_row[0], e_row[1], e_row[2]};
@@ -177,10 +188,10 @@ struct TileKernel {
         const int ox = bx * kBlock, oy = by * kBlock;  // block origin in the tile
         const bool clipped = ox + kBlock > rect_w || oy + kBlock > rect_h;
         const int block = by * blocks_per_row + bx;
-        const std::size_t base = static_cast<std::size_t>(block) * kBlockPixels;
-        touch(tv, block, base);
+        touch(tv, block, static_cast<std::size_t>(block) * kBlockPixels);
+        const std::size_t base = static_cast<std::size_t>(block) * kBlockPixels + sample_at;
         const double cx = (job.x0 + ox) + 0.5 - vx, cy = (job.y0 + oy) + 0.5 - vy;
-        const float z_o = z_plane.origin(cx, cy);
+        const float z_o = z_plane.origin(cx + zx, cy + zy);
         if constexpr (Program::kClipW) {
           in.w_o = in.w.origin(cx, cy);
           for (int a = 0; a < in.count; ++a) in.attr_o[a] = in.attr[a].origin(cx, cy);
@@ -245,6 +256,13 @@ struct TileKernel {
     counters.filled += static_cast<std::uint32_t>(xsimd::hadd(program.filled.lanes)) + program.filled.whole;
   }
 
+  // A triangle at every sample of the tile (one: its pixel centres).
+  template <class Program>
+  static void each_sample(const TileJob& job, const TileView& tv, const ScreenTriangle& t, PhongBatch& phong,
+                          TileCounters& counters) {
+    for (int s = 0; s < tv.samples; ++s) triangle<Program>(job, tv, t, phong, counters, s);
+  }
+
   static void raster(const TileJob& job, const TileView& tv, TileCounters& counters) {
     using namespace pixel::simd;
     clear(job, tv);
@@ -268,20 +286,20 @@ struct TileKernel {
         phong.alpha = t.alpha;
       }
       switch (job.draws[t.object].program) {
-        case PixelProgram::flat: triangle<FlatProgram<Arch>>(job, tv, t, phong, counters); break;
-        case PixelProgram::gouraud: triangle<GouraudProgram<Arch>>(job, tv, t, phong, counters); break;
-        case PixelProgram::phong: triangle<PhongProgram<Arch>>(job, tv, t, phong, counters); break;
-        case PixelProgram::surface: triangle<SurfaceProgram<Arch, false>>(job, tv, t, phong, counters); break;
-        case PixelProgram::surface_textured: triangle<SurfaceProgram<Arch, true>>(job, tv, t, phong, counters); break;
-        case PixelProgram::modulate: triangle<ModulateProgram<Arch, false>>(job, tv, t, phong, counters); break;
-        case PixelProgram::modulate_fog: triangle<ModulateProgram<Arch, true>>(job, tv, t, phong, counters); break;
-        case PixelProgram::modulate_fixed: triangle<ModulateProgram<Arch, false, true>>(job, tv, t, phong, counters); break;
-        case PixelProgram::modulate_fog_fixed: triangle<ModulateProgram<Arch, true, true>>(job, tv, t, phong, counters); break;
-        case PixelProgram::blend_alpha: triangle<BlendProgram<Arch, BlendMode::alpha>>(job, tv, t, phong, counters); break;
+        case PixelProgram::flat: each_sample<FlatProgram<Arch>>(job, tv, t, phong, counters); break;
+        case PixelProgram::gouraud: each_sample<GouraudProgram<Arch>>(job, tv, t, phong, counters); break;
+        case PixelProgram::phong: each_sample<PhongProgram<Arch>>(job, tv, t, phong, counters); break;
+        case PixelProgram::surface: each_sample<SurfaceProgram<Arch, false>>(job, tv, t, phong, counters); break;
+        case PixelProgram::surface_textured: each_sample<SurfaceProgram<Arch, true>>(job, tv, t, phong, counters); break;
+        case PixelProgram::modulate: each_sample<ModulateProgram<Arch, false>>(job, tv, t, phong, counters); break;
+        case PixelProgram::modulate_fog: each_sample<ModulateProgram<Arch, true>>(job, tv, t, phong, counters); break;
+        case PixelProgram::modulate_fixed: each_sample<ModulateProgram<Arch, false, true>>(job, tv, t, phong, counters); break;
+        case PixelProgram::modulate_fog_fixed: each_sample<ModulateProgram<Arch, true, true>>(job, tv, t, phong, counters); break;
+        case PixelProgram::blend_alpha: each_sample<BlendProgram<Arch, BlendMode::alpha>>(job, tv, t, phong, counters); break;
         case PixelProgram::blend_premultiplied:
-          triangle<BlendProgram<Arch, BlendMode::premultiplied>>(job, tv, t, phong, counters);
+          each_sample<BlendProgram<Arch, BlendMode::premultiplied>>(job, tv, t, phong, counters);
           break;
-        case PixelProgram::blend_add: triangle<BlendProgram<Arch, BlendMode::add>>(job, tv, t, phong, counters); break;
+        case PixelProgram::blend_add: each_sample<BlendProgram<Arch, BlendMode::add>>(job, tv, t, phong, counters); break;
       }
     }
     phong.flush();

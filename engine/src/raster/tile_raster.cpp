@@ -13,9 +13,11 @@ namespace facet::raster {
 
 namespace stages = facet::pixel;  // the pixel stages (a local here is named pixel)
 
-void TileBuffers::resize(int tile_size) {
+void TileBuffers::resize(int tile_size, int sample_count) {
   size = tile_size;
-  plane_size_ = static_cast<std::size_t>(tile_size) * static_cast<std::size_t>(tile_size);  // a multiple of 64
+  samples = sample_count;
+  plane_size_ = static_cast<std::size_t>(sample_count) * static_cast<std::size_t>(tile_size) *
+                static_cast<std::size_t>(tile_size);  // a multiple of 64
   storage.resize(5 * plane_size_ + 16);  // grows only; + slack for the alignment below
   const auto address = reinterpret_cast<std::uintptr_t>(storage.data());
   offset_ = ((64 - address % 64) % 64) / sizeof(float);
@@ -177,7 +179,7 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
                    job.draws,
                    job.fog};
   simd::TileCounters tc;
-  job.kernels->raster(tj, tile.view(job.clear_color, job.depth), tc);
+  job.kernels->raster(tj, tile.view(job.clear_color, job.depth, nullptr, &job.samples), tc);
   counters.tested += tc.tested;
   counters.filled += tc.filled;
 }
@@ -209,11 +211,14 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
     rasterize_tile_simd(job, bin, rect, tile, counters);
     return;
   }
-  for (int y = 0; y < rect.y1 - rect.y0; ++y) {
-    for (int x = 0; x < rect.x1 - rect.x0; ++x) {
-      const std::size_t p = tile.index(x, y);
-      for (int c = 0; c < 4; ++c) tile.plane(c)[p] = job.clear_color[static_cast<std::size_t>(c)];
-      tile.plane(4)[p] = job.depth.far();
+  const int samples = job.samples.count;
+  for (int s = 0; s < samples; ++s) {
+    for (int y = 0; y < rect.y1 - rect.y0; ++y) {
+      for (int x = 0; x < rect.x1 - rect.x0; ++x) {
+        const std::size_t p = tile.index(x, y) + static_cast<std::size_t>(s) * tile.sample_stride();
+        for (int c = 0; c < 4; ++c) tile.plane(c)[p] = job.clear_color[static_cast<std::size_t>(c)];
+        tile.plane(4)[p] = job.depth.far();
+      }
     }
   }
 
@@ -235,6 +240,10 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
     // double, rounded to float, over the interpolated 1/w.
     const double vx = double(t.x[0]) / kSubpixelOne, vy = double(t.y[0]) / kSubpixelOne;
     const float inv_area2 = static_cast<float>(1.0 / static_cast<double>(signed_area2(t)));
+    // Each sample in turn (one: the pixel centre): coverage and depth at the sample, the pixel's
+    // colour at its centre (GL's per-pixel shading), stored at the sample's index.
+    for (int sample = 0; sample < samples; ++sample) {
+    const std::size_t sample_at = static_cast<std::size_t>(sample) * tile.sample_stride();
     for_each_covered_pixel(t, x0, y0, x1, y1, [&](int x, int y, std::int64_t e0, std::int64_t e1, std::int64_t e2) {
       ++counters.tested;
       const float l0 = static_cast<float>(e0) * inv_area2;
@@ -242,7 +251,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
       const float l2 = static_cast<float>(e2) * inv_area2;
       float z = l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2];
       z = z > job.depth.lo() ? (z < job.depth.far() ? z : job.depth.far()) : job.depth.lo();
-      const std::size_t pixel = tile.index(x - rect.x0, y - rect.y0);
+      const std::size_t pixel = tile.index(x - rect.x0, y - rect.y0) + sample_at;
       float* depth = tile.plane(4);
       if (!(z < depth[pixel])) return;  // depth test: LESS
       const double cx = x + 0.5 - vx, cy = y + 0.5 - vy;
@@ -323,10 +332,45 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
         batch.add(pixel, Vec3(interp(p), interp(p + 1), interp(p + 2)), Vec3(interp(n), interp(n + 1), interp(n + 2)));
         if (batch.full()) batch.flush(shading, d, fog, t.alpha, tile, counters);
       }
-    });
+    }, job.samples.x[sample], job.samples.y[sample]);
+    }
     batch.flush(shading, d, fog, t.alpha, tile, counters);
   }
 }
+
+namespace {
+
+// Multisampling: every touched block's samples into its sample 0, which the resolve writes out:
+// colour channels as their mean in linear float (summed in sample order, times 1/N, a power of
+// two: the same bits on every path and ISA), depth as the nearest sample's (stored depth is
+// smaller nearer in either depth format).
+void average_samples(TileBuffers& tile, const TileRect& rect, int samples) {
+  const std::size_t stride = tile.sample_stride();
+  const float scale = 1.0f / static_cast<float>(samples);
+  const int blocks_per_row = tile.size / simd::kBlock;
+  const int nbx = (rect.x1 - rect.x0 + simd::kBlock - 1) / simd::kBlock, nby = (rect.y1 - rect.y0 + simd::kBlock - 1) / simd::kBlock;
+  for (int by = 0; by < nby; ++by) {
+    for (int bx = 0; bx < nbx; ++bx) {
+      const int block = by * blocks_per_row + bx;
+      if (!tile.touched[static_cast<std::size_t>(block)]) continue;
+      const std::size_t base = static_cast<std::size_t>(block) * simd::kBlockPixels;
+      for (int c = 0; c < 4; ++c) {
+        float* p = tile.plane(c) + base;
+        for (int i = 0; i < simd::kBlockPixels; ++i) {
+          float sum = p[i];
+          for (int s = 1; s < samples; ++s) sum += p[i + static_cast<std::size_t>(s) * stride];
+          p[i] = sum * scale;
+        }
+      }
+      float* z = tile.plane(4) + base;
+      for (int i = 0; i < simd::kBlockPixels; ++i) {
+        for (int s = 1; s < samples; ++s) z[i] = std::min(z[i], z[i + static_cast<std::size_t>(s) * stride]);
+      }
+    }
+  }
+}
+
+}  // namespace
 
 void resolve_tile(const RasterJob& job, TileBuffers& tile, const TileRect& rect, const ImageView& color,
                   const DepthView* depth) {
@@ -335,6 +379,7 @@ void resolve_tile(const RasterJob& job, TileBuffers& tile, const TileRect& rect,
   // as store_pixel does.
   const simd::Kernels* kernels = job.kernels ? job.kernels : simd_raster_kernels(Isa::sse2);
   if (!job.kernels) std::fill(tile.touched.begin(), tile.touched.end(), std::uint8_t{1});
+  if (job.samples.count > 1) average_samples(tile, rect, job.samples.count);
   kernels->resolve(tile.view(job.clear_color, job.depth, job.srgb), rect.x0, rect.y0, rect.x1, rect.y1, color, depth);
 }
 

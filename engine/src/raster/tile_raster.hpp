@@ -13,6 +13,7 @@
 #include "facet/render.hpp"
 #include "lighting/point_shader.hpp"
 #include "raster/raster_kernels.hpp"
+#include "raster/samples.hpp"
 #include "raster/triangle_setup.hpp"
 
 namespace facet::raster {
@@ -23,17 +24,28 @@ struct TileRect {
 
 struct TileBuffers {
   int size = 0;
-  std::vector<float> storage;  // five planes of size * size floats, 64-byte aligned
+  int samples = 1;  // per pixel: each plane holds `samples` runs of size * size floats, sample after sample
+  std::vector<float> storage;  // five planes of samples * size * size floats, 64-byte aligned
   std::vector<float> phong;    // Phong sink buffers: kPhongStreams x kPhongCapacity
   std::vector<std::uint32_t> phong_pixel;
   std::vector<std::uint8_t> touched;  // per block, for the SIMD kernels' lazy clear
-  void resize(int tile_size);
+  void resize(int tile_size, int sample_count = 1);
   float* plane(int c) { return storage.data() + offset_ + static_cast<std::size_t>(c) * plane_size_; }
   const float* plane(int c) const { return storage.data() + offset_ + static_cast<std::size_t>(c) * plane_size_; }
-  simd::TileView view(const std::array<float, 4>& clear, const geometry::DepthFormat& depth, const float* srgb = nullptr) {
-    return {{plane(0), plane(1), plane(2), plane(3), plane(4)}, touched.data(), size, {clear[0], clear[1], clear[2], clear[3]},
-            srgb, depth.lo(), depth.far(), depth.reversed};
+  simd::TileView view(const std::array<float, 4>& clear, const geometry::DepthFormat& depth, const float* srgb = nullptr,
+                      const SamplePattern* pattern = nullptr) {
+    simd::TileView v{{plane(0), plane(1), plane(2), plane(3), plane(4)}, touched.data(), size, {clear[0], clear[1], clear[2], clear[3]},
+                     srgb, depth.lo(), depth.far(), depth.reversed};
+    if (pattern && pattern->count > 1) {
+      v.samples = pattern->count;
+      v.sample_stride = sample_stride();
+      v.sample_x = pattern->x;
+      v.sample_y = pattern->y;
+    }
+    return v;
   }
+  // Floats between a pixel's consecutive samples in a plane.
+  std::size_t sample_stride() const { return static_cast<std::size_t>(size) * static_cast<std::size_t>(size); }
   // Block-linear index of tile pixel (x, y).
   std::size_t index(int x, int y) const {
     return static_cast<std::size_t>((y / simd::kBlock) * (size / simd::kBlock) + x / simd::kBlock) *
@@ -55,6 +67,7 @@ struct RasterJob {
   const simd::Fog* fog;
   const float* srgb;              // SrgbTable::threshold when 8-bit output is sRGB-encoded, else null
   geometry::DepthFormat depth;    // how the pass stores depth (the viewport's)
+  SamplePattern samples{};        // the pass's samples per pixel (one: the centre)
 };
 
 // The SIMD rasterizer of an ISA (Isa::best resolved), or null if this CPU lacks it.

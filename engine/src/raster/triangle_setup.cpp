@@ -4,13 +4,14 @@
 
 namespace facet::raster {
 
-bool finish_setup(ScreenTriangle& t, int width, int height) {
+bool finish_setup(ScreenTriangle& t, int width, int height, std::int32_t sample_lo, std::int32_t sample_hi) {
   const std::int64_t min_x = std::min({t.x[0], t.x[1], t.x[2]}), max_x = std::max({t.x[0], t.x[1], t.x[2]});
   const std::int64_t min_y = std::min({t.y[0], t.y[1], t.y[2]}), max_y = std::max({t.y[0], t.y[1], t.y[2]});
-  // Pixels whose centre (p + 1/2) lies in [min, max]. Floor division by 2^8 is the arithmetic
-  // shift (C++20 defines >> on negative values as floor), as floor_div computes it.
-  auto first = [](std::int64_t lo) { return (lo - kPixelCentre + kSubpixelOne - 1) >> kSubpixelBits; };
-  auto last = [](std::int64_t hi) { return (hi - kPixelCentre) >> kSubpixelBits; };
+  // Pixels p with a sample (p + offset, offset in [sample_lo, sample_hi]; the centre p + 1/2 for
+  // one sample) in [min, max]. Floor division by 2^8 is the arithmetic shift (C++20 defines >> on
+  // negative values as floor), as floor_div computes it.
+  auto first = [sample_hi](std::int64_t lo) { return (lo - sample_hi + kSubpixelOne - 1) >> kSubpixelBits; };
+  auto last = [sample_lo](std::int64_t hi) { return (hi - sample_lo) >> kSubpixelBits; };
   t.min_px = static_cast<int>(std::max<std::int64_t>(0, first(min_x)));
   t.max_px = static_cast<int>(std::min<std::int64_t>(width - 1, last(max_x)));
   t.min_py = static_cast<int>(std::max<std::int64_t>(0, first(min_y)));

@@ -88,9 +88,11 @@ inline std::int64_t signed_area2(const ScreenTriangle& t) {
 }
 
 // For a triangle with x, y set and signed_area2(t) > 0: sets area2, inv_area2, the top-left biases
-// and the covered pixel bounds clipped to a width x height viewport. False if no pixel centre of
-// the viewport can be covered.
-bool finish_setup(ScreenTriangle& t, int width, int height);
+// and the covered pixel bounds clipped to a width x height viewport: the pixels with a sample in
+// the triangle's bounds, their samples at offsets sample_lo..sample_hi from the pixel's corner on
+// either axis (the centre by default). False if no sample of the viewport can be covered.
+bool finish_setup(ScreenTriangle& t, int width, int height, std::int32_t sample_lo = kPixelCentre,
+                  std::int32_t sample_hi = kPixelCentre);
 
 // After finish_setup: the planes of depth, 1/w and the first `attribute_count` (at most
 // kMaxRasterAttributes) attributes over w, attr[k] being vertex k's, from the snapped vertex
@@ -102,11 +104,14 @@ void compute_planes(ScreenTriangle& t, const float (*attr)[geometry::kMaxAttribu
 // weight k = e_k / area2). Edge k runs from vertex k+1 to vertex k+2:
 //   E_k(p) = B_k (p.y - a.y) + A_k (p.x - a.x),  A_k = -(b.y - a.y),  B_k = b.x - a.x,
 // evaluated exactly once per triangle and row and stepped by whole pixels (exact in int64).
+// A pixel is covered when its point at (sx, sy) from its corner (1/kSubpixelOne pixel; the centre
+// by default, a sample's position when multisampling) is.
 template <class Fn>
-void for_each_covered_pixel(const ScreenTriangle& t, int x0, int y0, int x1, int y1, Fn&& fn) {
+void for_each_covered_pixel(const ScreenTriangle& t, int x0, int y0, int x1, int y1, Fn&& fn,
+                            std::int32_t sx = kPixelCentre, std::int32_t sy = kPixelCentre) {
   std::int64_t row_e[3], step_x[3], step_y[3];
-  const std::int64_t px = std::int64_t(x0) * kSubpixelOne + kPixelCentre;
-  const std::int64_t py = std::int64_t(y0) * kSubpixelOne + kPixelCentre;
+  const std::int64_t px = std::int64_t(x0) * kSubpixelOne + sx;
+  const std::int64_t py = std::int64_t(y0) * kSubpixelOne + sy;
   for (int k = 0; k < 3; ++k) {
     const int a = (k + 1) % 3, b = (k + 2) % 3;
     const std::int64_t A = -(std::int64_t(t.y[b]) - t.y[a]);
