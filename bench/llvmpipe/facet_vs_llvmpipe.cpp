@@ -41,9 +41,12 @@
 //
 //   facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick]
 //                     [--check] [--rounds] [--filter TEXT] [--json FILE] [--srgb] [--shading gouraud|phong]
-//                     [--with-depth] [--pixel-precision auto|exact|fast] [SCENE.json ...]
+//                     [--with-depth] [--pixel-precision auto|exact|fast] [--msaa 1|4|8|16] [SCENE.json ...]
 // --pixel-precision sets facet's RenderOptions::pixel_precision (default auto, as facet renders
 // by default; fast: the 16-bit tier's fixed-point texels where it has a program).
+// --msaa N multisamples both: llvmpipe draws into a multisampled framebuffer object (GL_MULTISAMPLE
+// on) resolved by glBlitFramebuffer every frame (in its timed frame), facet renders with
+// RenderOptions::samples = N; every scene is then held to the surfaces target.
 // Both sides do the same work in the timed rounds: each draws into its colour buffer and keeps
 // its depth to itself (llvmpipe inside GL, facet in its tiles); the depth images the comparison
 // uses are read after the timed rounds (glReadPixels; one more facet frame with a depth view).
@@ -54,7 +57,7 @@
 // use smooth cones or light ranges, which GL 2.1 lacks) and caps shininess at 128.
 // --filter runs only the cases whose name contains TEXT (e.g. --filter fill_). --json writes the
 // rows to FILE as well (one object per case: name, triangles, facet_ms, llvmpipe_ms, ratio,
-// mean_diff, within2, psnr, threads, width, height, facet_depth_view_timed, pixel_precision), for
+// mean_diff, within2, psnr, threads, width, height, facet_depth_view_timed, pixel_precision, samples), for
 // tools/charts.
 // With no scene file: the built-in scene, the Stanford bunny (when ../shared/models is there) and
 // a 1M-triangle sphere, each with 1, 4 and 8 lights. --check exits 1 unless every comparison has
@@ -97,6 +100,7 @@ struct Options {
   bool phong = false;  // --shading phong: facet lights per pixel (GL still per vertex)
   bool with_depth = false;  // --with-depth: facet writes its depth view in the timed rounds too
   facet::PixelPrecision precision = facet::PixelPrecision::automatic;  // --pixel-precision
+  int msaa = 1;  // --msaa N: both renderers multisample (facet: RenderOptions::samples; GL: a multisampled FBO)
   std::vector<std::string> scenes;
 };
 
@@ -770,17 +774,24 @@ void gl_draw(const facet::Scene& s, const GlScene& g, int w, int h) {
   glFinish();
 }
 
-// A framebuffer object with an sRGB colour and a depth renderbuffer, bound, GL_FRAMEBUFFER_SRGB on
-// (GL 3.0's entry points, from OSMesa).
-struct SrgbTarget {
-  GLuint fbo = 0, colour = 0, depth = 0;
+// llvmpipe's target when it is not OSMesa's buffer: a framebuffer object with a colour (sRGB with
+// --srgb, GL_FRAMEBUFFER_SRGB on) and a depth renderbuffer, multisampled with --msaa N (GL_MULTISAMPLE
+// is on by default), bound; a multisampled one is resolved every frame by glBlitFramebuffer into a
+// second, single-sample object of the same formats, which is what is read back (GL 3.0's entry
+// points, from OSMesa).
+struct GlTarget {
+  GLuint fbo = 0, colour = 0, depth = 0;                       // drawn into
+  GLuint resolved = 0, resolved_colour = 0, resolved_depth = 0;  // --msaa: the blit's target
+  bool srgb = false;
+  int samples = 1, w = 0, h = 0;
   PFNGLGENFRAMEBUFFERSPROC gen_framebuffers = nullptr;
   PFNGLBINDFRAMEBUFFERPROC bind_framebuffer = nullptr;
   PFNGLGENRENDERBUFFERSPROC gen_renderbuffers = nullptr;
   PFNGLBINDRENDERBUFFERPROC bind_renderbuffer = nullptr;
-  PFNGLRENDERBUFFERSTORAGEPROC storage = nullptr;
+  PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC storage = nullptr;
   PFNGLFRAMEBUFFERRENDERBUFFERPROC attach = nullptr;
   PFNGLCHECKFRAMEBUFFERSTATUSPROC check = nullptr;
+  PFNGLBLITFRAMEBUFFERPROC blit = nullptr;
   PFNGLDELETEFRAMEBUFFERSPROC delete_framebuffers = nullptr;
   PFNGLDELETERENDERBUFFERSPROC delete_renderbuffers = nullptr;
   template <class P>
@@ -788,38 +799,59 @@ struct SrgbTarget {
     p = reinterpret_cast<P>(OSMesaGetProcAddress(name));
     return p != nullptr;
   }
-  bool make(int w, int h) {
+  bool make_one(GLuint& f, GLuint& c, GLuint& d, int n) {
+    gen_framebuffers(1, &f);
+    bind_framebuffer(GL_FRAMEBUFFER, f);
+    gen_renderbuffers(1, &c);
+    bind_renderbuffer(GL_RENDERBUFFER, c);
+    storage(GL_RENDERBUFFER, n > 1 ? n : 0, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, w, h);
+    attach(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, c);
+    gen_renderbuffers(1, &d);
+    bind_renderbuffer(GL_RENDERBUFFER, d);
+    storage(GL_RENDERBUFFER, n > 1 ? n : 0, GL_DEPTH_COMPONENT24, w, h);
+    attach(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, d);
+    return check(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+  }
+  bool make(int width, int height, bool use_srgb, int sample_count) {
+    w = width, h = height, srgb = use_srgb, samples = sample_count;
     if (!get(gen_framebuffers, "glGenFramebuffers") || !get(bind_framebuffer, "glBindFramebuffer") ||
         !get(gen_renderbuffers, "glGenRenderbuffers") || !get(bind_renderbuffer, "glBindRenderbuffer") ||
-        !get(storage, "glRenderbufferStorage") || !get(attach, "glFramebufferRenderbuffer") ||
-        !get(check, "glCheckFramebufferStatus") || !get(delete_framebuffers, "glDeleteFramebuffers") ||
-        !get(delete_renderbuffers, "glDeleteRenderbuffers")) {
-      std::fprintf(stderr, "--srgb: this GL has no framebuffer objects\n");
+        !get(storage, "glRenderbufferStorageMultisample") || !get(attach, "glFramebufferRenderbuffer") ||
+        !get(check, "glCheckFramebufferStatus") || !get(blit, "glBlitFramebuffer") ||
+        !get(delete_framebuffers, "glDeleteFramebuffers") || !get(delete_renderbuffers, "glDeleteRenderbuffers")) {
+      std::fprintf(stderr, "--srgb / --msaa: this GL has no framebuffer objects\n");
       return false;
     }
-    gen_framebuffers(1, &fbo);
-    bind_framebuffer(GL_FRAMEBUFFER, fbo);
-    gen_renderbuffers(1, &colour);
-    bind_renderbuffer(GL_RENDERBUFFER, colour);
-    storage(GL_RENDERBUFFER, GL_SRGB8_ALPHA8, w, h);
-    attach(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
-    gen_renderbuffers(1, &depth);
-    bind_renderbuffer(GL_RENDERBUFFER, depth);
-    storage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
-    attach(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
-    if (check(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-      std::fprintf(stderr, "--srgb: the sRGB framebuffer is not complete\n");
+    if (samples > 1 && !make_one(resolved, resolved_colour, resolved_depth, 1)) {
+      std::fprintf(stderr, "--msaa: the resolve framebuffer is not complete\n");
       return false;
     }
-    glEnable(GL_FRAMEBUFFER_SRGB);
+    if (!make_one(fbo, colour, depth, samples)) {
+      std::fprintf(stderr, "--srgb / --msaa: the framebuffer is not complete\n");
+      return false;
+    }
+    if (srgb) glEnable(GL_FRAMEBUFFER_SRGB);
     return true;
   }
+  // After a frame: a multisampled target's samples resolved (colour averaged, depth one sample).
+  void resolve() {
+    if (samples <= 1) return;
+    bind_framebuffer(GL_READ_FRAMEBUFFER, fbo);
+    bind_framebuffer(GL_DRAW_FRAMEBUFFER, resolved);
+    blit(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    bind_framebuffer(GL_FRAMEBUFFER, fbo);
+  }
+  // Binds what the frame's pixels are read from.
+  void bind_for_reading() { bind_framebuffer(GL_FRAMEBUFFER, samples > 1 ? resolved : fbo); }
   void release() {
-    glDisable(GL_FRAMEBUFFER_SRGB);
+    if (srgb) glDisable(GL_FRAMEBUFFER_SRGB);
     bind_framebuffer(GL_FRAMEBUFFER, 0);
-    delete_renderbuffers(1, &colour);
-    delete_renderbuffers(1, &depth);
-    delete_framebuffers(1, &fbo);
+    for (GLuint* r : {&colour, &depth, &resolved_colour, &resolved_depth}) {
+      if (*r) delete_renderbuffers(1, r);
+    }
+    for (GLuint* f : {&fbo, &resolved}) {
+      if (*f) delete_framebuffers(1, f);
+    }
   }
 };
 
@@ -848,8 +880,11 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
   // --srgb: llvmpipe draws into a framebuffer object with an sRGB colour buffer and
   // GL_FRAMEBUFFER_SRGB on (EXT_framebuffer_sRGB: blending in linear, each write encoded), read
   // back after the timed rounds; facet encodes its linear result once when it stores it.
-  SrgbTarget srgb_target;
-  if (opt.srgb && !srgb_target.make(w, h)) return false;
+  // --msaa N: llvmpipe draws into a multisampled framebuffer object, resolved by a blit every
+  // frame (part of its timed frame); facet renders with RenderOptions::samples = N.
+  GlTarget target;
+  const bool use_target = opt.srgb || opt.msaa > 1;
+  if (use_target && !target.make(w, h, opt.srgb, opt.msaa)) return false;
   GlScene g = gl_prepare(scene, opt.phong);
   // facet, into the same layout (OSMesa's buffer is bottom row first: y_up).
   std::vector<std::uint8_t> facet_pixels(static_cast<std::size_t>(w * h * 4));
@@ -862,6 +897,7 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
   ro.depth = facet::DepthMode::gl;  // GL's window depth, compared with llvmpipe's
   if (opt.phong) ro.shading = facet::ShadingMode::phong;
   ro.pixel_precision = opt.precision;
+  ro.samples = opt.msaa;
   facet::Renderer renderer(ro);
   facet::Status status;
   // The two renderers take turns (three rounds when timed), and each reports its median round:
@@ -874,7 +910,15 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
   // the depth images are read after the timed rounds, for the comparison.
   const facet::DepthView* timed_depth = opt.with_depth ? &dview : nullptr;
   for (int k = 0; k < rounds && status.ok(); ++k) {
-    gl_rounds.push_back(ms_per_frame([&] { gl_draw(scene, g, w, h); }, opt.seconds / rounds));
+    gl_rounds.push_back(ms_per_frame(
+        [&] {
+          gl_draw(scene, g, w, h);
+          if (use_target) {
+            target.resolve();
+            glFinish();
+          }
+        },
+        opt.seconds / rounds));
     facet_rounds.push_back(ms_per_frame([&] { status = renderer.render(scene, view, timed_depth); }, opt.seconds / rounds));
   }
   if (status.ok() && !opt.with_depth) status = renderer.render(scene, view, &dview);  // the compared frame, with its depth
@@ -892,11 +936,12 @@ bool compare(const std::string& name, const facet::Scene& scene, const Options& 
   gl_release(g);
   r.surfaces = has_surfaces(scene);
   std::vector<float> gl_depth(static_cast<std::size_t>(w * h));
+  if (use_target) target.bind_for_reading();
   glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, gl_depth.data());
-  if (opt.srgb) {
+  if (use_target) {
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, gl_pixels.data());
-    srgb_target.release();
+    target.release();
   }
   if (!status.ok()) {
     std::fprintf(stderr, "facet: %s\n", status.message().c_str());
@@ -973,6 +1018,13 @@ int main(int argc, char** argv) {
     else if (a == "--lights") opt.lights = std::atoi(next());
     else if (a == "--srgb") opt.srgb = true;
     else if (a == "--with-depth") opt.with_depth = true;
+    else if (a == "--msaa") {
+      opt.msaa = std::atoi(next());
+      if (opt.msaa != 1 && opt.msaa != 4 && opt.msaa != 8 && opt.msaa != 16) {
+        std::fprintf(stderr, "facet_vs_llvmpipe: --msaa 1|4|8|16\n");
+        return 2;
+      }
+    }
     else if (a == "--pixel-precision") {
       const std::string v = next();
       if (v != "auto" && v != "exact" && v != "fast") {
@@ -992,7 +1044,7 @@ int main(int argc, char** argv) {
       opt.phong = v == "phong";
     }
     else if (a == "-h" || a == "--help") {
-      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--rounds] [--filter TEXT] [--json FILE] [--lights N] [--srgb] [--shading gouraud|phong] [--with-depth] [--pixel-precision auto|exact|fast] [SCENE.json ...]");
+      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--rounds] [--filter TEXT] [--json FILE] [--lights N] [--srgb] [--shading gouraud|phong] [--with-depth] [--pixel-precision auto|exact|fast] [--msaa 1|4|8|16] [SCENE.json ...]");
       return 0;
     } else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "facet_vs_llvmpipe: unknown option %s\n", a.c_str());
@@ -1171,12 +1223,14 @@ int main(int argc, char** argv) {
     std::snprintf(row, sizeof row,
                   "%s\n  {\"name\": \"%s\", \"triangles\": %zu, \"facet_ms\": %.4f, \"llvmpipe_ms\": %.4f, "
                   "\"ratio\": %.4f, \"mean_diff\": %.4f, \"within2\": %.6f, \"psnr\": %.2f, \"threads\": %d, "
-                  "\"width\": %d, \"height\": %d, \"facet_depth_view_timed\": %s, \"pixel_precision\": \"%s\"}",
+                  "\"width\": %d, \"height\": %d, \"facet_depth_view_timed\": %s, \"pixel_precision\": \"%s\", \"samples\": %d}",
                   json.size() > 1 ? "," : "", r.name.c_str(), r.triangles, r.facet_ms, r.gl_ms, r.gl_ms / r.facet_ms,
                   r.mean_diff, r.within2, std::isfinite(r.psnr) ? r.psnr : 999.0, opt.threads, opt.width, opt.height,
-                  opt.with_depth ? "true" : "false", facet::to_string(opt.precision));
+                  opt.with_depth ? "true" : "false", facet::to_string(opt.precision), opt.msaa);
     json += row;
-    if (r.surfaces) {
+    // Surfaces and multisampled frames: the GL-compatibility target (llvmpipe averages 8-bit
+    // samples, facet float ones, so edges round apart by a step).
+    if (r.surfaces || opt.msaa > 1) {
       if (r.mean_diff > 1.0 || r.within2 < 0.97) ok = false;
     } else if (r.mean_diff > 0.05 || r.within2 < 0.999 || r.psnr < 50.0) {
       ok = false;
