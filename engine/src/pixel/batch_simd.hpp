@@ -11,6 +11,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "raster/raster_kernels.hpp"
+#include "raster/samples.hpp"
 #include "raster/triangle_setup.hpp"
 
 namespace facet::pixel::simd {
@@ -63,13 +64,26 @@ struct Interpolants {
   F over_w(int a, const F& fi, const F& fj) const { return attr[a].at(attr_o[a], fi, fj); }
 };
 
+// Multisampling, shaded once per pixel (programs with kShadeOnce): per sample, the batch's lanes
+// that its triangle covers and that pass its depth test, and its depth; sample s of the pixel at
+// index p is at p + s * stride.
+template <class Arch>
+struct SampleLanes {
+  int count = 0;
+  std::size_t stride = 0;
+  typename Types<Arch>::BF pass[raster::kMaxSamples];
+  typename Types<Arch>::F z[raster::kMaxSamples];
+};
+
 // One batch of W pixels of a block: lane coordinates (i, j) in the block, the interpolated depth,
-// the lanes covered and passing the depth test, and the tile-buffer index of lane 0.
+// the lanes covered and passing the depth test (multisampled: at any sample), the tile-buffer
+// index of lane 0, and for a multisampled batch shaded once its samples (else null).
 template <class Arch>
 struct Batch {
   typename Types<Arch>::F fi, fj, z;
   typename Types<Arch>::BF pass;
   std::size_t at;
+  const SampleLanes<Arch>* samples = nullptr;
 };
 
 // Pixels filled: per lane for partly passing batches, as a scalar for whole ones.
@@ -93,11 +107,19 @@ struct FillCounts {
   }
 };
 
-// Stores v into plane c at the batch's pixels that pass (all: every lane passes).
+// Stores v into plane c at the batch's pixels that pass (all: every lane passes); a multisampled
+// batch into each sample that passes, depth (c = 4) as the sample's own.
 template <class Arch>
 inline void store(float* const (&planes)[5], int c, const Batch<Arch>& b, bool all,
                   const typename Types<Arch>::F& v) {
   using F = typename Types<Arch>::F;
+  if (const SampleLanes<Arch>* ms = b.samples) {
+    for (int s = 0; s < ms->count; ++s) {
+      float* dst = planes[c] + b.at + static_cast<std::size_t>(s) * ms->stride;
+      xsimd::select(ms->pass[s], c == 4 ? ms->z[s] : v, F::load_unaligned(dst)).store_unaligned(dst);
+    }
+    return;
+  }
   float* dst = planes[c] + b.at;
   (all ? v : xsimd::select(b.pass, v, F::load_unaligned(dst))).store_unaligned(dst);
 }

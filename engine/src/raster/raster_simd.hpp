@@ -101,10 +101,13 @@ struct TileKernel {
   // reference (or reading pointers through one) after every pixel store would force a
   // store-to-load round trip per batch. Blocks inside every edge and the tile run a separate
   // instantiation of the batch (kFull: no per-batch coverage work or branches).
-  // Multisampling runs this once per sample (`sample`): coverage and depth at the sample's
-  // position, the program's attributes at the pixel centre (GL's per-pixel shading: every sample
-  // a triangle covers gets the same colour), stored at the sample's pixel index.
-  template <class Program>
+  // Multisampling, two ways. kMulti (programs with kShadeOnce): every batch tests coverage and
+  // depth at each of its pixels' samples and the program runs once for the lanes where any sample
+  // passes (pixel::simd::SampleLanes), storing into each sample that passed. Otherwise this runs
+  // once per sample (`sample`): coverage and depth at the sample's position, the program's
+  // attributes at the pixel centre, stored at the sample's pixel index. Either is GL's per-pixel
+  // shading: every sample a triangle covers gets the colour of the pixel's centre.
+  template <class Program, bool kMulti = false>
   static void triangle(const TileJob& job, const TileView& tv, const ScreenTriangle& t, PhongBatch& phong,
                        TileCounters& counters, int sample = 0) {
     I tested(0);                      // per lane, batches partly covered
@@ -124,8 +127,8 @@ struct TileKernel {
     std::int64_t e_row[3], step_bx[3], step_by[3], lo[3], hi[3];
     std::int32_t a32[3], b32[3];
     I lane_ab[3];  // A i + B j for the lanes of batch 0
-    const std::int32_t sx = tv.samples > 1 ? tv.sample_x[sample] : kPixelCentre;
-    const std::int32_t sy = tv.samples > 1 ? tv.sample_y[sample] : kPixelCentre;
+    const std::int32_t sx = !kMulti && tv.samples > 1 ? tv.sample_x[sample] : kPixelCentre;
+    const std::int32_t sy = !kMulti && tv.samples > 1 ? tv.sample_y[sample] : kPixelCentre;
     const std::size_t sample_at = static_cast<std::size_t>(sample) * tv.sample_stride;
     {
       const std::int64_t px = std::int64_t(job.x0 + bx0 * kBlock) * kSubpixelOne + sx;
@@ -172,16 +175,38 @@ struct TileKernel {
     const double vx = double(t.x[0]) / kSubpixelOne, vy = double(t.y[0]) / kSubpixelOne;
     // Depth at the sample: its offset from the pixel centre (0 for one sample).
     const double zx = double(sx - kPixelCentre) / kSubpixelOne, zy = double(sy - kPixelCentre) / kSubpixelOne;
+    // kMulti: each sample's edge values less the pixel centre's (exact), their extremes (which
+    // bound a block's samples), and its depth offset.
+    const int samples = kMulti ? tv.samples : 1;
+    std::int64_t delta[kMulti ? kMaxSamples : 1][3] = {}, dmin[3] = {}, dmax[3] = {};
+    double zxs[kMulti ? kMaxSamples : 1] = {}, zys[kMulti ? kMaxSamples : 1] = {};
+    float z_os[kMulti ? kMaxSamples : 1] = {};
+    pixel::simd::SampleLanes<Arch> ms;
+    if constexpr (kMulti) {
+      ms.count = samples;
+      ms.stride = tv.sample_stride;
+      for (int s = 0; s < samples; ++s) {
+        const std::int64_t ox = tv.sample_x[s] - kPixelCentre, oy = tv.sample_y[s] - kPixelCentre;
+        zxs[s] = double(ox) / kSubpixelOne, zys[s] = double(oy) / kSubpixelOne;
+        for (int k = 0; k < 3; ++k) {
+          delta[s][k] = std::int64_t(a32[k]) * ox + std::int64_t(b32[k]) * oy;
+          dmin[k] = s == 0 ? delta[s][k] : std::min(dmin[k], delta[s][k]);
+          dmax[k] = s == 0 ? delta[s][k] : std::max(dmax[k], delta[s][k]);
+        }
+      }
+    }
 
     for (int by = by0; by <= by1; ++by) {
       std::int64_t e[3] = {e_row[0], e_row[1], e_row[2]};
       for (int bx = bx0; bx <= bx1; ++bx, e[0] += step_bx[0], e[1] += step_bx[1], e[2] += step_bx[2]) {
-        if (e[0] + hi[0] < 0 || e[1] + hi[1] < 0 || e[2] + hi[2] < 0) continue;  // outside an edge
-        // Edges the block straddles, with their per-block lane values A i + B j + floor(E / 256).
+        // Outside an edge (kMulti: at every sample).
+        if (e[0] + hi[0] + dmax[0] < 0 || e[1] + hi[1] + dmax[1] < 0 || e[2] + hi[2] + dmax[2] < 0) continue;
+        // Edges the block straddles, with their per-block lane values A i + B j + floor(E / 256)
+        // (kMulti: per sample, in the batch).
         int partial = 0;
         I edge_base[3] = {I(0), I(0), I(0)};
         for (int k = 0; k < 3; ++k) {
-          if (e[k] + lo[k] >= 0) continue;  // the whole block is inside this edge
+          if (e[k] + lo[k] + dmin[k] >= 0) continue;  // the whole block is inside this edge
           partial |= 1 << k;
           edge_base[k] = lane_ab[k] + I(static_cast<std::int32_t>(e[k] >> kSubpixelBits));
         }
@@ -192,6 +217,9 @@ struct TileKernel {
         const std::size_t base = static_cast<std::size_t>(block) * kBlockPixels + sample_at;
         const double cx = (job.x0 + ox) + 0.5 - vx, cy = (job.y0 + oy) + 0.5 - vy;
         const float z_o = z_plane.origin(cx + zx, cy + zy);
+        if constexpr (kMulti) {
+          for (int s = 0; s < samples; ++s) z_os[s] = z_plane.origin(cx + zxs[s], cy + zys[s]);
+        }
         if constexpr (Program::kClipW) {
           in.w_o = in.w.origin(cx, cy);
           for (int a = 0; a < in.count; ++a) in.attr_o[a] = in.attr[a].origin(cx, cy);
@@ -201,6 +229,38 @@ struct TileKernel {
         // coverage is all lanes.
         auto shade_batch = [&](auto full_tag, int b) {
           constexpr bool kFull = decltype(full_tag)::value;
+          if constexpr (kMulti) {
+            const int i0 = (b * W) % kBlock, j0 = (b * W) / kBlock;
+            const F fi = F::load_aligned(L.fi + b * W), fj = F::load_aligned(L.fj + b * W);
+            BI inside_tile(true);
+            if (clipped) {
+              inside_tile = (I::load_aligned(L.ii + b * W) < I(rect_w - ox)) & (I::load_aligned(L.jj + b * W) < I(rect_h - oy));
+            }
+            BF any(false);
+            for (int s = 0; s < samples; ++s) {
+              BI cover_s = inside_tile;
+              if (!kFull && partial) {
+                I acc(0);
+                for (int k = 0; k < 3; ++k) {
+                  if (partial & (1 << k)) {
+                    acc = acc | (lane_ab[k] + I(static_cast<std::int32_t>((e[k] + delta[s][k]) >> kSubpixelBits)) +
+                                 I(a32[k] * i0 + b32[k] * j0));
+                  }
+                }
+                cover_s = cover_s & (acc >= I(0));
+              }
+              F z = z_plane.at(z_os[s], fi, fj);
+              z = xsimd::select(z > F(tv.depth_lo), xsimd::min(z, F(tv.depth_far)), F(tv.depth_lo));
+              const std::size_t at = base + static_cast<std::size_t>(b * W) + static_cast<std::size_t>(s) * tv.sample_stride;
+              ms.pass[s] = (z < F::load_unaligned(planes[4] + at)) & xsimd::bool_cast(cover_s);
+              ms.z[s] = z;
+              tested += xsimd::select(cover_s, I(1), I(0));
+              any = any | ms.pass[s];
+            }
+            if (!xsimd::any(any)) return;
+            program.template batch_samples<kFull>(in, fi, fj, ms, any, base + static_cast<std::size_t>(b * W));
+            return;
+          }
           BI cover_i(true);
           if constexpr (!kFull) {
             const int i0 = (b * W) % kBlock, j0 = (b * W) / kBlock;  // first lane's pixel in the block
@@ -260,6 +320,12 @@ struct TileKernel {
   template <class Program>
   static void each_sample(const TileJob& job, const TileView& tv, const ScreenTriangle& t, PhongBatch& phong,
                           TileCounters& counters) {
+    if constexpr (Program::kShadeOnce) {
+      if (tv.samples > 1) {
+        triangle<Program, true>(job, tv, t, phong, counters);
+        return;
+      }
+    }
     for (int s = 0; s < tv.samples; ++s) triangle<Program>(job, tv, t, phong, counters, s);
   }
 
