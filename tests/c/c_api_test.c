@@ -412,6 +412,44 @@ int main(void) {
     CHECK(exact != NULL && status == FACET_OK);
     facet_renderer_destroy(exact);
   }
+  /* Multisampling: 1 by default; 3 samples are refused; 4 soften a triangle's slanted edge (some
+   * pixel between the clear colour and the triangle's), where 1 sample leaves only the two. */
+  CHECK(config.samples == 1);
+  config.samples = 3;
+  CHECK(facet_renderer_create(&config, &status) == NULL && status == FACET_INVALID_ARGUMENT);
+  {
+    facet_scene* s = facet_scene_create();
+    const float tri[] = {-5, -4, -3, 5, -3, -3, -1, 5, -3};
+    const uint32_t idx[] = {0, 1, 2};
+    uint32_t m = 0, mat = 0;
+    CHECK(facet_scene_add_mesh(s, tri, 3, NULL, idx, 1, &m) == FACET_OK);
+    facet_material white = facet_material_default();
+    const float one[3] = {1, 1, 1}, zero[3] = {0, 0, 0};
+    memcpy(white.emissive, one, sizeof one);
+    memcpy(white.ambient, zero, sizeof zero);
+    memcpy(white.diffuse, zero, sizeof zero);
+    memcpy(white.specular, zero, sizeof zero);
+    CHECK(facet_scene_add_material(s, &white, &mat) == FACET_OK);
+    CHECK(facet_scene_add_object(s, m, mat, NULL, NULL) == FACET_OK);
+    unsigned char one_sample[16 * 16 * 4], four[16 * 16 * 4];
+    int between_1 = 0, between_4 = 0;
+    for (int samples = 1; samples <= 4; samples += 3) {
+      facet_render_config rc = facet_render_config_default();
+      rc.samples = samples;
+      rc.cull = FACET_CULL_NONE;
+      facet_renderer* r = facet_renderer_create(&rc, NULL);
+      CHECK(r != NULL);
+      unsigned char* px = samples == 1 ? one_sample : four;
+      CHECK(facet_render(r, s, px, 16, 16, 16 * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
+      facet_renderer_destroy(r);
+      for (int i = 0; i < 16 * 16; ++i) {
+        if (px[4 * i] > 0 && px[4 * i] < 255) *(samples == 1 ? &between_1 : &between_4) += 1;
+      }
+    }
+    CHECK(between_1 == 0 && between_4 > 4);
+    facet_scene_destroy(s);
+  }
+  config.samples = 1;
   config.pow_tier = (facet_pow_tier)5;
   CHECK(facet_renderer_create(&config, &status) == NULL && status == FACET_INVALID_ARGUMENT);
   config.pow_tier = FACET_POW_SCHLICK;

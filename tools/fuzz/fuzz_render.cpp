@@ -61,6 +61,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   options.cull = (flags & 4) ? CullMode::none : CullMode::back;
   options.path = (flags & 128) ? LightingPath::scalar : LightingPath::simd;
+  static constexpr int kSamples[4] = {1, 1, 4, 16};  // multisampled for half the inputs
+  options.samples = kSamples[size % 4];
   Renderer renderer;
   const Status st = renderer.render(s, options, image.view(), &depth, nullptr);
   image.check();

@@ -106,6 +106,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   options.threads = 1;
   options.shading = static_cast<facet::ShadingMode>(size % 3);
   options.vertex_relief = (size / 3) % 2 != 0;  // Gouraud reads the maps per vertex
+  options.samples = (size / 6) % 2 != 0 ? 8 : 1;  // multisampled for half the inputs
   facet::Renderer renderer;
   const facet::Status checked = facet::check_render(*scene, options, 24, 16);
   const facet::Status rendered = renderer.render(*scene, options, image.view());

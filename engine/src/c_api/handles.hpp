@@ -141,6 +141,9 @@ inline bool to_options(const facet_render_config& c, facet::RenderOptions& o, st
   o.isa = isa[isa_i];
   o.cull = cull[cull_i];
   o.tile_size = c.tile_size;
+  if (c.samples != 1 && c.samples != 4 && c.samples != 8 && c.samples != 16) {
+    return fail(error, "config.samples", "expected 1, 4, 8 or 16 samples per pixel"), false;
+  }
   o.samples = c.samples;
   o.threads = c.threads;
   for (int i = 0; i < 4; ++i) o.clear_color[static_cast<std::size_t>(i)] = c.clear_color[i];
