@@ -66,23 +66,28 @@ struct PhongBatch {
   // (nothing appended): no room, or a partial batch on sse2; the caller copies lane by lane.
   // (A compressing store straight to memory is microcoded on AMD Zen 4, and measured much slower.)
   template <int Q>
-  bool append(float* const (&dst)[Q], const F (&v)[Q], int n, const BF& pass, std::size_t at) {
+  bool append(float* const (&dst)[Q], const F (&v)[Q], int n, const BF& pass, std::size_t at, const U& samples) {
     if (count + W > kPhongCapacity) return false;
     const U pixel = U(static_cast<std::uint32_t>(at)) + U::load_aligned(kLaneIndex);
     int added = W;
     if (xsimd::all(pass)) {
       for (int q = 0; q < n; ++q) v[q].store_unaligned(dst[q] + count);
       pixel.store_unaligned(sink->pixel + count);
+      if (sink->samples) samples.store_unaligned(sink->samples + count);
     } else if constexpr (W == 16) {
       const __mmask16 m = static_cast<typename BF::register_type>(pass);
       for (int q = 0; q < n; ++q) _mm512_storeu_ps(dst[q] + count, _mm512_maskz_compress_ps(m, v[q]));
       _mm512_storeu_si512(sink->pixel + count, _mm512_maskz_compress_epi32(m, pixel));
+      if (sink->samples) _mm512_storeu_si512(sink->samples + count, _mm512_maskz_compress_epi32(m, samples));
       added = __builtin_popcount(m);
     } else if constexpr (W == 8) {
       const int m = _mm256_movemask_ps(pass);
       const __m256i order = _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompress8.lanes[m]));
       for (int q = 0; q < n; ++q) _mm256_storeu_ps(dst[q] + count, _mm256_permutevar8x32_ps(v[q], order));
       _mm256_storeu_si256(reinterpret_cast<__m256i*>(sink->pixel + count), _mm256_permutevar8x32_epi32(pixel, order));
+      if (sink->samples) {
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(sink->samples + count), _mm256_permutevar8x32_epi32(samples, order));
+      }
       added = __builtin_popcount(static_cast<unsigned>(m));
     } else {
       return false;
@@ -93,19 +98,33 @@ struct PhongBatch {
   }
 
   // Appends the passing lanes of v's first n streams (into dst) for the pixels at tile-buffer
-  // index `at` onwards: as vectors (append) or lane by lane.
+  // index `at` onwards: as vectors (append) or lane by lane. Multisampled and shaded once (ms):
+  // each entry with the samples it is stored to.
   template <int Q>
-  void gather(float* const (&dst)[Q], const F (&v)[Q], int n, const BF& pass, std::size_t at) {
-    if (append(dst, v, n, pass, at)) return;
+  void gather(float* const (&dst)[Q], const F (&v)[Q], int n, const BF& pass, std::size_t at,
+              const SampleLanes<Arch>* ms = nullptr) {
+    U samples(1u);
+    if (ms) {
+      samples = U(0u);
+      for (int s = 0; s < ms->count; ++s) {
+        // 1.0f where the sample passed (0x3f800000: bit 23 set), 0 elsewhere, to bit s.
+        const U on = xsimd::bitwise_cast<U>(xsimd::select(ms->pass[s], F(1.0f), F(0.0f)));
+        samples = samples | (((on >> 23) & U(1u)) << s);
+      }
+    }
+    if (append(dst, v, n, pass, at, samples)) return;
     alignas(64) float values[Q][W];
     alignas(64) float mask[W];
+    alignas(64) std::uint32_t lane_samples[W];
     for (int q = 0; q < n; ++q) v[q].store_aligned(values[q]);
     xsimd::select(pass, F(1.0f), F(0.0f)).store_aligned(mask);
+    samples.store_aligned(lane_samples);
     for (int lane = 0; lane < W; ++lane) {
       if (mask[lane] == 0.0f) continue;
       const int k = count++;
       for (int q = 0; q < n; ++q) dst[q][k] = values[q][lane];
       sink->pixel[k] = static_cast<std::uint32_t>(at + static_cast<std::size_t>(lane));
+      if (sink->samples) sink->samples[k] = lane_samples[lane];
       if (count == kPhongCapacity) flush();
     }
   }
@@ -125,20 +144,24 @@ struct PhongBatch {
     const Draw& d = job->draws[object];
     if (d.program < raster::simd::PixelProgram::surface) {
       for (int k = 0; k < count;) {
-        if (run_at(k)) {  // W consecutive pixels: stored as vectors
-          const std::uint32_t p = s.pixel[k];
-          F::load_unaligned(s.r + k).store_unaligned(tile->plane[0] + p);
-          F::load_unaligned(s.g + k).store_unaligned(tile->plane[1] + p);
-          F::load_unaligned(s.b + k).store_unaligned(tile->plane[2] + p);
-          F(alpha).store_unaligned(tile->plane[3] + p);
+        if (const std::uint32_t m = run_at(k)) {  // W consecutive pixels with the same samples: stored as vectors
+          for (std::uint32_t left = m; left; left &= left - 1) {
+            const std::size_t p = s.pixel[k] + sample_offset(left);
+            F::load_unaligned(s.r + k).store_unaligned(tile->plane[0] + p);
+            F::load_unaligned(s.g + k).store_unaligned(tile->plane[1] + p);
+            F::load_unaligned(s.b + k).store_unaligned(tile->plane[2] + p);
+            F(alpha).store_unaligned(tile->plane[3] + p);
+          }
           k += W;
           continue;
         }
-        const std::uint32_t p = s.pixel[k];
-        tile->plane[0][p] = s.r[k];
-        tile->plane[1][p] = s.g[k];
-        tile->plane[2][p] = s.b[k];
-        tile->plane[3][p] = alpha;
+        for (std::uint32_t left = entry_samples(k); left; left &= left - 1) {
+          const std::size_t p = s.pixel[k] + sample_offset(left);
+          tile->plane[0][p] = s.r[k];
+          tile->plane[1][p] = s.g[k];
+          tile->plane[2][p] = s.b[k];
+          tile->plane[3][p] = alpha;
+        }
         ++k;
       }
       count = 0;
@@ -168,31 +191,46 @@ struct PhongBatch {
       c[3].store_unaligned(s.carry[0] + k);
     }
     for (int k = 0; k < count;) {
-      const std::uint32_t p = s.pixel[k];
-      if (run_at(k)) {  // W consecutive pixels: blended as vectors (the same operations per pixel)
+      if (const std::uint32_t m = run_at(k)) {  // W consecutive pixels: blended as vectors (the same operations per pixel)
         const F c[4] = {F::load_unaligned(s.r + k), F::load_unaligned(s.g + k), F::load_unaligned(s.b + k),
                         F::load_unaligned(s.carry[0] + k)};
-        F dst[4];
-        for (int ch = 0; ch < 4; ++ch) dst[ch] = F::load_unaligned(tile->plane[ch] + p);
-        pixel::blend(d, c, dst);
-        for (int ch = 0; ch < 4; ++ch) dst[ch].store_unaligned(tile->plane[ch] + p);
+        for (std::uint32_t left = m; left; left &= left - 1) {  // each sample over its own destination
+          const std::size_t p = s.pixel[k] + sample_offset(left);
+          F dst[4];
+          for (int ch = 0; ch < 4; ++ch) dst[ch] = F::load_unaligned(tile->plane[ch] + p);
+          pixel::blend(d, c, dst);
+          for (int ch = 0; ch < 4; ++ch) dst[ch].store_unaligned(tile->plane[ch] + p);
+        }
         k += W;
         continue;
       }
       const float c[4] = {s.r[k], s.g[k], s.b[k], s.carry[0][k]};
-      float dst[4] = {tile->plane[0][p], tile->plane[1][p], tile->plane[2][p], tile->plane[3][p]};
-      pixel::blend(d, c, dst);
-      for (int ch = 0; ch < 4; ++ch) tile->plane[ch][p] = dst[ch];
+      for (std::uint32_t left = entry_samples(k); left; left &= left - 1) {
+        const std::size_t p = s.pixel[k] + sample_offset(left);
+        float dst[4] = {tile->plane[0][p], tile->plane[1][p], tile->plane[2][p], tile->plane[3][p]};
+        pixel::blend(d, c, dst);
+        for (int ch = 0; ch < 4; ++ch) tile->plane[ch][p] = dst[ch];
+      }
       ++k;
     }
     count = 0;
   }
-  // Whether entries k .. k + W - 1 exist and are the pixels pixel[k] .. pixel[k] + W - 1 (a whole
-  // batch, append): distinct pixels, so storing them at once keeps the entry order's result.
-  bool run_at(int k) const {
-    if (k + W > count) return false;
+  // Entry k's samples (bit 0 alone for one sample), and the index offset of the lowest sample
+  // left in a mask.
+  std::uint32_t entry_samples(int k) const { return sink->samples ? sink->samples[k] : 1u; }
+  std::size_t sample_offset(std::uint32_t left) const {
+    return static_cast<std::size_t>(__builtin_ctz(left)) * tile->sample_stride;
+  }
+  // If entries k .. k + W - 1 exist, are the pixels pixel[k] .. pixel[k] + W - 1 (a whole batch,
+  // append) and go to the same samples, those samples' mask (else 0): distinct pixels, so storing
+  // them at once keeps the entry order's result.
+  std::uint32_t run_at(int k) const {
+    if (k + W > count) return 0;
     const U first(sink->pixel[k]);
-    return xsimd::all(U::load_unaligned(sink->pixel + k) == first + U::load_aligned(kLaneIndex));
+    if (!xsimd::all(U::load_unaligned(sink->pixel + k) == first + U::load_aligned(kLaneIndex))) return 0;
+    if (!sink->samples) return 1;
+    const std::uint32_t m = sink->samples[k];
+    return xsimd::all(U::load_unaligned(sink->samples + k) == U(m)) ? m : 0;
   }
 };
 

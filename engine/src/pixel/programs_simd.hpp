@@ -121,7 +121,7 @@ struct PhongProgram {
   using BF = typename Types<Arch>::BF;
   static constexpr int kAttributes = 6;
   static constexpr bool kClipW = true;
-  static constexpr bool kShadeOnce = false;  // multisampled: run per sample (the gather stores by pixel)
+  static constexpr bool kShadeOnce = true;  // multisampled: gathered once, with the samples it goes to
   static int plane(const Draw& d, int a) {
     return a < 3 ? d.layout.at(Varying::eye_position) + a : d.layout.at(Varying::normal) + a - 3;
   }
@@ -131,7 +131,14 @@ struct PhongProgram {
   explicit PhongProgram(const Context<Arch>& c) : cx(c) {}
   template <bool kFull>
   void batch(const Interpolants<Arch, 6>& in, const F& fi, const F& fj, const F& z, const BF& pass, std::size_t at) {
-    const Batch<Arch> b{fi, fj, z, pass, at};
+    body(in, {fi, fj, z, pass, at});
+  }
+  template <bool kFull>
+  void batch_samples(const Interpolants<Arch, 6>& in, const F& fi, const F& fj, const SampleLanes<Arch>& ms, const BF& any,
+                     std::size_t at) {
+    body(in, {fi, fj, F(0.0f), any, at, &ms});
+  }
+  void body(const Interpolants<Arch, 6>& in, const Batch<Arch>& b) {
     const bool all = filled.count(b.pass);
     store(cx.planes, 4, b, all, b.z);
     const F inv_w = in.clip_w(b.fi, b.fj);
@@ -139,7 +146,7 @@ struct PhongProgram {
     for (int a = 0; a < 6; ++a) v[a] = in.over_w(a, b.fi, b.fj) * inv_w;
     PhongSink& s = *cx.phong.sink;
     float* const dst[6] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz};
-    cx.phong.gather(dst, v, 6, b.pass, b.at);
+    cx.phong.gather(dst, v, 6, b.pass, b.at, b.samples);
   }
   void end_block(const Interpolants<Arch, 6>&) {}
 };

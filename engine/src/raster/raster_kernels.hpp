@@ -145,6 +145,10 @@ struct PhongSink {
   float* ao;                           // ambient occlusion in (a draw with an occlusion map)
   float* carry[kMaxCarried];
   std::uint32_t* pixel;  // tile-buffer index of each entry
+  // Multisampled tiles: each entry's samples (bit s: the pixel's sample s, at pixel + s x the
+  // tile's sample stride; a program run per sample gathers bit 0 at the sample's own index); null
+  // for one sample.
+  std::uint32_t* samples;
   void* context;
   // `padded` is `count` rounded up to 16; entries [count, padded) hold zeros.
   void (*shade)(void* context, std::uint32_t object, std::size_t count, std::size_t padded);

@@ -25,6 +25,7 @@ void TileBuffers::resize(int tile_size, int sample_count) {
   phong.resize((simd::kPhongStreams + lighting::kMaxShadowedLights + 3 * kMaxProjectors) *
                static_cast<std::size_t>(simd::kPhongCapacity));
   phong_pixel.resize(simd::kPhongCapacity);
+  phong_samples.resize(simd::kPhongCapacity);
   touched.resize(static_cast<std::size_t>(tile_size / simd::kBlock) * static_cast<std::size_t>(tile_size / simd::kBlock));
 }
 
@@ -165,6 +166,7 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
   for (int k = 0; k < 16; ++k) *slots[k] = f + static_cast<std::size_t>(k) * cap;
   for (int k = 0; k < simd::kMaxCarried; ++k) sink.carry[k] = f + static_cast<std::size_t>(16 + k) * cap;
   sink.pixel = tile.phong_pixel.data();
+  sink.samples = job.samples.count > 1 ? tile.phong_samples.data() : nullptr;
   sink.context = &context;
   sink.shade = shade_phong;
   simd::TileJob tj{job.shading,

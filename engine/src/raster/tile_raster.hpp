@@ -28,6 +28,7 @@ struct TileBuffers {
   std::vector<float> storage;  // five planes of samples * size * size floats, 64-byte aligned
   std::vector<float> phong;    // Phong sink buffers: kPhongStreams x kPhongCapacity
   std::vector<std::uint32_t> phong_pixel;
+  std::vector<std::uint32_t> phong_samples;  // multisampled: the Phong sink's sample masks
   std::vector<std::uint8_t> touched;  // per block, for the SIMD kernels' lazy clear
   void resize(int tile_size, int sample_count = 1);
   float* plane(int c) { return storage.data() + offset_ + static_cast<std::size_t>(c) * plane_size_; }
