@@ -22,6 +22,8 @@
 //     resolution x filter, the share of receiver pixels (pixels the light reaches) whose colour
 //     differs from the ray-cast image by more than one step, how far (in pixels) the farthest of
 //     them lies from a ray-cast shadow edge, PSNR against the ray-cast image, and ms per frame.
+//  6-7. Environment and bump maps per vertex and per pixel (see their functions).
+//  8. Multisampling: edge pixels at 1, 4, 8 and 16 samples against a 64-sample reference.
 // Output: a table, or JSON (--json FILE) and CSV (--csv FILE).
 #include <algorithm>
 #include <chrono>
@@ -1175,6 +1177,103 @@ Status relief_accuracy(bool quick, std::vector<Row>& rows) {
   return {};
 }
 
+// 8. Multisampling: the built-in scene at 320 x 180 with 1, 4, 8 and 16 samples a pixel against
+// a 64-sample reference (the same frame at 2560 x 1440, one sample, each 8 x 8 block averaged in
+// linear float): the mean and largest error in 8-bit steps over the edge pixels (those whose 64
+// reference samples do not all show the same object or all the background, from a frame of flat
+// object colours), and ms per frame on one thread. The reference shades every one of its
+// samples, multisampling each pixel once, so part of the error is shading, not coverage.
+Status msaa_accuracy(bool quick, std::vector<Row>& rows) {
+  const Scene s = make_default_scene();
+  constexpr int w = 320, h = 180, kUp = 8, W = w * kUp, H = h * kUp;
+  std::vector<float> big(static_cast<std::size_t>(W) * H * 4);
+  std::vector<std::uint8_t> ids(static_cast<std::size_t>(W) * H * 4);
+  {
+    RenderOptions o;
+    if (Status st = Renderer(o).render(s, {big.data(), W, H, static_cast<std::size_t>(W) * 16, PixelFormat::rgba32f, false}); !st.ok()) {
+      return st;
+    }
+    Scene flat = s;  // each object in its own flat colour: which object each sample shows
+    flat.lights.clear();
+    flat.fog.mode = FogMode::none;
+    flat.global_ambient = Color3::Zero();
+    flat.materials.clear();
+    for (std::size_t k = 0; k < flat.objects.size(); ++k) {
+      Material m;
+      m.ambient = m.diffuse = m.specular = Color3::Zero();
+      m.emissive = Color3(float(k + 1) / 255.0f, 0.0f, 0.0f);
+      flat.materials.push_back(m);
+      flat.objects[k].material = static_cast<std::uint32_t>(k);
+      flat.objects[k].mesh_materials = false;
+    }
+    o.clear_color = {0.0f, 0.0f, 0.0f, 1.0f};
+    if (Status st = Renderer(o).render(flat, {ids.data(), W, H, static_cast<std::size_t>(W) * 4, PixelFormat::rgba8, false}); !st.ok()) {
+      return st;
+    }
+  }
+  std::vector<double> reference(static_cast<std::size_t>(w * h * 3));
+  std::vector<std::uint8_t> edge(static_cast<std::size_t>(w * h));
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      double sum[3] = {};
+      const std::size_t first = (static_cast<std::size_t>(y * kUp) * W + static_cast<std::size_t>(x * kUp)) * 4;
+      const std::size_t i = static_cast<std::size_t>(y * w + x);
+      for (int j = 0; j < kUp; ++j) {
+        for (int k = 0; k < kUp; ++k) {
+          const std::size_t at = (static_cast<std::size_t>(y * kUp + j) * W + static_cast<std::size_t>(x * kUp + k)) * 4;
+          for (int c = 0; c < 3; ++c) sum[c] += std::clamp(double(big[at + static_cast<std::size_t>(c)]), 0.0, 1.0);
+          edge[i] |= ids[at] != ids[first];
+        }
+      }
+      for (int c = 0; c < 3; ++c) reference[3 * i + static_cast<std::size_t>(c)] = 255.0 * sum[c] / (kUp * kUp);
+    }
+  }
+  for (const int samples : {1, 4, 8, 16}) {
+    RenderOptions o;
+    o.samples = samples;
+    o.threads = 1;
+    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w * h * 4));
+    const ImageView view{rgba.data(), w, h, static_cast<std::size_t>(w) * 4, PixelFormat::rgba8, false};
+    Renderer r(o);
+    if (Status st = r.render(s, view); !st.ok()) return st;
+    Row row;
+    row.kind = "msaa";
+    row.method = std::to_string(samples) + (samples == 1 ? " sample" : " samples");
+    row.item = "built-in 320x180";
+    const int repeats = quick ? 3 : 20;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < repeats; ++k) (void)r.render(s, view);
+    row.ms_per_frame = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / repeats;
+    double sum = 0;
+    std::size_t pixels = 0, close = 0;
+    for (std::size_t i = 0; i < edge.size(); ++i) {
+      if (!edge[i]) continue;
+      bool near = true;
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double e = std::abs(double(rgba[4 * i + c]) - reference[3 * i + c]);
+        sum += e;
+        row.max_lsb = std::max(row.max_lsb, e);
+        near = near && e <= 8;
+      }
+      ++pixels, close += near;
+    }
+    row.mean_lsb = pixels ? sum / double(3 * pixels) : 0.0;
+    row.max_step = static_cast<int>(std::lround(row.max_lsb));
+    row.share = pixels ? double(close) / double(pixels) : 0.0;
+    rows.push_back(row);
+  }
+  // The contract: each count at least as close as the one below it, and 4 samples at most half
+  // one sample's mean edge error.
+  const std::size_t first = rows.size() - 4;
+  for (std::size_t k = first; k < rows.size(); ++k) {
+    Row& row = rows[k];
+    row.verdict = "ok";
+    if (k > first && row.mean_lsb > rows[k - 1].mean_lsb) row.verdict = "more error than fewer samples";
+    if (k == first + 1 && row.mean_lsb > 0.5 * rows[first].mean_lsb) row.verdict = "4 samples not twice as close as 1";
+  }
+  return {};
+}
+
 void write_json(std::ostream& o, const std::vector<Row>& rows) {
   o << "{\n  \"machine\": \"" << json_escape(to_string(best_isa())) << "\",\n  \"rows\": [\n";
   for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -1208,16 +1307,17 @@ Command add_accuracy(CLI::App& facet) {
     bool quick = false, check = false;
   };
   auto st = std::make_shared<State>();
-  CLI::App* app = facet.add_subcommand("accuracy", "every fast method against its exact reference: vertices, pow, images, textures, shadows, environment and bump maps");
+  CLI::App* app = facet.add_subcommand("accuracy", "every fast method against its exact reference: vertices, pow, images, textures, shadows, environment and bump maps, multisampling");
   app->footer(
       "Measures every lighting path, ISA and pow tier against the exact reference: vertex colours\n"
       "(random and special inputs), the pow methods over their failure inputs, whole images against a\n"
       "ray-cast reference of exact spheres, the texture filters against the reference sampler, and\n"
       "the shadow methods against ray-cast shadows, environment maps per vertex and per pixel against\n"
-      "exact reflection rays, and bump maps per vertex and per pixel against per-pixel bump on the\n"
-      "reference path.");
-  app->add_option("--only", st->only, "vertices | pow | images | textures | shadows | environment | relief (default: all seven)")
-      ->check(one_of({"vertices", "pow", "images", "textures", "shadows", "environment", "relief"}, "part"));
+      "exact reflection rays, bump maps per vertex and per pixel against per-pixel bump on the\n"
+      "reference path, and multisampled edges against a 64-sample reference.");
+  app->add_option("--only", st->only,
+                  "vertices | pow | images | textures | shadows | environment | relief | msaa (default: all eight)")
+      ->check(one_of({"vertices", "pow", "images", "textures", "shadows", "environment", "relief", "msaa"}, "part"));
   app->add_flag("--quick", st->quick, "fewer vertices (10^4) and tessellation levels, for tests");
   app->add_option("--json", st->json_path, "write all results as JSON to FILE");
   app->add_option("--csv", st->csv_path, "write all results as CSV (one row per measurement) to FILE");
@@ -1244,6 +1344,9 @@ int accuracy(const std::string& only, bool quick, bool check, const std::string&
   if (only.empty() || only == "relief") {
     if (Status s = relief_accuracy(quick, rows); !s.ok()) return fail(s.message());
   }
+  if (only.empty() || only == "msaa") {
+    if (Status s = msaa_accuracy(quick, rows); !s.ok()) return fail(s.message());
+  }
 
   int failures = 0;
   std::printf("%-9s %-28s %-36s %9s %9s %5s %5s %8s  %s\n", "kind", "method", "case", "max LSB", "mean LSB", "step",
@@ -1258,6 +1361,7 @@ int accuracy(const std::string& only, bool quick, bool check, const std::string&
                 r.kind == "image" || r.kind == "shadow" ? number(r.psnr_db).c_str() : "", r.verdict.c_str());
     if (r.kind == "texture") std::printf(" (%.1f M samples/s)", r.rate / 1e6);
     if (r.kind == "environment" || r.kind == "relief") std::printf(" (%.1f %% of pixels within 2 steps; %.2f ms/frame)", 100.0 * r.share, r.ms_per_frame);
+    if (r.kind == "msaa") std::printf(" (%.1f %% of edge pixels within 8 steps; %.2f ms/frame)", 100.0 * r.share, r.ms_per_frame);
     if (r.kind == "shadow") {
       std::printf(" (%.3f %% of receivers differ, farthest %.0f px from an edge; %.2f ms/frame)", 100.0 * r.share, r.edge_px,
                   r.ms_per_frame);

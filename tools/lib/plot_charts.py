@@ -427,6 +427,29 @@ if relief_rows:
     save(fig, "relief_speed_vs_accuracy")
     charts.append("relief_speed_vs_accuracy")
 
+# --- 8. multisampling: edge error against a 64-sample reference, against ms per frame ---------------
+msaa_rows = [r for r in accuracy if r["kind"] == "msaa"]
+if msaa_rows:
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    pts = sorted(msaa_rows, key=lambda r: int(r["method"].split()[0]))
+    ax.plot([r["mean_lsb"] for r in pts], [r["ms_per_frame"] for r in pts], color="#1f77b4", marker="o")
+    for r in pts:
+        if "ms_per_frame_min" in r:
+            ax.errorbar([r["mean_lsb"]], [r["ms_per_frame"]],
+                        yerr=[[r["ms_per_frame"] - r["ms_per_frame_min"]], [r["ms_per_frame_max"] - r["ms_per_frame"]]],
+                        color="#1f77b4", lw=0.7, capsize=2)
+        ax.annotate(r["method"], (r["mean_lsb"], r["ms_per_frame"]), textcoords="offset points", xytext=(5, 3),
+                    fontsize=8, color="#1f77b4")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("mean error on edge pixels against a 64-sample reference (8-bit steps)")
+    ax.set_ylabel("ms per frame (built-in scene, 320x180, 1 thread)")
+    ax.set_title(f"Multisampling: samples per pixel (simd {best})")
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    save(fig, "msaa_speed_vs_accuracy")
+    charts.append("msaa_speed_vs_accuracy")
+
 # --- summary -----------------------------------------------------------------------------------------
 ctx = lighting["context"]
 points_rate = {}  # (method, threads) -> row, for 4 point lights on 64 Ki vertices
