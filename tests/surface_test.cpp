@@ -413,6 +413,45 @@ TEST(Surfaces, SimdMatchesScalar) {
   }
 }
 
+// Multisampled surfaces: the SIMD programs shade each pixel once and store, blend and alpha-test
+// into each sample (the textured ones a batch at a time); the scalar path runs the stages once per
+// sample. Textures, blending, fog and an alpha-tested ground, every shading mode, 4 and 16 samples.
+TEST(Surfaces, MultisampledSimdMatchesScalar) {
+  Scene s = surfaces_scene();
+  // The ground alpha-tested against a checker of transparent and opaque squares.
+  s.textures.push_back(texture_from(16, 16, TextureFilter::nearest, [](int i, int j) {
+    return std::array<std::uint8_t, 4>{200, 180, 90, static_cast<std::uint8_t>((i / 2 + j / 2) % 2 ? 255 : 0)};
+  }));
+  for (const Instance& inst : s.objects) {
+    Material& m = s.materials[inst.material];
+    if (m.diffuse_texture == 0) m.diffuse_texture = static_cast<std::int32_t>(s.textures.size() - 1), m.alpha_cutoff = 0.5f;
+  }
+  for (int samples : {4, 16}) {
+    for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+      RenderOptions a, b;
+      a.shading = b.shading = shading;
+      a.samples = b.samples = samples;
+      a.path = LightingPath::scalar;
+      b.path = LightingPath::simd;
+      const auto pa = render_pixels(s, a, 160, 120), pb = render_pixels(s, b, 160, 120);
+      int worst = 0;
+      std::size_t differ = 0, far = 0;
+      for (std::size_t i = 0; i < pa.size(); ++i) {
+        const int d = std::abs(int(pa[i]) - int(pb[i]));
+        worst = std::max(worst, d);
+        differ += d != 0;
+        far += d > 2;
+      }
+      // Depth interpolated from planes (SIMD) or barycentrics (scalar) can order two surfaces that
+      // meet differently at a sample: at most one sample's share of a pixel, at few pixels
+      // (measured: one pixel, 7 steps, at 16 samples).
+      EXPECT_LE(worst, 2 + 255 / samples) << samples << " samples, " << to_string(shading);
+      EXPECT_LE(far, pa.size() / 1000) << samples << " samples, " << to_string(shading);
+      EXPECT_LE(differ, pa.size() / 100) << samples << " samples, " << to_string(shading);
+    }
+  }
+}
+
 // The SIMD kernels run opaque GL_MODULATE textured Gouraud draws without fog through a specialised
 // program (raster_simd.hpp, modulate_batch). Fog whose factor is exactly 1 everywhere (a linear
 // step at 1e6: f = 1, so c * 1 + fog * 0 = c) sends the same draws through the general program;

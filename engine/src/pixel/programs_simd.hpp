@@ -226,7 +226,7 @@ struct SurfaceProgram {
   using BF = typename Types<Arch>::BF;
   static constexpr int kAttributes = raster::kMaxRasterAttributes;
   static constexpr bool kClipW = true;
-  static constexpr bool kShadeOnce = false;  // multisampled: run per sample
+  static constexpr bool kShadeOnce = true;  // multisampled: each batch alone (not held), once
   using In = Interpolants<Arch, kAttributes>;
   static int plane(const Draw&, int a) { return a; }
   static int attributes(const Draw& d) { return d.layout.raster; }
@@ -242,18 +242,31 @@ struct SurfaceProgram {
     if constexpr (Textured) {
       held.add(*this, in, fi, fj, z, pass, at);
     } else {
-      const F cw = in.clip_w(fi, fj);
-      Uv<F> uv;  // not zeroed (measured: zeroing it per batch slowed the blended fill); read only with a uv varying
-      if (cx.d.layout.has(Varying::uv)) uv = Texturing<Arch>::uv(cx.d, in, cw, fi, fj);
-      tail(in, {fi, fj, z, pass, at}, cw, nullptr, uv);
+      untextured(in, {fi, fj, z, pass, at});
     }
+  }
+  template <bool kFull>
+  void batch_samples(const In& in, const F& fi, const F& fj, const SampleLanes<Arch>& ms, const BF& any, std::size_t at) {
+    const F z(0.0f);
+    if constexpr (Textured) {
+      run<1>(in, &fi, &fj, &z, &any, &at, &ms);
+    } else {
+      untextured(in, {fi, fj, z, any, at, &ms});
+    }
+  }
+  [[gnu::always_inline]] inline void untextured(const In& in, const Batch<Arch>& b) {
+    const F cw = in.clip_w(b.fi, b.fj);
+    Uv<F> uv;  // not zeroed (measured: zeroing it per batch slowed the blended fill); read only with a uv varying
+    if (cx.d.layout.has(Varying::uv)) uv = Texturing<Arch>::uv(cx.d, in, cw, b.fi, b.fj);
+    tail(in, b, cw, nullptr, uv);
   }
   void end_block(const In& in) {
     if constexpr (Textured) held.finish(*this, in);
   }
   // P held batches: the texture sampled for all of them at once, then each batch's tail in order.
   template <int P>
-  [[gnu::noinline]] void run(const In& in, const F* fi, const F* fj, const F* z, const BF* pass, const std::size_t* at) {
+  [[gnu::noinline]] void run(const In& in, const F* fi, const F* fj, const F* z, const BF* pass, const std::size_t* at,
+                             const SampleLanes<Arch>* ms = nullptr) {
     F cw[P], tex[P][4];
     Uv<F> uv[P]{};
     for (int p = 0; p < P; ++p) {
@@ -261,7 +274,7 @@ struct SurfaceProgram {
       if (cx.d.layout.has(Varying::uv)) uv[p] = Texturing<Arch>::uv(cx.d, in, cw[p], fi[p], fj[p]);
     }
     Texturing<Arch>::template sample<P>(*cx.d.texture, uv, tex, level_guess);
-    for (int p = 0; p < P; ++p) tail(in, {fi[p], fj[p], z[p], pass[p], at[p]}, cw[p], tex[p], uv[p]);
+    for (int p = 0; p < P; ++p) tail(in, {fi[p], fj[p], z[p], pass[p], at[p], ms}, cw[p], tex[p], uv[p]);
   }
   // One batch's program after its texture sample (texel: null when the draw has no texture).
   [[gnu::always_inline]] inline void tail(const In& in, const Batch<Arch>& b, const F& cw, const F* texel,
@@ -270,11 +283,24 @@ struct SurfaceProgram {
     const TileJob& job = cx.job;
     auto value = [&](int a) { return in.over_w(a, b.fi, b.fj) * cw; };
     const F alpha(cx.t.alpha);
-    BF pass = b.pass & (fragment_alpha(d, alpha, texel) >= F(d.alpha_cutoff));  // the alpha test
+    const BF alpha_passes = fragment_alpha(d, alpha, texel) >= F(d.alpha_cutoff);  // the alpha test (per pixel)
+    BF pass = b.pass & alpha_passes;
     if (!xsimd::any(pass)) return;
     filled.add(pass);
-    float* depth = cx.planes[4] + b.at;
-    if (d.depth_write) xsimd::select(pass, b.z, F::load_unaligned(depth)).store_unaligned(depth);
+    // Multisampled (b.samples): each sample that passed coverage, depth and the alpha test.
+    SampleLanes<Arch> ms;
+    if (b.samples) {
+      ms = *b.samples;
+      for (int s = 0; s < ms.count; ++s) ms.pass[s] = ms.pass[s] & alpha_passes;
+    }
+    const int samples = b.samples ? ms.count : 1;
+    auto sample_at = [&](int s) { return b.at + (b.samples ? static_cast<std::size_t>(s) * ms.stride : 0); };
+    if (d.depth_write) {
+      for (int s = 0; s < samples; ++s) {
+        float* depth = cx.planes[4] + sample_at(s);
+        xsimd::select(b.samples ? ms.pass[s] : pass, b.samples ? ms.z[s] : b.z, F::load_unaligned(depth)).store_unaligned(depth);
+      }
+    }
     const F f = job.fog->mode != FogMode::none ? fog_factor(*job.fog, cw) : F(1.0f);
     F emitted[3];
     if (d.emission) emission(d, [&](const texture::Sampler& s, F(&t)[4]) { Texturing<Arch>::sample(s, uv, t); }, emitted);
@@ -306,7 +332,7 @@ struct SurfaceProgram {
         dst[n] = s.ao;
         v[n++] = occlusion<F>(d, [&](const texture::Sampler& sm, F(&t)[4]) { sample_moved(sm, 0.0f, 0.0f, t); });
       }
-      cx.phong.gather(dst, v, n, pass, b.at);
+      cx.phong.gather(dst, v, n, pass, b.at, b.samples ? &ms : nullptr);
       return;
     }
     F p[3], sec[3], generated[3], moved[2];
@@ -318,10 +344,14 @@ struct SurfaceProgram {
     }
     F c[4];
     surface_colour<false>(d, *job.fog, p, secondary, alpha, tin, Texturing<Arch>::level0, c);
-    F old[4], out[4];
-    for (int ch = 0; ch < 4; ++ch) out[ch] = old[ch] = F::load_unaligned(cx.planes[ch] + b.at);
-    blend(d, c, out);
-    for (int ch = 0; ch < 4; ++ch) xsimd::select(pass, out[ch], old[ch]).store_unaligned(cx.planes[ch] + b.at);
+    for (int s = 0; s < samples; ++s) {  // each sample over its own destination
+      const std::size_t at = sample_at(s);
+      const BF passed = b.samples ? ms.pass[s] : pass;
+      F old[4], out[4];
+      for (int ch = 0; ch < 4; ++ch) out[ch] = old[ch] = F::load_unaligned(cx.planes[ch] + at);
+      blend(d, c, out);
+      for (int ch = 0; ch < 4; ++ch) xsimd::select(passed, out[ch], old[ch]).store_unaligned(cx.planes[ch] + at);
+    }
   }
 };
 

@@ -356,17 +356,20 @@ void average_samples(TileBuffers& tile, const TileRect& rect, int samples) {
       const int block = by * blocks_per_row + bx;
       if (!tile.touched[static_cast<std::size_t>(block)]) continue;
       const std::size_t base = static_cast<std::size_t>(block) * simd::kBlockPixels;
+      // Sample by sample over the block's contiguous pixels (the compiler's vectors), each pixel's
+      // sum in sample order.
       for (int c = 0; c < 4; ++c) {
         float* p = tile.plane(c) + base;
-        for (int i = 0; i < simd::kBlockPixels; ++i) {
-          float sum = p[i];
-          for (int s = 1; s < samples; ++s) sum += p[i + static_cast<std::size_t>(s) * stride];
-          p[i] = sum * scale;
+        for (int s = 1; s < samples; ++s) {
+          const float* q = p + static_cast<std::size_t>(s) * stride;
+          for (int i = 0; i < simd::kBlockPixels; ++i) p[i] += q[i];
         }
+        for (int i = 0; i < simd::kBlockPixels; ++i) p[i] = p[i] * scale;
       }
       float* z = tile.plane(4) + base;
-      for (int i = 0; i < simd::kBlockPixels; ++i) {
-        for (int s = 1; s < samples; ++s) z[i] = std::min(z[i], z[i + static_cast<std::size_t>(s) * stride]);
+      for (int s = 1; s < samples; ++s) {
+        const float* q = z + static_cast<std::size_t>(s) * stride;
+        for (int i = 0; i < simd::kBlockPixels; ++i) z[i] = std::min(z[i], q[i]);
       }
     }
   }
