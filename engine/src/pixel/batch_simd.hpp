@@ -116,7 +116,8 @@ inline void store(float* const (&planes)[5], int c, const Batch<Arch>& b, bool a
   if (const SampleLanes<Arch>* ms = b.samples) {
     for (int s = 0; s < ms->count; ++s) {
       float* dst = planes[c] + b.at + static_cast<std::size_t>(s) * ms->stride;
-      xsimd::select(ms->pass[s], c == 4 ? ms->z[s] : v, F::load_unaligned(dst)).store_unaligned(dst);
+      const F& value = c == 4 ? ms->z[s] : v;
+      (xsimd::all(ms->pass[s]) ? value : xsimd::select(ms->pass[s], value, F::load_unaligned(dst))).store_unaligned(dst);
     }
     return;
   }
