@@ -11,8 +11,9 @@
 //     the best ISA (pow auto) on one and two threads (LightingOptions::threads; wall time), for
 //     the targets "4 point lights, best ISA, 2 threads" and "1 light, data larger than cache".
 // Counters: vertices_lit/s, vertex_lights/s, and the share of the machine's limits measured at
-// start (bench/roofline.hpp): bw_share = bytes the kernel must stream (24 in + 12 out per
-// vertex) / triad bandwidth; for point lights, flop_share = counted flops / peak FMA rate.
+// start (bench/roofline.hpp, one thread; times the thread count for threads:N): bw_share = bytes
+// the kernel must stream (24 in + 12 out per vertex) / triad bandwidth; for point lights,
+// flop_share = counted flops / peak FMA rate.
 // ISAs the CPU lacks are not registered.
 //
 //   build/bin/facet_bench_lighting                        # everything
@@ -112,10 +113,14 @@ void run_lighting(benchmark::State& state, const facet::LightingOptions& options
   const facet::bench::Roofline& roof = facet::bench::roofline();
   state.counters["vertices_lit/s"] = Counter(static_cast<double>(vertices), Counter::kIsIterationInvariantRate);
   state.counters["vertex_lights/s"] = Counter(static_cast<double>(vertices * lights), Counter::kIsIterationInvariantRate);
-  // Shares of the machine's limits (plain ratios, from the measured loop time).
+  // Shares of the machine's limits (plain ratios, from the measured loop time), against the
+  // one-thread figures times the threads the call used (as the frame benchmarks do).
   const double vertex_rate = iterations * static_cast<double>(vertices) / seconds;
-  state.counters["bw_share"] = vertex_rate * 36.0 / roof.triad_bytes_per_s;
-  if (mix == Mix::point) state.counters["flop_share"] = vertex_rate * lights * kFlopsPerPointLight / roof.peak_flops;
+  const double threads = options.threads > 1 ? static_cast<double>(options.threads) : 1.0;
+  state.counters["bw_share"] = vertex_rate * 36.0 / (roof.triad_bytes_per_s * threads);
+  if (mix == Mix::point) {
+    state.counters["flop_share"] = vertex_rate * lights * kFlopsPerPointLight / (roof.peak_flops * threads);
+  }
   state.SetLabel(std::to_string(vertices) + " vertices");
 }
 

@@ -472,7 +472,7 @@ for m in order:
 for (m, threads), b in sorted(points_rate.items()):
     lines.append(f"| vertex-lights/s, {m.replace('_', ' ')}, 4 point lights, 64 Ki vertices, {threads} thread"
                  f"{'s' if threads != '1' else ''} | {b['vertex_lights/s'] / 1e6:.1f} M "
-                 f"| {100 * b.get('flop_share', 0):.1f} % of peak FMA (counted flops, 1 thread's peak) |")
+                 f"| {100 * b.get('flop_share', 0):.1f} % of peak FMA (counted flops, the threads' peak) |")
 for (v, t), rate in sorted(fill.items()):
     b = next(x for x in bench_rows(frames) if x["name"].startswith(f"BM_Fill/{v}/gouraud/{t}"))
     lines.append(f"| pixels filled/s, {v}, {t.replace(':', ' ')} | {rate / 1e9:.2f} G | {100 * b['bw_share']:.1f} % of triad bandwidth (image writes) |")
