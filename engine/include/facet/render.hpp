@@ -81,7 +81,9 @@ struct RenderOptions {
   // shaded once, at its centre, for the samples a triangle covers; blending is per sample; the
   // samples are averaged in linear colour before the output's conversion (sRGB encoding
   // included). Shadow maps, ray-cast and volume shadows are looked up per pixel (at the shaded
-  // point); the depth view holds each pixel's nearest sample. Tile memory grows N-fold.
+  // point); the depth view holds each pixel's nearest sample. Tile memory grows N-fold. The
+  // simd path's fused programs give way to the general ones (the same bytes), so multisampled
+  // frames draw the 16-bit pixel tier's draws exact.
   int samples = 1;
   // Worker threads of this renderer (its own tbb::task_arena; process-wide TBB settings are
   // never touched): 0 = all cores, otherwise 1..256. The image is byte-identical for any value.

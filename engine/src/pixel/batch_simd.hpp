@@ -64,7 +64,7 @@ struct Interpolants {
   F over_w(int a, const F& fi, const F& fj) const { return attr[a].at(attr_o[a], fi, fj); }
 };
 
-// Multisampling, shaded once per pixel (programs with kShadeOnce): per sample, the batch's lanes
+// Multisampling, shaded once per pixel (each program's batch_samples): per sample, the batch's lanes
 // that its triangle covers and that pass its depth test, and its depth; sample s of the pixel at
 // index p is at p + s * stride.
 template <class Arch>

@@ -14,6 +14,10 @@
 //                    after the texture; fog or none): the same stage functions in the same order
 //                    as SurfaceProgram runs them for those settings, so the same bits, without the
 //                    branches.
+// Multisampled tiles call batch_samples instead of batch (flat, Gouraud, Phong and the general
+// programs; the fused ones' draws run the general programs then): the lanes where any sample
+// passed, with each sample's lanes and depth (SampleLanes); the program shades them once and its
+// stores go to each sample that passed (store(), or its own per-sample depth and blend loops).
 // Included only by per-ISA files built with -ffp-contract=off; templates only.
 #pragma once
 
@@ -58,7 +62,6 @@ struct FlatProgram {
   using BF = typename Types<Arch>::BF;
   static constexpr int kAttributes = 0;
   static constexpr bool kClipW = false;
-  static constexpr bool kShadeOnce = true;  // multisampled: one colour for the samples that pass
   static int plane(const Draw&, int) { return 0; }
   static int attributes(const Draw&) { return 0; }
   const Context<Arch>& cx;
@@ -89,7 +92,6 @@ struct GouraudProgram {
   using BF = typename Types<Arch>::BF;
   static constexpr int kAttributes = 3;
   static constexpr bool kClipW = true;
-  static constexpr bool kShadeOnce = true;
   static int plane(const Draw& d, int a) { return d.layout.at(Varying::front_color) + a; }
   static int attributes(const Draw&) { return 3; }
   const Context<Arch>& cx;
@@ -121,7 +123,6 @@ struct PhongProgram {
   using BF = typename Types<Arch>::BF;
   static constexpr int kAttributes = 6;
   static constexpr bool kClipW = true;
-  static constexpr bool kShadeOnce = true;  // multisampled: gathered once, with the samples it goes to
   static int plane(const Draw& d, int a) {
     return a < 3 ? d.layout.at(Varying::eye_position) + a : d.layout.at(Varying::normal) + a - 3;
   }
@@ -226,7 +227,6 @@ struct SurfaceProgram {
   using BF = typename Types<Arch>::BF;
   static constexpr int kAttributes = raster::kMaxRasterAttributes;
   static constexpr bool kClipW = true;
-  static constexpr bool kShadeOnce = true;  // multisampled: each batch alone (not held), once
   using In = Interpolants<Arch, kAttributes>;
   static int plane(const Draw&, int a) { return a; }
   static int attributes(const Draw& d) { return d.layout.raster; }
@@ -360,7 +360,6 @@ struct ModulateProgram {
   using F = typename Types<Arch>::F;
   static constexpr int kAttributes = raster::kMaxRasterAttributes;
   static constexpr bool kClipW = true;
-  static constexpr bool kShadeOnce = true;  // multisampled: each batch alone (not held), once
   using BF = typename Types<Arch>::BF;
   using In = Interpolants<Arch, kAttributes>;
   static int plane(const Draw&, int a) { return a; }
@@ -375,11 +374,7 @@ struct ModulateProgram {
                                            std::size_t at) {
     held.add(*this, in, fi, fj, z, pass, at);
   }
-  template <bool kFull>
-  void batch_samples(const In& in, const F& fi, const F& fj, const SampleLanes<Arch>& ms, const BF& any, std::size_t at) {
-    const F z(0.0f);
-    body<1>(in, &fi, &fj, &z, &any, &at, &ms);
-  }
+
   void end_block(const In& in) { held.finish(*this, in); }
   // On the narrower ISAs out of line, one function with its inlined sample; on avx512 inlined into
   // the rasterizer's loop (each measured faster than the other way).
@@ -399,7 +394,7 @@ struct ModulateProgram {
   }
   template <int P>
   [[gnu::always_inline]] inline void body(const In& in, const F* fi, const F* fj, const F* z, const BF* pass,
-                                          const std::size_t* at, const SampleLanes<Arch>* ms = nullptr) {
+                                          const std::size_t* at) {
     const Draw& d = cx.d;
     F cw[P], tex[P][4];
     Uv<F> uv[P];
@@ -436,7 +431,7 @@ struct ModulateProgram {
     const int colour = d.layout.at(Varying::front_color), second = d.layout.at(Varying::front_secondary);
     typename Types<Arch>::I lanes = filled.lanes;
     for (int p = 0; p < P; ++p) {
-      const Batch<Arch> b{fi[p], fj[p], z[p], pass[p], at[p], ms};
+      const Batch<Arch> b{fi[p], fj[p], z[p], pass[p], at[p]};
       auto value = [&](int a) { return in.over_w(a, b.fi, b.fj) * cw[p]; };
       lanes += xsimd::select(xsimd::bool_cast(b.pass), decltype(lanes)(1), decltype(lanes)(0));
       const bool all = xsimd::all(b.pass);
@@ -467,7 +462,6 @@ struct BlendProgram {
   using BF = typename Types<Arch>::BF;
   static constexpr int kAttributes = 3;
   static constexpr bool kClipW = true;
-  static constexpr bool kShadeOnce = true;  // multisampled: one colour, blended into each sample that passes
   static int plane(const Draw& d, int a) { return d.layout.at(Varying::front_color) + a; }
   static int attributes(const Draw&) { return 3; }
   const Context<Arch>& cx;
@@ -477,37 +471,25 @@ struct BlendProgram {
   template <bool kFull>
   [[gnu::always_inline]] inline void batch(const Interpolants<Arch, 3>& in, const F& fi, const F& fj, const F& z,
                                            const BF& pass, std::size_t at) {
-    body(in, {fi, fj, z, pass, at});
-  }
-  template <bool kFull>
-  void batch_samples(const Interpolants<Arch, 3>& in, const F& fi, const F& fj, const SampleLanes<Arch>& ms, const BF& any,
-                     std::size_t at) {
-    body(in, {fi, fj, F(0.0f), any, at, &ms});
-  }
-  [[gnu::always_inline]] inline void body(const Interpolants<Arch, 3>& in, const Batch<Arch>& b) {
+    const Batch<Arch> b{fi, fj, z, pass, at};
     const bool all = filled.count(b.pass);
     if (cx.d.depth_write) store(cx.planes, 4, b, all, b.z);
     const F inv_w = in.clip_w(b.fi, b.fj);
     const F c[4] = {in.over_w(0, b.fi, b.fj) * inv_w, in.over_w(1, b.fi, b.fj) * inv_w, in.over_w(2, b.fi, b.fj) * inv_w,
                     alpha};
-    const SampleLanes<Arch>* ms = b.samples;
-    for (int s = 0; s < (ms ? ms->count : 1); ++s) {  // each sample's own destination
-      const std::size_t at = b.at + (ms ? static_cast<std::size_t>(s) * ms->stride : 0);
-      const BF pass = ms ? ms->pass[s] : b.pass;
-      for (int k = 0; k < 4; ++k) {
-        const F dst = F::load_unaligned(cx.planes[k] + at);
-        F out;
-        if constexpr (Mode == BlendMode::alpha) {
-          out = c[k] * alpha + dst * (F(1.0f) - alpha);
-        } else if constexpr (Mode == BlendMode::premultiplied) {
-          out = c[k] + dst * (F(1.0f) - alpha);
-        } else {
-          static_assert(Mode == BlendMode::add);
-          out = c[k] + dst;
-        }
-        out = saturate(out);
-        (all && !ms ? out : xsimd::select(pass, out, dst)).store_unaligned(cx.planes[k] + at);
+    for (int k = 0; k < 4; ++k) {
+      const F dst = F::load_unaligned(cx.planes[k] + b.at);
+      F out;
+      if constexpr (Mode == BlendMode::alpha) {
+        out = c[k] * alpha + dst * (F(1.0f) - alpha);
+      } else if constexpr (Mode == BlendMode::premultiplied) {
+        out = c[k] + dst * (F(1.0f) - alpha);
+      } else {
+        static_assert(Mode == BlendMode::add);
+        out = c[k] + dst;
       }
+      out = saturate(out);
+      (all ? out : xsimd::select(b.pass, out, dst)).store_unaligned(cx.planes[k] + b.at);
     }
   }
   void end_block(const Interpolants<Arch, 3>&) {}

@@ -101,15 +101,13 @@ struct TileKernel {
   // reference (or reading pointers through one) after every pixel store would force a
   // store-to-load round trip per batch. Blocks inside every edge and the tile run a separate
   // instantiation of the batch (kFull: no per-batch coverage work or branches).
-  // Multisampling, two ways. kMulti (programs with kShadeOnce): every batch tests coverage and
-  // depth at each of its pixels' samples and the program runs once for the lanes where any sample
-  // passes (pixel::simd::SampleLanes), storing into each sample that passed. Otherwise this runs
-  // once per sample (`sample`): coverage and depth at the sample's position, the program's
-  // attributes at the pixel centre, stored at the sample's pixel index. Either is GL's per-pixel
-  // shading: every sample a triangle covers gets the colour of the pixel's centre.
+  // Multisampled (kMulti): every batch tests coverage and depth at each of its pixels' samples and
+  // the program runs once for the lanes where any sample passed (pixel::simd::SampleLanes), with
+  // the attributes at the pixel centre, storing into each sample that passed: GL's per-pixel
+  // shading, every sample a triangle covers gets the colour of the pixel's centre.
   template <class Program, bool kMulti = false>
   static void triangle(const TileJob& job, const TileView& tv, const ScreenTriangle& t, PhongBatch& phong,
-                       TileCounters& counters, int sample = 0) {
+                       TileCounters& counters) {
     I tested(0);                      // per lane, batches partly covered
     std::uint64_t whole_tested = 0;   // whole batches
     float* const planes[5] = {tv.plane[0], tv.plane[1], tv.plane[2], tv.plane[3], tv.plane[4]};
@@ -127,12 +125,9 @@ struct TileKernel {
     std::int64_t e_row[3], step_bx[3], step_by[3], lo[3], hi[3];
     std::int32_t a32[3], b32[3];
     I lane_ab[3];  // A i + B j for the lanes of batch 0
-    const std::int32_t sx = !kMulti && tv.samples > 1 ? tv.sample_x[sample] : kPixelCentre;
-    const std::int32_t sy = !kMulti && tv.samples > 1 ? tv.sample_y[sample] : kPixelCentre;
-    const std::size_t sample_at = static_cast<std::size_t>(sample) * tv.sample_stride;
     {
-      const std::int64_t px = std::int64_t(job.x0 + bx0 * kBlock) * kSubpixelOne + sx;
-      const std::int64_t py = std::int64_t(job.y0 + by0 * kBlock) * kSubpixelOne + sy;
+      const std::int64_t px = std::int64_t(job.x0 + bx0 * kBlock) * kSubpixelOne + kPixelCentre;
+      const std::int64_t py = std::int64_t(job.y0 + by0 * kBlock) * kSubpixelOne + kPixelCentre;
       for (int k = 0; k < 3; ++k) {
         const int a = (k + 1) % 3, b = (k + 2) % 3;
         const std::int64_t A = -(std::int64_t(t.y[b]) - t.y[a]);
@@ -173,8 +168,6 @@ struct TileKernel {
       for (int a = 0; a < in.count; ++a) in.attr[a].set(t.plane[kPlaneAttr + Program::plane(d, a)]);
     }
     const double vx = double(t.x[0]) / kSubpixelOne, vy = double(t.y[0]) / kSubpixelOne;
-    // Depth at the sample: its offset from the pixel centre (0 for one sample).
-    const double zx = double(sx - kPixelCentre) / kSubpixelOne, zy = double(sy - kPixelCentre) / kSubpixelOne;
     // kMulti: each sample's edge values less the pixel centre's (exact), their extremes (which
     // bound a block's samples), and its depth offset.
     const int samples = kMulti ? tv.samples : 1;
@@ -213,10 +206,10 @@ struct TileKernel {
         const int ox = bx * kBlock, oy = by * kBlock;  // block origin in the tile
         const bool clipped = ox + kBlock > rect_w || oy + kBlock > rect_h;
         const int block = by * blocks_per_row + bx;
-        touch(tv, block, static_cast<std::size_t>(block) * kBlockPixels);
-        const std::size_t base = static_cast<std::size_t>(block) * kBlockPixels + sample_at;
+        const std::size_t base = static_cast<std::size_t>(block) * kBlockPixels;
+        touch(tv, block, base);
         const double cx = (job.x0 + ox) + 0.5 - vx, cy = (job.y0 + oy) + 0.5 - vy;
-        const float z_o = z_plane.origin(cx + zx, cy + zy);
+        const float z_o = z_plane.origin(cx, cy);
         if constexpr (kMulti) {
           for (int s = 0; s < samples; ++s) z_os[s] = z_plane.origin(cx + zxs[s], cy + zys[s]);
         }
@@ -292,9 +285,16 @@ struct TileKernel {
           if (!xsimd::any(pass)) return;
           program.template batch<kFull>(in, fi, fj, z, pass, base + static_cast<std::size_t>(b * W));
         };
-        if (!partial && !clipped) {
-          for (int b = 0; b < kBatches; ++b) shade_batch(std::true_type{}, b);
-        } else {
+        // Multisampled blocks take one instantiation of the batch (the samples' work dominates,
+        // and a second one costs the kernels' compile time).
+        bool whole = false;
+        if constexpr (!kMulti) {
+          if (!partial && !clipped) {
+            for (int b = 0; b < kBatches; ++b) shade_batch(std::true_type{}, b);
+            whole = true;
+          }
+        }
+        if (!whole) {
           // Only the batches that meet the triangle's bounds: a small triangle touches a few rows
           // of a block, the other batches are not worked.
           const int r0 = imax(0, y0 - job.y0 - oy), r1 = imin(kBlock - 1, y1 - job.y0 - oy);
@@ -314,19 +314,6 @@ struct TileKernel {
     // Lane counters cannot overflow within one triangle and tile (< 2^16 pixels).
     counters.tested += static_cast<std::uint32_t>(xsimd::hadd(tested)) + whole_tested;
     counters.filled += static_cast<std::uint32_t>(xsimd::hadd(program.filled.lanes)) + program.filled.whole;
-  }
-
-  // A triangle at every sample of the tile (one: its pixel centres).
-  template <class Program>
-  static void each_sample(const TileJob& job, const TileView& tv, const ScreenTriangle& t, PhongBatch& phong,
-                          TileCounters& counters) {
-    if constexpr (Program::kShadeOnce) {
-      if (tv.samples > 1) {
-        triangle<Program, true>(job, tv, t, phong, counters);
-        return;
-      }
-    }
-    for (int s = 0; s < tv.samples; ++s) triangle<Program>(job, tv, t, phong, counters, s);
   }
 
   static void raster(const TileJob& job, const TileView& tv, TileCounters& counters) {
@@ -351,21 +338,37 @@ struct TileKernel {
         phong.object = t.object;
         phong.alpha = t.alpha;
       }
+      if (tv.samples > 1) {
+        // Multisampled: the fused programs' draws run the general programs (the same bytes as the
+        // float tier's fused ones; the 16-bit tier's draws run exact), so that only these five
+        // are compiled a second time, for samples.
+        switch (job.draws[t.object].program) {
+          case PixelProgram::flat: triangle<FlatProgram<Arch>, true>(job, tv, t, phong, counters); break;
+          case PixelProgram::gouraud: triangle<GouraudProgram<Arch>, true>(job, tv, t, phong, counters); break;
+          case PixelProgram::phong: triangle<PhongProgram<Arch>, true>(job, tv, t, phong, counters); break;
+          case PixelProgram::surface:
+          case PixelProgram::blend_alpha:
+          case PixelProgram::blend_premultiplied:
+          case PixelProgram::blend_add: triangle<SurfaceProgram<Arch, false>, true>(job, tv, t, phong, counters); break;
+          default: triangle<SurfaceProgram<Arch, true>, true>(job, tv, t, phong, counters); break;
+        }
+        continue;
+      }
       switch (job.draws[t.object].program) {
-        case PixelProgram::flat: each_sample<FlatProgram<Arch>>(job, tv, t, phong, counters); break;
-        case PixelProgram::gouraud: each_sample<GouraudProgram<Arch>>(job, tv, t, phong, counters); break;
-        case PixelProgram::phong: each_sample<PhongProgram<Arch>>(job, tv, t, phong, counters); break;
-        case PixelProgram::surface: each_sample<SurfaceProgram<Arch, false>>(job, tv, t, phong, counters); break;
-        case PixelProgram::surface_textured: each_sample<SurfaceProgram<Arch, true>>(job, tv, t, phong, counters); break;
-        case PixelProgram::modulate: each_sample<ModulateProgram<Arch, false>>(job, tv, t, phong, counters); break;
-        case PixelProgram::modulate_fog: each_sample<ModulateProgram<Arch, true>>(job, tv, t, phong, counters); break;
-        case PixelProgram::modulate_fixed: each_sample<ModulateProgram<Arch, false, true>>(job, tv, t, phong, counters); break;
-        case PixelProgram::modulate_fog_fixed: each_sample<ModulateProgram<Arch, true, true>>(job, tv, t, phong, counters); break;
-        case PixelProgram::blend_alpha: each_sample<BlendProgram<Arch, BlendMode::alpha>>(job, tv, t, phong, counters); break;
+        case PixelProgram::flat: triangle<FlatProgram<Arch>>(job, tv, t, phong, counters); break;
+        case PixelProgram::gouraud: triangle<GouraudProgram<Arch>>(job, tv, t, phong, counters); break;
+        case PixelProgram::phong: triangle<PhongProgram<Arch>>(job, tv, t, phong, counters); break;
+        case PixelProgram::surface: triangle<SurfaceProgram<Arch, false>>(job, tv, t, phong, counters); break;
+        case PixelProgram::surface_textured: triangle<SurfaceProgram<Arch, true>>(job, tv, t, phong, counters); break;
+        case PixelProgram::modulate: triangle<ModulateProgram<Arch, false>>(job, tv, t, phong, counters); break;
+        case PixelProgram::modulate_fog: triangle<ModulateProgram<Arch, true>>(job, tv, t, phong, counters); break;
+        case PixelProgram::modulate_fixed: triangle<ModulateProgram<Arch, false, true>>(job, tv, t, phong, counters); break;
+        case PixelProgram::modulate_fog_fixed: triangle<ModulateProgram<Arch, true, true>>(job, tv, t, phong, counters); break;
+        case PixelProgram::blend_alpha: triangle<BlendProgram<Arch, BlendMode::alpha>>(job, tv, t, phong, counters); break;
         case PixelProgram::blend_premultiplied:
-          each_sample<BlendProgram<Arch, BlendMode::premultiplied>>(job, tv, t, phong, counters);
+          triangle<BlendProgram<Arch, BlendMode::premultiplied>>(job, tv, t, phong, counters);
           break;
-        case PixelProgram::blend_add: each_sample<BlendProgram<Arch, BlendMode::add>>(job, tv, t, phong, counters); break;
+        case PixelProgram::blend_add: triangle<BlendProgram<Arch, BlendMode::add>>(job, tv, t, phong, counters); break;
       }
     }
     phong.flush();
