@@ -43,13 +43,7 @@ void add_screen_triangle(Scene& s, const std::array<std::array<double, 2>, 3>& p
   }
   m.normals.assign(3, Vec3(0, 0, 1));
   m.triangles = {{0, 1, 2}};
-  Material mat;
-  mat.ambient = mat.diffuse = mat.specular = Color3::Zero();
-  mat.emissive = colour;
-  s.meshes.push_back({"triangle" + std::to_string(s.meshes.size()), m});
-  s.materials.push_back(mat);
-  s.objects.push_back({static_cast<std::uint32_t>(s.meshes.size() - 1), static_cast<std::uint32_t>(s.materials.size() - 1),
-                       Mat4::Identity()});
+  test::add_emissive(s, std::move(m), colour);
 }
 
 // The area of the triangle p inside the unit square at (x, y): the triangle clipped by the

@@ -61,6 +61,17 @@ inline Scene camera_scene() {
   return s;
 }
 
+// `m` as a new object of `s` with an emissive material of `colour` (no other light terms).
+inline void add_emissive(Scene& s, Mesh m, const Color3& colour) {
+  Material mat;
+  mat.ambient = mat.diffuse = mat.specular = Color3::Zero();
+  mat.emissive = colour;
+  s.meshes.push_back({"mesh" + std::to_string(s.meshes.size()), std::move(m)});
+  s.materials.push_back(mat);
+  s.objects.push_back({static_cast<std::uint32_t>(s.meshes.size() - 1), static_cast<std::uint32_t>(s.materials.size() - 1),
+                       Mat4::Identity()});
+}
+
 // An axis-aligned rectangle [x0, x1] x [y0, y1] at depth z, facing +z (counter-clockwise seen from
 // the camera unless `reversed`), in a flat emissive colour.
 inline void add_quad(Scene& s, float x0, float y0, float x1, float y1, float z, const Color3& colour,
@@ -70,13 +81,7 @@ inline void add_quad(Scene& s, float x0, float y0, float x1, float y1, float z, 
   m.normals.assign(4, Vec3(0, 0, 1));
   m.triangles = reversed ? std::vector<std::array<std::uint32_t, 3>>{{0, 2, 1}, {0, 3, 2}}
                          : std::vector<std::array<std::uint32_t, 3>>{{0, 1, 2}, {0, 2, 3}};
-  Material mat;
-  mat.ambient = mat.diffuse = mat.specular = Color3::Zero();
-  mat.emissive = colour;
-  s.meshes.push_back({"quad" + std::to_string(s.meshes.size()), m});
-  s.materials.push_back(mat);
-  s.objects.push_back({static_cast<std::uint32_t>(s.meshes.size() - 1), static_cast<std::uint32_t>(s.materials.size() - 1),
-                       Mat4::Identity()});
+  add_emissive(s, std::move(m), colour);
 }
 
 }  // namespace facet::test
