@@ -26,9 +26,8 @@ std::vector<std::pair<LightingPath, Isa>> every_path() {
   return p;
 }
 
-// Screen position (pixels, y down) of the point (x, y, -1) seen by test::camera_scene's camera
-// (90-degree field of view) in a kSide x kSide image, and back.
-std::array<double, 2> to_screen(double x, double y) { return {(x + 1.0) * kSide / 2.0, (1.0 - y) * kSide / 2.0}; }
+// The point (x, y, -1) seen by test::camera_scene's camera (90-degree field of view) at screen
+// position (sx, sy) (pixels, y down) of a kSide x kSide image.
 std::array<float, 2> to_world(double sx, double sy) {
   return {static_cast<float>(2.0 * sx / kSide - 1.0), static_cast<float>(1.0 - 2.0 * sy / kSide)};
 }
@@ -260,6 +259,78 @@ TEST(Msaa, EveryPathCoversTheSameSamples) {
       }
       // Lighting differs by rounding between paths (within a step); coverage differences would
       // show as whole colour changes.
+      const auto got = c.pixels();
+      int worst = 0;
+      for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, std::abs(int(got[i]) - int(first[i])));
+      EXPECT_LE(worst, 1) << samples << " samples, " << to_string(shading) << ", " << to_string(path) << " " << to_string(isa);
+    }
+  }
+}
+
+// Alpha to coverage: a white quad over the whole image, emissive, of alpha a, keeps in each pixel
+// the samples s of N with a > s / N, so the resolved pixel is k / N white with k = ceil(a N); at
+// one sample it does nothing (GL), and the alpha test still applies after it. Every path and ISA.
+TEST(Msaa, AlphaToCoverageKeepsTheSamplesBelowTheAlpha) {
+  for (auto [path, isa] : every_path())
+  for (int samples : {1, 4, 8, 16})
+  for (float cutoff : {0.0f, 0.5f})
+  for (float alpha : {0.0f, 0.2f, 0.25f, 0.3f, 0.5f, 0.9f, 1.0f}) {
+    Scene s = test::camera_scene();
+    test::add_quad(s, -2, -2, 2, 2, -1, Color3(1, 1, 1));
+    s.materials.back().alpha = alpha;
+    s.materials.back().alpha_cutoff = cutoff;
+    s.materials.back().alpha_to_coverage = true;
+    Canvas c(kSide, kSide, PixelFormat::rgba32f);
+    ASSERT_TRUE(Renderer().render(s, options_for(samples, path, isa), c.view()).ok());
+    int k = 0;
+    for (int i = 0; i < samples; ++i) k += samples == 1 || double(alpha) > double(i) / samples;
+    if (alpha < cutoff) k = 0;
+    const std::string what = std::to_string(samples) + " samples, alpha " + std::to_string(alpha) + ", cutoff " +
+                             std::to_string(cutoff) + ", " + to_string(path) + " " + to_string(isa);
+    for (int y : {0, 17, 63})
+      for (int x : {0, 40, 63}) {
+        ASSERT_FLOAT_EQ(c.channel_f(x, y, 0), float(k) / float(samples)) << what;
+        ASSERT_FLOAT_EQ(c.channel_f(x, y, 3), alpha * float(k) / float(samples)) << what;
+      }
+  }
+}
+
+// Alpha to coverage with a texture's alpha (a ramp in 16 steps, each between two thresholds
+// s / 16), over a red quad behind: every path and ISA covers the same samples in flat, Gouraud and
+// Phong shading, within a step; the image holds every level from none to all of the samples.
+TEST(Msaa, AlphaToCoverageIsTheSameOnEveryPath) {
+  Scene s = test::camera_scene();
+  test::add_quad(s, -2, -2, 2, 2, -2, Color3(1, 0, 0));
+  test::add_quad(s, -1, -1, 1, 1, -1, Color3(0.2f, 0.9f, 0.5f));
+  Mesh& m = s.meshes.back().mesh;
+  m.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
+  std::vector<std::uint8_t> ramp(16 * 4);
+  for (int i = 0; i < 16; ++i) {
+    ramp[4 * i + 0] = static_cast<std::uint8_t>(255 - 9 * i), ramp[4 * i + 1] = 200, ramp[4 * i + 2] = static_cast<std::uint8_t>(16 * i);
+    ramp[4 * i + 3] = static_cast<std::uint8_t>(std::lround(255.0 * (i + 0.5) / 16));
+  }
+  TextureOptions to;
+  to.filter = TextureFilter::nearest;
+  s.textures.push_back(*make_texture("ramp", 16, 1, ramp, to));
+  s.materials.back().diffuse_texture = 0;
+  s.materials.back().texture_mode = TextureMode::modulate;
+  s.materials.back().alpha_to_coverage = true;
+  for (int samples : {4, 8, 16})
+  for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+    std::vector<std::uint8_t> first;
+    for (auto [path, isa] : every_path()) {
+      Canvas c(kSide, kSide);
+      RenderOptions o = options_for(samples, path, isa);
+      o.shading = shading;
+      ASSERT_TRUE(Renderer().render(s, o, c.view()).ok());
+      if (first.empty()) {
+        first = c.pixels();
+        std::vector<int> reds;  // the red behind, per column of the ramp's middle row
+        for (int x = 0; x < kSide; ++x) reds.push_back(c.byte(x, kSide / 2, 0));
+        std::sort(reds.begin(), reds.end());
+        EXPECT_GE(std::unique(reds.begin(), reds.end()) - reds.begin(), samples == 16 ? 16 : samples) << samples;
+        continue;
+      }
       const auto got = c.pixels();
       int worst = 0;
       for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, std::abs(int(got[i]) - int(first[i])));

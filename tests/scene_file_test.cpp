@@ -351,6 +351,11 @@ TEST(SceneFile, SurfaceFieldsAndTheirErrors) {
   glow = parse(scene(R"({ "name": "m", "diffuse_texture": "t", "emission_after_texture": true })"));
   ASSERT_TRUE(glow.ok()) << glow.status().message();
   EXPECT_TRUE(glow->materials[0].emission_after_texture);
+  EXPECT_FALSE(ok->materials[0].alpha_to_coverage);
+  Result<Scene> a2c = parse(scene(R"({ "name": "m", "alpha_to_coverage": true })"));
+  ASSERT_TRUE(a2c.ok()) << a2c.status().message();
+  EXPECT_TRUE(a2c->materials[0].alpha_to_coverage);
+  expect_error(scene(R"({ "name": "m", "alpha_to_coverage": "yes" })"), 4, "materials[0].alpha_to_coverage", {"true or false"});
   // Each bad field: its line (3: the material) and its name.
   expect_error(scene(R"({ "name": "m", "emissive_texture": "nope" })"), 4, "materials[0].emissive_texture", {"no texture named"});
   expect_error(scene(R"({ "name": "m", "emission_after_texture": 1 })"), 4, "materials[0].emission_after_texture",

@@ -117,7 +117,9 @@ struct Result {
 bool has_surfaces(const facet::Scene& s) {
   if (!s.textures.empty() || s.fog.mode != facet::FogMode::none) return true;  // includes emissive and environment maps
   for (const auto& m : s.materials)
-    if (m.blend != facet::BlendMode::opaque || m.alpha_cutoff > 0 || m.diffuse_texture != facet::kNoTexture) return true;
+    if (m.blend != facet::BlendMode::opaque || m.alpha_cutoff > 0 || m.alpha_to_coverage ||
+        m.diffuse_texture != facet::kNoTexture)
+      return true;
   for (const auto& m : s.meshes)
     if (!m.mesh.colors.empty()) return true;
   return false;
@@ -572,6 +574,12 @@ void gl_surface(const facet::Scene& s, const GlScene& g, std::size_t object) {
   const bool depth_write = m.depth_write == facet::DepthWrite::on ||
                            (m.depth_write == facet::DepthWrite::automatic && m.blend == facet::BlendMode::opaque);
   glDepthMask(depth_write ? GL_TRUE : GL_FALSE);
+  // Alpha to coverage: GL ignores it without a multisampled framebuffer, as facet at one sample.
+  if (m.alpha_to_coverage) {
+    glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  } else {
+    glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  }
   if (m.alpha_cutoff > 0) {
     glEnable(GL_ALPHA_TEST);
     glAlphaFunc(GL_GEQUAL, m.alpha_cutoff);
@@ -1106,6 +1114,14 @@ int main(int argc, char** argv) {
       return 2;
     }
     cases.emplace_back("surfaces", *surfaces);
+    // Alpha to coverage (--msaa): foliage cards with soft-edged leaves and a ball in screen-door
+    // transparency.
+    const auto coverage = facet::load_scene_file(std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/coverage.json", repo_scene_options());
+    if (!coverage) {
+      std::fprintf(stderr, "%s\n", coverage.status().message().c_str());
+      return 2;
+    }
+    cases.emplace_back("alpha_to_coverage", *coverage);
     // Emission after the texture: a glowing grid on the ground (an emissive texture over its
     // checker), the painted ball's emission after its stripes, and an emissive texture alone on
     // the box.

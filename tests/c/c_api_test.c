@@ -449,6 +449,38 @@ int main(void) {
     CHECK(between_1 == 0 && between_4 > 4);
     facet_scene_destroy(s);
   }
+  /* Alpha to coverage: off by default; a white triangle over the whole image at alpha 0.5 covers
+   * 2 of 4 samples (half white), and at 1 sample every pixel (GL ignores it there). */
+  {
+    facet_scene* s = facet_scene_create();
+    const float tri[] = {-50, -50, -3, 50, -50, -3, 0, 50, -3};
+    const uint32_t idx[] = {0, 1, 2};
+    uint32_t m = 0, mat = 0;
+    CHECK(facet_scene_add_mesh(s, tri, 3, NULL, idx, 1, &m) == FACET_OK);
+    facet_material half = facet_material_default();
+    CHECK(half.alpha_to_coverage == 0);
+    const float one[3] = {1, 1, 1}, zero[3] = {0, 0, 0};
+    memcpy(half.emissive, one, sizeof one);
+    memcpy(half.ambient, zero, sizeof zero);
+    memcpy(half.diffuse, zero, sizeof zero);
+    memcpy(half.specular, zero, sizeof zero);
+    half.alpha = 0.5f;
+    half.alpha_to_coverage = 1;
+    CHECK(facet_scene_add_material(s, &half, &mat) == FACET_OK);
+    CHECK(facet_scene_add_object(s, m, mat, NULL, NULL) == FACET_OK);
+    for (int samples = 1; samples <= 4; samples += 3) {
+      facet_render_config rc = facet_render_config_default();
+      rc.samples = samples;
+      rc.cull = FACET_CULL_NONE;
+      facet_renderer* r = facet_renderer_create(&rc, NULL);
+      CHECK(r != NULL);
+      unsigned char px[8 * 8 * 4];
+      CHECK(facet_render(r, s, px, 8, 8, 8 * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
+      facet_renderer_destroy(r);
+      CHECK(samples == 1 ? px[4 * 27] == 255 : (px[4 * 27] >= 127 && px[4 * 27] <= 128));
+    }
+    facet_scene_destroy(s);
+  }
   config.samples = 1;
   config.pow_tier = (facet_pow_tier)5;
   CHECK(facet_renderer_create(&config, &status) == NULL && status == FACET_INVALID_ARGUMENT);

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes two 64x64 test pictures into DIR (tests/data/textures):
+"""Writes three 64x64 test pictures into DIR (tests/data/textures):
 
 slide.png: for projector tests, inside a round frame (black outside a disc of radius 26 texels,
 so the spot cone's edge, which the square picture circumscribes, falls where the picture is
@@ -11,6 +11,10 @@ h = 0.06 P sin(2 pi x / P) sin(2 pi y / P) (P = 32 texels; y up), encoded 127.5 
 texel the 8-bit vector nearest to unit length among its neighbours' roundings. Smooth, so a
 bilinear blend of texels stays within about 0.2 % of unit length (DOT3 bump mapping in GL 2.1
 dots the unnormalised texel).
+
+leaves.png: RGBA foliage for alpha to coverage and alpha tests: five leaves (ellipses along a
+twig) in greens, opaque inside, their alpha falling linearly to 0 over the outer 4 texels of each
+leaf (soft cut-out edges), clear (alpha 0, a mid green) between them.
 
     tools/data/make_test_textures.py tests/data/textures
 """
@@ -55,14 +59,36 @@ def waves(x, y):
     return best[1]
 
 
+LEAVES = [(20, 44, 13, 6, 0.6), (40, 40, 12, 6, -0.5), (30, 24, 12, 7, 1.2), (46, 18, 10, 5, 0.3),
+          (16, 16, 10, 5, -0.9)]  # centre x, y (y down), half length, half width, angle
+
+
+def leaves(x, y):
+    px, py = x + 0.5, y + 0.5
+    best = None
+    for k, (cx, cy, a, b, t) in enumerate(LEAVES):
+        dx, dy = px - cx, py - cy
+        u = dx * math.cos(t) + dy * math.sin(t)
+        v = -dx * math.sin(t) + dy * math.cos(t)
+        r = math.sqrt((u / a) ** 2 + (v / b) ** 2)  # 1 on the leaf's edge
+        inside = (1 - r) * b  # texels inside the edge, roughly
+        alpha = max(0.0, min(1.0, inside / 4))
+        if alpha > 0 and (best is None or alpha > best[0]):
+            shade = 0.75 + 0.25 * math.cos(3 * u / a)
+            best = (alpha, (int(40 + 20 * k), int(150 * shade + 40), int(30 + 10 * k)))
+    if best is None:  # a mid green, so that filtering across a leaf's edge draws no dark fringe
+        return (60, 140, 40, 0)
+    return best[1] + (int(round(255 * best[0])),)
+
+
 def chunk(kind, data):
     body = kind + data
     return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body) & 0xFFFFFFFF)
 
 
-def write(path, texel):
+def write(path, texel, colour_type=2):  # 2: RGB, 6: RGBA
     rows = b"".join(b"\x00" + bytes(c for x in range(W) for c in texel(x, y)) for y in range(H))
-    png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", W, H, 8, 2, 0, 0, 0)) +
+    png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", W, H, 8, colour_type, 0, 0, 0)) +
            chunk(b"IDAT", zlib.compress(rows, 9)) + chunk(b"IEND", b""))
     with open(path, "wb") as f:
         f.write(png)
@@ -70,3 +96,4 @@ def write(path, texel):
 
 write(os.path.join(sys.argv[1], "slide.png"), slide)
 write(os.path.join(sys.argv[1], "waves_normal.png"), waves)
+write(os.path.join(sys.argv[1], "leaves.png"), leaves, 6)

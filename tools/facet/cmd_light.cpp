@@ -359,6 +359,14 @@ int check(const CheckState& st) {
                                                                              : "in scene order",
                 to_string(scene->fog.mode));
   }
+  const std::size_t coverage = static_cast<std::size_t>(
+      std::count_if(scene->materials.begin(), scene->materials.end(), [](const Material& m) { return m.alpha_to_coverage; }));
+  if (coverage > 0) {
+    std::printf("  alpha to coverage: %zu materials; %s\n", coverage,
+                options.samples > 1 ? ("sample s of " + std::to_string(options.samples) + " kept where alpha > s / " +
+                                       std::to_string(options.samples)).c_str()
+                                    : "NOT applied: it needs samples, use --msaa 4, 8 or 16");
+  }
   std::size_t environment[4] = {}, mirrored = 0, dynamic = 0, dynamic_bytes = 0;
   for (const Material& m : scene->materials) ++environment[static_cast<int>(m.environment.mode)];
   for (const auto& obj : scene->objects) {

@@ -165,6 +165,9 @@ typedef struct facet_material {
    * coordinates. -1 none (default); |bump_scale| <= 1e6, default 1. */
   int32_t bump_texture;
   float bump_scale;
+  /* Non-zero: alpha to coverage in multisampled frames (facet::Material::alpha_to_coverage): sample
+   * s of N keeps its coverage when alpha > s / N; no effect at one sample. Default 0. */
+  int alpha_to_coverage;
 } facet_material;
 
 typedef struct facet_fog {

@@ -106,6 +106,11 @@ struct Material {
   TextureMode texture_mode = TextureMode::modulate;
   Vec2 uv_scale{1.0f, 1.0f};  // texture coordinates are multiplied by it; finite and non-zero
   float alpha_cutoff = 0.0f;  // alpha test: fragments with alpha < cutoff are discarded; [0, 1], 0 = off
+  // Alpha to coverage (GL_SAMPLE_ALPHA_TO_COVERAGE), multisampled frames only (RenderOptions::samples
+  // > 1; at one sample it does nothing, as in GL): of a pixel's N samples, sample s keeps its
+  // coverage when the fragment's alpha > s / N (llvmpipe's rule), so alpha a covers about a N of
+  // them; the alpha itself is unchanged. Before the alpha test, which still applies.
+  bool alpha_to_coverage = false;
   BlendMode blend = BlendMode::opaque;
   DepthWrite depth_write = DepthWrite::automatic;
 

@@ -62,6 +62,7 @@ facet_material facet_material_default(void) {
   c.occlusion_strength = m.occlusion_strength;
   c.bump_texture = m.bump_texture;
   c.bump_scale = m.bump_scale;
+  c.alpha_to_coverage = m.alpha_to_coverage ? 1 : 0;
   return c;
 }
 

@@ -190,6 +190,7 @@ inline facet::Material to_material(const facet_material& c) {
     m.occlusion_strength = material->occlusion_strength;
     m.bump_texture = material->bump_texture;
     m.bump_scale = material->bump_scale;
+    m.alpha_to_coverage = material->alpha_to_coverage != 0;
   return m;
 }
 

@@ -501,10 +501,11 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     }
     d.uv_scale[0] = m.uv_scale.x(), d.uv_scale[1] = m.uv_scale.y();
     d.alpha_cutoff = m.alpha_cutoff;
+    d.alpha_to_coverage = m.alpha_to_coverage && options.samples > 1;
     d.blend = plain ? BlendMode::opaque : m.blend;
     d.depth_write = writes_depth(m);
     d.clamp = clamp;
-    const bool surface = textured || d.emission || d.blend != BlendMode::opaque || m.alpha_cutoff > 0.0f ||
+    const bool surface = textured || d.emission || d.blend != BlendMode::opaque || m.alpha_cutoff > 0.0f || d.alpha_to_coverage ||
                          !d.depth_write || f.mode != FogMode::none || needs.albedo || environment || normal_map ||
                          occlusion_map || bump_map;
     using raster::simd::PixelProgram;
@@ -515,7 +516,7 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     } else if (!textured) {
       // The fused blended program's settings: Gouraud, a blend it has, clamped, no alpha test, no
       // emission, no secondary colour, no fog, nothing per pixel (environment, maps, albedo).
-      const bool fused_blend = lit == raster::LitAt::vertex && !d.emission && d.clamp && d.alpha_cutoff <= 0.0f &&
+      const bool fused_blend = lit == raster::LitAt::vertex && !d.emission && d.clamp && d.alpha_cutoff <= 0.0f && !d.alpha_to_coverage &&
                                f.mode == FogMode::none && !needs.albedo && !environment && !normal_map &&
                                !occlusion_map && !bump_map && !d.layout.has(raster::Varying::front_secondary) &&
                                (d.blend == BlendMode::alpha || d.blend == BlendMode::premultiplied || d.blend == BlendMode::add);
@@ -528,7 +529,7 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
       // emission after it, opaque, clamped, no alpha test (the fragment's alpha is never NaN), no
       // environment.
       const bool modulate = lit == raster::LitAt::vertex && d.texture_env == TextureMode::modulate && !d.emission &&
-                            d.blend == BlendMode::opaque && d.clamp && d.alpha_cutoff <= 0.0f && !environment &&
+                            d.blend == BlendMode::opaque && d.clamp && d.alpha_cutoff <= 0.0f && !d.alpha_to_coverage && !environment &&
                             d.layout.has(raster::Varying::front_secondary);
       // The 16-bit tier's fixed-point sampler, when asked for, where its contract holds (linear
       // textures). automatic picks the exact tier: the fast one is not faster yet.

@@ -283,17 +283,25 @@ struct SurfaceProgram {
     const TileJob& job = cx.job;
     auto value = [&](int a) { return in.over_w(a, b.fi, b.fj) * cw; };
     const F alpha(cx.t.alpha);
-    const BF alpha_passes = fragment_alpha(d, alpha, texel) >= F(d.alpha_cutoff);  // the alpha test (per pixel)
+    const F a = fragment_alpha(d, alpha, texel);
+    const BF alpha_passes = a >= F(d.alpha_cutoff);  // the alpha test (per pixel)
     BF pass = b.pass & alpha_passes;
-    if (!xsimd::any(pass)) return;
-    filled.add(pass);
-    // Multisampled (b.samples): each sample that passed coverage, depth and the alpha test.
+    // Multisampled (b.samples): each sample that passed coverage, depth, alpha to coverage and the
+    // alpha test.
     SampleLanes<Arch> ms;
     if (b.samples) {
       ms = *b.samples;
-      for (int s = 0; s < ms.count; ++s) ms.pass[s] = ms.pass[s] & alpha_passes;
+      BF covered(false);
+      for (int s = 0; s < ms.count; ++s) {
+        ms.pass[s] = ms.pass[s] & alpha_passes;
+        if (d.alpha_to_coverage) ms.pass[s] = ms.pass[s] & alpha_covers(a, s, ms.count);
+        covered = covered | ms.pass[s];
+      }
+      pass = pass & covered;
     }
-    const int samples = b.samples ? ms.count : 1;
+    if (!xsimd::any(pass)) return;
+    filled.add(pass);
+    const int samples = b.samples ? std::min(ms.count, raster::kMaxSamples) : 1;
     auto sample_at = [&](int s) { return b.at + (b.samples ? static_cast<std::size_t>(s) * ms.stride : 0); };
     if (d.depth_write) {
       for (int s = 0; s < samples; ++s) {

@@ -481,6 +481,14 @@ template <class V>
   return a * t[3];
 }
 
+// Alpha to coverage (Draw::alpha_to_coverage): whether sample s of n keeps its coverage at the
+// fragment's alpha a. llvmpipe's rule, a > s / n: alpha 0 covers no sample, any alpha above
+// (k - 1) / n covers k, 1 covers all; s / n is exact (n is a power of two).
+template <class V>
+[[gnu::always_inline]] inline auto alpha_covers(const V& a, int s, int n) {
+  return a > V(static_cast<float>(s) / static_cast<float>(n));
+}
+
 // Blends source c (RGBA) over destination dst (RGBA) with GL's factors (the same for alpha as for
 // colour): alpha (SRC_ALPHA, ONE_MINUS_SRC_ALPHA), premultiplied (ONE, ONE_MINUS_SRC_ALPHA), add
 // (ONE, ONE), multiply (DST_COLOR, ZERO), subtract (reverse subtract: dst - src); saturated.

@@ -114,6 +114,9 @@ struct Draw {
   float bump_du = 0.0f, bump_dv = 0.0f;
   float uv_scale[2] = {1.0f, 1.0f};
   float alpha_cutoff = 0.0f;  // alpha test: the fragment is kept when alpha >= cutoff (0: every fragment)
+  // Alpha to coverage (multisampled draws only): sample s of N keeps its coverage when alpha > s / N
+  // (alpha_to_coverage_passes).
+  bool alpha_to_coverage = false;
   BlendMode blend = BlendMode::opaque;
   bool depth_write = true;
   bool clamp = true;  // blend results saturate to [0, 1]; false (HDR float output): only below at 0

@@ -245,7 +245,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
     // Each sample in turn (one: the pixel centre): coverage and depth at the sample, the pixel's
     // colour at its centre (GL's per-pixel shading), stored at the sample's index.
     for (int sample = 0; sample < samples; ++sample) {
-    const std::size_t sample_at = static_cast<std::size_t>(sample) * tile.sample_stride();
+    const std::size_t sample_offset = static_cast<std::size_t>(sample) * tile.sample_stride();
     for_each_covered_pixel(t, x0, y0, x1, y1, [&](int x, int y, std::int64_t e0, std::int64_t e1, std::int64_t e2) {
       ++counters.tested;
       const float l0 = static_cast<float>(e0) * inv_area2;
@@ -253,7 +253,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
       const float l2 = static_cast<float>(e2) * inv_area2;
       float z = l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2];
       z = z > job.depth.lo() ? (z < job.depth.far() ? z : job.depth.far()) : job.depth.lo();
-      const std::size_t pixel = tile.index(x - rect.x0, y - rect.y0) + sample_at;
+      const std::size_t pixel = tile.index(x - rect.x0, y - rect.y0) + sample_offset;
       float* depth = tile.plane(4);
       if (!(z < depth[pixel])) return;  // depth test: LESS
       const double cx = x + 0.5 - vx, cy = y + 0.5 - vy;
@@ -274,15 +274,17 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
         // A map at the pixel's coordinates moved by (du, dv), with its LOD.
         auto sample_moved = [&uv](const texture::Sampler& sampler, float du, float dv, float (&out)[4]) {
           const float lambda = texture::lod_scalar(sampler, uv.dudx, uv.dvdx, uv.dudy, uv.dvdy);
-          const auto sample = texture::sample_scalar(sampler, uv.u + du, uv.v + dv, lambda);
-          for (int c = 0; c < 4; ++c) out[c] = sample[c];
+          const auto value = texture::sample_scalar(sampler, uv.u + du, uv.v + dv, lambda);
+          for (int c = 0; c < 4; ++c) out[c] = value[c];
         };
         auto sample_at = [&](const texture::Sampler& sampler, float (&out)[4]) { sample_moved(sampler, 0.0f, 0.0f, out); };
         if (d.texture) {
           sample_at(*d.texture, texel);
           tex = texel;
         }
-        if (!(stages::fragment_alpha(d, t.alpha, tex) >= d.alpha_cutoff)) return;  // the alpha test
+        const float alpha = stages::fragment_alpha(d, t.alpha, tex);
+        if (d.alpha_to_coverage && !stages::alpha_covers(alpha, sample, samples)) return;
+        if (!(alpha >= d.alpha_cutoff)) return;  // the alpha test
         if (d.depth_write) depth[pixel] = z;
         ++counters.filled;
         stages::TailInputs<float> in;

@@ -135,7 +135,7 @@ class SceneReader : public scene_json::JsonFields {
     FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "specular_model",
                                    "alpha", "diffuse_texture", "normal_texture", "normal_scale",
                                    "occlusion_texture", "occlusion_strength", "bump_texture", "bump_scale", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write",
-                                   "emissive_texture", "emission_after_texture", "environment"}));
+                                   "emissive_texture", "emission_after_texture", "alpha_to_coverage", "environment"}));
     FACET_TRY(opt_string(j, p, "name", m.name));
     FACET_TRY(opt_color(j, p, "emissive", m.emissive));
     FACET_TRY(opt_color(j, p, "ambient", m.ambient));
@@ -179,6 +179,7 @@ class SceneReader : public scene_json::JsonFields {
       }
     }
     FACET_TRY(opt_number(j, p, "alpha_cutoff", m.alpha_cutoff));
+    FACET_TRY(opt_bool(j, p, "alpha_to_coverage", m.alpha_to_coverage));
     if (j.contains("blend")) {
       FACET_TRY(read_enum(j["blend"], child(p, "blend"),
                           {"opaque", "alpha", "premultiplied", "add", "multiply", "subtract"}, mode));
