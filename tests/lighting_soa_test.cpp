@@ -105,5 +105,28 @@ TEST(LightingSoa, BoundingSphereLeavesOutNonFiniteVertices) {
   EXPECT_EQ(eye_bounding_sphere(none, Eigen::Matrix4d::Identity(), Mat4::Identity()).radius, 0.0);
 }
 
+// Large meshes are bounded in chunks (bounds_chunk_size): the sphere holds every vertex and is the
+// same whichever order the chunks run in (a parallel loop runs them in any), with a non-finite
+// vertex in one chunk and a far vertex in another.
+TEST(LightingSoa, BoundingSphereIsTheSameInAnyChunkOrder) {
+  for (std::size_t n : {kBoundsChunkVertices * 3 + 5, kBoundsChunkVertices * kBoundsChunks * 2 + 77}) {
+    Mesh mesh;
+    mesh.positions = random_points(n, 3.0f, static_cast<std::uint32_t>(n));
+    mesh.positions[n / 2] = Vec3(std::numeric_limits<float>::quiet_NaN(), 0, 0);
+    mesh.positions[n - 3] = Vec3(40.0f, -7.0f, 2.0f);
+    const Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
+    const EyeSphere in_turn = eye_bounding_sphere(mesh, view, Mat4::Identity());
+    std::size_t ran = 0;
+    const EyeSphere reversed = eye_bounding_sphere(mesh, view, Mat4::Identity(), [&](std::size_t chunks, const auto& fn) {
+      EXPECT_LE(chunks, kBoundsChunks);
+      for (std::size_t c = chunks; c-- > 0;) fn(c), ++ran;
+    });
+    EXPECT_GT(ran, 2u);
+    EXPECT_EQ(in_turn.centre, reversed.centre);
+    EXPECT_EQ(in_turn.radius, reversed.radius);
+    if (n < 100000) expect_tight_bounds(mesh.positions, Mat4::Identity());
+  }
+}
+
 }  // namespace
 }  // namespace facet::lighting

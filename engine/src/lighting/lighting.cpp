@@ -2,6 +2,7 @@
 #include "facet/lighting.hpp"
 
 #include <new>
+#include <optional>
 #include <vector>
 
 #include <tbb/info.h>
@@ -9,6 +10,7 @@
 #include "common/look_at.hpp"
 #include "common/parallel.hpp"
 #include "lighting/point_shader.hpp"
+#include "lighting/setup.hpp"
 #include "scene/validate.hpp"
 
 namespace facet {
@@ -87,7 +89,24 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
     const Instance& inst = scene.objects[instance];
     const Eigen::Matrix4d view = look_at_d(scene.camera);
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
-    const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model);
+    const std::size_t n = mesh.vertex_count();
+    // 0: as many as the renderer takes for RenderOptions::threads = 0.
+    const int threads = options.threads == 0 ? tbb::info::default_concurrency() : options.threads;
+    const bool parallel = threads > 1 && n > kParallelChunk;
+    std::optional<parallel::Arena> arena;
+    if (parallel) arena.emplace(threads);
+    // The bounds' passes over the positions on the same threads (their chunks fixed by the count).
+    const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model, [&](std::size_t chunks, const auto& fn) {
+      if (!parallel) {
+        for (std::size_t c = 0; c < chunks; ++c) fn(c);
+        return;
+      }
+      arena->execute([&] {
+        arena->parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r, int) {
+          for (std::size_t c = r.begin(); c < r.end(); ++c) fn(c);
+        });
+      });
+    });
     lighting::PointShader shader;
     // A mesh with vertex colours lights them as the albedo (glColorMaterial(AMBIENT_AND_DIFFUSE)).
     lighting::LightingFeatures features;
@@ -95,7 +114,6 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
     if (Status s = shader.prepare(scene, view, scene.materials[inst.material], options, &bounds, features); !s.ok()) {
       return s;
     }
-    const std::size_t n = mesh.vertex_count();
     out.front.resize(n);
     const bool two_sided = scene.two_sided || inst.double_sided;
     if (two_sided) {
@@ -103,21 +121,18 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
     } else {
       out.back.clear();
     }
-    // 0: as many as the renderer takes for RenderOptions::threads = 0.
-    const int threads = options.threads == 0 ? tbb::info::default_concurrency() : options.threads;
     auto light_range = [&](std::size_t begin, std::size_t end, lighting::SoaScratch& scratch) {
       shader.light_mesh(mesh, view, inst.model, false, begin, end, out.front.data(), scratch);
       if (two_sided) shader.light_mesh(mesh, view, inst.model, true, begin, end, out.back.data(), scratch);
     };
-    if (threads == 1 || n <= kParallelChunk) {
+    if (!parallel) {
       lighting::SoaScratch scratch;
       light_range(0, n, scratch);
     } else {
       // Fixed chunks, each lit independently: the split cannot change a byte.
-      parallel::Arena arena(threads);
-      std::vector<lighting::SoaScratch> scratch(static_cast<std::size_t>(arena.threads()));
-      arena.execute([&] {
-        arena.parallel_for(tbb::blocked_range<std::size_t>(0, n, kParallelChunk),
+      std::vector<lighting::SoaScratch> scratch(static_cast<std::size_t>(arena->threads()));
+      arena->execute([&] {
+        arena->parallel_for(tbb::blocked_range<std::size_t>(0, n, kParallelChunk),
                            [&](const tbb::blocked_range<std::size_t>& r, int slot) {
                              light_range(r.begin(), r.end(), scratch[static_cast<std::size_t>(slot)]);
                            });

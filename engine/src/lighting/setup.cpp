@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
 
 #include "lighting/soa.hpp"
 
@@ -108,24 +109,21 @@ EyeTransform<T> make_eye_transform(const Eigen::Matrix4d& view, const Mat4& mode
   return xf;
 }
 
-namespace {
-
-
 // Largest squared distance from `c` to a finite vertex. A float pass with packed arithmetic
 // (soa.cpp) first: 0.3 ns per vertex against 2.4 ns for the scalar double loop. Its result is
 // inflated by 1e-5 relative, far above its rounding (a few float ulps on each square and sum), so
 // the sphere still holds every vertex. An infinite result (a non-finite vertex, or a difference
 // too large to square in float) sends the mesh to the double loop, which leaves non-finite
 // vertices out by the comparison's order (NaN and Inf fail it).
-double farthest_squared(const std::vector<Vec3>& positions, const Eigen::Vector3d& c) {
+double farthest_squared(const Vec3* positions, std::size_t n, const Eigen::Vector3d& c) {
   const float cf[3] = {float(c.x()), float(c.y()), float(c.z())};
   if (Eigen::Vector3d(cf[0], cf[1], cf[2]) == c) {  // so the float distances are to `c` itself
-    const double r2 = farthest_squared_float(positions.data(), positions.size(), cf);
+    const double r2 = farthest_squared_float(positions, n, cf);
     if (r2 <= 1e38) return r2 * (1 + 1e-5);
   }
   const double cx = c.x(), cy = c.y(), cz = c.z();
   double r2 = 0;
-  for (const Vec3& p : positions) {
+  for (const Vec3& p : std::span<const Vec3>(positions, n)) {
     const double dx = double(p.x()) - cx, dy = double(p.y()) - cy, dz = double(p.z()) - cz;
     const double q = dx * dx + dy * dy + dz * dz;
     r2 = q > r2 && q <= std::numeric_limits<double>::max() ? q : r2;
@@ -133,18 +131,16 @@ double farthest_squared(const std::vector<Vec3>& positions, const Eigen::Vector3
   return r2;
 }
 
-}  // namespace
-
 // Model-space box of the finite vertices, or false when there is none. The common case (every
 // coordinate finite) runs as a flat pass over the xyz floats with twelve independent min/max
 // accumulators, which the compiler turns into packed minps/maxps (three registers cover four
 // vertices): 0.2 ns per vertex against 5 ns for the per-vertex Eigen loop it replaced (65k-vertex
 // sphere, one thread). A non-finite coordinate sends the mesh to the per-vertex loop, which skips
 // such vertices.
-bool finite_box(const std::vector<Vec3>& positions, Eigen::Vector3d& lo_out, Eigen::Vector3d& hi_out) {
+bool finite_box(const Vec3* positions, std::size_t count, Eigen::Vector3d& lo_out, Eigen::Vector3d& hi_out) {
   static_assert(sizeof(Vec3) == 3 * sizeof(float));
-  const float* x = positions.empty() ? nullptr : positions.front().data();
-  const std::size_t n = 3 * positions.size(), blocked = n / 12 * 12;
+  const float* x = count == 0 ? nullptr : positions->data();
+  const std::size_t n = 3 * count, blocked = n / 12 * 12;
   constexpr float kMax = 3.4028235e38f;
   float lo[12], hi[12], bad[12];
   for (int k = 0; k < 12; ++k) lo[k] = kMax, hi[k] = -kMax, bad[k] = 0.0f;
@@ -171,7 +167,7 @@ bool finite_box(const std::vector<Vec3>& positions, Eigen::Vector3d& lo_out, Eig
   }
   if (!all_finite) {
     lo3 = Eigen::Vector3d::Constant(HUGE_VAL), hi3 = -lo3;
-    for (const Vec3& p : positions) {
+    for (const Vec3& p : std::span<const Vec3>(positions, count)) {
       if (!p.allFinite()) continue;
       lo3 = lo3.cwiseMin(p.cast<double>());
       hi3 = hi3.cwiseMax(p.cast<double>());
@@ -181,13 +177,9 @@ bool finite_box(const std::vector<Vec3>& positions, Eigen::Vector3d& lo_out, Eig
   return lo3.x() <= hi3.x();
 }
 
-EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model) {
-  // Centre of the model-space box, radius to its farthest finite vertex; then into eye space,
-  // with the radius scaled by the Frobenius norm of the linear part (>= its largest stretch).
-  Eigen::Vector3d lo, hi;
-  if (!finite_box(mesh.positions, lo, hi)) return {Eigen::Vector3d::Zero(), 0.0};  // no finite vertex
-  const Eigen::Vector3d c = (0.5 * (lo + hi)).cast<float>().cast<double>();  // a float point
-  const double r2 = farthest_squared(mesh.positions, c);
+EyeSphere sphere_from_bounds(const Eigen::Vector3d& c, double r2, const Eigen::Matrix4d& view, const Mat4& model) {
+  // Radius to the farthest finite vertex, into eye space scaled by the Frobenius norm of the
+  // linear part (>= its largest stretch).
   const Eigen::Matrix4d mv = view * model.cast<double>();
   return {(mv * c.homogeneous()).head<3>(), std::sqrt(r2) * mv.topLeftCorner<3, 3>().norm() * (1 + 1e-9)};
 }

@@ -2,6 +2,8 @@
 // the scene's float data and then rounded once to the kernel's precision T.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include <Eigen/Core>
@@ -43,10 +45,56 @@ struct EyeSphere {
   Eigen::Vector3d centre;
   double radius;
 };
-EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model);
 
-// Model-space box of the mesh's finite vertices, or false when it has none.
-bool finite_box(const std::vector<Vec3>& positions, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
+// Model-space box of the finite vertices among `n` from `p`, or false when there is none.
+bool finite_box(const Vec3* p, std::size_t n, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
+inline bool finite_box(const std::vector<Vec3>& positions, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+  return finite_box(positions.data(), positions.size(), lo, hi);
+}
+// Largest squared distance from `c` to a finite vertex among `n` from `p` (at least the true
+// one: the float pass inflates its result by 1e-5), 0 when there is none.
+double farthest_squared(const Vec3* p, std::size_t n, const Eigen::Vector3d& c);
+// The sphere from the mesh's box and its farthest vertex from the box's centre, in eye space.
+EyeSphere sphere_from_bounds(const Eigen::Vector3d& centre, double r2, const Eigen::Matrix4d& view, const Mat4& model);
+
+// The bounds are found in at most kBoundsChunks chunks of at least kBoundsChunkVertices vertices
+// (a split that depends on the vertex count only), each chunk on its own, then combined with min
+// and max (exact in any order): the sphere is the same however the chunks are run.
+inline constexpr std::size_t kBoundsChunks = 64;
+inline constexpr std::size_t kBoundsChunkVertices = 16384;
+inline std::size_t bounds_chunk_size(std::size_t n) {
+  return std::max(kBoundsChunkVertices, (n + kBoundsChunks - 1) / kBoundsChunks);
+}
+
+// An object's eye-space sphere. run(chunks, fn) calls fn(c) once for every chunk c in
+// [0, chunks), in any order and on any threads (a parallel loop), or in turn.
+template <class Run>
+EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, const Run& run) {
+  const Vec3* p = mesh.positions.data();
+  const std::size_t n = mesh.positions.size(), size = bounds_chunk_size(n), chunks = (n + size - 1) / size;
+  Eigen::Vector3d lo[kBoundsChunks], hi[kBoundsChunks];
+  bool found[kBoundsChunks] = {};
+  double r2[kBoundsChunks] = {};
+  run(chunks, [&](std::size_t c) { found[c] = finite_box(p + c * size, std::min(size, n - c * size), lo[c], hi[c]); });
+  Eigen::Vector3d box_lo = Eigen::Vector3d::Constant(HUGE_VAL), box_hi = -box_lo;
+  bool any = false;
+  for (std::size_t c = 0; c < chunks; ++c) {
+    if (!found[c]) continue;
+    any = true;
+    box_lo = box_lo.cwiseMin(lo[c]), box_hi = box_hi.cwiseMax(hi[c]);
+  }
+  if (!any) return {Eigen::Vector3d::Zero(), 0.0};  // no finite vertex
+  const Eigen::Vector3d centre = (0.5 * (box_lo + box_hi)).cast<float>().cast<double>();  // a float point
+  run(chunks, [&](std::size_t c) { r2[c] = farthest_squared(p + c * size, std::min(size, n - c * size), centre); });
+  double farthest = 0.0;
+  for (std::size_t c = 0; c < chunks; ++c) farthest = std::max(farthest, r2[c]);
+  return sphere_from_bounds(centre, farthest, view, model);
+}
+inline EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model) {
+  return eye_bounding_sphere(mesh, view, model, [](std::size_t chunks, const auto& fn) {
+    for (std::size_t c = 0; c < chunks; ++c) fn(c);
+  });
+}
 
 // The frame plan's light culling for one object, decided once (in double) for every path: marks
 // the point and spot lights that cannot reach the sphere (range window: exactly zero there) and
