@@ -42,6 +42,26 @@ TEST(LightingSoa, DeinterleaveAndInterleaveAreExactForEveryTailLength) {
   }
 }
 
+// The indexed copy (the vertices a frame lights, through their index list), for every tail
+// length, with repeated, descending and last-vertex indices: an exact copy times the scale.
+TEST(LightingSoa, IndexedDeinterleaveIsExactForEveryTailLength) {
+  const std::vector<Vec3> p = random_points(9, 10.0f, 42u);
+  for (std::size_t n = 0; n <= 13; ++n) {
+    std::vector<std::uint32_t> index(n);
+    for (std::size_t i = 0; i < n; ++i) index[i] = static_cast<std::uint32_t>((i * 5 + 8) % p.size());
+    std::vector<float> x(n + 1, 7.0f), y(n + 1, 7.0f), z(n + 1, 7.0f);
+    deinterleave3(p.data(), index.data(), n, -2.0f, x.data(), y.data(), z.data());
+    for (std::size_t i = 0; i < n; ++i) {
+      EXPECT_EQ(x[i], -2.0f * p[index[i]].x()) << n << " " << i;
+      EXPECT_EQ(y[i], -2.0f * p[index[i]].y()) << n << " " << i;
+      EXPECT_EQ(z[i], -2.0f * p[index[i]].z()) << n << " " << i;
+    }
+    EXPECT_EQ(x[n], 7.0f);
+    EXPECT_EQ(y[n], 7.0f);
+    EXPECT_EQ(z[n], 7.0f);
+  }
+}
+
 double farthest_double(const std::vector<Vec3>& p, const Eigen::Vector3d& c) {
   double r2 = 0;
   for (const Vec3& v : p)
