@@ -86,7 +86,7 @@ std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& opti
   // Per thread: tile planes and SoA lighting scratch; per tile: its bin.
   const U tile = static_cast<U>(std::clamp(options.tile_size, 8, 256));
   const U samples = static_cast<U>(std::clamp(options.samples, 1, 16));
-  bytes = sat_add(bytes, sat_mul(slots, 5 * samples * tile * tile * 4 + 64 * 1024));
+  bytes = sat_add(bytes, sat_mul(slots, 5 * (samples * (tile * tile + 64) + 64) * 4 + 64 * 1024));
   const U tiles = (static_cast<U>(std::max(width, 1)) / tile + 1) * (static_cast<U>(std::max(height, 1)) / tile + 1);
   bytes = sat_add(bytes, sat_mul(tiles, 64));
   // Ray-cast shadows: Embree's copy of the casters (12 bytes a vertex and a triangle's indices)

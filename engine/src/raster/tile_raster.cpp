@@ -16,8 +16,8 @@ namespace stages = facet::pixel;  // the pixel stages (a local here is named pix
 void TileBuffers::resize(int tile_size, int sample_count) {
   size = tile_size;
   samples = sample_count;
-  plane_size_ = static_cast<std::size_t>(sample_count) * static_cast<std::size_t>(tile_size) *
-                static_cast<std::size_t>(tile_size);  // a multiple of 64
+  sample_stride_ = static_cast<std::size_t>(tile_size) * static_cast<std::size_t>(tile_size) + kPlanePad;
+  plane_size_ = static_cast<std::size_t>(sample_count) * sample_stride_ + kPlanePad;  // multiples of 16 floats
   storage.resize(5 * plane_size_ + 16);  // grows only; + slack for the alignment below
   const auto address = reinterpret_cast<std::uintptr_t>(storage.data());
   offset_ = ((64 - address % 64) % 64) / sizeof(float);

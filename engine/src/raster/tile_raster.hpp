@@ -25,7 +25,11 @@ struct TileRect {
 struct TileBuffers {
   int size = 0;
   int samples = 1;  // per pixel: each plane holds `samples` runs of size * size floats, sample after sample
-  std::vector<float> storage;  // five planes of samples * size * size floats, 64-byte aligned
+  // Five planes of `samples` runs, 64-byte aligned. Each run and each plane is followed by one
+  // block of padding (kPlanePad floats): runs and planes a power of two apart (16 KiB for 64-pixel
+  // tiles) would all fall in the same L1 sets, and a multisampled batch touches 5 x samples of
+  // them at once.
+  std::vector<float> storage;
   std::vector<float> phong;    // Phong sink buffers: kPhongStreams x kPhongCapacity
   std::vector<std::uint32_t> phong_pixel;
   std::vector<std::uint32_t> phong_samples;  // multisampled: the Phong sink's sample masks
@@ -46,7 +50,8 @@ struct TileBuffers {
     return v;
   }
   // Floats between a pixel's consecutive samples in a plane.
-  std::size_t sample_stride() const { return static_cast<std::size_t>(size) * static_cast<std::size_t>(size); }
+  std::size_t sample_stride() const { return sample_stride_; }
+  static constexpr std::size_t kPlanePad = simd::kBlockPixels;
   // Block-linear index of tile pixel (x, y).
   std::size_t index(int x, int y) const {
     return static_cast<std::size_t>((y / simd::kBlock) * (size / simd::kBlock) + x / simd::kBlock) *
@@ -55,7 +60,7 @@ struct TileBuffers {
   }
 
  private:
-  std::size_t offset_ = 0, plane_size_ = 0;
+  std::size_t offset_ = 0, plane_size_ = 0, sample_stride_ = 0;
 };
 
 struct RasterJob {
