@@ -58,6 +58,37 @@ static int same(const uint8_t* a, const uint8_t* b) { return memcmp(a, b, SW * S
  * octahedron casting a ray-cast shadow on a floor, two blended quads overlapping in front of it
  * (submitted near one first, so that the order matters), a quad facing away beside it, a point
  * light with a specular highlight. */
+/* A scene of one triangle (three xyz positions) in an emissive white material of `alpha`, with
+ * alpha to coverage when `coverage` is non-zero. */
+static facet_scene* white_triangle(const float tri[9], float alpha, int coverage) {
+  facet_scene* s = facet_scene_create();
+  const uint32_t idx[] = {0, 1, 2};
+  uint32_t m = 0, mat = 0;
+  CHECK(facet_scene_add_mesh(s, tri, 3, NULL, idx, 1, &m) == FACET_OK);
+  facet_material white = facet_material_default();
+  const float one[3] = {1, 1, 1}, zero[3] = {0, 0, 0};
+  memcpy(white.emissive, one, sizeof one);
+  memcpy(white.ambient, zero, sizeof zero);
+  memcpy(white.diffuse, zero, sizeof zero);
+  memcpy(white.specular, zero, sizeof zero);
+  white.alpha = alpha;
+  white.alpha_to_coverage = coverage;
+  CHECK(facet_scene_add_material(s, &white, &mat) == FACET_OK);
+  CHECK(facet_scene_add_object(s, m, mat, NULL, NULL) == FACET_OK);
+  return s;
+}
+
+/* `scene` into a size x size RGBA8 image with `samples` per pixel, nothing culled. */
+static void render_samples(const facet_scene* scene, int samples, unsigned char* px, int size) {
+  facet_render_config rc = facet_render_config_default();
+  rc.samples = samples;
+  rc.cull = FACET_CULL_NONE;
+  facet_renderer* r = facet_renderer_create(&rc, NULL);
+  CHECK(r != NULL);
+  CHECK(facet_render(r, scene, px, size, size, (size_t)size * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
+  facet_renderer_destroy(r);
+}
+
 static void setters_change_the_picture(void) {
   const float octa[] = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
   const uint32_t octa_idx[] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
@@ -418,30 +449,13 @@ int main(void) {
   config.samples = 3;
   CHECK(facet_renderer_create(&config, &status) == NULL && status == FACET_INVALID_ARGUMENT);
   {
-    facet_scene* s = facet_scene_create();
     const float tri[] = {-5, -4, -3, 5, -3, -3, -1, 5, -3};
-    const uint32_t idx[] = {0, 1, 2};
-    uint32_t m = 0, mat = 0;
-    CHECK(facet_scene_add_mesh(s, tri, 3, NULL, idx, 1, &m) == FACET_OK);
-    facet_material white = facet_material_default();
-    const float one[3] = {1, 1, 1}, zero[3] = {0, 0, 0};
-    memcpy(white.emissive, one, sizeof one);
-    memcpy(white.ambient, zero, sizeof zero);
-    memcpy(white.diffuse, zero, sizeof zero);
-    memcpy(white.specular, zero, sizeof zero);
-    CHECK(facet_scene_add_material(s, &white, &mat) == FACET_OK);
-    CHECK(facet_scene_add_object(s, m, mat, NULL, NULL) == FACET_OK);
+    facet_scene* s = white_triangle(tri, 1.0f, 0);
     unsigned char one_sample[16 * 16 * 4], four[16 * 16 * 4];
     int between_1 = 0, between_4 = 0;
     for (int samples = 1; samples <= 4; samples += 3) {
-      facet_render_config rc = facet_render_config_default();
-      rc.samples = samples;
-      rc.cull = FACET_CULL_NONE;
-      facet_renderer* r = facet_renderer_create(&rc, NULL);
-      CHECK(r != NULL);
       unsigned char* px = samples == 1 ? one_sample : four;
-      CHECK(facet_render(r, s, px, 16, 16, 16 * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
-      facet_renderer_destroy(r);
+      render_samples(s, samples, px, 16);
       for (int i = 0; i < 16 * 16; ++i) {
         if (px[4 * i] > 0 && px[4 * i] < 255) *(samples == 1 ? &between_1 : &between_4) += 1;
       }
@@ -452,31 +466,12 @@ int main(void) {
   /* Alpha to coverage: off by default; a white triangle over the whole image at alpha 0.5 covers
    * 2 of 4 samples (half white), and at 1 sample every pixel (GL ignores it there). */
   {
-    facet_scene* s = facet_scene_create();
+    CHECK(facet_material_default().alpha_to_coverage == 0);
     const float tri[] = {-50, -50, -3, 50, -50, -3, 0, 50, -3};
-    const uint32_t idx[] = {0, 1, 2};
-    uint32_t m = 0, mat = 0;
-    CHECK(facet_scene_add_mesh(s, tri, 3, NULL, idx, 1, &m) == FACET_OK);
-    facet_material half = facet_material_default();
-    CHECK(half.alpha_to_coverage == 0);
-    const float one[3] = {1, 1, 1}, zero[3] = {0, 0, 0};
-    memcpy(half.emissive, one, sizeof one);
-    memcpy(half.ambient, zero, sizeof zero);
-    memcpy(half.diffuse, zero, sizeof zero);
-    memcpy(half.specular, zero, sizeof zero);
-    half.alpha = 0.5f;
-    half.alpha_to_coverage = 1;
-    CHECK(facet_scene_add_material(s, &half, &mat) == FACET_OK);
-    CHECK(facet_scene_add_object(s, m, mat, NULL, NULL) == FACET_OK);
+    facet_scene* s = white_triangle(tri, 0.5f, 1);
     for (int samples = 1; samples <= 4; samples += 3) {
-      facet_render_config rc = facet_render_config_default();
-      rc.samples = samples;
-      rc.cull = FACET_CULL_NONE;
-      facet_renderer* r = facet_renderer_create(&rc, NULL);
-      CHECK(r != NULL);
       unsigned char px[8 * 8 * 4];
-      CHECK(facet_render(r, s, px, 8, 8, 8 * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
-      facet_renderer_destroy(r);
+      render_samples(s, samples, px, 8);
       CHECK(samples == 1 ? px[4 * 27] == 255 : (px[4 * 27] >= 127 && px[4 * 27] <= 128));
     }
     facet_scene_destroy(s);
