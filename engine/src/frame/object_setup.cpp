@@ -208,10 +208,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   // The bounds' passes over the positions: a large object spread over the threads (chunks fixed
   // by its vertex count, so the sphere is the same for any thread count).
   const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model, [&](std::size_t chunks, const auto& fn) {
-    if (slot >= 0 || chunks == 1) {
-      for (std::size_t c = 0; c < chunks; ++c) fn(c);
-      return;
-    }
+    if (slot >= 0 || chunks == 1) return lighting::chunks_in_turn(chunks, fn);
     arena->parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r, int) {
       for (std::size_t c = r.begin(); c < r.end(); ++c) fn(c);
     });

@@ -97,10 +97,7 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
     if (parallel) arena.emplace(threads);
     // The bounds' passes over the positions on the same threads (their chunks fixed by the count).
     const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model, [&](std::size_t chunks, const auto& fn) {
-      if (!parallel) {
-        for (std::size_t c = 0; c < chunks; ++c) fn(c);
-        return;
-      }
+      if (!parallel) return lighting::chunks_in_turn(chunks, fn);
       arena->execute([&] {
         arena->parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r, int) {
           for (std::size_t c = r.begin(); c < r.end(); ++c) fn(c);

@@ -90,10 +90,12 @@ EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, con
   for (std::size_t c = 0; c < chunks; ++c) farthest = std::max(farthest, r2[c]);
   return sphere_from_bounds(centre, farthest, view, model);
 }
+// The runner without threads: every chunk in turn.
+inline constexpr auto chunks_in_turn = [](std::size_t chunks, const auto& fn) {
+  for (std::size_t c = 0; c < chunks; ++c) fn(c);
+};
 inline EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model) {
-  return eye_bounding_sphere(mesh, view, model, [](std::size_t chunks, const auto& fn) {
-    for (std::size_t c = 0; c < chunks; ++c) fn(c);
-  });
+  return eye_bounding_sphere(mesh, view, model, chunks_in_turn);
 }
 
 // The frame plan's light culling for one object, decided once (in double) for every path: marks
