@@ -34,7 +34,9 @@ facet_install_packages() {
 
 facet_build() {
   local build_dir="$facet_root/build"
-  if [ ! -f "$build_dir/CMakeCache.txt" ]; then
+  # build.ninja, not CMakeCache.txt: a configure that failed (a package missing) leaves a cache
+  # but no build files, and must run again.
+  if [ ! -f "$build_dir/build.ninja" ]; then
     cmake --preset release -S "$facet_root" >/dev/null || return 1
   fi
   cmake --build "$build_dir" --parallel "$(nproc)" || return 1
