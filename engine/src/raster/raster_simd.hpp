@@ -321,8 +321,8 @@ struct TileKernel {
     clear(job, tv);
     PhongBatch phong{job.phong, &tv, &job};
     for (std::size_t n = 0; n < job.bin_size; ++n) {
-      if (n + 2 < job.bin_size) {  // the triangle after next: set-up wrote it long ago, so it is not in cache
-        const std::uint32_t ahead = job.bin[n + 2];
+      if (n + 6 < job.bin_size) {  // six triangles ahead: set-up wrote them long ago, so they are not in cache
+        const std::uint32_t ahead = job.bin[n + 6];
         const auto* p = reinterpret_cast<const char*>(&job.ranges[ahead >> kRangeShift][ahead & kIndexMask]);
         __builtin_prefetch(p);  // a plain Gouraud triangle's kernel data: its first two lines (triangle_setup.hpp)
         __builtin_prefetch(p + 64);
