@@ -404,7 +404,7 @@ TEST_P(SimdRaster, PlacingIsTheScalarOneBitForBit) {
                               std::memcmp(p.z, q.z, sizeof p.z) == 0 && std::memcmp(p.inv_w, q.inv_w, sizeof p.inv_w) == 0 &&
                               std::memcmp(p.bias, q.bias, sizeof p.bias) == 0 && p.min_px == q.min_px &&
                               p.min_py == q.min_py && p.max_px == q.max_px && p.max_py == q.max_py &&
-                              p.back_facing == q.back_facing;
+                              p.back_facing() == q.back_facing();
             if (!same && ++mismatches <= 3) ADD_FAILURE() << "record " << i << " (triangle " << a.pending.triangle[i] << ")";
             const auto extent = std::max({std::abs(p.x[1] - p.x[0]), std::abs(p.x[2] - p.x[0]),
                                           std::abs(p.y[1] - p.y[0]), std::abs(p.y[2] - p.y[0])});

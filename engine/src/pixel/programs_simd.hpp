@@ -326,7 +326,7 @@ struct SurfaceProgram {
       F v[10 + raster::simd::kMaxCarried];
       const int position = d.layout.at(Varying::eye_position), albedo = d.layout.at(Varying::albedo);
       F normal[3];
-      pixel_normal(d, value, cx.t.bitangent_negative, sample_moved, normal);
+      pixel_normal(d, value, cx.t.bitangent_negative(), sample_moved, normal);
       for (int c = 0; c < 3; ++c) {
         v[c] = value(position + c);
         v[3 + c] = normal[c];

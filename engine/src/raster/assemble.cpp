@@ -14,7 +14,7 @@ Placement place_triangle(ScreenTriangle& t, CullMode cull, bool two_sided, bool 
   const std::int64_t area2 = signed_area2(t);
   bool back_facing = false;
   const Placement p = orient(area2, cull, two_sided, mirrored, back_facing);
-  t.back_facing = back_facing;
+  t.flags = back_facing ? ScreenTriangle::kBackFacing : 0;  // finish() adds the bitangent's flag
   if (p != Placement::placed) return p;
   return place_oriented(t, area2, viewport, swapped);
 }
@@ -78,7 +78,17 @@ class RangeAssembler {
       simd::PlaceGroup group;
       for (; t + simd::kPlaceGroup <= end; t += simd::kPlaceGroup) {
         frame_.place(mesh.triangles[t].data(), object_.screen.data(), params, group);
-        for (int lane = 0; lane < simd::kPlaceGroup; ++lane) take(mesh, group, lane, t + lane, pending, drawn);
+        using Fate = simd::PlaceGroup::Fate;
+        counts_.in += static_cast<std::uint64_t>(simd::kPlaceGroup - group.count[Fate::scalar]);  // place_one counts those
+        counts_.nonfinite += static_cast<std::uint64_t>(group.count[Fate::nonfinite]);
+        counts_.outside += static_cast<std::uint64_t>(group.count[Fate::outside]);
+        counts_.culled += static_cast<std::uint64_t>(group.count[Fate::culled]);
+        counts_.degenerate += static_cast<std::uint64_t>(group.count[Fate::degenerate]);
+        counts_.small += static_cast<std::uint64_t>(group.count[Fate::small]);
+        for (std::uint32_t keep = group.keep; keep != 0; keep &= keep - 1) {  // in lane order
+          const int lane = __builtin_ctz(keep);
+          take(mesh, group, lane, t + static_cast<std::size_t>(lane), pending, drawn);
+        }
       }
     }
     for (; t < end; ++t) place_one(mesh, t, pending, drawn);
@@ -145,7 +155,7 @@ class RangeAssembler {
       st.x[k] = sv[k]->x, st.y[k] = sv[k]->y;
       st.z[k] = sv[k]->z, st.inv_w[k] = sv[k]->inv_w;
     }
-    st.back_facing = back_facing;
+    st.flags = back_facing ? ScreenTriangle::kBackFacing : 0;
     bool swapped = false;
     if (place_oriented(st, area2, frame_.viewport, swapped) != Placement::placed) {  // no pixel centre
       ++counts_.small;
@@ -155,7 +165,8 @@ class RangeAssembler {
     keep(mesh, t, swapped ? PendingTriangles::placed_swapped : PendingTriangles::placed, pending, drawn);
   }
 
-  // Lane `lane` of a placing kernel's group, triangle t: counted, and its record made if placed.
+  // Lane `lane` of a placing kernel's group, triangle t, one the group keeps (the caller counted
+  // the others): handed back to the scalar code, kept for clipping, or its record made.
   void take(const Mesh& mesh, const simd::PlaceGroup& g, int lane, std::size_t t, PendingTriangles& pending,
             std::uint8_t* drawn) {
     using Fate = simd::PlaceGroup::Fate;
@@ -164,18 +175,10 @@ class RangeAssembler {
       place_one(mesh, t, pending, drawn);
       return;
     }
-    ++counts_.in;
-    switch (fate) {
-      case Fate::nonfinite: ++counts_.nonfinite; return;
-      case Fate::outside: ++counts_.outside; return;
-      case Fate::clip:
-        ++counts_.clipped;
-        keep(mesh, t, PendingTriangles::clip, pending, drawn);
-        return;
-      case Fate::culled: ++counts_.culled; return;
-      case Fate::degenerate: ++counts_.degenerate; return;
-      case Fate::small: ++counts_.small; return;
-      default: break;
+    if (fate == Fate::clip) {
+      ++counts_.clipped;
+      keep(mesh, t, PendingTriangles::clip, pending, drawn);
+      return;
     }
     ScreenTriangle& st = out_.emplace_back();
     for (int k = 0; k < 3; ++k) {
@@ -185,7 +188,7 @@ class RangeAssembler {
     }
     st.min_px = g.min_px[lane], st.min_py = g.min_py[lane];
     st.max_px = g.max_px[lane], st.max_py = g.max_py[lane];
-    st.back_facing = g.back_facing[lane] != 0;
+    st.flags = g.back_facing[lane] != 0 ? ScreenTriangle::kBackFacing : 0;
     keep(mesh, t, fate == Fate::placed_swapped ? PendingTriangles::placed_swapped : PendingTriangles::placed, pending,
          drawn);
   }
@@ -253,7 +256,7 @@ class RangeAssembler {
   // A placed triangle (record `index` of the range) with its varyings: its face's values, planes,
   // and its bins.
   void finish(ScreenTriangle& t, std::uint32_t index, float (&attr)[3][geometry::kMaxAttributes]) {
-    const bool use_back = t.back_facing && (frame_.two_sided || object_.two_sided);
+    const bool use_back = t.back_facing() && (frame_.two_sided || object_.two_sided);
     const Color3& flat = use_back ? flat_back_ : flat_front_;
     t.flat_rgb[0] = flat.x();
     t.flat_rgb[1] = flat.y();
@@ -270,7 +273,7 @@ class RangeAssembler {
       const int s = object_.layout.at(Varying::tangent_sign);
       negative = (attr[0][s] + attr[1][s] + attr[2][s] < 0.0f) != use_back;
     }
-    t.bitangent_negative = negative;
+    t.flags = static_cast<std::uint8_t>((t.flags & ScreenTriangle::kBackFacing) | (negative ? ScreenTriangle::kBitangentNegative : 0));
     t.alpha = object_.alpha;
     t.object = object_.object;
     compute_planes(t, attr, object_.layout.raster);

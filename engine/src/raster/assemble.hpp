@@ -42,7 +42,7 @@ enum class Placement { placed, degenerate, culled, no_pixel };
 Placement place_triangle(ScreenTriangle& t, CullMode cull, bool two_sided, bool mirrored,
                          const geometry::Viewport& viewport, bool& swapped);
 // The rest of place_triangle for a triangle already oriented (`area2` = signed_area2(t) != 0,
-// t.back_facing set, not culled): placed or no_pixel.
+// t.back_facing() set, not culled): placed or no_pixel.
 Placement place_oriented(ScreenTriangle& t, std::int64_t area2, const geometry::Viewport& viewport, bool& swapped);
 // The orientation step of place_triangle alone, from a snapped triangle's signed_area2:
 // degenerate, culled, or placed (not yet known to cover a pixel) with `back_facing` set.

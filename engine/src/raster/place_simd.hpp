@@ -67,6 +67,16 @@ struct Place {
   static I min(const I& a, const I& b) { return xsimd::select(a < b, a, b); }
   static I max(const I& a, const I& b) { return xsimd::select(a < b, b, a); }
   static I set_if(const BI& c, std::int32_t v, const I& otherwise) { return xsimd::select(c, I(v), otherwise); }
+  // Bit l set where lane l is true.
+  static std::uint32_t bits(const BI& b) {
+    if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
+      return static_cast<__mmask16>(b);
+    } else if constexpr (std::is_base_of_v<xsimd::avx2, Arch>) {
+      return static_cast<std::uint32_t>(_mm256_movemask_ps(_mm256_castsi256_ps(b)));
+    } else {
+      return static_cast<std::uint32_t>(_mm_movemask_ps(_mm_castsi128_ps(b)));
+    }
+  }
 
   static void run(const std::uint32_t* triangles, const geometry::ScreenVertex* screen, const PlaceParams& p,
                   PlaceGroup& out) {
@@ -74,16 +84,16 @@ struct Place {
     const auto* corners = reinterpret_cast<const std::int32_t*>(triangles);
     alignas(64) std::int32_t iota[W];
     for (int l = 0; l < W; ++l) iota[l] = 3 * l;
+    out.keep = 0;
+    for (int f = 0; f < PlaceGroup::kFates; ++f) out.count[f] = 0;
     for (int g = 0; g < kPlaceGroup; g += W) {
       const I corner = I::load_aligned(iota) + I(3 * g);
-      I x[3], y[3], z[3], w[3], flags[3];
+      I at[3], x[3], y[3], flags[3];
       for (int k = 0; k < 3; ++k) {
-        const I at = mul(gather(corners + k, corner), I(5));  // 5 words a vertex, < 2^31 (PlaceFunction)
-        x[k] = gather(words + 0, at);
-        y[k] = gather(words + 1, at);
-        z[k] = gather(words + 2, at);
-        w[k] = gather(words + 3, at);
-        flags[k] = gather(words + 4, at);
+        at[k] = mul(gather(corners + k, corner), I(5));  // 5 words a vertex, < 2^31 (PlaceFunction)
+        x[k] = gather(words + 0, at[k]);
+        y[k] = gather(words + 1, at[k]);
+        flags[k] = gather(words + 4, at[k]);
       }
       // Flag bytes: frustum, guard, finite (0/1), projected (0/1).
       const I all_flags = flags[0] & flags[1] & flags[2], any_flags = flags[0] | flags[1] | flags[2];
@@ -104,11 +114,6 @@ struct Place {
       if (p.cull_back) culled = culled | back;
       if (p.cull_front) culled = culled | ~back;
 
-      // Orient clockwise: exchange vertices 1 and 2 where the area is negative.
-      const I ox[3] = {x[0], xsimd::select(swapped, x[2], x[1]), xsimd::select(swapped, x[1], x[2])};
-      const I oy[3] = {y[0], xsimd::select(swapped, y[2], y[1]), xsimd::select(swapped, y[1], y[2])};
-      const I oz[3] = {z[0], xsimd::select(swapped, z[2], z[1]), xsimd::select(swapped, z[1], z[2])};
-      const I ow[3] = {w[0], xsimd::select(swapped, w[2], w[1]), xsimd::select(swapped, w[1], w[2])};
       // finish_setup: pixels with a sample in the bounds, clipped to the viewport.
       const I lo_x = min(min(x[0], x[1]), x[2]), hi_x = max(max(x[0], x[1]), x[2]);
       const I lo_y = min(min(y[0], y[1]), y[2]), hi_y = max(max(y[0], y[1]), y[2]);
@@ -129,7 +134,24 @@ struct Place {
       fate = set_if(outside, PlaceGroup::outside, fate);
       fate = set_if(~finite, PlaceGroup::nonfinite, fate);
       fate.store_aligned(out.fate + g);
+      // The lanes the caller takes (placed, clipped or handed back), and how many of each fate:
+      // a group where none is taken (a mesh's back half, culled) needs no record fields.
+      const BI taken = (fate >= I(PlaceGroup::placed)) | (fate == I(PlaceGroup::clip));
+      const std::uint32_t taken_bits = bits(taken);
+      out.keep |= taken_bits << g;
+      for (int f = 0; f < PlaceGroup::kFates; ++f) out.count[f] += __builtin_popcount(bits(fate == I(f)));
+      if (!taken_bits) continue;
 
+      // Orient clockwise: exchange vertices 1 and 2 where the area is negative.
+      I z[3], w[3];
+      for (int k = 0; k < 3; ++k) {
+        z[k] = gather(words + 2, at[k]);
+        w[k] = gather(words + 3, at[k]);
+      }
+      const I ox[3] = {x[0], xsimd::select(swapped, x[2], x[1]), xsimd::select(swapped, x[1], x[2])};
+      const I oy[3] = {y[0], xsimd::select(swapped, y[2], y[1]), xsimd::select(swapped, y[1], y[2])};
+      const I oz[3] = {z[0], xsimd::select(swapped, z[2], z[1]), xsimd::select(swapped, z[1], z[2])};
+      const I ow[3] = {w[0], xsimd::select(swapped, w[2], w[1]), xsimd::select(swapped, w[1], w[2])};
       for (int k = 0; k < 3; ++k) {
         ox[k].store_aligned(out.x[k] + g);
         oy[k].store_aligned(out.y[k] + g);

@@ -198,7 +198,12 @@ using TransformFunction = void (*)(const geometry::Mat4Rows&, const float* posit
 inline constexpr int kPlaceGroup = 16;
 struct PlaceGroup {
   enum Fate : std::int32_t { nonfinite, outside, clip, culled, degenerate, small, placed, placed_swapped, scalar };
+  static constexpr int kFates = scalar + 1;
   alignas(64) std::int32_t fate[kPlaceGroup];
+  // Bit l: lane l is placed, clipped or handed back to the scalar code (the lanes to take; the
+  // fields below are written for groups of W lanes with one such lane at least). Lanes per fate.
+  std::uint32_t keep;
+  std::int32_t count[kFates];
   alignas(64) std::int32_t x[3][kPlaceGroup], y[3][kPlaceGroup];  // oriented (area2 > 0)
   alignas(64) float z[3][kPlaceGroup], inv_w[3][kPlaceGroup];
   alignas(64) std::int32_t min_px[kPlaceGroup], min_py[kPlaceGroup], max_px[kPlaceGroup], max_py[kPlaceGroup];

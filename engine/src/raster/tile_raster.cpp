@@ -299,7 +299,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
           const Color3 albedo = albedo_at >= 0 ? Color3(interp(albedo_at), interp(albedo_at + 1), interp(albedo_at + 2))
                                                : Color3(1.0f, 1.0f, 1.0f);
           float n[3];
-          stages::pixel_normal(d, interp, t.bitangent_negative, sample_moved, n);
+          stages::pixel_normal(d, interp, t.bitangent_negative(), sample_moved, n);
           batch.add_surface(pixel, Vec3(interp(position_at), interp(position_at + 1), interp(position_at + 2)),
                             Vec3(n[0], n[1], n[2]), albedo, stages::occlusion<float>(d, sample_at), d, fog, in);
           if (batch.full()) batch.flush(shading, d, fog, t.alpha, tile, counters);

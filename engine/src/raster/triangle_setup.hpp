@@ -60,10 +60,14 @@ struct alignas(64) ScreenTriangle {
   float alpha;
   std::uint32_t object;
   std::int8_t bias[3];  // 0 on top-left edges, -1 on the others
-  bool back_facing : 1;
-  // A normal-mapped draw's bitangent is -cross(normal, tangent) (Varying::tangent_sign, with the
-  // back face's flip): the tangent frame is mirrored.
-  bool bitangent_negative : 1;
+  // kBackFacing, and kBitangentNegative: a normal-mapped draw's bitangent is -cross(normal,
+  // tangent) (Varying::tangent_sign, with the back face's flip), the tangent frame mirrored. A
+  // whole byte, not bit-fields: placing writes it without reading the new record's line first
+  // (a bit-field's read-modify-write missed the cache on every placed triangle).
+  std::uint8_t flags;
+  static constexpr std::uint8_t kBackFacing = 1, kBitangentNegative = 2;
+  bool back_facing() const { return flags & kBackFacing; }
+  bool bitangent_negative() const { return flags & kBitangentNegative; }
   Plane plane[kPlaneCount];  // set by compute_planes
   float flat_rgb[3];
   float flat_secondary[3];  // flat shading of a textured draw: the specular, added after the texture
