@@ -395,13 +395,14 @@ TEST_P(SimdRaster, PlacingIsTheScalarOneBitForBit) {
                     std::tie(cb.in, cb.nonfinite, cb.outside, cb.clipped, cb.culled, cb.degenerate, cb.small));
           EXPECT_EQ(a.pending.triangle, b.pending.triangle);
           EXPECT_EQ(a.pending.kind, b.pending.kind);
+          ASSERT_EQ(a.pending.depth.size(), b.pending.depth.size());  // z and 1/w, kept for the planes: bit for bit
+          EXPECT_EQ(std::memcmp(a.pending.depth.data(), b.pending.depth.data(), a.pending.depth.size() * sizeof a.pending.depth[0]), 0);
           EXPECT_EQ(a.drawn, b.drawn);
           ASSERT_EQ(a.out.size(), b.out.size());
           int mismatches = 0;
           for (std::size_t i = 0; i < a.out.size(); ++i) {
             const ScreenTriangle &p = a.out[i], &q = b.out[i];
             const bool same = std::memcmp(p.x, q.x, sizeof p.x) == 0 && std::memcmp(p.y, q.y, sizeof p.y) == 0 &&
-                              std::memcmp(p.z, q.z, sizeof p.z) == 0 && std::memcmp(p.inv_w, q.inv_w, sizeof p.inv_w) == 0 &&
                               std::memcmp(p.bias, q.bias, sizeof p.bias) == 0 && p.min_px == q.min_px &&
                               p.min_py == q.min_py && p.max_px == q.max_px && p.max_py == q.max_py &&
                               p.back_facing() == q.back_facing();

@@ -68,6 +68,7 @@ class RangeAssembler {
   void place_all(const Mesh& mesh, std::size_t begin, std::size_t end, PendingTriangles& pending, std::uint8_t* drawn) {
     pending.triangle.clear();
     pending.kind.clear();
+    pending.depth.clear();
     std::size_t t = begin;
     static_assert(sizeof(mesh.triangles[0]) == 3 * sizeof(std::uint32_t), "triangles are read as index triples");
     if (frame_.place && object_.screen.size() < kMaxGatheredVertices) {
@@ -104,7 +105,7 @@ class RangeAssembler {
         clip(tri, sv[0]->guard | sv[1]->guard | sv[2]->guard);
         continue;
       }
-      finish_placed(tri, out_[record], record, pending.kind[i] == PendingTriangles::placed_swapped);
+      finish_placed(tri, out_[record], record, pending.kind[i] == PendingTriangles::placed_swapped, pending.depth[i]);
       ++record;
     }
   }
@@ -113,10 +114,13 @@ class RangeAssembler {
   // The placing kernel gathers 32-bit words, five a screen vertex (raster_kernels.hpp).
   static constexpr std::size_t kMaxGatheredVertices = (std::size_t{1} << 31) / 5;
 
+  // `zw`: a placed triangle's oriented z and 1/w (z0 z1 z2 w0 w1 w2), for its planes; null for a
+  // clipped one.
   void keep(const Mesh& mesh, std::size_t t, PendingTriangles::Kind kind, PendingTriangles& pending,
-            std::uint8_t* drawn) {
+            std::uint8_t* drawn, const std::array<float, 6>* zw = nullptr) {
     pending.triangle.push_back(static_cast<std::uint32_t>(t));
     pending.kind.push_back(kind);
+    pending.depth.push_back(zw ? *zw : std::array<float, 6>{});
     if (!drawn) return;
     for (const std::uint32_t v : mesh.triangles[t]) std::atomic_ref<std::uint8_t>(drawn[v]).store(1, std::memory_order_relaxed);
   }
@@ -162,7 +166,8 @@ class RangeAssembler {
       out_.pop_back();
       return;
     }
-    keep(mesh, t, swapped ? PendingTriangles::placed_swapped : PendingTriangles::placed, pending, drawn);
+    const std::array<float, 6> zw = {st.z[0], st.z[1], st.z[2], st.inv_w[0], st.inv_w[1], st.inv_w[2]};
+    keep(mesh, t, swapped ? PendingTriangles::placed_swapped : PendingTriangles::placed, pending, drawn, &zw);
   }
 
   // Lane `lane` of a placing kernel's group, triangle t, one the group keeps (the caller counted
@@ -180,17 +185,20 @@ class RangeAssembler {
       keep(mesh, t, PendingTriangles::clip, pending, drawn);
       return;
     }
+    // The record's first cache line only: z and 1/w wait in `pending` for the planes (its last
+    // line is written only where something reads it: the scalar rasterizer, flat colours).
     ScreenTriangle& st = out_.emplace_back();
+    std::array<float, 6> zw;
     for (int k = 0; k < 3; ++k) {
       st.x[k] = g.x[k][lane], st.y[k] = g.y[k][lane];
-      st.z[k] = g.z[k][lane], st.inv_w[k] = g.inv_w[k][lane];
+      zw[static_cast<std::size_t>(k)] = g.z[k][lane], zw[static_cast<std::size_t>(k) + 3] = g.inv_w[k][lane];
       st.bias[k] = static_cast<std::int8_t>(g.bias[k][lane]);
     }
     st.min_px = g.min_px[lane], st.min_py = g.min_py[lane];
     st.max_px = g.max_px[lane], st.max_py = g.max_py[lane];
     st.flags = g.back_facing[lane] != 0 ? ScreenTriangle::kBackFacing : 0;
     keep(mesh, t, fate == Fate::placed_swapped ? PendingTriangles::placed_swapped : PendingTriangles::placed, pending,
-         drawn);
+         drawn, &zw);
   }
 
   // Triangle t's flat colours (flat shading; zero otherwise).
@@ -203,11 +211,15 @@ class RangeAssembler {
   }
 
   // A placed triangle's varyings in its on-screen vertex order, then finish().
-  void finish_placed(const std::array<std::uint32_t, 3>& tri, ScreenTriangle& st, std::uint32_t index, bool swapped) {
+  void finish_placed(const std::array<std::uint32_t, 3>& tri, ScreenTriangle& st, std::uint32_t index, bool swapped,
+                     const std::array<float, 6>& zw) {
     const std::uint32_t order[3] = {tri[0], swapped ? tri[2] : tri[1], swapped ? tri[1] : tri[2]};
     float attr[3][geometry::kMaxAttributes];
     for (int k = 0; k < 3; ++k) gather(order[k], attr[k]);
-    finish(st, index, attr);
+    if (frame_.record_depth) {
+      for (int k = 0; k < 3; ++k) st.z[k] = zw[static_cast<std::size_t>(k)], st.inv_w[k] = zw[static_cast<std::size_t>(k) + 3];
+    }
+    finish(st, index, attr, zw.data(), zw.data() + 3);
   }
 
   // A triangle crossing the guard band or the near or far plane: clipped in clip space, its
@@ -255,16 +267,20 @@ class RangeAssembler {
 
   // A placed triangle (record `index` of the range) with its varyings: its face's values, planes,
   // and its bins.
-  void finish(ScreenTriangle& t, std::uint32_t index, float (&attr)[3][geometry::kMaxAttributes]) {
+  // z and inv_w: the triangle's (oriented), from its record or from `pending`.
+  void finish(ScreenTriangle& t, std::uint32_t index, float (&attr)[3][geometry::kMaxAttributes], const float* z,
+              const float* inv_w) {
     const bool use_back = t.back_facing() && (frame_.two_sided || object_.two_sided);
-    const Color3& flat = use_back ? flat_back_ : flat_front_;
-    t.flat_rgb[0] = flat.x();
-    t.flat_rgb[1] = flat.y();
-    t.flat_rgb[2] = flat.z();
-    const Color3& spec = use_back ? spec_back_ : spec_front_;
-    t.flat_secondary[0] = spec.x();
-    t.flat_secondary[1] = spec.y();
-    t.flat_secondary[2] = spec.z();
+    if (object_.flat_front) {  // flat shading: the only reader of these
+      const Color3& flat = use_back ? flat_back_ : flat_front_;
+      t.flat_rgb[0] = flat.x();
+      t.flat_rgb[1] = flat.y();
+      t.flat_rgb[2] = flat.z();
+      const Color3& spec = use_back ? spec_back_ : spec_front_;
+      t.flat_secondary[0] = spec.x();
+      t.flat_secondary[1] = spec.y();
+      t.flat_secondary[2] = spec.z();
+    }
     if (use_back) select_face(object_.layout, attr);
     // The triangle's tangent frame: the sign most of its vertices carry (MikkTSpace gives one per
     // triangle), flipped with the back face (whose normal and tangent select_face negated).
@@ -276,7 +292,7 @@ class RangeAssembler {
     t.flags = static_cast<std::uint8_t>((t.flags & ScreenTriangle::kBackFacing) | (negative ? ScreenTriangle::kBitangentNegative : 0));
     t.alpha = object_.alpha;
     t.object = object_.object;
-    compute_planes(t, attr, object_.layout.raster);
+    compute_planes(t, z, inv_w, attr, object_.layout.raster);
     bin_triangle(t, index, frame_.grid, binning_);
   }
 
@@ -301,7 +317,7 @@ class RangeAssembler {
     const int order[3] = {0, swapped ? 2 : 1, swapped ? 1 : 2};
     float attr[3][geometry::kMaxAttributes];
     for (int k = 0; k < 3; ++k) std::copy(v[order[k]]->attr, v[order[k]]->attr + object_.layout.clipped, attr[k]);
-    finish(t, static_cast<std::uint32_t>(out_.size() - 1), attr);
+    finish(t, static_cast<std::uint32_t>(out_.size() - 1), attr, t.z, t.inv_w);
   }
 
   const AssemblyFrame& frame_;

@@ -29,6 +29,9 @@ struct AssemblyFrame {
   BinGrid grid;
   // The ISA's placing kernel (the simd path), or null: the scalar twin places every triangle.
   simd::PlaceFunction place = nullptr;
+  // The records carry z and 1/w (ScreenTriangle::z, inv_w) for the scalar rasterizer; the SIMD
+  // one reads only the planes, and a record's last line is then not written for them.
+  bool record_depth = true;
 };
 
 enum class Placement { placed, degenerate, culled, no_pixel };
@@ -88,6 +91,7 @@ struct PendingTriangles {
   enum Kind : std::uint8_t { placed, placed_swapped, clip };
   std::vector<std::uint32_t> triangle;  // mesh triangle numbers, in order
   std::vector<Kind> kind;
+  std::vector<std::array<float, 6>> depth;  // placed triangles' oriented z and 1/w (zeros for clip)
 };
 void place_range(const AssemblyFrame& frame, const Mesh& mesh, const ObjectVertices& object, std::size_t begin,
                  std::size_t end, std::vector<ScreenTriangle>& out, RangeBinning& binning, PendingTriangles& pending,

@@ -24,7 +24,8 @@ bool finish_setup(ScreenTriangle& t, int width, int height, std::int32_t sample_
   return true;
 }
 
-void compute_planes(ScreenTriangle& t, const float (*attr)[geometry::kMaxAttributes], int attribute_count) {
+void compute_planes(ScreenTriangle& t, const float* z, const float* inv_w, const float (*attr)[geometry::kMaxAttributes],
+                    int attribute_count) {
   constexpr double kInvOne = 1.0 / kSubpixelOne;
   const double x10 = (double(t.x[1]) - t.x[0]) * kInvOne, y10 = (double(t.y[1]) - t.y[0]) * kInvOne;
   const double x20 = (double(t.x[2]) - t.x[0]) * kInvOne, y20 = (double(t.y[2]) - t.y[0]) * kInvOne;
@@ -35,11 +36,10 @@ void compute_planes(ScreenTriangle& t, const float (*attr)[geometry::kMaxAttribu
     p.dx = static_cast<float>((d1 * y20 - d2 * y10) * inv_det);
     p.dy = static_cast<float>((d2 * x10 - d1 * x20) * inv_det);
   };
-  set(t.plane[kPlaneZ], t.z[0], t.z[1], t.z[2]);
-  set(t.plane[kPlaneInvW], t.inv_w[0], t.inv_w[1], t.inv_w[2]);
+  set(t.plane[kPlaneZ], z[0], z[1], z[2]);
+  set(t.plane[kPlaneInvW], inv_w[0], inv_w[1], inv_w[2]);
   for (int a = 0; a < attribute_count; ++a) {
-    set(t.plane[kPlaneAttr + a], double(attr[0][a]) * t.inv_w[0], double(attr[1][a]) * t.inv_w[1],
-        double(attr[2][a]) * t.inv_w[2]);
+    set(t.plane[kPlaneAttr + a], double(attr[0][a]) * inv_w[0], double(attr[1][a]) * inv_w[1], double(attr[2][a]) * inv_w[2]);
   }
 }
 

@@ -101,7 +101,13 @@ bool finish_setup(ScreenTriangle& t, int width, int height, std::int32_t sample_
 // After finish_setup: the planes of depth, 1/w and the first `attribute_count` (at most
 // kMaxRasterAttributes) attributes over w, attr[k] being vertex k's, from the snapped vertex
 // positions (so they agree with the coverage test), computed in double.
-void compute_planes(ScreenTriangle& t, const float (*attr)[geometry::kMaxAttributes], int attribute_count);
+// z and inv_w: the oriented vertices' window depth and 1 / clip w (the record's own, or set-up's
+// copy of them).
+void compute_planes(ScreenTriangle& t, const float* z, const float* inv_w, const float (*attr)[geometry::kMaxAttributes],
+                    int attribute_count);
+inline void compute_planes(ScreenTriangle& t, const float (*attr)[geometry::kMaxAttributes], int attribute_count) {
+  compute_planes(t, t.z, t.inv_w, attr, attribute_count);
+}
 
 // Calls fn(x, y, e0, e1, e2) for every covered pixel of `t` in [x0, x1] x [y0, y1] (inclusive,
 // inside t's bounds), row by row, left to right; e_k are the unbiased edge values (barycentric
