@@ -68,7 +68,6 @@ void Renderer::Impl::plan_environment_faces(const Scene& scene, const RenderOpti
       view.aspect = 1.0f;
       RenderPass p = frame::view_pass(view, scene, options, cube.views[static_cast<std::size_t>(f)], nullptr);
       p.assembly.place = camera.assembly.place;
-      p.assembly.record_depth = camera.assembly.record_depth;
       p.exclude_object = static_cast<std::uint32_t>(o);
       p.environment_face = true;
       p.environment_cube = static_cast<int>(count);
@@ -204,7 +203,6 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   passes.clear();
   RenderPass camera = frame::camera_pass(scene, options, color, depth);
   camera.assembly.place = simd_kernels ? simd_kernels->place : nullptr;
-  camera.assembly.record_depth = simd_kernels == nullptr;  // the scalar rasterizer reads z and 1/w
   // Shadow maps: fitted to the casters and the camera, then one depth-only pass per face, before
   // the camera's pass.
   frame_maps.assign(scene.lights.size(), nullptr);
@@ -229,7 +227,6 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
         passes.push_back(frame::depth_pass(map.face_view(f), map.face_projection(f), map_views.back(), options.tile_size));
         passes.back().depth_dirty = map.dirty_tiles(f, options.tile_size);
         passes.back().assembly.place = camera.assembly.place;
-        passes.back().assembly.record_depth = camera.assembly.record_depth;
         stats.shadow_map_texels += static_cast<std::uint64_t>(map.resolution()) * static_cast<std::uint64_t>(map.resolution());
       }
     }

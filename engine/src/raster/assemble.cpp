@@ -186,7 +186,7 @@ class RangeAssembler {
       return;
     }
     // The record's first cache line only: z and 1/w wait in `pending` for the planes (its last
-    // line is written only where something reads it: the scalar rasterizer, flat colours).
+    // line is written only where something reads it: flat colours; AssemblyFrame::place).
     ScreenTriangle& st = out_.emplace_back();
     std::array<float, 6> zw;
     for (int k = 0; k < 3; ++k) {
@@ -216,9 +216,6 @@ class RangeAssembler {
     const std::uint32_t order[3] = {tri[0], swapped ? tri[2] : tri[1], swapped ? tri[1] : tri[2]};
     float attr[3][geometry::kMaxAttributes];
     for (int k = 0; k < 3; ++k) gather(order[k], attr[k]);
-    if (frame_.record_depth) {
-      for (int k = 0; k < 3; ++k) st.z[k] = zw[static_cast<std::size_t>(k)], st.inv_w[k] = zw[static_cast<std::size_t>(k) + 3];
-    }
     finish(st, index, attr, zw.data(), zw.data() + 3);
   }
 

@@ -28,10 +28,10 @@ struct AssemblyFrame {
   bool two_sided = false;
   BinGrid grid;
   // The ISA's placing kernel (the simd path), or null: the scalar twin places every triangle.
+  // Records the kernel places carry no z and 1/w (ScreenTriangle::z, inv_w; set-up keeps them in
+  // PendingTriangles::depth for the planes): only the scalar rasterizer reads them, and it runs
+  // exactly where no kernel was given (the renderer takes both from the one ISA choice).
   simd::PlaceFunction place = nullptr;
-  // The records carry z and 1/w (ScreenTriangle::z, inv_w) for the scalar rasterizer; the SIMD
-  // one reads only the planes, and a record's last line is then not written for them.
-  bool record_depth = true;
 };
 
 enum class Placement { placed, degenerate, culled, no_pixel };
