@@ -71,7 +71,8 @@ struct alignas(64) ScreenTriangle {
   Plane plane[kPlaneCount];  // set by compute_planes
   float flat_rgb[3];
   float flat_secondary[3];  // flat shading of a textured draw: the specular, added after the texture
-  // Scalar rasterizer (coverage and depth) and set-up.
+  // The scalar rasterizer's (coverage and depth), set by the scalar placing and by clipping;
+  // records the SIMD placing kernel makes leave them unset (AssemblyFrame::place).
   float z[3];      // window depth, [0, 1]
   float inv_w[3];  // 1 / clip w, for perspective-correct interpolation
 };
