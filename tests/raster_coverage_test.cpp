@@ -1,6 +1,7 @@
 // Coverage of the fixed-point rasterizer: the top-left rule case by case, and watertightness on
 // 10^5 random closed meshes (fans and grids) checked against an exact point-in-polygon test, for
 // the scalar rasterizer and for the SIMD tile kernels of every ISA this CPU has.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -10,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "raster/assemble.hpp"
+#include "raster/bins.hpp"
 #include "raster/tile_raster.hpp"
 #include "raster/triangle_setup.hpp"
 
@@ -319,6 +321,42 @@ INSTANTIATE_TEST_SUITE_P(Shards, Watertight, ::testing::ValuesIn(watertight_para
                            return (p.param.isa ? std::string(to_string(*p.param.isa)) : std::string("scalar")) +
                                   "_" + std::to_string(p.param.shard);
                          });
+
+// The merge in pieces (count, place, scatter: the parallel merge of a pass) makes the bins the
+// serial merge makes, in range order within each bin, whatever order the ranges' pieces run in,
+// and appends to bins that already hold entries.
+TEST(Bins, MergeInPiecesMatchesTheSerialMerge) {
+  std::mt19937 rng(11);
+  for (int round = 0; round < 20; ++round) {
+    const std::size_t tiles = 1 + rng() % 40, ranges = 1 + rng() % 30;
+    std::vector<RangeBinning> binning(ranges + 3);  // spare ranges past the count are not merged
+    for (auto& rb : binning) {
+      const std::size_t entries = rng() % 200;
+      for (std::size_t e = 0; e < entries; ++e) {
+        rb.tile.push_back(static_cast<std::uint32_t>(rng() % tiles));
+        rb.index.push_back(static_cast<std::uint32_t>(rng() & kIndexMask));
+      }
+      rb.counts.drawn = rng() % 100;
+      rb.counts.bin_entries = entries;
+    }
+    std::vector<std::vector<std::uint32_t>> serial(tiles), pieces(tiles);
+    for (std::size_t t = 0; t < tiles; t += 3) serial[t] = pieces[t] = {0xdeadbeefu, static_cast<std::uint32_t>(t)};
+    FrameStats serial_stats, pieces_stats;
+    merge_ranges(binning, ranges, serial, serial_stats);
+    std::vector<std::uint32_t> offsets(ranges * tiles, 0x5a5a5a5au);
+    std::vector<std::size_t> order(ranges);
+    for (std::size_t r = 0; r < ranges; ++r) order[r] = r;
+    auto row = [&](std::size_t r) { return std::span<std::uint32_t>(offsets.data() + r * tiles, tiles); };
+    std::shuffle(order.begin(), order.end(), rng);
+    for (std::size_t r : order) count_range(binning[r], row(r));
+    place_ranges(binning, ranges, offsets, pieces, pieces_stats);
+    std::shuffle(order.begin(), order.end(), rng);
+    for (std::size_t r : order) scatter_range(binning[r], r, row(r), pieces);
+    EXPECT_EQ(pieces, serial) << "round " << round;
+    EXPECT_EQ(pieces_stats.triangles_drawn, serial_stats.triangles_drawn);
+    EXPECT_EQ(pieces_stats.bin_entries, serial_stats.bin_entries);
+  }
+}
 
 }  // namespace
 }  // namespace facet::raster

@@ -83,6 +83,7 @@ struct Renderer::Impl {
   std::vector<const raster::ScreenTriangle*> range_data;
   std::size_t range_count = 0;
   std::vector<std::vector<std::uint32_t>> bins;
+  std::vector<std::uint32_t> merge_offsets;  // merge_bins: each range's first slot in each bin
   // Each pass's draws (objects, or their material groups), planned once per pass (plan_units),
   // kept with their capacity; `units` is the running pass's.
   std::vector<std::vector<DrawUnit>> pass_units;
@@ -173,6 +174,7 @@ struct Renderer::Impl {
   // One pass: its draws' geometry and lighting, set-up and bins (object_setup.cpp), then its tiles
   // and their resolve (pass.cpp).
   void run_pass(const Scene& scene, const RenderOptions& options, const RenderPass& p, std::span<const DrawUnit> pass_draws);
+  void merge_bins();
   void set_up_objects(const Scene& scene, const RenderOptions& options);
   void draw_tiles(const RenderOptions& options);
   std::vector<scene_order::ObjectKey> order_keys;  // plan_units' scratch (TransparentOrder::back_to_front)

@@ -1,5 +1,7 @@
 #include "raster/bins.hpp"
 
+#include <algorithm>
+
 namespace facet::raster {
 
 void TriangleCounts::add_to(FrameStats& s) const {
@@ -38,6 +40,37 @@ void merge_ranges(std::span<const RangeBinning> ranges, std::size_t count, std::
     const auto high = static_cast<std::uint32_t>(r) << kRangeShift;
     for (std::size_t e = 0; e < rb.tile.size(); ++e) bins[rb.tile[e]].push_back(high | rb.index[e]);
     rb.counts.add_to(stats);
+  }
+}
+
+void count_range(const RangeBinning& range, std::span<std::uint32_t> row) {
+  std::fill(row.begin(), row.end(), 0u);
+  for (const std::uint32_t t : range.tile) ++row[t];
+}
+
+void place_ranges(std::span<const RangeBinning> ranges, std::size_t count, std::span<std::uint32_t> offsets,
+                  std::vector<std::vector<std::uint32_t>>& bins, FrameStats& stats) {
+  const std::size_t tiles = bins.size();
+  std::vector<std::uint32_t> running(tiles);
+  for (std::size_t t = 0; t < tiles; ++t) running[t] = static_cast<std::uint32_t>(bins[t].size());
+  for (std::size_t r = 0; r < count; ++r) {
+    std::uint32_t* row = offsets.data() + r * tiles;
+    for (std::size_t t = 0; t < tiles; ++t) {
+      const std::uint32_t n = row[t];
+      row[t] = running[t];
+      running[t] += n;
+    }
+    ranges[r].counts.add_to(stats);
+  }
+  for (std::size_t t = 0; t < tiles; ++t) bins[t].resize(running[t]);
+}
+
+void scatter_range(const RangeBinning& range, std::size_t r, std::span<std::uint32_t> row,
+                   std::vector<std::vector<std::uint32_t>>& bins) {
+  const auto high = static_cast<std::uint32_t>(r) << kRangeShift;
+  for (std::size_t e = 0; e < range.tile.size(); ++e) {
+    const std::uint32_t t = range.tile[e];
+    bins[t][row[t]++] = high | range.index[e];
   }
 }
 

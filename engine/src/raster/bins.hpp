@@ -39,4 +39,17 @@ void bin_triangle(const ScreenTriangle& t, std::uint32_t index, const BinGrid& g
 void merge_ranges(std::span<const RangeBinning> ranges, std::size_t count, std::vector<std::vector<std::uint32_t>>& bins,
                   FrameStats& stats);
 
+// The same merge in three steps, the first and last of which may run for different ranges on
+// different threads (the bins come out as merge_ranges makes them, for any schedule):
+//   count_range(ranges[r], row r)          entries of range r per tile, into its row of `offsets`
+//   place_ranges(...)                      rows turned into each range's first slot in each bin,
+//                                          bins sized, counters added to `stats` (one thread)
+//   scatter_range(ranges[r], r, row r, bins)  range r's entries written from its slots on
+// `offsets` holds one row of `tiles` counts per range.
+void count_range(const RangeBinning& range, std::span<std::uint32_t> row);
+void place_ranges(std::span<const RangeBinning> ranges, std::size_t count, std::span<std::uint32_t> offsets,
+                  std::vector<std::vector<std::uint32_t>>& bins, FrameStats& stats);
+void scatter_range(const RangeBinning& range, std::size_t r, std::span<std::uint32_t> row,
+                   std::vector<std::vector<std::uint32_t>>& bins);
+
 }  // namespace facet::raster
