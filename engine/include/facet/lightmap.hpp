@@ -1,0 +1,53 @@
+// Lightmap texture coordinates: a mesh cut into planar charts, each laid flat at a chosen texel
+// density and packed into one atlas with padding between charts, so that every triangle owns its
+// own texels (a lightmap needs that; a material's uvs may repeat or mirror). docs/baking.md.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "facet/mesh.hpp"
+#include "facet/status.hpp"
+#include "facet/types.hpp"
+
+namespace facet {
+
+struct LightmapUvOptions {
+  // Texels per unit of length in the mesh's own coordinates (the object's scale is the caller's).
+  double texels_per_unit = 16.0;
+  // Empty texels between any two charts and between a chart and the atlas's edge: at least 1 so
+  // that bilinear filtering never mixes two charts; 2 (the default) also leaves room to dilate.
+  int padding = 2;
+  // A triangle joins a chart (grown across shared edges) when its normal is within this angle of
+  // the chart's first triangle's normal; degrees in (0, 90).
+  double chart_angle_deg = 45.0;
+  // Largest atlas side in texels; a mesh that needs more at this density is refused before any
+  // memory is allocated for the atlas.
+  int max_size = 8192;
+};
+
+// The result: a new vertex list (the input's vertices, split where charts meet), the input's
+// triangles over it in the same order, and a lightmap uv per new vertex.
+struct LightmapUnwrap {
+  int width = 0, height = 0;                                // the atlas, in texels
+  std::vector<std::uint32_t> source_vertex;                 // per new vertex: the input vertex it copies
+  std::vector<std::array<std::uint32_t, 3>> triangles;      // per input triangle, over the new vertices
+  std::vector<Vec2> uvs;                                    // per new vertex; (0, 0) the atlas's bottom-left corner
+  std::vector<std::uint32_t> chart_of_triangle;             // per triangle: its chart
+  // Per chart: its texels, [x0, x0 + w) x [y0, y0 + h); every texel a triangle of the chart
+  // touches lies inside, and no two charts' rectangles come closer than `padding` texels.
+  struct Chart {
+    int x0 = 0, y0 = 0, w = 0, h = 0;
+  };
+  std::vector<Chart> charts;
+};
+
+// Cuts `mesh` into charts and packs them (docs/baking.md: how charts grow, how they are laid flat
+// and packed, and the density each triangle gets: between cos(chart_angle_deg) and 1 times the
+// requested texels per unit of area). Triangles of zero area share one chart of one texel. Errors:
+// an invalid mesh or option (the field named), an atlas larger than max_size (the size it would
+// need and the density that would fit).
+Result<LightmapUnwrap> unwrap_lightmap(const Mesh& mesh, const LightmapUvOptions& options = {});
+
+}  // namespace facet
