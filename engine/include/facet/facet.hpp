@@ -6,6 +6,7 @@
 #include "facet/light.hpp"
 #include "facet/lighting.hpp"
 #include "facet/material.hpp"
+#include "facet/bake.hpp"
 #include "facet/lightmap.hpp"
 #include "facet/mesh.hpp"
 #include "facet/model.hpp"

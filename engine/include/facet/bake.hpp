@@ -1,0 +1,86 @@
+// Baked light: every object's surface cut into lightmap texels (unwrap_lightmap, world units), lit
+// by the scene's lights with ray-cast shadows, then by each other through progressive-refinement
+// radiosity (Cohen, Chen, Wallace & Greenberg 1988) with form factors found by casting rays
+// through Embree. docs/baking.md has the method, its units and its tests.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "facet/lightmap.hpp"
+#include "facet/scene.hpp"
+#include "facet/status.hpp"
+#include "facet/types.hpp"
+
+namespace facet {
+
+struct BakeOptions {
+  // The charts of every object, at texels_per_unit texels per unit of world length.
+  LightmapUvOptions charts;
+  // The footprint of a texel: split into subdivisions x subdivisions squares, each clipped with
+  // each triangle over it; light is evaluated at each piece's centroid and weighted by its area.
+  int subdivisions = 2;
+  // Direct light: the diffuse term of every enabled light of the scene (GL's n.l, attenuation and
+  // spot cone), each light's visibility by one ray per piece (every light casts shadows here).
+  bool direct = true;
+  // Radiosity: patches are texels; each shot sends the unshot radiosity of the patch with the most
+  // unshot power along rays_per_shot rays (cosine-distributed, stratified, a fixed sequence per
+  // patch and shot). Stops when the unshot power falls below `residual` times the power that
+  // entered (surface emission plus reflected direct light), after max_shots shots, or after
+  // max_seconds (0: no limit; a time limit makes the result depend on the machine's speed).
+  bool radiosity = true;
+  int rays_per_shot = 256;
+  std::size_t max_shots = 100000;
+  double residual = 1e-3;
+  double max_seconds = 0;
+  // The unshot power left at the stop, spread as an ambient term over every patch (the paper's
+  // estimate: the average unshot radiosity times 1 / (1 - the average albedo)); not when the
+  // average albedo is 1 (no finite estimate).
+  bool ambient_from_unshot = true;
+  // Texels of all lightmaps together at most this many; refused before any work.
+  std::size_t max_texels = std::size_t{1} << 24;
+  int threads = 0;  // 0: the machine's hardware threads
+  // Called between shots with the share of the work done (1 - unshot / entered power, or the
+  // share of max_shots if larger); return false to stop with ErrorCode::cancelled.
+  std::function<bool(double done)> progress;
+};
+
+// One object's lightmap. light[y * width + x] (row 0 at the bottom, as uv (0, 0)): the light
+// arriving at the texel in the units of a light's diffuse colour (a directional light of diffuse
+// colour c, perpendicular, unshadowed, gives c), from the direct lights and from other surfaces.
+// A surface's colour is its emission plus its albedo (material diffuse) times this. Texels no
+// triangle touches hold the average of their neighbours (dilated `charts.padding` times), else 0.
+struct BakedLightmap {
+  std::uint32_t object = 0;  // index in Scene::objects
+  LightmapUnwrap unwrap;     // its charts (the object's mesh in world space)
+  std::vector<Color3> light;
+  std::vector<float> area;   // world area of each texel's footprint (0: untouched)
+};
+
+struct BakeStats {
+  std::size_t texels = 0, patches = 0, pieces = 0;  // atlas texels, texels with area, footprint pieces
+  std::size_t shots = 0, rays = 0;                  // radiosity shots and rays, shadow rays included
+  // Power (colour units times area, summed over R, G and B): what entered the patches as unshot
+  // radiosity (emission plus reflected direct light), what the patches absorbed, what left the
+  // scene, what back faces took, and what was still unshot at the stop. entered = absorbed +
+  // escaped + back_faces + unshot to rounding (tested).
+  double entered = 0, absorbed = 0, escaped = 0, back_faces = 0, unshot = 0;
+  double seconds = 0;
+  std::string stopped_by;  // "residual", "max_shots", "max_seconds", "no radiosity"
+};
+
+struct BakeResult {
+  std::vector<BakedLightmap> lightmaps;  // one per object, in object order
+  BakeStats stats;
+};
+
+// The same bytes for any thread count (rays and their sample sequences are fixed; their results
+// are reduced in a fixed order; the Embree hierarchy is built on one thread). Errors: an invalid
+// scene or option (its field), a lightmap over the budget (ErrorCode::out_of_memory, before any
+// work), Embree's errors, cancellation.
+Result<BakeResult> bake_lightmaps(const Scene& scene, const BakeOptions& options = {});
+
+}  // namespace facet
