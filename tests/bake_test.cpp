@@ -91,36 +91,46 @@ TEST(Bake, ClosedFormFormFactors) {
   EXPECT_NEAR(perpendicular_rectangles(1, 1, 1), 0.20004, 1e-5);
 }
 
+// Emission shot by radiosity (gather_emitters false): every texel within Monte Carlo noise, the
+// mean exact; gathered as area light: the same mean within 1.5 % (each texel much noisier here,
+// where every wall is an emitter meeting its receivers at the box's edges, with 1 / r^2 spikes).
 TEST(Bake, WhiteFurnaceConvergesToEmissionOverOneMinusAlbedo) {
-  for (double albedo : {0.3, 0.7}) {
-    const double e = 0.2, expected = e / (1 - albedo);
-    Scene s = scene_of({{inward_box(2), surface(albedo, e)}});
-    BakeOptions o;
-    o.charts.texels_per_unit = 4;
-    o.rays_per_shot = 256;
-    o.residual = 1e-4;
-    const Result<BakeResult> r = bake_lightmaps(s, o);
-    ASSERT_TRUE(r.ok()) << r.status().message();
-    EXPECT_EQ(r->stats.stopped_by, "residual");
-    const BakedLightmap& lm = r->lightmaps[0];
-    double worst = 0, sum = 0, area = 0, squares = 0;
-    for (std::size_t i = 0; i < lm.light.size(); ++i) {
-      if (lm.area[i] == 0) continue;
-      const double b = e + albedo * lm.light[i].x();  // the texel's radiosity
-      const double error = std::abs(b - expected) / expected;
-      worst = std::max(worst, error);
-      squares += error * error * lm.area[i];
-      sum += b * lm.area[i], area += lm.area[i];
+  for (bool gather : {false, true}) {
+    for (double albedo : {0.3, 0.7}) {
+      const double e = 0.2, expected = e / (1 - albedo);
+      Scene s = scene_of({{inward_box(2), surface(albedo, e)}});
+      BakeOptions o;
+      o.charts.texels_per_unit = 4;
+      o.rays_per_shot = 256;
+      o.residual = 1e-4;
+      o.gather_emitters = gather;
+      const Result<BakeResult> r = bake_lightmaps(s, o);
+      ASSERT_TRUE(r.ok()) << r.status().message();
+      EXPECT_EQ(r->stats.stopped_by, "residual");
+      const BakedLightmap& lm = r->lightmaps[0];
+      double worst = 0, sum = 0, area = 0, squares = 0;
+      for (std::size_t i = 0; i < lm.light.size(); ++i) {
+        if (lm.area[i] == 0) continue;
+        const double b = e + albedo * lm.light[i].x();  // the texel's radiosity
+        const double error = std::abs(b - expected) / expected;
+        worst = std::max(worst, error);
+        squares += error * error * lm.area[i];
+        sum += b * lm.area[i], area += lm.area[i];
+      }
+      std::printf("furnace, emission %s, albedo %.1f: mean %.5f (expected %.5f), rms %.4f, worst %.4f, %zu shots\n",
+                  gather ? "gathered" : "shot", albedo, sum / area, expected, std::sqrt(squares / area), worst, r->stats.shots);
+      EXPECT_NEAR(area, 24.0, 1e-6);  // the box's six faces of 2 x 2
+      if (!gather) {
+        // The mean: exact but for the unshot remainder (below 1e-4 of the power, spread as ambient).
+        EXPECT_NEAR(sum / area, expected, 0.002 * expected) << "albedo " << albedo;
+        // Each texel: Monte Carlo noise, which falls as 1 / sqrt(rays per shot); measured at 256
+        // rays and 4 texels a unit: rms 1.4 % and 2.1 %, worst 4.6 % and 7.3 % (albedo 0.3, 0.7).
+        EXPECT_LT(std::sqrt(squares / area), 0.04) << "albedo " << albedo;
+        EXPECT_LT(worst, 0.15) << "albedo " << albedo;
+      } else {
+        EXPECT_NEAR(sum / area, expected, 0.015 * expected) << "albedo " << albedo;  // measured -0.2 % and -0.5 %
+      }
     }
-    std::printf("furnace albedo %.1f: mean %.5f (expected %.5f), rms %.4f, worst %.4f, %zu shots\n", albedo, sum / area,
-                expected, std::sqrt(squares / area), worst, r->stats.shots);
-    EXPECT_NEAR(area, 24.0, 1e-6);  // the box's six faces of 2 x 2
-    // The mean: exact but for the unshot remainder (below 1e-4 of the power, spread as ambient).
-    EXPECT_NEAR(sum / area, expected, 0.002 * expected) << "albedo " << albedo;
-    // Each texel: Monte Carlo noise, which falls as 1 / sqrt(rays per shot); measured at 256 rays
-    // and 4 texels a unit: rms 1.4 % and 2.1 %, worst 4.6 % and 7.3 % for albedo 0.3 and 0.7.
-    EXPECT_LT(std::sqrt(squares / area), 0.04) << "albedo " << albedo;
-    EXPECT_LT(worst, 0.15) << "albedo " << albedo;
   }
 }
 
@@ -147,13 +157,16 @@ TEST(Bake, AmbientTermFromTheUnshotPowerRestoresTheFurnace) {
 TEST(Bake, BackFacesReceiveNothing) {
   Scene s = scene_of({{rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1), surface(0, 1)},
                       {rectangle(Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0, 1, 0), 1), surface(0.5, 0)}});  // faces +z, away
-  BakeOptions o;
-  o.charts.texels_per_unit = 4;
-  o.rays_per_shot = 256;
-  const Result<BakeResult> r = bake_lightmaps(s, o);
-  ASSERT_TRUE(r.ok()) << r.status().message();
-  for (const Color3& c : r->lightmaps[1].light) EXPECT_EQ(c, Color3::Zero());
-  EXPECT_GT(r->stats.back_faces, 0.15 * r->stats.entered);  // about F = 0.2 of it
+  for (bool gather : {false, true}) {
+    BakeOptions o;
+    o.charts.texels_per_unit = 4;
+    o.rays_per_shot = 256;
+    o.gather_emitters = gather;
+    const Result<BakeResult> r = bake_lightmaps(s, o);
+    ASSERT_TRUE(r.ok()) << r.status().message();
+    for (const Color3& c : r->lightmaps[1].light) EXPECT_EQ(c, Color3::Zero());
+    if (!gather) EXPECT_GT(r->stats.back_faces, 0.15 * r->stats.entered);  // about F = 0.2 of it
+  }
 }
 
 TEST(Bake, FormFactorsAgainstHowell) {
@@ -161,39 +174,51 @@ TEST(Bake, FormFactorsAgainstHowell) {
     const char* what;
     Mesh emitter, receiver;
     double expected;
+    bool parallel;
   };
   std::vector<Case> cases;
   // Parallel: 1 x 1 at distance 1, and 2 x 1 at distance 0.5 (the emitter faces +z, the receiver -z).
   cases.push_back({"parallel 1x1 at 1", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 2),
-                   rectangle(Vec3(0, 0, 1), Vec3(0, 1, 0), Vec3(1, 0, 0), 2), parallel_rectangles(1, 1, 1)});
+                   rectangle(Vec3(0, 0, 1), Vec3(0, 1, 0), Vec3(1, 0, 0), 2), parallel_rectangles(1, 1, 1), true});
   cases.push_back({"parallel 2x1 at 0.5", rectangle(Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0), 2),
-                   rectangle(Vec3(0, 0, 0.5f), Vec3(0, 1, 0), Vec3(2, 0, 0), 2), parallel_rectangles(2, 1, 0.5)});
+                   rectangle(Vec3(0, 0, 0.5f), Vec3(0, 1, 0), Vec3(2, 0, 0), 2), parallel_rectangles(2, 1, 0.5), true});
   // Perpendicular, sharing the edge along y of length 1: emitter width 1 (in x, facing +z),
   // receiver height 2 (in z, facing +x) and the other way round.
   cases.push_back({"perpendicular w 1 h 2", rectangle(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 2),
-                   rectangle(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 2), 2), perpendicular_rectangles(1, 2, 1)});
+                   rectangle(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 2), 2), perpendicular_rectangles(1, 2, 1), false});
   cases.push_back({"perpendicular w 2 h 1", rectangle(Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0), 2),
-                   rectangle(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), 2), perpendicular_rectangles(2, 1, 1)});
+                   rectangle(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), 2), perpendicular_rectangles(2, 1, 1), false});
   for (Case& c : cases) {
     // Emitter of emission 1 and albedo 0, black receiver: one shot per emitter texel, and the
     // receiver's mean arriving light is E F_er (A_e / A_r).
     Scene s = scene_of({{c.emitter, surface(0, 1)}, {c.receiver, surface(0, 0)}});
-    BakeOptions o;
-    o.charts.texels_per_unit = 8;
-    o.rays_per_shot = 4096;
-    o.residual = 0;
-    o.ambient_from_unshot = false;
-    const Result<BakeResult> r = bake_lightmaps(s, o);
-    ASSERT_TRUE(r.ok()) << r.status().message();
-    double area_e = 0, area_r = 0;
-    for (float a : r->lightmaps[0].area) area_e += a;
-    for (float a : r->lightmaps[1].area) area_r += a;
-    const double f = mean_light(r->lightmaps[1]) * area_r / area_e;
-    // Rays: a shot of 4096 from each of the emitter's 80-170 texels; the estimate's standard
-    // deviation is below 0.0007 (measured: within 1e-4 of every closed form).
-    std::printf("%s: %.5f against %.5f\n", c.what, f, c.expected);
-    EXPECT_NEAR(f, c.expected, 0.002) << c.what << " (" << r->stats.shots << " shots)";
-    EXPECT_EQ(r->stats.unshot, 0.0) << c.what;
+    for (bool gather : {false, true}) {
+      BakeOptions o;
+      o.charts.texels_per_unit = 8;
+      o.rays_per_shot = 4096;
+      o.area_samples = 256;
+      o.residual = 0;
+      o.ambient_from_unshot = false;
+      o.gather_emitters = gather;
+      const Result<BakeResult> r = bake_lightmaps(s, o);
+      ASSERT_TRUE(r.ok()) << r.status().message();
+      double area_e = 0, area_r = 0;
+      for (float a : r->lightmaps[0].area) area_e += a;
+      for (float a : r->lightmaps[1].area) area_r += a;
+      const double f = mean_light(r->lightmaps[1]) * area_r / area_e;
+      std::printf("%s, %s: %.5f against %.5f\n", c.what, gather ? "gathered" : "shot", f, c.expected);
+      if (!gather) {
+        // A shot of 4096 rays from each of the emitter's 80-170 texels; the estimate's standard
+        // deviation is below 0.0007 (measured: within 1e-4 of every closed form).
+        EXPECT_NEAR(f, c.expected, 0.002) << c.what << " (" << r->stats.shots << " shots)";
+        EXPECT_EQ(r->stats.unshot, 0.0) << c.what;
+      } else if (c.parallel) {
+        // Gathered: 256 points on the emitter for each of the receiver's pieces (measured within
+        // 0.1 %); not where the two meet (perpendicular: the 1 / r^2 spikes at the shared edge
+        // leave the estimate 1.6 % low at these counts; that case is for shooting).
+        EXPECT_NEAR(f, c.expected, 0.005 * c.expected) << c.what;
+      }
+    }
   }
 }
 

@@ -36,6 +36,7 @@ Command add_compare(CLI::App& facet);
 Command add_light(CLI::App& facet);
 Command add_check(CLI::App& facet);
 Command add_accuracy(CLI::App& facet);
+Command add_bake(CLI::App& facet);
 
 std::optional<LightingPath> parse_path(const std::string& name);
 std::optional<Isa> parse_isa(const std::string& name);  // "auto" -> Isa::best

@@ -1,4 +1,4 @@
-// facet — command-line front end: render, check, compare, light, accuracy. Options are parsed by
+// facet — command-line front end: render, check, compare, light, accuracy, bake. Options are parsed by
 // CLI11 (`--opt value`, `--opt=value`, `-o`); errors go to stderr with exit status 2 (1 from
 // `compare` means "images differ"), and every message names what was wrong.
 #include <csignal>
@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
   app.fallthrough(false);
   const facet::cli::Command commands[] = {facet::cli::add_render(app), facet::cli::add_check(app),
                                           facet::cli::add_compare(app), facet::cli::add_light(app),
-                                          facet::cli::add_accuracy(app)};
+                                          facet::cli::add_accuracy(app), facet::cli::add_bake(app)};
   if (argc < 2) {
     std::fputs(app.help().c_str(), stderr);
     return 2;

@@ -26,10 +26,16 @@ struct BakeOptions {
   // Direct light: the diffuse term of every enabled light of the scene (GL's n.l, attenuation and
   // spot cone), each light's visibility by one ray per piece (every light casts shadows here).
   bool direct = true;
+  // Emissive surfaces as area lights: their light gathered at each piece from area_samples points
+  // on them (chosen by emitted power, shadow rays to each: soft shadows), instead of shot by
+  // radiosity (which is noisier: a shot's rays land on few texels). Radiosity then shoots what
+  // the surfaces reflect.
+  bool gather_emitters = true;
+  int area_samples = 64;
   // Radiosity: patches are texels; each shot sends the unshot radiosity of the patch with the most
   // unshot power along rays_per_shot rays (cosine-distributed, stratified, a fixed sequence per
   // patch and shot). Stops when the unshot power falls below `residual` times the power that
-  // entered (surface emission plus reflected direct light), after max_shots shots, or after
+  // entered (reflected direct light, and emission unless gathered), after max_shots shots, or after
   // max_seconds (0: no limit; a time limit makes the result depend on the machine's speed).
   bool radiosity = true;
   int rays_per_shot = 256;
@@ -64,7 +70,7 @@ struct BakeStats {
   std::size_t texels = 0, patches = 0, pieces = 0;  // atlas texels, texels with area, footprint pieces
   std::size_t shots = 0, rays = 0;                  // radiosity shots and rays, shadow rays included
   // Power (colour units times area, summed over R, G and B): what entered the patches as unshot
-  // radiosity (emission plus reflected direct light), what the patches absorbed, what left the
+  // radiosity (reflected direct light, plus the emission when it is shot rather than gathered), what the patches absorbed, what left the
   // scene, what back faces took, and what was still unshot at the stop. entered = absorbed +
   // escaped + back_faces + unshot to rounding (tested).
   double entered = 0, absorbed = 0, escaped = 0, back_faces = 0, unshot = 0;

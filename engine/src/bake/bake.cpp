@@ -116,6 +116,9 @@ Status check_options(const BakeOptions& o) {
   if (!(o.max_seconds >= 0 && std::isfinite(o.max_seconds))) {
     return bad("max_seconds", "expected a finite number >= 0, found " + format_number(o.max_seconds));
   }
+  if (o.area_samples < 1 || o.area_samples > 65536) {
+    return bad("area_samples", "expected 1 to 65536, found " + std::to_string(o.area_samples));
+  }
   if (o.threads < 0) return bad("threads", "expected 0 (all) or more, found " + std::to_string(o.threads));
   return {};
 }
@@ -135,6 +138,7 @@ class Baker {
   Status make_patches();
   Status build_rays();
   void direct_light();
+  void emitter_light();
   Status radiosity();
   // The patch a ray hit (object, triangle, barycentrics), or -1.
   std::int64_t patch_at(unsigned object, unsigned triangle, float u, float v) const;
@@ -398,6 +402,74 @@ V3 Baker::ray_origin(const Piece& p, std::uint64_t patch, std::uint64_t shot, st
   return p.position;
 }
 
+// Light from emissive surfaces gathered as area lights: at each piece, area_samples points on
+// the emitting patches (a patch chosen by its share of the emitted power, stratified; a point
+// spread uniformly over it), each weighted by B cos(receiver) cos(emitter) / (pi r^2) over its
+// probability and kept if a shadow ray reaches it. Soft shadows, and no shooting noise in the
+// direct light; radiosity then shoots only what the surfaces reflect.
+void Baker::emitter_light() {
+  std::vector<std::uint32_t> emitters;
+  std::vector<double> cdf;
+  double total = 0;
+  for (std::size_t i = 0; i < patches_.size(); ++i) {
+    const double power = patches_[i].emission.sum() * patches_[i].area;
+    if (!(power > 0)) continue;
+    emitters.push_back(static_cast<std::uint32_t>(i));
+    cdf.push_back(total += power);
+  }
+  if (emitters.empty()) return;
+  const int n = o_.area_samples;
+  std::vector<V3> at_piece(pieces_.size(), V3::Zero());
+  arena_.execute([&] {
+    arena_.parallel_for(tbb::blocked_range<std::size_t>(0, pieces_.size(), 64), [&](const tbb::blocked_range<std::size_t>& r, int) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+        const Piece& piece = pieces_[i];
+        V3 sum = V3::Zero();
+        for (int k = 0; k < n; ++k) {
+          const V3 origin = ray_origin(piece, i, 0xE418, static_cast<std::uint64_t>(k)) + piece.face_normal * epsilon_;
+          const double pick = (k + hash01(i, 0xE417, static_cast<std::uint64_t>(k), 0)) / n * total;
+          const std::size_t e = std::min<std::size_t>(static_cast<std::size_t>(std::lower_bound(cdf.begin(), cdf.end(), pick) - cdf.begin()), emitters.size() - 1);
+          const Patch& emitter = patches_[emitters[e]];
+          if (emitters[e] == piece.patch) continue;  // a patch does not light itself (it is flat)
+          // A piece of the emitter by area, then a point spread over it.
+          double at = hash01(i, 0xE417, static_cast<std::uint64_t>(k), 1) * emitter.area, acc = 0;
+          std::uint32_t which = emitter.first_piece;
+          for (std::uint32_t q = emitter.first_piece; q < emitter.first_piece + emitter.piece_count; ++q) {
+            which = q;
+            if ((acc += pieces_[q].area) >= at) break;
+          }
+          const Piece& source = pieces_[which];
+          const V3 point = ray_origin(source, i, 0xE417 + static_cast<std::uint64_t>(k), 7) + source.face_normal * epsilon_;
+          const V3 d = point - origin;
+          const double r2 = d.squaredNorm();
+          if (!(r2 > 0)) continue;
+          const V3 w = d / std::sqrt(r2);
+          const double cos_r = w.dot(piece.normal), cos_e = -w.dot(source.face_normal);
+          if (cos_r <= 0 || cos_e <= 0 || w.dot(piece.face_normal) <= 0) continue;
+          RTCIntersectContext context;
+          rtcInitIntersectContext(&context);
+          RTCRay ray{};
+          ray.org_x = float(origin.x()), ray.org_y = float(origin.y()), ray.org_z = float(origin.z());
+          ray.dir_x = float(d.x()), ray.dir_y = float(d.y()), ray.dir_z = float(d.z());
+          ray.tnear = 0.0f, ray.tfar = 1.0f - 1e-4f, ray.mask = 0xffffffffu;
+          rtcOccluded1(rscene_, &context, &ray);
+          if (ray.tfar == -std::numeric_limits<float>::infinity()) continue;
+          // Over the point's probability density: the patch's power share over its area.
+          const double density = emitter.emission.sum() / total;
+          sum += emitter.emission * (cos_r * cos_e / (std::numbers::pi * r2) / density);
+        }
+        at_piece[i] = sum / n;
+      }
+    });
+  });
+  stats_.rays += pieces_.size() * static_cast<std::size_t>(n);
+  for (Patch& patch : patches_) {
+    V3 sum = V3::Zero();
+    for (std::uint32_t i = patch.first_piece; i < patch.first_piece + patch.piece_count; ++i) sum += at_piece[i] * pieces_[i].area;
+    if (patch.area > 0) patch.light += sum / patch.area;
+  }
+}
+
 void Baker::direct_light() {
   Material white;
   white.ambient = Color3::Zero(), white.diffuse = Color3::Ones(), white.specular = Color3::Zero();
@@ -446,13 +518,17 @@ void Baker::direct_light() {
   for (Patch& patch : patches_) {
     V3 sum = V3::Zero();
     for (std::uint32_t i = patch.first_piece; i < patch.first_piece + patch.piece_count; ++i) sum += at_piece[i] * pieces_[i].area;
-    patch.light = patch.area > 0 ? V3(sum / patch.area) : V3::Zero();
+    if (patch.area > 0) patch.light += sum / patch.area;
   }
 }
 
 Status Baker::radiosity() {
   const std::size_t P = patches_.size();
-  for (Patch& patch : patches_) patch.unshot = patch.emission + patch.albedo.cwiseProduct(patch.light);
+  // What the patches send out: their reflected direct light, and their emission unless it was
+  // gathered as area light already.
+  for (Patch& patch : patches_) {
+    patch.unshot = patch.albedo.cwiseProduct(patch.light) + (o_.gather_emitters ? V3(V3::Zero()) : patch.emission);
+  }
   double entered = 0;
   for (const Patch& patch : patches_) entered += patch.unshot.sum() * patch.area;
   stats_.entered = entered;
@@ -576,6 +652,7 @@ Result<BakeResult> Baker::run() {
   FACET_TRY(make_patches());
   FACET_TRY(build_rays());
   if (o_.direct) direct_light();
+  if (o_.gather_emitters) emitter_light();
   FACET_TRY(radiosity());
   BakeResult out;
   out.lightmaps.resize(surfaces_.size());
