@@ -74,6 +74,46 @@ void basis(const V3& n, V3& t, V3& b) {
   b = n.cross(t);
 }
 
+// The patches' unshot power in a tournament tree: the largest (the first of equals) and the sum
+// at the root, a leaf's change in O(log n). Sums are added in a fixed tree order, so the stop
+// test sees the same value for any thread count.
+class PowerTree {
+ public:
+  explicit PowerTree(std::size_t n) {
+    while (size_ < n) size_ *= 2;
+    best_.assign(2 * size_, -1.0);
+    index_.assign(2 * size_, 0);
+    sum_.assign(2 * size_, 0.0);
+    for (std::size_t i = 0; i < size_; ++i) index_[size_ + i] = static_cast<std::uint32_t>(i);
+  }
+  // Leaves first, then every parent once: the tree of `power` without n log n work.
+  void fill(const std::vector<double>& power) {
+    for (std::size_t i = 0; i < power.size(); ++i) best_[size_ + i] = sum_[size_ + i] = power[i];
+    for (std::size_t k = size_ - 1; k >= 1; --k) pull(k);
+  }
+  void set(std::size_t i, double power) {
+    std::size_t k = size_ + i;
+    best_[k] = sum_[k] = power;
+    for (k /= 2; k >= 1; k /= 2) pull(k);
+  }
+  double best() const { return best_[1]; }
+  std::size_t best_index() const { return index_[1]; }
+  double sum() const { return sum_[1]; }
+
+ private:
+  void pull(std::size_t k) {
+    const std::size_t l = 2 * k, r = l + 1;
+    const bool left = best_[l] >= best_[r];
+    best_[k] = left ? best_[l] : best_[r];
+    index_[k] = left ? index_[l] : index_[r];
+    sum_[k] = sum_[l] + sum_[r];
+  }
+  std::size_t size_ = 1;
+  std::vector<double> best_;
+  std::vector<std::uint32_t> index_;
+  std::vector<double> sum_;
+};
+
 // The part of polygon `in` with coordinate `axis` on the kept side of `at`.
 std::vector<V2> clip(const std::vector<V2>& in, int axis, double at, bool keep_above) {
   std::vector<V2> out;
@@ -546,15 +586,17 @@ Status Baker::radiosity() {
   std::vector<Hit> hits(static_cast<std::size_t>(n));
   std::vector<double> cdf;
   stats_.stopped_by = "max_shots";
+  auto power_of = [](const Patch& p) { return p.unshot.sum() * p.area; };
+  PowerTree tree(P);
+  {
+    std::vector<double> power(P);
+    for (std::size_t i = 0; i < P; ++i) power[i] = power_of(patches_[i]);
+    tree.fill(power);
+  }
   for (std::size_t shot = 0;; ++shot) {
     // The patch with the most unshot power (the first of equals), and the power left.
-    double best = -1, left = 0;
-    std::size_t from = 0;
-    for (std::size_t i = 0; i < P; ++i) {
-      const double power = patches_[i].unshot.sum() * patches_[i].area;
-      left += power;
-      if (power > best) best = power, from = i;
-    }
+    const double best = tree.best(), left = tree.sum();
+    const std::size_t from = tree.best_index();
     stats_.unshot = left;
     if (!(left > o_.residual * entered) || best <= 0) {
       stats_.stopped_by = "residual";
@@ -613,7 +655,11 @@ Status Baker::radiosity() {
     // Applied in ray order: each ray carries 1 / n of the shot's power.
     const V3 power = source.unshot * (source.area / n);
     source.unshot = V3::Zero();
-    for (const Hit& h : hits) {
+    tree.set(from, 0.0);
+    for (std::size_t k = 0; k < hits.size(); ++k) {
+      const Hit& h = hits[k];
+      // The receivers are scattered over the patches: fetch a few rays ahead.
+      if (k + 8 < hits.size() && hits[k + 8].patch >= 0) __builtin_prefetch(&patches_[static_cast<std::size_t>(hits[k + 8].patch)]);
       if (h.back) {
         stats_.back_faces += power.sum();
       } else if (h.patch < 0) {
@@ -624,6 +670,7 @@ Status Baker::radiosity() {
         to.light += arriving;
         const V3 reflected = to.albedo.cwiseProduct(arriving);
         to.unshot += reflected;
+        tree.set(static_cast<std::size_t>(h.patch), power_of(to));
         stats_.absorbed += (power - reflected * to.area).sum();
       }
     }
