@@ -36,6 +36,9 @@ struct Mesh {
   // or -1, the bitangent being w cross(normal, xyz) (the direction of increasing v). Made by
   // generate_tangents when a file gives none.
   std::vector<Vec4> tangents;
+  // Lightmap coordinates (a second uv set: glTF TEXCOORD_1, or made by unwrap_lightmap), finite;
+  // read by an object with a lightmap (Instance::lightmap).
+  std::vector<Vec2> lightmap_uvs;
   // Optional: empty (the object's material for every triangle), or consecutive runs that cover
   // every triangle in order. An object chooses whether to use them (scene.hpp, Object::materials).
   std::vector<MaterialGroup> groups;

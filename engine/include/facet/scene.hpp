@@ -45,6 +45,9 @@ struct NamedMesh {
   Mesh mesh;
 };
 
+enum class LightmapMode : std::uint8_t { diffuse, replace };
+const char* to_string(LightmapMode mode) noexcept;
+
 struct Instance {
   std::uint32_t mesh = 0;      // index into Scene::meshes
   std::uint32_t material = 0;  // index into Scene::materials
@@ -59,10 +62,19 @@ struct Instance {
   // Both faces of each triangle are drawn and lit (back faces with the negated normal), as if
   // Scene::two_sided were set and culling were off for this object alone (glTF `doubleSided`).
   bool double_sided = false;
+  // Baked light (docs/baking.md): a texture of Scene::textures read at the mesh's lightmap
+  // coordinates (Mesh::lightmap_uvs), whose RGB times lightmap_scale is the light arriving at the
+  // surface; the colour is the emission plus the material's diffuse colour (times its texture)
+  // times that light. With LightmapMode::diffuse the lights still add their specular term; with
+  // replace, nothing else lights the object. kNoTexture: lit by the lights as usual. Not with
+  // vertex colours, environment, normal or bump maps, or a texture environment other than modulate.
+  std::int32_t lightmap = -1;
+  float lightmap_scale = 1.0f;
+  LightmapMode lightmap_mode = LightmapMode::diffuse;
 };
 // One layout whatever the host's compiler flags (types.hpp): a host built with -mavx2 or
 // -march=native shares these structs with a library built for baseline x86-64.
-static_assert(sizeof(Instance) == 76 && alignof(Instance) == 4, "facet::Instance must not depend on compiler flags");
+static_assert(sizeof(Instance) == 88 && alignof(Instance) == 4, "facet::Instance must not depend on compiler flags");
 
 
 // The order in which the camera's pass draws objects (shadow and depth passes need none).

@@ -217,7 +217,11 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   const lighting::LightingFeatures& lf = draws.features[object];
   Material material = scene.materials[unit.material];
   // Emission left out of the lighting: in the parts of a composite frame, or added by the pixel program.
-  if (kind.without_emission || draws.programs[object].emission) material.emissive = Color3(0.0f, 0.0f, 0.0f);
+  // (A lightmapped draw has the emission stage for its baked light; its material's emission stays
+  // in the lighting unless it is added after the texture.)
+  if (kind.without_emission || (draws.programs[object].emission && adds_emission_after_texture(material))) {
+    material.emissive = Color3(0.0f, 0.0f, 0.0f);
+  }
   (void)shader.prepare(kind.lights_of(scene), view, material, lighting, &bounds, lf,
                        inst.receive_shadows && has_shadows && !pass->environment_face ? &frame_shadows : nullptr);
   if (kind.kind == FrameKind::Kind::visibility) shader.output_visibility(kind.visibility_lights);
@@ -475,6 +479,7 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   source(Varying::normal, os.eye_n);
   source(Varying::albedo, mesh.colors);
   source(Varying::uv, mesh.uvs);
+  source(Varying::lightmap_uv, mesh.lightmap_uvs);
   source(Varying::tangent, os.eye_t);
   source(Varying::tangent_sign, os.tangent_sign);
   for (std::size_t g = 0; g < raster::kGeneratedVaryings.size(); ++g) source(raster::kGeneratedVaryings[g], os.generated[g]);

@@ -431,8 +431,15 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     // visibility and part sub-frames.
     const bool emission_stage = !plain && !kind.without_emission && adds_emission_after_texture(m);
     const bool emission_texture = emission_stage && m.emissive_texture != kNoTexture;
+    // Baked light: drawn in the part of a frame that holds the emission; the lights never add
+    // their ambient and diffuse terms to a lightmapped object (scene validation keeps vertex
+    // colours, environment, normal and bump maps off it).
+    const bool lightmapped = !plain && inst.lightmap != kNoTexture;
+    const bool lightmap_stage = lightmapped && !kind.without_emission;
     out.two_sided[o] = p.two_sided() || inst.double_sided;
     lighting::LightingFeatures& lf = out.features[o];
+    lf.lightmapped = lightmapped;
+    lf.lightmap_replaces = lightmapped && inst.lightmap_mode == LightmapMode::replace;
     lf.color_material = colours;
     lf.separate_specular = textured;
     raster::SurfaceNeeds needs;
@@ -457,6 +464,7 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     lf.projectors = !plain && lit == raster::LitAt::pixel;  // spot lights' pictures, per pixel
     needs.uv = textured || emission_texture || normal_map || occlusion_map || bump_map;
     needs.environment = environment;
+    needs.lightmap = lightmap_stage;
     raster::simd::Draw& d = out.programs[o];
     d = raster::simd::Draw{};
     if (p.depth_only) continue;  // no varying, no program: depth alone (every caster is opaque)
@@ -468,6 +476,11 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
       d.emission = true;
       for (int c = 0; c < 3; ++c) d.emission_rgb[c] = m.emissive[c];
       if (emission_texture) d.emission_texture = &samplers.as_made[static_cast<std::size_t>(m.emissive_texture)];
+    }
+    if (lightmap_stage) {
+      d.emission = true;  // the stage the baked light joins (emission_rgb stays 0 unless added after the texture)
+      d.lightmap = &samplers.as_made[static_cast<std::size_t>(inst.lightmap)];
+      for (int c = 0; c < 3; ++c) d.lightmap_albedo[c] = m.diffuse[c] * inst.lightmap_scale;
     }
     if (environment) {
       d.environment = env.mode;

@@ -45,6 +45,7 @@ void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Ma
   sp.occlusion = features.occlusion;
   sp.emission = v3<T>(material.emissive.cast<double>());
   sp.ambient = features.color_material ? V3<T>{} : v3<T>(am.cwiseProduct(scene.global_ambient.cast<double>()));
+  if (features.lightmapped) sp.base = v3<T>(material.emissive.cast<double>()), sp.ambient = V3<T>{};
   sp.shininess = T(material.shininess);
   sp.phong_lobe = material.specular_model == SpecularModel::phong;
   sp.local_viewer = scene.viewer == ViewerMode::local;
@@ -59,6 +60,10 @@ void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Ma
     L.ambient = v3<T>(am.cwiseProduct(light.ambient.cast<double>()));
     L.diffuse = v3<T>(dm.cwiseProduct(light.diffuse.cast<double>()));
     L.specular = v3<T>(sm.cwiseProduct(light.specular.cast<double>()));
+    if (features.lightmapped) {
+      L.ambient = V3<T>{}, L.diffuse = V3<T>{};
+      if (features.lightmap_replaces) L.specular = V3<T>{};
+    }
     const Vec3d axis = (rot * light.direction.cast<double>()).normalized();
     if (light.type == LightType::directional) {
       L.to_light = v3<T>(-axis);

@@ -23,6 +23,11 @@ struct LightingFeatures {
   bool separate_specular = false;
   bool occlusion = false;  // a per-point ambient occlusion multiplies every ambient term (Phong with an occlusion map)
   bool projectors = false;  // spot lights with a projector filter their light per point (lit per pixel)
+  // A lightmapped object (Instance::lightmap): the lightmap stands for the ambient and diffuse
+  // light, so the lights give only their specular (LightmapMode::diffuse) or nothing (replace),
+  // and the base colour is the emission alone.
+  bool lightmapped = false;
+  bool lightmap_replaces = false;
 };
 
 // Fills `out` (its light list keeps its capacity, so a steady frame allocates nothing).

@@ -311,7 +311,14 @@ struct SurfaceProgram {
     }
     const F f = job.fog->mode != FogMode::none ? fog_factor(*job.fog, cw) : F(1.0f);
     F emitted[3];
-    if (d.emission) emission(d, [&](const texture::Sampler& s, F(&t)[4]) { Texturing<Arch>::sample(s, uv, t); }, emitted);
+    if (d.emission) {
+      emission(d, [&](const texture::Sampler& s, F(&t)[4]) { Texturing<Arch>::sample(s, uv, t); }, emitted);
+      if (d.lightmap) {  // a lightmapped draw always has the emission stage
+        const int lm = d.layout.at(Varying::lightmap_uv);
+        const F lu = in.over_w(lm, b.fi, b.fj) * cw, lv = in.over_w(lm + 1, b.fi, b.fj) * cw;
+        lightmap_light(d, [&](const texture::Sampler& s, F(&t)[4]) { Texturing<Arch>::level0(s, lu, lv, t); }, texel, emitted);
+      }
+    }
     TailInputs<F> tin;
     tin.texel = texel;
     tin.emitted = d.emission ? emitted : nullptr;

@@ -5,7 +5,7 @@
 // same interpolated inputs. A draw's pixel program (raster_kernels.hpp, Draw) runs, in GL 2.1's
 // order (§3.8.13, §3.10, §4.1):
 //   texture coordinates (uv_from_planes) -> sample -> alpha test (fragment_alpha) -> depth write
-//   -> fog factor -> emission -> primary and secondary colour (vertex_colours; Phong: light) ->
+//   -> fog factor -> emission (and baked light) -> primary and secondary colour (vertex_colours; Phong: light) ->
 //   texture environment -> add emission -> colour sum -> fog -> blend -> store.
 // The stages are always inlined: a program is the sequence of its stages' code, with no call
 // between them (out of line, GCC left calls to the colour, blend and fragment stages in the
@@ -127,6 +127,22 @@ template <class V, class Sample>
     for (int k = 0; k < 3; ++k) e[k] = V(d.emission_rgb[k]) * t[k];
   } else {
     for (int k = 0; k < 3; ++k) e[k] = V(d.emission_rgb[k]);
+  }
+}
+
+// Baked light (Draw::lightmap), added to the emission e: the lightmap's RGB (sample(sampler, rgba)
+// reads it at the pixel's lightmap coordinates, level 0) times Draw::lightmap_albedo, times the
+// texel's RGB on a textured draw: the albedo times the baked light, modulated by the texture as the
+// lit colour would be (GL_MODULATE is the one texture environment lightmaps take).
+template <class V, class Sample>
+[[gnu::always_inline]] inline void lightmap_light(const Draw& d, const Sample& sample, const V* texel, V (&e)[3]) {
+  if (!d.lightmap) return;
+  V t[4];
+  sample(*d.lightmap, t);
+  for (int k = 0; k < 3; ++k) {
+    V x = V(d.lightmap_albedo[k]) * t[k];
+    if (texel) x = x * texel[k];
+    e[k] = e[k] + x;
   }
 }
 

@@ -88,6 +88,12 @@ struct Draw {
   bool emission = false;
   float emission_rgb[3] = {};
   const texture::Sampler* emission_texture = nullptr;
+  // Baked light (Instance::lightmap): read at level 0 at Varying::lightmap_uv, its RGB times
+  // lightmap_albedo (the material's diffuse colour times the lightmap's scale), times the texel's
+  // RGB on a textured draw (GL_MODULATE), joins the emission (pixel/stages.hpp: lightmap_light).
+  // Null: none. A lightmapped draw always has the emission stage.
+  const texture::Sampler* lightmap = nullptr;
+  float lightmap_albedo[3] = {};
   // Environment mapping (Material::environment; pixel/stages.hpp): the maps clamped to the edge
   // (sphere and normal: environment_map[0]; cube: the faces +X, -X, +Y, -Y, +Z, -Z). Flat and
   // Gouraud draws carry the vertices' generated coordinates in Varying::environment; Phong draws

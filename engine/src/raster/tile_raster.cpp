@@ -293,6 +293,11 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
         float emitted[3];
         if (d.emission) {  // added after the texture environment
           stages::emission(d, sample_at, emitted);
+          if (d.lightmap) {
+            const int lm = layout.at(Varying::lightmap_uv);
+            const float lu = interp(lm), lv = interp(lm + 1);
+            stages::lightmap_light(d, [&](const texture::Sampler& s, float (&out)[4]) { level0(s, lu, lv, out); }, tex, emitted);
+          }
           in.emitted = emitted;
         }
         if (job.shading == ShadingMode::phong) {

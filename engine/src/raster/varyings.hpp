@@ -32,11 +32,12 @@ enum class Varying : std::uint8_t {
   tangent,          // Phong with a normal map: eye-space tangent (xyz), negated by select_face with the normal
   tangent_sign,     // Phong with a normal map: the bitangent's sign w per vertex; set-up makes it the
                     // triangle's (ScreenTriangle::bitangent_negative), never interpolated
+  lightmap_uv,      // a lightmapped object: the mesh's lightmap coordinates (Mesh::lightmap_uvs)
   count
 };
 inline constexpr int kVaryingKinds = static_cast<int>(Varying::count);
 // Floats per varying: colours, positions and normals three, texture coordinates two.
-inline constexpr int kVaryingWidth[kVaryingKinds] = {3, 3, 3, 3, 3, 2, 3, 3, 3, 3, 1};
+inline constexpr int kVaryingWidth[kVaryingKinds] = {3, 3, 3, 3, 3, 2, 3, 3, 3, 3, 1, 2};
 constexpr int width_of(Varying v) { return kVaryingWidth[static_cast<int>(v)]; }
 
 // The varyings the pixel stages generate at the vertices from the eye-space position and normal
@@ -44,7 +45,7 @@ constexpr int width_of(Varying v) { return kVaryingWidth[static_cast<int>(v)]; }
 inline constexpr std::array<Varying, 1> kGeneratedVaryings = {Varying::environment};
 
 struct VaryingLayout {
-  std::int8_t offset[kVaryingKinds] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};  // first float of each varying, -1: absent
+  std::int8_t offset[kVaryingKinds] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};  // first float of each varying, -1: absent
   int clipped = 0;  // floats carried through clipping
   int raster = 0;   // floats interpolated per pixel (after select_face)
 
@@ -64,6 +65,7 @@ struct SurfaceNeeds {
   bool uv = false;         // a texture
   bool environment = false;  // an environment map generated at the vertices (flat, Gouraud)
   bool tangent = false;      // a normal map, lit per pixel
+  bool lightmap = false;     // baked light (never with vertex colours, environment, normal or bump maps)
 };
 
 constexpr VaryingLayout plan_varyings(LitAt lit, bool two_sided, SurfaceNeeds needs = {}) {
@@ -81,6 +83,7 @@ constexpr VaryingLayout plan_varyings(LitAt lit, bool two_sided, SurfaceNeeds ne
     if (needs.albedo) add(Varying::albedo);
   }
   if (needs.uv) add(Varying::uv);
+  if (needs.lightmap) add(Varying::lightmap_uv);
   if (needs.environment && lit != LitAt::pixel) add(Varying::environment);
   const bool tangent = needs.tangent && lit == LitAt::pixel;
   if (tangent) add(Varying::tangent);
@@ -99,5 +102,10 @@ static_assert(plan_varyings(LitAt::pixel, true, {true, true, true, true}).raster
 static_assert(plan_varyings(LitAt::pixel, true, {true, false, true, true, true}).raster <= kMaxRasterAttributes);
 static_assert(plan_varyings(LitAt::vertex, true, {true, true, true, true}).raster <= kMaxRasterAttributes);
 static_assert(plan_varyings(LitAt::vertex, true, {true, true, true, true}).clipped <= geometry::kMaxAttributes);
+// A lightmap: with a texture and separate specular, not with vertex colours, environment, normal
+// or bump maps (scene validation refuses those).
+static_assert(plan_varyings(LitAt::vertex, true, {true, false, true, false, false, true}).raster <= kMaxRasterAttributes);
+static_assert(plan_varyings(LitAt::vertex, true, {true, false, true, false, false, true}).clipped <= geometry::kMaxAttributes);
+static_assert(plan_varyings(LitAt::pixel, true, {true, false, true, false, false, true}).raster <= kMaxRasterAttributes);
 
 }  // namespace facet::raster

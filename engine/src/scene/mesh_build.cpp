@@ -34,7 +34,7 @@ bool mesh_is_valid(const Mesh& mesh) noexcept {
   const std::size_t n = mesh.positions.size();
   if (n > std::numeric_limits<std::uint32_t>::max() || mesh.normals.size() != n) return false;
   if ((!mesh.uvs.empty() && mesh.uvs.size() != n) || (!mesh.colors.empty() && mesh.colors.size() != n) ||
-      (!mesh.tangents.empty() && mesh.tangents.size() != n)) {
+      (!mesh.tangents.empty() && mesh.tangents.size() != n) || (!mesh.lightmap_uvs.empty() && mesh.lightmap_uvs.size() != n)) {
     return false;
   }
   std::uint32_t bad = 0;
@@ -43,6 +43,7 @@ bool mesh_is_valid(const Mesh& mesh) noexcept {
     bad |= (float_bits(t.w()) & 0x7fffffffu) != 0x3f800000u;  // w is 1 or -1
   }
   for (const Vec2& uv : mesh.uvs) bad |= not_finite(uv.x()) | not_finite(uv.y());
+  for (const Vec2& uv : mesh.lightmap_uvs) bad |= not_finite(uv.x()) | not_finite(uv.y());
   for (const Color3& c : mesh.colors) bad |= outside_unit(c.x()) | outside_unit(c.y()) | outside_unit(c.z());
   if (bad) return false;
   std::uint64_t covered = 0;
@@ -80,6 +81,7 @@ Status validate_mesh(const Mesh& mesh, const std::string& field) {
   if (Status s = per_vertex("uvs", mesh.uvs.size()); !s.ok()) return s;
   if (Status s = per_vertex("colors", mesh.colors.size()); !s.ok()) return s;
   if (Status s = per_vertex("tangents", mesh.tangents.size()); !s.ok()) return s;
+  if (Status s = per_vertex("lightmap_uvs", mesh.lightmap_uvs.size()); !s.ok()) return s;
   for (std::size_t i = 0; i < mesh.tangents.size(); ++i) {
     const Vec4& t = mesh.tangents[i];
     if (!t.allFinite() || (t.w() != 1.0f && t.w() != -1.0f)) {
@@ -91,6 +93,12 @@ Status validate_mesh(const Mesh& mesh, const std::string& field) {
     if (!mesh.uvs[i].allFinite()) {
       const std::string f = field + ".uvs[" + std::to_string(i) + "]";
       return {ErrorCode::invalid_argument, f, f + ": texture coordinates must be finite"};
+    }
+  }
+  for (std::size_t i = 0; i < mesh.lightmap_uvs.size(); ++i) {
+    if (!mesh.lightmap_uvs[i].allFinite()) {
+      const std::string f = field + ".lightmap_uvs[" + std::to_string(i) + "]";
+      return {ErrorCode::invalid_argument, f, f + ": lightmap coordinates must be finite"};
     }
   }
   for (std::size_t i = 0; i < mesh.colors.size(); ++i) {

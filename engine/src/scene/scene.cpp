@@ -36,6 +36,14 @@ const char* to_string(TextureMode mode) noexcept {
   return "unknown";
 }
 
+const char* to_string(LightmapMode mode) noexcept {
+  switch (mode) {
+    case LightmapMode::diffuse: return "diffuse";
+    case LightmapMode::replace: return "replace";
+  }
+  return "unknown";
+}
+
 const char* to_string(BlendMode mode) noexcept {
   switch (mode) {
     case BlendMode::opaque: return "opaque";
@@ -465,6 +473,37 @@ Status validate_lighting_inputs(const Scene& scene) {
     if (needs_tangents(material) && !inst.mesh_materials && mesh.tangents.size() != mesh.positions.size()) {
       return invalid(f("material"), "materials[" + std::to_string(inst.material) + "] has a normal or bump map but meshes[" +
                                         std::to_string(inst.mesh) + "] has no tangents (generate_tangents makes them)");
+    }
+    if (inst.lightmap != -1) {
+      if (inst.lightmap < 0 || static_cast<std::size_t>(inst.lightmap) >= scene.textures.size()) {
+        return invalid(f("lightmap"), "texture index " + std::to_string(inst.lightmap) + " is out of range (" +
+                                          std::to_string(scene.textures.size()) + " textures)");
+      }
+      if (!(std::isfinite(inst.lightmap_scale) && inst.lightmap_scale > 0.0f)) {
+        return invalid(f("lightmap_scale"), "expected a finite number > 0, found " + format_number(inst.lightmap_scale));
+      }
+      if (mesh.lightmap_uvs.size() != mesh.positions.size() || mesh.positions.empty()) {
+        return invalid(f("lightmap"), "meshes[" + std::to_string(inst.mesh) +
+                                          "] has no lightmap coordinates (lightmap_uvs; unwrap_lightmap makes them)");
+      }
+      if (!mesh.colors.empty()) {
+        return invalid(f("lightmap"), "a lightmapped object cannot have vertex colours (meshes[" + std::to_string(inst.mesh) + "] has them)");
+      }
+      auto refuse = [&](const Material& m, const std::string& name) -> Status {
+        if (m.environment.mode != EnvironmentMode::none || needs_tangents(m)) {
+          return invalid(f("lightmap"), "material " + name + " has an environment, normal or bump map, which a lightmapped object cannot have");
+        }
+        if (m.diffuse_texture != kNoTexture && m.texture_mode != TextureMode::modulate) {
+          return invalid(f("lightmap"), "material " + name + " uses the texture environment '" + std::string(to_string(m.texture_mode)) +
+                                            "'; a lightmapped object takes 'modulate' only");
+        }
+        return {};
+      };
+      if (inst.mesh_materials) {
+        for (const MaterialGroup& g : mesh.groups) FACET_TRY(refuse(scene.materials[static_cast<std::size_t>(find_material(scene, g.material))], quote(g.material, 40)));
+      } else {
+        FACET_TRY(refuse(scene.materials[inst.material], "materials[" + std::to_string(inst.material) + "]"));
+      }
     }
     if (mesh.normals.size() != mesh.positions.size()) {
       return invalid(Field{"meshes", inst.mesh, true}("normals"),

@@ -1,0 +1,196 @@
+// Drawing baked light (Instance::lightmap): the colour is the emission plus the material's diffuse
+// colour (times its texture) times the lightmap's light times its scale, on every path, ISA and
+// shading mode; the lights add only their specular (diffuse mode) or nothing (replace); a
+// lightmapped object refuses what it cannot carry.
+#include <cmath>
+
+#include "render_support.hpp"
+#include "test_support.hpp"
+
+namespace facet {
+namespace {
+
+struct Pixel {
+  int r, g, b, a;
+};
+
+std::vector<std::pair<LightingPath, Isa>> every_path() {
+  std::vector<std::pair<LightingPath, Isa>> p = {{LightingPath::reference, Isa::best}, {LightingPath::scalar, Isa::best}};
+  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512})
+    if (isa_supported(isa)) p.push_back({LightingPath::simd, isa});
+  return p;
+}
+
+Texture texture_of(int w, int h, const std::function<std::array<std::uint8_t, 4>(int, int)>& texel, TextureFilter filter) {
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w * h * 4));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const auto t = texel(x, y);
+      for (int c = 0; c < 4; ++c) rgba[static_cast<std::size_t>(4 * (y * w + x) + c)] = t[static_cast<std::size_t>(c)];
+    }
+  TextureOptions o{filter, TextureWrap::clamp};
+  o.encoding = TextureEncoding::linear;
+  Result<Texture> t = make_texture("t", w, h, rgba, o);
+  EXPECT_TRUE(t.ok()) << t.status().message();
+  return std::move(*t);
+}
+
+// A quad filling the view's centre, diffuse (0.5, 0.8, 1.0), lit by a white directional light
+// straight on, with a uniform lightmap of (96, 160, 64) / 255 and scale 2.
+Scene lightmapped_quad() {
+  Scene s = test::camera_scene();
+  test::add_quad(s, -2, -2, 2, 2, -3, Color3::Zero());
+  Material& m = s.materials[0];
+  m.diffuse = Color3(0.5f, 0.8f, 1.0f);
+  m.ambient = Color3(1, 1, 1);
+  Mesh& mesh = s.meshes[0].mesh;
+  mesh.lightmap_uvs = {Vec2(0.1f, 0.1f), Vec2(0.9f, 0.1f), Vec2(0.9f, 0.9f), Vec2(0.1f, 0.9f)};
+  s.textures.push_back(texture_of(4, 4, [](int, int) { return std::array<std::uint8_t, 4>{96, 160, 64, 255}; }, TextureFilter::bilinear));
+  s.objects[0].lightmap = 0;
+  s.objects[0].lightmap_scale = 2.0f;
+  Light l;
+  l.type = LightType::directional;
+  l.direction = Vec3(0, 0, -1);
+  s.lights.push_back(l);
+  s.global_ambient = Color3(0.3f, 0.3f, 0.3f);  // must not show: the lightmap stands for ambient light
+  return s;
+}
+
+Pixel render_centre(const Scene& s, LightingPath path, Isa isa, ShadingMode mode) {
+  test::Canvas c(32, 32);
+  RenderOptions o;
+  o.path = path, o.isa = isa, o.shading = mode;
+  Renderer r;
+  const Status st = r.render(s, o, c.view());
+  EXPECT_TRUE(st.ok()) << st.message();
+  return {c.byte(16, 16, 0), c.byte(16, 16, 1), c.byte(16, 16, 2), c.byte(16, 16, 3)};
+}
+
+int step(double v) { return static_cast<int>(std::lround(255.0 * std::clamp(v, 0.0, 1.0))); }
+
+TEST(LightmapRender, ColourIsAlbedoTimesBakedLight) {
+  const Scene s = lightmapped_quad();
+  const double light[3] = {2.0 * 96 / 255, 2.0 * 160 / 255, 2.0 * 64 / 255};
+  const double albedo[3] = {0.5, 0.8, 1.0};
+  for (const auto& [path, isa] : every_path()) {
+    for (ShadingMode mode : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+      const Pixel p = render_centre(s, path, isa, mode);
+      EXPECT_NEAR(p.r, step(albedo[0] * light[0]), 1) << to_string(path) << " " << to_string(isa) << " " << to_string(mode);
+      EXPECT_NEAR(p.g, step(albedo[1] * light[1]), 1) << to_string(path) << " " << to_string(isa) << " " << to_string(mode);
+      EXPECT_NEAR(p.b, step(albedo[2] * light[2]), 1) << to_string(path) << " " << to_string(isa) << " " << to_string(mode);
+    }
+  }
+}
+
+TEST(LightmapRender, TextureModulatesAndEmissionAdds) {
+  Scene s = lightmapped_quad();
+  s.meshes[0].mesh.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
+  s.textures.push_back(texture_of(2, 2, [](int, int) { return std::array<std::uint8_t, 4>{255, 128, 51, 255}; }, TextureFilter::nearest));
+  s.materials[0].diffuse_texture = 1;
+  s.materials[0].emissive = Color3(0.1f, 0.0f, 0.05f);
+  const double light[3] = {2.0 * 96 / 255, 2.0 * 160 / 255, 2.0 * 64 / 255};
+  const double albedo[3] = {0.5, 0.8, 1.0}, tex[3] = {1.0, 128.0 / 255, 51.0 / 255}, e[3] = {0.1, 0.0, 0.05};
+  for (const auto& [path, isa] : every_path()) {
+    for (ShadingMode mode : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+      const Pixel p = render_centre(s, path, isa, mode);
+      // The emission is in the lit colour, so the texture modulates it too (GL_MODULATE).
+      const int expected[3] = {step((e[0] + albedo[0] * light[0]) * tex[0]), step((e[1] + albedo[1] * light[1]) * tex[1]),
+                               step((e[2] + albedo[2] * light[2]) * tex[2])};
+      EXPECT_NEAR(p.r, expected[0], 1) << to_string(path) << " " << to_string(isa) << " " << to_string(mode);
+      EXPECT_NEAR(p.g, expected[1], 1) << to_string(path) << " " << to_string(isa) << " " << to_string(mode);
+      EXPECT_NEAR(p.b, expected[2], 1) << to_string(path) << " " << to_string(isa) << " " << to_string(mode);
+    }
+  }
+}
+
+TEST(LightmapRender, LightsAddTheirSpecularOnlyInDiffuseMode) {
+  Scene s = lightmapped_quad();
+  s.materials[0].specular = Color3(0.25f, 0.25f, 0.25f);
+  s.materials[0].shininess = 1;  // a broad lobe: n.h is 1 at the centre (light and viewer straight on)
+  s.lights[0].specular = Color3(1, 1, 1);
+  const double light[3] = {2.0 * 96 / 255, 2.0 * 160 / 255, 2.0 * 64 / 255};
+  const double albedo[3] = {0.5, 0.8, 1.0};
+  for (LightmapMode mode : {LightmapMode::diffuse, LightmapMode::replace}) {
+    s.objects[0].lightmap_mode = mode;
+    const double spec = mode == LightmapMode::diffuse ? 0.25 : 0.0;
+    for (const auto& [path, isa] : every_path()) {
+      const Pixel p = render_centre(s, path, isa, ShadingMode::phong);
+      EXPECT_NEAR(p.r, step(albedo[0] * light[0] + spec), 1) << to_string(mode) << " " << to_string(path) << " " << to_string(isa);
+      EXPECT_NEAR(p.g, step(albedo[1] * light[1] + spec), 1) << to_string(mode) << " " << to_string(path) << " " << to_string(isa);
+      EXPECT_NEAR(p.b, step(albedo[2] * light[2] + spec), 1) << to_string(mode) << " " << to_string(path) << " " << to_string(isa);
+    }
+  }
+}
+
+// A lightmap with a gradient, on a quad seen at an angle (perspective-correct lookup): every path
+// and ISA within a step of the scalar path, and the picture follows the map.
+TEST(LightmapRender, GradientIsTheSameOnEveryPath) {
+  Scene s = lightmapped_quad();
+  s.meshes[0].mesh.positions = {Vec3(-3, -2, -2), Vec3(3, -2, -6), Vec3(3, 2, -6), Vec3(-3, 2, -2)};
+  s.textures[0] = texture_of(16, 16, [](int x, int y) {
+    return std::array<std::uint8_t, 4>{static_cast<std::uint8_t>(16 * x), static_cast<std::uint8_t>(16 * y), 128, 255};
+  }, TextureFilter::bilinear);
+  s.objects[0].lightmap_scale = 1.0f;
+  auto render = [&](LightingPath path, Isa isa, ShadingMode mode) {
+    test::Canvas c(64, 48);
+    RenderOptions o;
+    o.path = path, o.isa = isa, o.shading = mode;
+    Renderer r;
+    EXPECT_TRUE(r.render(s, o, c.view()).ok());
+    return c.pixels();
+  };
+  for (ShadingMode mode : {ShadingMode::gouraud, ShadingMode::phong}) {
+    const auto scalar = render(LightingPath::scalar, Isa::best, mode);
+    for (const auto& [path, isa] : every_path()) {
+      const auto other = render(path, isa, mode);
+      int worst = 0;
+      for (std::size_t i = 0; i < scalar.size(); ++i) worst = std::max(worst, std::abs(int(scalar[i]) - int(other[i])));
+      EXPECT_LE(worst, 1) << to_string(path) << " " << to_string(isa) << " " << to_string(mode);
+    }
+    // Red grows with u, to the right; green with the texel row, whose first (the image's top) is
+    // at v = 1: green falls upwards. The quad covers columns 0-44 and, near the middle, rows 12-36.
+    test::Canvas c(64, 48);
+    RenderOptions o;
+    o.shading = mode;
+    Renderer r;
+    ASSERT_TRUE(r.render(s, o, c.view()).ok());
+    EXPECT_LT(c.byte(8, 24, 0) + 20, c.byte(40, 24, 0));
+    EXPECT_LT(c.byte(24, 16, 1) + 20, c.byte(24, 32, 1));
+  }
+}
+
+TEST(LightmapRender, RefusesWhatALightmappedObjectCannotCarry) {
+  auto field = [](const Scene& s) { return validate_scene(s).field(); };
+  const Scene base = lightmapped_quad();
+  ASSERT_TRUE(validate_scene(base).ok()) << validate_scene(base).message();
+  Scene s = base;
+  s.objects[0].lightmap = 5;
+  EXPECT_EQ(field(s), "objects[0].lightmap");
+  s = base;
+  s.objects[0].lightmap_scale = 0;
+  EXPECT_EQ(field(s), "objects[0].lightmap_scale");
+  s = base;
+  s.meshes[0].mesh.lightmap_uvs.clear();
+  EXPECT_EQ(field(s), "objects[0].lightmap");
+  s = base;
+  s.meshes[0].mesh.lightmap_uvs.pop_back();
+  EXPECT_EQ(field(s), "meshes[0].lightmap_uvs");
+  s = base;
+  s.meshes[0].mesh.lightmap_uvs[1].x() = std::nanf("");
+  EXPECT_EQ(field(s), "meshes[0].lightmap_uvs[1]");
+  s = base;
+  s.meshes[0].mesh.colors.assign(4, Color3(1, 1, 1));
+  EXPECT_EQ(field(s), "objects[0].lightmap");
+  s = base;
+  s.materials[0].environment.mode = EnvironmentMode::sphere;
+  s.materials[0].environment.maps[0] = 0;
+  EXPECT_EQ(field(s), "objects[0].lightmap");
+  s = base;
+  s.meshes[0].mesh.uvs.assign(4, Vec2(0, 0));
+  s.materials[0].diffuse_texture = 0;
+  s.materials[0].texture_mode = TextureMode::decal;
+  EXPECT_EQ(field(s), "objects[0].lightmap");
+}
+
+}  // namespace
+}  // namespace facet
