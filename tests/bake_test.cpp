@@ -38,7 +38,7 @@ Mesh rectangle(const Vec3& o, const Vec3& u, const Vec3& v, int n) {
   const Vec3 normal = u.cross(v).normalized();
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) {
-      m.positions.push_back(o + u * (float(i) / n) + v * (float(j) / n));
+      m.positions.push_back(o + u * (float(i) / float(n)) + v * (float(j) / float(n)));
       m.normals.push_back(normal);
     }
   for (int j = 0; j < n; ++j)
@@ -165,7 +165,9 @@ TEST(Bake, BackFacesReceiveNothing) {
     const Result<BakeResult> r = bake_lightmaps(s, o);
     ASSERT_TRUE(r.ok()) << r.status().message();
     for (const Color3& c : r->lightmaps[1].light) EXPECT_EQ(c, Color3::Zero());
-    if (!gather) EXPECT_GT(r->stats.back_faces, 0.15 * r->stats.entered);  // about F = 0.2 of it
+    if (!gather) {
+      EXPECT_GT(r->stats.back_faces, 0.15 * r->stats.entered);  // about F = 0.2 of it
+    }
   }
 }
 

@@ -50,4 +50,14 @@ struct LightmapUnwrap {
 // need and the density that would fit).
 Result<LightmapUnwrap> unwrap_lightmap(const Mesh& mesh, const LightmapUvOptions& options = {});
 
+// `mesh` placed by `model` (positions through the matrix in double, rounded to float; normals
+// through its inverse transpose, unit length): what bake_lightmaps unwraps and lights, so that
+// unwrap_lightmap(world_space_mesh(mesh, model), options) gives the charts a bake made.
+Mesh world_space_mesh(const Mesh& mesh, const Mat4& model);
+
+// `mesh` split as `unwrap` splits it (every per-vertex array copied from its source vertex, the
+// triangles and material groups kept), with the unwrap's uvs as its lightmap_uvs. `unwrap` must
+// come from this mesh (or its world_space_mesh): the triangle counts must match.
+Result<Mesh> with_lightmap_uvs(const Mesh& mesh, const LightmapUnwrap& unwrap);
+
 }  // namespace facet

@@ -229,17 +229,9 @@ Status Baker::make_surfaces() {
     const Instance& inst = scene_.objects[k];
     const Mesh& mesh = scene_.meshes[inst.mesh].mesh;
     Surface& s = surfaces_[k];
-    const Eigen::Matrix4d model = inst.model.cast<double>();
-    const Eigen::Matrix3d normal_matrix = model.topLeftCorner<3, 3>().inverse().transpose();
-    s.world.triangles = mesh.triangles;
-    s.world.positions.resize(mesh.positions.size());
-    s.world.normals.resize(mesh.positions.size());
-    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-      const V3 p = (model * mesh.positions[v].cast<double>().homogeneous()).head<3>();
-      s.world.positions[v] = p.cast<float>();
-      const V3 n = normal_matrix * mesh.normals[v].cast<double>();
-      s.world.normals[v] = (n.norm() > 0 ? V3(n.normalized()) : V3::Zero()).cast<float>();
-      if (p.allFinite()) bounds.extend(p);
+    s.world = world_space_mesh(mesh, inst.model);
+    for (const Vec3& p : s.world.positions) {
+      if (p.allFinite()) bounds.extend(p.cast<double>());
     }
     const std::string field = "objects[" + std::to_string(k) + "]";
     Result<LightmapUnwrap> u = unwrap_lightmap(s.world, o_.charts);

@@ -340,6 +340,55 @@ Result<LightmapUnwrap> unwrap(const Mesh& mesh, const LightmapUvOptions& o) {
 
 }  // namespace
 
+Mesh world_space_mesh(const Mesh& mesh, const Mat4& model_f) {
+  Mesh world;
+  const Eigen::Matrix4d model = model_f.cast<double>();
+  const Eigen::Matrix3d normal_matrix = model.topLeftCorner<3, 3>().inverse().transpose();
+  world.triangles = mesh.triangles;
+  world.positions.resize(mesh.positions.size());
+  world.normals.resize(mesh.normals.size());
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    world.positions[v] = (model * mesh.positions[v].cast<double>().homogeneous()).head<3>().cast<float>();
+  }
+  for (std::size_t v = 0; v < mesh.normals.size(); ++v) {
+    const V3 n = normal_matrix * mesh.normals[v].cast<double>();
+    world.normals[v] = (n.norm() > 0 && n.allFinite() ? V3(n.normalized()) : V3::Zero()).cast<float>();
+  }
+  return world;
+}
+
+Result<Mesh> with_lightmap_uvs(const Mesh& mesh, const LightmapUnwrap& u) {
+  if (u.triangles.size() != mesh.triangles.size() || u.uvs.size() != u.source_vertex.size()) {
+    return Status{ErrorCode::invalid_argument, "unwrap",
+                  "unwrap: made for a mesh of " + std::to_string(u.triangles.size()) + " triangles, this one has " +
+                      std::to_string(mesh.triangles.size())};
+  }
+  for (const std::uint32_t v : u.source_vertex) {
+    if (v >= mesh.positions.size()) {
+      return Status{ErrorCode::invalid_argument, "unwrap", "unwrap: a source vertex is out of range for this mesh"};
+    }
+  }
+  try {
+    Mesh out;
+    auto copy = [&](const auto& from, auto& to) {
+      if (from.size() != mesh.positions.size()) return;  // absent (or invalid: validate_mesh reports it)
+      to.resize(u.source_vertex.size());
+      for (std::size_t i = 0; i < u.source_vertex.size(); ++i) to[i] = from[u.source_vertex[i]];
+    };
+    copy(mesh.positions, out.positions);
+    copy(mesh.normals, out.normals);
+    copy(mesh.uvs, out.uvs);
+    copy(mesh.colors, out.colors);
+    copy(mesh.tangents, out.tangents);
+    out.triangles = u.triangles;
+    out.groups = mesh.groups;
+    out.lightmap_uvs = u.uvs;
+    return out;
+  } catch (const std::bad_alloc&) {
+    return Status{ErrorCode::out_of_memory, "mesh", "mesh: out of memory while splitting it for its lightmap"};
+  }
+}
+
 Result<LightmapUnwrap> unwrap_lightmap(const Mesh& mesh, const LightmapUvOptions& options) {
   FACET_TRY(check_options(options));
   FACET_TRY(validate_mesh(mesh));

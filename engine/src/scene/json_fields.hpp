@@ -98,6 +98,14 @@ class JsonFields {
   Status opt_number(const json& obj, const std::string& path, const char* key, float& out) const {
     return obj.contains(key) ? read_number(obj[key], child(path, key), out) : Status{};
   }
+  // A finite number kept in double (a value written by facet with 17 digits reads back exactly).
+  Status opt_number(const json& obj, const std::string& path, const char* key, double& out) const {
+    if (!obj.contains(key)) return {};
+    const json& j = obj[key];
+    if (!j.is_number() || !std::isfinite(j.get<double>())) return mismatch(child(path, key), "a finite number", j);
+    out = j.get<double>();
+    return {};
+  }
 
   Status opt_int(const json& obj, const std::string& path, const char* key, int lo, int hi, int& out) const {
     if (!obj.contains(key)) return {};

@@ -2,6 +2,7 @@
 // reader per object kind. The reader checks types and the JSON-only fields; validate_scene() checks
 // the rest, and its field path is mapped back to a line of the file.
 #include "facet/scene_file.hpp"
+#include "facet/lightmap.hpp"
 #include "facet/model.hpp"
 
 #include <cmath>
@@ -470,7 +471,7 @@ class SceneReader : public scene_json::JsonFields {
 
   Status read_object(const json& j, const std::string& p, Scene& scene, Instance& inst) const {
     FACET_TRY(expect_object(j, p, {"mesh", "material", "mesh_materials", "translate", "rotate_deg", "scale", "matrix",
-                                   "cast_shadows", "receive_shadows", "double_sided"}));
+                                   "cast_shadows", "receive_shadows", "double_sided", "lightmap"}));
     FACET_TRY(find_by_name(j, p, "mesh", scene.meshes, "mesh", inst.mesh));
     FACET_TRY(opt_bool(j, p, "double_sided", inst.double_sided));
     FACET_TRY(opt_bool(j, p, "mesh_materials", inst.mesh_materials));
@@ -501,7 +502,53 @@ class SceneReader : public scene_json::JsonFields {
       }
       inst.material = static_cast<std::uint32_t>(it - scene.materials.begin());
     }
-    return read_transform(j, p, inst.model);
+    FACET_TRY(read_transform(j, p, inst.model));
+    if (j.contains("lightmap")) FACET_TRY(read_lightmap(j["lightmap"], child(p, "lightmap"), scene, inst));
+    return {};
+  }
+
+  // An object's baked light: {"texture", "scale", "mode", "uv"} and, for "uv": "generate", the
+  // chart options a bake used. "generate" cuts the object's mesh into the charts bake_lightmaps
+  // made (the same function of the same world-space mesh) and gives the object its own copy of
+  // the mesh, split along the charts, with those lightmap coordinates; "mesh" uses the mesh's own
+  // (Mesh::lightmap_uvs, glTF TEXCOORD_1).
+  Status read_lightmap(const json& j, const std::string& p, Scene& scene, Instance& inst) const {
+    FACET_TRY(expect_object(j, p, {"texture", "scale", "mode", "uv", "texels_per_unit", "padding", "chart_angle_deg", "max_size"}));
+    if (!j.contains("texture")) return invalid(child(p, "texture"), "missing: the lightmap's texture");
+    std::uint32_t texture = 0;
+    FACET_TRY(find_by_name(j, p, "texture", scene.textures, "texture", texture));
+    inst.lightmap = static_cast<std::int32_t>(texture);
+    FACET_TRY(opt_number(j, p, "scale", inst.lightmap_scale));
+    if (!(inst.lightmap_scale > 0.0f)) return mismatch(child(p, "scale"), "a number > 0", j["scale"]);
+    std::string text = "diffuse";
+    if (j.contains("mode")) FACET_TRY(read_enum(j["mode"], child(p, "mode"), {"diffuse", "replace"}, text));
+    inst.lightmap_mode = text == "replace" ? LightmapMode::replace : LightmapMode::diffuse;
+    text = "generate";
+    if (j.contains("uv")) FACET_TRY(read_enum(j["uv"], child(p, "uv"), {"generate", "mesh"}, text));
+    const bool generate = text == "generate";
+    for (const char* key : {"texels_per_unit", "padding", "chart_angle_deg", "max_size"}) {
+      if (!generate && j.contains(key)) return invalid(child(p, key), "only with \"uv\": \"generate\"");
+    }
+    if (!generate) return {};
+    LightmapUvOptions o;
+    if (!j.contains("texels_per_unit")) return invalid(child(p, "texels_per_unit"), "missing: the density the lightmap was baked at");
+    FACET_TRY(opt_number(j, p, "texels_per_unit", o.texels_per_unit));
+    FACET_TRY(opt_int(j, p, "padding", 1, 64, o.padding));
+    FACET_TRY(opt_number(j, p, "chart_angle_deg", o.chart_angle_deg));
+    FACET_TRY(opt_int(j, p, "max_size", 1, 65536, o.max_size));
+    const NamedMesh& source = scene.meshes[inst.mesh];
+    Result<LightmapUnwrap> u = unwrap_lightmap(world_space_mesh(source.mesh, inst.model), o);
+    if (!u.ok()) {
+      const std::string& field = u.status().field();
+      const std::string& message = u.status().message();
+      const bool prefixed = message.rfind(field + ": ", 0) == 0;  // "field: what"
+      return invalid(child(p, field), prefixed ? message.substr(field.size() + 2) : message);
+    }
+    Result<Mesh> split = with_lightmap_uvs(source.mesh, *u);
+    if (!split.ok()) return invalid(p, split.status().message());
+    scene.meshes.push_back({source.name + "#lightmap" + std::to_string(scene.objects.size()), std::move(*split)});
+    inst.mesh = static_cast<std::uint32_t>(scene.meshes.size() - 1);
+    return {};
   }
 
   // "matrix" (row-major 4x4) or "translate", "rotate_deg" (x, then y, then z) and "scale".
