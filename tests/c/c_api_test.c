@@ -178,6 +178,22 @@ static void setters_change_the_picture(void) {
   CHANGES("set_light", facet_scene_set_light(s, light, &l2), facet_scene_set_light(s, light, &l));
   const float colors[12] = {1, 1, 0, 1, 1, 0, 0, 1, 1, 0, 1, 1};
   CHANGES("set_mesh_colors", facet_scene_set_mesh_colors(s, m_quad, colors), facet_scene_set_mesh_colors(s, m_quad, NULL));
+  /* Baked light on the floor: lightmap coordinates for its mesh, a one-texel lightmap. */
+  {
+    const float lightmap_uvs[8] = {0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f};
+    const uint8_t orange[4] = {255, 96, 0, 255};
+    uint32_t lightmap;
+    CHECK(facet_scene_add_texture_rgba8(s, orange, 1, 1, FACET_BILINEAR, FACET_WRAP_CLAMP, &lightmap) == FACET_OK);
+    CHECK(facet_scene_set_object_lightmap(s, o_floor, (int32_t)lightmap, 1.0f, FACET_LIGHTMAP_DIFFUSE) != FACET_OK);
+    CHECK(strstr(facet_scene_last_error(s), "lightmap coordinates") != NULL);
+    CHECK(facet_scene_set_mesh_lightmap_uvs(s, m_quad, lightmap_uvs) == FACET_OK);
+    CHECK(facet_scene_set_object_lightmap(s, o_floor, (int32_t)lightmap, 0.0f, FACET_LIGHTMAP_DIFFUSE) != FACET_OK);
+    CHECK(strstr(facet_scene_last_error(s), "scale") != NULL);
+    CHECK(facet_scene_set_object_lightmap(s, o_floor, 99, 1.0f, FACET_LIGHTMAP_DIFFUSE) != FACET_OK);
+    CHANGES("set_object_lightmap", facet_scene_set_object_lightmap(s, o_floor, (int32_t)lightmap, 1.5f, FACET_LIGHTMAP_REPLACE),
+            facet_scene_set_object_lightmap(s, o_floor, -1, 1.0f, FACET_LIGHTMAP_DIFFUSE));
+    CHECK(facet_scene_set_mesh_lightmap_uvs(s, m_quad, NULL) == FACET_OK);
+  }
   /* An environment map: a cube of six one-texel faces, mixed in at full strength. */
   {
     uint32_t faces[6];

@@ -47,6 +47,7 @@ typedef enum facet_texture_wrap { FACET_WRAP_REPEAT = 0, FACET_WRAP_CLAMP = 1, F
 typedef enum facet_texture_mode {
   FACET_MODULATE = 0, FACET_REPLACE = 1, FACET_DECAL = 2, FACET_ADD = 3
 } facet_texture_mode;
+typedef enum facet_lightmap_mode { FACET_LIGHTMAP_DIFFUSE = 0, FACET_LIGHTMAP_REPLACE = 1 } facet_lightmap_mode;
 typedef enum facet_blend {
   FACET_BLEND_OPAQUE = 0, FACET_BLEND_ALPHA = 1, FACET_BLEND_PREMULTIPLIED = 2,
   FACET_BLEND_ADD = 3, FACET_BLEND_MULTIPLY = 4, FACET_BLEND_SUBTRACT = 5
@@ -314,6 +315,9 @@ facet_status facet_scene_set_mesh_colors(facet_scene* scene, uint32_t mesh_id, c
  * the bitangent is w cross(normal, xyz)); NULL removes them. Or made from the mesh's uvs by the
  * MikkTSpace algorithm (facet::generate_tangents), which may add vertices along mirrored uv seams. */
 facet_status facet_scene_set_mesh_tangents(facet_scene* scene, uint32_t mesh_id, const float* xyzw);
+/* Lightmap coordinates (a second uv set, 2 floats per vertex, finite; NULL removes them): where an
+ * object with a lightmap (facet_scene_set_object_lightmap) reads its baked light. */
+facet_status facet_scene_set_mesh_lightmap_uvs(facet_scene* scene, uint32_t mesh_id, const float* uvs);
 facet_status facet_scene_generate_tangents(facet_scene* scene, uint32_t mesh_id);
 /* A texture from RGBA8 texels (width x height, rows bottom first as glTexImage2D, 4 bytes per
  * texel; copied), or from a PNG or JPEG file. Sides 1..16384. */
@@ -403,6 +407,14 @@ facet_status facet_scene_remove_light(facet_scene* scene, uint32_t light_id);
 facet_status facet_scene_set_object_transform(facet_scene* scene, uint32_t object_id, const float* model);
 facet_status facet_scene_set_object_material(facet_scene* scene, uint32_t object_id, uint32_t material_id);
 facet_status facet_scene_set_object_double_sided(facet_scene* scene, uint32_t object_id, int double_sided);
+/* Baked light (docs/baking.md): texture_id (-1: none) read at the mesh's lightmap coordinates is
+ * the light arriving at the surface, times scale (> 0); the colour is the emission plus the
+ * material's diffuse colour (times its texture) times that light. FACET_LIGHTMAP_DIFFUSE: the
+ * lights still add their specular term; FACET_LIGHTMAP_REPLACE: nothing else lights the object.
+ * The mesh needs lightmap coordinates; rendering refuses lightmapped objects with vertex colours,
+ * environment, normal or bump maps or a texture mode other than FACET_MODULATE. */
+facet_status facet_scene_set_object_lightmap(facet_scene* scene, uint32_t object_id, int32_t texture_id, float scale,
+                                            facet_lightmap_mode mode);
 facet_status facet_scene_remove_object(facet_scene* scene, uint32_t object_id);
 /* Materials: change one (objects using it see the change), or remove one no object or mesh group
  * uses (its id is not reused). */

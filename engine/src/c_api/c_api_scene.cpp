@@ -1,5 +1,6 @@
 // The C API: building and editing scenes, loading scene and model files, framing, the camera,
 // ambient light and fog.
+#include <cmath>
 #include <filesystem>
 
 #include "c_api/handles.hpp"
@@ -338,6 +339,27 @@ facet_status facet_scene_set_object_double_sided(facet_scene* scene, uint32_t ob
     facet::Instance* inst = find_object(scene, object_id);
     if (!inst) return FACET_INVALID_ARGUMENT;
     inst->double_sided = double_sided != 0;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_set_object_lightmap(facet_scene* scene, uint32_t object_id, int32_t texture_id, float scale,
+                                            facet_lightmap_mode mode) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    facet::Instance* inst = find_object(scene, object_id);
+    if (!inst) return FACET_INVALID_ARGUMENT;
+    if (texture_id < -1 || (texture_id >= 0 && static_cast<std::size_t>(texture_id) >= scene->scene.textures.size())) {
+      return fail(scene->error, "texture_id", "no such texture");
+    }
+    if (!(std::isfinite(scale) && scale > 0.0f)) return fail(scene->error, "scale", "expected a finite number > 0");
+    if (mode != FACET_LIGHTMAP_DIFFUSE && mode != FACET_LIGHTMAP_REPLACE) return fail(scene->error, "mode", "unknown lightmap mode");
+    if (texture_id >= 0 && scene->scene.meshes[inst->mesh].mesh.lightmap_uvs.empty()) {
+      return fail(scene->error, "texture_id", "the object's mesh has no lightmap coordinates (facet_scene_set_mesh_lightmap_uvs)");
+    }
+    inst->lightmap = texture_id;
+    inst->lightmap_scale = scale;
+    inst->lightmap_mode = mode == FACET_LIGHTMAP_REPLACE ? facet::LightmapMode::replace : facet::LightmapMode::diffuse;
     return report(scene->error, {});
   });
 }

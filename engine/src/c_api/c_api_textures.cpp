@@ -5,7 +5,7 @@ using namespace facet::c_api;  // NOLINT(google-build-using-namespace): the C AP
 
 namespace {
 // Per-vertex uvs (colours = false) or colours of mesh_id, validated as validate_mesh would.
-enum class VertexData { uvs, colours, tangents };
+enum class VertexData { uvs, colours, tangents, lightmap_uvs };
 facet_status set_vertex_data(facet_scene* scene, uint32_t mesh_id, const float* data, VertexData what) {
   const bool colours = what == VertexData::colours;
   if (!scene) return FACET_INVALID_ARGUMENT;
@@ -24,6 +24,9 @@ facet_status set_vertex_data(facet_scene* scene, uint32_t mesh_id, const float* 
     } else if (colours) {
       candidate.colors.resize(n);
       for (std::size_t v = 0; v < n; ++v) candidate.colors[v] = facet::Color3(data[3 * v], data[3 * v + 1], data[3 * v + 2]);
+    } else if (what == VertexData::lightmap_uvs) {
+      candidate.lightmap_uvs.resize(n);
+      for (std::size_t v = 0; v < n; ++v) candidate.lightmap_uvs[v] = facet::Vec2(data[2 * v], data[2 * v + 1]);
     } else {
       candidate.uvs.resize(n);
       for (std::size_t v = 0; v < n; ++v) candidate.uvs[v] = facet::Vec2(data[2 * v], data[2 * v + 1]);
@@ -35,6 +38,8 @@ facet_status set_vertex_data(facet_scene* scene, uint32_t mesh_id, const float* 
       mesh.tangents = std::move(candidate.tangents);
     } else if (colours) {
       mesh.colors = std::move(candidate.colors);
+    } else if (what == VertexData::lightmap_uvs) {
+      mesh.lightmap_uvs = std::move(candidate.lightmap_uvs);
     } else {
       mesh.uvs = std::move(candidate.uvs);
     }
@@ -62,6 +67,10 @@ extern "C" {
 
 facet_status facet_scene_set_mesh_uvs(facet_scene* scene, uint32_t mesh_id, const float* uvs) {
   return set_vertex_data(scene, mesh_id, uvs, VertexData::uvs);
+}
+
+facet_status facet_scene_set_mesh_lightmap_uvs(facet_scene* scene, uint32_t mesh_id, const float* uvs) {
+  return set_vertex_data(scene, mesh_id, uvs, VertexData::lightmap_uvs);
 }
 
 facet_status facet_scene_set_mesh_tangents(facet_scene* scene, uint32_t mesh_id, const float* xyzw) {
