@@ -359,6 +359,23 @@ int check(const CheckState& st) {
                                                                              : "in scene order",
                 to_string(scene->fog.mode));
   }
+  {  // baked light: the lightmapped objects, their atlases and what they hold
+    std::size_t lightmapped = 0, replace = 0, lightmap_bytes = 0, largest_side = 0;
+    std::vector<char> counted(scene->textures.size(), 0);
+    for (const auto& obj : scene->objects) {
+      if (obj.lightmap < 0) continue;
+      ++lightmapped;
+      replace += obj.lightmap_mode == LightmapMode::replace;
+      const Texture& t = scene->textures[static_cast<std::size_t>(obj.lightmap)];
+      largest_side = std::max({largest_side, static_cast<std::size_t>(t.width()), static_cast<std::size_t>(t.height())});
+      if (!counted[static_cast<std::size_t>(obj.lightmap)]++) lightmap_bytes += 4 * std::size_t(t.width()) * std::size_t(t.height());
+    }
+    if (lightmapped > 0) {
+      std::printf("  lightmaps: %zu objects (%zu replacing their lighting, %zu keeping the lights' specular), atlases up to "
+                  "%zu texels a side, %zu KiB at level 0; colour = emission + diffuse x texture x lightmap x scale\n",
+                  lightmapped, replace, lightmapped - replace, largest_side, (lightmap_bytes + 1023) / 1024);
+    }
+  }
   const std::size_t coverage = static_cast<std::size_t>(
       std::count_if(scene->materials.begin(), scene->materials.end(), [](const Material& m) { return m.alpha_to_coverage; }));
   if (coverage > 0) {
