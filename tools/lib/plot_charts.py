@@ -450,6 +450,34 @@ if msaa_rows:
     save(fig, "msaa_speed_vs_accuracy")
     charts.append("msaa_speed_vs_accuracy")
 
+# --- 9. baking: radiosity's convergence in the white furnace, against time ---------------------------
+bake_rows = [r for r in accuracy if r["kind"] == "bake"]
+if bake_rows:
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 7), sharex=True)
+    for method, colour in (("1 thread", "#1f77b4"), ("2 threads", "#d62728")):
+        pts = sorted([r for r in bake_rows if r["method"] == method], key=lambda r: r["ms_per_frame"])
+        if not pts:
+            continue
+        xs = [r["ms_per_frame"] for r in pts]
+        top.plot(xs, [max(r["share"], 1e-6) for r in pts], color=colour, marker="o", label=method)
+        bottom.plot(xs, [r["mean_lsb"] for r in pts], color=colour, marker="o", label=method + ", mean")
+        bottom.plot(xs, [r["max_lsb"] for r in pts], color=colour, marker="x", ls="--", label=method + ", largest")
+        for r in pts:
+            top.annotate(r["item"].split(", ")[1], (r["ms_per_frame"], max(r["share"], 1e-6)), textcoords="offset points",
+                         xytext=(4, 3), fontsize=7, color=colour)
+    top.set_yscale("log")
+    top.set_ylabel("power still unshot (share of what entered)")
+    top.set_title("Radiosity in the white furnace (B = E / (1 - albedo)): convergence against time")
+    bottom.set_xscale("log")
+    bottom.set_xlabel("bake time (ms)")
+    bottom.set_ylabel("texel error against B (8-bit steps)")
+    for ax in (top, bottom):
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    save(fig, "bake_convergence")
+    charts.append("bake_convergence")
+
 # --- summary -----------------------------------------------------------------------------------------
 ctx = lighting["context"]
 points_rate = {}  # (method, threads) -> row, for 4 point lights on 64 Ki vertices
