@@ -10,6 +10,7 @@ find_package(JPEG REQUIRED)                   # libjpeg62-turbo-dev (JPEG textur
 find_package(embree 3 REQUIRED)               # libembree-dev 3.13: target `embree` (ray-cast shadows)
 find_package(meshoptimizer REQUIRED)          # libmeshoptimizer-dev 0.18: glTF EXT_meshopt_compression
 find_package(draco REQUIRED)                  # libdraco-dev 1.5: glTF KHR_draco_mesh_compression
+find_package(OpenEXR 3 REQUIRED)              # libopenexr-dev 3.1: float images (write_exr: baked lightmaps, HDR frames)
 find_package(CLI11 REQUIRED)                  # libcli11-dev 2.1 (header-only): the facet program's options
 # stb_image decodes TGA and BMP textures (PNG goes through libpng, JPEG through libjpeg-turbo);
 # Debian's libstb.so holds the implementations.

@@ -8,6 +8,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+
 #include "test_support.hpp"
 
 namespace facet {
@@ -109,6 +113,28 @@ TEST(ImageFiles, EveryFormatYUpAndStrideReadsBackExactly) {
         }
         EXPECT_EQ(png_errors, 0) << what;
         EXPECT_EQ(pfm_errors, 0) << what;
+        // OpenEXR, read back with OpenEXR itself: float RGB, top row first.
+        const std::string exr_path = dir + "/x.exr";
+        ASSERT_TRUE(write_exr(exr_path, src.view).ok()) << what;
+        Imf::InputFile exr(exr_path.c_str());
+        const Imath::Box2i window = exr.header().dataWindow();
+        ASSERT_EQ(window.max.x - window.min.x + 1, 13);
+        ASSERT_EQ(window.max.y - window.min.y + 1, 7);
+        std::vector<float> rgb(13 * 7 * 3);
+        Imf::FrameBuffer frame;
+        for (int c = 0; c < 3; ++c) {
+          frame.insert(c == 0 ? "R" : c == 1 ? "G" : "B",
+                       Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(rgb.data() + c), 3 * sizeof(float), 3 * sizeof(float) * 13));
+        }
+        exr.setFrameBuffer(frame);
+        exr.readPixels(window.min.y, window.max.y);
+        int exr_errors = 0;
+        for (int y = 0; y < 7; ++y)
+          for (int x = 0; x < 13; ++x)
+            for (int c = 0; c < 3; ++c) {
+              exr_errors += rgb[static_cast<std::size_t>((y * 13 + x) * 3 + c)] != static_cast<float>(step(x, y, c)) / 255.0f;
+            }
+        EXPECT_EQ(exr_errors, 0) << what;
         // The padding was never read into the file, and the source was not written.
         EXPECT_TRUE(make_source(format, y_up, padding).bytes == src.bytes) << what;
       }
@@ -127,6 +153,11 @@ TEST(ImageFiles, EveryFormatYUpAndStrideReadsBackExactly) {
     for (int y = 0; y < kH; ++y)
       for (int x = 0; x < kW; ++x) EXPECT_EQ(pfm.values[static_cast<std::size_t>(y * kW + x)], float(y * 10 + x)) << y_up;
   }
+  // A file that cannot be written is an error naming it, not an exception.
+  const Source src = make_source(PixelFormat::rgba32f, false, 0);
+  const Status bad = write_exr(dir + "/no/such/folder/x.exr", src.view);
+  EXPECT_EQ(bad.code(), ErrorCode::io_error);
+  EXPECT_NE(bad.message().find("x.exr"), std::string::npos) << bad.message();
   std::filesystem::remove_all(dir);
 }
 

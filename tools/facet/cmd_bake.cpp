@@ -37,8 +37,8 @@ Command add_bake(CLI::App& facet) {
   auto st = std::make_shared<BakeState>();
   CLI::App* app = facet.add_subcommand("bake", "bake lightmaps (direct light and radiosity) of a scene into a folder");
   app->footer(
-      "Writes DIR/lightmap_K.png (8-bit: the light arriving at each texel divided by --scale), DIR/lightmap_K.pfm\n"
-      "(float, linear, unscaled) for each object K, and DIR/bake.json (the atlases, the options and the bake's\n"
+      "Writes DIR/lightmap_K.png (8-bit: the light arriving at each texel divided by --scale), DIR/lightmap_K.exr and\n"
+      "DIR/lightmap_K.pfm (float, linear, unscaled) for each object K, and DIR/bake.json (the atlases, the options and the bake's\n"
       "statistics: patches, shots, rays, power entered, absorbed, escaped and left unshot). For a scene file, also\n"
       "DIR/scene.json: the same scene drawn with its lightmaps (the files it names copied beside it), so that\n"
       "'facet render DIR/scene.json' draws the baked light. A surface's colour is its emission plus its albedo\n"
@@ -196,6 +196,7 @@ int bake(const BakeState& st) {
     const std::string base = st.out + "/lightmap_" + std::to_string(lm.object);
     const ImageView raw{rgba.data(), w, h, static_cast<std::size_t>(w) * 4 * sizeof(float), PixelFormat::rgba32f, true};
     if (Status s = write_pfm(base + ".pfm", raw); !s.ok()) return fail(s.message());
+    if (Status s = write_exr(base + ".exr", raw); !s.ok()) return fail(s.message());
     std::vector<float> scaled = rgba;
     for (std::size_t i = 0; i < scaled.size(); ++i)
       if (i % 4 != 3) scaled[i] = static_cast<float>(scaled[i] / scale);
@@ -205,7 +206,8 @@ int bake(const BakeState& st) {
     objects += std::string(objects.empty() ? "" : ", ") + "{\"object\": " + std::to_string(lm.object) + ", \"mesh\": \"" +
                json_escape(scene.meshes[inst.mesh].name) + "\", \"width\": " + std::to_string(w) + ", \"height\": " +
                std::to_string(h) + ", \"charts\": " + std::to_string(lm.unwrap.charts.size()) + ", \"png\": \"lightmap_" +
-               std::to_string(lm.object) + ".png\", \"pfm\": \"lightmap_" + std::to_string(lm.object) + ".pfm\"}";
+               std::to_string(lm.object) + ".png\", \"pfm\": \"lightmap_" + std::to_string(lm.object) + ".pfm\", \"exr\": \"lightmap_" +
+               std::to_string(lm.object) + ".exr\"}";
   }
   const BakeStats& s = r->stats;
   char stats[1024];

@@ -201,7 +201,7 @@ Command add_check(CLI::App& facet) {
       "meshes, draws nothing, saying why. For a model, lists what was not read (warnings) and what\n"
       "'facet render' would assume (camera, lights).");
   app->add_option("scene", st->scene_path, "SCENE.json | MODEL.gltf | MODEL.glb | MODEL.obj")->required();
-  app->add_option("-o,--output", st->output, "the output 'facet render' would write (.png or .pfm; not written): its image memory is checked");
+  app->add_option("-o,--output", st->output, "the output 'facet render' would write (.png, .pfm or .exr; not written): its image memory is checked");
   app->add_option("--depth", st->depth, "the depth file 'facet render' would write (.pfm; not written)");
   app->add_option("--depth-mode", st->depth_mode, "auto | gl | reversed, as for 'facet render' (default auto)")
       ->check(one_of({"auto", "gl", "reversed"}, "depth mode"));
@@ -255,7 +255,9 @@ int check(const CheckState& st) {
   if (st.memory_mb >= 0) options.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
   options.depth = st.depth_mode == "gl" ? DepthMode::gl : st.depth_mode == "reversed" ? DepthMode::reversed : DepthMode::automatic;
   const std::string ext = st.output.empty() ? ".png" : lower_extension(st.output);
-  if (ext != ".png" && ext != ".pfm") return fail("-o: the output file must end in .png or .pfm, found '" + st.output + "'");
+  if (ext != ".png" && ext != ".pfm" && ext != ".exr") {
+    return fail("-o: the output file must end in .png, .pfm or .exr, found '" + st.output + "'");
+  }
   if (!st.depth.empty() && lower_extension(st.depth) != ".pfm") return fail("--depth: the depth file must end in .pfm");
   InputOptions input;
   input.allowed_paths = st.allow_paths;
@@ -270,7 +272,7 @@ int check(const CheckState& st) {
   if (!st.shadows.empty()) override_shadows(*scene, *parse_shadow_method(st.shadows));
   if (!st.transparent_order.empty()) scene->transparent_order = *parse_transparent_order(st.transparent_order);
   if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(scene_path + ": " + s.message());
-  const PixelFormat format = ext == ".pfm" ? PixelFormat::rgba32f : PixelFormat::rgba8;
+  const PixelFormat format = ext == ".png" ? PixelFormat::rgba8 : PixelFormat::rgba32f;
   if (Status s = check_output_image(width, height, format, !st.depth.empty(), options.memory_budget_bytes); !s.ok()) {
     return fail(scene_path + ": " + s.message());
   }

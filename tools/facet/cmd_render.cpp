@@ -147,7 +147,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
     pixels += stats.pixels_filled;
     empty_frames += stats.pixels_filled == 0;
     const std::string name = numbered(output, k);
-    const Status written = png ? write_png(name, image) : write_pfm(name, image);
+    const Status written = png ? write_png(name, image) : lower_extension(name) == ".exr" ? write_exr(name, image) : write_pfm(name, image);
     if (!written.ok()) return fail(written.message());
     if (t.json) {
       char fields[128];
@@ -200,10 +200,10 @@ Command add_render(CLI::App& facet) {
       "key light (what was assumed is printed on stderr).");
   app->add_option("scene", st->scene_path, "SCENE.json | MODEL.gltf | MODEL.glb | MODEL.obj (default: the built-in scene)");
   const char* out = "Output";
-  app->add_option("-o,--output", st->output, ".png (8-bit RGBA) or .pfm (float RGB, linear)")->required()->group(out);
+  app->add_option("-o,--output", st->output, ".png (8-bit RGBA), .pfm or .exr (float RGB, linear)")->required()->group(out);
   app->add_option("--width", st->width, "image width (default 1280)")->check(int_in(1, kMaxImageDimension))->group(out);
   app->add_option("--height", st->height, "image height (default 720)")->check(int_in(1, kMaxImageDimension))->group(out);
-  app->add_flag("--hdr", st->hdr, "keep unclamped lighting in .pfm output")->group(out);
+  app->add_flag("--hdr", st->hdr, "keep unclamped lighting in .pfm or .exr output")->group(out);
   app->add_flag("--srgb", st->srgb, "encode 8-bit output with the sRGB transfer function (exact)")->group(out);
   app->add_option("--clear", st->clear, "the background colour R,G,B[,A], components in [0, 1] (default 0,0,0,1)")->group(out);
   app->add_option("--depth", st->depth_path, "also write window-space depth (0 near .. 1 far) to FILE.pfm")->group(out);
@@ -318,10 +318,12 @@ int render(const RenderState& st) {
     options.clear_color = c;
   }
   if (!depth_path.empty() && lower_extension(depth_path) != ".pfm") return fail("--depth: the depth file must end in .pfm");
-  if (output.empty()) return fail("render: no output file (-o OUT.png or -o OUT.pfm)");
+  if (output.empty()) return fail("render: no output file (-o OUT.png, OUT.pfm or OUT.exr)");
   const std::string ext = lower_extension(output);
-  if (ext != ".png" && ext != ".pfm") return fail("-o: the output file must end in .png or .pfm, found '" + output + "'");
-  if (options.hdr && ext != ".pfm") return fail("--hdr needs a .pfm output (PNG is 8-bit)");
+  if (ext != ".png" && ext != ".pfm" && ext != ".exr") {
+    return fail("-o: the output file must end in .png, .pfm or .exr, found '" + output + "'");
+  }
+  if (options.hdr && ext == ".png") return fail("--hdr needs a .pfm or .exr output (PNG is 8-bit)");
 
   if (frame_count > 1 && min_seconds > 0) return fail("--frames and --seconds cannot be combined");
   InputOptions input;
@@ -340,7 +342,7 @@ int render(const RenderState& st) {
   // Everything the renderer refuses is refused before the image is allocated.
   if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(s.message());
 
-  const PixelFormat format = ext == ".pfm" ? PixelFormat::rgba32f : PixelFormat::rgba8;
+  const PixelFormat format = ext == ".png" ? PixelFormat::rgba8 : PixelFormat::rgba32f;
   const std::size_t stride = static_cast<std::size_t>(width) * bytes_per_pixel(format);
   if (Status s = check_output_image(width, height, format, !depth_path.empty(), options.memory_budget_bytes); !s.ok()) {
     return fail(s.message());
@@ -380,7 +382,7 @@ int render(const RenderState& st) {
     elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   } while (elapsed < min_seconds);
 
-  const Status written = ext == ".png" ? write_png(output, image) : write_pfm(output, image);
+  const Status written = ext == ".png" ? write_png(output, image) : ext == ".exr" ? write_exr(output, image) : write_pfm(output, image);
   if (!written.ok()) return fail(written.message());
   if (!depth_path.empty()) {
     if (Status s = write_pfm(depth_path, depth); !s.ok()) return fail(s.message());

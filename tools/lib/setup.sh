@@ -9,7 +9,7 @@ facet_packages=(
   libeigen3-dev libxsimd-dev libtbb-dev
   libgtest-dev libbenchmark-dev
   libtinyobjloader-dev nlohmann-json3-dev libpng-dev libjpeg62-turbo-dev libstb-dev libembree-dev
-  libmeshoptimizer-dev libdraco-dev libcli11-dev
+  libmeshoptimizer-dev libdraco-dev libcli11-dev libopenexr-dev
 )
 
 # Extra packages for one command may be given as arguments (tools/charts: python3-matplotlib).

@@ -60,6 +60,9 @@ Result<Rgba8Image> read_png(const std::string& path);
 // PFM (Portable Float Map): colour as RGB floats ("PF"), depth as one channel ("Pf").
 Status write_pfm(const std::string& path, const ImageView& image);
 Status write_pfm(const std::string& path, const DepthView& depth);
+// OpenEXR: R, G and B as 32-bit floats (8-bit views divided by 255), top row first, no
+// compression tricks (ZIP). Errors name the file.
+Status write_exr(const std::string& path, const ImageView& image);
 
 // Differences between two images of the same size, per 8-bit channel (R, G, B; alpha ignored).
 struct ImageDifference {
