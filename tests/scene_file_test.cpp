@@ -512,3 +512,49 @@ TEST(SceneFile, BadShadowsNameTheField) {
 
 }  // namespace
 }  // namespace facet
+
+namespace facet {
+namespace {
+
+// An object's "lightmap": with "uv": "generate" the object gets its own copy of the mesh, split
+// along the charts unwrap_lightmap cuts from the mesh placed in the world, with those coordinates.
+TEST(SceneFile, LightmapGeneratesTheBakesCharts) {
+  const std::string text = R"({
+    "textures": [{"name": "lm", "file": "textures/checker.png", "filter": "bilinear", "wrap": "clamp", "encoding": "linear"}],
+    "meshes": [{"name": "box", "shape": "cube", "size": 2, "subdivisions": 2}],
+    "objects": [{"mesh": "box", "translate": [1, 2, 3], "scale": 0.5,
+                 "lightmap": {"texture": "lm", "scale": 2.5, "mode": "replace", "texels_per_unit": 8, "padding": 3}}]
+  })";
+  const Result<Scene> s = parse(text);
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  ASSERT_EQ(s->meshes.size(), 2u);
+  const Instance& inst = s->objects[0];
+  EXPECT_EQ(inst.mesh, 1u);
+  EXPECT_EQ(inst.lightmap, 0);
+  EXPECT_EQ(inst.lightmap_scale, 2.5f);
+  EXPECT_EQ(inst.lightmap_mode, LightmapMode::replace);
+  LightmapUvOptions o;
+  o.texels_per_unit = 8, o.padding = 3;
+  const Result<LightmapUnwrap> u = unwrap_lightmap(world_space_mesh(s->meshes[0].mesh, inst.model), o);
+  ASSERT_TRUE(u.ok());
+  const Mesh& split = s->meshes[1].mesh;
+  EXPECT_EQ(split.lightmap_uvs, u->uvs);
+  EXPECT_EQ(split.triangles, u->triangles);
+  for (std::size_t v = 0; v < split.positions.size(); ++v) EXPECT_EQ(split.positions[v], s->meshes[0].mesh.positions[u->source_vertex[v]]);
+  EXPECT_TRUE(validate_scene(*s).ok()) << validate_scene(*s).message();
+}
+
+TEST(SceneFile, LightmapErrorsNameTheirField) {
+  const std::string head = R"({"textures": [{"name": "lm", "file": "textures/checker.png"}], "meshes": [{"name": "b", "shape": "cube"}],
+"objects": [{"mesh": "b", "lightmap": )";
+  expect_error(head + R"({"texture": "nope", "texels_per_unit": 4}}]})", 2, "objects[0].lightmap.texture", {"no texture named"});
+  expect_error(head + R"({"texture": "lm"}}]})", 2, "objects[0].lightmap.texels_per_unit", {"missing"});
+  expect_error(head + R"({"texture": "lm", "texels_per_unit": 4, "mode": "bright"}}]})", 2, "objects[0].lightmap.mode", {"diffuse"});
+  expect_error(head + R"({"texture": "lm", "texels_per_unit": 4, "scale": 0}}]})", 2, "objects[0].lightmap.scale", {"> 0"});
+  expect_error(head + R"({"texture": "lm", "uv": "mesh", "padding": 2}}]})", 2, "objects[0].lightmap.padding", {"generate"});
+  expect_error(head + R"({"texture": "lm", "texels_per_unit": 1e9}}]})", 2, "objects[0].lightmap.texels_per_unit", {"would fit"});
+  expect_error(head + R"({"texture": "lm", "texels_per_unit": 4, "shade": 1}}]})", 2, "objects[0].lightmap", {"unknown field"});
+}
+
+}  // namespace
+}  // namespace facet
