@@ -164,6 +164,35 @@ TEST(GltfImport, TexturedQuadIsTheSceneDocsDescribe) {
 // normalTexture: a linear texture (the same image as the sRGB base colour is a second facet
 // texture), its scale; TANGENT read as given (w snapped within 1e-3), generated (MikkTSpace) when
 // absent or when a w is neither +1 nor -1, with a warning naming the element.
+// TEXCOORD_1 becomes the mesh's lightmap coordinates (v flipped as TEXCOORD_0's), kept through
+// the normals facet computes for a primitive without NORMAL (which split vertices at creases).
+TEST(GltfImport, SecondUvSetIsTheLightmapsCoordinates) {
+  TempDir dir;
+  for (bool normals : {true, false}) {
+    GltfBuilder b;
+    const std::vector<float> lightmap = {0.1f, 0.9f, 0.4f, 0.9f, 0.4f, 0.6f, 0.1f, 0.6f};
+    const int pos = b.vec3(kQuadPositions), nrm = b.vec3(kQuadNormals), uv = b.vec2(kQuadUvs), uv1 = b.vec2(lightmap);
+    nlohmann::json attributes = {{"POSITION", pos}, {"TEXCOORD_0", uv}, {"TEXCOORD_1", uv1}};
+    if (normals) attributes["NORMAL"] = nrm;
+    b.add("meshes", mesh_of(attributes, b.indices16(kQuadIndices)));
+    b.add("nodes", {{"mesh", 0}});
+    b.add("scenes", {{"nodes", {0}}});
+    b.doc["scene"] = 0;
+    test::write_text(dir / "lm.bin", b.bin);
+    test::write_text(dir / "lm.gltf", b.external("lm.bin"));
+    Result<Model> m = load_model(dir / "lm.gltf");
+    ASSERT_TRUE(m.ok()) << m.status().message();
+    const Mesh& mesh = m->scene.meshes[0].mesh;
+    ASSERT_EQ(mesh.lightmap_uvs.size(), mesh.positions.size()) << normals;
+    ASSERT_TRUE(validate_mesh(mesh).ok());
+    for (std::size_t i = 0; i < 4; ++i) {
+      EXPECT_FLOAT_EQ(mesh.lightmap_uvs[i].x(), lightmap[2 * i]) << normals;
+      EXPECT_FLOAT_EQ(mesh.lightmap_uvs[i].y(), 1.0f - lightmap[2 * i + 1]) << normals;
+    }
+    for (const auto& w : m->warnings) EXPECT_EQ(w.find("TEXCOORD_1"), std::string::npos) << w;
+  }
+}
+
 TEST(GltfImport, NormalTexturesAndTangents) {
   TempDir dir;
   const std::string png = write_test_png(dir / "tex.png");

@@ -84,3 +84,42 @@ TEST(MeshValidation, RenderRefusesBadTangentsWithTheirField) {
 
 }  // namespace
 }  // namespace facet
+
+namespace facet {
+namespace {
+
+// Functions that split vertices copy every per-vertex array, the lightmap coordinates included.
+TEST(MeshValidation, SplittingVerticesKeepsLightmapCoordinates) {
+  Mesh tetra;
+  tetra.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+  tetra.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  tetra.lightmap_uvs = {Vec2(0.1f, 0.1f), Vec2(0.2f, 0.1f), Vec2(0.1f, 0.2f), Vec2(0.3f, 0.3f)};
+  tetra.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1), Vec2(1, 1)};
+  compute_vertex_normals(tetra, 30.0f);  // every edge is sharper: each corner its own vertex
+  ASSERT_EQ(tetra.positions.size(), 12u);
+  ASSERT_EQ(tetra.lightmap_uvs.size(), 12u);
+  EXPECT_TRUE(validate_mesh(tetra).ok());
+  const Vec2 expected[4] = {Vec2(0.1f, 0.1f), Vec2(0.2f, 0.1f), Vec2(0.1f, 0.2f), Vec2(0.3f, 0.3f)};
+  for (std::size_t v = 0; v < tetra.positions.size(); ++v) {
+    for (std::size_t k = 0; k < 4; ++k) {
+      if (tetra.positions[v] == Vec3(k == 1, k == 2, k == 3)) {
+        EXPECT_EQ(tetra.lightmap_uvs[v], expected[k]) << v;
+      }
+    }
+  }
+  // A mirrored uv seam: generate_tangents splits the vertices on it.
+  Mesh quad;
+  quad.positions = {Vec3(-1, -1, 0), Vec3(0, -1, 0), Vec3(0, 1, 0), Vec3(-1, 1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0)};
+  quad.normals.assign(6, Vec3(0, 0, 1));
+  quad.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1), Vec2(0, 0), Vec2(0, 1)};  // the right half mirrored
+  quad.triangles = {{0, 1, 2}, {0, 2, 3}, {1, 4, 5}, {1, 5, 2}};
+  quad.lightmap_uvs = {Vec2(0, 0), Vec2(0.5f, 0), Vec2(0.5f, 1), Vec2(0, 1), Vec2(1, 0), Vec2(1, 1)};
+  ASSERT_TRUE(generate_tangents(quad).ok());
+  EXPECT_GT(quad.positions.size(), 6u);
+  ASSERT_EQ(quad.lightmap_uvs.size(), quad.positions.size());
+  for (std::size_t v = 6; v < quad.positions.size(); ++v) EXPECT_EQ(quad.lightmap_uvs[v].x(), 0.5f) << v;  // the seam's
+  EXPECT_TRUE(validate_mesh(quad).ok());
+}
+
+}  // namespace
+}  // namespace facet

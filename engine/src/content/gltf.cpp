@@ -85,7 +85,7 @@ bool allowed(const char* semantic, int components, int component, bool normalize
   } else if (s == "NORMAL") {
     if (components != 3) return false;
     forms = {{kFloat, 0}, {kByte, 1}, {kShort, 1}};
-  } else if (s == "TEXCOORD_0") {
+  } else if (s == "TEXCOORD_0" || s == "TEXCOORD_1") {
     if (components != 2) return false;
     forms = {{kFloat, 0}, {kByte, 2}, {kUnsignedByte, 2}, {kShort, 2}, {kUnsignedShort, 2}};
   } else if (s == "TANGENT") {
@@ -414,7 +414,7 @@ Status Reader::primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index
     int a = -1;
     FACET_TRY(f_.index(*attrs, p + ".attributes", name, doc_.count("accessors"), a, true));
     attributes[name] = a;
-    if (name != "POSITION" && name != "NORMAL" && name != "TEXCOORD_0" && name != "COLOR_0" && name != "TANGENT" &&
+    if (name != "POSITION" && name != "NORMAL" && name != "TEXCOORD_0" && name != "TEXCOORD_1" && name != "COLOR_0" && name != "TANGENT" &&
         name.rfind("_", 0) != 0) {
       const std::string shown = Fields::dot(p + ".attributes", name);
       if (ignored_attributes_.insert(name).second) warn(shown + ": not used by facet");
@@ -432,7 +432,7 @@ Status Reader::primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index
     FACET_TRY(draco_attributes(*draco, p + ".extensions.KHR_draco_mesh_compression", attributes, values, idxs));
     have_indices = true;
   } else {
-    for (const char* name : {"POSITION", "NORMAL", "TEXCOORD_0", "COLOR_0", "TANGENT"}) {
+    for (const char* name : {"POSITION", "NORMAL", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0", "TANGENT"}) {
       if (std::string(name) == "TANGENT" && !info.normal_map) continue;  // read only for a normal map
       if (auto it = attributes.find(name); it != attributes.end()) {
         FACET_TRY(read_accessor(it->second, p + ".attributes." + name, name, values[name]));
@@ -446,7 +446,7 @@ Status Reader::primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index
   Mesh mesh;
   mesh.positions.resize(n);
   for (std::size_t i = 0; i < n; ++i) mesh.positions[i] = Vec3(float(pos.v[3 * i]), float(pos.v[3 * i + 1]), float(pos.v[3 * i + 2]));
-  for (const char* name : {"NORMAL", "TEXCOORD_0", "COLOR_0", "TANGENT"}) {
+  for (const char* name : {"NORMAL", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0", "TANGENT"}) {
     if (values.count(name) && values[name].count() != n) return f_.error(p + ".attributes." + name, "count differs from POSITION's");
   }
   if (values.count("TANGENT") && values.count("NORMAL")) {  // without NORMAL the normals are the faces': tangents generated
@@ -485,6 +485,12 @@ Status Reader::primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index
       const double tu = t[0] * u + t[1] * w + t[2], tv = t[3] * u + t[4] * w + t[5];
       mesh.uvs[i] = Vec2(float(tu), float(1.0 - tv));
     }
+  }
+  if (values.count("TEXCOORD_1")) {  // a second uv set: the lightmap's coordinates (Mesh::lightmap_uvs)
+    const std::vector<double>& v = values["TEXCOORD_1"].v;
+    FACET_TRY(reserve(std::uint64_t(n) * sizeof(Vec2), p + ".attributes.TEXCOORD_1"));
+    mesh.lightmap_uvs.resize(n);
+    for (std::size_t i = 0; i < n; ++i) mesh.lightmap_uvs[i] = Vec2(float(v[2 * i]), float(1.0 - v[2 * i + 1]));
   }
   if (values.count("COLOR_0")) {
     const Values& col = values["COLOR_0"];

@@ -29,7 +29,7 @@ Status Reader::draco_attributes(const Json& ext, const std::string& p, const std
   if (!mesh) return f_.error(p, "the Draco data holds no mesh");
   const std::size_t points = mesh->num_points(), faces = mesh->num_faces();
   FACET_TRY(reserve(std::uint64_t(faces) * 12, p));
-  for (const char* name : {"POSITION", "NORMAL", "TEXCOORD_0", "COLOR_0", "TANGENT"}) {
+  for (const char* name : {"POSITION", "NORMAL", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0", "TANGENT"}) {
     if (!attributes.count(name)) continue;
     int id = -1;
     FACET_TRY(f_.index(*ids, p + ".attributes", name, 1u << 30, id, false));
@@ -39,7 +39,7 @@ Status Reader::draco_attributes(const Json& ext, const std::string& p, const std
     const draco::PointAttribute* a = mesh->GetAttributeByUniqueId(static_cast<std::uint32_t>(id));
     if (!a) return f_.error(p + ".attributes." + name, "no attribute with unique id " + std::to_string(id) + " in the Draco data");
     const std::string n = name;
-    const int want = n == "TEXCOORD_0" ? 2 : n == "COLOR_0" ? a->num_components() : n == "TANGENT" ? 4 : 3;
+    const int want = n == "TEXCOORD_0" || n == "TEXCOORD_1" ? 2 : n == "COLOR_0" ? a->num_components() : n == "TANGENT" ? 4 : 3;
     if (a->num_components() != want || (want != 2 && want != 3 && want != 4)) {
       return f_.error(p + ".attributes." + name, "the Draco attribute has " + std::to_string(a->num_components()) + " components");
     }

@@ -136,6 +136,7 @@ void compute_vertex_normals(Mesh& mesh, float crease_angle_deg) {
         mesh.positions.push_back(mesh.positions[v]);
         if (!mesh.uvs.empty()) mesh.uvs.push_back(mesh.uvs[v]);
         if (!mesh.colors.empty()) mesh.colors.push_back(mesh.colors[v]);
+        if (!mesh.lightmap_uvs.empty()) mesh.lightmap_uvs.push_back(mesh.lightmap_uvs[v]);
         new_normals.push_back(normal);
         extra_of[v].push_back(target);
       }

@@ -77,6 +77,7 @@ Status generate_tangents(Mesh& mesh) {
       mesh.normals.push_back(mesh.normals[v]);
       mesh.uvs.push_back(mesh.uvs[v]);
       if (!mesh.colors.empty()) mesh.colors.push_back(mesh.colors[v]);
+      if (!mesh.lightmap_uvs.empty()) mesh.lightmap_uvs.push_back(mesh.lightmap_uvs[v]);
     }
     for (std::size_t f = 0; f < t_count; ++f) {
       if (preserving[f] || face[f].isZero()) continue;
