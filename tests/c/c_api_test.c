@@ -37,6 +37,11 @@ static int cancel_at_first_call(void* user, double done) {
   return done < 0.0; /* 0: cancel */
 }
 
+static int cancel_always(void* user, double done) {
+  (void)user, (void)done;
+  return 0;
+}
+
 enum { SW = 64, SH = 48 };
 
 /* Renders `scene` with `r`; the pixels filled. */
@@ -315,6 +320,37 @@ static void setters_change_the_picture(void) {
   CHECK(strstr(facet_scene_last_error(s), "fill") != NULL);
   CHECK(facet_scene_orbit(s, NAN, FACET_UP_Y, 0) == FACET_INVALID_ARGUMENT);
   CHECK(facet_scene_get_camera(s, NULL) == FACET_INVALID_ARGUMENT);
+  /* Baking: a cancelled bake and a refused one leave the scene as it was; a bake changes the
+   * picture (bounced light, baked shadows) and reports what it did. */
+  {
+    static uint8_t before[SW * SH * 4], after[SW * SH * 4];
+    draw(r, s, before);
+    facet_bake_config bc = facet_bake_config_default();
+    CHECK(bc.texels_per_unit == 16.0 && bc.padding == 2 && bc.lights == 1 && bc.radiosity == 1 && bc.scale == 0.0);
+    bc.texels_per_unit = 4.0;
+    bc.max_shots = 200;
+    bc.rays_per_shot = 32;
+    bc.progress = cancel_always;
+    CHECK(facet_scene_bake(s, &bc, NULL) == FACET_CANCELLED);
+    draw(r, s, after);
+    CHECK(same(before, after));
+    bc.progress = NULL;
+    bc.texels_per_unit = 1e7;
+    CHECK(facet_scene_bake(s, &bc, NULL) == FACET_OUT_OF_MEMORY);
+    CHECK(strstr(facet_scene_last_error(s), "would fit") != NULL);
+    draw(r, s, after);
+    CHECK(same(before, after));
+    bc.texels_per_unit = 4.0;
+    bc.mode = (facet_lightmap_mode)9;
+    CHECK(facet_scene_bake(s, &bc, NULL) == FACET_INVALID_ARGUMENT);
+    bc.mode = FACET_LIGHTMAP_DIFFUSE;
+    facet_bake_stats bs;
+    memset(&bs, 0, sizeof bs);
+    CHECK(facet_scene_bake(s, &bc, &bs) == FACET_OK);
+    CHECK(bs.patches > 0 && bs.rays > 0 && bs.shots > 0 && bs.scale > 0.0 && bs.entered > 0.0);
+    draw(r, s, after);
+    CHECK(!same(before, after));
+  }
   facet_scene* empty = facet_scene_create();
   CHECK(facet_scene_frame(empty, 1.0f) == FACET_INVALID_ARGUMENT); /* nothing to frame */
   CHECK(facet_scene_orbit(empty, 10.0f, FACET_UP_Y, 0) == FACET_INVALID_ARGUMENT);

@@ -172,19 +172,7 @@ int bake(const BakeState& st) {
   std::error_code ec;
   std::filesystem::create_directories(st.out, ec);
   if (ec) return fail("cannot create the folder '" + st.out + "': " + ec.message());
-  double scale = st.scale;
-  if (scale == 0) {  // the 99.9th percentile of every covered texel's largest channel
-    std::vector<float> largest;
-    for (const BakedLightmap& lm : r->lightmaps)
-      for (std::size_t i = 0; i < lm.light.size(); ++i)
-        if (lm.area[i] > 0) largest.push_back(lm.light[i].maxCoeff());
-    if (!largest.empty()) {
-      const std::size_t at = std::min(largest.size() - 1, static_cast<std::size_t>(0.999 * static_cast<double>(largest.size())));
-      std::nth_element(largest.begin(), largest.begin() + static_cast<std::ptrdiff_t>(at), largest.end());
-      scale = largest[at];
-    }
-    if (!(scale > 0)) scale = 1;
-  }
+  const double scale = st.scale > 0 ? st.scale : lightmap_scale(*r);
   std::string objects;
   for (const BakedLightmap& lm : r->lightmaps) {
     const int w = lm.unwrap.width, h = lm.unwrap.height;

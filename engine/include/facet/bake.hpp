@@ -89,4 +89,15 @@ struct BakeResult {
 // work), Embree's errors, cancellation.
 Result<BakeResult> bake_lightmaps(const Scene& scene, const BakeOptions& options = {});
 
+// The scale that maps a bake's light into 8-bit textures: the 99.9th percentile of the largest
+// channel of every texel with area (a few of the brightest texels clip); 1 when nothing is lit.
+double lightmap_scale(const BakeResult& result);
+
+// Draws a bake of `scene` in it: each object gets its own copy of its mesh split along its
+// charts (with_lightmap_uvs), its lightmap as an 8-bit texture of light / scale (bilinear, clamped
+// to the edge, linear; named "lightmap_K"), and Instance::lightmap with `scale` and `mode`.
+// `result` must come from bake_lightmaps(scene) (one lightmap per object). On an error the scene
+// is unchanged.
+Status apply_lightmaps(Scene& scene, const BakeResult& result, double scale, LightmapMode mode = LightmapMode::diffuse);
+
 }  // namespace facet

@@ -416,6 +416,35 @@ facet_status facet_scene_set_object_double_sided(facet_scene* scene, uint32_t ob
 facet_status facet_scene_set_object_lightmap(facet_scene* scene, uint32_t object_id, int32_t texture_id, float scale,
                                             facet_lightmap_mode mode);
 facet_status facet_scene_remove_object(facet_scene* scene, uint32_t object_id);
+
+/* Baking (docs/baking.md): every object's lightmap, lit by the scene's lights (ray-cast shadows),
+ * its emissive surfaces (area lights, soft shadows) and radiosity. Start from
+ * facet_bake_config_default(). */
+typedef struct facet_bake_config {
+  double texels_per_unit;  /* lightmap density, texels per unit of world length (> 0; default 16) */
+  int padding;             /* empty texels between charts, 1..64 (default 2) */
+  int lights;              /* 1: bake the scene's lights as direct light (default); 0: only emissive surfaces */
+  int radiosity;           /* 1: light bounces (default); 0: direct light only */
+  int rays_per_shot;       /* default 256 */
+  uint64_t max_shots;      /* default 100000 */
+  double residual;         /* stop when the unshot power is below this share of what entered (default 0.001) */
+  int threads;             /* 0: all */
+  double scale;            /* the lightmap textures hold light / scale; 0 (default): the 99.9th percentile */
+  facet_lightmap_mode mode;  /* how the baked scene is drawn (default FACET_LIGHTMAP_DIFFUSE) */
+  int (*progress)(void* user, double done); /* may be NULL; return 0 to cancel (FACET_CANCELLED) */
+  void* progress_user;
+} facet_bake_config;
+typedef struct facet_bake_stats {
+  uint64_t texels, patches, shots, rays;
+  double seconds, entered, absorbed, escaped, unshot, scale;
+} facet_bake_stats;
+facet_bake_config facet_bake_config_default(void);
+/* Bakes the scene and draws the result in it: each object gets its own copy of its mesh split along
+ * its lightmap's charts, its lightmap as a texture and facet_scene_set_object_lightmap's settings
+ * (object and mesh ids stay valid; new meshes and textures are added). stats may be NULL. On an
+ * error (a density over the budget: FACET_OUT_OF_MEMORY, with the density that fits in the message)
+ * the scene is unchanged. */
+facet_status facet_scene_bake(facet_scene* scene, const facet_bake_config* config, facet_bake_stats* stats);
 /* Materials: change one (objects using it see the change), or remove one no object or mesh group
  * uses (its id is not reused). */
 facet_status facet_scene_set_material(facet_scene* scene, uint32_t material_id, const facet_material* material);

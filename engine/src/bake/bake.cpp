@@ -739,6 +739,61 @@ Result<BakeResult> Baker::run() {
 
 }  // namespace
 
+double lightmap_scale(const BakeResult& result) {
+  std::vector<float> largest;
+  for (const BakedLightmap& lm : result.lightmaps)
+    for (std::size_t i = 0; i < lm.light.size(); ++i)
+      if (lm.area[i] > 0) largest.push_back(lm.light[i].maxCoeff());
+  if (largest.empty()) return 1.0;
+  const std::size_t at = std::min(largest.size() - 1, static_cast<std::size_t>(0.999 * static_cast<double>(largest.size())));
+  std::nth_element(largest.begin(), largest.begin() + static_cast<std::ptrdiff_t>(at), largest.end());
+  return largest[at] > 0 ? double(largest[at]) : 1.0;
+}
+
+Status apply_lightmaps(Scene& scene, const BakeResult& result, double scale, LightmapMode mode) {
+  if (result.lightmaps.size() != scene.objects.size()) {
+    return {ErrorCode::invalid_argument, "result",
+            "result: a bake of " + std::to_string(result.lightmaps.size()) + " objects, the scene has " +
+                std::to_string(scene.objects.size())};
+  }
+  if (!(std::isfinite(scale) && scale > 0)) return {ErrorCode::invalid_argument, "scale", "scale: expected a finite number > 0"};
+  try {
+    Scene out = scene;  // a failure leaves the scene as it was
+    for (std::size_t k = 0; k < out.objects.size(); ++k) {
+      const BakedLightmap& lm = result.lightmaps[k];
+      Instance& inst = out.objects[k];
+      Result<Mesh> split = with_lightmap_uvs(out.meshes[inst.mesh].mesh, lm.unwrap);
+      if (!split.ok()) return {split.status().code(), "result", "objects[" + std::to_string(k) + "]: " + split.status().message()};
+      const int w = lm.unwrap.width, h = lm.unwrap.height;
+      std::vector<std::uint8_t> rgba(4 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          // Texture rows top first: row 0 is the lightmap's top (v = 1).
+          const Color3& c = lm.light[static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
+          std::uint8_t* p = rgba.data() + 4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x));
+          for (int ch = 0; ch < 3; ++ch) p[ch] = static_cast<std::uint8_t>(std::lround(std::clamp(double(c[ch]) / scale, 0.0, 1.0) * 255.0));
+          p[3] = 255;
+        }
+      TextureOptions to;
+      to.filter = TextureFilter::bilinear;
+      to.wrap = TextureWrap::clamp;
+      to.encoding = TextureEncoding::linear;
+      Result<Texture> t = make_texture("lightmap_" + std::to_string(k), w, h, rgba, to);
+      if (!t.ok()) return {t.status().code(), "result", "objects[" + std::to_string(k) + "]: " + t.status().message()};
+      out.meshes.push_back({out.meshes[inst.mesh].name + "#lightmap" + std::to_string(k), std::move(*split)});
+      inst.mesh = static_cast<std::uint32_t>(out.meshes.size() - 1);
+      out.textures.push_back(std::move(*t));
+      inst.lightmap = static_cast<std::int32_t>(out.textures.size() - 1);
+      inst.lightmap_scale = static_cast<float>(scale);
+      inst.lightmap_mode = mode;
+    }
+    scene = std::move(out);
+    return {};
+  } catch (const std::bad_alloc&) {
+    return {ErrorCode::out_of_memory, "", "apply_lightmaps: out of memory"};
+  }
+}
+
 Result<BakeResult> bake_lightmaps(const Scene& scene, const BakeOptions& options) {
   FACET_TRY(check_options(options));
   FACET_TRY(validate_scene(scene));

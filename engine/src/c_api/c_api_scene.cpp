@@ -364,6 +364,57 @@ facet_status facet_scene_set_object_lightmap(facet_scene* scene, uint32_t object
   });
 }
 
+facet_bake_config facet_bake_config_default(void) {
+  facet_bake_config c{};
+  const facet::BakeOptions o;
+  c.texels_per_unit = o.charts.texels_per_unit;
+  c.padding = o.charts.padding;
+  c.lights = 1;
+  c.radiosity = 1;
+  c.rays_per_shot = o.rays_per_shot;
+  c.max_shots = o.max_shots;
+  c.residual = o.residual;
+  c.threads = 0;
+  c.scale = 0;
+  c.mode = FACET_LIGHTMAP_DIFFUSE;
+  c.progress = nullptr;
+  c.progress_user = nullptr;
+  return c;
+}
+
+facet_status facet_scene_bake(facet_scene* scene, const facet_bake_config* config, facet_bake_stats* stats) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!config) return fail(scene->error, "config", "null");
+    if (config->mode != FACET_LIGHTMAP_DIFFUSE && config->mode != FACET_LIGHTMAP_REPLACE) {
+      return fail(scene->error, "mode", "unknown lightmap mode");
+    }
+    if (!(config->scale >= 0 && std::isfinite(config->scale))) return fail(scene->error, "scale", "expected 0 or a finite number > 0");
+    facet::BakeOptions o;
+    o.charts.texels_per_unit = config->texels_per_unit;
+    o.charts.padding = config->padding;
+    o.direct = config->lights != 0;
+    o.radiosity = config->radiosity != 0;
+    o.rays_per_shot = config->rays_per_shot;
+    o.max_shots = static_cast<std::size_t>(config->max_shots);
+    o.residual = config->residual;
+    o.threads = config->threads;
+    if (config->progress) {
+      o.progress = [config](double done) { return config->progress(config->progress_user, done) != 0; };
+    }
+    facet::Result<facet::BakeResult> r = facet::bake_lightmaps(scene->scene, o);
+    if (!r) return report(scene->error, r.status());
+    const double scale = config->scale > 0 ? config->scale : facet::lightmap_scale(*r);
+    const facet::LightmapMode mode = config->mode == FACET_LIGHTMAP_REPLACE ? facet::LightmapMode::replace : facet::LightmapMode::diffuse;
+    if (facet::Status st = facet::apply_lightmaps(scene->scene, *r, scale, mode); !st.ok()) return report(scene->error, st);
+    if (stats) {
+      const facet::BakeStats& s = r->stats;
+      *stats = facet_bake_stats{s.texels, s.patches, s.shots, s.rays, s.seconds, s.entered, s.absorbed, s.escaped, s.unshot, scale};
+    }
+    return report(scene->error, {});
+  });
+}
+
 facet_status facet_scene_remove_object(facet_scene* scene, uint32_t object_id) {
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
