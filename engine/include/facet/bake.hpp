@@ -70,9 +70,9 @@ struct BakeStats {
   std::size_t texels = 0, patches = 0, pieces = 0;  // atlas texels, texels with area, footprint pieces
   std::size_t shots = 0, rays = 0;                  // radiosity shots and rays, shadow rays included
   // Power (colour units times area, summed over R, G and B): what entered the patches as unshot
-  // radiosity (reflected direct light, plus the emission when it is shot rather than gathered), what the patches absorbed, what left the
-  // scene, what back faces took, and what was still unshot at the stop. entered = absorbed +
-  // escaped + back_faces + unshot to rounding (tested).
+  // radiosity (reflected direct light, plus the emission when it is shot rather than gathered),
+  // what the patches absorbed, what left the scene, what back faces took, and what was still
+  // unshot at the stop. entered = absorbed + escaped + back_faces + unshot to rounding (tested).
   double entered = 0, absorbed = 0, escaped = 0, back_faces = 0, unshot = 0;
   double seconds = 0;
   std::string stopped_by;  // "residual", "max_shots", "max_seconds", "no radiosity"
