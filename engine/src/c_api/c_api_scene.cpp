@@ -353,13 +353,14 @@ facet_status facet_scene_set_object_lightmap(facet_scene* scene, uint32_t object
       return fail(scene->error, "texture_id", "no such texture");
     }
     if (!(std::isfinite(scale) && scale > 0.0f)) return fail(scene->error, "scale", "expected a finite number > 0");
-    if (mode != FACET_LIGHTMAP_DIFFUSE && mode != FACET_LIGHTMAP_REPLACE) return fail(scene->error, "mode", "unknown lightmap mode");
+    const long m = raw(mode);
+    if (m != FACET_LIGHTMAP_DIFFUSE && m != FACET_LIGHTMAP_REPLACE) return fail(scene->error, "mode", "unknown lightmap mode");
     if (texture_id >= 0 && scene->scene.meshes[inst->mesh].mesh.lightmap_uvs.empty()) {
       return fail(scene->error, "texture_id", "the object's mesh has no lightmap coordinates (facet_scene_set_mesh_lightmap_uvs)");
     }
     inst->lightmap = texture_id;
     inst->lightmap_scale = scale;
-    inst->lightmap_mode = mode == FACET_LIGHTMAP_REPLACE ? facet::LightmapMode::replace : facet::LightmapMode::diffuse;
+    inst->lightmap_mode = m == FACET_LIGHTMAP_REPLACE ? facet::LightmapMode::replace : facet::LightmapMode::diffuse;
     return report(scene->error, {});
   });
 }
@@ -386,7 +387,8 @@ facet_status facet_scene_bake(facet_scene* scene, const facet_bake_config* confi
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
     if (!config) return fail(scene->error, "config", "null");
-    if (config->mode != FACET_LIGHTMAP_DIFFUSE && config->mode != FACET_LIGHTMAP_REPLACE) {
+    const long config_mode = raw(config->mode);
+    if (config_mode != FACET_LIGHTMAP_DIFFUSE && config_mode != FACET_LIGHTMAP_REPLACE) {
       return fail(scene->error, "mode", "unknown lightmap mode");
     }
     if (!(config->scale >= 0 && std::isfinite(config->scale))) return fail(scene->error, "scale", "expected 0 or a finite number > 0");
@@ -405,7 +407,7 @@ facet_status facet_scene_bake(facet_scene* scene, const facet_bake_config* confi
     facet::Result<facet::BakeResult> r = facet::bake_lightmaps(scene->scene, o);
     if (!r) return report(scene->error, r.status());
     const double scale = config->scale > 0 ? config->scale : facet::lightmap_scale(*r);
-    const facet::LightmapMode mode = config->mode == FACET_LIGHTMAP_REPLACE ? facet::LightmapMode::replace : facet::LightmapMode::diffuse;
+    const facet::LightmapMode mode = config_mode == FACET_LIGHTMAP_REPLACE ? facet::LightmapMode::replace : facet::LightmapMode::diffuse;
     if (facet::Status st = facet::apply_lightmaps(scene->scene, *r, scale, mode); !st.ok()) return report(scene->error, st);
     if (stats) {
       const facet::BakeStats& s = r->stats;
