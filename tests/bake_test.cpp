@@ -4,6 +4,7 @@
 // (n.l exactly) and behind an occluder, energy conservation, the stop rules, thread-count
 // determinism and the refusals.
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <numbers>
 
@@ -84,6 +85,33 @@ double mean_light(const BakedLightmap& lm) {
   double sum = 0, area = 0;
   for (std::size_t i = 0; i < lm.light.size(); ++i) sum += double(lm.light[i].x()) * lm.area[i], area += lm.area[i];
   return sum / area;
+}
+
+// The world position of each texel's centre (NaN where no triangle covers it), for meshes drawn
+// with the identity transform.
+std::vector<Vec3> texel_centres(const BakedLightmap& lm, const Mesh& mesh) {
+  const LightmapUnwrap& u = lm.unwrap;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<Vec3> at(static_cast<std::size_t>(u.width) * static_cast<std::size_t>(u.height), Vec3(nan, nan, nan));
+  for (const auto& tri : u.triangles) {
+    Vec2 q[3];
+    for (int c = 0; c < 3; ++c) q[c] = Vec2(u.uvs[tri[c]].x() * float(u.width), u.uvs[tri[c]].y() * float(u.height));
+    const float det = (q[1] - q[0]).x() * (q[2] - q[0]).y() - (q[1] - q[0]).y() * (q[2] - q[0]).x();
+    if (det == 0) continue;
+    for (int y = 0; y < u.height; ++y)
+      for (int x = 0; x < u.width; ++x) {
+        const Vec2 d = Vec2(float(x) + 0.5f, float(y) + 0.5f) - q[0];
+        const float b1 = (d.x() * (q[2] - q[0]).y() - d.y() * (q[2] - q[0]).x()) / det;
+        const float b2 = ((q[1] - q[0]).x() * d.y() - (q[1] - q[0]).y() * d.x()) / det;
+        if (b1 < 0 || b2 < 0 || b1 + b2 > 1) continue;
+        const Vec3& p0 = mesh.positions[u.source_vertex[tri[0]]];
+        const Vec3& p1 = mesh.positions[u.source_vertex[tri[1]]];
+        const Vec3& p2 = mesh.positions[u.source_vertex[tri[2]]];
+        at[static_cast<std::size_t>(y) * static_cast<std::size_t>(u.width) + static_cast<std::size_t>(x)] =
+            p0 * (1 - b1 - b2) + p1 * b1 + p2 * b2;
+      }
+  }
+  return at;
 }
 
 TEST(Bake, ClosedFormFormFactors) {
@@ -295,6 +323,107 @@ TEST(Bake, EnergyIsConserved) {
   EXPECT_GT(st.escaped, 0);
   EXPECT_GT(st.absorbed, 0);
   EXPECT_NEAR(st.entered, st.absorbed + st.escaped + st.back_faces + st.unshot, 1e-9 * st.entered);
+}
+
+// Stability: a floor that runs through a closed block (its texels inside the block's walls), lit
+// from above by a light and an emitting panel. The pieces inside are found buried and dropped
+// (texels wholly inside have no area); every texel outside is lit; the power balances. Without
+// the burial probes the texels straddling the walls shot part of their light into the block.
+TEST(Bake, TexelsInsideAWallAreDropped) {
+  const Mesh floor = rectangle(Vec3(-2, 0, 2), Vec3(4, 0, 0), Vec3(0, 0, -4), 4);
+  Mesh block = make_cube(1.0f, 1);  // facing out, from -0.5 to 0.5: the floor cuts it in half
+  block.uvs.clear(), block.tangents.clear();
+  Scene s = scene_of({{floor, surface(0.6, 0)}, {block, surface(0.5, 0)},
+                      {rectangle(Vec3(-0.5f, 1.5f, -0.5f), Vec3(1, 0, 0), Vec3(0, 0, 1), 1), surface(0.0, 2)}});
+  Light l;
+  l.type = LightType::point;
+  l.position = Vec3(1.2f, 2.0f, 0.7f);
+  s.lights.push_back(l);
+  BakeOptions o;
+  o.charts.texels_per_unit = 8;
+  o.rays_per_shot = 64;
+  o.max_shots = 400;
+  const Result<BakeResult> r = bake_lightmaps(s, o);
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  const BakedLightmap& lm = r->lightmaps[0];
+  const std::vector<Vec3> at = texel_centres(lm, floor);
+  int inside = 0, outside_lit = 0, outside = 0;
+  for (std::size_t i = 0; i < lm.light.size(); ++i) {
+    ASSERT_TRUE(lm.light[i].allFinite());
+    EXPECT_GE(lm.light[i].minCoeff(), 0.0f);
+    if (!at[i].allFinite()) continue;
+    const float reach = std::max(std::abs(at[i].x()), std::abs(at[i].z()));
+    if (reach < 0.5f - 1.0f / 8) {  // the whole footprint inside the block
+      ++inside;
+      EXPECT_EQ(lm.area[i], 0.0f) << "texel " << i << " at " << at[i].transpose();
+    } else if (reach > 0.5f + 1.0f / 8) {
+      ++outside;
+      EXPECT_GT(lm.area[i], 0.0f);
+      outside_lit += lm.light[i].x() > 0;
+    }
+  }
+  EXPECT_GE(inside, 25);  // 5 x 5 texels at least
+  EXPECT_EQ(outside_lit, outside);
+  const BakeStats& st = r->stats;
+  EXPECT_GE(st.buried, 4u * 25u);  // 2 x 2 pieces a texel
+  EXPECT_NEAR(st.entered, st.absorbed + st.escaped + st.back_faces + st.unshot, 1e-9 * st.entered);
+}
+
+// Stability: lights inside a closed block (a point light, an emitting panel) light nothing a
+// camera outside can see: the floor inside the block is buried, and no light leaks out through
+// texels that straddle the walls (before the burial probes it did, 1e-5 to 1e-4 of the light on
+// the block's outer faces and the floor around it). A light lying in the floor's plane lights the
+// floor with n.l = 0: exactly nothing. No NaN, and the bake ends.
+TEST(Bake, LightsInsideGeometryLightNothingOutside) {
+  const Mesh floor = rectangle(Vec3(-2, 0, 2), Vec3(4, 0, 0), Vec3(0, 0, -4), 4);
+  Mesh block = make_cube(1.0f, 1);
+  block.uvs.clear(), block.tangents.clear();
+  for (int variant = 0; variant < 3; ++variant) {
+    SCOPED_TRACE(variant == 0 ? "point light inside" : variant == 1 ? "emitting panel inside" : "point light in the floor's plane");
+    std::vector<std::pair<Mesh, Material>> parts{{floor, surface(0.6, 0)}, {block, surface(0.5, 0)}};
+    if (variant == 1) parts.push_back({rectangle(Vec3(-0.2f, 0.3f, -0.2f), Vec3(0.4f, 0, 0), Vec3(0, 0, 0.4f), 1), surface(0.0, 2)});
+    Scene s = scene_of(parts);
+    if (variant != 1) {
+      Light l;
+      l.type = LightType::point;
+      l.position = variant == 0 ? Vec3(0.1f, 0.25f, -0.1f) : Vec3(1.5f, 0.0f, 1.5f);
+      s.lights.push_back(l);
+    }
+    BakeOptions o;
+    o.charts.texels_per_unit = 8;
+    o.rays_per_shot = 64;
+    o.max_shots = 400;
+    o.radiosity = variant < 2;  // the light in the floor's plane: its direct light alone
+    const Result<BakeResult> r = bake_lightmaps(s, o);
+    ASSERT_TRUE(r.ok()) << r.status().message();
+    // Outside the block: the floor's texels that reach its walls or beyond, and the block's faces.
+    const BakedLightmap& on_floor = r->lightmaps[0];
+    const std::vector<Vec3> at = texel_centres(on_floor, floor);
+    int lit_outside = 0, lit_floor = 0;
+    for (std::size_t i = 0; i < on_floor.light.size(); ++i) {
+      ASSERT_TRUE(on_floor.light[i].allFinite());
+      if (on_floor.area[i] == 0 || !at[i].allFinite()) continue;
+      lit_floor += on_floor.light[i].maxCoeff() > 0;
+      if (std::max(std::abs(at[i].x()), std::abs(at[i].z())) >= 0.5f) {
+        lit_outside += on_floor.light[i].maxCoeff() > 0;
+      }
+    }
+    int lit_block = 0;
+    for (const Color3& c : r->lightmaps[1].light) {
+      ASSERT_TRUE(c.allFinite());
+      lit_block += c.maxCoeff() > 0;
+    }
+    if (variant < 2) {
+      EXPECT_EQ(lit_outside, 0);
+      EXPECT_EQ(lit_block, 0);
+    } else {
+      EXPECT_EQ(lit_floor, 0);  // n.l = 0 everywhere
+      EXPECT_GT(lit_block, 0);  // lit from outside: the floor the light lies on does not shadow it
+    }
+    EXPECT_GT(r->stats.buried, 0u);
+    const BakeStats& st = r->stats;
+    EXPECT_NEAR(st.entered, st.absorbed + st.escaped + st.back_faces + st.unshot, 1e-9 * std::max(st.entered, 1.0));
+  }
 }
 
 TEST(Bake, AlbedoOneStopsAtTheShotLimit) {

@@ -326,7 +326,8 @@ static void setters_change_the_picture(void) {
     static uint8_t before[SW * SH * 4], after[SW * SH * 4];
     draw(r, s, before);
     facet_bake_config bc = facet_bake_config_default();
-    CHECK(bc.texels_per_unit == 16.0 && bc.padding == 2 && bc.lights == 1 && bc.radiosity == 1 && bc.scale == 0.0);
+    CHECK(bc.texels_per_unit == 16.0 && bc.padding == 2 && bc.lights == 1 && bc.radiosity == 1 && bc.scale == 0.0 &&
+          bc.burial_rays == 16);
     bc.texels_per_unit = 4.0;
     bc.max_shots = 200;
     bc.rays_per_shot = 32;
@@ -344,6 +345,10 @@ static void setters_change_the_picture(void) {
     bc.mode = (facet_lightmap_mode)9;
     CHECK(facet_scene_bake(s, &bc, NULL) == FACET_INVALID_ARGUMENT);
     bc.mode = FACET_LIGHTMAP_DIFFUSE;
+    bc.burial_rays = 2000;
+    CHECK(facet_scene_bake(s, &bc, NULL) == FACET_INVALID_ARGUMENT);
+    CHECK(strstr(facet_scene_last_error(s), "burial_rays") != NULL);
+    bc.burial_rays = 16;
     facet_bake_stats bs;
     memset(&bs, 0, sizeof bs);
     CHECK(facet_scene_bake(s, &bc, &bs) == FACET_OK);

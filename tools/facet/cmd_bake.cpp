@@ -21,7 +21,7 @@ namespace {
 struct BakeState {
   std::string input, out;
   double texels_per_unit = 0;  // 0: 128 texels along the scene's bounding-box diagonal
-  int padding = 2, subdivisions = 2, rays = 256, threads = 0;
+  int padding = 2, subdivisions = 2, burial_rays = 16, rays = 256, threads = 0;
   std::size_t max_shots = 100000;
   double residual = 1e-3, seconds = 0, scale = 0;  // scale 0: the 99.9th percentile of the light
   std::string lights = "all", mode = "diffuse";
@@ -51,6 +51,10 @@ Command add_bake(CLI::App& facet) {
       ->check(number_in(0, 1e9));
   app->add_option("--padding", st->padding, "empty texels between charts (default 2)")->check(int_in(1, 64));
   app->add_option("--subdivisions", st->subdivisions, "footprint pieces per texel side (default 2)")->check(int_in(1, 8));
+  app->add_option("--burial-rays", st->burial_rays,
+                  "probe rays per footprint piece: a piece more than half of whose rays meet back faces is inside geometry "
+                  "and dropped (default 16; 0: keep every piece)")
+      ->check(int_in(0, 1024));
   app->add_option("--rays", st->rays, "rays per radiosity shot (default 256)")->check(int_in(1, 1 << 20));
   app->add_option("--max-shots", st->max_shots, "stop after this many shots (default 100000)");
   app->add_option("--residual", st->residual, "stop when the unshot power is below this share of the power that entered (default 0.001)")
@@ -149,6 +153,7 @@ int bake(const BakeState& st) {
   BakeOptions o;
   o.charts.padding = st.padding;
   o.subdivisions = st.subdivisions;
+  o.burial_rays = st.burial_rays;
   o.rays_per_shot = st.rays;
   o.max_shots = st.max_shots;
   o.residual = st.residual;
@@ -200,10 +205,10 @@ int bake(const BakeState& st) {
   const BakeStats& s = r->stats;
   char stats[1024];
   std::snprintf(stats, sizeof stats,
-                "\"texels_per_unit\": %.9g, \"scale\": %.9g, \"texels\": %zu, \"patches\": %zu, \"pieces\": %zu, \"shots\": %zu, "
+                "\"texels_per_unit\": %.9g, \"scale\": %.9g, \"texels\": %zu, \"patches\": %zu, \"pieces\": %zu, \"buried\": %zu, \"shots\": %zu, "
                 "\"rays\": %zu, \"seconds\": %.6g, \"rays_per_second\": %.6g, \"shots_per_second\": %.6g, \"stopped_by\": \"%s\", "
                 "\"entered\": %.9g, \"absorbed\": %.9g, \"escaped\": %.9g, \"back_faces\": %.9g, \"unshot\": %.9g",
-                o.charts.texels_per_unit, scale, s.texels, s.patches, s.pieces, s.shots, s.rays, s.seconds,
+                o.charts.texels_per_unit, scale, s.texels, s.patches, s.pieces, s.buried, s.shots, s.rays, s.seconds,
                 s.seconds > 0 ? double(s.rays) / s.seconds : 0.0, s.seconds > 0 ? double(s.shots) / s.seconds : 0.0,
                 s.stopped_by.c_str(), s.entered, s.absorbed, s.escaped, s.back_faces, s.unshot);
   std::string scene_note;

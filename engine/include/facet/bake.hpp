@@ -23,6 +23,12 @@ struct BakeOptions {
   // The footprint of a texel: split into subdivisions x subdivisions squares, each clipped with
   // each triangle over it; light is evaluated at each piece's centroid and weighted by its area.
   int subdivisions = 2;
+  // Pieces buried in geometry (a floor running under a wall or a block, a texel straddling a wall)
+  // are found by burial_rays cosine-distributed probe rays from each piece's centroid: a piece
+  // more than half of whose rays meet back faces is dropped, so that light neither leaks out of a
+  // wall nor is shot into one (a texel whose pieces are all buried gets no light, and dilation
+  // fills it from its neighbours). 0: no probes, every piece kept.
+  int burial_rays = 16;
   // Direct light: the diffuse term of every enabled light of the scene (GL's n.l, attenuation and
   // spot cone), each light's visibility by one ray per piece (every light casts shadows here).
   bool direct = true;
@@ -68,6 +74,7 @@ struct BakedLightmap {
 
 struct BakeStats {
   std::size_t texels = 0, patches = 0, pieces = 0;  // atlas texels, texels with area, footprint pieces
+  std::size_t buried = 0;                            // pieces dropped as buried (not in `pieces`)
   std::size_t shots = 0, rays = 0;                  // radiosity shots and rays, shadow rays included
   // Power (colour units times area, summed over R, G and B): what entered the patches as unshot
   // radiosity (reflected direct light, plus the emission when it is shot rather than gathered),

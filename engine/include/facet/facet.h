@@ -426,6 +426,8 @@ typedef struct facet_bake_config {
   int lights;              /* 1: bake the scene's lights as direct light (default); 0: only emissive surfaces */
   int radiosity;           /* 1: light bounces (default); 0: direct light only */
   int rays_per_shot;       /* default 256 */
+  int burial_rays;         /* probe rays per footprint piece; a piece more than half of whose rays meet
+                              back faces is inside geometry and dropped (0..1024, default 16; 0: none) */
   uint64_t max_shots;      /* default 100000 */
   double residual;         /* stop when the unshot power is below this share of what entered (default 0.001) */
   int threads;             /* 0: all */
@@ -437,6 +439,7 @@ typedef struct facet_bake_config {
 typedef struct facet_bake_stats {
   uint64_t texels, patches, shots, rays;
   double seconds, entered, absorbed, escaped, unshot, scale;
+  uint64_t buried; /* footprint pieces dropped as inside geometry */
 } facet_bake_stats;
 facet_bake_config facet_bake_config_default(void);
 /* Bakes the scene and draws the result in it: each object gets its own copy of its mesh split along

@@ -156,6 +156,7 @@ Status check_options(const BakeOptions& o) {
   if (!(o.max_seconds >= 0 && std::isfinite(o.max_seconds))) {
     return bad("max_seconds", "expected a finite number >= 0, found " + format_number(o.max_seconds));
   }
+  if (o.burial_rays < 0 || o.burial_rays > 1024) return bad("burial_rays", "expected 0 to 1024, found " + std::to_string(o.burial_rays));
   if (o.area_samples < 1 || o.area_samples > 65536) {
     return bad("area_samples", "expected 1 to 65536, found " + std::to_string(o.area_samples));
   }
@@ -177,6 +178,7 @@ class Baker {
   Status make_surfaces();
   Status make_patches();
   Status build_rays();
+  void drop_buried_pieces();
   void direct_light();
   void emitter_light();
   Status radiosity();
@@ -398,6 +400,84 @@ Status Baker::build_rays() {
   return {};
 }
 
+// A cosine-distributed direction about `n` from two numbers in [0, 1).
+V3 cosine_direction(const V3& n, double a, double b) {
+  const double radius = std::sqrt(a), phi = 2 * std::numbers::pi * b;
+  V3 t, bt;
+  basis(n, t, bt);
+  return t * (radius * std::cos(phi)) + bt * (radius * std::sin(phi)) + n * std::sqrt(std::max(0.0, 1 - a));
+}
+
+void Baker::drop_buried_pieces() {
+  const int n = o_.burial_rays;
+  if (n == 0 || pieces_.empty()) return;
+  const int side = std::max(1, static_cast<int>(std::sqrt(double(n))));
+  std::vector<std::uint8_t> buried(pieces_.size(), 0);
+  arena_.execute([&] {
+    arena_.parallel_for(tbb::blocked_range<std::size_t>(0, pieces_.size(), 256), [&](const tbb::blocked_range<std::size_t>& r, int) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+        const Piece& piece = pieces_[i];
+        const V3 origin = offset_origin(piece);
+        int back = 0;
+        for (int k = 0; k < n; ++k) {
+          const int cell = k % (side * side);
+          const double a = (cell % side + hash01(i, 0xB0B1, static_cast<std::uint64_t>(k), 1)) / side;
+          const double b = (cell / side + hash01(i, 0xB0B1, static_cast<std::uint64_t>(k), 2)) / side;
+          const V3 dir = cosine_direction(piece.face_normal, a, b);
+          RTCIntersectContext context;
+          rtcInitIntersectContext(&context);
+          RTCRayHit rh{};
+          rh.ray.org_x = float(origin.x()), rh.ray.org_y = float(origin.y()), rh.ray.org_z = float(origin.z());
+          rh.ray.dir_x = float(dir.x()), rh.ray.dir_y = float(dir.y()), rh.ray.dir_z = float(dir.z());
+          rh.ray.tnear = 0.0f, rh.ray.tfar = std::numeric_limits<float>::infinity(), rh.ray.mask = 0xffffffffu;
+          rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+          rtcIntersect1(rscene_, &context, &rh);
+          if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID && surfaces_[rh.hit.geomID].face_normal[rh.hit.primID].dot(dir) >= 0) ++back;
+        }
+        buried[i] = 2 * back > n;
+      }
+    });
+  });
+  stats_.rays += pieces_.size() * static_cast<std::size_t>(n);
+  // The patches again, without the buried pieces; a patch left without pieces is no patch.
+  std::vector<Piece> pieces;
+  std::vector<Patch> patches;
+  std::vector<std::int64_t> renumber(patches_.size(), -1);
+  pieces.reserve(pieces_.size());
+  for (std::size_t p = 0; p < patches_.size(); ++p) {
+    Patch patch = patches_[p];
+    patch.first_piece = static_cast<std::uint32_t>(pieces.size());
+    patch.piece_count = 0;
+    patch.area = 0;
+    const auto index = static_cast<std::uint32_t>(patches.size());
+    for (std::uint32_t i = patches_[p].first_piece; i < patches_[p].first_piece + patches_[p].piece_count; ++i) {
+      if (buried[i]) {
+        ++stats_.buried;
+        continue;
+      }
+      pieces.push_back(pieces_[i]);
+      pieces.back().patch = index;
+      patch.area += pieces_[i].area;
+      ++patch.piece_count;
+    }
+    if (patch.piece_count == 0) continue;
+    renumber[p] = index;
+    patches.push_back(patch);
+  }
+  for (std::int32_t& t : texel_patch_) {
+    if (t >= 0) t = static_cast<std::int32_t>(renumber[static_cast<std::size_t>(t)]);
+  }
+  for (Surface& s : surfaces_)
+    for (std::uint32_t& f : s.fallback) {
+      if (f != std::numeric_limits<std::uint32_t>::max())
+        f = renumber[f] < 0 ? std::numeric_limits<std::uint32_t>::max() : static_cast<std::uint32_t>(renumber[f]);
+    }
+  pieces_ = std::move(pieces);
+  patches_ = std::move(patches);
+  stats_.patches = patches_.size();
+  stats_.pieces = pieces_.size();
+}
+
 std::int64_t Baker::patch_at(unsigned object, unsigned triangle, float u, float v) const {
   const Surface& s = surfaces_[object];
   const auto& tri = s.unwrap.triangles[triangle];
@@ -529,7 +609,9 @@ void Baker::direct_light() {
           if (L.type == LightType::directional) {
             dir = V3(L.to_light.x, L.to_light.y, L.to_light.z), tfar = std::numeric_limits<float>::infinity();
           } else {
-            dir = V3(L.position.x, L.position.y, L.position.z) - origin, tfar = 1.0f;
+            // Up to the light, less the offset: a light lying on a surface is not shadowed by it.
+            dir = V3(L.position.x, L.position.y, L.position.z) - origin;
+            tfar = static_cast<float>(std::max(0.0, 1.0 - epsilon_ / std::max(dir.norm(), 1e-300)));
           }
           if (dir.dot(piece.face_normal) <= 0) continue;  // behind its own surface
           RTCIntersectContext context;
@@ -621,10 +703,7 @@ Status Baker::radiosity() {
           const int cell = k % (side * side);
           const double a = (cell % side + hash01(from, shot, static_cast<std::uint64_t>(k), 1)) / side;
           const double b = (cell / side + hash01(from, shot, static_cast<std::uint64_t>(k), 2)) / side;
-          const double radius = std::sqrt(a), phi = 2 * std::numbers::pi * b;
-          V3 t, bt;
-          basis(piece.face_normal, t, bt);
-          const V3 dir = t * (radius * std::cos(phi)) + bt * (radius * std::sin(phi)) + piece.face_normal * std::sqrt(std::max(0.0, 1 - a));
+          const V3 dir = cosine_direction(piece.face_normal, a, b);
           const V3 origin = ray_origin(piece, from, shot, static_cast<std::uint64_t>(k)) + piece.face_normal * epsilon_;
           RTCIntersectContext context;
           rtcInitIntersectContext(&context);
@@ -690,6 +769,7 @@ Result<BakeResult> Baker::run() {
   FACET_TRY(make_surfaces());
   FACET_TRY(make_patches());
   FACET_TRY(build_rays());
+  drop_buried_pieces();
   if (o_.direct) direct_light();
   if (o_.gather_emitters) emitter_light();
   FACET_TRY(radiosity());

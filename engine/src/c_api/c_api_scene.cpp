@@ -373,6 +373,7 @@ facet_bake_config facet_bake_config_default(void) {
   c.lights = 1;
   c.radiosity = 1;
   c.rays_per_shot = o.rays_per_shot;
+  c.burial_rays = o.burial_rays;
   c.max_shots = o.max_shots;
   c.residual = o.residual;
   c.threads = 0;
@@ -398,6 +399,7 @@ facet_status facet_scene_bake(facet_scene* scene, const facet_bake_config* confi
     o.direct = config->lights != 0;
     o.radiosity = config->radiosity != 0;
     o.rays_per_shot = config->rays_per_shot;
+    o.burial_rays = config->burial_rays;
     o.max_shots = static_cast<std::size_t>(config->max_shots);
     o.residual = config->residual;
     o.threads = config->threads;
@@ -411,7 +413,7 @@ facet_status facet_scene_bake(facet_scene* scene, const facet_bake_config* confi
     if (facet::Status st = facet::apply_lightmaps(scene->scene, *r, scale, mode); !st.ok()) return report(scene->error, st);
     if (stats) {
       const facet::BakeStats& s = r->stats;
-      *stats = facet_bake_stats{s.texels, s.patches, s.shots, s.rays, s.seconds, s.entered, s.absorbed, s.escaped, s.unshot, scale};
+      *stats = facet_bake_stats{s.texels, s.patches, s.shots, s.rays, s.seconds, s.entered, s.absorbed, s.escaped, s.unshot, scale, s.buried};
     }
     return report(scene->error, {});
   });
