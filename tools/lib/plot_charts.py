@@ -452,8 +452,11 @@ if msaa_rows:
 
 # --- 9. baking: radiosity's convergence in the white furnace, against time ---------------------------
 bake_rows = [r for r in accuracy if r["kind"] == "bake"]
+cornell_path = os.path.join(OUT, "cornell_convergence.json")
+cornell = json.load(open(cornell_path)) if os.path.exists(cornell_path) else None
 if bake_rows:
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 7), sharex=True)
+    fig, axes = plt.subplots(3 if cornell else 2, 1, figsize=(8, 10 if cornell else 7), sharex=True)
+    top, bottom = axes[0], axes[1]
     for method, colour in (("1 thread", "#1f77b4"), ("2 threads", "#d62728")):
         pts = sorted([r for r in bake_rows if r["method"] == method], key=lambda r: r["ms_per_frame"])
         if not pts:
@@ -468,10 +471,25 @@ if bake_rows:
     top.set_yscale("log")
     top.set_ylabel("power still unshot (share of what entered)")
     top.set_title("Radiosity in the white furnace (B = E / (1 - albedo)): convergence against time")
-    bottom.set_xscale("log")
-    bottom.set_xlabel("bake time (ms)")
     bottom.set_ylabel("texel error against B (8-bit steps)")
-    for ax in (top, bottom):
+    if cornell:
+        third = axes[2]
+        for threads, colour in ((1, "#1f77b4"), (2, "#d62728")):
+            pts = sorted([r for r in cornell["rows"] if r["threads"] == threads], key=lambda r: r["bake_seconds"])
+            if not pts:
+                continue
+            xs = [1000 * r["bake_seconds"] for r in pts]
+            third.plot(xs, [r["mean_abs_steps"] for r in pts], color=colour, marker="o",
+                       label=f"{threads} thread{'s' if threads > 1 else ''}")
+            for r in pts:
+                third.annotate(f"{r['shots']} shots", (1000 * r["bake_seconds"], r["mean_abs_steps"]),
+                               textcoords="offset points", xytext=(4, 3), fontsize=7, color=colour)
+        third.set_ylabel("mean pixel error (8-bit steps)")
+        third.set_title(f"The Cornell box baked and drawn ({cornell['size']}x{cornell['size']}) against Embree's "
+                        f"path tracer ({cornell['spp']} paths a pixel)", fontsize=10)
+    axes[-1].set_xscale("log")
+    axes[-1].set_xlabel("bake time (ms)")
+    for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
     fig.tight_layout()
