@@ -48,9 +48,11 @@ struct BakeOptions {
   std::size_t max_shots = 100000;
   double residual = 1e-3;
   double max_seconds = 0;
-  // The unshot power left at the stop, spread as an ambient term over every patch (the paper's
-  // estimate: the average unshot radiosity times 1 / (1 - the average albedo)); not when the
-  // average albedo is 1 (no finite estimate).
+  // The unshot power left at the stop, spread as an ambient term over every patch: the paper's
+  // estimate (the average unshot radiosity, reflected again and again), with the share of shot
+  // light that lands on a front face and the share reflected measured over the shots made (the
+  // paper's 1 / (1 - average albedo) assumes a closed scene and overshoots in an open one); not
+  // when that reflectance is 1 (no finite estimate).
   bool ambient_from_unshot = true;
   // Texels of all lightmaps together at most this many; refused before any work.
   std::size_t max_texels = std::size_t{1} << 24;

@@ -661,6 +661,9 @@ Status Baker::radiosity() {
   std::vector<double> cdf;
   stats_.stopped_by = "max_shots";
   auto power_of = [](const Patch& p) { return p.unshot.sum() * p.area; };
+  // What the shots sent, what of it reached a front face, and what those faces reflected: the
+  // scene's measured share of light that lands and its reflectance, for the ambient term.
+  V3 shot_power = V3::Zero(), landed_power = V3::Zero(), reflected_power = V3::Zero();
   PowerTree tree(P);
   {
     std::vector<double> power(P);
@@ -725,6 +728,7 @@ Status Baker::radiosity() {
     });
     // Applied in ray order: each ray carries 1 / n of the shot's power.
     const V3 power = source.unshot * (source.area / n);
+    shot_power += source.unshot * source.area;
     source.unshot = V3::Zero();
     tree.set(from, 0.0);
     for (std::size_t k = 0; k < hits.size(); ++k) {
@@ -741,6 +745,7 @@ Status Baker::radiosity() {
         to.light += arriving;
         const V3 reflected = to.albedo.cwiseProduct(arriving);
         to.unshot += reflected;
+        landed_power += power, reflected_power += reflected * to.area;
         tree.set(static_cast<std::size_t>(h.patch), power_of(to));
         stats_.absorbed += (power - reflected * to.area).sum();
       }
@@ -750,14 +755,20 @@ Status Baker::radiosity() {
   }
   if (o_.ambient_from_unshot && stats_.unshot > 0) {
     // The paper's ambient term: the area-weighted average unshot radiosity, reflected again and
-    // again at the average albedo.
+    // again. The paper assumes a closed scene (all of it lands, reflected at the average albedo:
+    // 1 / (1 - albedo)); measured over the shots so far, the share that lands and the share
+    // reflected hold for an open scene too, and for a closed one they are the same numbers.
     V3 unshot = V3::Zero(), albedo = V3::Zero();
     double area = 0;
     for (const Patch& p : patches_) unshot += p.unshot * p.area, albedo += p.albedo * p.area, area += p.area;
     if (area > 0) {
       unshot /= area, albedo /= area;
-      if (albedo.maxCoeff() < 1.0 - 1e-9) {
-        const V3 ambient = unshot.cwiseQuotient(V3::Ones() - albedo);
+      V3 lands = V3::Ones(), reflects = albedo;
+      for (int c = 0; c < 3; ++c) {
+        if (shot_power[c] > 0) lands[c] = landed_power[c] / shot_power[c], reflects[c] = reflected_power[c] / shot_power[c];
+      }
+      if (reflects.maxCoeff() < 1.0 - 1e-9) {
+        const V3 ambient = unshot.cwiseProduct(lands).cwiseQuotient(V3::Ones() - reflects);
         for (Patch& p : patches_) p.light += ambient;
       }
     }
