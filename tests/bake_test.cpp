@@ -302,6 +302,42 @@ TEST(Bake, DirectionalLightOnAPlaneIsNDotL) {
   EXPECT_EQ(r->stats.stopped_by, "no radiosity");
 }
 
+// Stability: zero-area triangles (a repeated corner, three collinear corners) among a plane's
+// make no patch, receive nothing, and change nothing: the plane's texels keep n.l exactly, with
+// radiosity on, and every value is finite.
+TEST(Bake, ZeroAreaTrianglesChangeNothing) {
+  Mesh plane = rectangle(Vec3(-1, 0, 1), Vec3(2, 0, 0), Vec3(0, 0, -2), 3);
+  const auto base = static_cast<std::uint32_t>(plane.positions.size());
+  for (const Vec3& p : {Vec3(0.2f, 0, 0.2f), Vec3(0.4f, 0, 0.2f), Vec3(0.6f, 0, 0.2f)}) {
+    plane.positions.push_back(p);
+    plane.normals.push_back(Vec3(0, 1, 0));
+  }
+  plane.triangles.push_back({base, base + 1, base + 2});  // collinear
+  plane.triangles.push_back({base, base, base + 1});      // a repeated corner
+  plane.triangles.push_back({0, 0, 0});
+  Scene s = scene_of({{plane, surface(0.5, 0)}});
+  Light l;
+  l.type = LightType::directional;
+  l.direction = Vec3(0.8f, -0.6f, 0.0f);
+  s.lights.push_back(l);
+  BakeOptions o;
+  o.charts.texels_per_unit = 6;
+  o.rays_per_shot = 64;
+  o.max_shots = 200;
+  const Result<BakeResult> r = bake_lightmaps(s, o);
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  const BakedLightmap& lm = r->lightmaps[0];
+  std::size_t lit = 0;
+  for (std::size_t i = 0; i < lm.light.size(); ++i) {
+    ASSERT_TRUE(lm.light[i].allFinite());
+    if (lm.area[i] == 0) continue;
+    ++lit;
+    EXPECT_NEAR(lm.light[i].x(), 0.6f, 1e-6);  // a lone plane: nothing bounces back onto it
+  }
+  EXPECT_EQ(lit, 13u * 13u);
+  EXPECT_EQ(r->stats.buried, 0u);
+}
+
 TEST(Bake, OccluderCastsAShadow) {
   // A 2 x 2 floor; a 1 x 1 card 1 above its centre; light straight down.
   Scene s = scene_of({{rectangle(Vec3(-1, 0, 1), Vec3(2, 0, 0), Vec3(0, 0, -2), 4), surface(0.5, 0)},
