@@ -521,6 +521,65 @@ TEST(Bake, SameBytesForAnyThreadCount) {
   }
 }
 
+// A mesh's own lightmap coordinates (a glTF's TEXCOORD_1) are baked over as they are: a plane
+// mapped onto the left half of its atlas, under a point light. Each texel holds the light of the
+// world point its coordinates name (the exact point-light formula at the texel's centre, within
+// the footprint's variation), the atlas is square at the requested density on average, and
+// nothing is generated; coordinates outside [0, 1] are refused with the vertex named.
+TEST(Bake, BakesOverTheMeshsOwnLightmapUvs) {
+  Mesh plane = rectangle(Vec3(-1, 0, 1), Vec3(2, 0, 0), Vec3(0, 0, -2), 4);  // 2 x 2, +y
+  for (const Vec3& p : plane.positions) plane.lightmap_uvs.push_back(Vec2((p.x() + 1) / 4, (1 - p.z()) / 2));  // u in [0, 0.5]
+  Scene s = scene_of({{plane, surface(0.5, 0)}});
+  Light l;
+  l.type = LightType::point;
+  l.position = Vec3(0.3f, 1.0f, -0.2f);
+  l.constant_attenuation = 0, l.quadratic_attenuation = 1;
+  s.lights.push_back(l);
+  BakeOptions o;
+  o.charts.texels_per_unit = 8;
+  o.radiosity = false;
+  const Result<BakeResult> r = bake_lightmaps(s, o);
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  const BakedLightmap& lm = r->lightmaps[0];
+  EXPECT_TRUE(lm.mesh_uvs);
+  // uv area 0.5, world area 4: a side of 8 x sqrt(4 / 0.5) = 22.6 -> 23 texels.
+  EXPECT_EQ(lm.unwrap.width, 23);
+  EXPECT_EQ(lm.unwrap.height, 23);
+  EXPECT_EQ(lm.unwrap.uvs, plane.lightmap_uvs);
+  int checked = 0;
+  for (int y = 0; y < lm.unwrap.height; ++y)
+    for (int x = 0; x < lm.unwrap.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y * lm.unwrap.width + x);
+      const double u = (x + 0.5) / lm.unwrap.width, v = (y + 0.5) / lm.unwrap.height;
+      if (u > 0.5 - 1.0 / lm.unwrap.width) {  // texels that reach past the plane's half
+        if (u > 0.5 + 0.5 / lm.unwrap.width) {
+          EXPECT_EQ(lm.area[i], 0.0f);
+        }
+        continue;
+      }
+      const Vec3 p(float(4 * u - 1), 0.0f, float(1 - 2 * v));
+      const Vec3 d = l.position - p;
+      const double expected = d.y() / d.norm() / d.squaredNorm();  // n.l / d^2
+      EXPECT_NEAR(lm.light[i].x(), expected, 0.03 * expected) << "texel " << x << ", " << y;
+      ++checked;
+    }
+  EXPECT_GT(checked, 200);
+
+  o.use_mesh_uvs = false;  // charts generated: a plane is one chart
+  const Result<BakeResult> generated = bake_lightmaps(s, o);
+  ASSERT_TRUE(generated.ok()) << generated.status().message();
+  EXPECT_FALSE(generated->lightmaps[0].mesh_uvs);
+  EXPECT_EQ(generated->lightmaps[0].unwrap.charts.size(), 1u);
+  EXPECT_NE(generated->lightmaps[0].unwrap.uvs, plane.lightmap_uvs);
+
+  o.use_mesh_uvs = true;
+  s.meshes[0].mesh.lightmap_uvs[7] = Vec2(1.25f, 0.5f);
+  const Result<BakeResult> bad = bake_lightmaps(s, o);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.status().field(), "objects[0].lightmap_uvs");
+  EXPECT_NE(bad.status().message().find("vertex 7"), std::string::npos) << bad.status().message();
+}
+
 TEST(Bake, RefusesBadOptionsAndOversizedLightmaps) {
   Scene s = scene_of({{inward_box(1), surface(0.5, 0.5)}});
   auto field = [&](const BakeOptions& o) { return bake_lightmaps(s, o).status().field(); };

@@ -193,6 +193,53 @@ TEST(GltfImport, SecondUvSetIsTheLightmapsCoordinates) {
   }
 }
 
+// A glTF's TEXCOORD_1 through a bake: a scene file imports the quad; bake_lightmaps bakes over
+// the model's own coordinates (no charts generated); a scene file naming the baked lightmap in
+// the import's "lightmaps" with "uv": "mesh" draws it over those coordinates; a list of the wrong
+// length is refused with its field named.
+TEST(GltfImport, SecondUvSetIsBakedOverAndDrawnFromAScene) {
+  TempDir dir;
+  GltfBuilder b;
+  const std::vector<float> lightmap = {0.1f, 0.9f, 0.4f, 0.9f, 0.4f, 0.6f, 0.1f, 0.6f};
+  const int pos = b.vec3(kQuadPositions), nrm = b.vec3(kQuadNormals), uv1 = b.vec2(lightmap);
+  b.add("meshes", mesh_of({{"POSITION", pos}, {"NORMAL", nrm}, {"TEXCOORD_1", uv1}}, b.indices16(kQuadIndices)));
+  b.add("nodes", {{"mesh", 0}});
+  b.add("scenes", {{"nodes", {0}}});
+  b.doc["scene"] = 0;
+  test::write_text(dir / "lm.bin", b.bin);
+  test::write_text(dir / "lm.gltf", b.external("lm.bin"));
+  const std::string lights = R"("lights": [ { "type": "directional", "direction": [0, 0, -1], "diffuse": 0.8 } ])";
+  test::write_text(dir / "scene.json", "{ " + lights + R"(, "imports": [ { "file": "lm.gltf" } ] })");
+  Result<Scene> scene = load_scene_file(dir / "scene.json");
+  ASSERT_TRUE(scene.ok()) << scene.status().message();
+  BakeOptions o;
+  o.charts.texels_per_unit = 16;
+  o.radiosity = false;
+  const Result<BakeResult> baked = bake_lightmaps(*scene, o);
+  ASSERT_TRUE(baked.ok()) << baked.status().message();
+  ASSERT_EQ(baked->lightmaps.size(), 1u);
+  EXPECT_TRUE(baked->lightmaps[0].mesh_uvs);
+  EXPECT_EQ(baked->lightmaps[0].unwrap.uvs, scene->meshes[0].mesh.lightmap_uvs);
+
+  // The baked light, written as the lightmap texture a scene names.
+  write_test_png(dir / "lightmap.png");
+  const std::string textures = R"("textures": [ { "name": "lm", "file": "lightmap.png", "encoding": "linear" } ])";
+  test::write_text(dir / "baked.json", "{ " + lights + ", " + textures +
+                                           R"(, "imports": [ { "file": "lm.gltf", "lightmaps": [ { "texture": "lm", "scale": 0.5, "uv": "mesh" } ] } ] })");
+  Result<Scene> drawn = load_scene_file(dir / "baked.json");
+  ASSERT_TRUE(drawn.ok()) << drawn.status().message();
+  EXPECT_EQ(drawn->objects[0].lightmap, 0);
+  EXPECT_FLOAT_EQ(drawn->objects[0].lightmap_scale, 0.5f);
+  EXPECT_EQ(drawn->meshes[drawn->objects[0].mesh].mesh.lightmap_uvs, scene->meshes[0].mesh.lightmap_uvs);
+
+  test::write_text(dir / "wrong.json", "{ " + textures + R"(, "imports": [ { "file": "lm.gltf", "lightmaps": [ null, null ] } ] })");
+  Result<Scene> wrong = load_scene_file(dir / "wrong.json");
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_NE(wrong.status().message().find("imports[0].lightmaps"), std::string::npos) << wrong.status().message();
+  EXPECT_NE(wrong.status().message().find("one entry per object the model adds (1), found 2"), std::string::npos)
+      << wrong.status().message();
+}
+
 TEST(GltfImport, NormalTexturesAndTangents) {
   TempDir dir;
   const std::string png = write_test_png(dir / "tex.png");

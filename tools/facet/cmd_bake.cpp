@@ -1,5 +1,6 @@
 // facet bake: lightmaps of a scene (direct light and radiosity) into a folder.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -25,7 +26,7 @@ struct BakeState {
   std::size_t max_shots = 100000;
   double residual = 1e-3, seconds = 0, scale = 0;  // scale 0: the 99.9th percentile of the light
   std::string lights = "all", mode = "diffuse";
-  bool no_radiosity = false, json = false;
+  bool no_radiosity = false, json = false, generate_uvs = false;
   std::vector<std::string> allow_paths;
 };
 
@@ -51,6 +52,9 @@ Command add_bake(CLI::App& facet) {
       ->check(number_in(0, 1e9));
   app->add_option("--padding", st->padding, "empty texels between charts (default 2)")->check(int_in(1, 64));
   app->add_option("--subdivisions", st->subdivisions, "footprint pieces per texel side (default 2)")->check(int_in(1, 8));
+  app->add_flag("--generate-uvs", st->generate_uvs,
+               "generate lightmap charts for every object, even one whose model brings lightmap coordinates (a glTF's "
+               "TEXCOORD_1, used by default)");
   app->add_option("--burial-rays", st->burial_rays,
                   "probe rays per footprint piece: a piece more than half of whose rays meet back faces is inside geometry "
                   "and dropped (default 16; 0: keep every piece)")
@@ -80,24 +84,104 @@ Command add_bake(CLI::App& facet) {
 
 namespace {
 
-// DIR/scene.json: the input scene file with every object given its lightmap (the charts' options,
-// so that loading it cuts the same charts), the lightmaps as textures, and the files it names
-// copied into DIR (paths rewritten). Scene files with imports are left out (their objects do not
-// map one to one onto the file's); `note` then says why.
-Status write_baked_scene(const BakeState& st, const BakeOptions& o, double scale, std::size_t objects, std::string& note) {
+// A file name from a glTF URI: %XX escapes decoded.
+std::string decode_uri(const std::string& uri) {
+  std::string out;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+      out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+// The files a model names beside itself, relative to its folder: a glTF's buffers and images
+// (not data: URIs), an OBJ's material libraries and the maps they name. Paths that leave the
+// model's folder are not listed (the loader would refuse them without --allow-path).
+std::vector<std::string> model_dependencies(const std::filesystem::path& model) {
+  std::vector<std::string> out;
+  auto keep = [&](const std::string& relative) {
+    const std::filesystem::path p = std::filesystem::path(relative).lexically_normal();
+    if (relative.empty() || p.is_absolute() || p.empty() || *p.begin() == "..") return;
+    if (std::find(out.begin(), out.end(), p.generic_string()) == out.end()) out.push_back(p.generic_string());
+  };
+  const std::string ext = lower_extension(model.string());
+  if (ext == ".gltf") {
+    std::ifstream file(model);
+    const nlohmann::json doc = nlohmann::json::parse(file, nullptr, false);
+    if (!doc.is_object()) return out;
+    for (const char* list : {"buffers", "images"}) {
+      if (!doc.contains(list) || !doc[list].is_array()) continue;
+      for (const auto& item : doc[list]) {
+        if (item.is_object() && item.contains("uri") && item["uri"].is_string()) {
+          const std::string uri = item["uri"].get<std::string>();
+          if (uri.rfind("data:", 0) != 0) keep(decode_uri(uri));
+        }
+      }
+    }
+  } else if (ext == ".obj") {
+    std::ifstream obj(model);
+    std::string line;
+    std::vector<std::string> libraries;
+    while (std::getline(obj, line)) {
+      if (line.rfind("mtllib", 0) == 0 && line.size() > 7) libraries.push_back(line.substr(7));
+    }
+    for (std::string lib : libraries) {
+      while (!lib.empty() && std::isspace(static_cast<unsigned char>(lib.back()))) lib.pop_back();
+      keep(lib);
+      std::ifstream mtl(model.parent_path() / lib);
+      while (std::getline(mtl, line)) {
+        std::size_t at = line.find_first_not_of(" \t");
+        if (at == std::string::npos) continue;
+        const std::string key = line.substr(at, line.find_first_of(" \t", at) - at);
+        if (key.rfind("map_", 0) != 0 && key != "bump" && key != "disp" && key != "decal" && key != "refl") continue;
+        std::string name = line.substr(line.find_last_of(" \t") + 1);
+        while (!name.empty() && std::isspace(static_cast<unsigned char>(name.back()))) name.pop_back();
+        keep(name);
+      }
+    }
+  }
+  return out;
+}
+
+// DIR/scene.json: the input (a scene file, or a model, which becomes a scene that imports it)
+// with every object given its lightmap, the lightmaps as textures, and the files it names copied
+// into DIR (paths rewritten; an imported model with the files it names, in a folder of its own).
+// An object drawn over generated charts gets the charts' options, so that loading the scene cuts
+// the same charts; one baked over its mesh's own coordinates gets "uv": "mesh". `note` says why
+// no scene was written, when none was.
+Status write_baked_scene(const BakeState& st, const BakeOptions& o, double scale, const BakeResult& r, std::string& note) {
   namespace fs = std::filesystem;
-  if (lower_extension(st.input) != ".json") {
-    note = "no scene.json: only a scene file's bake is written as a scene (the lightmaps are written)";
+  const std::string ext = lower_extension(st.input);
+  nlohmann::json root;
+  fs::path from;
+  if (ext == ".json") {
+    std::ifstream file(st.input);
+    root = nlohmann::json::parse(file, nullptr, false);
+    if (root.is_discarded() || !root.is_object()) return {ErrorCode::parse_error, "", st.input + ": not a JSON object"};
+    from = fs::path(st.input).parent_path();
+    bool baked = false;
+    if (root.contains("objects") && root["objects"].is_array()) {
+      for (const auto& object : root["objects"]) baked = baked || (object.is_object() && object.contains("lightmap"));
+    }
+    if (root.contains("imports") && root["imports"].is_array()) {
+      for (const auto& import : root["imports"]) baked = baked || (import.is_object() && import.contains("lightmaps"));
+    }
+    if (baked) {
+      note = "no scene.json: the scene has lightmaps already; bake the scene it was baked from (the lightmaps are written)";
+      return {};
+    }
+  } else if (!st.input.empty()) {
+    from = fs::path(st.input).parent_path();
+    root = {{"imports", nlohmann::json::array({{{"file", fs::path(st.input).filename().string()}}})}};
+  } else {
+    note = "no scene.json: the built-in scene is not a file (the lightmaps are written)";
     return {};
   }
-  std::ifstream file(st.input);
-  nlohmann::json root = nlohmann::json::parse(file, nullptr, false);
-  if (root.is_discarded() || !root.is_object()) return {ErrorCode::parse_error, "", st.input + ": not a JSON object"};
-  if (root.contains("imports")) {
-    note = "no scene.json: the scene imports models, whose objects a baked scene cannot name yet (the lightmaps are written)";
-    return {};
-  }
-  const fs::path from = fs::path(st.input).parent_path();
   std::error_code ec;
   int copied = 0;
   auto copy_file = [&](nlohmann::json& value) -> Status {
@@ -118,24 +202,67 @@ Status write_baked_scene(const BakeState& st, const BakeOptions& o, double scale
       }
     }
   }
-  nlohmann::json& textures = root["textures"];
-  if (!textures.is_array()) textures = nlohmann::json::array();
+  auto entry = [&](std::size_t k) {
+    const std::string name = "lightmap_" + std::to_string(k);
+    nlohmann::json e = {{"texture", name}, {"scale", scale}, {"mode", st.mode}};
+    if (r.lightmaps[k].mesh_uvs) {
+      e["uv"] = "mesh";
+    } else {
+      e["uv"] = "generate";
+      e["texels_per_unit"] = o.charts.texels_per_unit;
+      e["padding"] = o.charts.padding;
+      e["chart_angle_deg"] = o.charts.chart_angle_deg;
+      e["max_size"] = o.charts.max_size;
+    }
+    return e;
+  };
+  // Objects: the imports' first (in import order, each model's in its order), then the file's own.
+  std::size_t next = 0;
+  if (root.contains("imports") && root["imports"].is_array()) {
+    for (std::size_t i = 0; i < root["imports"].size(); ++i) {
+      nlohmann::json& import = root["imports"][i];
+      if (!import.is_object() || !import.contains("file") || !import["file"].is_string()) continue;
+      const fs::path model = from / import["file"].get<std::string>();
+      // How many objects the model adds: read again as the bake read it.
+      ModelOptions mo;
+      mo.allow_missing = import.value("allow_missing", false);
+      mo.assets.allowed_roots.push_back(from.empty() ? std::string(".") : from.string());
+      for (const std::string& a : st.allow_paths) mo.assets.allowed_roots.push_back(a);
+      Result<Model> m = load_model(model.string(), mo);
+      if (!m) return {m.status().code(), "", model.string() + ": " + m.status().message()};
+      const std::string folder = "import_" + std::to_string(i);
+      fs::create_directories(fs::path(st.out) / folder, ec);
+      if (ec) return {ErrorCode::io_error, "", "cannot create '" + st.out + "/" + folder + "': " + ec.message()};
+      std::vector<std::string> files = model_dependencies(model);
+      files.insert(files.begin(), model.filename().string());
+      for (const std::string& f : files) {
+        const fs::path target = fs::path(st.out) / folder / f;
+        fs::create_directories(target.parent_path(), ec);
+        fs::copy_file(model.parent_path() / f, target, fs::copy_options::overwrite_existing, ec);
+        if (ec) return {ErrorCode::io_error, "", "cannot copy '" + (model.parent_path() / f).string() + "' into '" + target.string() + "': " + ec.message()};
+      }
+      import["file"] = folder + "/" + model.filename().string();
+      nlohmann::json lightmaps = nlohmann::json::array();
+      for (std::size_t k = 0; k < m->scene.objects.size(); ++k) {
+        if (next >= r.lightmaps.size()) break;
+        lightmaps.push_back(entry(next++));
+      }
+      import["lightmaps"] = lightmaps;
+    }
+  }
   nlohmann::json& list = root["objects"];
-  if (!list.is_array() || list.size() != objects) {
+  if (list.is_null()) list = nlohmann::json::array();
+  if (!list.is_array() || next + list.size() != r.lightmaps.size()) {
     note = "no scene.json: the scene's objects do not match the baked ones";
     return {};
   }
-  for (std::size_t k = 0; k < objects; ++k) {
+  for (auto& object : list) object["lightmap"] = entry(next++);
+  if (list.empty()) root.erase("objects");
+  nlohmann::json& textures = root["textures"];
+  if (!textures.is_array()) textures = nlohmann::json::array();
+  for (std::size_t k = 0; k < r.lightmaps.size(); ++k) {
     const std::string name = "lightmap_" + std::to_string(k);
     textures.push_back({{"name", name}, {"file", name + ".png"}, {"filter", "bilinear"}, {"wrap", "clamp"}, {"encoding", "linear"}});
-    list[k]["lightmap"] = {{"texture", name},
-                           {"scale", scale},
-                           {"mode", st.mode},
-                           {"uv", "generate"},
-                           {"texels_per_unit", o.charts.texels_per_unit},
-                           {"padding", o.charts.padding},
-                           {"chart_angle_deg", o.charts.chart_angle_deg},
-                           {"max_size", o.charts.max_size}};
   }
   std::ofstream out(st.out + "/scene.json");
   out << root.dump(2) << "\n";
@@ -154,6 +281,7 @@ int bake(const BakeState& st) {
   o.charts.padding = st.padding;
   o.subdivisions = st.subdivisions;
   o.burial_rays = st.burial_rays;
+  o.use_mesh_uvs = !st.generate_uvs;
   o.rays_per_shot = st.rays;
   o.max_shots = st.max_shots;
   o.residual = st.residual;
@@ -212,7 +340,7 @@ int bake(const BakeState& st) {
                 s.seconds > 0 ? double(s.rays) / s.seconds : 0.0, s.seconds > 0 ? double(s.shots) / s.seconds : 0.0,
                 s.stopped_by.c_str(), s.entered, s.absorbed, s.escaped, s.back_faces, s.unshot);
   std::string scene_note;
-  if (Status w = write_baked_scene(st, o, scale, r->lightmaps.size(), scene_note); !w.ok()) return fail(w.message());
+  if (Status w = write_baked_scene(st, o, scale, *r, scene_note); !w.ok()) return fail(w.message());
   const std::string json = std::string("{") + stats + ", \"lightmaps\": [" + objects + "]" +
                            (scene_note.empty() ? ", \"scene\": \"scene.json\"" : "") + "}";
   std::FILE* f = std::fopen((st.out + "/bake.json").c_str(), "w");

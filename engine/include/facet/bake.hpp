@@ -20,6 +20,10 @@ namespace facet {
 struct BakeOptions {
   // The charts of every object, at texels_per_unit texels per unit of world length.
   LightmapUvOptions charts;
+  // An object whose mesh brings lightmap coordinates (Mesh::lightmap_uvs, a glTF's TEXCOORD_1)
+  // is baked over them (lightmap_from_mesh_uvs: a square atlas at charts.texels_per_unit on
+  // average, at most charts.max_size) instead of generated charts; false: charts for every object.
+  bool use_mesh_uvs = true;
   // The footprint of a texel: split into subdivisions x subdivisions squares, each clipped with
   // each triangle over it; light is evaluated at each piece's centroid and weighted by its area.
   int subdivisions = 2;
@@ -70,6 +74,7 @@ struct BakeOptions {
 struct BakedLightmap {
   std::uint32_t object = 0;  // index in Scene::objects
   LightmapUnwrap unwrap;     // its charts (the object's mesh in world space)
+  bool mesh_uvs = false;     // the atlas is over the mesh's own lightmap coordinates (use_mesh_uvs)
   std::vector<Color3> light;
   std::vector<float> area;   // world area of each texel's footprint (0: untouched)
 };

@@ -426,6 +426,8 @@ typedef struct facet_bake_config {
   int lights;              /* 1: bake the scene's lights as direct light (default); 0: only emissive surfaces */
   int radiosity;           /* 1: light bounces (default); 0: direct light only */
   int rays_per_shot;       /* default 256 */
+  int use_mesh_uvs;        /* 1 (default): an object whose mesh has lightmap coordinates (glTF TEXCOORD_1,
+                              facet_scene_set_mesh_lightmap_uvs) is baked over them; 0: charts generated */
   int burial_rays;         /* probe rays per footprint piece; a piece more than half of whose rays meet
                               back faces is inside geometry and dropped (0..1024, default 16; 0: none) */
   uint64_t max_shots;      /* default 100000 */

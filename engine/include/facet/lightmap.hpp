@@ -60,4 +60,13 @@ Mesh world_space_mesh(const Mesh& mesh, const Mat4& model);
 // come from this mesh (or its world_space_mesh): the triangle counts must match.
 Result<Mesh> with_lightmap_uvs(const Mesh& mesh, const LightmapUnwrap& unwrap);
 
+// An atlas over the lightmap coordinates a mesh brings (Mesh::lightmap_uvs, a glTF's TEXCOORD_1)
+// instead of generated charts: the vertices and triangles as they are, one chart over the whole
+// atlas, and a square atlas whose side gives `texels_per_unit` on average (the side n with
+// n^2 x the uv area the triangles cover = texels_per_unit^2 x their area in `mesh`, which should
+// be in world space), at most max_size. Coordinates that overlap share texels. Errors: a mesh
+// without lightmap_uvs or with any outside [0, 1] (the vertex named), an invalid mesh or option,
+// a side over max_size (the density that fits).
+Result<LightmapUnwrap> lightmap_from_mesh_uvs(const Mesh& mesh, double texels_per_unit, int max_size);
+
 }  // namespace facet

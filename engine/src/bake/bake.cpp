@@ -56,6 +56,7 @@ struct Surface {
   std::vector<V3> face_normal;
   std::vector<std::uint32_t> fallback;  // per triangle: the patch of its largest piece
   std::uint32_t first_patch_texel = 0;  // index of texel 0 in the global texel -> patch map
+  bool mesh_uvs = false;                // the atlas is over the mesh's own lightmap coordinates
 };
 
 // Counter-based random numbers: the same value for the same (a, b, c, d) on every run and thread.
@@ -236,7 +237,10 @@ Status Baker::make_surfaces() {
       if (p.allFinite()) bounds.extend(p.cast<double>());
     }
     const std::string field = "objects[" + std::to_string(k) + "]";
-    Result<LightmapUnwrap> u = unwrap_lightmap(s.world, o_.charts);
+    s.mesh_uvs = o_.use_mesh_uvs && !mesh.lightmap_uvs.empty();
+    if (s.mesh_uvs) s.world.lightmap_uvs = mesh.lightmap_uvs;
+    Result<LightmapUnwrap> u = s.mesh_uvs ? lightmap_from_mesh_uvs(s.world, o_.charts.texels_per_unit, o_.charts.max_size)
+                                          : unwrap_lightmap(s.world, o_.charts);
     if (!u.ok()) return {u.status().code(), field + "." + u.status().field(), field + ": " + u.status().message()};
     s.unwrap = std::move(*u);
     s.first_patch_texel = static_cast<std::uint32_t>(texels);
@@ -790,6 +794,7 @@ Result<BakeResult> Baker::run() {
     BakedLightmap& lm = out.lightmaps[k];
     Surface& s = surfaces_[k];
     lm.object = static_cast<std::uint32_t>(k);
+    lm.mesh_uvs = s.mesh_uvs;
     const std::size_t w = static_cast<std::size_t>(s.unwrap.width), h = static_cast<std::size_t>(s.unwrap.height);
     lm.light.assign(w * h, Color3::Zero());
     lm.area.assign(w * h, 0.0f);

@@ -389,6 +389,50 @@ Result<Mesh> with_lightmap_uvs(const Mesh& mesh, const LightmapUnwrap& u) {
   }
 }
 
+Result<LightmapUnwrap> lightmap_from_mesh_uvs(const Mesh& mesh, double texels_per_unit, int max_size) {
+  LightmapUvOptions checked;
+  checked.texels_per_unit = texels_per_unit, checked.max_size = max_size;
+  FACET_TRY(check_options(checked));
+  FACET_TRY(validate_mesh(mesh));
+  if (mesh.lightmap_uvs.empty()) return Status{ErrorCode::invalid_argument, "lightmap_uvs", "lightmap_uvs: the mesh has none"};
+  for (std::size_t v = 0; v < mesh.lightmap_uvs.size(); ++v) {
+    const Vec2& uv = mesh.lightmap_uvs[v];
+    if (!(uv.x() >= 0.0f && uv.x() <= 1.0f && uv.y() >= 0.0f && uv.y() <= 1.0f)) {
+      return Status{ErrorCode::invalid_argument, "lightmap_uvs",
+                    "lightmap_uvs: vertex " + std::to_string(v) + " lies outside [0, 1] (" + format_number(uv.x()) + ", " +
+                        format_number(uv.y()) + "): a lightmap's coordinates must lie in its atlas"};
+    }
+  }
+  double uv_area = 0, world_area = 0;
+  for (const auto& t : mesh.triangles) {
+    const Vec2 &a = mesh.lightmap_uvs[t[0]], &b = mesh.lightmap_uvs[t[1]], &c = mesh.lightmap_uvs[t[2]];
+    uv_area += 0.5 * std::abs(double(b.x() - a.x()) * double(c.y() - a.y()) - double(b.y() - a.y()) * double(c.x() - a.x()));
+    const V3 p0 = mesh.positions[t[0]].cast<double>(), p1 = mesh.positions[t[1]].cast<double>(), p2 = mesh.positions[t[2]].cast<double>();
+    const double w = 0.5 * (p1 - p0).cross(p2 - p0).norm();
+    if (std::isfinite(w)) world_area += w;
+  }
+  const double side = uv_area > 0 ? std::ceil(texels_per_unit * std::sqrt(world_area / uv_area)) : 1.0;
+  if (!(side <= double(max_size))) {
+    return Status{ErrorCode::out_of_memory, "texels_per_unit",
+                  "texels_per_unit: at " + format_number(texels_per_unit) + " texels per unit the mesh's lightmap coordinates need a " +
+                      format_number(side) + " texel atlas, more than " + std::to_string(max_size) + " (max_size); " +
+                      format_number(texels_per_unit * double(max_size) / side) + " texels per unit would fit"};
+  }
+  try {
+    LightmapUnwrap u;
+    u.width = u.height = std::max(1, static_cast<int>(side));
+    u.source_vertex.resize(mesh.positions.size());
+    for (std::size_t v = 0; v < u.source_vertex.size(); ++v) u.source_vertex[v] = static_cast<std::uint32_t>(v);
+    u.triangles = mesh.triangles;
+    u.uvs = mesh.lightmap_uvs;
+    u.chart_of_triangle.assign(mesh.triangles.size(), 0);
+    u.charts.push_back({0, 0, u.width, u.height});
+    return u;
+  } catch (const std::bad_alloc&) {
+    return Status{ErrorCode::out_of_memory, "mesh", "mesh: out of memory for its lightmap coordinates"};
+  }
+}
+
 Result<LightmapUnwrap> unwrap_lightmap(const Mesh& mesh, const LightmapUvOptions& options) {
   FACET_TRY(check_options(options));
   FACET_TRY(validate_mesh(mesh));

@@ -374,6 +374,7 @@ facet_bake_config facet_bake_config_default(void) {
   c.radiosity = 1;
   c.rays_per_shot = o.rays_per_shot;
   c.burial_rays = o.burial_rays;
+  c.use_mesh_uvs = 1;
   c.max_shots = o.max_shots;
   c.residual = o.residual;
   c.threads = 0;
@@ -400,6 +401,7 @@ facet_status facet_scene_bake(facet_scene* scene, const facet_bake_config* confi
     o.radiosity = config->radiosity != 0;
     o.rays_per_shot = config->rays_per_shot;
     o.burial_rays = config->burial_rays;
+    o.use_mesh_uvs = config->use_mesh_uvs != 0;
     o.max_shots = static_cast<std::size_t>(config->max_shots);
     o.residual = config->residual;
     o.threads = config->threads;

@@ -592,7 +592,7 @@ class SceneReader : public scene_json::JsonFields {
   // with their names prefixed by the file name ("chair.obj:wood"), its objects transformed, its
   // lights added unless "lights" is false, its camera used when "camera" is true.
   Status read_import(const json& j, const std::string& p, bool scene_has_camera, Scene& scene) {
-    FACET_TRY(expect_object(j, p, {"file", "translate", "rotate_deg", "scale", "matrix", "lights", "camera", "allow_missing"}));
+    FACET_TRY(expect_object(j, p, {"file", "translate", "rotate_deg", "scale", "matrix", "lights", "camera", "allow_missing", "lightmaps"}));
     if (!j.contains("file")) return invalid(child(p, "file"), "missing: the model file (.gltf, .glb or .obj)");
     std::string file;
     FACET_TRY(opt_string(j, p, "file", file));
@@ -643,11 +643,27 @@ class SceneReader : public scene_json::JsonFields {
       for (MaterialGroup& g : nm.mesh.groups) g.material = prefix + g.material;
       scene.meshes.push_back(std::move(nm));
     }
+    const std::size_t object0 = scene.objects.size();
     for (Instance inst : m.objects) {
       inst.mesh += mesh0;
       inst.material += material0;
       inst.model = place * inst.model;
       scene.objects.push_back(inst);
+    }
+    // "lightmaps": one entry (an object's "lightmap", or null) per object the model adds, in the
+    // model's order, as `facet bake` writes them.
+    if (j.contains("lightmaps")) {
+      const json& list = j["lightmaps"];
+      const std::string lp = child(p, "lightmaps");
+      if (!list.is_array()) return mismatch(lp, "an array", list);
+      if (list.size() != m.objects.size()) {
+        return invalid(lp, "expected one entry per object the model adds (" + std::to_string(m.objects.size()) + "), found " +
+                               std::to_string(list.size()));
+      }
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        if (list[i].is_null()) continue;
+        FACET_TRY(read_lightmap(list[i], lp + "[" + std::to_string(i) + "]", scene, scene.objects[object0 + i]));
+      }
     }
     const Eigen::Matrix3f linear = place.topLeftCorner<3, 3>();
     if (lights && model->has_lights) {
