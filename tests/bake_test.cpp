@@ -114,6 +114,44 @@ std::vector<Vec3> texel_centres(const BakedLightmap& lm, const Mesh& mesh) {
   return at;
 }
 
+// Speckle: at a density whose texel grid does not meet the box's edges (4.3 texels a unit), the
+// texels at chart edges cover slivers; a sliver patch gets few rays and each deposits much. Joined
+// to its fullest neighbour, the worst texel of the furnace is as good as at whole densities
+// (measured: 22 % without merging, 7.6 % with; 7-8 % at 4.0, 4.7 and 5.5 texels a unit).
+TEST(Bake, SmallTexelsJoinTheirNeighbourAndDoNotSpeckle) {
+  const double albedo = 0.7, e = 0.2, expected = e / (1 - albedo);
+  for (double small : {0.25, 0.0}) {
+    Scene s = scene_of({{inward_box(2), surface(albedo, e)}});
+    BakeOptions o;
+    o.charts.texels_per_unit = 4.3;
+    o.rays_per_shot = 256;
+    o.residual = 1e-4;
+    o.gather_emitters = false;
+    o.small_texel = small;
+    const Result<BakeResult> r = bake_lightmaps(s, o);
+    ASSERT_TRUE(r.ok()) << r.status().message();
+    const BakedLightmap& lm = r->lightmaps[0];
+    double worst = 0, squares = 0, area = 0;
+    for (std::size_t i = 0; i < lm.light.size(); ++i) {
+      if (lm.area[i] == 0) continue;
+      const double error = std::abs(e + albedo * lm.light[i].x() - expected) / expected;
+      worst = std::max(worst, error);
+      squares += error * error * lm.area[i], area += lm.area[i];
+    }
+    std::printf("furnace at 4.3 texels a unit, small_texel %.2f: %zu merged, rms %.4f, worst %.4f\n", small, r->stats.merged,
+                std::sqrt(squares / area), worst);
+    EXPECT_NEAR(area, 24.0, 1e-6);  // every texel keeps its own footprint
+    if (small > 0) {
+      EXPECT_GT(r->stats.merged, 50u);
+      EXPECT_LT(worst, 0.15);
+      EXPECT_LT(std::sqrt(squares / area), 0.03);
+    } else {
+      EXPECT_EQ(r->stats.merged, 0u);
+      EXPECT_GT(worst, 0.15);  // the speckle the merging removes
+    }
+  }
+}
+
 TEST(Bake, ClosedFormFormFactors) {
   EXPECT_NEAR(parallel_rectangles(1, 1, 1), 0.19982, 1e-5);       // Howell's tabulated values
   EXPECT_NEAR(perpendicular_rectangles(1, 1, 1), 0.20004, 1e-5);
@@ -171,13 +209,15 @@ TEST(Bake, AmbientTermFromTheUnshotPowerRestoresTheFurnace) {
   BakeOptions o;
   o.charts.texels_per_unit = 4;
   o.residual = 0.3;
+  o.gather_emitters = false;  // the emission shot: no gathering noise at the box's edges
   const Result<BakeResult> r = bake_lightmaps(s, o);
   ASSERT_TRUE(r.ok()) << r.status().message();
   EXPECT_GT(r->stats.unshot, 0.25 * r->stats.entered);  // stopped with much left
   double sum = 0, area = 0;
   const BakedLightmap& lm = r->lightmaps[0];
   for (std::size_t i = 0; i < lm.light.size(); ++i) sum += (e + albedo * lm.light[i].x()) * lm.area[i], area += lm.area[i];
-  EXPECT_NEAR(sum / area, expected, 0.01 * expected);
+  std::printf("furnace stopped at %.0f %% unshot: mean %.5f, expected %.5f\n", 100 * r->stats.unshot / r->stats.entered, sum / area, expected);
+  EXPECT_NEAR(sum / area, expected, 0.002 * expected);  // measured: exact to 5 digits
 }
 
 // Light reaches only front faces: a panel turned away from the emitter stays dark, and what

@@ -327,7 +327,7 @@ static void setters_change_the_picture(void) {
     draw(r, s, before);
     facet_bake_config bc = facet_bake_config_default();
     CHECK(bc.texels_per_unit == 16.0 && bc.padding == 2 && bc.lights == 1 && bc.radiosity == 1 && bc.scale == 0.0 &&
-          bc.burial_rays == 16 && bc.use_mesh_uvs == 1);
+          bc.burial_rays == 16 && bc.use_mesh_uvs == 1 && bc.small_texel == 0.25);
     bc.texels_per_unit = 4.0;
     bc.max_shots = 200;
     bc.rays_per_shot = 32;

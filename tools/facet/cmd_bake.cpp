@@ -24,7 +24,7 @@ struct BakeState {
   double texels_per_unit = 0;  // 0: 128 texels along the scene's bounding-box diagonal
   int padding = 2, subdivisions = 2, burial_rays = 16, rays = 256, threads = 0;
   std::size_t max_shots = 100000;
-  double residual = 1e-3, seconds = 0, scale = 0;  // scale 0: the 99.9th percentile of the light
+  double residual = 1e-3, seconds = 0, scale = 0, small_texel = 0.25;  // scale 0: the 99.9th percentile of the light
   std::string lights = "all", mode = "diffuse";
   bool no_radiosity = false, json = false, generate_uvs = false;
   std::vector<std::string> allow_paths;
@@ -55,6 +55,10 @@ Command add_bake(CLI::App& facet) {
   app->add_flag("--generate-uvs", st->generate_uvs,
                "generate lightmap charts for every object, even one whose model brings lightmap coordinates (a glTF's "
                "TEXCOORD_1, used by default)");
+  app->add_option("--small-texel", st->small_texel,
+                  "a texel covering less than this share of a full texel joins its fullest neighbour's patch (default 0.25; "
+                  "0: none)")
+      ->check(number_in(0, 1));
   app->add_option("--burial-rays", st->burial_rays,
                   "probe rays per footprint piece: a piece more than half of whose rays meet back faces is inside geometry "
                   "and dropped (default 16; 0: keep every piece)")
@@ -281,6 +285,7 @@ int bake(const BakeState& st) {
   o.charts.padding = st.padding;
   o.subdivisions = st.subdivisions;
   o.burial_rays = st.burial_rays;
+  o.small_texel = st.small_texel;
   o.use_mesh_uvs = !st.generate_uvs;
   o.rays_per_shot = st.rays;
   o.max_shots = st.max_shots;
@@ -333,10 +338,10 @@ int bake(const BakeState& st) {
   const BakeStats& s = r->stats;
   char stats[1024];
   std::snprintf(stats, sizeof stats,
-                "\"texels_per_unit\": %.9g, \"scale\": %.9g, \"texels\": %zu, \"patches\": %zu, \"pieces\": %zu, \"buried\": %zu, \"shots\": %zu, "
+                "\"texels_per_unit\": %.9g, \"scale\": %.9g, \"texels\": %zu, \"patches\": %zu, \"pieces\": %zu, \"buried\": %zu, \"merged\": %zu, \"shots\": %zu, "
                 "\"rays\": %zu, \"seconds\": %.6g, \"rays_per_second\": %.6g, \"shots_per_second\": %.6g, \"stopped_by\": \"%s\", "
                 "\"entered\": %.9g, \"absorbed\": %.9g, \"escaped\": %.9g, \"back_faces\": %.9g, \"unshot\": %.9g",
-                o.charts.texels_per_unit, scale, s.texels, s.patches, s.pieces, s.buried, s.shots, s.rays, s.seconds,
+                o.charts.texels_per_unit, scale, s.texels, s.patches, s.pieces, s.buried, s.merged, s.shots, s.rays, s.seconds,
                 s.seconds > 0 ? double(s.rays) / s.seconds : 0.0, s.seconds > 0 ? double(s.shots) / s.seconds : 0.0,
                 s.stopped_by.c_str(), s.entered, s.absorbed, s.escaped, s.back_faces, s.unshot);
   std::string scene_note;

@@ -33,6 +33,11 @@ struct BakeOptions {
   // wall nor is shot into one (a texel whose pieces are all buried gets no light, and dilation
   // fills it from its neighbours). 0: no probes, every piece kept.
   int burial_rays = 16;
+  // A texel whose footprint covers less than small_texel times a full texel's area (the median of
+  // the object's texels; a texel at a chart's edge that a triangle barely touches) joins its
+  // fullest neighbour of the same material as one patch: a small patch gets few rays and each
+  // deposits much (speckle), and shows its neighbour's light instead. 0: no merging.
+  double small_texel = 0.25;
   // Direct light: the diffuse term of every enabled light of the scene (GL's n.l, attenuation and
   // spot cone), each light's visibility by one ray per piece (every light casts shadows here).
   bool direct = true;
@@ -82,6 +87,7 @@ struct BakedLightmap {
 struct BakeStats {
   std::size_t texels = 0, patches = 0, pieces = 0;  // atlas texels, texels with area, footprint pieces
   std::size_t buried = 0;                            // pieces dropped as buried (not in `pieces`)
+  std::size_t merged = 0;                            // small texels joined to a neighbour's patch
   std::size_t shots = 0, rays = 0;                  // radiosity shots and rays, shadow rays included
   // Power (colour units times area, summed over R, G and B): what entered the patches as unshot
   // radiosity (reflected direct light, plus the emission when it is shot rather than gathered),

@@ -426,6 +426,8 @@ typedef struct facet_bake_config {
   int lights;              /* 1: bake the scene's lights as direct light (default); 0: only emissive surfaces */
   int radiosity;           /* 1: light bounces (default); 0: direct light only */
   int rays_per_shot;       /* default 256 */
+  double small_texel;      /* a texel covering less than this share of a full one joins its fullest
+                              neighbour's patch (0..1, default 0.25; 0: none) */
   int use_mesh_uvs;        /* 1 (default): an object whose mesh has lightmap coordinates (glTF TEXCOORD_1,
                               facet_scene_set_mesh_lightmap_uvs) is baked over them; 0: charts generated */
   int burial_rays;         /* probe rays per footprint piece; a piece more than half of whose rays meet
@@ -442,6 +444,7 @@ typedef struct facet_bake_stats {
   uint64_t texels, patches, shots, rays;
   double seconds, entered, absorbed, escaped, unshot, scale;
   uint64_t buried; /* footprint pieces dropped as inside geometry */
+  uint64_t merged; /* small texels joined to a neighbour's patch */
 } facet_bake_stats;
 facet_bake_config facet_bake_config_default(void);
 /* Bakes the scene and draws the result in it: each object gets its own copy of its mesh split along

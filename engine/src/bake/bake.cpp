@@ -157,6 +157,7 @@ Status check_options(const BakeOptions& o) {
   if (!(o.max_seconds >= 0 && std::isfinite(o.max_seconds))) {
     return bad("max_seconds", "expected a finite number >= 0, found " + format_number(o.max_seconds));
   }
+  if (!(o.small_texel >= 0 && o.small_texel <= 1)) return bad("small_texel", "expected a number in [0, 1], found " + format_number(o.small_texel));
   if (o.burial_rays < 0 || o.burial_rays > 1024) return bad("burial_rays", "expected 0 to 1024, found " + std::to_string(o.burial_rays));
   if (o.area_samples < 1 || o.area_samples > 65536) {
     return bad("area_samples", "expected 1 to 65536, found " + std::to_string(o.area_samples));
@@ -180,6 +181,10 @@ class Baker {
   Status make_patches();
   Status build_rays();
   void drop_buried_pieces();
+  void merge_small_patches();
+  // Rebuilds pieces_ and patches_ with each piece in patch `target[its patch]` (-1: dropped), the
+  // patches in their old order; texel_patch_ and the surfaces' fallbacks follow.
+  void regroup(const std::vector<std::int64_t>& target, const std::vector<std::uint8_t>& dropped_piece);
   void direct_light();
   void emitter_light();
   Status radiosity();
@@ -443,29 +448,41 @@ void Baker::drop_buried_pieces() {
     });
   });
   stats_.rays += pieces_.size() * static_cast<std::size_t>(n);
-  // The patches again, without the buried pieces; a patch left without pieces is no patch.
+  for (const std::uint8_t b : buried) stats_.buried += b;
+  std::vector<std::int64_t> same(patches_.size());
+  for (std::size_t p = 0; p < same.size(); ++p) same[p] = static_cast<std::int64_t>(p);
+  regroup(same, buried);
+}
+
+void Baker::regroup(const std::vector<std::int64_t>& target, const std::vector<std::uint8_t>& dropped_piece) {
+  // The pieces of each new patch: its own first, then those of the patches merged into it, each
+  // group in piece order (a fixed order: the same sums for any thread count).
+  std::vector<std::vector<std::uint32_t>> members(patches_.size());
+  for (std::size_t p = 0; p < patches_.size(); ++p) {
+    if (target[p] >= 0) members[static_cast<std::size_t>(target[p])].push_back(static_cast<std::uint32_t>(p));
+  }
   std::vector<Piece> pieces;
   std::vector<Patch> patches;
   std::vector<std::int64_t> renumber(patches_.size(), -1);
   pieces.reserve(pieces_.size());
   for (std::size_t p = 0; p < patches_.size(); ++p) {
+    if (members[p].empty()) continue;
     Patch patch = patches_[p];
     patch.first_piece = static_cast<std::uint32_t>(pieces.size());
     patch.piece_count = 0;
     patch.area = 0;
     const auto index = static_cast<std::uint32_t>(patches.size());
-    for (std::uint32_t i = patches_[p].first_piece; i < patches_[p].first_piece + patches_[p].piece_count; ++i) {
-      if (buried[i]) {
-        ++stats_.buried;
-        continue;
+    for (const std::uint32_t q : members[p]) {
+      for (std::uint32_t i = patches_[q].first_piece; i < patches_[q].first_piece + patches_[q].piece_count; ++i) {
+        if (dropped_piece[i]) continue;
+        pieces.push_back(pieces_[i]);
+        pieces.back().patch = index;
+        patch.area += pieces_[i].area;
+        ++patch.piece_count;
       }
-      pieces.push_back(pieces_[i]);
-      pieces.back().patch = index;
-      patch.area += pieces_[i].area;
-      ++patch.piece_count;
     }
     if (patch.piece_count == 0) continue;
-    renumber[p] = index;
+    for (const std::uint32_t q : members[p]) renumber[q] = index;
     patches.push_back(patch);
   }
   for (std::int32_t& t : texel_patch_) {
@@ -480,6 +497,49 @@ void Baker::drop_buried_pieces() {
   patches_ = std::move(patches);
   stats_.patches = patches_.size();
   stats_.pieces = pieces_.size();
+}
+
+void Baker::merge_small_patches() {
+  if (patches_.empty()) return;
+  // Per object, a full texel's area: the median of its patches' (most texels lie inside charts).
+  std::vector<double> full(surfaces_.size(), 0.0);
+  {
+    std::vector<std::vector<double>> areas(surfaces_.size());
+    for (const Patch& p : patches_) areas[p.object].push_back(p.area);
+    for (std::size_t k = 0; k < areas.size(); ++k) {
+      if (areas[k].empty()) continue;
+      std::nth_element(areas[k].begin(), areas[k].begin() + static_cast<std::ptrdiff_t>(areas[k].size() / 2), areas[k].end());
+      full[k] = areas[k][areas[k].size() / 2];
+    }
+  }
+  std::vector<std::int64_t> target(patches_.size());
+  bool any = false;
+  for (std::size_t p = 0; p < patches_.size(); ++p) {
+    target[p] = static_cast<std::int64_t>(p);
+    const Patch& patch = patches_[p];
+    const double small = o_.small_texel * full[patch.object];
+    if (!(patch.area < small)) continue;
+    const Surface& s = surfaces_[patch.object];
+    const int x = static_cast<int>(patch.texel % static_cast<std::uint32_t>(s.unwrap.width));
+    const int y = static_cast<int>(patch.texel / static_cast<std::uint32_t>(s.unwrap.width));
+    std::int64_t best = -1;
+    double best_area = small;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int nx = x + dx, ny = y + dy;
+        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= s.unwrap.width || ny >= s.unwrap.height) continue;
+        const std::int32_t q = texel_patch_[s.first_patch_texel + static_cast<std::size_t>(ny) * static_cast<std::size_t>(s.unwrap.width) +
+                                            static_cast<std::size_t>(nx)];
+        // The fullest neighbour of the same material (charts are padded apart: a neighbour is
+        // of the same chart); a neighbour that is itself small is not joined.
+        if (q < 0 || !(patches_[static_cast<std::size_t>(q)].area >= best_area)) continue;
+        if (patches_[static_cast<std::size_t>(q)].albedo != patch.albedo || patches_[static_cast<std::size_t>(q)].emission != patch.emission) continue;
+        if (patches_[static_cast<std::size_t>(q)].area == best_area && best >= 0 && q > best) continue;
+        best = q, best_area = patches_[static_cast<std::size_t>(q)].area;
+      }
+    if (best >= 0) target[p] = best, any = true, ++stats_.merged;
+  }
+  if (any) regroup(target, std::vector<std::uint8_t>(pieces_.size(), 0));
 }
 
 std::int64_t Baker::patch_at(unsigned object, unsigned triangle, float u, float v) const {
@@ -785,6 +845,7 @@ Result<BakeResult> Baker::run() {
   FACET_TRY(make_patches());
   FACET_TRY(build_rays());
   drop_buried_pieces();
+  merge_small_patches();
   if (o_.direct) direct_light();
   if (o_.gather_emitters) emitter_light();
   FACET_TRY(radiosity());
@@ -799,11 +860,18 @@ Result<BakeResult> Baker::run() {
     lm.light.assign(w * h, Color3::Zero());
     lm.area.assign(w * h, 0.0f);
     std::vector<std::uint8_t> filled(w * h, 0);
+    // Each texel's own footprint (a small texel merged into its neighbour's patch keeps its own).
+    std::vector<double> area(w * h, 0.0);
+    for (const Piece& piece : pieces_) {
+      if (piece.object != k) continue;
+      const auto x = static_cast<std::size_t>(std::floor(piece.square.x())), y = static_cast<std::size_t>(std::floor(piece.square.y()));
+      if (x < w && y < h) area[y * w + x] += piece.area;
+    }
     for (std::size_t i = 0; i < w * h; ++i) {
       const std::int32_t p = texel_patch_[s.first_patch_texel + i];
       if (p < 0) continue;
       lm.light[i] = patches_[static_cast<std::size_t>(p)].light.cast<float>();
-      lm.area[i] = static_cast<float>(patches_[static_cast<std::size_t>(p)].area);
+      lm.area[i] = static_cast<float>(area[i]);
       filled[i] = 1;
     }
     // Dilation: each pass fills the empty texels next to filled ones with their average, so that

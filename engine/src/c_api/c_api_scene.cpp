@@ -375,6 +375,7 @@ facet_bake_config facet_bake_config_default(void) {
   c.rays_per_shot = o.rays_per_shot;
   c.burial_rays = o.burial_rays;
   c.use_mesh_uvs = 1;
+  c.small_texel = o.small_texel;
   c.max_shots = o.max_shots;
   c.residual = o.residual;
   c.threads = 0;
@@ -402,6 +403,7 @@ facet_status facet_scene_bake(facet_scene* scene, const facet_bake_config* confi
     o.rays_per_shot = config->rays_per_shot;
     o.burial_rays = config->burial_rays;
     o.use_mesh_uvs = config->use_mesh_uvs != 0;
+    o.small_texel = config->small_texel;
     o.max_shots = static_cast<std::size_t>(config->max_shots);
     o.residual = config->residual;
     o.threads = config->threads;
@@ -415,7 +417,7 @@ facet_status facet_scene_bake(facet_scene* scene, const facet_bake_config* confi
     if (facet::Status st = facet::apply_lightmaps(scene->scene, *r, scale, mode); !st.ok()) return report(scene->error, st);
     if (stats) {
       const facet::BakeStats& s = r->stats;
-      *stats = facet_bake_stats{s.texels, s.patches, s.shots, s.rays, s.seconds, s.entered, s.absorbed, s.escaped, s.unshot, scale, s.buried};
+      *stats = facet_bake_stats{s.texels, s.patches, s.shots, s.rays, s.seconds, s.entered, s.absorbed, s.escaped, s.unshot, scale, s.buried, s.merged};
     }
     return report(scene->error, {});
   });
