@@ -4,6 +4,7 @@
 // (n.l exactly) and behind an occluder, energy conservation, the stop rules, thread-count
 // determinism and the refusals.
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <cstdio>
 #include <numbers>
@@ -376,6 +377,103 @@ TEST(Bake, ZeroAreaTrianglesChangeNothing) {
   }
   EXPECT_EQ(lit, 13u * 13u);
   EXPECT_EQ(r->stats.buried, 0u);
+}
+
+// `mesh` turned to face down and lifted to height h (an emitter over the y = 0 plane).
+Mesh facing_down_at(Mesh mesh, float h) {
+  for (Vec3& p : mesh.positions) p = Vec3(p.x(), h, -p.z());  // a half turn about x
+  for (Vec3& n : mesh.normals) n = -n;
+  mesh.uvs.clear(), mesh.tangents.clear();
+  return mesh;
+}
+
+// Area lights are emissive surfaces, gathered with shadow rays to points spread over them: a
+// disc and a rectangle facing a plane give, below their centres, the light of the closed-form
+// point-to-area form factors at each texel's centre (a parallel disc: on its axis r^2 / (h^2 +
+// r^2), off it Howell's B-12; a rectangle: four corner terms of B-3), within 0.5 %.
+TEST(Bake, DiscAndRectangleLightsMatchTheirClosedForms) {
+  struct Case {
+    const char* name;
+    Mesh emitter;
+    std::function<double(double x, double z)> form_factor;  // from the floor's point (x, 0, z)
+  };
+  const double r = 0.5, h = 1.0;
+  auto corner = [](double a, double b, double c) {  // a point below a corner of an a x b rectangle at c
+    const double A = a / c, B = b / c;
+    return (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) + B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B))) /
+           (2 * kPi);
+  };
+  std::vector<Case> cases;
+  auto disc = [](double radius, double height, double d) {  // parallel disc, its axis d away (Howell B-12)
+    const double X = height * height + radius * radius + d * d;
+    return 0.5 * (1 - (height * height + d * d - radius * radius) / std::sqrt(X * X - 4 * radius * radius * d * d));
+  };
+  cases.push_back({"disc", facing_down_at(make_disc(float(r), 256), float(h)), [&](double x, double z) { return disc(r, h, std::hypot(x, z)); }});
+  cases.push_back({"rectangle", facing_down_at(make_plane(1.0f, 0.6f, 1), 0.8f), [&](double x, double z) {
+                     return corner(0.5 - x, 0.3 - z, 0.8) + corner(0.5 + x, 0.3 - z, 0.8) + corner(0.5 - x, 0.3 + z, 0.8) +
+                            corner(0.5 + x, 0.3 + z, 0.8);
+                   }});
+  for (Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    Scene s = scene_of({{rectangle(Vec3(-0.25f, 0, 0.25f), Vec3(0.5f, 0, 0), Vec3(0, 0, -0.5f), 1), surface(0.5, 0)}, {c.emitter, surface(0.0, 2)}});
+    BakeOptions o;
+    o.charts.texels_per_unit = 16;
+    o.area_samples = 1024;
+    o.radiosity = false;
+    const Result<BakeResult> res = bake_lightmaps(s, o);
+    ASSERT_TRUE(res.ok()) << res.status().message();
+    const BakedLightmap& lm = res->lightmaps[0];
+    const std::vector<Vec3> at = texel_centres(lm, s.meshes[0].mesh);
+    double sum = 0, expected = 0;
+    int n = 0;
+    for (std::size_t i = 0; i < lm.light.size(); ++i) {
+      if (lm.area[i] == 0 || !at[i].allFinite() || std::max(std::abs(at[i].x()), std::abs(at[i].z())) > 0.07f) continue;
+      sum += lm.light[i].x(), expected += c.form_factor(at[i].x(), at[i].z()), ++n;
+    }
+    ASSERT_GE(n, 4);
+    std::printf("%s light near its centre: %.5f (closed form %.5f, %d texels)\n", c.name, sum / n / 2, expected / n, n);
+    EXPECT_NEAR(sum / n / 2, expected / n, 0.005 * expected / n);  // emission 2
+  }
+}
+
+// Soft shadows: a square between a disc light and the floor casts an umbra (below its centre,
+// where it hides the whole disc: nothing) ringed by a penumbra (texels between a tenth and nine
+// tenths of the unshadowed light), which a point light's shadow does not have.
+TEST(Bake, DiscLightCastsAPenumbra) {
+  Scene s = scene_of({{rectangle(Vec3(-2, 0, 2), Vec3(4, 0, 0), Vec3(0, 0, -4), 4), surface(0.5, 0)},
+                      {facing_down_at(make_disc(0.5f, 128), 2.0f), surface(0.0, 2)},
+                      {rectangle(Vec3(-0.4f, 1.0f, 0.4f), Vec3(0.8f, 0, 0), Vec3(0, 0, -0.8f), 1), surface(0.5, 0)}});
+  BakeOptions o;
+  o.charts.texels_per_unit = 8;
+  o.area_samples = 256;
+  o.radiosity = false;
+  const Result<BakeResult> res = bake_lightmaps(s, o);
+  ASSERT_TRUE(res.ok()) << res.status().message();
+  const BakedLightmap& lm = res->lightmaps[0];
+  const std::vector<Vec3> at = texel_centres(lm, s.meshes[0].mesh);
+  int umbra = 0, penumbra = 0, lit = 0;
+  for (std::size_t i = 0; i < lm.light.size(); ++i) {
+    if (lm.area[i] == 0 || !at[i].allFinite()) continue;
+    const double d = std::hypot(at[i].x(), at[i].z());
+    // Unshadowed: the disc's form factor from a point at distance d off its axis (h = 2, r = 0.5).
+    const double h = 2, r = 0.5, X = h * h + r * r + d * d;  // Howell B-12, emission 2
+    const double unshadowed = 2 * 0.5 * (1 - (h * h + d * d - r * r) / std::sqrt(X * X - 4 * r * r * d * d));
+    const double share = lm.light[i].x() / unshadowed;
+    if (d < 0.1) {
+      EXPECT_EQ(lm.light[i].x(), 0.0f) << "umbra texel at " << at[i].transpose();
+      ++umbra;
+    }
+    if (share > 0.1 && share < 0.9 && d < 1.0) ++penumbra;
+    // Beyond the penumbra (its outer edge: 0.4 sqrt 2 + (0.4 sqrt 2 + 0.5) = 1.63); whole texels (a
+    // texel at the floor's edge holds the light of the part inside, centred elsewhere).
+    if (d > 1.7 && lm.area[i] > 0.99f / 64) {
+      EXPECT_NEAR(share, 1.0, 0.05) << "lit texel at " << at[i].transpose();
+      ++lit;
+    }
+  }
+  EXPECT_GE(umbra, 1);
+  EXPECT_GE(penumbra, 20);
+  EXPECT_GT(lit, 100);
 }
 
 TEST(Bake, OccluderCastsAShadow) {

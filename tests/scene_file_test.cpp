@@ -70,8 +70,10 @@ bool same_mesh(const Mesh& a, const Mesh& b) {
 // procedural shapes, each one with nothing but its "shape", then with each field given.
 TEST(SceneFile, ShapeDefaultsAreTheDocumentedOnes) {
   Result<Scene> s = parse(R"({"meshes": [{"name": "a", "shape": "sphere"}, {"name": "b", "shape": "cube"},
-                                         {"name": "c", "shape": "plane"}, {"name": "d", "shape": "torus"}]})");
+                                         {"name": "c", "shape": "plane"}, {"name": "d", "shape": "torus"},
+                                         {"name": "e", "shape": "disc"}]})");
   ASSERT_TRUE(s.ok()) << s.status().message();
+  EXPECT_TRUE(same_mesh(s->meshes[4].mesh, make_disc(1.0f, 64)));
   EXPECT_TRUE(same_mesh(s->meshes[0].mesh, make_uv_sphere(1.0f, 48, 24)));
   EXPECT_TRUE(same_mesh(s->meshes[1].mesh, make_cube(1.0f, 1)));
   EXPECT_TRUE(same_mesh(s->meshes[2].mesh, make_plane(10.0f, 10.0f, 1)));
@@ -80,8 +82,10 @@ TEST(SceneFile, ShapeDefaultsAreTheDocumentedOnes) {
   s = parse(R"({"meshes": [{"name": "a", "shape": "sphere", "radius": 2, "segments": 5, "rings": 3},
                            {"name": "b", "shape": "cube", "size": 3, "subdivisions": 2},
                            {"name": "c", "shape": "plane", "size_x": 4, "size_z": 6, "subdivisions": 3},
-                           {"name": "d", "shape": "torus", "major_radius": 2, "minor_radius": 0.5, "segments": 7, "sides": 5}]})");
+                           {"name": "d", "shape": "torus", "major_radius": 2, "minor_radius": 0.5, "segments": 7, "sides": 5},
+                           {"name": "e", "shape": "disc", "radius": 0.5, "segments": 9}]})");
   ASSERT_TRUE(s.ok()) << s.status().message();
+  EXPECT_TRUE(same_mesh(s->meshes[4].mesh, make_disc(0.5f, 9)));
   EXPECT_TRUE(same_mesh(s->meshes[0].mesh, make_uv_sphere(2.0f, 5, 3)));
   EXPECT_TRUE(same_mesh(s->meshes[1].mesh, make_cube(3.0f, 2)));
   EXPECT_TRUE(same_mesh(s->meshes[2].mesh, make_plane(4.0f, 6.0f, 3)));

@@ -84,6 +84,7 @@ Status generate_tangents(Mesh& mesh);
 Mesh make_uv_sphere(float radius, int segments, int rings);       // segments >= 3, rings >= 2; exact normals
 Mesh make_cube(float size, int subdivisions);                     // subdivisions >= 1 per edge; face normals
 Mesh make_plane(float size_x, float size_z, int subdivisions);    // in y = 0, normal +y
+Mesh make_disc(float radius, int segments);                        // in y = 0, normal +y, a fan of segments >= 3
 Mesh make_torus(float major_radius, float minor_radius, int segments, int sides);  // around y
 
 // The memory a load may use unless told otherwise (LoadOptions, ObjOptions): 4 GiB.

@@ -103,6 +103,21 @@ Mesh make_plane(float size_x, float size_z, int subdivisions) {
   return mesh;
 }
 
+Mesh make_disc(float radius, int segments) {
+  segments = clamp_tessellation(segments, 3);
+  Mesh mesh;
+  // u = 0 the centre, u = 1 the rim (the centre's copies make one triangle per segment).
+  add_grid(mesh, 1, segments, [&](int u, int v) {
+    const float theta = 2.0f * kPi * static_cast<float>(v % segments) / static_cast<float>(segments);
+    const float r = u == 0 ? 0.0f : radius;
+    return std::pair<Vec3, Vec3>{Vec3(r * std::cos(theta), 0.0f, -r * std::sin(theta)), Vec3(0, 1, 0)};
+  }, [&](int u, int v) {
+    const float theta = 2.0f * kPi * static_cast<float>(v % segments) / static_cast<float>(segments);
+    return u == 0 ? Vec2(0.5f, 0.5f) : Vec2(0.5f + 0.5f * std::cos(theta), 0.5f + 0.5f * std::sin(theta));
+  });
+  return mesh;
+}
+
 Mesh make_torus(float major_radius, float minor_radius, int segments, int sides) {
   segments = clamp_tessellation(segments, 3);
   sides = clamp_tessellation(sides, 3);

@@ -394,7 +394,7 @@ class SceneReader : public scene_json::JsonFields {
       return {};
     }
     std::string shape;
-    FACET_TRY(read_enum(j["shape"], child(p, "shape"), {"sphere", "cube", "plane", "torus"}, shape));
+    FACET_TRY(read_enum(j["shape"], child(p, "shape"), {"sphere", "cube", "plane", "disc", "torus"}, shape));
     if (shape == "sphere") {
       FACET_TRY(expect_object(j, p, {"name", "shape", "radius", "segments", "rings"}));
       float radius = 1.0f;
@@ -423,6 +423,14 @@ class SceneReader : public scene_json::JsonFields {
       const std::uint64_t s1 = std::uint64_t(subdivisions) + 1;
       FACET_TRY(reserve_mesh(j, p, s1 * s1, 2 * std::uint64_t(subdivisions) * std::uint64_t(subdivisions)));
       out.mesh = make_plane(sx, sz, subdivisions);
+    } else if (shape == "disc") {
+      FACET_TRY(expect_object(j, p, {"name", "shape", "radius", "segments"}));
+      float radius = 1.0f;
+      int segments = 64;
+      FACET_TRY(opt_size(j, p, "radius", radius));
+      FACET_TRY(opt_int(j, p, "segments", 3, 4096, segments));
+      FACET_TRY(reserve_mesh(j, p, 2 * std::uint64_t(segments + 1), std::uint64_t(segments)));
+      out.mesh = make_disc(radius, segments);
     } else {
       FACET_TRY(expect_object(j, p, {"name", "shape", "major_radius", "minor_radius", "segments", "sides"}));
       float major = 1.0f, minor = 0.25f;
