@@ -81,6 +81,23 @@ Material surface(double albedo, double emission) {
   return m;
 }
 
+// A point light of GL's default attenuation (none) at p.
+Light point_light(const Vec3& p) {
+  Light l;
+  l.type = LightType::point;
+  l.position = p;
+  return l;
+}
+
+// Bake options for a small test scene: density, rays a shot, shot limit.
+BakeOptions options(double texels_per_unit, int rays_per_shot, std::size_t max_shots) {
+  BakeOptions o;
+  o.charts.texels_per_unit = texels_per_unit;
+  o.rays_per_shot = rays_per_shot;
+  o.max_shots = max_shots;
+  return o;
+}
+
 // Area-weighted mean of a lightmap's red channel over the texels with area.
 double mean_light(const BakedLightmap& lm) {
   double sum = 0, area = 0;
@@ -361,10 +378,7 @@ TEST(Bake, ZeroAreaTrianglesChangeNothing) {
   l.type = LightType::directional;
   l.direction = Vec3(0.8f, -0.6f, 0.0f);
   s.lights.push_back(l);
-  BakeOptions o;
-  o.charts.texels_per_unit = 6;
-  o.rays_per_shot = 64;
-  o.max_shots = 200;
+  BakeOptions o = options(6, 64, 200);
   const Result<BakeResult> r = bake_lightmaps(s, o);
   ASSERT_TRUE(r.ok()) << r.status().message();
   const BakedLightmap& lm = r->lightmaps[0];
@@ -507,14 +521,8 @@ TEST(Bake, EnergyIsConserved) {
   box.triangles.resize(box.triangles.size() - box.triangles.size() / 6);  // the last face gone
   Scene s = scene_of({{box, surface(0.6, 0)}, {rectangle(Vec3(-0.3f, 0.9f, 0.3f), Vec3(0.6f, 0, 0), Vec3(0, 0, -0.6f), 1), surface(0.0, 3)}});
   s.materials[1].emissive = Color3(3, 2, 1);
-  Light l;
-  l.type = LightType::point;
-  l.position = Vec3(0.2f, 0.5f, 0.1f);
-  s.lights.push_back(l);
-  BakeOptions o;
-  o.charts.texels_per_unit = 4;
-  o.rays_per_shot = 64;
-  o.max_shots = 300;
+  s.lights.push_back(point_light(Vec3(0.2f, 0.5f, 0.1f)));
+  BakeOptions o = options(4, 64, 300);
   const Result<BakeResult> r = bake_lightmaps(s, o);
   ASSERT_TRUE(r.ok()) << r.status().message();
   const BakeStats& st = r->stats;
@@ -533,14 +541,8 @@ TEST(Bake, TexelsInsideAWallAreDropped) {
   block.uvs.clear(), block.tangents.clear();
   Scene s = scene_of({{floor, surface(0.6, 0)}, {block, surface(0.5, 0)},
                       {rectangle(Vec3(-0.5f, 1.5f, -0.5f), Vec3(1, 0, 0), Vec3(0, 0, 1), 1), surface(0.0, 2)}});
-  Light l;
-  l.type = LightType::point;
-  l.position = Vec3(1.2f, 2.0f, 0.7f);
-  s.lights.push_back(l);
-  BakeOptions o;
-  o.charts.texels_per_unit = 8;
-  o.rays_per_shot = 64;
-  o.max_shots = 400;
+  s.lights.push_back(point_light(Vec3(1.2f, 2.0f, 0.7f)));
+  BakeOptions o = options(8, 64, 400);
   const Result<BakeResult> r = bake_lightmaps(s, o);
   ASSERT_TRUE(r.ok()) << r.status().message();
   const BakedLightmap& lm = r->lightmaps[0];
@@ -587,10 +589,7 @@ TEST(Bake, LightsInsideGeometryLightNothingOutside) {
       l.position = variant == 0 ? Vec3(0.1f, 0.25f, -0.1f) : Vec3(1.5f, 0.0f, 1.5f);
       s.lights.push_back(l);
     }
-    BakeOptions o;
-    o.charts.texels_per_unit = 8;
-    o.rays_per_shot = 64;
-    o.max_shots = 400;
+    BakeOptions o = options(8, 64, 400);
     o.radiosity = variant < 2;  // the light in the floor's plane: its direct light alone
     const Result<BakeResult> r = bake_lightmaps(s, o);
     ASSERT_TRUE(r.ok()) << r.status().message();
@@ -626,10 +625,7 @@ TEST(Bake, LightsInsideGeometryLightNothingOutside) {
 
 TEST(Bake, AlbedoOneStopsAtTheShotLimit) {
   Scene s = scene_of({{inward_box(1), surface(1.0, 0.5)}});
-  BakeOptions o;
-  o.charts.texels_per_unit = 2;
-  o.rays_per_shot = 16;
-  o.max_shots = 200;
+  BakeOptions o = options(2, 16, 200);
   const Result<BakeResult> r = bake_lightmaps(s, o);
   ASSERT_TRUE(r.ok()) << r.status().message();
   EXPECT_EQ(r->stats.stopped_by, "max_shots");
@@ -642,10 +638,7 @@ TEST(Bake, SameBytesForAnyThreadCount) {
   Scene s = scene_of({{box, surface(0.5, 0)}, {rectangle(Vec3(-0.3f, 0.95f, 0.3f), Vec3(0.6f, 0, 0), Vec3(0, 0, -0.6f), 1), surface(0.0, 4)}});
   std::vector<std::vector<Color3>> first;
   for (int threads : {1, 2, 3}) {
-    BakeOptions o;
-    o.charts.texels_per_unit = 4;
-    o.rays_per_shot = 128;
-    o.max_shots = 400;
+    BakeOptions o = options(4, 128, 400);
     o.threads = threads;
     const Result<BakeResult> r = bake_lightmaps(s, o);
     ASSERT_TRUE(r.ok()) << r.status().message();

@@ -191,6 +191,8 @@ class Baker {
   // The patch a ray hit (object, triangle, barycentrics), or -1.
   std::int64_t patch_at(unsigned object, unsigned triangle, float u, float v) const;
   V3 offset_origin(const Piece& p) const { return p.position + p.face_normal * epsilon_; }
+  // The first surface along a ray from `origin` (geomID RTC_INVALID_GEOMETRY_ID: none).
+  RTCRayHit intersect(const V3& origin, const V3& dir) const;
   // A point spread uniformly over the piece: a point of its sub-square taken if it lies in the
   // triangle (up to 16 tries from the hash sequence), else the centroid.
   V3 ray_origin(const Piece& p, std::uint64_t patch, std::uint64_t shot, std::uint64_t ray) const;
@@ -409,12 +411,27 @@ Status Baker::build_rays() {
   return {};
 }
 
-// A cosine-distributed direction about `n` from two numbers in [0, 1).
-V3 cosine_direction(const V3& n, double a, double b) {
+// Ray k of a set cosine-distributed about `n`, stratified on a side x side grid of the unit
+// square (cell k mod side^2), jittered in its cell by two numbers in [0, 1).
+V3 stratified_cosine(const V3& n, int side, int k, double jitter_a, double jitter_b) {
+  const int cell = k % (side * side);
+  const double a = (cell % side + jitter_a) / side, b = (cell / side + jitter_b) / side;
   const double radius = std::sqrt(a), phi = 2 * std::numbers::pi * b;
   V3 t, bt;
   basis(n, t, bt);
   return t * (radius * std::cos(phi)) + bt * (radius * std::sin(phi)) + n * std::sqrt(std::max(0.0, 1 - a));
+}
+
+RTCRayHit Baker::intersect(const V3& origin, const V3& dir) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh{};
+  rh.ray.org_x = float(origin.x()), rh.ray.org_y = float(origin.y()), rh.ray.org_z = float(origin.z());
+  rh.ray.dir_x = float(dir.x()), rh.ray.dir_y = float(dir.y()), rh.ray.dir_z = float(dir.z());
+  rh.ray.tnear = 0.0f, rh.ray.tfar = std::numeric_limits<float>::infinity(), rh.ray.mask = 0xffffffffu;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(rscene_, &context, &rh);
+  return rh;
 }
 
 void Baker::drop_buried_pieces() {
@@ -429,18 +446,9 @@ void Baker::drop_buried_pieces() {
         const V3 origin = offset_origin(piece);
         int back = 0;
         for (int k = 0; k < n; ++k) {
-          const int cell = k % (side * side);
-          const double a = (cell % side + hash01(i, 0xB0B1, static_cast<std::uint64_t>(k), 1)) / side;
-          const double b = (cell / side + hash01(i, 0xB0B1, static_cast<std::uint64_t>(k), 2)) / side;
-          const V3 dir = cosine_direction(piece.face_normal, a, b);
-          RTCIntersectContext context;
-          rtcInitIntersectContext(&context);
-          RTCRayHit rh{};
-          rh.ray.org_x = float(origin.x()), rh.ray.org_y = float(origin.y()), rh.ray.org_z = float(origin.z());
-          rh.ray.dir_x = float(dir.x()), rh.ray.dir_y = float(dir.y()), rh.ray.dir_z = float(dir.z());
-          rh.ray.tnear = 0.0f, rh.ray.tfar = std::numeric_limits<float>::infinity(), rh.ray.mask = 0xffffffffu;
-          rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-          rtcIntersect1(rscene_, &context, &rh);
+          const V3 dir = stratified_cosine(piece.face_normal, side, k, hash01(i, 0xB0B1, static_cast<std::uint64_t>(k), 1),
+                                           hash01(i, 0xB0B1, static_cast<std::uint64_t>(k), 2));
+          const RTCRayHit rh = intersect(origin, dir);
           if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID && surfaces_[rh.hit.geomID].face_normal[rh.hit.primID].dot(dir) >= 0) ++back;
         }
         buried[i] = 2 * back > n;
@@ -767,19 +775,10 @@ Status Baker::radiosity() {
           const double pick = hash01(from, shot, static_cast<std::uint64_t>(k), 0) * total;
           const std::size_t which = std::min<std::size_t>(static_cast<std::size_t>(std::lower_bound(cdf.begin(), cdf.end(), pick) - cdf.begin()), source.piece_count - 1);
           const Piece& piece = pieces_[source.first_piece + which];
-          const int cell = k % (side * side);
-          const double a = (cell % side + hash01(from, shot, static_cast<std::uint64_t>(k), 1)) / side;
-          const double b = (cell / side + hash01(from, shot, static_cast<std::uint64_t>(k), 2)) / side;
-          const V3 dir = cosine_direction(piece.face_normal, a, b);
+          const V3 dir = stratified_cosine(piece.face_normal, side, k, hash01(from, shot, static_cast<std::uint64_t>(k), 1),
+                                           hash01(from, shot, static_cast<std::uint64_t>(k), 2));
           const V3 origin = ray_origin(piece, from, shot, static_cast<std::uint64_t>(k)) + piece.face_normal * epsilon_;
-          RTCIntersectContext context;
-          rtcInitIntersectContext(&context);
-          RTCRayHit rh{};
-          rh.ray.org_x = float(origin.x()), rh.ray.org_y = float(origin.y()), rh.ray.org_z = float(origin.z());
-          rh.ray.dir_x = float(dir.x()), rh.ray.dir_y = float(dir.y()), rh.ray.dir_z = float(dir.z());
-          rh.ray.tnear = 0.0f, rh.ray.tfar = std::numeric_limits<float>::infinity(), rh.ray.mask = 0xffffffffu;
-          rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-          rtcIntersect1(rscene_, &context, &rh);
+          const RTCRayHit rh = intersect(origin, dir);
           Hit& h = hits[static_cast<std::size_t>(k)];
           h = {-1, false};
           if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
