@@ -1,0 +1,23 @@
+"""facet: a CPU rendering engine; pictures as NumPy arrays.
+
+    import facet
+    image = facet.render()                              # the built-in scene, 640 x 360, H x W x 4 uint8
+    image = facet.render("model.glb", width=640, height=360)
+
+facet.Renderer renders a facet.Scene (facet.load) with its own threads and options, releasing the
+GIL; facet.light measures vertex lighting throughput; facet.Error carries facet's message, its
+.code and .field. docs/python.md in the facet repository describes it all.
+"""
+from ._facet import Error, Renderer, Scene, __version__, best_isa, light, load
+
+__all__ = ["Error", "Renderer", "Scene", "__version__", "best_isa", "light", "load", "render"]
+
+
+def render(path=None, width=640, height=360, *, shading="gouraud", msaa=1, srgb=False, threads=0,
+           dtype="uint8", allow_paths=(), orbit_deg=0.0):
+    """The picture of a scene file or model (or, with no path, the built-in scene), as `facet
+    render` draws it: an H x W x 4 array (uint8; float32 linear light with dtype="float32")."""
+    scene = load(path, aspect=width / height, allow_paths=list(allow_paths)) if path is not None else Scene()
+    if orbit_deg:
+        scene.orbit(orbit_deg)
+    return Renderer(shading=shading, msaa=msaa, srgb=srgb, threads=threads).render(scene, width, height, dtype=dtype)

@@ -1,0 +1,279 @@
+// facet's Python bindings (pybind11, NumPy): the module `facet._facet`, which `facet/__init__.py`
+// re-exports. Pictures come back as NumPy arrays the binding allocates (or the caller passes),
+// written in place by the renderer with the GIL released; facet's errors become facet.Error with
+// facet's message (file, line or JSON path, field).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <chrono>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "facet/facet.hpp"
+
+namespace py = pybind11;
+
+namespace {
+
+using namespace facet;
+
+// facet.Error(message) with .code ("invalid_argument", "parse_error", "io_error", "unsupported",
+// "out_of_memory", "cancelled") and .field (the JSON path or option named, may be empty). The
+// class lives in the module (looked up there: the binding keeps no state of its own).
+[[noreturn]] void raise(const Status& s) {
+  py::object type = py::module_::import("facet._facet").attr("Error");
+  py::object e = type(s.message());
+  static constexpr const char* kCodes[] = {"ok", "invalid_argument", "parse_error", "io_error", "unsupported", "out_of_memory", "cancelled"};
+  const auto code = static_cast<std::size_t>(s.code());
+  e.attr("code") = code < std::size(kCodes) ? kCodes[code] : "unknown";
+  e.attr("field") = s.field();
+  PyErr_SetObject(type.ptr(), e.ptr());
+  throw py::error_already_set();
+}
+
+template <class T>
+T value_or_raise(Result<T> r) {
+  if (!r.ok()) raise(r.status());
+  return std::move(*r);
+}
+
+template <class E>
+E parse_enum(const std::string& text, const char* what, const std::map<std::string, E>& names) {
+  auto it = names.find(text);
+  if (it != names.end()) return it->second;
+  std::string known;
+  for (const auto& [name, value] : names) known += (known.empty() ? "" : ", ") + name;
+  raise({ErrorCode::invalid_argument, what, std::string(what) + ": unknown value '" + text + "' (expected one of " + known + ")"});
+}
+
+ShadingMode shading_of(const std::string& s) {
+  return parse_enum<ShadingMode>(s, "shading", {{"flat", ShadingMode::flat}, {"gouraud", ShadingMode::gouraud}, {"phong", ShadingMode::phong}});
+}
+LightingPath path_of(const std::string& s) {
+  return parse_enum<LightingPath>(s, "path", {{"reference", LightingPath::reference}, {"scalar", LightingPath::scalar}, {"simd", LightingPath::simd}});
+}
+Isa isa_of(const std::string& s) {
+  return parse_enum<Isa>(s, "isa", {{"best", Isa::best}, {"sse2", Isa::sse2}, {"avx2", Isa::avx2}, {"avx512", Isa::avx512}});
+}
+PowTier pow_of(const std::string& s) {
+  return parse_enum<PowTier>(s, "pow", {{"auto", PowTier::automatic}, {"exact", PowTier::exact}, {"fast", PowTier::fast},
+                                        {"integer", PowTier::integer}, {"schlick", PowTier::schlick}});
+}
+
+py::dict stats_dict(const FrameStats& s) {
+  py::dict d;
+  d["triangles_in"] = s.triangles_in;
+  d["triangles_drawn"] = s.triangles_drawn;
+  d["triangles_culled"] = s.triangles_culled;
+  d["triangles_clipped"] = s.triangles_clipped;
+  d["triangles_outside"] = s.triangles_outside;
+  d["vertices_lit"] = s.vertices_lit;
+  d["vertex_lights_evaluated"] = s.vertex_lights_evaluated;
+  d["pixels_tested"] = s.pixels_tested;
+  d["pixels_filled"] = s.pixels_filled;
+  d["seconds_lighting"] = s.seconds_lighting;
+  d["seconds_geometry"] = s.seconds_geometry;
+  d["seconds_raster"] = s.seconds_raster;
+  d["seconds_shadows"] = s.seconds_shadows;
+  d["seconds_total"] = s.seconds_total;
+  d["threads"] = s.threads;
+  return d;
+}
+
+// What `facet render FILE` draws: a scene file as it is (a file that imports models and has no
+// camera or lights gets them as the loader says); a model with its own camera and lights, or
+// framed for the image's aspect and lit by facet's default rig; no path: the built-in scene.
+Scene load_for_render(const std::optional<std::string>& path, float aspect, const std::vector<std::string>& allow_paths) {
+  if (!path) return make_default_scene();
+  std::string ext = *path;
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  auto ends = [&](const char* e) { return ext.size() >= std::strlen(e) && ext.compare(ext.size() - std::strlen(e), std::string::npos, e) == 0; };
+  if (ends(".gltf") || ends(".glb") || ends(".obj")) {
+    ModelOptions mo;
+    mo.assets.allowed_roots = allow_paths;
+    Model m = value_or_raise(load_model(*path, mo));
+    if (!m.has_camera) m.scene.camera = value_or_raise(frame_scene(m.scene, aspect));
+    if (!m.has_lights) add_default_lights(m.scene);
+    return std::move(m.scene);
+  }
+  LoadOptions lo;
+  lo.assets.allowed_roots = allow_paths;
+  lo.frame_aspect = aspect;
+  return value_or_raise(load_scene_file(*path, lo));
+}
+
+class PyRenderer {
+ public:
+  PyRenderer(const std::string& shading, const std::string& path, const std::string& isa, const std::string& pow, int threads,
+             int msaa, bool srgb, std::array<float, 4> clear) {
+    RenderOptions o;
+    o.shading = shading_of(shading);
+    o.path = path_of(path);
+    o.isa = isa_of(isa);
+    o.pow_tier = pow_of(pow);
+    o.threads = threads;
+    o.samples = msaa;
+    o.srgb = srgb;
+    o.clear_color = clear;
+    if (Status s = check_render_options(o); !s.ok()) raise(s);
+    renderer_ = Renderer(o);
+  }
+
+  // Into `out` (H x W x 4, uint8 or float32, rows may be strided, pixels contiguous) or a new
+  // array of `dtype`.
+  py::array render(const Scene& scene, int width, int height, const std::string& dtype, std::optional<py::array> out) {
+    if (width < 1 || height < 1) raise({ErrorCode::invalid_argument, "width", "width and height: expected at least 1"});
+    const bool f32 = dtype == "float32";
+    if (!f32 && dtype != "uint8") raise({ErrorCode::invalid_argument, "dtype", "dtype: expected 'uint8' or 'float32', found '" + dtype + "'"});
+    py::array image;
+    if (out) {
+      image = *out;
+      const bool u8 = py::isinstance<py::array_t<std::uint8_t>>(image) && image.dtype().is(py::dtype::of<std::uint8_t>());
+      const bool fl = image.dtype().is(py::dtype::of<float>());
+      if (!(u8 || fl)) raise({ErrorCode::invalid_argument, "out", "out: expected a uint8 or float32 array"});
+      if (image.ndim() != 3 || image.shape(0) != height || image.shape(1) != width || image.shape(2) != 4) {
+        raise({ErrorCode::invalid_argument, "out", "out: expected shape (" + std::to_string(height) + ", " + std::to_string(width) + ", 4)"});
+      }
+      const py::ssize_t item = fl ? 4 : 1;
+      if (image.strides(2) != item || image.strides(1) != 4 * item || image.strides(0) < 4 * item * width) {
+        raise({ErrorCode::invalid_argument, "out", "out: each row's pixels must be contiguous (RGBA, then the next pixel)"});
+      }
+      if (!image.writeable()) raise({ErrorCode::invalid_argument, "out", "out: the array is read-only"});
+      return draw(scene, width, height, fl, image);  // the array's type, whatever dtype says
+    }
+    if (f32) {
+      image = py::array_t<float>({py::ssize_t(height), py::ssize_t(width), py::ssize_t(4)});
+    } else {
+      image = py::array_t<std::uint8_t>({py::ssize_t(height), py::ssize_t(width), py::ssize_t(4)});
+    }
+    return draw(scene, width, height, f32, image);
+  }
+
+  py::dict last_stats() {
+    FrameStats stats;
+    {
+      py::gil_scoped_release release;
+      const std::lock_guard<std::mutex> lock(busy_);
+      stats = renderer_.last_stats();
+    }
+    return stats_dict(stats);
+  }
+
+ private:
+  py::array draw(const Scene& scene, int width, int height, bool f32, py::array& image) {
+    ImageView view{image.mutable_data(), width, height, static_cast<std::size_t>(image.strides(0)),
+                   f32 ? PixelFormat::rgba32f : PixelFormat::rgba8, false};
+    Status s;
+    {
+      py::gil_scoped_release release;  // other Python threads run while this one renders
+      const std::lock_guard<std::mutex> one_frame_at_a_time(busy_);  // a renderer draws one frame at a time
+      s = renderer_.render(scene, view);
+    }
+    if (!s.ok()) raise(s);
+    return image;
+  }
+
+  Renderer renderer_;
+  std::mutex busy_;
+};
+
+py::dict light(const std::optional<std::string>& path, const std::string& lighting_path, const std::string& isa, const std::string& pow,
+               int threads, double seconds, const std::vector<std::string>& allow_paths) {
+  const Scene scene = load_for_render(path, 16.0f / 9.0f, allow_paths);
+  LightingOptions o;
+  o.path = path_of(lighting_path);
+  o.isa = isa_of(isa);
+  o.pow_tier = pow_of(pow);
+  o.threads = threads;
+  std::uint64_t vertices = 0, lights_evaluated = 0, rounds = 0;
+  VertexColors colors;
+  double elapsed = 0;
+  {
+    py::gil_scoped_release release;
+    const auto start = std::chrono::steady_clock::now();
+    do {
+      for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        if (Status s = light_instance(scene, i, o, colors); !s.ok()) {
+          py::gil_scoped_acquire again;
+          raise(s);
+        }
+        const std::uint64_t n = scene.meshes[scene.objects[i].mesh].mesh.positions.size();
+        vertices += n;
+        lights_evaluated += n * scene.lights.size();
+      }
+      ++rounds;
+      elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    } while (elapsed < seconds);
+  }
+  py::dict d;
+  d["path"] = to_string(o.path);
+  d["isa"] = o.path == LightingPath::simd ? to_string(o.isa == Isa::best ? best_isa() : o.isa) : "none";
+  d["pow"] = to_string(o.pow_tier);
+  d["threads"] = threads;
+  d["rounds"] = rounds;
+  d["vertices"] = vertices;
+  d["seconds"] = elapsed;
+  d["vertices_per_second"] = elapsed > 0 ? double(vertices) / elapsed : 0.0;
+  d["vertex_lights_per_second"] = elapsed > 0 ? double(lights_evaluated) / elapsed : 0.0;
+  return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_facet, m) {
+  m.doc() = "facet: a CPU renderer (rasterizer, lighting, baked light); pictures as NumPy arrays";
+  m.attr("Error") = py::reinterpret_steal<py::object>(PyErr_NewException("facet.Error", PyExc_RuntimeError, nullptr));
+  m.attr("__version__") = version();
+  m.def("best_isa", [] { return std::string(to_string(best_isa())); }, "The widest instruction set of this CPU facet uses.");
+
+  py::class_<Scene>(m, "Scene", "A scene: meshes, materials, objects, lights and a camera.")
+      .def(py::init([] { return make_default_scene(); }), "The built-in scene.")
+      .def_property_readonly("object_count", [](const Scene& s) { return s.objects.size(); })
+      .def_property_readonly("light_count", [](const Scene& s) { return s.lights.size(); })
+      .def_property_readonly("triangle_count", [](const Scene& s) {
+        std::uint64_t n = 0;
+        for (const Instance& i : s.objects) n += s.meshes[i.mesh].mesh.triangles.size();
+        return n;
+      })
+      .def("set_camera", [](Scene& s, std::array<float, 3> eye, std::array<float, 3> target, std::array<float, 3> up, float fov_deg) {
+        Camera c = s.camera;
+        c.eye = Vec3(eye[0], eye[1], eye[2]), c.target = Vec3(target[0], target[1], target[2]), c.up = Vec3(up[0], up[1], up[2]);
+        c.vertical_fov_deg = fov_deg;
+        if (Status st = validate_camera(c); !st.ok()) raise(st);
+        s.camera = c;
+      }, py::arg("eye"), py::arg("target"), py::arg("up") = std::array<float, 3>{0, 1, 0}, py::arg("fov_deg") = 45.0f)
+      .def("orbit", [](Scene& s, float angle_deg) {
+        const Bounds b = scene_bounds(s);
+        const Vec3 centre = b.empty() ? s.camera.target : Vec3(0.5f * (b.min + b.max));
+        s.camera = orbit_camera(s.camera, centre, UpAxis::y, angle_deg);
+      }, py::arg("angle_deg"), "Turns the camera about the scene's centre (y up), as facet render --orbit.");
+
+  m.def("load", [](const std::string& path, float aspect, std::vector<std::string> allow_paths) {
+    return load_for_render(path, aspect, allow_paths);
+  }, py::arg("path"), py::arg("aspect") = 16.0f / 9.0f, py::arg("allow_paths") = std::vector<std::string>{},
+        "A scene file (.json) or a model (.gltf, .glb, .obj), as facet render reads it: a model without a camera is framed "
+        "for `aspect`, one without lights gets facet's default rig. Files outside the file's folder are refused unless "
+        "a folder in allow_paths holds them.");
+
+  py::class_<PyRenderer>(m, "Renderer", "A renderer with its own threads and options; render() releases the GIL.")
+      .def(py::init<const std::string&, const std::string&, const std::string&, const std::string&, int, int, bool, std::array<float, 4>>(),
+           py::arg("shading") = "gouraud", py::arg("path") = "simd", py::arg("isa") = "best", py::arg("pow") = "auto",
+           py::arg("threads") = 0, py::arg("msaa") = 1, py::arg("srgb") = false,
+           py::arg("clear") = std::array<float, 4>{0, 0, 0, 1})
+      .def("render", &PyRenderer::render, py::arg("scene"), py::arg("width"), py::arg("height"), py::arg("dtype") = "uint8",
+           py::arg("out") = py::none(),
+           "The picture as an H x W x 4 array (uint8, or float32 linear), top row first; into `out` when given.")
+      .def_property_readonly("last_stats", &PyRenderer::last_stats, "What the last render did, as a dict.");
+
+  m.def("light", &light, py::arg("path") = py::none(), py::arg("lighting_path") = "simd", py::arg("isa") = "best",
+        py::arg("pow") = "auto", py::arg("threads") = 1, py::arg("seconds") = 0.5, py::arg("allow_paths") = std::vector<std::string>{},
+        "Lights every vertex of the scene (or model, or the built-in scene) again and again for `seconds`: vertices lit "
+        "per second on one lighting path, ISA and pow method.");
+}

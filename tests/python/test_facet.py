@@ -1,0 +1,164 @@
+"""facet's Python bindings (engine/python), run by ctest through Debian's pytest:
+
+    PYTHONPATH=build/python FACET_BIN=build/bin/facet FACET_DATA=tests/data python3 -m pytest tests/python
+"""
+import os
+import struct
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import facet
+
+FACET_BIN = os.environ.get("FACET_BIN", "build/bin/facet")
+DATA = os.environ.get("FACET_DATA", os.path.join(os.path.dirname(__file__), "..", "data"))
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    magic, dims, scale, pixels = data.split(b"\n", 3)
+    assert magic == b"PF"
+    w, h = map(int, dims.split())
+    a = np.frombuffer(pixels[: w * h * 12], dtype="<f4" if float(scale) < 0 else ">f4").reshape(h, w, 3)
+    return a[::-1]  # PFM rows run bottom to top
+
+
+def test_render_returns_the_picture_as_an_array():
+    image = facet.render(width=64, height=36)
+    assert image.shape == (36, 64, 4) and image.dtype == np.uint8
+    assert image[0, 0, 3] == 255  # the clear colour's alpha in a corner
+    assert image[..., :3].max() > 0  # something is drawn
+
+
+def test_the_same_picture_as_the_command_line(tmp_path):
+    # float32 against `facet render -o x.pfm`: the same floats, so the same renderer and framing.
+    out = tmp_path / "cli.pfm"
+    subprocess.run([FACET_BIN, "render", "-o", str(out), "--width", "96", "--height", "54"], check=True,
+                   stdout=subprocess.DEVNULL)
+    mine = facet.render(width=96, height=54, dtype="float32")
+    assert mine.dtype == np.float32
+    assert np.array_equal(mine[..., :3], read_pfm(out))
+
+
+def test_a_model_is_framed_and_lit_as_the_command_line_does(tmp_path):
+    model = os.path.join(DATA, "gltf", "tetrahedron_camera.gltf")
+    out = tmp_path / "model.pfm"
+    subprocess.run([FACET_BIN, "render", model, "-o", str(out), "--width", "80", "--height", "60"], check=True,
+                   stdout=subprocess.DEVNULL)
+    mine = facet.render(model, width=80, height=60, dtype="float32")
+    assert np.array_equal(mine[..., :3], read_pfm(out))
+    assert facet.load(model).object_count == 1
+
+
+def test_renders_into_the_callers_array_without_a_copy():
+    r = facet.Renderer(threads=1)
+    scene = facet.Scene()
+    big = np.zeros((40, 100, 4), dtype=np.uint8)
+    view = big[:, 10:74, :]  # rows 100 pixels apart: strided rows are fine
+    returned = r.render(scene, 64, 40, out=view)
+    assert np.shares_memory(returned, big)
+    assert big[:, 10:74, :3].max() > 0 and big[:, :10].max() == 0 and big[:, 74:].max() == 0
+    assert np.array_equal(view, r.render(scene, 64, 40))
+    with pytest.raises(facet.Error) as e:
+        r.render(scene, 64, 41, out=view)
+    assert e.value.field == "out" and "shape (41, 64, 4)" in str(e.value)
+    with pytest.raises(facet.Error):
+        r.render(scene, 64, 40, out=np.zeros((40, 64, 4), dtype=np.uint16))
+    with pytest.raises(facet.Error):
+        r.render(scene, 64, 40, out=np.zeros((40, 64, 4), dtype=np.uint8)[:, ::-1])  # pixels not contiguous
+
+
+def test_errors_are_facet_errors_with_facets_message(tmp_path):
+    with pytest.raises(facet.Error) as e:
+        facet.load(str(tmp_path / "missing.json"))
+    assert e.value.code == "io_error" and "missing.json" in str(e.value)
+    bad = tmp_path / "bad.json"
+    bad.write_text('{\n  "materials": [ { "name": "m", "diffuse": "red" } ]\n}\n')
+    with pytest.raises(facet.Error) as e:
+        facet.load(str(bad))
+    assert e.value.code == "parse_error" or e.value.code == "invalid_argument"
+    assert "bad.json:2" in str(e.value) and "materials[0].diffuse" in str(e.value)
+    # A scene may not read outside its folder unless the caller allows it.
+    inside = tmp_path / "inside"
+    inside.mkdir()
+    (inside / "scene.json").write_text('{"meshes": [{"name": "m", "obj": "../outside.obj"}]}')
+    (tmp_path / "outside.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    with pytest.raises(facet.Error) as e:
+        facet.load(str(inside / "scene.json"))
+    assert "outside.obj" in str(e.value)
+    assert facet.load(str(inside / "scene.json"), allow_paths=[str(tmp_path)]).object_count == 0
+    with pytest.raises(facet.Error) as e:
+        facet.Renderer(shading="glossy")
+    assert e.value.field == "shading"
+
+
+def test_the_gil_is_released_while_rendering():
+    # Python code runs on this thread while another renders a large frame on one thread.
+    r = facet.Renderer(shading="phong", msaa=4, threads=1)
+    scene = facet.Scene()
+    t = threading.Thread(target=lambda: r.render(scene, 1920, 1080))
+    t.start()
+    steps = 0
+    while t.is_alive():
+        steps += 1
+    t.join()
+    assert steps > 1000, steps  # with the GIL held for the whole render, this thread would not run
+
+
+def test_threads_render_concurrently_to_the_same_bytes():
+    scene = facet.Scene()
+    expected = facet.Renderer(threads=1).render(scene, 160, 90)
+    results = [None] * 4
+
+    def work(i):
+        results[i] = facet.Renderer(threads=1 + i % 2).render(scene, 160, 90)
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for image in results:
+        assert np.array_equal(image, expected)
+
+
+def test_threads_sharing_one_renderer_take_turns():
+    scene = facet.Scene()
+    shared = facet.Renderer(threads=2)
+    expected = shared.render(scene, 120, 68)
+    results = [None] * 4
+
+    def work(i):
+        results[i] = shared.render(scene, 120, 68)
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for image in results:
+        assert np.array_equal(image, expected)
+
+
+def test_stats_camera_and_orbit():
+    r = facet.Renderer()
+    scene = facet.Scene()
+    first = r.render(scene, 80, 45)
+    stats = r.last_stats
+    assert stats["pixels_filled"] > 0 and stats["triangles_in"] == scene.triangle_count
+    scene.orbit(90)
+    assert not np.array_equal(r.render(scene, 80, 45), first)
+    scene.set_camera(eye=(0, 0, 5), target=(0, 0, 0))
+    with pytest.raises(facet.Error):
+        scene.set_camera(eye=(0, 0, 0), target=(0, 0, 0))
+
+
+@pytest.mark.parametrize("path", ["reference", "scalar", "simd"])
+def test_light_measures_each_path(path):
+    result = facet.light(lighting_path=path, seconds=0.02)
+    assert result["path"] == path
+    assert result["vertices"] > 0 and result["vertices_per_second"] > 0
+    assert result["isa"] == (facet.best_isa() if path == "simd" else "none")
