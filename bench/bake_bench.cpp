@@ -4,6 +4,8 @@
 // thread scaling.
 #include <benchmark/benchmark.h>
 
+#include "context.hpp"
+
 #include "facet/bake.hpp"
 #include "repo_scenes.hpp"
 
@@ -41,4 +43,4 @@ BENCHMARK(BM_Bake)->ArgsProduct({{30, 60, 120}, {1, 2}})->ArgNames({"texels_per_
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) { return facet::bench::run_static_benchmarks(argc, argv); }

@@ -5,6 +5,8 @@
 // against the same figures times their thread count.
 #pragma once
 
+#include "context.hpp"
+
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -142,6 +144,7 @@ inline int run_benchmarks(int argc, char** argv, void (*register_all)()) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   add_roofline_context();
+  add_facet_context();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

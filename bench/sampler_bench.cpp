@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "context.hpp"
 #include "facet/facet.hpp"
 #include "raster/tile_raster.hpp"
 #include "texture/sampler.hpp"
@@ -82,7 +83,9 @@ void register_all() {
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   register_all();
+  facet::bench::add_facet_context();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -15,6 +15,13 @@ namespace facet::cli {
 
 // `s` as the inside of a JSON string: quotes, backslashes and control characters escaped.
 std::string json_escape(const std::string& s);
+// The context of a measurement, a JSON object: facet's version, the commit (when built from a git
+// checkout), build type, compiler, CPU model, hardware threads, the CPU's best ISA and, when
+// given, the ISA and pow method used and the threads asked for (0: all cores). Values not known
+// are left out.
+std::string json_context(const std::string& isa = "", const std::string& pow = "", int threads = -1);
+// {"median", "min", "max", "count"} of repeated measurements (null for none).
+std::string json_spread(std::vector<double> values);
 
 // Prints "facet: message" to stderr and returns the usage-error exit status (2).
 int fail(const std::string& message);
@@ -33,6 +40,7 @@ struct Command {
 };
 Command add_render(CLI::App& facet);
 Command add_compare(CLI::App& facet);
+Command add_compare_runs(CLI::App& facet);
 Command add_light(CLI::App& facet);
 Command add_check(CLI::App& facet);
 Command add_accuracy(CLI::App& facet);

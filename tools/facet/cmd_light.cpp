@@ -20,6 +20,7 @@ struct PathResult {
   std::size_t vertices = 0;       // vertex evaluations (front and, if two-sided, back)
   std::size_t vertex_lights = 0;  // vertex evaluations x enabled lights
   std::size_t passes = 0;
+  std::vector<double> pass_rates;  // vertices lit per second in each pass
 };
 
 std::size_t enabled_lights(const Scene& scene) {
@@ -117,10 +118,13 @@ int light(const LightState& st) {
   std::vector<std::vector<VertexColors>> colours(paths.size());
   for (std::size_t k = 0; k < paths.size(); ++k) {
     if (Status s = light_scene(scene, paths[k], colours[k]); !s.ok()) return fail(s.message());  // warm-up
-    PathResult r{paths[k]};
+    PathResult r;
+    r.options = paths[k];
     const auto start = std::chrono::steady_clock::now();
     do {
+      const auto t0 = std::chrono::steady_clock::now();
       if (Status s = light_scene(scene, paths[k], colours[k]); !s.ok()) return fail(s.message());
+      r.pass_rates.push_back(double(vertices_per_pass) / std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
       ++r.passes;
       r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     } while (r.seconds < min_seconds);
@@ -146,14 +150,20 @@ int light(const LightState& st) {
     if (r.options.path == LightingPath::scalar) scalar_rate = double(r.vertices) / r.seconds;
 
   if (json) {
-    std::printf("{\"scene\": \"%s\", \"objects\": %zu, \"vertices\": %zu, \"lights\": %zu, \"results\": [",
-                scene_name.c_str(), scene.objects.size(), vertices_per_pass, lights);
+    // Each result: the mean rate over the run and the spread of the per-pass rates; the difference
+    // from the reference only when the reference ran (absent otherwise).
+    std::printf("{\"context\": %s, \"scene\": \"%s\", \"objects\": %zu, \"vertices\": %zu, \"lights\": %zu, \"results\": [",
+                json_context("", "", threads).c_str(), json_escape(scene_name).c_str(), scene.objects.size(), vertices_per_pass, lights);
     for (std::size_t k = 0; k < results.size(); ++k) {
       const auto& r = results[k];
-      std::printf("%s{\"path\": \"%s\", \"seconds\": %.6f, \"passes\": %zu, \"vertices_lit_per_s\": %.6g, "
-                  "\"vertex_lights_per_s\": %.6g, \"max_abs_difference_vs_reference\": %.3g, \"threads\": %d}",
-                  k ? ", " : "", describe_path(r.options.path, r.options.isa, r.options.pow_tier).c_str(), r.seconds,
-                  r.passes, double(r.vertices) / r.seconds, double(r.vertex_lights) / r.seconds, max_diff[k], threads);
+      const bool simd = r.options.path == LightingPath::simd;
+      std::printf("%s{\"path\": \"%s\", \"lighting_path\": \"%s\", \"isa\": \"%s\", \"pow\": \"%s\", \"seconds\": %.6f, "
+                  "\"passes\": %zu, \"vertices_lit_per_s\": %.6g, \"vertices_lit_per_s_per_pass\": %s, \"vertex_lights_per_s\": %.6g, ",
+                  k ? ", " : "", describe_path(r.options.path, r.options.isa, r.options.pow_tier).c_str(), to_string(r.options.path),
+                  simd ? to_string(r.options.isa) : "none", simd ? to_string(r.options.pow_tier) : "std::pow", r.seconds, r.passes,
+                  double(r.vertices) / r.seconds, json_spread(r.pass_rates).c_str(), double(r.vertex_lights) / r.seconds);
+      if (max_diff[k] >= 0) std::printf("\"max_abs_difference_vs_reference\": %.3g, ", max_diff[k]);
+      std::printf("\"threads\": %d}", threads);
     }
     std::printf("]}\n");
     return 0;

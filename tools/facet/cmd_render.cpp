@@ -48,10 +48,15 @@ void print_stats_text(const FrameStats& s, int frames, double seconds) {
 }
 
 // `fields`: more "key": value pairs to open the object with ("\"frame\": 3, ").
+// `frame_seconds`: each frame's time, reported as its median, min, max and count. A frame that drew
+// nothing says why ("nothing_drawn"); the key is absent otherwise.
 void print_stats_json(const FrameStats& s, int frames, double seconds, const RenderOptions& o, int w, int h,
-                      const std::string& fields = "") {
+                      const std::string& fields = "", const std::vector<double>& frame_seconds = {}) {
   const double per_frame = seconds / frames;
-  std::printf("{%s\"width\": %d, \"height\": %d, \"shading\": \"%s\", \"path\": \"%s\", \"pixel_precision\": \"%s\", \"samples\": %d, \"threads\": %d, "
+  const Isa isa = o.isa == Isa::best ? best_isa() : o.isa;
+  const std::string context = json_context(o.path == LightingPath::simd ? to_string(isa) : "none",
+                                           o.path == LightingPath::simd ? to_string(o.pow_tier) : "std::pow", o.threads);
+  std::printf("{%s\"context\": %s, \"width\": %d, \"height\": %d, \"shading\": \"%s\", \"path\": \"%s\", \"pixel_precision\": \"%s\", \"samples\": %d, \"threads\": %d, "
               "\"triangles_in\": %llu, \"triangles_drawn\": %llu, \"triangles_culled\": %llu, "
               "\"triangles_outside\": %llu, \"triangles_clipped\": %llu, \"triangles_degenerate\": %llu, "
               "\"triangles_small\": %llu, "
@@ -62,8 +67,8 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               "\"shadow_casters\": %llu, \"seconds_shadows\": %.6g, \"shadow_map_texels\": %llu, "
               "\"shadow_map_pixels\": %llu, "
               "\"seconds_frame\": %.6g, \"frames\": %d, \"mean_seconds_per_frame\": %.6g, "
-              "\"vertices_lit_per_s\": %.6g, \"pixels_filled_per_s\": %.6g, \"nothing_drawn\": %s}\n",
-              fields.c_str(), w, h, to_string(o.shading), describe_path(o.path, o.isa, o.pow_tier).c_str(),
+              "\"vertices_lit_per_s\": %.6g, \"pixels_filled_per_s\": %.6g, \"frame_seconds\": %s%s}\n",
+              fields.c_str(), context.c_str(), w, h, to_string(o.shading), describe_path(o.path, o.isa, o.pow_tier).c_str(),
               to_string(o.pixel_precision), o.samples, s.threads,
               (unsigned long long)s.triangles_in,
               (unsigned long long)s.triangles_drawn, (unsigned long long)s.triangles_culled,
@@ -77,7 +82,8 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               s.seconds_shadows, (unsigned long long)s.shadow_map_texels, (unsigned long long)s.shadow_map_pixels,
               s.seconds_total, frames, per_frame,
               double(s.vertices_lit) / per_frame, double(s.pixels_filled) / per_frame,
-              s.pixels_filled == 0 ? ("\"" + explain_empty_frame(s) + "\"").c_str() : "null");
+              json_spread(frame_seconds.empty() ? std::vector<double>{per_frame} : frame_seconds).c_str(),
+              s.pixels_filled == 0 ? (", \"nothing_drawn\": \"" + json_escape(explain_empty_frame(s)) + "\"").c_str() : "");
 }
 
 // OUT.png -> OUT_0007.png
@@ -130,6 +136,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
   const std::vector<Light> start_lights = scene.lights;
   const bool png = lower_extension(output) == ".png";
   double seconds = 0;
+  std::vector<double> all_seconds;
   std::uint64_t pixels = 0;
   int empty_frames = 0;
   for (int k = 0; k < t.frames; ++k) {
@@ -144,6 +151,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
     if (Status s = renderer.render(scene, options, image, nullptr, &stats); !s.ok()) return fail(s.message());
     const double frame_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     seconds += frame_seconds;
+    all_seconds.push_back(frame_seconds);
     pixels += stats.pixels_filled;
     empty_frames += stats.pixels_filled == 0;
     const std::string name = numbered(output, k);
@@ -160,9 +168,11 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
     }
   }
   if (t.json) {
-    std::printf("{\"summary\": true, \"frames\": %d, \"seconds_rendering\": %.6g, \"mean_seconds_per_frame\": %.6g, "
-                "\"pixels_filled_per_s\": %.6g, \"empty_frames\": %d}\n",
-                t.frames, seconds, seconds / t.frames, double(pixels) / seconds, empty_frames);
+    std::printf("{\"summary\": true, \"context\": %s, \"frames\": %d, \"seconds_rendering\": %.6g, \"mean_seconds_per_frame\": %.6g, "
+                "\"frame_seconds\": %s, \"pixels_filled_per_s\": %.6g, \"empty_frames\": %d}\n",
+                json_context(options.path == LightingPath::simd ? to_string(options.isa == Isa::best ? best_isa() : options.isa) : "none",
+                             options.path == LightingPath::simd ? to_string(options.pow_tier) : "std::pow", options.threads).c_str(),
+                t.frames, seconds, seconds / t.frames, json_spread(all_seconds).c_str(), double(pixels) / seconds, empty_frames);
     return 0;
   }
   std::fprintf(stderr, "\n");
@@ -374,10 +384,13 @@ int render(const RenderState& st) {
   int frames = 0;
   const auto start = std::chrono::steady_clock::now();
   double elapsed = 0;
+  std::vector<double> frame_seconds;
   do {
+    const auto t0 = std::chrono::steady_clock::now();
     if (Status s = renderer.render(*scene, options, image, depth_path.empty() ? nullptr : &depth, &frame); !s.ok()) {
       return fail(s.message());
     }
+    frame_seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     ++frames;
     elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   } while (elapsed < min_seconds);
@@ -391,7 +404,7 @@ int render(const RenderState& st) {
   const std::string empty = explain_empty_frame(frame);
   if (!empty.empty()) std::fprintf(stderr, "facet: nothing was drawn: %s\n", empty.c_str());
   if (json) {
-    print_stats_json(frame, frames, elapsed, options, width, height);
+    print_stats_json(frame, frames, elapsed, options, width, height, "", frame_seconds);
   } else if (stats) {
     std::printf("facet render: %s -> %s (%d x %d, %s shading, %s, pixels %s, %d thread%s)\n",
                 scene_path.empty() ? "built-in default scene" : scene_path.c_str(), output.c_str(), width, height,

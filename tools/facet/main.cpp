@@ -28,7 +28,8 @@ int main(int argc, char** argv) {
   app.fallthrough(false);
   const facet::cli::Command commands[] = {facet::cli::add_render(app), facet::cli::add_check(app),
                                           facet::cli::add_compare(app), facet::cli::add_light(app),
-                                          facet::cli::add_accuracy(app), facet::cli::add_bake(app)};
+                                          facet::cli::add_accuracy(app), facet::cli::add_bake(app),
+                                          facet::cli::add_compare_runs(app)};
   if (argc < 2) {
     std::fputs(app.help().c_str(), stderr);
     return 2;

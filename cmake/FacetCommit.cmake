@@ -1,0 +1,31 @@
+# cmake -D SOURCE_DIR=... -D OUT=... -P FacetCommit.cmake: writes OUT, a header defining
+# FACET_GIT_COMMIT (the checkout's commit, "-dirty" when files differ from it) when SOURCE_DIR is a
+# git checkout; empty otherwise. Rewritten only when it changes, so a build without new commits
+# recompiles nothing.
+set(commit "")
+find_package(Git QUIET)
+if(GIT_FOUND AND EXISTS ${SOURCE_DIR}/.git)
+  execute_process(COMMAND ${GIT_EXECUTABLE} -C ${SOURCE_DIR} rev-parse --short=12 HEAD
+                  OUTPUT_VARIABLE commit OUTPUT_STRIP_TRAILING_WHITESPACE RESULT_VARIABLE rc ERROR_QUIET)
+  if(NOT rc EQUAL 0)
+    set(commit "")
+  else()
+    execute_process(COMMAND ${GIT_EXECUTABLE} -C ${SOURCE_DIR} diff --quiet HEAD -- RESULT_VARIABLE dirty ERROR_QUIET)
+    if(NOT dirty EQUAL 0)
+      string(APPEND commit "-dirty")
+    endif()
+  endif()
+endif()
+if(commit STREQUAL "")
+  set(text "// Not built from a git checkout: no commit known.\n")
+else()
+  set(text "#define FACET_GIT_COMMIT \"${commit}\"\n")
+endif()
+if(EXISTS ${OUT})
+  file(READ ${OUT} old)
+else()
+  set(old "")
+endif()
+if(NOT old STREQUAL text)
+  file(WRITE ${OUT} "${text}")
+endif()
