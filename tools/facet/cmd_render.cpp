@@ -100,6 +100,7 @@ enum class TurnLights { automatic, camera, world };
 
 struct Turntable {
   int frames = 1;
+  int first = 0, last = 1;  // the frames drawn, [first, last) (--frame-range; all by default)
   double orbit_deg = 360.0;
   TurnLights lights = TurnLights::automatic;
   bool json = false;
@@ -139,7 +140,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
   std::vector<double> all_seconds;
   std::uint64_t pixels = 0;
   int empty_frames = 0;
-  for (int k = 0; k < t.frames; ++k) {
+  for (int k = t.first; k < t.last; ++k) {
     const double angle = t.orbit_deg * k / t.frames;
     scene.camera = orbit_camera(start, centre, in.view.up, static_cast<float>(angle));
     for (std::size_t i = 0; i < scene.lights.size(); ++i) {
@@ -163,7 +164,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
       print_stats_json(stats, 1, frame_seconds, options, image.width, image.height,
                        fields + std::string("\"file\": \"") + json_escape(name) + "\", ");
     } else {
-      std::fprintf(stderr, "\rfacet: frame %d/%d -> %s", k + 1, t.frames, name.c_str());
+      std::fprintf(stderr, "\rfacet: frame %d/%d -> %s", k - t.first + 1, t.last - t.first, name.c_str());
       std::fflush(stderr);
     }
   }
@@ -172,12 +173,12 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
                 "\"frame_seconds\": %s, \"pixels_filled_per_s\": %.6g, \"empty_frames\": %d}\n",
                 json_context(options.path == LightingPath::simd ? to_string(options.isa == Isa::best ? best_isa() : options.isa) : "none",
                              options.path == LightingPath::simd ? to_string(options.pow_tier) : "std::pow", options.threads).c_str(),
-                t.frames, seconds, seconds / t.frames, json_spread(all_seconds).c_str(), double(pixels) / seconds, empty_frames);
+                t.last - t.first, seconds, seconds / (t.last - t.first), json_spread(all_seconds).c_str(), double(pixels) / seconds, empty_frames);
     return 0;
   }
   std::fprintf(stderr, "\n");
-  std::printf("facet render: %d frames in %.3f s of rendering: %.2f ms/frame, %.1f M pixels filled/s%s\n", t.frames,
-              seconds, 1e3 * seconds / t.frames, double(pixels) / seconds / 1e6,
+  std::printf("facet render: %d frames in %.3f s of rendering: %.2f ms/frame, %.1f M pixels filled/s%s\n", t.last - t.first,
+              seconds, 1e3 * seconds / (t.last - t.first), double(pixels) / seconds / 1e6,
               empty_frames ? (", " + std::to_string(empty_frames) + " frames drew nothing").c_str() : "");
   return 0;
 }
@@ -187,7 +188,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
 namespace {
 
 struct RenderState {
-  std::string scene_path, output, depth_path, shading = "gouraud", shadows, path = "simd", isa = "auto", pow = "auto", pixel_precision = "auto",
+  std::string scene_path, output, depth_path, frame_range, shading = "gouraud", shadows, path = "simd", isa = "auto", pow = "auto", pixel_precision = "auto",
                                                 cull = "back", clear, transparent_order, lights = "auto", depth_mode = "auto";
   int width = 1280, height = 720, threads = 0, tile = 64, memory_mb = -1, frame_count = 1, msaa = 1;
   double min_seconds = 0, orbit_deg = 360.0;
@@ -261,6 +262,10 @@ Command add_render(CLI::App& facet) {
   app->add_option("--frames", st->frame_count,
                   "a turntable of N frames to OUT_0000.png, ...: the camera orbits the centre of the model's box about the up axis")
       ->check(int_in(1, 100000))->group(model);
+  app->add_option("--frame-range", st->frame_range,
+                  "A:B: of the --frames N turntable, draw frames A to B-1 only, named and framed as in the whole run (for job "
+                  "arrays and render farms; default 0:N)")
+      ->group(model);
   app->add_option("--lights", st->lights,
                   "auto | camera | world: which lights turn with a turntable's camera (default auto: facet's default rig "
                   "turns, a file's own lights stay; camera: all; world: none)")
@@ -336,6 +341,7 @@ int render(const RenderState& st) {
   if (options.hdr && ext == ".png") return fail("--hdr needs a .pfm or .exr output (PNG is 8-bit)");
 
   if (frame_count > 1 && min_seconds > 0) return fail("--frames and --seconds cannot be combined");
+  if (frame_count <= 1 && !st.frame_range.empty()) return fail("--frame-range needs --frames N with N > 1");
   InputOptions input;
   input.memory_budget_bytes = options.memory_budget_bytes;
   input.allow_missing = allow_missing;
@@ -376,6 +382,16 @@ int render(const RenderState& st) {
   if (frame_count > 1) {
     Turntable t;
     t.frames = frame_count;
+    t.last = frame_count;
+    if (!st.frame_range.empty()) {
+      int a = -1, b = -1;
+      char rest = 0;
+      if (std::sscanf(st.frame_range.c_str(), "%d:%d%c", &a, &b, &rest) != 2 || a < 0 || b <= a || b > frame_count) {
+        return fail("--frame-range: expected A:B with 0 <= A < B <= --frames (" + std::to_string(frame_count) + "), found '" +
+                    json_escape(st.frame_range) + "'");
+      }
+      t.first = a, t.last = b;
+    }
     t.orbit_deg = orbit_deg;
     t.lights = st.lights == "camera" ? TurnLights::camera : st.lights == "world" ? TurnLights::world : TurnLights::automatic;
     t.json = json;

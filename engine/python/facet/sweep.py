@@ -1,0 +1,188 @@
+"""Sweeps: many independent facet jobs on a Dask cluster (a local one by default).
+
+A sweep is a list of jobs, each one `facet` command: the frames of a turntable (one job a frame,
+`facet render MODEL --frames N --frame-range k:k+1`, so each image has the bytes of the same frame
+rendered in one run) or the points of a parameter grid (`facet render MODEL --json --seconds S`
+for every combination of --grid values). Results are gathered into DIR/summary.json and
+DIR/summary.csv, one row per job with its status, attempts, worker, wall time and the context
+facet reported. A job whose command fails is retried (--retries); a job whose worker dies is run
+again on another worker by Dask: no job is lost.
+
+    python3 -m facet.sweep MODEL --frames 36 --workers 2 -o DIR [-- more facet render options]
+    python3 -m facet.sweep MODEL --grid pow=auto,exact --grid threads=1,2 --seconds 0.5 -o DIR
+    python3 -m facet.sweep MODEL --frames 36 --scheduler tcp://host:8786 -o DIR   # an existing cluster
+
+Without Dask (or for a Slurm job array, one task each), `facet render MODEL --frames 36
+--frame-range A:B -o DIR/turn.png` draws part of the same turntable: docs/python.md.
+"""
+import argparse
+import csv
+import itertools
+import json
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+
+
+def find_facet():
+    """The facet program beside this package: the build tree's build/bin/facet, an install
+    prefix's bin/facet, or the first on PATH."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    for candidate in (os.path.join(here, "..", "..", "bin", "facet"),  # build/python/facet -> build/bin
+                      os.path.join(here, "..", "..", "..", "..", "bin", "facet")):  # prefix/lib/python3/dist-packages/facet
+        if os.path.isfile(candidate) and os.access(candidate, os.X_OK):
+            return os.path.normpath(candidate)
+    found = shutil.which("facet")
+    if not found:
+        raise SystemExit("facet.sweep: cannot find the facet program (give --facet PATH)")
+    return found
+
+
+def run_job(job):
+    """Runs one job on a worker: its facet command; returns its row. Raises on failure, so that
+    Dask retries it. job["kill_once"]: a marker path; when it does not exist yet, the worker
+    creates it and dies mid-job (fault injection, to show that a lost worker loses nothing)."""
+    started = time.time()
+    marker = job.get("kill_once")
+    if marker and not os.path.exists(marker):
+        with open(marker, "w") as f:
+            f.write("%d\n" % os.getpid())
+        os.kill(os.getpid(), signal.SIGKILL)
+    result = subprocess.run(job["command"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if result.returncode != 0:
+        raise RuntimeError("job %s: %s exited %d: %s" % (job["key"], job["command"][0], result.returncode, result.stderr.strip()))
+    record = None
+    for line in result.stdout.splitlines():
+        line = line.strip()
+        if line.startswith("{"):
+            try:
+                record = json.loads(line)  # the last JSON line: a turntable's summary, or the frame's record
+            except ValueError:
+                pass
+    return {"key": job["key"], "status": "ok", "host": socket.gethostname(), "pid": os.getpid(),
+            "seconds": time.time() - started, "record": record}
+
+
+def make_jobs(args, facet_bin, extra):
+    jobs = []
+    common = [facet_bin, "render", args.model] if args.model else [facet_bin, "render"]
+    if args.frames:
+        os.makedirs(args.output, exist_ok=True)
+        out = os.path.join(args.output, args.name)
+        for k in range(args.frames):
+            jobs.append({"key": "frame-%04d" % k,
+                         "command": common + ["--frames", str(args.frames), "--frame-range", "%d:%d" % (k, k + 1),
+                                              "-o", out, "--json"] + extra})
+    else:
+        axes = []
+        for spec in args.grid:
+            name, _, values = spec.partition("=")
+            if not name or not values:
+                raise SystemExit("facet.sweep: --grid expects NAME=V1,V2,... (a facet render option without --), found %r" % spec)
+            axes.append([(name, v) for v in values.split(",")])
+        for point in itertools.product(*axes):
+            options = []
+            for name, value in point:
+                options += ["--" + name, value]
+            key = ",".join("%s=%s" % nv for nv in point) or "default"
+            jobs.append({"key": key, "command": common + ["-o", os.path.join(args.output, "point.png"), "--json",
+                                                          "--seconds", str(args.seconds)] + options + extra})
+    return jobs
+
+
+def run(jobs, client, retries=2):
+    """Submits every job to `client` (a distributed.Client) and gathers their rows in job order;
+    a job that still fails after its retries gets a row with status "failed" and the error."""
+    from distributed import as_completed
+
+    futures = {client.submit(run_job, job, key="facet-" + job["key"] + "-" + str(time.time_ns()), retries=retries, pure=False): job
+               for job in jobs}
+    rows = {}
+    for future in as_completed(list(futures)):
+        job = futures[future]
+        try:
+            row = future.result()
+        except Exception as e:  # noqa: BLE001 - every failure is reported in the summary
+            row = {"key": job["key"], "status": "failed", "error": str(e)}
+        row["command"] = job["command"]
+        rows[job["key"]] = row
+    return [rows[job["key"]] for job in jobs]
+
+
+def write_summary(rows, output, wall_seconds, workers):
+    os.makedirs(output, exist_ok=True)
+    ok = sum(1 for r in rows if r["status"] == "ok")
+    summary = {"jobs": len(rows), "ok": ok, "failed": len(rows) - ok, "wall_seconds": wall_seconds,
+               "jobs_per_second": len(rows) / wall_seconds if wall_seconds > 0 else None, "workers": workers, "rows": rows}
+    with open(os.path.join(output, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=1)
+    with open(os.path.join(output, "summary.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["key", "status", "host", "pid", "seconds", "frame_seconds_median", "facet_version", "commit", "isa", "error"])
+        for r in rows:
+            rec = r.get("record") or {}
+            ctx = rec.get("context", {})
+            fs = rec.get("frame_seconds", {})
+            w.writerow([r["key"], r["status"], r.get("host", ""), r.get("pid", ""), "%.6f" % r["seconds"] if "seconds" in r else "",
+                        fs.get("median", ""), ctx.get("facet_version", ""), ctx.get("commit", ""), ctx.get("isa", ""), r.get("error", "")])
+    return summary
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="python3 -m facet.sweep", description=__doc__.split("\n\n")[0])
+    p.add_argument("model", nargs="?", help="scene file or model (default: the built-in scene)")
+    p.add_argument("-o", "--output", required=True, help="folder for the images and summary.json / summary.csv")
+    p.add_argument("--frames", type=int, help="a turntable of N frames, one job each")
+    p.add_argument("--name", default="turn.png", help="the turntable's image name (default turn.png: turn_0000.png, ...)")
+    p.add_argument("--grid", action="append", default=[], help="NAME=V1,V2,...: a facet render option and its values (repeatable)")
+    p.add_argument("--seconds", type=float, default=0.5, help="grid points: render for at least this long (default 0.5)")
+    p.add_argument("--workers", type=int, default=2, help="local cluster: worker processes (default 2)")
+    p.add_argument("--threads-per-worker", type=int, default=1)
+    p.add_argument("--scheduler", help="address of a running Dask scheduler instead of a local cluster")
+    p.add_argument("--retries", type=int, default=2, help="times a failed job is run again (default 2)")
+    p.add_argument("--facet", help="the facet program (default: beside this package, else on PATH)")
+    p.add_argument("--kill-worker-once-at", help=argparse.SUPPRESS)  # fault injection: the job key whose worker dies once
+    argv = list(sys.argv[1:] if argv is None else argv)
+    extra = []
+    if "--" in argv:  # what follows goes to every facet command as it is
+        extra = argv[argv.index("--") + 1:]
+        argv = argv[:argv.index("--")]
+    args = p.parse_args(argv)
+    if bool(args.frames) == bool(args.grid):
+        p.error("give --frames N (a turntable) or --grid NAME=VALUES (a parameter grid)")
+    facet_bin = os.path.abspath(args.facet) if args.facet else find_facet()
+    jobs = make_jobs(args, facet_bin, extra)
+    if args.kill_worker_once_at:
+        for job in jobs:
+            if job["key"] == args.kill_worker_once_at:
+                job["kill_once"] = os.path.join(os.path.abspath(args.output), ".killed-" + job["key"])
+
+    from distributed import Client, LocalCluster
+
+    started = time.time()
+    if args.scheduler:
+        client = Client(args.scheduler)
+        cluster = None
+    else:
+        cluster = LocalCluster(n_workers=args.workers, threads_per_worker=args.threads_per_worker, processes=True,
+                               dashboard_address=None, silence_logs=50)
+        client = Client(cluster)
+    try:
+        rows = run(jobs, client, retries=args.retries)
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    summary = write_summary(rows, args.output, time.time() - started, args.workers if not args.scheduler else None)
+    print("facet.sweep: %d jobs, %d ok, %d failed in %.2f s (%.2f jobs/s); %s" %
+          (summary["jobs"], summary["ok"], summary["failed"], summary["wall_seconds"], summary["jobs_per_second"] or 0,
+           os.path.join(args.output, "summary.json")))
+    return 0 if summary["failed"] == 0 else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
