@@ -26,6 +26,21 @@ def read_pfm(path):
     return a[::-1]  # PFM rows run bottom to top
 
 
+def in_threads(n, work):
+    """work(i) for i in 0..n-1, each on a Python thread of its own, started together; the results in order."""
+    results = [None] * n
+
+    def run(i):
+        results[i] = work(i)
+
+    threads = [threading.Thread(target=run, args=(i,)) for i in range(n)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    return results
+
+
 def test_render_returns_the_picture_as_an_array():
     image = facet.render(width=64, height=36)
     assert image.shape == (36, 64, 4) and image.dtype == np.uint8
@@ -111,17 +126,7 @@ def test_the_gil_is_released_while_rendering():
 def test_threads_render_concurrently_to_the_same_bytes():
     scene = facet.Scene()
     expected = facet.Renderer(threads=1).render(scene, 160, 90)
-    results = [None] * 4
-
-    def work(i):
-        results[i] = facet.Renderer(threads=1 + i % 2).render(scene, 160, 90)
-
-    threads = [threading.Thread(target=work, args=(i,)) for i in range(4)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join()
-    for image in results:
+    for image in in_threads(4, lambda i: facet.Renderer(threads=1 + i % 2).render(scene, 160, 90)):
         assert np.array_equal(image, expected)
 
 
@@ -129,17 +134,7 @@ def test_threads_sharing_one_renderer_take_turns():
     scene = facet.Scene()
     shared = facet.Renderer(threads=2)
     expected = shared.render(scene, 120, 68)
-    results = [None] * 4
-
-    def work(i):
-        results[i] = shared.render(scene, 120, 68)
-
-    threads = [threading.Thread(target=work, args=(i,)) for i in range(4)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join()
-    for image in results:
+    for image in in_threads(4, lambda i: shared.render(scene, 120, 68)):
         assert np.array_equal(image, expected)
 
 
