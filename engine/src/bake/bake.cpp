@@ -463,8 +463,8 @@ void Baker::drop_buried_pieces() {
 }
 
 void Baker::regroup(const std::vector<std::int64_t>& target, const std::vector<std::uint8_t>& dropped_piece) {
-  // The pieces of each new patch: its own first, then those of the patches merged into it, each
-  // group in piece order (a fixed order: the same sums for any thread count).
+  // The pieces of each new patch: those of the patches it takes in (itself and any merged into it),
+  // in patch order, each in piece order (a fixed order: the same sums for any thread count).
   std::vector<std::vector<std::uint32_t>> members(patches_.size());
   for (std::size_t p = 0; p < patches_.size(); ++p) {
     if (target[p] >= 0) members[static_cast<std::size_t>(target[p])].push_back(static_cast<std::uint32_t>(p));
