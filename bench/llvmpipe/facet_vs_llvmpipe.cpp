@@ -41,7 +41,12 @@
 //
 //   facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick]
 //                     [--check] [--rounds] [--filter TEXT] [--json FILE] [--srgb] [--shading gouraud|phong]
-//                     [--with-depth] [--pixel-precision auto|exact|fast] [--msaa 1|4|8|16] [SCENE.json ...]
+//                     [--with-depth] [--pixel-precision auto|exact|fast] [--msaa 1|4|8|16] [--allow-path DIR]
+//                     [SCENE.json | MODEL.gltf | MODEL.glb | MODEL.obj ...]
+// Scene files and models are read as `facet render` reads them (a model without a camera framed,
+// one without lights given facet's default rig); a scene GL 2.1 cannot draw here is skipped with
+// every reason at once. Installed beside facet (when OSMesa is there at build time); away from the
+// source tree the built-in cases that need the repository's scene files are skipped.
 // --pixel-precision sets facet's RenderOptions::pixel_precision (default auto, as facet renders
 // by default; fast: the 16-bit tier's fixed-point texels where it has a program).
 // --msaa N multisamples both: llvmpipe draws into a multisampled framebuffer object (GL_MULTISAMPLE
@@ -75,6 +80,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cctype>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -101,7 +107,8 @@ struct Options {
   bool with_depth = false;  // --with-depth: facet writes its depth view in the timed rounds too
   facet::PixelPrecision precision = facet::PixelPrecision::automatic;  // --pixel-precision
   int msaa = 1;  // --msaa N: both renderers multisample (facet: RenderOptions::samples; GL: a multisampled FBO)
-  std::vector<std::string> scenes;
+  std::vector<std::string> scenes;  // scene files or models
+  std::vector<std::string> allow_paths;  // --allow-path: folders their files may also come from
 };
 
 struct Result {
@@ -233,27 +240,37 @@ std::string per_pixel_incompatibility(const facet::Scene& s, bool phong) {
   return {};
 }
 
+// Every reason the scene cannot be drawn by GL 2.1 here, joined with "; " (empty: none), so that a
+// scene's author learns all of them from one run.
 std::string gl_incompatibility(const facet::Scene& s, bool phong) {
+  std::vector<std::string> why;
   for (std::size_t i = 0; i < s.lights.size(); ++i) {
     const facet::Light& l = s.lights[i];
-    if (l.type == facet::LightType::spot && l.spot_shape != facet::SpotShape::cutoff_exponent)
-      return "lights[" + std::to_string(i) + "]: smooth cones are not OpenGL 2.1";
-    if (l.range > 0) return "lights[" + std::to_string(i) + "]: light ranges are not OpenGL 2.1";
-    if (l.type != facet::LightType::directional && l.attenuation_model != facet::AttenuationModel::gl)
-      return "lights[" + std::to_string(i) + "]: linear range attenuation is not OpenGL 2.1";
-  }
-  if (s.lights.size() > 8) return "more than 8 lights (GL_MAX_LIGHTS)";
-  if (const std::string why = per_pixel_incompatibility(s, phong); !why.empty()) return why;
-  for (std::size_t i = 0; i < s.materials.size(); ++i) {
-    const facet::Material& m = s.materials[i];
-    if (m.shininess > 128) return "materials[" + std::to_string(i) + "]: shininess above 128 (GL's limit)";
-    if (m.specular_model != facet::SpecularModel::blinn) return "materials[" + std::to_string(i) + "]: GL 2.1's lobe is Blinn's";
-    if (m.emissive_texture != facet::kNoTexture &&
-        s.textures[static_cast<std::size_t>(m.emissive_texture)].encoding != facet::TextureEncoding::linear) {
-      return "materials[" + std::to_string(i) + "]: an sRGB emissive texture (this program premultiplies emissive textures as stored)";
+    const std::string at = "lights[" + std::to_string(i) + "]: ";
+    if (l.type == facet::LightType::spot && l.spot_shape != facet::SpotShape::cutoff_exponent) why.push_back(at + "smooth cones are not OpenGL 2.1");
+    if (l.range > 0) why.push_back(at + "light ranges are not OpenGL 2.1");
+    if (l.type != facet::LightType::directional && l.attenuation_model != facet::AttenuationModel::gl) {
+      why.push_back(at + "linear range attenuation is not OpenGL 2.1");
     }
   }
-  return {};
+  if (s.lights.size() > 8) why.push_back("more than 8 lights (GL_MAX_LIGHTS)");
+  if (const std::string pp = per_pixel_incompatibility(s, phong); !pp.empty()) why.push_back(pp);
+  for (std::size_t i = 0; i < s.materials.size(); ++i) {
+    const facet::Material& m = s.materials[i];
+    const std::string at = "materials[" + std::to_string(i) + "]: ";
+    if (m.shininess > 128) why.push_back(at + "shininess above 128 (GL's limit)");
+    if (m.specular_model != facet::SpecularModel::blinn) why.push_back(at + "GL 2.1's lobe is Blinn's");
+    if (m.emissive_texture != facet::kNoTexture &&
+        s.textures[static_cast<std::size_t>(m.emissive_texture)].encoding != facet::TextureEncoding::linear) {
+      why.push_back(at + "an sRGB emissive texture (this program premultiplies emissive textures as stored)");
+    }
+  }
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    if (s.objects[i].lightmap >= 0) why.push_back("objects[" + std::to_string(i) + "]: lightmaps are not drawn by this program");
+  }
+  std::string joined;
+  for (const std::string& w : why) joined += (joined.empty() ? "" : "; ") + w;
+  return joined;
 }
 
 void gl_colour(GLenum light_or_face, GLenum what, const facet::Color3& c, float alpha, bool material) {
@@ -1002,6 +1019,29 @@ facet::Scene sphere_scene(int triangles) {
 
 }  // namespace
 
+// A scene file or a model, as `facet render` reads it: a model without a camera is framed for the
+// image's aspect, one without lights gets facet's default rig. Files may come from the file's own
+// folder, the repository's data folders and the --allow-path folders.
+facet::Result<facet::Scene> load_any(const std::string& path, const Options& opt) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  facet::LoadOptions lo = repo_scene_options();
+  for (const std::string& a : opt.allow_paths) lo.assets.allowed_roots.push_back(a);
+  lo.frame_aspect = float(opt.width) / float(opt.height);
+  if (ext != ".gltf" && ext != ".glb" && ext != ".obj") return facet::load_scene_file(path, lo);
+  facet::ModelOptions mo;
+  mo.assets = lo.assets;
+  facet::Result<facet::Model> m = facet::load_model(path, mo);
+  if (!m) return m.status();
+  if (!m->has_camera) {
+    facet::Result<facet::Camera> c = facet::frame_scene(m->scene, lo.frame_aspect);
+    if (!c) return c.status();
+    m->scene.camera = *c;
+  }
+  if (!m->has_lights) facet::add_default_lights(m->scene);
+  return std::move(m->scene);
+}
+
 int main(int argc, char** argv) {
   Options opt;
   for (int i = 1; i < argc; ++i) {
@@ -1022,6 +1062,7 @@ int main(int argc, char** argv) {
     else if (a == "--check") opt.check = true;
     else if (a == "--rounds") opt.rounds = true;
     else if (a == "--filter") opt.filter = next();
+    else if (a == "--allow-path") opt.allow_paths.push_back(next());
     else if (a == "--json") opt.json = next();
     else if (a == "--lights") opt.lights = std::atoi(next());
     else if (a == "--srgb") opt.srgb = true;
@@ -1052,7 +1093,7 @@ int main(int argc, char** argv) {
       opt.phong = v == "phong";
     }
     else if (a == "-h" || a == "--help") {
-      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--rounds] [--filter TEXT] [--json FILE] [--lights N] [--srgb] [--shading gouraud|phong] [--with-depth] [--pixel-precision auto|exact|fast] [--msaa 1|4|8|16] [SCENE.json ...]");
+      std::puts("usage: facet_vs_llvmpipe [--threads N] [--width W] [--height H] [--seconds S] [--out DIR] [--quick] [--check] [--rounds] [--filter TEXT] [--json FILE] [--lights N] [--srgb] [--shading gouraud|phong] [--with-depth] [--pixel-precision auto|exact|fast] [--msaa 1|4|8|16] [--allow-path DIR] [SCENE.json | MODEL.gltf | MODEL.glb | MODEL.obj ...]");
       return 0;
     } else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "facet_vs_llvmpipe: unknown option %s\n", a.c_str());
@@ -1108,73 +1149,80 @@ int main(int argc, char** argv) {
     }
     // Surfaces: the done-when scene of issue 15 (textures, separate specular, blending, fog), and
     // the built-in scene with vertex colours and an alpha-tested, decal-textured ground.
-    const auto surfaces = facet::load_scene_file(std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/surfaces.json", repo_scene_options());
-    if (!surfaces) {
+    const std::string surfaces_file = std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/surfaces.json";
+    if (!std::filesystem::exists(surfaces_file)) {
+      // An installed program away from its source tree: the surfaces cases need the repository's files.
+      std::fprintf(stderr, "skipping the surfaces cases: %s is not there (give scene or model files instead)\n", surfaces_file.c_str());
+    }
+    const auto surfaces = facet::load_scene_file(surfaces_file, repo_scene_options());
+    if (!surfaces && std::filesystem::exists(surfaces_file)) {
       std::fprintf(stderr, "%s\n", surfaces.status().message().c_str());
       return 2;
     }
-    cases.emplace_back("surfaces", *surfaces);
-    // Alpha to coverage (--msaa): foliage cards with soft-edged leaves and a ball in screen-door
-    // transparency.
-    const auto coverage = facet::load_scene_file(std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/coverage.json", repo_scene_options());
-    if (!coverage) {
-      std::fprintf(stderr, "%s\n", coverage.status().message().c_str());
-      return 2;
-    }
-    cases.emplace_back("alpha_to_coverage", *coverage);
-    // Emission after the texture: a glowing grid on the ground (an emissive texture over its
-    // checker), the painted ball's emission after its stripes, and an emissive texture alone on
-    // the box.
-    {
-      facet::Scene glow = *surfaces;
-      std::vector<std::uint8_t> grid(32 * 32 * 4);
-      for (int j = 0; j < 32; ++j)
-        for (int i = 0; i < 32; ++i) {
-          const bool line = i % 8 < 2 || j % 8 < 2;
-          std::uint8_t* p = grid.data() + 4 * (j * 32 + i);
-          p[0] = line ? 255 : 20, p[1] = line ? 200 : 10, p[2] = line ? 60 : 30, p[3] = 255;
-        }
-      facet::TextureOptions to;
-      to.filter = facet::TextureFilter::trilinear;
-      auto t = facet::make_texture("grid", 32, 32, grid, to);
-      if (!t) {
-        std::fprintf(stderr, "%s\n", t.status().message().c_str());
+    if (surfaces) {  // the repository's scene files are there
+      cases.emplace_back("surfaces", *surfaces);
+      // Alpha to coverage (--msaa): foliage cards with soft-edged leaves and a ball in screen-door
+      // transparency.
+      const auto coverage = facet::load_scene_file(std::string(FACET_SOURCE_DIR) + "/tests/data/scenes/coverage.json", repo_scene_options());
+      if (!coverage) {
+        std::fprintf(stderr, "%s\n", coverage.status().message().c_str());
         return 2;
       }
-      glow.textures.push_back(std::move(*t));
-      const auto grid_index = static_cast<std::int32_t>(glow.textures.size() - 1);
-      for (auto& m : glow.materials) {
-        if (m.name == "ground") {
-          m.emissive = facet::Color3(0.7f, 0.6f, 0.5f);
-          m.emissive_texture = grid_index;
-        } else if (m.name == "painted") {
-          m.emissive = facet::Color3(0.25f, 0.1f, 0.05f);
-          m.emission_after_texture = true;
-        } else if (m.name == "red") {
-          m.emissive = facet::Color3(1.0f, 1.0f, 1.0f);
-          m.emissive_texture = grid_index;
+      cases.emplace_back("alpha_to_coverage", *coverage);
+      // Emission after the texture: a glowing grid on the ground (an emissive texture over its
+      // checker), the painted ball's emission after its stripes, and an emissive texture alone on
+      // the box.
+      {
+        facet::Scene glow = *surfaces;
+        std::vector<std::uint8_t> grid(32 * 32 * 4);
+        for (int j = 0; j < 32; ++j)
+          for (int i = 0; i < 32; ++i) {
+            const bool line = i % 8 < 2 || j % 8 < 2;
+            std::uint8_t* p = grid.data() + 4 * (j * 32 + i);
+            p[0] = line ? 255 : 20, p[1] = line ? 200 : 10, p[2] = line ? 60 : 30, p[3] = 255;
+          }
+        facet::TextureOptions to;
+        to.filter = facet::TextureFilter::trilinear;
+        auto t = facet::make_texture("grid", 32, 32, grid, to);
+        if (!t) {
+          std::fprintf(stderr, "%s\n", t.status().message().c_str());
+          return 2;
         }
+        glow.textures.push_back(std::move(*t));
+        const auto grid_index = static_cast<std::int32_t>(glow.textures.size() - 1);
+        for (auto& m : glow.materials) {
+          if (m.name == "ground") {
+            m.emissive = facet::Color3(0.7f, 0.6f, 0.5f);
+            m.emissive_texture = grid_index;
+          } else if (m.name == "painted") {
+            m.emissive = facet::Color3(0.25f, 0.1f, 0.05f);
+            m.emission_after_texture = true;
+          } else if (m.name == "red") {
+            m.emissive = facet::Color3(1.0f, 1.0f, 1.0f);
+            m.emissive_texture = grid_index;
+          }
+        }
+        cases.emplace_back("emissive_textures", std::move(glow));
       }
-      cases.emplace_back("emissive_textures", std::move(glow));
-    }
-    // Back-to-front order: three overlapping blended balls in two colours, submitted near to far
-    // and before the opaque objects; facet sorts them, GL draws them in facet's order.
-    {
-      facet::Scene sorted = *surfaces;
-      sorted.transparent_order = facet::TransparentOrder::back_to_front;
-      facet::Material amber = sorted.materials[sorted.objects.back().material];  // the glass
-      amber.name = "amber";
-      amber.ambient = amber.diffuse = facet::Color3(1.0f, 0.6f, 0.1f);
-      amber.alpha = 0.6f;
-      sorted.materials.push_back(amber);
-      facet::Instance near_ball = sorted.objects.back(), middle = near_ball, far_ball = near_ball;
-      middle.material = static_cast<std::uint32_t>(sorted.materials.size() - 1);
-      middle.model(0, 3) = 0.5f, middle.model(2, 3) = 0.0f;
-      far_ball.model(0, 3) = -0.2f, far_ball.model(1, 3) = 1.3f, far_ball.model(2, 3) = -1.4f;
-      std::vector<facet::Instance> objects = {near_ball, middle, far_ball};
-      objects.insert(objects.end(), sorted.objects.begin(), sorted.objects.end() - 1);
-      sorted.objects = std::move(objects);
-      cases.emplace_back("transparent_order", std::move(sorted));
+      // Back-to-front order: three overlapping blended balls in two colours, submitted near to far
+      // and before the opaque objects; facet sorts them, GL draws them in facet's order.
+      {
+        facet::Scene sorted = *surfaces;
+        sorted.transparent_order = facet::TransparentOrder::back_to_front;
+        facet::Material amber = sorted.materials[sorted.objects.back().material];  // the glass
+        amber.name = "amber";
+        amber.ambient = amber.diffuse = facet::Color3(1.0f, 0.6f, 0.1f);
+        amber.alpha = 0.6f;
+        sorted.materials.push_back(amber);
+        facet::Instance near_ball = sorted.objects.back(), middle = near_ball, far_ball = near_ball;
+        middle.material = static_cast<std::uint32_t>(sorted.materials.size() - 1);
+        middle.model(0, 3) = 0.5f, middle.model(2, 3) = 0.0f;
+        far_ball.model(0, 3) = -0.2f, far_ball.model(1, 3) = 1.3f, far_ball.model(2, 3) = -1.4f;
+        std::vector<facet::Instance> objects = {near_ball, middle, far_ball};
+        objects.insert(objects.end(), sorted.objects.begin(), sorted.objects.end() - 1);
+        sorted.objects = std::move(objects);
+        cases.emplace_back("transparent_order", std::move(sorted));
+      }
     }
     facet::Scene coloured = facet::make_default_scene();
     for (auto& m : coloured.materials) m.shininess = std::min(m.shininess, 128.0f);
@@ -1198,7 +1246,7 @@ int main(int argc, char** argv) {
     cases.emplace_back("fill_blended", facet::bench::layers_scene(16, false, facet::bench::Layers::blended));
   } else {
     for (const std::string& path : opt.scenes) {
-      auto s = facet::load_scene_file(path, repo_scene_options());
+      auto s = load_any(path, opt);
       if (!s) {
         std::fprintf(stderr, "%s\n", s.status().message().c_str());
         return 2;

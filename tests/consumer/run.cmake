@@ -57,6 +57,10 @@ endif()
 separate_arguments(flags UNIX_COMMAND "${flags}")
 run(${C_COMPILER} ${SOURCE_DIR}/tests/consumer/embed_c.c -o ${WORK_DIR}/embed_c_pkgconfig ${flags})
 run(${WORK_DIR}/embed_c_pkgconfig)
+# facet_vs_llvmpipe, when it was built (OSMesa present): installed beside facet.
+if(EXISTS ${BUILD_DIR}/bin/facet_vs_llvmpipe)
+  run(${prefix}/bin/facet_vs_llvmpipe --help)
+endif()
 # The Python package, when the bindings were built: importable from the prefix alone.
 if(PYTHON)
   set(ENV{PYTHONPATH} ${prefix}/lib/python3/dist-packages)
