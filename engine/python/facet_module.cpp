@@ -13,6 +13,7 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -234,7 +235,90 @@ PYBIND11_MODULE(_facet, m) {
   m.def("best_isa", [] { return std::string(to_string(best_isa())); }, "The widest instruction set of this CPU facet uses.");
 
   py::class_<Scene>(m, "Scene", "A scene: meshes, materials, objects, lights and a camera.")
-      .def(py::init([] { return make_default_scene(); }), "The built-in scene.")
+      .def(py::init([](bool empty) { return empty ? Scene{} : make_default_scene(); }), py::arg("empty") = false,
+           "The built-in scene, or with empty=True a scene with nothing in it (build it with add_mesh, add_material, "
+           "add_object and add_light).")
+      .def("add_mesh", [](Scene& s, py::array_t<float, py::array::c_style | py::array::forcecast> positions,
+                          py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast> triangles,
+                          std::optional<py::array_t<float, py::array::c_style | py::array::forcecast>> normals, const std::string& name) {
+        if (positions.ndim() != 2 || positions.shape(1) != 3) raise({ErrorCode::invalid_argument, "positions", "positions: expected an N x 3 array"});
+        if (triangles.ndim() != 2 || triangles.shape(1) != 3) raise({ErrorCode::invalid_argument, "triangles", "triangles: expected an M x 3 array"});
+        std::span<const float> normal_span;
+        if (normals) {
+          if (normals->ndim() != 2 || normals->shape(1) != 3 || normals->shape(0) != positions.shape(0)) {
+            raise({ErrorCode::invalid_argument, "normals", "normals: expected an N x 3 array, N the number of positions"});
+          }
+          normal_span = {normals->data(), static_cast<std::size_t>(normals->size())};
+        }
+        Mesh mesh = value_or_raise(mesh_from_arrays({positions.data(), static_cast<std::size_t>(positions.size())}, normal_span,
+                                                    {triangles.data(), static_cast<std::size_t>(triangles.size())}));
+        s.meshes.push_back({name.empty() ? "mesh" + std::to_string(s.meshes.size()) : name, std::move(mesh)});
+        return s.meshes.size() - 1;
+      }, py::arg("positions"), py::arg("triangles"), py::arg("normals") = py::none(), py::arg("name") = "",
+         "A mesh from an N x 3 array of positions and an M x 3 array of counter-clockwise triangles (vertex indices); "
+         "normals computed when not given. Returns its index.")
+      .def("add_material", [](Scene& s, std::array<float, 3> diffuse, std::array<float, 3> ambient, std::array<float, 3> specular,
+                              float shininess, std::array<float, 3> emissive, float alpha, const std::string& name) {
+        Material mat;
+        mat.name = name.empty() ? "material" + std::to_string(s.materials.size()) : name;
+        mat.diffuse = Color3(diffuse[0], diffuse[1], diffuse[2]);
+        mat.ambient = Color3(ambient[0], ambient[1], ambient[2]);
+        mat.specular = Color3(specular[0], specular[1], specular[2]);
+        mat.shininess = shininess;
+        mat.emissive = Color3(emissive[0], emissive[1], emissive[2]);
+        mat.alpha = alpha;
+        if (alpha < 1.0f) mat.blend = BlendMode::alpha;
+        if (Status st = validate_material(mat, s.materials.size()); !st.ok()) raise(st);
+        s.materials.push_back(std::move(mat));
+        return s.materials.size() - 1;
+      }, py::arg("diffuse") = std::array<float, 3>{0.8f, 0.8f, 0.8f}, py::arg("ambient") = std::array<float, 3>{0.2f, 0.2f, 0.2f},
+         py::arg("specular") = std::array<float, 3>{0, 0, 0}, py::arg("shininess") = 0.0f,
+         py::arg("emissive") = std::array<float, 3>{0, 0, 0}, py::arg("alpha") = 1.0f, py::arg("name") = "",
+         "A material of the lighting model (colours in [0, 1]; alpha < 1 blends). Returns its index.")
+      .def("add_object", [](Scene& s, std::size_t mesh, std::size_t material,
+                            std::optional<py::array_t<float, py::array::c_style | py::array::forcecast>> transform) {
+        if (mesh >= s.meshes.size()) raise({ErrorCode::invalid_argument, "mesh", "mesh: no mesh " + std::to_string(mesh)});
+        if (material >= s.materials.size()) raise({ErrorCode::invalid_argument, "material", "material: no material " + std::to_string(material)});
+        Instance inst;
+        inst.mesh = static_cast<std::uint32_t>(mesh), inst.material = static_cast<std::uint32_t>(material);
+        if (transform) {
+          if (transform->ndim() != 2 || transform->shape(0) != 4 || transform->shape(1) != 4) {
+            raise({ErrorCode::invalid_argument, "transform", "transform: expected a 4 x 4 array (row-major, model to world)"});
+          }
+          for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c) inst.model(r, c) = transform->at(r, c);
+        }
+        s.objects.push_back(inst);
+        if (Status st = validate_scene(s); !st.ok()) {
+          s.objects.pop_back();
+          raise(st);
+        }
+        return s.objects.size() - 1;
+      }, py::arg("mesh"), py::arg("material"), py::arg("transform") = py::none(),
+         "An object drawing mesh with material, placed by a 4 x 4 transform (default: identity). Returns its index.")
+      .def("add_light", [](Scene& s, const std::string& type, std::array<float, 3> position, std::array<float, 3> direction,
+                           std::array<float, 3> diffuse, std::array<float, 3> specular, std::array<float, 3> ambient,
+                           std::array<float, 3> attenuation, float spot_cutoff_deg, float spot_exponent) {
+        Light l;
+        l.type = parse_enum<LightType>(type, "type", {{"directional", LightType::directional}, {"point", LightType::point}, {"spot", LightType::spot}});
+        l.position = Vec3(position[0], position[1], position[2]);
+        l.direction = Vec3(direction[0], direction[1], direction[2]);
+        l.diffuse = Color3(diffuse[0], diffuse[1], diffuse[2]);
+        l.specular = Color3(specular[0], specular[1], specular[2]);
+        l.ambient = Color3(ambient[0], ambient[1], ambient[2]);
+        l.constant_attenuation = attenuation[0], l.linear_attenuation = attenuation[1], l.quadratic_attenuation = attenuation[2];
+        l.spot_cutoff_deg = spot_cutoff_deg, l.spot_exponent = spot_exponent;
+        if (Status st = validate_light(l, s.lights.size()); !st.ok()) raise(st);
+        s.lights.push_back(l);
+        return s.lights.size() - 1;
+      }, py::arg("type") = "directional", py::arg("position") = std::array<float, 3>{0, 0, 0},
+         py::arg("direction") = std::array<float, 3>{0, 0, -1}, py::arg("diffuse") = std::array<float, 3>{1, 1, 1},
+         py::arg("specular") = std::array<float, 3>{1, 1, 1}, py::arg("ambient") = std::array<float, 3>{0, 0, 0},
+         py::arg("attenuation") = std::array<float, 3>{1, 0, 0}, py::arg("spot_cutoff_deg") = 45.0f, py::arg("spot_exponent") = 0.0f,
+         "A GL light: directional (direction: the way the light travels), point or spot (GL cone); attenuation = "
+         "(constant, linear, quadratic). Returns its index.")
+      .def("frame", [](Scene& s, float aspect) { s.camera = value_or_raise(frame_scene(s, aspect)); }, py::arg("aspect") = 16.0f / 9.0f,
+           "Points the camera at every object from the front, as facet render frames a model.")
       .def_property_readonly("object_count", [](const Scene& s) { return s.objects.size(); })
       .def_property_readonly("light_count", [](const Scene& s) { return s.lights.size(); })
       .def_property_readonly("triangle_count", [](const Scene& s) {

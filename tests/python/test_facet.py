@@ -138,6 +138,38 @@ def test_threads_sharing_one_renderer_take_turns():
         assert np.array_equal(image, expected)
 
 
+def test_a_scene_built_from_python_objects():
+    # A square of two triangles in front of the camera, lit head-on: every covered pixel shows the
+    # material's diffuse colour times the light's (n.l = 1, no attenuation, no ambient).
+    scene = facet.Scene(empty=True)
+    positions = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], dtype=np.float64)
+    square = scene.add_mesh(positions, np.array([[0, 1, 2], [0, 2, 3]]))
+    red = scene.add_material(diffuse=(0.8, 0.2, 0.1), ambient=(0, 0, 0))
+    scene.add_object(square, red)
+    scene.add_light("directional", direction=(0, 0, -1), diffuse=(1, 1, 1), specular=(0, 0, 0))
+    scene.set_camera(eye=(0, 0, 3), target=(0, 0, 0), fov_deg=60)
+    image = facet.Renderer(threads=1).render(scene, 32, 32, dtype="float32")
+    centre = image[16, 16]
+    assert np.allclose(centre[:3], [0.8, 0.2, 0.1], atol=1e-6), centre
+    assert scene.object_count == 1 and scene.light_count == 1 and scene.triangle_count == 2
+    moved = np.eye(4)
+    moved[0, 3] = 5.0  # out of view
+    scene.add_object(square, red, transform=moved)
+    assert scene.object_count == 2
+    with pytest.raises(facet.Error) as e:
+        scene.add_mesh(np.zeros((3, 2)), np.array([[0, 1, 2]]))
+    assert e.value.field == "positions"
+    with pytest.raises(facet.Error) as e:
+        scene.add_mesh(positions, np.array([[0, 1, 7]]))  # an index past the positions
+    assert "7" in str(e.value)
+    with pytest.raises(facet.Error):
+        scene.add_object(square, 9)
+    with pytest.raises(facet.Error):
+        scene.add_material(diffuse=(0.5, float("nan"), 0.5))
+    with pytest.raises(facet.Error):
+        scene.add_light("area")
+
+
 def test_stats_camera_and_orbit():
     r = facet.Renderer()
     scene = facet.Scene()
