@@ -39,7 +39,7 @@ void BM_Bake(benchmark::State& state) {
   state.counters["patches"] = static_cast<double>(last.patches);
   state.counters["texels"] = static_cast<double>(last.texels);
 }
-BENCHMARK(BM_Bake)->ArgsProduct({{30, 60, 120}, {1, 2}})->ArgNames({"texels_per_m", "threads"})->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Bake)->Apply([](benchmark::internal::Benchmark* b) { facet::bench::with_spread(b); })->ArgsProduct({{30, 60, 120}, {1, 2}})->ArgNames({"texels_per_m", "threads"})->UseRealTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

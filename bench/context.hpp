@@ -5,8 +5,10 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "facet/facet.hpp"
 #include "facet_commit.h"
@@ -32,6 +34,15 @@ inline void add_facet_context() {
       break;
     }
   }
+}
+
+// With --benchmark_repetitions=N, Google Benchmark reports each benchmark's mean, median, standard
+// deviation and coefficient of variation; this adds the smallest and largest repetition, so that a
+// record carries median, min, max and count (the repetitions) as facet's own --json records do.
+inline benchmark::internal::Benchmark* with_spread(benchmark::internal::Benchmark* b) {
+  b->ComputeStatistics("min", [](const std::vector<double>& v) { return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end()); });
+  b->ComputeStatistics("max", [](const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); });
+  return b;
 }
 
 // main() for a program whose benchmarks are registered statically (BENCHMARK(...)).

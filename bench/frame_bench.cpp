@@ -143,7 +143,7 @@ const facet::Scene* scene_file(const std::string& name, std::string& error) {
 }
 
 void add(const std::string& name, std::function<void(benchmark::State&)> fn) {
-  benchmark::RegisterBenchmark(name.c_str(), std::move(fn))
+  facet::bench::with_spread(benchmark::RegisterBenchmark(name.c_str(), std::move(fn)))
       ->ArgName("threads")
       ->Arg(1)
       ->Arg(2)

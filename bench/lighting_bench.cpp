@@ -154,7 +154,7 @@ void register_all() {
     auto* b = benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& state) {
       run_lighting(state, options, mix, lights, vertices);
     });
-    b->Unit(benchmark::kMillisecond);
+    facet::bench::with_spread(b)->Unit(benchmark::kMillisecond);
     if (threads > 0) b->UseRealTime();  // the CPU timer sees only the calling thread
   };
   for (const Method& m : all)
@@ -165,9 +165,9 @@ void register_all() {
     for (const bool phong : {false, true}) {
       const std::string name = "BM_LightingLobe/" + m.name + "/" + (phong ? "phong" : "blinn") + "/mixed/lights:4/vertices:4096";
       const facet::LightingOptions options = m.options;
-      benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& state) {
+      facet::bench::with_spread(benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& state) {
         run_lighting(state, options, Mix::mixed, 4, 4096, phong);
-      })->Unit(benchmark::kMillisecond);
+      }))->Unit(benchmark::kMillisecond);
     }
   }
   for (const Method& m : sweep)

@@ -53,7 +53,7 @@ void register_all() {
       for (const bool fixed : {false, true}) {
         const std::string name = std::string("BM_Sampler/") + (fixed ? "fixed/" : "float/") + facet::to_string(filter) +
                                  "/" + facet::to_string(isa);
-        benchmark::RegisterBenchmark(name.c_str(), [kernels, filter, fixed](benchmark::State& state) {
+        facet::bench::with_spread(benchmark::RegisterBenchmark(name.c_str(), [kernels, filter, fixed](benchmark::State& state) {
           const facet::Texture t = texture(filter);
           const facet::texture::Sampler s = facet::texture::make_sampler(t);
           const Streams in(256);
@@ -73,7 +73,7 @@ void register_all() {
           }
           state.counters["samples/s"] =
               benchmark::Counter(double(kSamples) * double(state.iterations()), benchmark::Counter::kIsRate);
-        });
+        }));
       }
     }
   }
