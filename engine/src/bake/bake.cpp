@@ -457,6 +457,7 @@ void Baker::drop_buried_pieces() {
   });
   stats_.rays += pieces_.size() * static_cast<std::size_t>(n);
   for (const std::uint8_t b : buried) stats_.buried += b;
+  if (stats_.buried == 0) return;  // nothing to regroup
   std::vector<std::int64_t> same(patches_.size());
   for (std::size_t p = 0; p < same.size(); ++p) same[p] = static_cast<std::int64_t>(p);
   regroup(same, buried);
@@ -850,6 +851,15 @@ Result<BakeResult> Baker::run() {
   FACET_TRY(radiosity());
   BakeResult out;
   out.lightmaps.resize(surfaces_.size());
+  // Each texel's own footprint, every object's in one pass over the pieces (a small texel merged
+  // into its neighbour's patch keeps its own).
+  std::vector<double> texel_area(stats_.texels, 0.0);
+  for (const Piece& piece : pieces_) {
+    const Surface& s = surfaces_[piece.object];
+    const auto x = static_cast<std::size_t>(std::floor(piece.square.x())), y = static_cast<std::size_t>(std::floor(piece.square.y()));
+    const auto w = static_cast<std::size_t>(s.unwrap.width), h = static_cast<std::size_t>(s.unwrap.height);
+    if (x < w && y < h) texel_area[s.first_patch_texel + y * w + x] += piece.area;
+  }
   for (std::size_t k = 0; k < surfaces_.size(); ++k) {
     BakedLightmap& lm = out.lightmaps[k];
     Surface& s = surfaces_[k];
@@ -859,18 +869,11 @@ Result<BakeResult> Baker::run() {
     lm.light.assign(w * h, Color3::Zero());
     lm.area.assign(w * h, 0.0f);
     std::vector<std::uint8_t> filled(w * h, 0);
-    // Each texel's own footprint (a small texel merged into its neighbour's patch keeps its own).
-    std::vector<double> area(w * h, 0.0);
-    for (const Piece& piece : pieces_) {
-      if (piece.object != k) continue;
-      const auto x = static_cast<std::size_t>(std::floor(piece.square.x())), y = static_cast<std::size_t>(std::floor(piece.square.y()));
-      if (x < w && y < h) area[y * w + x] += piece.area;
-    }
     for (std::size_t i = 0; i < w * h; ++i) {
       const std::int32_t p = texel_patch_[s.first_patch_texel + i];
       if (p < 0) continue;
       lm.light[i] = patches_[static_cast<std::size_t>(p)].light.cast<float>();
-      lm.area[i] = static_cast<float>(area[i]);
+      lm.area[i] = static_cast<float>(texel_area[s.first_patch_texel + i]);
       filled[i] = 1;
     }
     // Dilation: each pass fills the empty texels next to filled ones with their average, so that
