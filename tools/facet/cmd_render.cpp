@@ -250,8 +250,8 @@ Command add_render(CLI::App& facet) {
   app->add_option("--pow", st->pow, "auto | exact | fast | integer | schlick: the simd path's pow method (default auto)")
       ->check(one_of({"auto", "exact", "fast", "integer", "schlick"}, "tier"))->group(how);
   app->add_option("--pixel-precision", st->pixel_precision,
-                  "auto | exact | fast: the simd path's textured pixels in float (exact) or the 16-bit tier's fixed point "
-                  "where it has a program (default auto: exact until the fast tier is faster)")
+                  "auto | exact | fast: textured pixels in float (exact) or linear diffuse textures filtered in the 16-bit "
+                  "tier's fixed point (default auto: exact until the fast tier is faster)")
       ->check(one_of({"auto", "exact", "fast"}, "pixel precision"))->group(how);
   app->add_option("--threads", st->threads, "worker threads, 0 = all cores (default 0); the image is the same for any N")
       ->check(int_in(0, 256))->group(how);

@@ -114,10 +114,9 @@ typedef struct facet_render_config {
    * perturbed by the maps (read at the vertex, prefiltered to the mesh's triangle size); 0
    * (default, GL's fixed function): the maps are read per pixel in Phong only. */
   int vertex_relief;
-  /* The simd path's textured pixels (facet::PixelPrecision): FACET_PIXELS_AUTO (default: the
-   * fast tier where it is within its contract and faster; today the exact tier),
-   * FACET_PIXELS_EXACT (float), FACET_PIXELS_FAST (the 16-bit tier's fixed-point texels where it
-   * has a program). */
+  /* Textured pixels (facet::PixelPrecision): FACET_PIXELS_AUTO (default: the fast tier where it
+   * is within its contract and faster; today the exact tier), FACET_PIXELS_EXACT (float),
+   * FACET_PIXELS_FAST (the 16-bit tier: linear diffuse textures filtered in fixed point). */
   facet_pixel_precision pixel_precision;
   /* Samples per pixel (facet::RenderOptions::samples): 1 (default), 4, 8 or 16. GL's
    * multisampling: coverage and depth per sample, each pixel shaded once, the samples averaged in

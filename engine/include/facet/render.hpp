@@ -57,12 +57,13 @@ const char* to_string(ShadingMode mode) noexcept;
 // accuracy choice like PowTier. exact: the float programs (every sample within a step of the
 // double reference sampler). fast: the 16-bit tier, texels filtered in fixed point as llvmpipe does
 // (texture::sample_fixed_scalar's contract: bilinear within 1.5 steps of the reference, mean 0.35;
-// trilinear 2 and 0.35; nearest exact), where the tier has a program: Gouraud, GL_MODULATE with the
-// specular added after the texture, opaque, linear (not sRGB) textures, with or without fog; every
-// other draw runs the exact programs. automatic (the default): the fast tier where it is both
-// within its contract and faster; today it is within its contract but not faster (measured
-// 0.98x on the textured fill, 0.90x in fog), so automatic is the exact tier. The simd path only; the scalar path is
-// the exact tier. Images are byte-identical for any thread count in either tier.
+// trilinear 2 and 0.35; nearest exact) for every draw's linear (not sRGB) diffuse texture, in any
+// shading mode, texture environment, blend mode, fog and alpha test, multisampled or not; sRGB
+// textures and the other maps (emission, normal, bump, occlusion, environment, lightmaps) stay
+// exact. automatic (the default): the fast tier where it is both within its contract and faster;
+// today it is within its contract but not faster (docs/rasterization.md), so automatic is the
+// exact tier. Both paths: the scalar path's fixed-point sampler is the SIMD one's twin (the same
+// bytes). Images are byte-identical for any thread count in either tier.
 enum class PixelPrecision { automatic, exact, fast };
 const char* to_string(PixelPrecision precision) noexcept;
 
@@ -71,7 +72,7 @@ struct RenderOptions {
   LightingPath path = LightingPath::simd;
   Isa isa = Isa::best;                    // simd path only; an ISA the CPU lacks is an error
   PowTier pow_tier = PowTier::automatic;  // simd path only
-  PixelPrecision pixel_precision = PixelPrecision::automatic;  // simd path only
+  PixelPrecision pixel_precision = PixelPrecision::automatic;
   // Faces wind counter-clockwise seen from the front. In a two-sided scene back faces are never
   // culled by CullMode::back: they are drawn with their back-side lighting.
   CullMode cull = CullMode::back;

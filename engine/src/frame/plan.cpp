@@ -545,9 +545,11 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
                             d.blend == BlendMode::opaque && d.clamp && d.alpha_cutoff <= 0.0f && !d.alpha_to_coverage && !environment &&
                             d.layout.has(raster::Varying::front_secondary);
       // The 16-bit tier's fixed-point sampler, when asked for, where its contract holds (linear
-      // textures). automatic picks the exact tier: the fast one is not faster yet.
-      const bool fixed = modulate && options.pixel_precision == PixelPrecision::fast &&
+      // textures), in the fused program or the general one. automatic picks the exact tier: the
+      // fast one is not faster.
+      const bool fixed = options.pixel_precision == PixelPrecision::fast &&
                          scene.textures[static_cast<std::size_t>(m.diffuse_texture)].encoding == TextureEncoding::linear;
+      d.fixed_texels = fixed;
       d.program = !modulate                 ? PixelProgram::surface_textured
                   : f.mode == FogMode::none ? (fixed ? PixelProgram::modulate_fixed : PixelProgram::modulate)
                                             : (fixed ? PixelProgram::modulate_fog_fixed : PixelProgram::modulate_fog);

@@ -187,6 +187,28 @@ struct Texturing {
       Sampler::template sample<P>(sampler, u, v, lambda, tex, &level_guess);
     }
   }
+  // The same for the 16-bit tier (Draw::fixed_texels): the texels filtered in fixed point
+  // (sample_fixed_simd.hpp), each byte then byte / 255 for the stages that follow (the scalar
+  // path's twin: tile_raster.cpp).
+  template <int P>
+  [[gnu::always_inline]] inline static void sample_fixed(const texture::Sampler& sampler, const Uv<F> (&c)[P], F (&tex)[P][4],
+                                                         int& level_guess) {
+    using Fixed = texture::simd::SampleFixed<Arch>;
+    using I = typename Types<Arch>::I;
+    using U = typename Fixed::U;
+    F u[P], v[P], lambda[P];
+    for (int p = 0; p < P; ++p) {
+      u[p] = c[p].u, v[p] = c[p].v;
+      lambda[p] = Sampler::lod(sampler, c[p].dudx, c[p].dvdx, c[p].dudy, c[p].dvdy);
+    }
+    I texels[P];
+    Fixed::template sample<P>(sampler, u, v, lambda, texels, &level_guess);
+    for (int p = 0; p < P; ++p) {
+      const U bits = xsimd::bitwise_cast<U>(texels[p]);
+      for (int ch = 0; ch < 4; ++ch)
+        tex[p][ch] = xsimd::batch_cast<float>(xsimd::bitwise_cast<I>((bits >> (8 * ch)) & U(0xffu))) * F(1.0f / 255.0f);
+    }
+  }
 };
 
 // Batches held until kHold of a block have passed, then run together (Body::run<P>), the rest at
@@ -273,7 +295,11 @@ struct SurfaceProgram {
       cw[p] = in.clip_w(fi[p], fj[p]);
       if (cx.d.layout.has(Varying::uv)) uv[p] = Texturing<Arch>::uv(cx.d, in, cw[p], fi[p], fj[p]);
     }
-    Texturing<Arch>::template sample<P>(*cx.d.texture, uv, tex, level_guess);
+    if (cx.d.fixed_texels) {
+      Texturing<Arch>::template sample_fixed<P>(*cx.d.texture, uv, tex, level_guess);
+    } else {
+      Texturing<Arch>::template sample<P>(*cx.d.texture, uv, tex, level_guess);
+    }
     for (int p = 0; p < P; ++p) tail(in, {fi[p], fj[p], z[p], pass[p], at[p], ms}, cw[p], tex[p], uv[p]);
   }
   // One batch's program after its texture sample (texel: null when the draw has no texture).
@@ -418,24 +444,7 @@ struct ModulateProgram {
       uv[p] = Texturing<Arch>::uv(d, in, cw[p], fi[p], fj[p]);
     }
     if constexpr (Fixed) {
-      // The 16-bit tier: each batch's texels filtered in fixed point (sample_fixed_simd.hpp), then
-      // its bytes as floats for the stages below.
-      using Sample = texture::simd::SampleFixed<Arch>;
-      using I = typename Types<Arch>::I;
-      F u[P], v[P], lambda[P];
-      for (int p = 0; p < P; ++p) {
-        u[p] = uv[p].u, v[p] = uv[p].v;
-        lambda[p] = texture::simd::SampleSimd<Arch>::lod(*d.texture, uv[p].dudx, uv[p].dvdx, uv[p].dudy, uv[p].dvdy);
-      }
-      I texels[P];
-      Sample::template sample<P>(*d.texture, u, v, lambda, texels, &level_guess);
-      for (int p = 0; p < P; ++p) {
-        const auto bits = xsimd::bitwise_cast<typename Sample::U>(texels[p]);
-        for (int c = 0; c < 4; ++c) {
-          tex[p][c] = xsimd::batch_cast<float>(xsimd::bitwise_cast<I>((bits >> (8 * c)) & typename Sample::U(0xffu))) *
-                      F(1.0f / 255.0f);
-        }
-      }
+      Texturing<Arch>::template sample_fixed<P>(*d.texture, uv, tex, level_guess);
     } else {
       // Inlined on the narrower ISAs without fog, where out of line it measured slower.
       Texturing<Arch>::template sample<P, (Types<Arch>::W < 16 && !Fogged)>(*d.texture, uv, tex, level_guess);

@@ -78,6 +78,10 @@ struct Draw {
   VaryingLayout layout;  // this draw's varyings (ScreenTriangle::attr and the attribute planes)
   PixelProgram program = PixelProgram::flat;
   const texture::Sampler* texture = nullptr;  // null: untextured
+  // The 16-bit tier (RenderOptions::pixel_precision fast): `texture` is sampled by the fixed-point
+  // sampler (texture/sampler.hpp: sample_fixed_scalar and its SIMD twin), its bytes read as
+  // byte / 255 by the stages that follow. Set for linear (not sRGB) textures only.
+  bool fixed_texels = false;
   // The lighting keeps the specular apart (GL's separate specular colour: the texture modulates
   // the rest, the tail adds it back); the plan sets it for textured draws.
   bool separate_specular = false;

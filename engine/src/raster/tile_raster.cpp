@@ -278,7 +278,12 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
           for (int c = 0; c < 4; ++c) out[c] = value[c];
         };
         auto sample_at = [&](const texture::Sampler& sampler, float (&out)[4]) { sample_moved(sampler, 0.0f, 0.0f, out); };
-        if (d.texture) {
+        if (d.texture && d.fixed_texels) {  // the 16-bit tier: the fixed-point sampler, byte / 255
+          const float lambda = texture::lod_scalar(*d.texture, uv.dudx, uv.dvdx, uv.dudy, uv.dvdy);
+          const std::uint32_t bytes = texture::sample_fixed_scalar(*d.texture, uv.u, uv.v, lambda);
+          for (int c = 0; c < 4; ++c) texel[c] = static_cast<float>((bytes >> (8 * c)) & 0xffu) * (1.0f / 255.0f);
+          tex = texel;
+        } else if (d.texture) {
           sample_at(*d.texture, texel);
           tex = texel;
         }
