@@ -222,7 +222,7 @@ void register_all() {
       static const facet::Scene scene = facet::bench::layers_scene(16, false, facet::bench::Layers::textured_fog);
       run_frames(state, scene, o, 1920, 1080);
     });
-    if (best) {  // the 16-bit pixel tier (RenderOptions::pixel_precision fast) on the textured layers
+    if (v.path == facet::LightingPath::simd) {  // the 16-bit pixel tier (pixel_precision fast) on the textured layers
       facet::RenderOptions fast = o;
       fast.pixel_precision = facet::PixelPrecision::fast;
       add("BM_Fill" + prefix + "textured_fast", [fast](benchmark::State& state) {

@@ -52,9 +52,11 @@ struct Context {
 };
 
 // The tile's and so the programs' batch count of held textured batches: 2 x 16 lanes, 4 x 8 or
-// 4 x 4 (measured best).
+// 4 x 4 (measured best for the float sampler); the 16-bit tier's fused programs hold 4 on every
+// ISA (its texels take fewer registers; 4 x 16 measured faster than 2 x 16 on avx512).
 template <class Arch>
 inline constexpr int kHold = Types<Arch>::W >= 16 ? 2 : 4;
+inline constexpr int kHoldFixed = 4;
 
 template <class Arch>
 struct FlatProgram {
@@ -213,11 +215,11 @@ struct Texturing {
 
 // Batches held until kHold of a block have passed, then run together (Body::run<P>), the rest at
 // the block's end. Kept as arrays of each field: copying whole Batch records spilled them.
-template <class Arch, int N, class Body>
+template <class Arch, int N, class Body, int Hold = kHold<Arch>>
 struct Held {
   using F = typename Types<Arch>::F;
   using BF = typename Types<Arch>::BF;
-  static constexpr int H = kHold<Arch>;
+  static constexpr int H = Hold;
   int held = 0;
   F fi[H], fj[H], z[H];
   BF pass[H];
@@ -408,7 +410,7 @@ struct ModulateProgram {
   const Context<Arch>& cx;
   FillCounts<Arch> filled;
   int level_guess = -1;
-  Held<Arch, kAttributes, ModulateProgram> held;
+  Held<Arch, kAttributes, ModulateProgram, Fixed ? kHoldFixed : kHold<Arch>> held;
   explicit ModulateProgram(const Context<Arch>& c) : cx(c) {}
   template <bool kFull>
   [[gnu::always_inline]] inline void batch(const In& in, const F& fi, const F& fj, const F& z, const BF& pass,
