@@ -222,6 +222,9 @@ TEST(PixelTiers, FiltersHoldTheirContractInFrames) {
     }
     EXPECT_LE(tier[1].mean(), tier[0].mean() + bound.fast_mean_above_exact) << to_string(bound.filter);
     EXPECT_GT(tier[0].count, 300000u);
+    if (bound.filter != TextureFilter::nearest) {
+      EXPECT_GT(tier[1].worst, tier[0].worst + 0.3) << to_string(bound.filter) << ": the fast tier did not run";
+    }
   }
 }
 
@@ -272,6 +275,7 @@ TEST(PixelTiers, StagesHoldTheirContractInFrames) {
     }
     EXPECT_LE(tier[1].mean(), tier[0].mean() + 0.15) << to_string(filter);
     EXPECT_GT(tier[0].count, 800000u);
+    EXPECT_GT(tier[1].worst, tier[0].worst + 0.5) << to_string(filter) << ": the fast tier did not run";
   }
 }
 
