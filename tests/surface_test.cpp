@@ -544,8 +544,9 @@ TEST(Surfaces, FusedBlendProgramsEqualTheGeneralOne) {
 }
 
 // The 16-bit tier (RenderOptions::pixel_precision fast): the surfaces
-// scene's modulate draws, with each filter and fog mode, are the same bytes for 1, 2 and 8
-// threads; within 2 steps of the exact tier (its sampler's contract under colours <= 1) and not
+// scene's textured draws (the fused modulate programs and the general program's blended,
+// alpha-tested and other-environment draws), with each filter and fog mode, are the same bytes
+// for 1, 2 and 8 threads; within 2 steps of the exact tier (its sampler's contract under colours <= 1) and not
 // the same picture (the tier ran); with sRGB textures, which it leaves to the float programs,
 // the same bytes as the exact tier.
 TEST(Surfaces, FastPixelTierHoldsItsContract) {
