@@ -6,7 +6,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -113,12 +115,14 @@ Scene load_for_render(const std::optional<std::string>& path, float aspect, cons
 class PyRenderer {
  public:
   PyRenderer(const std::string& shading, const std::string& path, const std::string& isa, const std::string& pow, int threads,
-             int msaa, bool srgb, std::array<float, 4> clear) {
+             int msaa, bool srgb, std::array<float, 4> clear, const std::string& pixel_precision) {
     RenderOptions o;
     o.shading = shading_of(shading);
     o.path = path_of(path);
     o.isa = isa_of(isa);
     o.pow_tier = pow_of(pow);
+    o.pixel_precision = parse_enum<PixelPrecision>(
+        pixel_precision, "pixel_precision", {{"auto", PixelPrecision::automatic}, {"exact", PixelPrecision::exact}, {"fast", PixelPrecision::fast}});
     o.threads = threads;
     o.samples = msaa;
     o.srgb = srgb;
@@ -240,9 +244,11 @@ PYBIND11_MODULE(_facet, m) {
            "add_object and add_light).")
       .def("add_mesh", [](Scene& s, py::array_t<float, py::array::c_style | py::array::forcecast> positions,
                           py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast> triangles,
-                          std::optional<py::array_t<float, py::array::c_style | py::array::forcecast>> normals, const std::string& name) {
+                          std::optional<py::array_t<float, py::array::c_style | py::array::forcecast>> normals,
+                          std::optional<py::array_t<float, py::array::c_style | py::array::forcecast>> uvs, const std::string& name) {
         if (positions.ndim() != 2 || positions.shape(1) != 3) raise({ErrorCode::invalid_argument, "positions", "positions: expected an N x 3 array"});
         if (triangles.ndim() != 2 || triangles.shape(1) != 3) raise({ErrorCode::invalid_argument, "triangles", "triangles: expected an M x 3 array"});
+        const std::size_t n = static_cast<std::size_t>(positions.shape(0));
         std::span<const float> normal_span;
         if (normals) {
           if (normals->ndim() != 2 || normals->shape(1) != 3 || normals->shape(0) != positions.shape(0)) {
@@ -250,15 +256,62 @@ PYBIND11_MODULE(_facet, m) {
           }
           normal_span = {normals->data(), static_cast<std::size_t>(normals->size())};
         }
-        Mesh mesh = value_or_raise(mesh_from_arrays({positions.data(), static_cast<std::size_t>(positions.size())}, normal_span,
+        if (uvs && (uvs->ndim() != 2 || uvs->shape(1) != 2 || uvs->shape(0) != positions.shape(0))) {
+          raise({ErrorCode::invalid_argument, "uvs", "uvs: expected an N x 2 array, N the number of positions"});
+        }
+        // With texture coordinates and no normals: the coordinates are set before the normals are
+        // computed, which may split vertices along creases and carries them along.
+        const std::vector<float> flat(uvs && !normals ? 3 * n : 0, 0.0f);
+        Mesh mesh = value_or_raise(mesh_from_arrays({positions.data(), static_cast<std::size_t>(positions.size())},
+                                                    uvs && !normals ? std::span<const float>(flat) : normal_span,
                                                     {triangles.data(), static_cast<std::size_t>(triangles.size())}));
+        if (uvs) {
+          mesh.uvs.resize(n);
+          for (std::size_t i = 0; i < n; ++i) mesh.uvs[i] = Vec2(uvs->at(i, 0), uvs->at(i, 1));
+          if (!normals) compute_vertex_normals(mesh);
+          if (Status st = validate_mesh(mesh, "uvs"); !st.ok()) raise(st);
+        }
         s.meshes.push_back({name.empty() ? "mesh" + std::to_string(s.meshes.size()) : name, std::move(mesh)});
         return s.meshes.size() - 1;
-      }, py::arg("positions"), py::arg("triangles"), py::arg("normals") = py::none(), py::arg("name") = "",
+      }, py::arg("positions"), py::arg("triangles"), py::arg("normals") = py::none(), py::arg("uvs") = py::none(),
+         py::arg("name") = "",
          "A mesh from an N x 3 array of positions and an M x 3 array of counter-clockwise triangles (vertex indices); "
-         "normals computed when not given. Returns its index.")
+         "normals computed when not given; texture coordinates from an N x 2 array. Returns its index.")
+      .def("add_texture", [](Scene& s, py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast> pixels,
+                             const std::string& filter, const std::string& wrap, const std::string& encoding, const std::string& name) {
+        if (pixels.ndim() != 3 || pixels.shape(2) != 4) {
+          raise({ErrorCode::invalid_argument, "pixels", "pixels: expected an H x W x 4 array of RGBA bytes (top row first)"});
+        }
+        TextureOptions o;
+        o.filter = parse_enum<TextureFilter>(filter, "filter", {{"nearest", TextureFilter::nearest}, {"bilinear", TextureFilter::bilinear},
+                                                                {"trilinear", TextureFilter::trilinear}});
+        o.wrap = parse_enum<TextureWrap>(wrap, "wrap", {{"repeat", TextureWrap::repeat}, {"clamp", TextureWrap::clamp}, {"mirror", TextureWrap::mirror}});
+        o.encoding = parse_enum<TextureEncoding>(encoding, "encoding", {{"linear", TextureEncoding::linear}, {"srgb", TextureEncoding::srgb}});
+        const int h = static_cast<int>(std::min<py::ssize_t>(pixels.shape(0), INT32_MAX));
+        const int w = static_cast<int>(std::min<py::ssize_t>(pixels.shape(1), INT32_MAX));
+        Texture t = value_or_raise(make_texture(name.empty() ? "texture" + std::to_string(s.textures.size()) : name, w, h,
+                                                {pixels.data(), static_cast<std::size_t>(pixels.size())}, o));
+        s.textures.push_back(std::move(t));
+        return s.textures.size() - 1;
+      }, py::arg("pixels"), py::arg("filter") = "trilinear", py::arg("wrap") = "repeat", py::arg("encoding") = "linear",
+         py::arg("name") = "",
+         "A texture from an H x W x 4 array of RGBA bytes, top row first (an image as NumPy holds it): filter nearest, "
+         "bilinear or trilinear (mipmapped), wrap repeat, clamp or mirror, encoding linear or srgb. Returns its index.")
+      .def("set_fog", [](Scene& s, const std::string& mode, std::array<float, 3> color, float start, float end, float density) {
+        Fog fog;
+        fog.mode = parse_enum<FogMode>(mode, "mode", {{"none", FogMode::none}, {"linear", FogMode::linear}, {"exp", FogMode::exp},
+                                                      {"exp2", FogMode::exp2}});
+        fog.color = Color3(color[0], color[1], color[2]);
+        fog.start = start, fog.end = end, fog.density = density;
+        if (Status st = validate_fog(fog); !st.ok()) raise(st);
+        s.fog = fog;
+      }, py::arg("mode") = "linear", py::arg("color") = std::array<float, 3>{0.5f, 0.5f, 0.5f}, py::arg("start") = 0.0f,
+         py::arg("end") = 1.0f, py::arg("density") = 1.0f,
+         "GL's fog on the eye-space depth: none, linear (from start to end), exp or exp2 (density).")
       .def("add_material", [](Scene& s, std::array<float, 3> diffuse, std::array<float, 3> ambient, std::array<float, 3> specular,
-                              float shininess, std::array<float, 3> emissive, float alpha, const std::string& name) {
+                              float shininess, std::array<float, 3> emissive, float alpha, const std::string& name,
+                              std::optional<std::size_t> texture, const std::string& texture_mode, std::optional<std::string> blend,
+                              float alpha_cutoff, std::array<float, 2> uv_scale) {
         Material mat;
         mat.name = name.empty() ? "material" + std::to_string(s.materials.size()) : name;
         mat.diffuse = Color3(diffuse[0], diffuse[1], diffuse[2]);
@@ -268,13 +321,31 @@ PYBIND11_MODULE(_facet, m) {
         mat.emissive = Color3(emissive[0], emissive[1], emissive[2]);
         mat.alpha = alpha;
         if (alpha < 1.0f) mat.blend = BlendMode::alpha;
+        if (blend) {
+          mat.blend = parse_enum<BlendMode>(*blend, "blend", {{"opaque", BlendMode::opaque}, {"alpha", BlendMode::alpha},
+                                                             {"premultiplied", BlendMode::premultiplied}, {"add", BlendMode::add},
+                                                             {"multiply", BlendMode::multiply}, {"subtract", BlendMode::subtract}});
+        }
+        if (texture) {
+          if (*texture >= s.textures.size()) raise({ErrorCode::invalid_argument, "texture", "texture: no texture " + std::to_string(*texture)});
+          mat.diffuse_texture = static_cast<std::int32_t>(*texture);
+        }
+        mat.texture_mode = parse_enum<TextureMode>(texture_mode, "texture_mode", {{"modulate", TextureMode::modulate}, {"replace", TextureMode::replace},
+                                                                                  {"decal", TextureMode::decal}, {"add", TextureMode::add}});
+        mat.alpha_cutoff = alpha_cutoff;
+        mat.uv_scale = Vec2(uv_scale[0], uv_scale[1]);
         if (Status st = validate_material(mat, s.materials.size()); !st.ok()) raise(st);
         s.materials.push_back(std::move(mat));
         return s.materials.size() - 1;
       }, py::arg("diffuse") = std::array<float, 3>{0.8f, 0.8f, 0.8f}, py::arg("ambient") = std::array<float, 3>{0.2f, 0.2f, 0.2f},
          py::arg("specular") = std::array<float, 3>{0, 0, 0}, py::arg("shininess") = 0.0f,
          py::arg("emissive") = std::array<float, 3>{0, 0, 0}, py::arg("alpha") = 1.0f, py::arg("name") = "",
-         "A material of the lighting model (colours in [0, 1]; alpha < 1 blends). Returns its index.")
+         py::arg("texture") = py::none(), py::arg("texture_mode") = "modulate", py::arg("blend") = py::none(),
+         py::arg("alpha_cutoff") = 0.0f, py::arg("uv_scale") = std::array<float, 2>{1.0f, 1.0f},
+         "A material of the lighting model (colours in [0, 1]; alpha < 1 blends unless blend says otherwise), with an "
+         "optional diffuse texture (an index from add_texture) applied by texture_mode (modulate, replace, decal, add), "
+         "a blend mode (opaque, alpha, premultiplied, add, multiply, subtract), an alpha test (alpha_cutoff) and a "
+         "scale of the texture coordinates. Returns its index.")
       .def("add_object", [](Scene& s, std::size_t mesh, std::size_t material,
                             std::optional<py::array_t<float, py::array::c_style | py::array::forcecast>> transform) {
         if (mesh >= s.meshes.size()) raise({ErrorCode::invalid_argument, "mesh", "mesh: no mesh " + std::to_string(mesh)});
@@ -347,10 +418,11 @@ PYBIND11_MODULE(_facet, m) {
         "a folder in allow_paths holds them.");
 
   py::class_<PyRenderer>(m, "Renderer", "A renderer with its own threads and options; render() releases the GIL.")
-      .def(py::init<const std::string&, const std::string&, const std::string&, const std::string&, int, int, bool, std::array<float, 4>>(),
+      .def(py::init<const std::string&, const std::string&, const std::string&, const std::string&, int, int, bool, std::array<float, 4>,
+                    const std::string&>(),
            py::arg("shading") = "gouraud", py::arg("path") = "simd", py::arg("isa") = "best", py::arg("pow") = "auto",
            py::arg("threads") = 0, py::arg("msaa") = 1, py::arg("srgb") = false,
-           py::arg("clear") = std::array<float, 4>{0, 0, 0, 1})
+           py::arg("clear") = std::array<float, 4>{0, 0, 0, 1}, py::arg("pixel_precision") = "auto")
       .def("render", &PyRenderer::render, py::arg("scene"), py::arg("width"), py::arg("height"), py::arg("dtype") = "uint8",
            py::arg("out") = py::none(),
            "The picture as an H x W x 4 array (uint8, or float32 linear), top row first; into `out` when given.")

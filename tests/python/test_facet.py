@@ -170,6 +170,45 @@ def test_a_scene_built_from_python_objects():
         scene.add_light("area")
 
 
+def test_a_textured_scene_built_from_python_objects():
+    # A 2 x 2 texture (an image, top row first) on a square facing the camera with texture
+    # coordinates 0..1, GL_REPLACE: each quarter of the square shows its texel, upright.
+    scene = facet.Scene(empty=True)
+    positions = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], dtype=np.float32)
+    uvs = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=np.float32)
+    square = scene.add_mesh(positions, np.array([[0, 1, 2], [0, 2, 3]]), uvs=uvs)
+    texels = np.array([[[255, 0, 0, 255], [0, 255, 0, 255]],
+                       [[0, 0, 255, 255], [255, 255, 255, 255]]], dtype=np.uint8)
+    texture = scene.add_texture(texels, filter="nearest", wrap="clamp")
+    material = scene.add_material(diffuse=(0, 0, 0), ambient=(0, 0, 0), texture=texture, texture_mode="replace")
+    scene.add_object(square, material)
+    scene.set_camera(eye=(0, 0, 3), target=(0, 0, 0), fov_deg=60)
+    image = facet.Renderer(threads=1).render(scene, 64, 64, dtype="float32")
+    # The square spans 1 / tan(30 deg) / 3 of the half-height: quarter centres about 9 pixels off centre.
+    for (row, col), texel in {(22, 22): (1, 0, 0), (22, 41): (0, 1, 0), (41, 22): (0, 0, 1), (41, 41): (1, 1, 1)}.items():
+        assert np.array_equal(image[row, col, :3], np.array(texel, dtype=np.float32)), (row, col, image[row, col])
+    # Nearest texels are the same in both pixel tiers.
+    fast = facet.Renderer(threads=1, pixel_precision="fast").render(scene, 64, 64)
+    assert np.array_equal(fast, facet.Renderer(threads=1, pixel_precision="exact").render(scene, 64, 64))
+    # Linear fog from 0 to 6 on the square at depth 3: halfway to the fog's colour.
+    scene.set_fog("linear", color=(0, 0, 1), start=0, end=6)
+    fogged = facet.Renderer(threads=1).render(scene, 64, 64, dtype="float32")
+    assert np.allclose(fogged[22, 22, :3], [0.5, 0, 0.5], atol=1e-6), fogged[22, 22]
+    scene.set_fog("none")
+    assert np.array_equal(facet.Renderer(threads=1).render(scene, 64, 64, dtype="float32"), image)
+    for call, field in [(lambda: scene.add_texture(np.zeros((2, 2, 3), dtype=np.uint8)), "pixels"),
+                        (lambda: scene.add_texture(texels, filter="cubic"), "filter"),
+                        (lambda: scene.add_material(texture=7), "texture"),
+                        (lambda: scene.add_material(blend="screen"), "blend"),
+                        (lambda: scene.add_material(uv_scale=(0, 1)), ""),
+                        (lambda: scene.add_mesh(positions, np.array([[0, 1, 2]]), uvs=np.zeros((4, 3))), "uvs"),
+                        (lambda: scene.set_fog("linear", start=5, end=1), ""),
+                        (lambda: facet.Renderer(pixel_precision="half"), "pixel_precision")]:
+        with pytest.raises(facet.Error) as e:
+            call()
+        assert field in e.value.field, (field, e.value.field, str(e.value))
+
+
 def test_stats_camera_and_orbit():
     r = facet.Renderer()
     scene = facet.Scene()

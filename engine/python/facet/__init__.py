@@ -14,10 +14,11 @@ __all__ = ["Error", "Renderer", "Scene", "__version__", "best_isa", "light", "lo
 
 
 def render(path=None, width=640, height=360, *, shading="gouraud", msaa=1, srgb=False, threads=0,
-           dtype="uint8", allow_paths=(), orbit_deg=0.0):
+           dtype="uint8", allow_paths=(), orbit_deg=0.0, pixel_precision="auto"):
     """The picture of a scene file or model (or, with no path, the built-in scene), as `facet
     render` draws it: an H x W x 4 array (uint8; float32 linear light with dtype="float32")."""
     scene = load(path, aspect=width / height, allow_paths=list(allow_paths)) if path is not None else Scene()
     if orbit_deg:
         scene.orbit(orbit_deg)
-    return Renderer(shading=shading, msaa=msaa, srgb=srgb, threads=threads).render(scene, width, height, dtype=dtype)
+    return Renderer(shading=shading, msaa=msaa, srgb=srgb, threads=threads,
+                    pixel_precision=pixel_precision).render(scene, width, height, dtype=dtype)
