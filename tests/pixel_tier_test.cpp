@@ -4,10 +4,11 @@
 // with GL 2.1's stages computed here in double precision on the reference sampler
 // (texture::sample_reference): texture environment, fog, alpha test and blending over the clear
 // colour. Errors are in 8-bit steps, |byte - 255 x exact value|, so the 8-bit rounding alone is
-// up to 0.5. Per filter over texture sizes (1 x 1 to 16384 x 2), every wrap mode, magnification to
-// 1024x and minification to 40 texels a pixel, and UVs offset by up to 37 (then scaled: up to 64
-// where the texture is small); per texture environment, blend mode, fog and alpha test; on the
-// scalar path and every SIMD ISA.
+// up to 0.5. Per filter over texture sizes (1 x 1 to 16384 x 2, each with one of the three wrap
+// modes), magnification to 1024x and minification to 40 texels a pixel, and UVs offset by 0 or 37
+// before the material's scale (cases where the scaled coordinate times the texture's width passes
+// 65536 are left out: there a float coordinate no longer holds 1/256 texel, in either tier); per
+// texture environment, blend mode, fog and alpha test; on the scalar path and every SIMD ISA.
 #include <cmath>
 #include <cstdio>
 #include <cstring>
