@@ -12,7 +12,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
-#include <map>
+#include <initializer_list>
 #include <mutex>
 #include <optional>
 #include <span>
@@ -47,27 +47,27 @@ T value_or_raise(Result<T> r) {
   return std::move(*r);
 }
 
+// The value of `values` whose name (facet's to_string, the names of scene files and the command
+// line) is `text`; or facet.Error naming `what` and the names it knows.
 template <class E>
-E parse_enum(const std::string& text, const char* what, const std::map<std::string, E>& names) {
-  auto it = names.find(text);
-  if (it != names.end()) return it->second;
+E parse_named(const std::string& text, const char* what, std::initializer_list<E> values) {
   std::string known;
-  for (const auto& [name, value] : names) known += (known.empty() ? "" : ", ") + name;
+  for (const E v : values) {
+    if (text == to_string(v)) return v;
+    known += (known.empty() ? "" : ", ") + std::string(to_string(v));
+  }
   raise({ErrorCode::invalid_argument, what, std::string(what) + ": unknown value '" + text + "' (expected one of " + known + ")"});
 }
 
 ShadingMode shading_of(const std::string& s) {
-  return parse_enum<ShadingMode>(s, "shading", {{"flat", ShadingMode::flat}, {"gouraud", ShadingMode::gouraud}, {"phong", ShadingMode::phong}});
+  return parse_named(s, "shading", {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong});
 }
 LightingPath path_of(const std::string& s) {
-  return parse_enum<LightingPath>(s, "path", {{"reference", LightingPath::reference}, {"scalar", LightingPath::scalar}, {"simd", LightingPath::simd}});
+  return parse_named(s, "path", {LightingPath::reference, LightingPath::scalar, LightingPath::simd});
 }
-Isa isa_of(const std::string& s) {
-  return parse_enum<Isa>(s, "isa", {{"best", Isa::best}, {"sse2", Isa::sse2}, {"avx2", Isa::avx2}, {"avx512", Isa::avx512}});
-}
+Isa isa_of(const std::string& s) { return parse_named(s, "isa", {Isa::best, Isa::sse2, Isa::avx2, Isa::avx512}); }
 PowTier pow_of(const std::string& s) {
-  return parse_enum<PowTier>(s, "pow", {{"auto", PowTier::automatic}, {"exact", PowTier::exact}, {"fast", PowTier::fast},
-                                        {"integer", PowTier::integer}, {"schlick", PowTier::schlick}});
+  return parse_named(s, "pow", {PowTier::automatic, PowTier::exact, PowTier::fast, PowTier::integer, PowTier::schlick});
 }
 
 py::dict stats_dict(const FrameStats& s) {
@@ -121,8 +121,7 @@ class PyRenderer {
     o.path = path_of(path);
     o.isa = isa_of(isa);
     o.pow_tier = pow_of(pow);
-    o.pixel_precision = parse_enum<PixelPrecision>(
-        pixel_precision, "pixel_precision", {{"auto", PixelPrecision::automatic}, {"exact", PixelPrecision::exact}, {"fast", PixelPrecision::fast}});
+    o.pixel_precision = parse_named(pixel_precision, "pixel_precision", {PixelPrecision::automatic, PixelPrecision::exact, PixelPrecision::fast});
     o.threads = threads;
     o.samples = msaa;
     o.srgb = srgb;
@@ -283,10 +282,9 @@ PYBIND11_MODULE(_facet, m) {
           raise({ErrorCode::invalid_argument, "pixels", "pixels: expected an H x W x 4 array of RGBA bytes (top row first)"});
         }
         TextureOptions o;
-        o.filter = parse_enum<TextureFilter>(filter, "filter", {{"nearest", TextureFilter::nearest}, {"bilinear", TextureFilter::bilinear},
-                                                                {"trilinear", TextureFilter::trilinear}});
-        o.wrap = parse_enum<TextureWrap>(wrap, "wrap", {{"repeat", TextureWrap::repeat}, {"clamp", TextureWrap::clamp}, {"mirror", TextureWrap::mirror}});
-        o.encoding = parse_enum<TextureEncoding>(encoding, "encoding", {{"linear", TextureEncoding::linear}, {"srgb", TextureEncoding::srgb}});
+        o.filter = parse_named(filter, "filter", {TextureFilter::nearest, TextureFilter::bilinear, TextureFilter::trilinear});
+        o.wrap = parse_named(wrap, "wrap", {TextureWrap::repeat, TextureWrap::clamp, TextureWrap::mirror});
+        o.encoding = parse_named(encoding, "encoding", {TextureEncoding::linear, TextureEncoding::srgb});
         const int h = static_cast<int>(std::min<py::ssize_t>(pixels.shape(0), INT32_MAX));
         const int w = static_cast<int>(std::min<py::ssize_t>(pixels.shape(1), INT32_MAX));
         Texture t = value_or_raise(make_texture(name.empty() ? "texture" + std::to_string(s.textures.size()) : name, w, h,
@@ -299,8 +297,7 @@ PYBIND11_MODULE(_facet, m) {
          "bilinear or trilinear (mipmapped), wrap repeat, clamp or mirror, encoding linear or srgb. Returns its index.")
       .def("set_fog", [](Scene& s, const std::string& mode, std::array<float, 3> color, float start, float end, float density) {
         Fog fog;
-        fog.mode = parse_enum<FogMode>(mode, "mode", {{"none", FogMode::none}, {"linear", FogMode::linear}, {"exp", FogMode::exp},
-                                                      {"exp2", FogMode::exp2}});
+        fog.mode = parse_named(mode, "mode", {FogMode::none, FogMode::linear, FogMode::exp, FogMode::exp2});
         fog.color = Color3(color[0], color[1], color[2]);
         fog.start = start, fog.end = end, fog.density = density;
         if (Status st = validate_fog(fog); !st.ok()) raise(st);
@@ -322,16 +319,14 @@ PYBIND11_MODULE(_facet, m) {
         mat.alpha = alpha;
         if (alpha < 1.0f) mat.blend = BlendMode::alpha;
         if (blend) {
-          mat.blend = parse_enum<BlendMode>(*blend, "blend", {{"opaque", BlendMode::opaque}, {"alpha", BlendMode::alpha},
-                                                             {"premultiplied", BlendMode::premultiplied}, {"add", BlendMode::add},
-                                                             {"multiply", BlendMode::multiply}, {"subtract", BlendMode::subtract}});
+          mat.blend = parse_named(*blend, "blend", {BlendMode::opaque, BlendMode::alpha, BlendMode::premultiplied, BlendMode::add,
+                                                     BlendMode::multiply, BlendMode::subtract});
         }
         if (texture) {
           if (*texture >= s.textures.size()) raise({ErrorCode::invalid_argument, "texture", "texture: no texture " + std::to_string(*texture)});
           mat.diffuse_texture = static_cast<std::int32_t>(*texture);
         }
-        mat.texture_mode = parse_enum<TextureMode>(texture_mode, "texture_mode", {{"modulate", TextureMode::modulate}, {"replace", TextureMode::replace},
-                                                                                  {"decal", TextureMode::decal}, {"add", TextureMode::add}});
+        mat.texture_mode = parse_named(texture_mode, "texture_mode", {TextureMode::modulate, TextureMode::replace, TextureMode::decal, TextureMode::add});
         mat.alpha_cutoff = alpha_cutoff;
         mat.uv_scale = Vec2(uv_scale[0], uv_scale[1]);
         if (Status st = validate_material(mat, s.materials.size()); !st.ok()) raise(st);
@@ -371,7 +366,16 @@ PYBIND11_MODULE(_facet, m) {
                            std::array<float, 3> diffuse, std::array<float, 3> specular, std::array<float, 3> ambient,
                            std::array<float, 3> attenuation, float spot_cutoff_deg, float spot_exponent) {
         Light l;
-        l.type = parse_enum<LightType>(type, "type", {{"directional", LightType::directional}, {"point", LightType::point}, {"spot", LightType::spot}});
+        // Light types have no to_string: the scene file's names.
+        if (type == "directional") {
+          l.type = LightType::directional;
+        } else if (type == "point") {
+          l.type = LightType::point;
+        } else if (type == "spot") {
+          l.type = LightType::spot;
+        } else {
+          raise({ErrorCode::invalid_argument, "type", "type: unknown value '" + type + "' (expected one of directional, point, spot)"});
+        }
         l.position = Vec3(position[0], position[1], position[2]);
         l.direction = Vec3(direction[0], direction[1], direction[2]);
         l.diffuse = Color3(diffuse[0], diffuse[1], diffuse[2]);
