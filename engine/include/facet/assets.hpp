@@ -26,6 +26,11 @@ struct AssetAccess {
   // "." or ".." left in it), after the same confinement checks. Return the file's bytes, or a
   // Status saying why not (its message is shown after facet's own, which names the file and field).
   std::function<Result<std::string>(const std::string& name)> resolver;
+  // When set, told of every file a load read, once it was read whole: its name (the file the host
+  // named as given; any other as the resolver would be asked for it, confined as above) and its
+  // bytes. A host that packs a model with what it needs (facet bake) copies exactly these bytes,
+  // never reading the folder again by rules of its own. Called on the loading thread.
+  std::function<void(const std::string& name, const std::string& bytes)> on_read;
 };
 
 }  // namespace facet

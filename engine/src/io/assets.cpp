@@ -163,9 +163,13 @@ Result<std::string> AssetFolder::read(std::string_view name, const std::string& 
                                       std::uint64_t max_bytes) const {
   Result<Resolved> file = resolve(name, where);
   if (!file) return file.status();
-  if (access_.resolver) return from_resolver(access_, file->path, where + " " + quote(name, 200), max_bytes);
-  Result<std::string> bytes = read_file(file->path, what, max_bytes);
-  if (!bytes) return Status{bytes.status().code(), "path", where + ": " + bytes.status().message()};
+  Result<std::string> bytes = access_.resolver ? from_resolver(access_, file->path, where + " " + quote(name, 200), max_bytes)
+                                               : read_file(file->path, what, max_bytes);
+  if (!bytes) {
+    if (access_.resolver) return bytes;
+    return Status{bytes.status().code(), "path", where + ": " + bytes.status().message()};
+  }
+  if (access_.on_read) access_.on_read(file->name, *bytes);
   return bytes;
 }
 
@@ -176,8 +180,10 @@ AssetFolder AssetFolder::folder_of(const Resolved& file) const {
 
 Result<std::string> read_named_by_host(const AssetAccess& access, const std::string& path, const char* what,
                                        std::uint64_t max_bytes) {
-  if (!access.resolver) return read_file(path, what, max_bytes);
-  return from_resolver(access, path, std::string(what) + " " + quote(path, 200), max_bytes);
+  Result<std::string> bytes = access.resolver ? from_resolver(access, path, std::string(what) + " " + quote(path, 200), max_bytes)
+                                              : read_file(path, what, max_bytes);
+  if (bytes && access.on_read) access.on_read(path, *bytes);
+  return bytes;
 }
 
 }  // namespace facet::io
