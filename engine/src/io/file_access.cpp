@@ -90,6 +90,13 @@ Result<std::string> read_file(const std::string& path, const char* what, std::ui
 
 Status write_file_atomically(const std::string& path, const char* what,
                              const std::function<Status(std::FILE*)>& write) {
+  // What the name leads to now: a regular file is replaced, a link is replaced (not written
+  // through); a FIFO, a device, a socket or a folder is refused, never replaced by a file.
+  struct stat target {};
+  if (::stat(path.c_str(), &target) == 0 && !S_ISREG(target.st_mode)) {
+    return fail(ErrorCode::io_error, "cannot write", what, path,
+                S_ISDIR(target.st_mode) ? "it is a folder" : "it exists and is not a regular file (a FIFO, a device or a socket)");
+  }
   std::string temp = path + ".XXXXXX";
   const int fd = ::mkstemp(temp.data());
   if (fd < 0) {

@@ -6,7 +6,9 @@
 // error (out_of_memory when the buffer cannot be had).
 // Writing: into a temporary file in the same directory, renamed over the target only when every
 // byte was written and the file closed, so a failed or interrupted write (disk full, ulimit -f,
-// a crash) leaves the old file as it was. A missing directory is an error, never created.
+// a crash) leaves the old file as it was. A missing directory is an error, never created. A name
+// that leads to anything but a regular file (a FIFO, a device, a socket, a folder; through a link
+// or not) is refused; a link to a regular file is replaced by the new file, not written through.
 #pragma once
 
 #include <cstdint>
