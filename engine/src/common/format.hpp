@@ -32,9 +32,9 @@ inline std::string format_bytes(std::uint64_t bytes) {
 // control bytes, DEL and bytes >= 0x80 as \xNN (\n, \t, \r by name; a NUL does not cut the
 // message), quotes and backslashes escaped, and at most `max_chars` characters of the original
 // followed by "..." when it was longer. A message never carries a terminal escape or a whole line
-// of a file that was not what it claimed to be.
-inline std::string quote(std::string_view text, std::size_t max_chars = 48) {
-  std::string out = "'";
+// of a file that was not what it claimed to be. printable() is the same without the quotes.
+inline std::string printable(std::string_view text, std::size_t max_chars = 48) {
+  std::string out;
   const std::size_t n = text.size() < max_chars ? text.size() : max_chars;
   for (std::size_t i = 0; i < n; ++i) {
     const auto c = static_cast<unsigned char>(text[i]);
@@ -56,8 +56,33 @@ inline std::string quote(std::string_view text, std::size_t max_chars = 48) {
     }
   }
   if (n < text.size()) out += "...";
-  out += "'";
   return out;
+}
+
+// printable() between single quotes.
+inline std::string quote(std::string_view text, std::size_t max_chars = 48) {
+  return "'" + printable(text, max_chars) + "'";
+}
+
+// True when the brackets of JSON text, outside its strings, nest deeper than `limit`: checked
+// before parsing, since nlohmann's parser and its values recurse once a level.
+inline bool json_nesting_exceeds(std::string_view text, std::size_t limit) {
+  std::size_t depth = 0;
+  bool in_string = false, escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > limit) return true;
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return false;
 }
 
 }  // namespace facet

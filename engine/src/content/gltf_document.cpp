@@ -37,26 +37,6 @@ const char* type_name(const Json& v) {
   }
 }
 
-// True when brackets outside strings nest deeper than `limit`.
-bool nesting_exceeds(std::string_view text, std::size_t limit) {
-  std::size_t depth = 0;
-  bool in_string = false, escaped = false;
-  for (const char c : text) {
-    if (in_string) {
-      if (escaped) escaped = false;
-      else if (c == '\\') escaped = true;
-      else if (c == '"') in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > limit) return true;
-    } else if ((c == ']' || c == '}') && depth > 0) {
-      --depth;
-    }
-  }
-  return false;
-}
-
 bool whole(double v) { return std::isfinite(v) && std::floor(v) == v; }
 
 }  // namespace
@@ -223,7 +203,7 @@ Result<Document> Document::parse(std::span<const std::uint8_t> bytes, const std:
   // JSON, nested no deeper than kMaxDepth (checked by a scan of its brackets: nlohmann's
   // callback parser, which could check it while parsing, is quadratic in an array's length).
   const char* b = reinterpret_cast<const char*>(text.data());
-  if (nesting_exceeds(std::string_view(b, text.size()), kMaxDepth)) {
+  if (json_nesting_exceeds(std::string_view(b, text.size()), kMaxDepth)) {
     return fail("the JSON nests deeper than " + std::to_string(kMaxDepth) + " levels");
   }
   doc.json_ = Json::parse(b, b + text.size(), nullptr, false);
