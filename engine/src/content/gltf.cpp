@@ -286,6 +286,10 @@ Status Reader::read_accessor(int index, const std::string& p, const char* semant
   if (normalized && (component == kUnsignedInt || component == kFloat)) {
     return f_.error(ap + ".normalized", std::string("true is not allowed for ") + component_name(component) + " components");
   }
+  // glTF 2.0, 3.6.2.4: an accessor's offset is a multiple of its component's size.
+  if (offset % std::uint64_t(csize) != 0) {
+    return f_.error(ap + ".byteOffset", std::to_string(offset) + " is not a multiple of the component size (" + std::to_string(csize) + ")");
+  }
   const char* use = semantic ? semantic : "indices";
   if (!allowed(use, components, component, normalized)) {
     return f_.error(ap, type + " of " + (normalized ? "normalized " : "") + component_name(component) + " cannot be used for " + p);
@@ -335,6 +339,8 @@ Status Reader::read_accessor(int index, const std::string& p, const char* semant
     FACET_TRY(f_.integer(*val, sp + ".values", "byteOffset", vo, 0, std::uint64_t{1} << 40));
     const int isize = component_size(static_cast<int>(itype));
     const std::uint8_t *ip = nullptr, *vp = nullptr;
+    if (io % std::uint64_t(isize) != 0) return f_.error(sp + ".indices.byteOffset", "not a multiple of the component size");
+    if (vo % std::uint64_t(csize) != 0) return f_.error(sp + ".values.byteOffset", "not a multiple of the component size");
     FACET_TRY(view_span(iv, io, count, std::size_t(isize), std::size_t(isize), sp + ".indices", ip));
     FACET_TRY(view_span(vv, vo, count, element, element, sp + ".values", vp));
     for (std::size_t k = 0; k < count; ++k) {
@@ -429,7 +435,24 @@ Status Reader::primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index
   FACET_TRY(f_.object(prim, p, "extensions", ext));
   const Json* draco = ext ? Fields::find(*ext, "KHR_draco_mesh_compression") : nullptr;
   if (draco) {
+    // Draco holds triangle faces: a strip or fan mode would read them again as something else.
+    if (mode != 4) return f_.error(p + ".mode", "a Draco-compressed primitive holds triangles (mode 4), found mode " + std::to_string(mode));
     FACET_TRY(draco_attributes(*draco, p + ".extensions.KHR_draco_mesh_compression", attributes, values, idxs));
+    // Each decoded attribute has as many components as its accessor says (COLOR_0: VEC3 or VEC4).
+    auto accessor_components = [&](int index) -> int {
+      if (index < 0 || static_cast<std::size_t>(index) >= doc_.count("accessors")) return 0;
+      const Json* t = Fields::find(doc_.item("accessors", static_cast<std::size_t>(index)), "type");
+      return t && t->is_string() ? components_of(t->get<std::string>()) : 0;
+    };
+    for (const auto& [name, accessor] : attributes) {
+      const auto it = values.find(name);
+      if (it == values.end()) continue;
+      const int want = accessor_components(accessor);
+      if (want != 0 && it->second.components != want) {
+        return f_.error(p + ".attributes." + name, "the Draco attribute has " + std::to_string(it->second.components) +
+                                                        " components, its accessor " + std::to_string(want));
+      }
+    }
     have_indices = true;
   } else {
     for (const char* name : {"POSITION", "NORMAL", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0", "TANGENT"}) {

@@ -39,7 +39,7 @@ Status Reader::draco_attributes(const Json& ext, const std::string& p, const std
     const draco::PointAttribute* a = mesh->GetAttributeByUniqueId(static_cast<std::uint32_t>(id));
     if (!a) return f_.error(p + ".attributes." + name, "no attribute with unique id " + std::to_string(id) + " in the Draco data");
     const std::string n = name;
-    const int want = n == "TEXCOORD_0" || n == "TEXCOORD_1" ? 2 : n == "COLOR_0" ? a->num_components() : n == "TANGENT" ? 4 : 3;
+    const int want = n == "TEXCOORD_0" || n == "TEXCOORD_1" ? 2 : n == "COLOR_0" ? (a->num_components() == 4 ? 4 : 3) : n == "TANGENT" ? 4 : 3;
     if (a->num_components() != want || (want != 2 && want != 3 && want != 4)) {
       return f_.error(p + ".attributes." + name, "the Draco attribute has " + std::to_string(a->num_components()) + " components");
     }

@@ -132,9 +132,10 @@ std::uint32_t le32(std::span<const std::uint8_t> b, std::size_t at) {
 }
 
 // stb_image reads a palette BMP's colours into a table it does not clear, so an index past the
-// palette would read whatever was on the stack: every index is checked first.
+// palette would read whatever was on the stack: every index is checked first. It also reads the
+// rows of a cut-short BMP as zeros: every uncompressed BMP's rows must be in the file.
 template <class Fail>
-Status check_bmp_palette(std::span<const std::uint8_t> b, const Fail& fail) {
+Status check_bmp(std::span<const std::uint8_t> b, const Fail& fail) {
   const std::uint32_t offset = le32(b, 10), header = le32(b, 14);
   if (header != 12 && header < 40) return {};  // stb refuses it
   const bool os2 = header == 12;
@@ -142,8 +143,18 @@ Status check_bmp_palette(std::span<const std::uint8_t> b, const Fail& fail) {
   const std::int64_t width = os2 ? (b[18] | b[19] << 8) : static_cast<std::int32_t>(le32(b, 18));
   std::int64_t height = os2 ? (b[20] | b[21] << 8) : static_cast<std::int32_t>(le32(b, 22));
   const int bpp = os2 ? (b[24] | b[25] << 8) : (b[28] | b[29] << 8);
+  if (height < 0) height = -height;  // rows stored top-down
+  if (bpp == 16 || bpp == 24 || bpp == 32) {
+    const std::uint32_t compression = os2 ? 0 : le32(b, 30);
+    if (compression != 0 && compression != 3) return {};  // stb refuses it
+    if (width < 1 || width > kMaxTextureDimension || height < 1 || height > kMaxTextureDimension) return {};
+    const std::uint64_t row = ((std::uint64_t(width) * std::uint64_t(bpp) + 31) / 32) * 4;
+    if (offset > b.size() || row * std::uint64_t(height) > b.size() - offset) {
+      return fail(ErrorCode::parse_error, "the BMP's pixels are cut short");
+    }
+    return {};
+  }
   if (bpp != 1 && bpp != 4 && bpp != 8) return {};  // not a palette BMP (or, as 0 and 2 bits, one stb refuses)
-  if (height < 0) height = -height;
   const std::int64_t colours = os2 ? (std::int64_t(offset) - 14 - 24) / 3 : (std::int64_t(offset) - 14 - header) / 4;
   // stb computes the same count and refuses 0 and more than 256, but takes a negative one (a pixel
   // offset inside the header) as a palette of no colours it then reads (found by fuzz_texture).
@@ -206,6 +217,7 @@ Status check_tga(std::span<const std::uint8_t> b, const Fail& fail) {
     if (at >= b.size()) return fail(ErrorCode::parse_error, "the TGA's pixels are cut short");
     const std::uint8_t command = b[at++];
     const std::uint64_t run = 1 + (command & 127);
+    if (run > pixels - done) return fail(ErrorCode::parse_error, "a TGA run-length packet runs past the end of the image");
     FACET_TRY(pixel(command & 128 ? 1 : std::min(run, pixels - done)));
     done += run;
   }
@@ -358,7 +370,8 @@ Result<Texture> decode_texture(std::span<const std::uint8_t> bytes, const std::s
   if (!stbi_info_from_memory(data, size, &w, &h, &channels)) {
     return fail(ErrorCode::parse_error, std::string("cannot read the ") + format + " header");
   }
-  if (kind == ImageKind::bmp) FACET_TRY(check_bmp_palette(bytes, fail));
+  if (kind == ImageKind::bmp && h < 0 && h > -kMaxTextureDimension - 1) h = -h;  // a top-down BMP
+  if (kind == ImageKind::bmp) FACET_TRY(check_bmp(bytes, fail));
   if (kind == ImageKind::tga) FACET_TRY(check_tga(bytes, fail));
   // The decoder's output and its working copy, then the texels.
   FACET_TRY(admit(w, h, 2 * static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) * 4));
