@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "facet/lightmap.hpp"
+#include "facet/mesh.hpp"
 #include "facet/scene.hpp"
 #include "facet/status.hpp"
 #include "facet/types.hpp"
@@ -52,6 +53,9 @@ struct BakeOptions {
   // patch and shot). Stops when the unshot power falls below `residual` times the power that
   // entered (reflected direct light, and emission unless gathered), after max_shots shots, or after
   // max_seconds (0: no limit; a time limit makes the result depend on the machine's speed).
+  // max_seconds bounds the whole bake: radiosity stops at it with the light shot so far, and an
+  // earlier phase (charts, patches, burial probes, direct light, emitters), which has no partial
+  // result to give, fails with ErrorCode::cancelled naming the phase, within a second of it.
   bool radiosity = true;
   int rays_per_shot = 256;
   std::size_t max_shots = 100000;
@@ -65,9 +69,17 @@ struct BakeOptions {
   bool ambient_from_unshot = true;
   // Texels of all lightmaps together at most this many; refused before any work.
   std::size_t max_texels = std::size_t{1} << 24;
+  // The bake's own memory (its charts' texels, footprint pieces, patches and per-piece light) at
+  // most this many bytes (0: no limit): the texels are counted before any piece is made, and the
+  // pieces as they are made; over it, ErrorCode::out_of_memory with the numbers (field
+  // "memory_budget_bytes"). The scene itself and Embree's hierarchy are not counted.
+  std::uint64_t memory_budget_bytes = kDefaultLoadBudgetBytes;
   int threads = 0;  // 0: the machine's hardware threads
-  // Called between shots with the share of the work done (1 - unshot / entered power, or the
-  // share of max_shots if larger); return false to stop with ErrorCode::cancelled.
+  // Called on the calling thread between pieces of every phase (at least once a second while the
+  // bake runs) with the share of the whole bake done, which only grows: each phase that runs
+  // (charts, patches, burial probes, direct light, emitters, radiosity) takes an equal share;
+  // radiosity's own share is 1 - unshot / entered power, or the share of max_shots if larger.
+  // Return false to stop with ErrorCode::cancelled.
   std::function<bool(double done)> progress;
 };
 

@@ -344,6 +344,12 @@ facet_status facet_scene_texture_encoding(const facet_scene* scene, uint32_t tex
  * +Y; each face texel averages 4 x 4 bilinear reads over its footprint (docs/environment.md). */
 facet_status facet_scene_add_cube_from_equirect(facet_scene* scene, uint32_t texture_id, int face_size,
                                                uint32_t* first_face_id);
+/* The same, with a progress callback called after each row of a face with the share done (a
+ * 4096-texel face takes minutes): return 0 to cancel (FACET_CANCELLED, the scene unchanged). Asking
+ * again for the same texture, size and encoding returns the faces already made, at no cost. */
+facet_status facet_scene_add_cube_from_equirect_progress(facet_scene* scene, uint32_t texture_id, int face_size,
+                                                        int (*progress)(void* user, double done), void* progress_user,
+                                                        uint32_t* first_face_id);
 
 /* Replaces the scene's contents with a scene file (.json) or a model (.gltf, .glb, .obj), read
  * with a memory budget (0 = no limit). With FACET_LOAD_ALLOW_MISSING a model's missing .mtl,
@@ -436,8 +442,11 @@ typedef struct facet_bake_config {
   int threads;             /* 0: all */
   double scale;            /* the lightmap textures hold light / scale; 0 (default): the 99.9th percentile */
   facet_lightmap_mode mode;  /* how the baked scene is drawn (default FACET_LIGHTMAP_DIFFUSE) */
-  int (*progress)(void* user, double done); /* may be NULL; return 0 to cancel (FACET_CANCELLED) */
+  int (*progress)(void* user, double done); /* may be NULL; called at least once a second with the share of
+                                               the whole bake done; return 0 to cancel (FACET_CANCELLED) */
   void* progress_user;
+  double max_seconds;      /* 0 (default): no limit; radiosity stops at it, an earlier phase fails (FACET_CANCELLED) */
+  uint64_t memory_budget_bytes; /* the bake's own memory (texels, footprint pieces); 0: no limit; default 4 GiB */
 } facet_bake_config;
 typedef struct facet_bake_stats {
   uint64_t texels, patches, shots, rays;

@@ -1,11 +1,7 @@
 // Baked light (facet/bake.hpp): lightmap texels as patches, direct light with shadow rays, and
 // progressive-refinement radiosity with ray-cast form factors, all through one Embree scene.
-//
-// Determinism: every random number is a hash of (patch, shot, ray, dimension); rays are traced
-// in parallel into per-ray slots and their results applied in ray order; the patch to shoot is
-// the first with the most unshot power; the Embree hierarchy is built in a one-thread arena, so
-// that a ray hitting an edge two triangles share finds the same one whatever the caller's
-// thread count.
+// This file: the options, the charts and patches, the ray scene, burial probes, small texels
+// merged, and the result; bake_light.cpp: the light.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -22,98 +18,12 @@
 #include "common/parallel.hpp"
 #include "common/try.hpp"
 #include "facet/bake.hpp"
-#include "lighting/setup.hpp"
-#include "lighting/shade.hpp"
+#include "bake/baker.hpp"
+
 
 namespace facet {
+namespace bake_internal {
 namespace {
-
-using V2 = Eigen::Vector2d;
-using V3 = Eigen::Vector3d;
-
-// A piece of a texel's footprint: one sub-square clipped with one triangle.
-struct Piece {
-  std::uint32_t patch = 0;   // the texel, as a patch index
-  std::uint32_t triangle = 0, object = 0;
-  V2 square;                 // the sub-square's lower-left corner, in texels
-  V3 position, face_normal, normal;  // centroid; the triangle's normal; the interpolated vertex normal
-  double area = 0;           // world area
-};
-
-struct Patch {
-  V3 light = V3::Zero();     // arriving light (direct + indirect), colour units
-  V3 unshot = V3::Zero();    // radiosity not yet shot
-  V3 albedo = V3::Zero(), emission = V3::Zero();
-  double area = 0;
-  std::uint32_t first_piece = 0, piece_count = 0;
-  std::uint32_t object = 0, texel = 0;
-};
-
-// One object's surface in world space, with its charts.
-struct Surface {
-  Mesh world;             // positions and normals in world space
-  LightmapUnwrap unwrap;
-  std::vector<V3> face_normal;
-  std::vector<std::uint32_t> fallback;  // per triangle: the patch of its largest piece
-  std::uint32_t first_patch_texel = 0;  // index of texel 0 in the global texel -> patch map
-  bool mesh_uvs = false;                // the atlas is over the mesh's own lightmap coordinates
-};
-
-// Counter-based random numbers: the same value for the same (a, b, c, d) on every run and thread.
-double hash01(std::uint64_t a, std::uint64_t b, std::uint64_t c, std::uint64_t d) {
-  std::uint64_t x = a * 0x9E3779B97F4A7C15ull ^ (b + 0x632BE59BD9B4E019ull) * 0xBF58476D1CE4E5B9ull ^
-                    (c + 0x85157AF5ull) * 0x94D049BB133111EBull ^ (d + 0x2545F4914F6CDD1Dull);
-  x ^= x >> 30, x *= 0xBF58476D1CE4E5B9ull, x ^= x >> 27, x *= 0x94D049BB133111EBull, x ^= x >> 31;
-  return static_cast<double>(x >> 11) * 0x1.0p-53;
-}
-
-void basis(const V3& n, V3& t, V3& b) {
-  const V3 axis = std::abs(n.x()) <= std::abs(n.y()) && std::abs(n.x()) <= std::abs(n.z()) ? V3::UnitX()
-                  : std::abs(n.y()) <= std::abs(n.z())                                      ? V3::UnitY()
-                                                                                             : V3::UnitZ();
-  t = axis.cross(n).normalized();
-  b = n.cross(t);
-}
-
-// The patches' unshot power in a tournament tree: the largest (the first of equals) and the sum
-// at the root, a leaf's change in O(log n). Sums are added in a fixed tree order, so the stop
-// test sees the same value for any thread count.
-class PowerTree {
- public:
-  explicit PowerTree(std::size_t n) {
-    while (size_ < n) size_ *= 2;
-    best_.assign(2 * size_, -1.0);
-    index_.assign(2 * size_, 0);
-    sum_.assign(2 * size_, 0.0);
-    for (std::size_t i = 0; i < size_; ++i) index_[size_ + i] = static_cast<std::uint32_t>(i);
-  }
-  // Leaves first, then every parent once: the tree of `power` without n log n work.
-  void fill(const std::vector<double>& power) {
-    for (std::size_t i = 0; i < power.size(); ++i) best_[size_ + i] = sum_[size_ + i] = power[i];
-    for (std::size_t k = size_ - 1; k >= 1; --k) pull(k);
-  }
-  void set(std::size_t i, double power) {
-    std::size_t k = size_ + i;
-    best_[k] = sum_[k] = power;
-    for (k /= 2; k >= 1; k /= 2) pull(k);
-  }
-  double best() const { return best_[1]; }
-  std::size_t best_index() const { return index_[1]; }
-  double sum() const { return sum_[1]; }
-
- private:
-  void pull(std::size_t k) {
-    const std::size_t l = 2 * k, r = l + 1;
-    const bool left = best_[l] >= best_[r];
-    best_[k] = left ? best_[l] : best_[r];
-    index_[k] = left ? index_[l] : index_[r];
-    sum_[k] = sum_[l] + sum_[r];
-  }
-  std::size_t size_ = 1;
-  std::vector<double> best_;
-  std::vector<std::uint32_t> index_;
-  std::vector<double> sum_;
-};
 
 // The part of polygon `in` with coordinate `axis` on the kept side of `at`.
 std::vector<V2> clip(const std::vector<V2>& in, int axis, double at, bool keep_above) {
@@ -166,58 +76,42 @@ Status check_options(const BakeOptions& o) {
   return {};
 }
 
-class Baker {
- public:
-  Baker(const Scene& scene, const BakeOptions& o) : scene_(scene), o_(o), arena_(o.threads > 0 ? o.threads : 1 << 10) {}
-  ~Baker() {
-    if (rscene_) rtcReleaseScene(rscene_);
-    if (device_) rtcReleaseDevice(device_);
-  }
-  Result<BakeResult> run();
-
- private:
-  const Material& material_of(const Instance& inst, std::size_t triangle) const;
-  Status make_surfaces();
-  Status make_patches();
-  Status build_rays();
-  void drop_buried_pieces();
-  void merge_small_patches();
-  // Rebuilds pieces_ and patches_ with each piece in patch `target[its patch]` (-1: dropped), the
-  // patches in their old order; texel_patch_ and the surfaces' fallbacks follow.
-  void regroup(const std::vector<std::int64_t>& target, const std::vector<std::uint8_t>& dropped_piece);
-  void direct_light();
-  void emitter_light();
-  Status radiosity();
-  // The patch a ray hit (object, triangle, barycentrics), or -1.
-  std::int64_t patch_at(unsigned object, unsigned triangle, float u, float v) const;
-  V3 offset_origin(const Piece& p) const { return p.position + p.face_normal * epsilon_; }
-  // The first surface along a ray from `origin` (geomID RTC_INVALID_GEOMETRY_ID: none).
-  RTCRayHit intersect(const V3& origin, const V3& dir) const;
-  // A point spread uniformly over the piece: a point of its sub-square taken if it lies in the
-  // triangle (up to 16 tries from the hash sequence), else the centroid.
-  V3 ray_origin(const Piece& p, std::uint64_t patch, std::uint64_t shot, std::uint64_t ray) const;
-
-  const Scene& scene_;
-  const BakeOptions& o_;
-  parallel::Arena arena_;
-  std::vector<Surface> surfaces_;
-  std::vector<Piece> pieces_;
-  std::vector<Patch> patches_;
-  std::vector<std::int32_t> texel_patch_;  // all objects' texels, -1 where no triangle touches
-  RTCDevice device_ = nullptr;
-  RTCScene rscene_ = nullptr;
-  int error_code_ = 0;
-  std::string error_;
-  double epsilon_ = 1e-6;
-  BakeStats stats_;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-
-  friend void bake_error(void*, RTCError, const char*);
-};
+}  // namespace
 
 void bake_error(void* user, RTCError code, const char* message) {
   auto* b = static_cast<Baker*>(user);
   if (b->error_code_ == 0) b->error_code_ = static_cast<int>(code), b->error_ = message ? message : "";
+}
+
+Status Baker::checkpoint(double done) {
+  last_check_ = elapsed();
+  const bool radiosity = std::string_view(phase_) == "radiosity";
+  if (o_.max_seconds > 0 && last_check_ >= o_.max_seconds && !radiosity) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.0f %%", 100.0 * std::clamp(done, 0.0, 1.0));
+    return {ErrorCode::cancelled, "max_seconds",
+            "max_seconds: the time limit of " + format_number(o_.max_seconds) + " s ran out while " + phase_ + " (" + buf +
+                " of it done), before any light was shot; allow more time, or bake fewer texels, subdivisions or probe rays"};
+  }
+  if (o_.progress) {
+    const double whole = std::max(last_done_, std::min(1.0, (phase_index_ + std::clamp(done, 0.0, 1.0)) / phase_count_));
+    last_done_ = whole;
+    if (!o_.progress(whole)) return {ErrorCode::cancelled, "", std::string("bake: cancelled while ") + phase_};
+  }
+  return {};
+}
+
+Status Baker::charge(std::uint64_t bytes, const char* what) {
+  used_bytes_ += bytes;
+  if (o_.memory_budget_bytes != 0 && used_bytes_ > o_.memory_budget_bytes) {
+    return {ErrorCode::out_of_memory, "memory_budget_bytes",
+            std::string("memory_budget_bytes: the bake needs more than ") + format_bytes(used_bytes_) + " (" + what + ", " +
+                std::to_string(stats_.texels) + " texels at " + format_number(o_.charts.texels_per_unit) +
+                " texels per unit, " + std::to_string(o_.subdivisions) + " x " + std::to_string(o_.subdivisions) +
+                " pieces a texel), over the budget of " + format_bytes(o_.memory_budget_bytes) +
+                "; use fewer texels per unit or subdivisions, or a larger budget"};
+  }
+  return {};
 }
 
 const Material& Baker::material_of(const Instance& inst, std::size_t triangle) const {
@@ -251,7 +145,8 @@ Status Baker::make_surfaces() {
     if (!u.ok()) return {u.status().code(), field + "." + u.status().field(), field + ": " + u.status().message()};
     s.unwrap = std::move(*u);
     s.first_patch_texel = static_cast<std::uint32_t>(texels);
-    texels += static_cast<std::size_t>(s.unwrap.width) * static_cast<std::size_t>(s.unwrap.height);
+    const std::size_t object_texels = static_cast<std::size_t>(s.unwrap.width) * static_cast<std::size_t>(s.unwrap.height);
+    texels += object_texels;
     if (texels > o_.max_texels) {
       return {ErrorCode::out_of_memory, "max_texels",
               "max_texels: the lightmaps need more than " + std::to_string(o_.max_texels) + " texels at " +
@@ -265,6 +160,12 @@ Status Baker::make_surfaces() {
       const V3 n = (b - a).cross(c - a);
       s.face_normal[t] = n.norm() > 0 && n.allFinite() ? V3(n.normalized()) : V3::Zero();
     }
+    // Per texel: its patch, its light, area and dilation flag in the result, its footprint sum,
+    // and a patch (most texels are covered).
+    stats_.texels = texels;
+    FACET_TRY(charge(std::uint64_t(object_texels) * (sizeof(std::int32_t) + sizeof(Color3) + sizeof(float) + 1 + sizeof(double) +
+                                                     sizeof(Patch)), "the lightmaps' texels"));
+    FACET_TRY(checkpoint(double(k + 1) / double(scene_.objects.size())));
   }
   stats_.texels = texels;
   if (!bounds.isEmpty()) epsilon_ = 1e-5 * std::max(bounds.diagonal().norm(), 1e-30);
@@ -280,7 +181,16 @@ Status Baker::make_patches() {
     const Instance& inst = scene_.objects[obj];
     s.fallback.assign(u.triangles.size(), std::numeric_limits<std::uint32_t>::max());
     std::vector<Piece> object_pieces;
+    std::size_t charged = 0;
+    // Each piece lives in pieces_ (with its growth), in this object's list and its sort's buffer
+    // while they are made, then in a regroup's copy and the per-piece light.
+    constexpr std::uint64_t kBytesPerPiece = 3 * sizeof(Piece) + sizeof(V3) + 1;
     for (std::size_t t = 0; t < u.triangles.size(); ++t) {
+      if (object_pieces.size() - charged >= 4096) {
+        FACET_TRY(charge(std::uint64_t(object_pieces.size() - charged) * kBytesPerPiece, "footprint pieces"));
+        charged = object_pieces.size();
+      }
+      if (t % 64 == 0) FACET_TRY(maybe_checkpoint((double(obj) + double(t) / double(u.triangles.size())) / double(surfaces_.size())));
       if (s.face_normal[t] == V3::Zero()) continue;  // no area: nothing to light, nothing to hit
       std::array<V2, 3> q;
       std::array<V3, 3> p, n;
@@ -335,6 +245,7 @@ Status Baker::make_patches() {
         }
       }
     }
+    FACET_TRY(charge(std::uint64_t(object_pieces.size() - charged) * kBytesPerPiece, "footprint pieces"));
     // Pieces grouped by texel, in (texel, creation) order.
     std::stable_sort(object_pieces.begin(), object_pieces.end(), [](const Piece& a, const Piece& b) { return a.patch < b.patch; });
     for (std::size_t i = 0; i < object_pieces.size();) {
@@ -411,17 +322,6 @@ Status Baker::build_rays() {
   return {};
 }
 
-// Ray k of a set cosine-distributed about `n`, stratified on a side x side grid of the unit
-// square (cell k mod side^2), jittered in its cell by two numbers in [0, 1).
-V3 stratified_cosine(const V3& n, int side, int k, double jitter_a, double jitter_b) {
-  const int cell = k % (side * side);
-  const double a = (cell % side + jitter_a) / side, b = (cell / side + jitter_b) / side;
-  const double radius = std::sqrt(a), phi = 2 * std::numbers::pi * b;
-  V3 t, bt;
-  basis(n, t, bt);
-  return t * (radius * std::cos(phi)) + bt * (radius * std::sin(phi)) + n * std::sqrt(std::max(0.0, 1 - a));
-}
-
 RTCRayHit Baker::intersect(const V3& origin, const V3& dir) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
@@ -434,13 +334,12 @@ RTCRayHit Baker::intersect(const V3& origin, const V3& dir) const {
   return rh;
 }
 
-void Baker::drop_buried_pieces() {
+Status Baker::drop_buried_pieces() {
   const int n = o_.burial_rays;
-  if (n == 0 || pieces_.empty()) return;
+  if (n == 0 || pieces_.empty()) return {};
   const int side = std::max(1, static_cast<int>(std::sqrt(double(n))));
   std::vector<std::uint8_t> buried(pieces_.size(), 0);
-  arena_.execute([&] {
-    arena_.parallel_for(tbb::blocked_range<std::size_t>(0, pieces_.size(), 256), [&](const tbb::blocked_range<std::size_t>& r, int) {
+  FACET_TRY(in_slices(pieces_.size(), 64, [&](const tbb::blocked_range<std::size_t>& r, int) {
       for (std::size_t i = r.begin(); i != r.end(); ++i) {
         const Piece& piece = pieces_[i];
         const V3 origin = offset_origin(piece);
@@ -453,14 +352,14 @@ void Baker::drop_buried_pieces() {
         }
         buried[i] = 2 * back > n;
       }
-    });
-  });
+  }));
   stats_.rays += pieces_.size() * static_cast<std::size_t>(n);
   for (const std::uint8_t b : buried) stats_.buried += b;
-  if (stats_.buried == 0) return;  // nothing to regroup
+  if (stats_.buried == 0) return {};  // nothing to regroup
   std::vector<std::int64_t> same(patches_.size());
   for (std::size_t p = 0; p < same.size(); ++p) same[p] = static_cast<std::int64_t>(p);
   regroup(same, buried);
+  return {};
 }
 
 void Baker::regroup(const std::vector<std::int64_t>& target, const std::vector<std::uint8_t>& dropped_piece) {
@@ -551,304 +450,29 @@ void Baker::merge_small_patches() {
   if (any) regroup(target, std::vector<std::uint8_t>(pieces_.size(), 0));
 }
 
-std::int64_t Baker::patch_at(unsigned object, unsigned triangle, float u, float v) const {
-  const Surface& s = surfaces_[object];
-  const auto& tri = s.unwrap.triangles[triangle];
-  const double w0 = 1.0 - double(u) - double(v);
-  const double x = (w0 * s.unwrap.uvs[tri[0]].x() + double(u) * s.unwrap.uvs[tri[1]].x() + double(v) * s.unwrap.uvs[tri[2]].x()) * s.unwrap.width;
-  const double y = (w0 * s.unwrap.uvs[tri[0]].y() + double(u) * s.unwrap.uvs[tri[1]].y() + double(v) * s.unwrap.uvs[tri[2]].y()) * s.unwrap.height;
-  const int ix = std::clamp(static_cast<int>(std::floor(x)), 0, s.unwrap.width - 1);
-  const int iy = std::clamp(static_cast<int>(std::floor(y)), 0, s.unwrap.height - 1);
-  const std::int32_t p = texel_patch_[s.first_patch_texel + static_cast<std::size_t>(iy) * static_cast<std::size_t>(s.unwrap.width) + static_cast<std::size_t>(ix)];
-  if (p >= 0) return p;
-  const std::uint32_t f = s.fallback[triangle];
-  return f == std::numeric_limits<std::uint32_t>::max() ? -1 : static_cast<std::int64_t>(f);
-}
-
-V3 Baker::ray_origin(const Piece& p, std::uint64_t patch, std::uint64_t shot, std::uint64_t ray) const {
-  const Surface& s = surfaces_[p.object];
-  const auto& tri = s.unwrap.triangles[p.triangle];
-  std::array<V2, 3> q;
-  for (int c = 0; c < 3; ++c) {
-    const Vec2& uv = s.unwrap.uvs[tri[static_cast<std::size_t>(c)]];
-    q[static_cast<std::size_t>(c)] = V2(double(uv.x()) * s.unwrap.width, double(uv.y()) * s.unwrap.height);
-  }
-  const V2 e1 = q[1] - q[0], e2 = q[2] - q[0];
-  const double det = e1.x() * e2.y() - e1.y() * e2.x();
-  const double size = 1.0 / o_.subdivisions;
-  for (std::uint64_t attempt = 0; attempt < 16; ++attempt) {
-    const V2 d = p.square + V2(hash01(patch, shot, ray, 3 + 2 * attempt), hash01(patch, shot, ray, 4 + 2 * attempt)) * size - q[0];
-    const double b1 = (d.x() * e2.y() - d.y() * e2.x()) / det, b2 = (e1.x() * d.y() - e1.y() * d.x()) / det;
-    if (b1 < 0 || b2 < 0 || b1 + b2 > 1) continue;
-    const Mesh& m = s.world;
-    const std::uint32_t v0 = s.unwrap.source_vertex[tri[0]], v1 = s.unwrap.source_vertex[tri[1]], v2 = s.unwrap.source_vertex[tri[2]];
-    return (1 - b1 - b2) * m.positions[v0].cast<double>() + b1 * m.positions[v1].cast<double>() + b2 * m.positions[v2].cast<double>();
-  }
-  return p.position;
-}
-
-// Light from emissive surfaces gathered as area lights: at each piece, area_samples points on
-// the emitting patches (a patch chosen by its share of the emitted power, stratified; a point
-// spread uniformly over it), each weighted by B cos(receiver) cos(emitter) / (pi r^2) over its
-// probability and kept if a shadow ray reaches it. Soft shadows, and no shooting noise in the
-// direct light; radiosity then shoots only what the surfaces reflect.
-void Baker::emitter_light() {
-  std::vector<std::uint32_t> emitters;
-  std::vector<double> cdf;
-  double total = 0;
-  for (std::size_t i = 0; i < patches_.size(); ++i) {
-    const double power = patches_[i].emission.sum() * patches_[i].area;
-    if (!(power > 0)) continue;
-    emitters.push_back(static_cast<std::uint32_t>(i));
-    cdf.push_back(total += power);
-  }
-  if (emitters.empty()) return;
-  const int n = o_.area_samples;
-  std::vector<V3> at_piece(pieces_.size(), V3::Zero());
-  arena_.execute([&] {
-    arena_.parallel_for(tbb::blocked_range<std::size_t>(0, pieces_.size(), 64), [&](const tbb::blocked_range<std::size_t>& r, int) {
-      for (std::size_t i = r.begin(); i != r.end(); ++i) {
-        const Piece& piece = pieces_[i];
-        V3 sum = V3::Zero();
-        for (int k = 0; k < n; ++k) {
-          const V3 origin = ray_origin(piece, i, 0xE418, static_cast<std::uint64_t>(k)) + piece.face_normal * epsilon_;
-          const double pick = (k + hash01(i, 0xE417, static_cast<std::uint64_t>(k), 0)) / n * total;
-          const std::size_t e = std::min<std::size_t>(static_cast<std::size_t>(std::lower_bound(cdf.begin(), cdf.end(), pick) - cdf.begin()), emitters.size() - 1);
-          const Patch& emitter = patches_[emitters[e]];
-          if (emitters[e] == piece.patch) continue;  // a patch does not light itself (it is flat)
-          // A piece of the emitter by area, then a point spread over it.
-          double at = hash01(i, 0xE417, static_cast<std::uint64_t>(k), 1) * emitter.area, acc = 0;
-          std::uint32_t which = emitter.first_piece;
-          for (std::uint32_t q = emitter.first_piece; q < emitter.first_piece + emitter.piece_count; ++q) {
-            which = q;
-            if ((acc += pieces_[q].area) >= at) break;
-          }
-          const Piece& source = pieces_[which];
-          const V3 point = ray_origin(source, i, 0xE417 + static_cast<std::uint64_t>(k), 7) + source.face_normal * epsilon_;
-          const V3 d = point - origin;
-          const double r2 = d.squaredNorm();
-          if (!(r2 > 0)) continue;
-          const V3 w = d / std::sqrt(r2);
-          const double cos_r = w.dot(piece.normal), cos_e = -w.dot(source.face_normal);
-          if (cos_r <= 0 || cos_e <= 0 || w.dot(piece.face_normal) <= 0) continue;
-          RTCIntersectContext context;
-          rtcInitIntersectContext(&context);
-          RTCRay ray{};
-          ray.org_x = float(origin.x()), ray.org_y = float(origin.y()), ray.org_z = float(origin.z());
-          ray.dir_x = float(d.x()), ray.dir_y = float(d.y()), ray.dir_z = float(d.z());
-          ray.tnear = 0.0f, ray.tfar = 1.0f - 1e-4f, ray.mask = 0xffffffffu;
-          rtcOccluded1(rscene_, &context, &ray);
-          if (ray.tfar == -std::numeric_limits<float>::infinity()) continue;
-          // Over the point's probability density: the patch's power share over its area.
-          const double density = emitter.emission.sum() / total;
-          sum += emitter.emission * (cos_r * cos_e / (std::numbers::pi * r2) / density);
-        }
-        at_piece[i] = sum / n;
-      }
-    });
-  });
-  stats_.rays += pieces_.size() * static_cast<std::size_t>(n);
-  for (Patch& patch : patches_) {
-    V3 sum = V3::Zero();
-    for (std::uint32_t i = patch.first_piece; i < patch.first_piece + patch.piece_count; ++i) sum += at_piece[i] * pieces_[i].area;
-    if (patch.area > 0) patch.light += sum / patch.area;
-  }
-}
-
-void Baker::direct_light() {
-  Material white;
-  white.ambient = Color3::Zero(), white.diffuse = Color3::Ones(), white.specular = Color3::Zero();
-  const lighting::ShadeParams<double> sp = lighting::make_shade_params<double>(scene_, Eigen::Matrix4d::Identity(), white, false);
-  if (sp.lights.empty()) return;
-  std::vector<V3> at_piece(pieces_.size(), V3::Zero());
-  arena_.execute([&] {
-    arena_.parallel_for(tbb::blocked_range<std::size_t>(0, pieces_.size(), 256), [&](const tbb::blocked_range<std::size_t>& r, int) {
-      for (std::size_t i = r.begin(); i != r.end(); ++i) {
-        const Piece& piece = pieces_[i];
-        const lighting::V3<double> p{piece.position.x(), piece.position.y(), piece.position.z()};
-        const lighting::V3<double> n{piece.normal.x(), piece.normal.y(), piece.normal.z()};
-        V3 sum = V3::Zero();
-        for (const auto& light : sp.lights) {
-          lighting::EyeLight<double> L = light;
-          L.ambient = {}, L.specular = {}, L.shadow = 0;
-          lighting::V3<double> colour{}, specular{};
-          float lit = 1.0f;
-          lighting::light_contribution(sp, L, p, n, lighting::V3<double>{0, 0, 1}, colour, &specular, &lit);
-          if (colour.x == 0 && colour.y == 0 && colour.z == 0) continue;
-          // The same light, shadowed: one ray from the piece (off its surface) towards the light.
-          const V3 origin = offset_origin(piece);
-          V3 dir;
-          float tfar;
-          if (L.type == LightType::directional) {
-            dir = V3(L.to_light.x, L.to_light.y, L.to_light.z), tfar = std::numeric_limits<float>::infinity();
-          } else {
-            // Up to the light, less the offset: a light lying on a surface is not shadowed by it.
-            dir = V3(L.position.x, L.position.y, L.position.z) - origin;
-            tfar = static_cast<float>(std::max(0.0, 1.0 - epsilon_ / std::max(dir.norm(), 1e-300)));
-          }
-          if (dir.dot(piece.face_normal) <= 0) continue;  // behind its own surface
-          RTCIntersectContext context;
-          rtcInitIntersectContext(&context);
-          RTCRay ray{};
-          ray.org_x = float(origin.x()), ray.org_y = float(origin.y()), ray.org_z = float(origin.z());
-          ray.dir_x = float(dir.x()), ray.dir_y = float(dir.y()), ray.dir_z = float(dir.z());
-          ray.tnear = 0.0f, ray.tfar = tfar, ray.mask = 0xffffffffu, ray.flags = 0;
-          rtcOccluded1(rscene_, &context, &ray);
-          if (ray.tfar == -std::numeric_limits<float>::infinity()) continue;  // blocked
-          sum += V3(colour.x, colour.y, colour.z);
-        }
-        at_piece[i] = sum;
-      }
-    });
-  });
-  stats_.rays += pieces_.size() * sp.lights.size();
-  for (Patch& patch : patches_) {
-    V3 sum = V3::Zero();
-    for (std::uint32_t i = patch.first_piece; i < patch.first_piece + patch.piece_count; ++i) sum += at_piece[i] * pieces_[i].area;
-    if (patch.area > 0) patch.light += sum / patch.area;
-  }
-}
-
-Status Baker::radiosity() {
-  const std::size_t P = patches_.size();
-  // What the patches send out: their reflected direct light, and their emission unless it was
-  // gathered as area light already.
-  for (Patch& patch : patches_) {
-    patch.unshot = patch.albedo.cwiseProduct(patch.light) + (o_.gather_emitters ? V3(V3::Zero()) : patch.emission);
-  }
-  double entered = 0;
-  for (const Patch& patch : patches_) entered += patch.unshot.sum() * patch.area;
-  stats_.entered = entered;
-  if (!o_.radiosity || P == 0) {
-    stats_.unshot = entered;
-    stats_.stopped_by = "no radiosity";
-    return {};
-  }
-  const int n = o_.rays_per_shot;
-  const int side = std::max(1, static_cast<int>(std::sqrt(double(n))));
-  struct Hit {
-    std::int64_t patch;  // -1: escaped
-    bool back;
-  };
-  std::vector<Hit> hits(static_cast<std::size_t>(n));
-  std::vector<double> cdf;
-  stats_.stopped_by = "max_shots";
-  auto power_of = [](const Patch& p) { return p.unshot.sum() * p.area; };
-  // What the shots sent, what of it reached a front face, and what those faces reflected: the
-  // scene's measured share of light that lands and its reflectance, for the ambient term.
-  V3 shot_power = V3::Zero(), landed_power = V3::Zero(), reflected_power = V3::Zero();
-  PowerTree tree(P);
-  {
-    std::vector<double> power(P);
-    for (std::size_t i = 0; i < P; ++i) power[i] = power_of(patches_[i]);
-    tree.fill(power);
-  }
-  for (std::size_t shot = 0;; ++shot) {
-    // The patch with the most unshot power (the first of equals), and the power left.
-    const double best = tree.best(), left = tree.sum();
-    const std::size_t from = tree.best_index();
-    stats_.unshot = left;
-    if (!(left > o_.residual * entered) || best <= 0) {
-      stats_.stopped_by = "residual";
-      break;
-    }
-    if (shot >= o_.max_shots) break;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    if (o_.max_seconds > 0 && elapsed >= o_.max_seconds) {
-      stats_.stopped_by = "max_seconds";
-      break;
-    }
-    if (o_.progress && shot % 64 == 0) {
-      const double done = std::max(entered > 0 ? 1.0 - left / entered : 1.0, double(shot) / double(o_.max_shots));
-      if (!o_.progress(std::clamp(done, 0.0, 1.0))) return {ErrorCode::cancelled, "", "bake: cancelled"};
-    }
-    Patch& source = patches_[from];
-    // Ray origins spread over the patch's pieces by area, directions cosine-distributed about
-    // each piece's face normal (stratified on a side x side grid).
-    cdf.assign(source.piece_count, 0.0);
-    double total = 0;
-    for (std::uint32_t k = 0; k < source.piece_count; ++k) cdf[k] = (total += pieces_[source.first_piece + k].area);
-    arena_.execute([&] {
-      arena_.parallel_for(tbb::blocked_range<int>(0, n, 64), [&](const tbb::blocked_range<int>& r, int) {
-        for (int k = r.begin(); k != r.end(); ++k) {
-          // The piece by area, independent of the direction's stratum (tying the two made rays
-          // from one end of a patch all leave in one azimuth).
-          const double pick = hash01(from, shot, static_cast<std::uint64_t>(k), 0) * total;
-          const std::size_t which = std::min<std::size_t>(static_cast<std::size_t>(std::lower_bound(cdf.begin(), cdf.end(), pick) - cdf.begin()), source.piece_count - 1);
-          const Piece& piece = pieces_[source.first_piece + which];
-          const V3 dir = stratified_cosine(piece.face_normal, side, k, hash01(from, shot, static_cast<std::uint64_t>(k), 1),
-                                           hash01(from, shot, static_cast<std::uint64_t>(k), 2));
-          const V3 origin = ray_origin(piece, from, shot, static_cast<std::uint64_t>(k)) + piece.face_normal * epsilon_;
-          const RTCRayHit rh = intersect(origin, dir);
-          Hit& h = hits[static_cast<std::size_t>(k)];
-          h = {-1, false};
-          if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-          const V3& fn = surfaces_[rh.hit.geomID].face_normal[rh.hit.primID];
-          h.back = fn.dot(dir) >= 0;
-          h.patch = h.back ? -1 : patch_at(rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v);
-          if (!h.back && h.patch < 0) h.back = true;  // a triangle without texels: absorbed like a back face
-        }
-      });
-    });
-    // Applied in ray order: each ray carries 1 / n of the shot's power.
-    const V3 power = source.unshot * (source.area / n);
-    shot_power += source.unshot * source.area;
-    source.unshot = V3::Zero();
-    tree.set(from, 0.0);
-    for (std::size_t k = 0; k < hits.size(); ++k) {
-      const Hit& h = hits[k];
-      // The receivers are scattered over the patches: fetch a few rays ahead.
-      if (k + 8 < hits.size() && hits[k + 8].patch >= 0) __builtin_prefetch(&patches_[static_cast<std::size_t>(hits[k + 8].patch)]);
-      if (h.back) {
-        stats_.back_faces += power.sum();
-      } else if (h.patch < 0) {
-        stats_.escaped += power.sum();
-      } else {
-        Patch& to = patches_[static_cast<std::size_t>(h.patch)];
-        const V3 arriving = power / to.area;
-        to.light += arriving;
-        const V3 reflected = to.albedo.cwiseProduct(arriving);
-        to.unshot += reflected;
-        landed_power += power, reflected_power += reflected * to.area;
-        tree.set(static_cast<std::size_t>(h.patch), power_of(to));
-        stats_.absorbed += (power - reflected * to.area).sum();
-      }
-    }
-    stats_.rays += static_cast<std::size_t>(n);
-    stats_.shots = shot + 1;
-  }
-  if (o_.ambient_from_unshot && stats_.unshot > 0) {
-    // The paper's ambient term: the area-weighted average unshot radiosity, reflected again and
-    // again. The paper assumes a closed scene (all of it lands, reflected at the average albedo:
-    // 1 / (1 - albedo)); measured over the shots so far, the share that lands and the share
-    // reflected hold for an open scene too, and for a closed one they are the same numbers.
-    V3 unshot = V3::Zero(), albedo = V3::Zero();
-    double area = 0;
-    for (const Patch& p : patches_) unshot += p.unshot * p.area, albedo += p.albedo * p.area, area += p.area;
-    if (area > 0) {
-      unshot /= area, albedo /= area;
-      V3 lands = V3::Ones(), reflects = albedo;
-      for (int c = 0; c < 3; ++c) {
-        if (shot_power[c] > 0) lands[c] = landed_power[c] / shot_power[c], reflects[c] = reflected_power[c] / shot_power[c];
-      }
-      if (reflects.maxCoeff() < 1.0 - 1e-9) {
-        const V3 ambient = unshot.cwiseProduct(lands).cwiseQuotient(V3::Ones() - reflects);
-        for (Patch& p : patches_) p.light += ambient;
-      }
-    }
-  }
-  return {};
-}
-
 Result<BakeResult> Baker::run() {
+  phase_count_ = 3 + (o_.burial_rays > 0) + o_.direct + o_.gather_emitters;  // charts, patches, radiosity and those that run
+  begin_phase("cutting charts");
   FACET_TRY(make_surfaces());
+  begin_phase("cutting texels into pieces");
   FACET_TRY(make_patches());
   FACET_TRY(build_rays());
-  drop_buried_pieces();
+  if (o_.burial_rays > 0) {
+    begin_phase("probing for buried pieces");
+    FACET_TRY(drop_buried_pieces());
+  }
   merge_small_patches();
-  if (o_.direct) direct_light();
-  if (o_.gather_emitters) emitter_light();
+  if (o_.direct) {
+    begin_phase("lighting the pieces directly");
+    FACET_TRY(direct_light());
+  }
+  if (o_.gather_emitters) {
+    begin_phase("gathering light from emissive surfaces");
+    FACET_TRY(emitter_light());
+  }
+  begin_phase("radiosity");
   FACET_TRY(radiosity());
+  FACET_TRY(checkpoint(1.0));
   BakeResult out;
   out.lightmaps.resize(surfaces_.size());
   // Each texel's own footprint, every object's in one pass over the pieces (a small texel merged
@@ -903,7 +527,10 @@ Result<BakeResult> Baker::run() {
   return out;
 }
 
-}  // namespace
+}  // namespace bake_internal
+
+using bake_internal::Baker;
+using bake_internal::check_options;
 
 double lightmap_scale(const BakeResult& result) {
   std::vector<float> largest;

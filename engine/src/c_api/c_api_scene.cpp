@@ -383,6 +383,8 @@ facet_bake_config facet_bake_config_default(void) {
   c.mode = FACET_LIGHTMAP_DIFFUSE;
   c.progress = nullptr;
   c.progress_user = nullptr;
+  c.max_seconds = 0;
+  c.memory_budget_bytes = o.memory_budget_bytes;
   return c;
 }
 
@@ -407,6 +409,8 @@ facet_status facet_scene_bake(facet_scene* scene, const facet_bake_config* confi
     o.max_shots = static_cast<std::size_t>(config->max_shots);
     o.residual = config->residual;
     o.threads = config->threads;
+    o.max_seconds = config->max_seconds;
+    o.memory_budget_bytes = config->memory_budget_bytes;
     if (config->progress) {
       o.progress = [config](double done) { return config->progress(config->progress_user, done) != 0; };
     }
@@ -650,7 +654,8 @@ facet_status facet_scene_add_default_lights(facet_scene* scene) {
 
 
 facet_status facet_scene_get_camera(const facet_scene* scene, facet_camera* camera) {
-  if (!scene || !camera) return FACET_INVALID_ARGUMENT;
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  if (!camera) return fail(scene->error, "camera", "null");
   const facet::Camera& c = scene->scene.camera;
   for (int k = 0; k < 3; ++k) camera->eye[k] = c.eye[k], camera->target[k] = c.target[k], camera->up[k] = c.up[k];
   camera->vertical_fov_deg = c.vertical_fov_deg;

@@ -169,28 +169,44 @@ facet_status facet_scene_set_texture_encoding(facet_scene* scene, uint32_t textu
 }
 
 facet_status facet_scene_texture_encoding(const facet_scene* scene, uint32_t texture_id, facet_texture_encoding* encoding) {
-  if (!scene || !encoding || texture_id >= scene->scene.textures.size()) return FACET_INVALID_ARGUMENT;
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  if (!encoding) return fail(scene->error, "encoding", "null");
+  if (texture_id >= scene->scene.textures.size()) return fail(scene->error, "texture_id", "no such texture");
   *encoding = scene->scene.textures[texture_id].encoding == facet::TextureEncoding::srgb ? FACET_ENCODING_SRGB
                                                                                          : FACET_ENCODING_LINEAR;
   return FACET_OK;
 }
 
-facet_status facet_scene_add_cube_from_equirect(facet_scene* scene, uint32_t texture_id, int face_size,
-                                               uint32_t* first_face_id) {
+facet_status facet_scene_add_cube_from_equirect_progress(facet_scene* scene, uint32_t texture_id, int face_size,
+                                                        int (*progress)(void* user, double done), void* progress_user,
+                                                        uint32_t* first_face_id) {
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
     if (texture_id >= scene->scene.textures.size()) return fail(scene->error, "texture_id", "no such texture");
+    const auto key = std::make_tuple(texture_id, face_size, static_cast<int>(scene->scene.textures[texture_id].encoding));
+    if (auto it = scene->equirect_faces.find(key); it != scene->equirect_faces.end()) {
+      if (first_face_id) *first_face_id = it->second;
+      return report(scene->error, {});
+    }
     facet::TextureOptions o;
     o.filter = facet::TextureFilter::bilinear;  // environment maps are read at level 0
     o.wrap = facet::TextureWrap::clamp;
     const auto first = static_cast<std::uint32_t>(scene->scene.textures.size());
+    std::function<bool(double)> asked;
+    if (progress) asked = [progress, progress_user](double done) { return progress(progress_user, done) != 0; };
     facet::Result<std::vector<facet::Texture>> faces = facet::cube_faces_from_equirect(
-        scene->scene.textures[texture_id], face_size, "texture" + std::to_string(first), o);
+        scene->scene.textures[texture_id], face_size, "texture" + std::to_string(first), o, asked);
     if (!faces) return report(scene->error, faces.status());
     for (facet::Texture& f : *faces) scene->scene.textures.push_back(std::move(f));
+    scene->equirect_faces.emplace(key, first);
     if (first_face_id) *first_face_id = first;
     return report(scene->error, {});
   });
+}
+
+facet_status facet_scene_add_cube_from_equirect(facet_scene* scene, uint32_t texture_id, int face_size,
+                                               uint32_t* first_face_id) {
+  return facet_scene_add_cube_from_equirect_progress(scene, texture_id, face_size, nullptr, nullptr, first_face_id);
 }
 
 }  // extern "C"

@@ -8,12 +8,15 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <map>
 #include <new>
+#include <tuple>
 #include <string>
 #include <type_traits>
 #include <vector>
 
 #include "facet/facet.h"
+#include "common/format.hpp"
 #include "facet/facet.hpp"
 
 struct facet_renderer {
@@ -23,7 +26,7 @@ struct facet_renderer {
 
 struct facet_scene {
   facet::Scene scene;
-  std::string error;
+  mutable std::string error;  // the last call's message: set by the calls that read a scene too
   std::string warnings;  // of the last facet_scene_load_file
   facet::AssetAccess assets;  // what facet_scene_load_file may read
   // Stable ids: object_ids[i] / light_ids[i] is the id of scene.objects[i] / scene.lights[i]
@@ -31,6 +34,9 @@ struct facet_scene {
   std::vector<std::uint32_t> object_ids, light_ids;
   std::uint32_t next_object_id = 0, next_light_id = 0;
   std::vector<char> material_removed;  // one per scene.materials entry
+  // Cube faces made from an equirectangular texture: (texture id, face size, encoding) -> the
+  // first face's id, so that asking again costs nothing.
+  std::map<std::tuple<std::uint32_t, int, int>, std::uint32_t> equirect_faces;
 
   // The index of an object or light id, or SIZE_MAX.
   static std::size_t index_of(const std::vector<std::uint32_t>& ids, std::uint32_t id) {
@@ -45,6 +51,7 @@ struct facet_scene {
     next_object_id = static_cast<std::uint32_t>(object_ids.size());
     next_light_id = static_cast<std::uint32_t>(light_ids.size());
     material_removed.assign(scene.materials.size(), 0);
+    equirect_faces.clear();
   }
 };
 
@@ -101,7 +108,21 @@ inline facet_status guarded(std::string* error, Fn&& fn) noexcept {
       }
     }
     return FACET_OUT_OF_MEMORY;
-  } catch (...) {  // nothing else is thrown by facet; never let anything cross into C
+  } catch (...) {
+    // facet throws nothing else; a host's callback (progress, resolver) may: never let it cross
+    // into C, and say what happened.
+    if (error) {
+      try {
+        try {
+          throw;
+        } catch (const std::exception& e) {
+          *error = std::string("an exception escaped a callback of the host's: ") + facet::quote(e.what(), 200);
+        } catch (...) {
+          *error = "an exception that is not a std::exception escaped a callback of the host's";
+        }
+      } catch (...) {
+      }
+    }
     return FACET_INVALID_ARGUMENT;
   }
 }
