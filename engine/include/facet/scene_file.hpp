@@ -22,7 +22,9 @@ struct LoadOptions {
   // --memory-budget-mb` sets it.
   std::uint64_t memory_budget_bytes = kDefaultLoadBudgetBytes;
   // Progress and cancellation: called on the calling thread after each mesh with the share of
-  // meshes done; return false to stop the load with ErrorCode::cancelled.
+  // meshes done, and again with the same share after each row of cube faces made from an
+  // equirectangular picture (which takes seconds for large faces); return false to stop the load
+  // with ErrorCode::cancelled.
   std::function<bool(double done)> progress;
   // Called on the calling thread with each warning of the models the scene imports ("imports":
   // what was read approximately or not at all, model.hpp). Null: warnings are dropped.

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -109,10 +110,13 @@ Result<Texture> load_texture(const std::string& path, std::string name, const Te
 // filter never reaches across a pole), rounded to the nearest 8-bit value: a box filter over the
 // texel's footprint, which matches the picture's own resolution when face_size is about a quarter
 // of its width and averages away the rows that crowd towards the poles.
+// `progress`, when set, is called at least every tenth of a second or so (after each row of a
+// face) with the share done; returning false stops with ErrorCode::cancelled.
 inline constexpr int kEquirectMaxFace = 4096;
 inline constexpr int kEquirectSamples = 4;
 Result<std::vector<Texture>> cube_faces_from_equirect(const Texture& equirect, int face_size, const std::string& name,
-                                                      const TextureOptions& options = {});
+                                                      const TextureOptions& options = {},
+                                                      const std::function<bool(double done)>& progress = {});
 // The picture coordinates (u, v) of direction d, as cube_faces_from_equirect reads them.
 void equirect_coordinates(const double (&d)[3], double& u, double& v);
 

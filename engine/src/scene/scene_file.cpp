@@ -72,8 +72,8 @@ class SceneReader : public scene_json::JsonFields {
       NamedMesh m;
       FACET_TRY(read_mesh(j, p, m));
       scene.meshes.push_back(std::move(m));
-      if (options_.progress && !options_.progress(static_cast<double>(scene.meshes.size()) /
-                                                  static_cast<double>(std::max<std::size_t>(mesh_total, 1)))) {
+      reported_ = static_cast<double>(scene.meshes.size()) / static_cast<double>(std::max<std::size_t>(mesh_total, 1));
+      if (options_.progress && !options_.progress(reported_)) {
         return Status{ErrorCode::cancelled, p, source_ + ": " + p + ": the load was cancelled"};
       }
       return Status{};
@@ -273,7 +273,11 @@ class SceneReader : public scene_json::JsonFields {
       options.filter = TextureFilter::bilinear;  // read at level 0 only (texgen has no derivatives)
       options.wrap = TextureWrap::clamp;
       options.memory_budget_bytes = left();
-      Result<std::vector<Texture>> faces = cube_faces_from_equirect(source, size, source.name, options);
+      // Long for large faces: the load's progress is asked (with the share it last reported) as
+      // the faces are made, so that a host can stop it.
+      std::function<bool(double)> asked;
+      if (options_.progress) asked = [this](double) { return options_.progress(reported_); };
+      Result<std::vector<Texture>> faces = cube_faces_from_equirect(source, size, source.name, options, asked);
       if (!faces) {
         converted_.erase(at);
         return located(child(p, "texture"), faces.status().code(),
@@ -829,7 +833,8 @@ class SceneReader : public scene_json::JsonFields {
   io::AssetFolder folder_;  // the files the scene names: in its folder (facet/assets.hpp)
   std::uint64_t used_ = 0;  // bytes of the meshes and textures read so far
   std::map<std::uint64_t, std::int32_t> converted_;  // (picture << 32 | face size) -> its first cube face
-  bool imported_camera_ = false, imported_lights_ = false;  // an import brought the camera, lights
+  bool imported_camera_ = false, imported_lights_ = false;
+  double reported_ = 0;  // the share of the load last given to options_.progress  // an import brought the camera, lights
 };
 
 }  // namespace

@@ -37,7 +37,8 @@ void equirect_coordinates(const double (&d)[3], double& u, double& v) {
 }
 
 Result<std::vector<Texture>> cube_faces_from_equirect(const Texture& equirect, int face_size, const std::string& name,
-                                                      const TextureOptions& options) {
+                                                      const TextureOptions& options,
+                                                      const std::function<bool(double done)>& progress) {
   FACET_TRY(validate_texture(equirect, "equirect"));
   if (face_size < 1 || face_size > kEquirectMaxFace) {
     return Status{ErrorCode::invalid_argument, "face_size",
@@ -66,6 +67,9 @@ Result<std::vector<Texture>> cube_faces_from_equirect(const Texture& equirect, i
     static constexpr const char* kFace[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
     for (int f = 0; f < 6; ++f) {
       for (int j = 0; j < face_size; ++j) {
+        if (progress && !progress((f * double(face_size) + j) / (6.0 * face_size))) {
+          return Status{ErrorCode::cancelled, "", "the six cube faces: cancelled"};
+        }
         for (int i = 0; i < face_size; ++i) {
           double sum[4] = {0.0, 0.0, 0.0, 0.0};
           for (int b = 0; b < kEquirectSamples; ++b) {
