@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <climits>
 #include <cctype>
@@ -16,6 +17,8 @@
 #include <mutex>
 #include <optional>
 #include <span>
+#include <type_traits>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -112,6 +115,61 @@ Scene load_for_render(const std::optional<std::string>& path, float aspect, cons
   return value_or_raise(load_scene_file(*path, lo));
 }
 
+// A Python facet.Scene. Renderer.render draws it with the GIL released, so no other Python thread
+// may change it meanwhile: while any render of it is under way, every call that changes it raises
+// facet.Error (code "invalid_argument", field "scene"). `rendering` is read and written only with
+// the GIL held.
+struct PyScene {
+  Scene scene;
+  int rendering = 0;
+
+  Scene& edit() {
+    if (rendering > 0) {
+      raise({ErrorCode::invalid_argument, "scene",
+             "scene: it is being rendered on another thread; change it after that render returns (or render a copy)"});
+    }
+    return scene;
+  }
+};
+
+// The values of a NumPy array of any real dtype as `T`, refusing any that does not convert exactly
+// (a fraction, NaN, or outside [lo, hi]): NumPy's own cast would wrap 2^32 + 1 to 1, truncate
+// 2.5 to 2 and turn NaN into 0 in silence.
+template <class T>
+std::vector<T> exact_values(const py::array& a, const char* field, double lo, double hi) {
+  const char kind = a.dtype().kind();
+  if (kind != 'u' && kind != 'i' && kind != 'f' && kind != 'b') {
+    raise({ErrorCode::invalid_argument, field, std::string(field) + ": expected an array of numbers"});
+  }
+  // Integers through int64 / uint64 (exact), floats through float64 (exact for every float dtype).
+  std::vector<T> out(static_cast<std::size_t>(a.size()));
+  auto check = [&](auto values) {
+    const auto* v = values.data();
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const auto x = v[i];
+      const double d = static_cast<double>(x);
+      bool exact = d >= lo && d <= hi;
+      if constexpr (std::is_floating_point_v<std::remove_cv_t<std::remove_reference_t<decltype(x)>>>) exact = exact && std::floor(x) == x;
+      if (!exact) {
+        char buf[64];
+        const auto shortest = std::to_chars(buf, buf + sizeof buf, d);  // the shortest text that reads back as d
+        raise({ErrorCode::invalid_argument, field,
+               std::string(field) + ": element " + std::to_string(i) + " is " + std::string(buf, shortest.ptr) + ", not an integer in [" +
+                   std::to_string(static_cast<long long>(lo)) + ", " + std::to_string(static_cast<long long>(hi)) + "]"});
+      }
+      out[i] = static_cast<T>(x);
+    }
+  };
+  if (kind == 'u' || kind == 'b') {
+    check(py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast>(a));
+  } else if (kind == 'i') {
+    check(py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>(a));
+  } else {
+    check(py::array_t<double, py::array::c_style | py::array::forcecast>(a));
+  }
+  return out;
+}
+
 class PyRenderer {
  public:
   PyRenderer(const std::string& shading, const std::string& path, const std::string& isa, const std::string& pow, int threads,
@@ -132,7 +190,7 @@ class PyRenderer {
 
   // Into `out` (H x W x 4, uint8 or float32, rows may be strided, pixels contiguous) or a new
   // array of `dtype`.
-  py::array render(const Scene& scene, int width, int height, const std::string& dtype, std::optional<py::array> out) {
+  py::array render(PyScene& scene, int width, int height, const std::string& dtype, std::optional<py::array> out) {
     if (width < 1 || height < 1) raise({ErrorCode::invalid_argument, "width", "width and height: expected at least 1"});
     const bool f32 = dtype == "float32";
     if (!f32 && dtype != "uint8") raise({ErrorCode::invalid_argument, "dtype", "dtype: expected 'uint8' or 'float32', found '" + dtype + "'"});
@@ -171,14 +229,23 @@ class PyRenderer {
   }
 
  private:
-  py::array draw(const Scene& scene, int width, int height, bool f32, py::array& image) {
+  py::array draw(PyScene& scene, int width, int height, bool f32, py::array& image) {
     ImageView view{image.mutable_data(), width, height, static_cast<std::size_t>(image.strides(0)),
                    f32 ? PixelFormat::rgba32f : PixelFormat::rgba8, false};
     Status s;
     {
-      py::gil_scoped_release release;  // other Python threads run while this one renders
-      const std::lock_guard<std::mutex> one_frame_at_a_time(busy_);  // a renderer draws one frame at a time
-      s = renderer_.render(scene, view);
+      // The scene may not change while the GIL is released (PyScene::edit); counted with the GIL
+      // held, on the way in and out.
+      struct Rendering {
+        PyScene& scene;
+        explicit Rendering(PyScene& sc) : scene(sc) { ++scene.rendering; }
+        ~Rendering() { --scene.rendering; }
+      } rendering(scene);
+      {
+        py::gil_scoped_release release;  // other Python threads run while this one renders
+        const std::lock_guard<std::mutex> one_frame_at_a_time(busy_);  // a renderer draws one frame at a time
+        s = renderer_.render(scene.scene, view);
+      }
     }
     if (!s.ok()) raise(s);
     return image;
@@ -237,17 +304,19 @@ PYBIND11_MODULE(_facet, m) {
   m.attr("__version__") = version();
   m.def("best_isa", [] { return std::string(to_string(best_isa())); }, "The widest instruction set of this CPU facet uses.");
 
-  py::class_<Scene>(m, "Scene", "A scene: meshes, materials, objects, lights and a camera.")
-      .def(py::init([](bool empty) { return empty ? Scene{} : make_default_scene(); }), py::arg("empty") = false,
+  py::class_<PyScene>(m, "Scene", "A scene: meshes, materials, objects, lights and a camera.")
+      .def(py::init([](bool empty) { return PyScene{empty ? Scene{} : make_default_scene()}; }), py::arg("empty") = false,
            "The built-in scene, or with empty=True a scene with nothing in it (build it with add_mesh, add_material, "
            "add_object and add_light).")
-      .def("add_mesh", [](Scene& s, py::array_t<float, py::array::c_style | py::array::forcecast> positions,
-                          py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast> triangles,
+      .def("add_mesh", [](PyScene& ps, py::array_t<float, py::array::c_style | py::array::forcecast> positions,
+                          py::array triangles,
                           std::optional<py::array_t<float, py::array::c_style | py::array::forcecast>> normals,
                           std::optional<py::array_t<float, py::array::c_style | py::array::forcecast>> uvs, const std::string& name) {
+        Scene& s = ps.edit();
         if (positions.ndim() != 2 || positions.shape(1) != 3) raise({ErrorCode::invalid_argument, "positions", "positions: expected an N x 3 array"});
         if (triangles.ndim() != 2 || triangles.shape(1) != 3) raise({ErrorCode::invalid_argument, "triangles", "triangles: expected an M x 3 array"});
         const std::size_t n = static_cast<std::size_t>(positions.shape(0));
+        const std::vector<std::uint32_t> indices = exact_values<std::uint32_t>(triangles, "triangles", 0, 4294967295.0);
         std::span<const float> normal_span;
         if (normals) {
           if (normals->ndim() != 2 || normals->shape(1) != 3 || normals->shape(0) != positions.shape(0)) {
@@ -263,7 +332,7 @@ PYBIND11_MODULE(_facet, m) {
         const std::vector<float> flat(uvs && !normals ? 3 * n : 0, 0.0f);
         Mesh mesh = value_or_raise(mesh_from_arrays({positions.data(), static_cast<std::size_t>(positions.size())},
                                                     uvs && !normals ? std::span<const float>(flat) : normal_span,
-                                                    {triangles.data(), static_cast<std::size_t>(triangles.size())}));
+                                                    indices));
         if (uvs) {
           mesh.uvs.resize(n);
           for (std::size_t i = 0; i < n; ++i) mesh.uvs[i] = Vec2(uvs->at(i, 0), uvs->at(i, 1));
@@ -276,11 +345,13 @@ PYBIND11_MODULE(_facet, m) {
          py::arg("name") = "",
          "A mesh from an N x 3 array of positions and an M x 3 array of counter-clockwise triangles (vertex indices); "
          "normals computed when not given; texture coordinates from an N x 2 array. Returns its index.")
-      .def("add_texture", [](Scene& s, py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast> pixels,
+      .def("add_texture", [](PyScene& ps, py::array pixels,
                              const std::string& filter, const std::string& wrap, const std::string& encoding, const std::string& name) {
+        Scene& s = ps.edit();
         if (pixels.ndim() != 3 || pixels.shape(2) != 4) {
           raise({ErrorCode::invalid_argument, "pixels", "pixels: expected an H x W x 4 array of RGBA bytes (top row first)"});
         }
+        const std::vector<std::uint8_t> bytes = exact_values<std::uint8_t>(pixels, "pixels", 0, 255);
         TextureOptions o;
         o.filter = parse_named(filter, "filter", {TextureFilter::nearest, TextureFilter::bilinear, TextureFilter::trilinear});
         o.wrap = parse_named(wrap, "wrap", {TextureWrap::repeat, TextureWrap::clamp, TextureWrap::mirror});
@@ -288,14 +359,15 @@ PYBIND11_MODULE(_facet, m) {
         const int h = static_cast<int>(std::min<py::ssize_t>(pixels.shape(0), INT32_MAX));
         const int w = static_cast<int>(std::min<py::ssize_t>(pixels.shape(1), INT32_MAX));
         Texture t = value_or_raise(make_texture(name.empty() ? "texture" + std::to_string(s.textures.size()) : name, w, h,
-                                                {pixels.data(), static_cast<std::size_t>(pixels.size())}, o));
+                                                bytes, o));
         s.textures.push_back(std::move(t));
         return s.textures.size() - 1;
       }, py::arg("pixels"), py::arg("filter") = "trilinear", py::arg("wrap") = "repeat", py::arg("encoding") = "linear",
          py::arg("name") = "",
          "A texture from an H x W x 4 array of RGBA bytes, top row first (an image as NumPy holds it): filter nearest, "
          "bilinear or trilinear (mipmapped), wrap repeat, clamp or mirror, encoding linear or srgb. Returns its index.")
-      .def("set_fog", [](Scene& s, const std::string& mode, std::array<float, 3> color, float start, float end, float density) {
+      .def("set_fog", [](PyScene& ps, const std::string& mode, std::array<float, 3> color, float start, float end, float density) {
+        Scene& s = ps.edit();
         Fog fog;
         fog.mode = parse_named(mode, "mode", {FogMode::none, FogMode::linear, FogMode::exp, FogMode::exp2});
         fog.color = Color3(color[0], color[1], color[2]);
@@ -305,10 +377,11 @@ PYBIND11_MODULE(_facet, m) {
       }, py::arg("mode") = "linear", py::arg("color") = std::array<float, 3>{0.5f, 0.5f, 0.5f}, py::arg("start") = 0.0f,
          py::arg("end") = 1.0f, py::arg("density") = 1.0f,
          "GL's fog on the eye-space depth: none, linear (from start to end), exp or exp2 (density).")
-      .def("add_material", [](Scene& s, std::array<float, 3> diffuse, std::array<float, 3> ambient, std::array<float, 3> specular,
+      .def("add_material", [](PyScene& ps, std::array<float, 3> diffuse, std::array<float, 3> ambient, std::array<float, 3> specular,
                               float shininess, std::array<float, 3> emissive, float alpha, const std::string& name,
                               std::optional<std::size_t> texture, const std::string& texture_mode, std::optional<std::string> blend,
                               float alpha_cutoff, std::array<float, 2> uv_scale) {
+        Scene& s = ps.edit();
         Material mat;
         mat.name = name.empty() ? "material" + std::to_string(s.materials.size()) : name;
         mat.diffuse = Color3(diffuse[0], diffuse[1], diffuse[2]);
@@ -341,8 +414,9 @@ PYBIND11_MODULE(_facet, m) {
          "optional diffuse texture (an index from add_texture) applied by texture_mode (modulate, replace, decal, add), "
          "a blend mode (opaque, alpha, premultiplied, add, multiply, subtract), an alpha test (alpha_cutoff) and a "
          "scale of the texture coordinates. Returns its index.")
-      .def("add_object", [](Scene& s, std::size_t mesh, std::size_t material,
+      .def("add_object", [](PyScene& ps, std::size_t mesh, std::size_t material,
                             std::optional<py::array_t<float, py::array::c_style | py::array::forcecast>> transform) {
+        Scene& s = ps.edit();
         if (mesh >= s.meshes.size()) raise({ErrorCode::invalid_argument, "mesh", "mesh: no mesh " + std::to_string(mesh)});
         if (material >= s.materials.size()) raise({ErrorCode::invalid_argument, "material", "material: no material " + std::to_string(material)});
         Instance inst;
@@ -362,9 +436,10 @@ PYBIND11_MODULE(_facet, m) {
         return s.objects.size() - 1;
       }, py::arg("mesh"), py::arg("material"), py::arg("transform") = py::none(),
          "An object drawing mesh with material, placed by a 4 x 4 transform (default: identity). Returns its index.")
-      .def("add_light", [](Scene& s, const std::string& type, std::array<float, 3> position, std::array<float, 3> direction,
+      .def("add_light", [](PyScene& ps, const std::string& type, std::array<float, 3> position, std::array<float, 3> direction,
                            std::array<float, 3> diffuse, std::array<float, 3> specular, std::array<float, 3> ambient,
                            std::array<float, 3> attenuation, float spot_cutoff_deg, float spot_exponent) {
+        Scene& s = ps.edit();
         Light l;
         // Light types have no to_string: the scene file's names.
         if (type == "directional") {
@@ -392,30 +467,34 @@ PYBIND11_MODULE(_facet, m) {
          py::arg("attenuation") = std::array<float, 3>{1, 0, 0}, py::arg("spot_cutoff_deg") = 45.0f, py::arg("spot_exponent") = 0.0f,
          "A GL light: directional (direction: the way the light travels), point or spot (GL cone); attenuation = "
          "(constant, linear, quadratic). Returns its index.")
-      .def("frame", [](Scene& s, float aspect) { s.camera = value_or_raise(frame_scene(s, aspect)); }, py::arg("aspect") = 16.0f / 9.0f,
+      .def("frame", [](PyScene& ps, float aspect) {
+        Scene& s = ps.edit(); s.camera = value_or_raise(frame_scene(s, aspect)); }, py::arg("aspect") = 16.0f / 9.0f,
            "Points the camera at every object from the front, as facet render frames a model.")
-      .def_property_readonly("object_count", [](const Scene& s) { return s.objects.size(); })
-      .def_property_readonly("light_count", [](const Scene& s) { return s.lights.size(); })
-      .def_property_readonly("triangle_count", [](const Scene& s) {
+      .def_property_readonly("object_count", [](const PyScene& ps) { return ps.scene.objects.size(); })
+      .def_property_readonly("light_count", [](const PyScene& ps) { return ps.scene.lights.size(); })
+      .def_property_readonly("triangle_count", [](const PyScene& ps) {
+        const Scene& s = ps.scene;
         std::uint64_t n = 0;
         for (const Instance& i : s.objects) n += s.meshes[i.mesh].mesh.triangles.size();
         return n;
       })
-      .def("set_camera", [](Scene& s, std::array<float, 3> eye, std::array<float, 3> target, std::array<float, 3> up, float fov_deg) {
+      .def("set_camera", [](PyScene& ps, std::array<float, 3> eye, std::array<float, 3> target, std::array<float, 3> up, float fov_deg) {
+        Scene& s = ps.edit();
         Camera c = s.camera;
         c.eye = Vec3(eye[0], eye[1], eye[2]), c.target = Vec3(target[0], target[1], target[2]), c.up = Vec3(up[0], up[1], up[2]);
         c.vertical_fov_deg = fov_deg;
         if (Status st = validate_camera(c); !st.ok()) raise(st);
         s.camera = c;
       }, py::arg("eye"), py::arg("target"), py::arg("up") = std::array<float, 3>{0, 1, 0}, py::arg("fov_deg") = 45.0f)
-      .def("orbit", [](Scene& s, float angle_deg) {
+      .def("orbit", [](PyScene& ps, float angle_deg) {
+        Scene& s = ps.edit();
         const Bounds b = scene_bounds(s);
         const Vec3 centre = b.empty() ? s.camera.target : Vec3(0.5f * (b.min + b.max));
         s.camera = orbit_camera(s.camera, centre, UpAxis::y, angle_deg);
       }, py::arg("angle_deg"), "Turns the camera about the scene's centre (y up), as facet render --orbit.");
 
   m.def("load", [](const std::string& path, float aspect, std::vector<std::string> allow_paths) {
-    return load_for_render(path, aspect, allow_paths);
+    return PyScene{load_for_render(path, aspect, allow_paths)};
   }, py::arg("path"), py::arg("aspect") = 16.0f / 9.0f, py::arg("allow_paths") = std::vector<std::string>{},
         "A scene file (.json) or a model (.gltf, .glb, .obj), as facet render reads it: a model without a camera is framed "
         "for `aspect`, one without lights gets facet's default rig. Files outside the file's folder are refused unless "

@@ -16,6 +16,7 @@ Without Dask (or for a Slurm job array, one task each), `facet render MODEL --fr
 --frame-range A:B -o DIR/turn.png` draws part of the same turntable: docs/python.md.
 """
 import argparse
+import ctypes
 import csv
 import itertools
 import json
@@ -42,17 +43,35 @@ def find_facet():
     return found
 
 
+def _die_with_parent():
+    """In the child, before exec: killed when the worker that started it dies (Linux), so that a
+    cancelled or timed-out sweep leaves no facet running."""
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+
+
 def run_job(job):
     """Runs one job on a worker: its facet command; returns its row. Raises on failure, so that
-    Dask retries it. job["kill_once"]: a marker path; when it does not exist yet, the worker
+    Dask retries it. job["deadline"]: the sweep's time limit (time.time() seconds), after which
+    the command is killed. job["kill_once"]: a marker path; when it does not exist yet, the worker
     creates it and dies mid-job (fault injection, to show that a lost worker loses nothing)."""
     started = time.time()
+    deadline = job.get("deadline")
+    if deadline is not None and started >= deadline:
+        raise RuntimeError("job %s: the sweep's time limit ran out before it started" % job["key"])
     marker = job.get("kill_once")
     if marker and not os.path.exists(marker):
         with open(marker, "w") as f:
             f.write("%d\n" % os.getpid())
         os.kill(os.getpid(), signal.SIGKILL)
-    result = subprocess.run(job["command"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        result = subprocess.run(job["command"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                preexec_fn=_die_with_parent,
+                                timeout=None if deadline is None else max(0.01, deadline - time.time()))
+    except subprocess.TimeoutExpired:
+        raise RuntimeError("job %s: stopped at the sweep's time limit" % job["key"]) from None
     if result.returncode != 0:
         raise RuntimeError("job %s: %s exited %d: %s" % (job["key"], job["command"][0], result.returncode, result.stderr.strip()))
     record = None
@@ -94,20 +113,31 @@ def make_jobs(args, facet_bin, extra):
     return jobs
 
 
-def run(jobs, client, retries=2):
+def run(jobs, client, retries=2, deadline=None):
     """Submits every job to `client` (a distributed.Client) and gathers their rows in job order;
-    a job that still fails after its retries gets a row with status "failed" and the error."""
-    from distributed import as_completed
+    a job that still fails after its retries gets a row with status "failed" and the error. With a
+    deadline (time.time() seconds), jobs not finished by then are cancelled and reported so."""
+    from distributed import wait
 
+    for job in jobs:
+        job["deadline"] = deadline
     futures = {client.submit(run_job, job, key="facet-" + job["key"] + "-" + str(time.time_ns()), retries=retries, pure=False): job
                for job in jobs}
+    # A second past the deadline: the jobs themselves stop at it.
+    try:
+        wait(list(futures), timeout=None if deadline is None else max(0.0, deadline - time.time()) + 1.0)
+    except TimeoutError:
+        pass
     rows = {}
-    for future in as_completed(list(futures)):
-        job = futures[future]
-        try:
-            row = future.result()
-        except Exception as e:  # noqa: BLE001 - every failure is reported in the summary
-            row = {"key": job["key"], "status": "failed", "error": str(e)}
+    for future, job in futures.items():
+        if not future.done():
+            future.cancel()
+            row = {"key": job["key"], "status": "failed", "error": "cancelled at the sweep's time limit"}
+        else:
+            try:
+                row = future.result()
+            except Exception as e:  # noqa: BLE001 - every failure is reported in the summary
+                row = {"key": job["key"], "status": "failed", "error": str(e)}
         row["command"] = job["command"]
         rows[job["key"]] = row
     return [rows[job["key"]] for job in jobs]
@@ -145,6 +175,8 @@ def main(argv=None):
     p.add_argument("--scheduler", help="address of a running Dask scheduler instead of a local cluster")
     p.add_argument("--retries", type=int, default=2, help="times a failed job is run again (default 2)")
     p.add_argument("--facet", help="the facet program (default: beside this package, else on PATH)")
+    p.add_argument("--time-limit", type=float, help="stop the whole sweep after S seconds: running jobs are killed, "
+                   "the rest cancelled, each reported as failed (default: no limit)")
     p.add_argument("--kill-worker-once-at", help=argparse.SUPPRESS)  # fault injection: the job key whose worker dies once
     argv = list(sys.argv[1:] if argv is None else argv)
     extra = []
@@ -152,8 +184,25 @@ def main(argv=None):
         extra = argv[argv.index("--") + 1:]
         argv = argv[:argv.index("--")]
     args = p.parse_args(argv)
-    if bool(args.frames) == bool(args.grid):
+    if (args.frames is not None) == bool(args.grid):
         p.error("give --frames N (a turntable) or --grid NAME=VALUES (a parameter grid)")
+    if args.frames is not None and args.frames < 1:
+        p.error("--frames: expected a number of frames >= 1, found %d" % args.frames)
+    if args.workers < 1:
+        p.error("--workers: expected 1 or more worker processes, found %d" % args.workers)
+    if args.threads_per_worker < 1:
+        p.error("--threads-per-worker: expected 1 or more, found %d" % args.threads_per_worker)
+    if args.retries < 0:
+        p.error("--retries: expected 0 or more, found %d" % args.retries)
+    if not args.seconds > 0 or args.seconds > 1e9:
+        p.error("--seconds: expected a number of seconds > 0, found %r" % args.seconds)
+    if args.time_limit is not None and not (args.time_limit > 0 and args.time_limit < 1e9):
+        p.error("--time-limit: expected a number of seconds > 0, found %r" % args.time_limit)
+    # The turntable's images land in the output folder itself: a plain file name, nothing that
+    # climbs out of it or names another folder.
+    if (os.path.basename(args.name) != args.name or args.name in ("", ".", "..")
+            or any(ord(c) < 0x20 or ord(c) == 0x7f for c in args.name)):
+        p.error("--name: expected a file name without a folder (turn.png), found %r" % args.name)
     facet_bin = os.path.abspath(args.facet) if args.facet else find_facet()
     jobs = make_jobs(args, facet_bin, extra)
     if args.kill_worker_once_at:
@@ -172,7 +221,8 @@ def main(argv=None):
                                dashboard_address=None, silence_logs=50)
         client = Client(cluster)
     try:
-        rows = run(jobs, client, retries=args.retries)
+        rows = run(jobs, client, retries=args.retries,
+                   deadline=None if args.time_limit is None else started + args.time_limit)
     finally:
         client.close()
         if cluster is not None:
