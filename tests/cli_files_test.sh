@@ -17,13 +17,53 @@ check "render refuses a FIFO scene (exit $rc)" '[ $rc -eq 2 ] && [[ "$out" == *"
 out=$("$facet" render -o missing/dir/x.png --width 8 --height 8 2>&1); rc=$?
 check "-o into a missing directory fails (exit $rc: $out)" '[ $rc -eq 2 ] && [ ! -e missing ]'
 
-for ext in png pfm; do
+for ext in png pfm exr; do
   printf 'the old output' > old.$ext
   out=$(bash -c "ulimit -f 16; exec \"$facet\" render -o old.$ext --width 640 --height 480" 2>&1); rc=$?
   check "a write past ulimit -f fails (.$ext, exit $rc: $out)" '[ $rc -eq 2 ]'
   check "the old .$ext file is intact" '[ "$(cat old.$ext)" = "the old output" ]'
   check "no temporary file is left (.$ext)" '[ "$(ls | grep -c "^old\.$ext\.")" -eq 0 ]'
 done
+
+# Outputs that exist and are not regular files are refused at once, never replaced or blocked on;
+# a link to a regular file is replaced by the new file (the file it led to is left as it was).
+for ext in png pfm exr; do
+  mkfifo "fifo.$ext"
+  out=$(timeout 20 "$facet" render -o "fifo.$ext" --width 8 --height 8 2>&1); rc=$?
+  check "-o a FIFO .$ext is refused (exit $rc: $out)" '[ $rc -eq 2 ] && [[ "$out" == *"not a regular file"* ]] && [ -p "fifo.$ext" ]'
+  mkdir "dir.$ext"
+  out=$("$facet" render -o "dir.$ext" --width 8 --height 8 2>&1); rc=$?
+  check "-o a folder .$ext is refused (exit $rc: $out)" '[ $rc -eq 2 ] && [ -d "dir.$ext" ]'
+  printf 'the target' > "target.$ext"
+  ln -s "target.$ext" "link.$ext"
+  out=$("$facet" render -o "link.$ext" --width 8 --height 8 2>&1); rc=$?
+  check "-o a link .$ext replaces the link, not its target (exit $rc: $out)" '[ $rc -eq 0 ] && [ ! -L "link.$ext" ] && [ -s "link.$ext" ] && [ "$(cat target.$ext)" = "the target" ]'
+done
+if mknod null.png c 1 3 2>/dev/null; then  # as root: a character device named like the output
+  out=$("$facet" render -o null.png --width 8 --height 8 2>&1); rc=$?
+  check "-o a device is refused and stays a device (exit $rc: $out)" '[ $rc -eq 2 ] && [ -c null.png ]'
+fi
+
+# --time-limit: a frame of 2 x 10^4 lights a pixel (minutes) stops at the limit, in under 10 s;
+# so does a load that takes longer than the limit.
+python3 -c "
+import json
+lights = [{'type': 'point', 'position': [i % 7 - 3, 2, i % 5 - 2], 'diffuse': [1e-5, 1e-5, 1e-5]} for i in range(20000)]
+json.dump({'meshes': [{'name': 's', 'shape': 'sphere'}], 'materials': [{'name': 'm'}],
+           'objects': [{'mesh': 's', 'material': 'm'}], 'lights': lights,
+           'camera': {'eye': [0, 0, 4], 'target': [0, 0, 0]}}, open('many_lights.json', 'w'))
+"
+SECONDS=0
+out=$("$facet" render many_lights.json -o slow.png --width 512 --height 512 --shading phong --no-light-culling --time-limit 1.5 2>&1); rc=$?
+took=$SECONDS
+check "--time-limit 1.5 stops a frame of minutes (exit $rc in $took s: $out)" '[ $rc -eq 2 ] && [[ "$out" == *"render: stopped at the time limit"* ]] && [ "$took" -lt 10 ] && [ ! -e slow.png ]'
+out=$("$facet" render many_lights.json -o slow.png --width 8 --height 8 --time-limit 0.001 2>&1); rc=$?
+check "--time-limit stops a load too (exit $rc: $out)" '[ $rc -eq 2 ] && [[ "$out" == *"many_lights.json: stopped at the time limit"* ]]'
+
+# --depth-mode: gl and reversed store depth differently (the depth written differs in its bits).
+"$facet" render -o gl.png --width 64 --height 36 --depth gl.pfm --depth-mode gl >/dev/null 2>&1
+"$facet" render -o rev.png --width 64 --height 36 --depth rev.pfm --depth-mode reversed >/dev/null 2>&1
+check "--depth-mode reversed changes the stored depth" '[ -s gl.pfm ] && [ -s rev.pfm ] && ! cmp -s gl.pfm rev.pfm'
 
 # Shadows: facet check and facet render know where they are drawn.
 shadows="$(cd "$(dirname "$golden")/../scenes" && pwd)/shadows.json"

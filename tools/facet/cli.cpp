@@ -223,12 +223,15 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
     LoadOptions lo;
     lo.memory_budget_bytes = options.memory_budget_bytes;
     lo.assets.allowed_roots = options.allowed_paths;
+    lo.assets.on_read = options.on_read;
+    lo.progress = options.progress;
     lo.view = options.view;
     lo.frame_aspect = options.aspect;
     lo.warning = [&](const std::string& w) { notes.push_back("warning: " + w); };
     Result<Scene> loaded = load_scene_file(path, lo);
     if (!loaded) {
-      fail(loaded.status().message());
+      const bool stopped = loaded.status().code() == ErrorCode::cancelled && !options.cancelled_message.empty();
+      fail(stopped ? options.cancelled_message : loaded.status().message());
       return std::nullopt;
     }
     input.scene = std::move(*loaded);
@@ -244,6 +247,7 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
   mo.memory_budget_bytes = options.memory_budget_bytes;
   mo.allow_missing = options.allow_missing;
   mo.assets.allowed_roots = options.allowed_paths;
+  mo.assets.on_read = options.on_read;
   Result<Model> model = load_model(path, mo);
   if (!model) {
     fail(model.status().message());
@@ -264,6 +268,17 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
     notes.push_back("no lights in the file: facet's default rig (a headlight and a key light, ambient 0.15)");
   }
   return input;
+}
+
+Deadline::Deadline(double seconds)
+    : seconds_(seconds),
+      end_(std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                  std::chrono::duration<double>(seconds > 0 ? seconds : 0))) {}
+
+bool Deadline::expired() const { return seconds_ > 0 && std::chrono::steady_clock::now() >= end_; }
+
+std::string Deadline::message(const std::string& what) const {
+  return what + ": stopped at the time limit of " + format_number(seconds_) + " s (--time-limit)";
 }
 
 Status check_output_image(int width, int height, PixelFormat format, bool depth, std::uint64_t budget) {

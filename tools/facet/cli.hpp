@@ -1,6 +1,7 @@
 // Shared helpers of the facet command-line program.
 #pragma once
 
+#include <chrono>
 #include <cstdio>
 #include <functional>
 #include <optional>
@@ -79,6 +80,12 @@ struct InputOptions {
   float aspect = 16.0f / 9.0f; // of the image, for framing a model without a camera
   ViewOptions view;            // --view, --up, --fov
   bool reframe = false;        // --view, --fov or --ignore-camera: frame even a file that has a camera
+  // A scene file's load asks it whether to go on (LoadOptions::progress): --time-limit; the
+  // message printed when it said no.
+  std::function<bool(double done)> progress;
+  std::string cancelled_message;
+  // Told of every file the load read, and its bytes (AssetAccess::on_read).
+  std::function<void(const std::string& name, const std::string& bytes)> on_read;
 };
 
 // The options that say where a framing camera looks from (render, check, light).
@@ -101,6 +108,21 @@ struct Input {
 // `notes` says so, with the model's warnings) or, for an empty path, the built-in scene. Prints
 // the error and returns nothing on failure.
 std::optional<Input> load_input(const std::string& path, const InputOptions& options, std::vector<std::string>& notes);
+
+// --time-limit S: a deadline that progress callbacks check. `expired()` is false while there is
+// time left (always, with no limit); the message names the limit.
+class Deadline {
+ public:
+  explicit Deadline(double seconds = 0);
+  bool expired() const;
+  std::string message(const std::string& what) const;
+
+ private:
+  double seconds_;
+  std::chrono::steady_clock::time_point end_;
+};
+inline constexpr const char* kTimeLimitHelp =
+    "stop with an error (exit 2) if the job is not done after S seconds, loading included (default: no limit)";
 
 // The output image (and a depth image) that `facet render` allocates, against the memory budget
 // (0 = no limit): `facet check` makes the same check.

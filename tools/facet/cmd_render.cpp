@@ -191,7 +191,7 @@ struct RenderState {
   std::string scene_path, output, depth_path, frame_range, shading = "gouraud", shadows, path = "simd", isa = "auto", pow = "auto", pixel_precision = "auto",
                                                 cull = "back", clear, transparent_order, lights = "auto", depth_mode = "auto";
   int width = 1280, height = 720, threads = 0, tile = 64, memory_mb = -1, frame_count = 1, msaa = 1;
-  double min_seconds = 0, orbit_deg = 360.0;
+  double min_seconds = 0, orbit_deg = 360.0, time_limit = 0;
   std::vector<std::string> allow_paths;
   ViewState view;
   bool stats = false, json = false, allow_missing = false, hdr = false, srgb = false, no_light_culling = false,
@@ -272,6 +272,7 @@ Command add_render(CLI::App& facet) {
       ->check(one_of({"auto", "camera", "world"}, "lights mode"))->group(model);
   app->add_option("--orbit", st->orbit_deg, "the turntable's whole sweep in degrees (default 360)")->check(number_in(-36000, 36000))->group(model);
   const char* measure = "Measurement";
+  app->add_option("--time-limit", st->time_limit, kTimeLimitHelp)->check(number_in(0, 1e9))->group(measure);
   app->add_option("--seconds", st->min_seconds, "render repeatedly for at least S seconds; report the mean frame time")
       ->check(number_in(0, 3600))->group(measure);
   app->add_flag("--stats", st->stats, "print what the frame did and how long each stage took")->group(measure);
@@ -342,7 +343,13 @@ int render(const RenderState& st) {
 
   if (frame_count > 1 && min_seconds > 0) return fail("--frames and --seconds cannot be combined");
   if (frame_count <= 1 && !st.frame_range.empty()) return fail("--frame-range needs --frames N with N > 1");
+  const Deadline deadline(st.time_limit);
+  if (st.time_limit > 0) {
+    options.progress = [&deadline](double) { return !deadline.expired(); };
+  }
   InputOptions input;
+  input.progress = options.progress;
+  input.cancelled_message = deadline.message("loading " + (scene_path.empty() ? std::string("the scene") : scene_path));
   input.memory_budget_bytes = options.memory_budget_bytes;
   input.allow_missing = allow_missing;
   input.allowed_paths = st.allow_paths;
@@ -404,12 +411,12 @@ int render(const RenderState& st) {
   do {
     const auto t0 = std::chrono::steady_clock::now();
     if (Status s = renderer.render(*scene, options, image, depth_path.empty() ? nullptr : &depth, &frame); !s.ok()) {
-      return fail(s.message());
+      return fail(s.code() == ErrorCode::cancelled && deadline.expired() ? deadline.message("render") : s.message());
     }
     frame_seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     ++frames;
     elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  } while (elapsed < min_seconds);
+  } while (elapsed < min_seconds && !deadline.expired());
 
   const Status written = ext == ".png" ? write_png(output, image) : ext == ".exr" ? write_exr(output, image) : write_pfm(output, image);
   if (!written.ok()) return fail(written.message());
