@@ -83,6 +83,10 @@ out=$("$facet" bake "$data/cornell/cornell.json" -o b6 --burial-rays 1024 --texe
 took=$SECONDS
 check "--seconds 0.5 stops the burial probes (exit $rc in $took s: $out)" '[ $rc -eq 2 ] && [[ "$out" == *"time limit"* ]] && [ "$took" -lt 10 ]'
 
+# 6b. The memory budget: counted as the pieces are made, refused with the numbers.
+out=$("$facet" bake "$data/cornell/cornell.json" -o b6b --texels-per-unit 0.1 --subdivisions 8 --memory-budget-mb 16 2>&1); rc=$?
+check "--memory-budget-mb 16 refuses a bake of 8 x 8 pieces a texel (exit $rc: $out)" '[ $rc -eq 2 ] && [[ "$out" == *"memory_budget_bytes: the bake needs more than"*"16 MiB"* ]]'
+
 # 7. A scene whose own texture is named lightmap_0: the lightmap takes another name.
 mkdir -p named && cp model/sub/t.png named/t.png
 cat > named/scene.json <<'EOF'
@@ -99,7 +103,7 @@ import json, sys
 d = json.load(open(\"b7/scene.json\"))
 lm = d[\"objects\"][0][\"lightmap\"][\"texture\"]
 t = {x[\"name\"]: x[\"file\"] for x in d[\"textures\"]}
-sys.exit(0 if lm != \"lightmap_0\" and t[lm] == \"lightmap_0.png\" and t[\"lightmap_0\"] == \"scene_files/t.png\" else 1)'"
+sys.exit(0 if lm != \"lightmap_0\" and t[lm] == \"lightmap_0.png\" and t[\"lightmap_0\"] == \"scene_files/0_t.png\" else 1)'"
 out=$("$facet" render b7/scene.json -o b7.png --width 16 --height 16 2>&1); rc=$?
 check "  and renders (exit $rc: $out)" '[ $rc -eq 0 ]'
 

@@ -222,7 +222,9 @@ TEST(PixelTiers, FiltersHoldTheirContractInFrames) {
                   tier[fast].skipped);
     }
     EXPECT_LE(tier[1].mean(), tier[0].mean() + bound.fast_mean_above_exact) << to_string(bound.filter);
-    EXPECT_GT(tier[0].count, 300000u);
+    // Enough pixels compared on every path (about 97,000 a path for nearest, whose texel borders
+    // are skipped): the count scales with the ISAs this CPU has.
+    EXPECT_GT(tier[0].count, 90000u * paths().size());
     if (bound.filter != TextureFilter::nearest) {
       EXPECT_GT(tier[1].worst, tier[0].worst + 0.3) << to_string(bound.filter) << ": the fast tier did not run";
     }

@@ -25,6 +25,18 @@ std::string relative_to(const std::string& name, const std::string& base) {
   return {};
 }
 
+// The deepest folder holding both folders (loader names; "" for none, "/" for the root).
+std::string common_folder(const std::string& a, const std::string& b) {
+  std::size_t n = 0, last = 0;
+  while (n < a.size() && n < b.size() && a[n] == b[n]) {
+    if (a[n] == '/') last = n;
+    ++n;
+  }
+  if ((n == a.size() || a[n] == '/') && (n == b.size() || b[n] == '/')) last = n;  // one holds the other
+  if (last == 0) return !a.empty() && a[0] == '/' && !b.empty() && b[0] == '/' ? "/" : "";
+  return a.substr(0, last);
+}
+
 }  // namespace
 
 // A path as the loader names the files it reads: normal, relative while it does not climb out of
@@ -39,9 +51,9 @@ std::string loader_name(const std::filesystem::path& p) {
 
 // DIR/scene.json: the input (a scene file, or a model, which becomes a scene that imports it)
 // with every object given its lightmap, the lightmaps as textures, and the files the loader read
-// for it copied into DIR, byte for byte as it read them (the scene's own under scene_files/, an
-// imported model's under import_N/, each at its place relative to the scene's folder). Nothing is
-// read again from the input's folder: a file the loader did not read is not copied. An object
+// for it copied into DIR, byte for byte as it read them (the scene's own under scene_files/; an
+// imported model's under import_N/, at their places relative to each other). Nothing is read
+// again from the input's folder: a file the loader did not read is not copied. An object
 // drawn over generated charts gets the charts' options, so that loading the scene cuts the same
 // charts; one baked over its mesh's own coordinates gets "uv": "mesh". `note` says why no scene
 // was written, when none was.
@@ -76,33 +88,29 @@ Status write_baked_scene(const BakedSceneRequest& st, const OutputFolder& folder
     note = "no scene.json: the built-in scene is not a file (the lightmaps are written)";
     return {};
   }
-  const std::string base = loader_name(from);
-  // The copy of a file the loader read, at DIR/prefix/<its place in the scene's folder>; "" and a
-  // note when it cannot be carried.
-  auto carry = [&](const Files& files, const std::string& name, const std::string& prefix, std::string& placed) -> Status {
+  // The copy of a file the loader read, at DIR/placed; a note (and no scene) for one it did not
+  // read (allow_missing).
+  auto carry = [&](const Files& files, const std::string& name, const std::string& placed) -> Status {
     const auto f = files.find(name);
-    const std::string rel = relative_to(name, base);
     if (f == files.end()) {
       note = "no scene.json: " + quote(name, 200) + " was not read by the loader (allow_missing?), so it cannot be carried";
       return {};
     }
-    if (rel.empty()) {
-      note = "no scene.json: " + quote(name, 200) + " lies outside the scene's folder (--allow-path), so the baked scene "
-             "cannot carry it";
-      return {};
-    }
-    placed = prefix + "/" + rel;
     return folder.write(placed, f->second);
   };
+  // The scene's own meshes and textures name nothing themselves: each under scene_files/, by its
+  // order and file name.
+  int own = 0;
   for (const char* list : {"meshes", "textures"}) {
     if (!root.contains(list) || !root[list].is_array()) continue;
     for (auto& item : root[list]) {
       if (!item.is_object()) continue;
       for (const char* key : {"obj", "file"}) {
         if (!item.contains(key) || !item[key].is_string()) continue;
-        std::string placed;
-        FACET_CLI_TRY(carry(read, loader_name(from / item[key].get<std::string>()), "scene_files", placed));
-        if (placed.empty()) return {};
+        const std::string name = loader_name(from / item[key].get<std::string>());
+        const std::string placed = "scene_files/" + std::to_string(own++) + "_" + fs::path(name).filename().string();
+        FACET_CLI_TRY(carry(read, name, placed));
+        if (!note.empty()) return {};
         item[key] = placed;
       }
     }
@@ -148,13 +156,23 @@ Status write_baked_scene(const BakedSceneRequest& st, const OutputFolder& folder
       mo.assets.on_read = [&files](const std::string& name, const std::string& bytes) { files.emplace(loader_name(name), bytes); };
       Result<Model> m = load_model(loader_name(model), mo);
       if (!m) return {m.status().code(), "", model.string() + ": " + m.status().message()};
+      // The model and the files it read keep their places relative to each other: each at its
+      // place under the deepest folder holding them all.
+      std::string base;
+      bool first = true;
+      for (const auto& entry : files) {
+        const std::string folder_of = fs::path(entry.first).parent_path().generic_string();
+        base = first ? folder_of : common_folder(base, folder_of);
+        first = false;
+      }
       const std::string prefix = "import_" + std::to_string(i);
       std::string placed;
-      for (const auto& [name, bytes] : files) {
-        std::string at;
-        FACET_CLI_TRY(carry(files, name, prefix, at));
-        if (at.empty()) return {};
-        if (name == loader_name(model)) placed = at;
+      for (const auto& entry : files) {
+        std::string rel = base.empty() || base == "/" ? entry.first : relative_to(entry.first, base);
+        while (!rel.empty() && rel[0] == '/') rel.erase(0, 1);
+        if (rel.empty()) return {ErrorCode::io_error, "", quote(entry.first, 200) + ": cannot place it in the baked folder"};
+        FACET_CLI_TRY(folder.write(prefix + "/" + rel, entry.second));
+        if (entry.first == loader_name(model)) placed = prefix + "/" + rel;
       }
       if (placed.empty()) return {ErrorCode::io_error, "", model.string() + ": the model file was not read"};
       import["file"] = placed;

@@ -28,6 +28,7 @@ struct BakeState {
   std::string input, out;
   double texels_per_unit = 0;  // 0: 128 texels along the scene's bounding-box diagonal
   int padding = 2, subdivisions = 2, burial_rays = 16, rays = 256, threads = 0;
+  long memory_mb = -1;  // -1: the default budget
   std::size_t max_shots = 100000;
   double residual = 1e-3, seconds = 0, scale = 0, small_texel = 0.25;  // scale 0: the 99.9th percentile of the light
   std::string lights = "all", mode = "diffuse";
@@ -75,7 +76,9 @@ Command add_bake(CLI::App& facet) {
   app->add_option("--max-shots", st->max_shots, "stop after this many shots (default 100000)")->check(int_in(0, 1000000000));
   app->add_option("--residual", st->residual, "stop when the unshot power is below this share of the power that entered (default 0.001)")
       ->check(number_in(0, 1));
-  app->add_option("--seconds", st->seconds, "stop after this long (default: no limit; a time limit makes the result machine-dependent)")
+  app->add_option("--seconds", st->seconds,
+                  "the whole bake's time limit: radiosity stops at it with the light shot so far, an earlier phase fails "
+                  "(default: no limit; a time limit makes the result machine-dependent)")
       ->check(number_in(0, 1e9));
   app->add_option("--lights", st->lights,
                   "all | none: whether the scene's lights are baked as direct light (none: only emissive surfaces light the scene)")
@@ -88,6 +91,10 @@ Command add_bake(CLI::App& facet) {
                   "diffuse | replace: in DIR/scene.json, whether the lights still add their specular term to lightmapped "
                   "objects (diffuse, the default) or nothing (replace)")
       ->check(one_of({"diffuse", "replace"}, "lightmap mode"));
+  app->add_option("--memory-budget-mb", st->memory_mb,
+                  "the most memory the loaded scene and the bake's own data (texels, footprint pieces) may take, in MiB "
+                  "(default 4096; 0: no limit)")
+      ->check(int_in(0, 1L << 30));
   app->add_option("--threads", st->threads, "threads (default: all)")->check(int_in(0, 1024));
   app->add_flag("--json", st->json, "print the statistics as one JSON object");
   app->add_option("--allow-path", st->allow_paths, kAllowPathHelp);
@@ -99,6 +106,7 @@ namespace {
 int bake(const BakeState& st) {
   InputOptions in;
   in.allowed_paths = st.allow_paths;
+  if (st.memory_mb >= 0) in.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
   Files read;
   in.on_read = [&read](const std::string& name, const std::string& bytes) { read.emplace(loader_name(name), bytes); };
   std::vector<std::string> notes;
@@ -115,6 +123,7 @@ int bake(const BakeState& st) {
   o.max_shots = st.max_shots;
   o.residual = st.residual;
   o.max_seconds = st.seconds;
+  if (st.memory_mb >= 0) o.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
   o.threads = st.threads;
   o.direct = st.lights == "all";
   o.radiosity = !st.no_radiosity;

@@ -44,7 +44,8 @@ struct Fields {
     out = def;
     if (!o.contains(key)) return true;
     const json& v = o[key];
-    if (!v.is_number() || !std::isfinite(v.get<double>())) return bad(at(path, key), "a finite number", v);
+    if (!v.is_number()) return bad(at(path, key), "a finite number", v);
+    if (!std::isfinite(v.get<double>())) return bad(at(path, key), "a finite number", v);
     out = v.get<double>();
     return true;
   }

@@ -149,9 +149,7 @@ Status check_bmp(std::span<const std::uint8_t> b, const Fail& fail) {
     if (compression != 0 && compression != 3) return {};  // stb refuses it
     if (width < 1 || width > kMaxTextureDimension || height < 1 || height > kMaxTextureDimension) return {};
     const std::uint64_t row = ((std::uint64_t(width) * std::uint64_t(bpp) + 31) / 32) * 4;
-    if (offset > b.size() || row * std::uint64_t(height) > b.size() - offset) {
-      return fail(ErrorCode::parse_error, "the BMP's pixels are cut short");
-    }
+    if (offset > b.size() || row * std::uint64_t(height) > b.size() - offset) return fail(ErrorCode::parse_error, "the BMP's rows are cut short");
     return {};
   }
   if (bpp != 1 && bpp != 4 && bpp != 8) return {};  // not a palette BMP (or, as 0 and 2 bits, one stb refuses)
