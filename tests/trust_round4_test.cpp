@@ -189,6 +189,55 @@ TEST(TrustRound4, TextureTransformScalesEachComponentUnderARotation) {
   }
 }
 
+// A smooth spot's projector spans its outer cone: the picture's border lands near the outer
+// edge, its middle near the axis (a 4 x 4 picture: a blue ring round a red 2 x 2 centre).
+TEST(TrustRound4, ASmoothSpotsProjectorSpansItsOuterCone) {
+  Scene s;
+  s.meshes.push_back({"plane", make_plane(8.0f, 8.0f, 8)});
+  Material m;
+  m.ambient = Color3::Zero();
+  m.diffuse = Color3(0.9f, 0.9f, 0.9f);
+  s.materials.push_back(m);
+  s.objects.push_back({0, 0, Mat4::Identity()});
+  s.camera.eye = Vec3(0, 6, 0.001f);
+  s.camera.target = Vec3(0, 0, 0);
+  s.camera.up = Vec3(0, 0, -1);
+  s.camera.vertical_fov_deg = 60;
+  s.global_ambient = Color3::Zero();
+  Light spot;
+  spot.type = LightType::spot;
+  spot.position = Vec3(0, 2, 0);
+  spot.direction = Vec3(0, -1, 0);
+  spot.spot_shape = SpotShape::smooth_cone;
+  spot.spot_inner_deg = 20;
+  spot.spot_outer_deg = 45;  // the picture spans x, z in [-2, 2] on the plane
+  spot.spot_falloff = 1;
+  s.lights.push_back(spot);
+  std::vector<std::uint8_t> picture;
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) {
+      const bool ring = x == 0 || y == 0 || x == 3 || y == 3;
+      for (std::uint8_t v : {ring ? 0 : 255, 0, ring ? 255 : 0, 255}) picture.push_back(v);
+    }
+  TextureOptions o{TextureFilter::nearest, TextureWrap::clamp};
+  s.textures.push_back(*make_texture("picture", 4, 4, picture, o));
+  s.lights[0].projector.texture = 0;
+  std::vector<std::uint8_t> px(96 * 96 * 4);
+  RenderOptions ro;
+  ro.shading = ShadingMode::phong;
+  ASSERT_TRUE(Renderer(ro).render(s, {px.data(), 96, 96, 96 * 4, PixelFormat::rgba8, false}).ok());
+  auto at = [&](float x, int ch) {
+    const float scale = 48.0f / (6.0f * std::tan(30.0f * 3.14159265f / 180.0f));
+    return px[std::size_t(4 * (48 * 96 + static_cast<int>(48 + x * scale)) + ch)];
+  };
+  // 0.35 of the outer radius: the red centre (the inner cone's span would put it on the ring).
+  EXPECT_GT(at(0.7f, 0), 50);
+  EXPECT_EQ(at(0.7f, 2), 0);
+  // 0.85 of it: the blue ring, dimmed by the cone's falloff.
+  EXPECT_GT(at(1.7f, 2), 5);
+  EXPECT_EQ(at(1.7f, 0), 0);
+}
+
 std::uint8_t byte(int v) { return static_cast<std::uint8_t>(v); }
 
 // A 2 x 2 24-bit BMP: height +2 (bottom-up) or -2 (top-down); top row red, green; bottom blue, white.
@@ -318,6 +367,88 @@ TEST(TrustRound4, BakeRefusesToGoOverItsMemoryBudget) {
   o.memory_budget_bytes = 0;  // no limit: the same bake's set-up is allowed (stopped by a cancel)
   o.progress = [](double done) { return done < 0.2; };
   EXPECT_EQ(bake_lightmaps(scene, o).status().code(), ErrorCode::cancelled);
+}
+
+// Light gathered from an emissive panel on a curved receiver (a 16-segment sphere) against the
+// closed form at each texel's centre: (B / pi) times the integral over the panel of
+// cos(receiver) cos(emitter) / r^2, with the receiver's cosine taken from the sphere's own
+// normal. The bake lights each footprint piece with its interpolated (shading) normal, so it
+// follows the sphere, not its facets. Measured 2026-11-28 (24 texels a unit, 256 area samples, 347
+// texels of the lit cap): relative rms 0.34 %; with the face normal's cosine instead, 9.6 %.
+TEST(TrustRound4, GatheredLightOnACurvedReceiverFollowsItsShadingNormals) {
+  Scene s;
+  s.meshes.push_back({"sphere", make_uv_sphere(1.0f, 16, 8)});
+  s.meshes.push_back({"panel", make_plane(1.0f, 1.0f, 1)});
+  Material grey, light;
+  grey.diffuse = Color3(0.5f, 0.5f, 0.5f);
+  light.diffuse = Color3::Zero(), light.emissive = Color3(1, 1, 1);
+  s.materials = {grey, light};
+  Mat4 down = Mat4::Identity();  // the panel at y = 2, facing -y
+  down(1, 1) = -1, down(2, 2) = -1, down(1, 3) = 2.0f;
+  s.objects.push_back({0, 0, Mat4::Identity()});
+  s.objects.push_back({1, 1, down});
+  BakeOptions o;
+  o.charts.texels_per_unit = 24;
+  o.direct = false, o.radiosity = false, o.small_texel = 0, o.burial_rays = 0;
+  o.area_samples = 256;
+  o.threads = 2;
+  const Result<BakeResult> r = bake_lightmaps(s, o);
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  const BakedLightmap& lm = r->lightmaps[0];
+  const Mesh world = world_space_mesh(s.meshes[0].mesh, Mat4::Identity());
+  auto closed_form = [](const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
+    double sum = 0;
+    constexpr int k = 48;
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; j < k; ++j) {
+        const Eigen::Vector3d q(-0.5 + (i + 0.5) / k, 2.0, -0.5 + (j + 0.5) / k);
+        const Eigen::Vector3d d = q - p;
+        const double r2 = d.squaredNorm(), cr = n.dot(d) / std::sqrt(r2), ce = d.y() / std::sqrt(r2);
+        if (cr > 0 && ce > 0) sum += cr * ce / r2;
+      }
+    return sum * (1.0 / (k * k)) / 3.14159265358979;
+  };
+  std::vector<std::pair<double, double>> pairs;  // (baked, closed form) per texel
+  const LightmapUnwrap& u = lm.unwrap;
+  for (std::size_t t = 0; t < u.triangles.size(); ++t) {
+    Eigen::Vector2d q[3];
+    Eigen::Vector3d p[3];
+    for (int c = 0; c < 3; ++c) {
+      const std::uint32_t v = u.triangles[t][std::size_t(c)];
+      q[c] = Eigen::Vector2d(u.uvs[v].x() * u.width, u.uvs[v].y() * u.height);
+      p[c] = world.positions[u.source_vertex[v]].cast<double>();
+    }
+    const Eigen::Vector2d e1 = q[1] - q[0], e2 = q[2] - q[0];
+    const double det = e1.x() * e2.y() - e1.y() * e2.x();
+    if (!(std::abs(det) > 0)) continue;
+    for (int y = 0; y < u.height; ++y)
+      for (int x = 0; x < u.width; ++x) {
+        // Texels whose whole footprint lies in this triangle: its four corners inside.
+        bool inside = true;
+        for (int cy = 0; cy < 2 && inside; ++cy)
+          for (int cx = 0; cx < 2 && inside; ++cx) {
+            const Eigen::Vector2d d = Eigen::Vector2d(x + cx, y + cy) - q[0];
+            const double b1 = (d.x() * e2.y() - d.y() * e2.x()) / det, b2 = (e1.x() * d.y() - e1.y() * d.x()) / det;
+            inside = b1 >= 0 && b2 >= 0 && b1 + b2 <= 1;
+          }
+        if (!inside) continue;
+        const Eigen::Vector2d d = Eigen::Vector2d(x + 0.5, y + 0.5) - q[0];
+        const double b1 = (d.x() * e2.y() - d.y() * e2.x()) / det, b2 = (e1.x() * d.y() - e1.y() * d.x()) / det;
+        const Eigen::Vector3d at = (1 - b1 - b2) * p[0] + b1 * p[1] + b2 * p[2];
+        pairs.push_back({lm.light[std::size_t(y * u.width + x)].x(), closed_form(at, at.normalized())});
+      }
+  }
+  double most = 0, sq = 0, ref = 0;
+  int texels = 0;
+  for (const auto& [got, want] : pairs) most = std::max(most, want);
+  for (const auto& [got, want] : pairs) {
+    if (want < 0.2 * most) continue;  // the lit cap, away from the shadow line
+    sq += (got - want) * (got - want), ref += want * want, ++texels;
+  }
+  ASSERT_GT(texels, 100);
+  const double rms = std::sqrt(sq / ref);
+  std::printf("gathered light on a 16-segment sphere: %d texels, relative rms %.4f\n", texels, rms);
+  EXPECT_LT(rms, 0.02);
 }
 
 Texture equirect_picture() {

@@ -67,6 +67,7 @@
 // With no scene file: the built-in scene, the Stanford bunny (when ../shared/models is there) and
 // a 1M-triangle sphere, each with 1, 4 and 8 lights. --check exits 1 unless every comparison has
 // a mean difference <= 0.05 steps, >= 99.9 % of covered pixels within 2 steps and a PSNR >= 50 dB
+// (multisampled frames: mean <= 1 step, >= 97 % within 2, at most 0.2 % more than 8 steps away)
 // (the test). Measured on the --quick scenes at 480x270: mean 0.001-0.006 steps, 100.00 % within
 // 2 steps, 60-78 dB: the bounds leave about 8x on the mean and 10 dB on the PSNR for another
 // CPU's llvmpipe, and are 20x tighter than the project's GL-compatibility target (mean <= 1 step,
@@ -1296,6 +1297,15 @@ int main(int argc, char** argv) {
     // samples, facet float ones, so edges round apart by a step).
     if (r.surfaces || opt.msaa > 1) {
       if (r.mean_diff > 1.0 || r.within2 < 0.97) ok = false;
+      // Multisampled: the worst pixels too. Measured 2026-11-28 on the quick scenes at 480x270,
+      // 4 samples: at most 0.05 % of covered pixels more than 8 steps from GL; a sample pattern
+      // mirrored in y puts 0.33-1.25 % there.
+      const double beyond8 = r.covered ? double(r.histogram[5]) / double(r.covered) : 0.0;
+      if (opt.msaa > 1 && beyond8 > 0.002) {
+        std::fprintf(stderr, "facet_vs_llvmpipe: %s: %.2f %% of covered pixels more than 8 steps from GL (at most 0.2 %%)\n",
+                     r.name.c_str(), 100 * beyond8);
+        ok = false;
+      }
     } else if (r.mean_diff > 0.05 || r.within2 < 0.999 || r.psnr < 50.0) {
       ok = false;
     }
