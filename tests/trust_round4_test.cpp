@@ -314,7 +314,8 @@ TEST(TrustRound4, BakeStopsAtItsTimeLimitInEveryPhase) {
   EXPECT_EQ(r.status().code(), ErrorCode::cancelled);
   EXPECT_EQ(r.status().field(), "max_seconds");
   EXPECT_NE(r.status().message().find("while "), std::string::npos) << r.status().message();
-  EXPECT_LT(took, 0.3 + 3.0) << "a whole bake of this scene takes minutes";
+  // Bounds far above the 0.32 s measured, for loaded machines: unbounded, this bake takes minutes.
+  EXPECT_LT(took, 0.3 + 20.0) << "a whole bake of this scene takes minutes";
 
   BakeOptions c = slow_bake();
   int calls = 0;
@@ -323,7 +324,7 @@ TEST(TrustRound4, BakeStopsAtItsTimeLimitInEveryPhase) {
   const Result<BakeResult> cancelled = bake_lightmaps(scene, c);
   EXPECT_EQ(cancelled.status().code(), ErrorCode::cancelled);
   EXPECT_EQ(calls, 1);
-  EXPECT_LT(seconds_since(t1), 3.0);
+  EXPECT_LT(seconds_since(t1), 20.0);
 }
 
 // Progress reaches every phase, only grows, and ends at 1; the result does not depend on it.
@@ -467,7 +468,7 @@ TEST(TrustRound4, EquirectConversionIsCancellable) {
   });
   EXPECT_EQ(r.status().code(), ErrorCode::cancelled);
   EXPECT_EQ(calls, 3);
-  EXPECT_LT(seconds_since(t0), 5.0) << "converting 6 x 4096^2 texels takes minutes";
+  EXPECT_LT(seconds_since(t0), 20.0) << "converting 6 x 4096^2 texels takes minutes";
   // Uncancelled, the same faces with or without a callback.
   const Result<std::vector<Texture>> a = cube_faces_from_equirect(sky, 8, "sky");
   const Result<std::vector<Texture>> b = cube_faces_from_equirect(sky, 8, "sky", {}, [](double) { return true; });
@@ -510,7 +511,7 @@ TEST(TrustRound4, CApiEquirectCacheCancelAndMessages) {
   c.max_seconds = 0.2;
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_EQ(facet_scene_bake(s, &c, nullptr), FACET_CANCELLED);
-  EXPECT_LT(seconds_since(t0), 3.2);
+  EXPECT_LT(seconds_since(t0), 20.0);
   facet_scene_destroy(s);
 }
 

@@ -124,6 +124,17 @@ def test_each_renderer_keyword_changes_what_it_names():
         assert not np.array_equal(image, base), kwargs
 
 
+def test_each_render_keyword_changes_what_it_names():
+    base = facet.render(width=96, height=54)
+    for kwargs in ({"shading": "flat"}, {"shading": "phong"}, {"msaa": 4}, {"srgb": True}, {"orbit_deg": 30.0}):
+        assert not np.array_equal(facet.render(width=96, height=54, **kwargs), base), kwargs
+    # and those that must not change it do not
+    for kwargs in ({"threads": 1}, {"pixel_precision": "exact"}):
+        assert np.array_equal(facet.render(width=96, height=54, **kwargs), base), kwargs
+    as_float = facet.render(width=96, height=54, dtype="float32")
+    assert as_float.dtype == np.float32 and np.abs(as_float * 255 - base).max() <= 1.0
+
+
 def sweep(out, *options, timeout=240):
     command = [sys.executable, "-m", "facet.sweep", MODEL, "-o", str(out), "--facet", FACET_BIN] + list(options)
     return subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=timeout)
