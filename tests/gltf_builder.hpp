@@ -108,4 +108,17 @@ inline std::string read_bytes(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
 }
 
+// A unit quad in z = 0 (two triangles), for the glTF tests.
+inline const std::vector<float> kQuadPositions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+inline const std::vector<std::uint16_t> kQuadIndices = {0, 1, 2, 0, 2, 3};
+
+inline GltfBuilder quad() {
+  GltfBuilder b;
+  const int pos = b.vec3(kQuadPositions);
+  b.add("meshes", {{"primitives", {{{"attributes", {{"POSITION", pos}}}, {"indices", b.indices16(kQuadIndices)}}}}});
+  b.add("nodes", {{"mesh", 0}});
+  b.add("scenes", {{"nodes", {0}}});
+  return b;
+}
+
 }  // namespace facet::test

@@ -503,36 +503,7 @@ TEST(BumpMaps, EnvironmentBumpMovesTheLookup) {
   EXPECT_NEAR(draw(flat, LightingPath::simd).byte(16, 16, 0), std::lround(0.5 * 256.0 - 0.5), 1.0);
 }
 
-// A spot light straight down onto a plane seen from above (world +x to the image's right, +z down).
-Scene projector_scene(const std::vector<std::uint8_t>& picture, int w, int h, ProjectorMode mode) {
-  Scene s;
-  s.meshes.push_back({"plane", make_plane(8.0f, 8.0f, 8)});
-  Material m;
-  m.ambient = Color3::Zero();
-  m.diffuse = Color3(0.9f, 0.9f, 0.9f);
-  m.specular = Color3(0.3f, 0.3f, 0.3f);
-  m.shininess = 8;
-  s.materials.push_back(m);
-  s.objects.push_back({0, 0, Mat4::Identity()});
-  s.camera.eye = Vec3(0, 6, 0.001f);
-  s.camera.target = Vec3(0, 0, 0);
-  s.camera.up = Vec3(0, 0, -1);
-  s.camera.vertical_fov_deg = 60;
-  s.global_ambient = Color3::Zero();
-  Light spot;
-  spot.type = LightType::spot;
-  spot.position = Vec3(0, 2, 0);
-  spot.direction = Vec3(0, -1, 0);
-  spot.spot_cutoff_deg = 45;  // the picture spans x, z in [-2, 2] on the plane
-  spot.diffuse = Color3(1, 0.8f, 0.6f);
-  s.lights.push_back(spot);
-  TextureOptions o{TextureFilter::nearest, TextureWrap::clamp};
-  o.encoding = TextureEncoding::linear;
-  s.textures.push_back(*make_texture("picture", w, h, picture, o));
-  s.lights[0].projector.texture = 0;
-  s.lights[0].projector.mode = mode;
-  return s;
-}
+using test::projector_scene;
 
 // A one-colour picture c filters the light as the light's colours times c would (modulate), or
 // times c's luminance (gobo), on every path and ISA within a step; flat and Gouraud ignore it.

@@ -84,4 +84,35 @@ inline void add_quad(Scene& s, float x0, float y0, float x1, float y1, float z, 
   add_emissive(s, std::move(m), colour);
 }
 
+// A spot light straight down onto a plane seen from above (world +x to the image's right, +z down).
+inline Scene projector_scene(const std::vector<std::uint8_t>& picture, int w, int h, ProjectorMode mode) {
+  Scene s;
+  s.meshes.push_back({"plane", make_plane(8.0f, 8.0f, 8)});
+  Material m;
+  m.ambient = Color3::Zero();
+  m.diffuse = Color3(0.9f, 0.9f, 0.9f);
+  m.specular = Color3(0.3f, 0.3f, 0.3f);
+  m.shininess = 8;
+  s.materials.push_back(m);
+  s.objects.push_back({0, 0, Mat4::Identity()});
+  s.camera.eye = Vec3(0, 6, 0.001f);
+  s.camera.target = Vec3(0, 0, 0);
+  s.camera.up = Vec3(0, 0, -1);
+  s.camera.vertical_fov_deg = 60;
+  s.global_ambient = Color3::Zero();
+  Light spot;
+  spot.type = LightType::spot;
+  spot.position = Vec3(0, 2, 0);
+  spot.direction = Vec3(0, -1, 0);
+  spot.spot_cutoff_deg = 45;  // the picture spans x, z in [-2, 2] on the plane
+  spot.diffuse = Color3(1, 0.8f, 0.6f);
+  s.lights.push_back(spot);
+  TextureOptions o{TextureFilter::nearest, TextureWrap::clamp};
+  o.encoding = TextureEncoding::linear;
+  s.textures.push_back(*make_texture("picture", w, h, picture, o));
+  s.lights[0].projector.texture = 0;
+  s.lights[0].projector.mode = mode;
+  return s;
+}
+
 }  // namespace facet::test

@@ -18,6 +18,7 @@
 #include "facet/facet.h"
 #include "facet/facet.hpp"
 #include "gltf_builder.hpp"
+#include "render_support.hpp"
 #include "test_support.hpp"
 
 namespace facet {
@@ -26,21 +27,9 @@ namespace {
 using test::GltfBuilder;
 namespace fs = std::filesystem;
 
-const std::vector<float> kPositions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
-const std::vector<std::uint16_t> kIndices = {0, 1, 2, 0, 2, 3};
-
 Result<Model> parse(const std::string& text) {
   return parse_gltf(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), "t.gltf", "",
                     {});
-}
-
-GltfBuilder quad() {
-  GltfBuilder b;
-  const int pos = b.vec3(kPositions);
-  b.add("meshes", {{"primitives", {{{"attributes", {{"POSITION", pos}}}, {"indices", b.indices16(kIndices)}}}}});
-  b.add("nodes", {{"mesh", 0}});
-  b.add("scenes", {{"nodes", {0}}});
-  return b;
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -53,7 +42,7 @@ TEST(TrustRound4, ASiblingFolderSharingThePrefixIsOutside) {
   test::TempDir dir("facet_round4");
   fs::create_directories(dir / "models/robot");
   fs::create_directories(dir / "models/robot-private");
-  const GltfBuilder b = quad();
+  const GltfBuilder b = test::quad();
   test::write_text(dir / "models/robot-private/secret.bin", b.bin);
   fs::create_symlink(dir / "models/robot-private/secret.bin", dir / "models/robot/link.bin");
   for (const std::string uri : {"../robot-private/secret.bin", "link.bin"}) {
@@ -108,7 +97,7 @@ TEST(TrustRound4, DracoAttributesMatchTheirAccessors) {
     const float c[4] = {0.25f, 0.5f, 0.75f, 1.0f};
     for (int t = 0; t < 2; ++t) {
       const float* p[3];
-      for (int k = 0; k < 3; ++k) p[k] = &kPositions[3 * kIndices[std::size_t(3 * t + k)]];
+      for (int k = 0; k < 3; ++k) p[k] = &test::kQuadPositions[3 * test::kQuadIndices[std::size_t(3 * t + k)]];
       builder.SetAttributeValuesForFace(pos, draco::FaceIndex(t), p[0], p[1], p[2]);
       builder.SetAttributeValuesForFace(col, draco::FaceIndex(t), c, c, c);
     }
@@ -153,7 +142,7 @@ TEST(TrustRound4, DracoAttributesMatchTheirAccessors) {
 
 // glTF 2.0: an accessor's byteOffset is a multiple of its component size.
 TEST(TrustRound4, AccessorOffsetsAreAlignedToTheirComponents) {
-  GltfBuilder b = quad();
+  GltfBuilder b = test::quad();
   nlohmann::json d = b.with_buffer("data:application/octet-stream;base64," + test::base64(b.bin + std::string(8, '\0')));
   ASSERT_TRUE(parse(d.dump()).ok());
   d["accessors"][0]["byteOffset"] = 2;  // floats at offset 2
@@ -166,8 +155,8 @@ TEST(TrustRound4, AccessorOffsetsAreAlignedToTheirComponents) {
 // (the scale applied first, each component its own).
 TEST(TrustRound4, TextureTransformScalesEachComponentUnderARotation) {
   GltfBuilder b;
-  const int pos = b.vec3(kPositions), uv = b.vec2({0, 0, 1, 0, 1, 1, 0, 1});
-  b.add("meshes", {{"primitives", {{{"attributes", {{"POSITION", pos}, {"TEXCOORD_0", uv}}}, {"indices", b.indices16(kIndices)}, {"material", 0}}}}});
+  const int pos = b.vec3(test::kQuadPositions), uv = b.vec2({0, 0, 1, 0, 1, 1, 0, 1});
+  b.add("meshes", {{"primitives", {{{"attributes", {{"POSITION", pos}, {"TEXCOORD_0", uv}}}, {"indices", b.indices16(test::kQuadIndices)}, {"material", 0}}}}});
   b.add("nodes", {{"mesh", 0}});
   b.add("scenes", {{"nodes", {0}}});
   const double r = 0.3, sx = 2, sy = 3, ox = 0.5, oy = 0.25;
@@ -192,36 +181,18 @@ TEST(TrustRound4, TextureTransformScalesEachComponentUnderARotation) {
 // A smooth spot's projector spans its outer cone: the picture's border lands near the outer
 // edge, its middle near the axis (a 4 x 4 picture: a blue ring round a red 2 x 2 centre).
 TEST(TrustRound4, ASmoothSpotsProjectorSpansItsOuterCone) {
-  Scene s;
-  s.meshes.push_back({"plane", make_plane(8.0f, 8.0f, 8)});
-  Material m;
-  m.ambient = Color3::Zero();
-  m.diffuse = Color3(0.9f, 0.9f, 0.9f);
-  s.materials.push_back(m);
-  s.objects.push_back({0, 0, Mat4::Identity()});
-  s.camera.eye = Vec3(0, 6, 0.001f);
-  s.camera.target = Vec3(0, 0, 0);
-  s.camera.up = Vec3(0, 0, -1);
-  s.camera.vertical_fov_deg = 60;
-  s.global_ambient = Color3::Zero();
-  Light spot;
-  spot.type = LightType::spot;
-  spot.position = Vec3(0, 2, 0);
-  spot.direction = Vec3(0, -1, 0);
-  spot.spot_shape = SpotShape::smooth_cone;
-  spot.spot_inner_deg = 20;
-  spot.spot_outer_deg = 45;  // the picture spans x, z in [-2, 2] on the plane
-  spot.spot_falloff = 1;
-  s.lights.push_back(spot);
   std::vector<std::uint8_t> picture;
   for (int y = 0; y < 4; ++y)
     for (int x = 0; x < 4; ++x) {
       const bool ring = x == 0 || y == 0 || x == 3 || y == 3;
-      for (std::uint8_t v : {ring ? 0 : 255, 0, ring ? 255 : 0, 255}) picture.push_back(v);
+      for (int v : {ring ? 0 : 255, 0, ring ? 255 : 0, 255}) picture.push_back(static_cast<std::uint8_t>(v));
     }
-  TextureOptions o{TextureFilter::nearest, TextureWrap::clamp};
-  s.textures.push_back(*make_texture("picture", 4, 4, picture, o));
-  s.lights[0].projector.texture = 0;
+  Scene s = test::projector_scene(picture, 4, 4, ProjectorMode::modulate);
+  Light& spot = s.lights[0];
+  spot.spot_shape = SpotShape::smooth_cone;
+  spot.spot_inner_deg = 20;
+  spot.spot_outer_deg = 45;  // the picture spans x, z in [-2, 2] on the plane
+  spot.spot_falloff = 1;
   std::vector<std::uint8_t> px(96 * 96 * 4);
   RenderOptions ro;
   ro.shading = ShadingMode::phong;
@@ -416,7 +387,7 @@ TEST(TrustRound4, GatheredLightOnACurvedReceiverFollowsItsShadingNormals) {
     Eigen::Vector3d p[3];
     for (int c = 0; c < 3; ++c) {
       const std::uint32_t v = u.triangles[t][std::size_t(c)];
-      q[c] = Eigen::Vector2d(u.uvs[v].x() * u.width, u.uvs[v].y() * u.height);
+      q[c] = Eigen::Vector2d(double(u.uvs[v].x()) * u.width, double(u.uvs[v].y()) * u.height);
       p[c] = world.positions[u.source_vertex[v]].cast<double>();
     }
     const Eigen::Vector2d e1 = q[1] - q[0], e2 = q[2] - q[0];

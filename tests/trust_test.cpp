@@ -24,8 +24,9 @@ namespace {
 using test::GltfBuilder;
 namespace fs = std::filesystem;
 
-const std::vector<float> kPositions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
-const std::vector<std::uint16_t> kIndices = {0, 1, 2, 0, 2, 3};
+const std::vector<float>& kPositions = test::kQuadPositions;
+const std::vector<std::uint16_t>& kIndices = test::kQuadIndices;
+using test::quad;
 constexpr const char* kSecret = "SECRET-BYTES-0123456789";
 
 // A test folder with a model folder inside it and a file beside that folder which no model may read.
@@ -40,15 +41,6 @@ class Dir : public test::TempDir {
 Result<Model> parse(const std::string& text, const std::string& base = "", const ModelOptions& o = {}) {
   return parse_gltf(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), "t.gltf",
                     base, o);
-}
-
-GltfBuilder quad() {
-  GltfBuilder b;
-  const int pos = b.vec3(kPositions);
-  b.add("meshes", {{"primitives", {{{"attributes", {{"POSITION", pos}}}, {"indices", b.indices16(kIndices)}}}}});
-  b.add("nodes", {{"mesh", 0}});
-  b.add("scenes", {{"nodes", {0}}});
-  return b;
 }
 
 void expect_refused(const Result<Model>& m, const std::string& field) {

@@ -160,19 +160,19 @@ Status write_baked_scene(const BakedSceneRequest& st, const OutputFolder& folder
       // place under the deepest folder holding them all.
       std::string base;
       bool first = true;
-      for (const auto& entry : files) {
-        const std::string folder_of = fs::path(entry.first).parent_path().generic_string();
+      for (const auto& file : files) {
+        const std::string folder_of = fs::path(file.first).parent_path().generic_string();
         base = first ? folder_of : common_folder(base, folder_of);
         first = false;
       }
       const std::string prefix = "import_" + std::to_string(i);
       std::string placed;
-      for (const auto& entry : files) {
-        std::string rel = base.empty() || base == "/" ? entry.first : relative_to(entry.first, base);
+      for (const auto& file : files) {
+        std::string rel = base.empty() || base == "/" ? file.first : relative_to(file.first, base);
         while (!rel.empty() && rel[0] == '/') rel.erase(0, 1);
-        if (rel.empty()) return {ErrorCode::io_error, "", quote(entry.first, 200) + ": cannot place it in the baked folder"};
-        FACET_CLI_TRY(folder.write(prefix + "/" + rel, entry.second));
-        if (entry.first == loader_name(model)) placed = prefix + "/" + rel;
+        if (rel.empty()) return {ErrorCode::io_error, "", quote(file.first, 200) + ": cannot place it in the baked folder"};
+        FACET_CLI_TRY(folder.write(prefix + "/" + rel, file.second));
+        if (file.first == loader_name(model)) placed = prefix + "/" + rel;
       }
       if (placed.empty()) return {ErrorCode::io_error, "", model.string() + ": the model file was not read"};
       import["file"] = placed;
