@@ -119,15 +119,19 @@ Scene expected_quad_scene(const std::string& texture_path) {
   Light l;
   l.type = LightType::directional;
   l.direction = Vec3(0, 0, -1);
-  l.diffuse = l.specular = Color3(2.0f, 1.0f, 0.5f);
+  // 2 lx of (1, 0.5, 0.25): colour x intensity / pi (docs/color.md).
+  l.diffuse = l.specular = Color3(float(2.0 / std::numbers::pi), float(1.0 / std::numbers::pi), float(0.5 / std::numbers::pi));
   s.lights.push_back(l);
+  // A model with lights in physical units: metered, the neutral operator.
+  s.display.automatic = true;
+  s.display.tone_mapping = ToneMapping::neutral;
   return s;
 }
 
 std::vector<std::uint8_t> render_rgba(const Scene& scene, int w = 64, int h = 48, int threads = 1) {
   std::vector<std::uint8_t> px(std::size_t(w) * h * 4);
   const ImageView view{px.data(), w, h, std::size_t(w) * 4, PixelFormat::rgba8, false};
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.threads = threads;
   Renderer r;
   const Status s = r.render(scene, o, view);
@@ -151,7 +155,7 @@ TEST(GltfImport, TexturedQuadIsTheSceneDocsDescribe) {
   EXPECT_EQ(m->scene.textures[0].wrap, TextureWrap::clamp);
   EXPECT_EQ(m->scene.meshes[0].mesh.uvs[0], Vec2(0.0f, 0.0f));  // glTF (0, 1) is the bottom-left corner
   ASSERT_EQ(m->scene.lights.size(), 1u);
-  EXPECT_EQ(m->scene.lights[0].diffuse, Color3(2.0f, 1.0f, 0.5f));
+  EXPECT_EQ(m->scene.lights[0].diffuse, Color3(float(2.0 / std::numbers::pi), float(1.0 / std::numbers::pi), float(0.5 / std::numbers::pi)));
   EXPECT_TRUE(m->scene.lights[0].direction.isApprox(Vec3(0, 0, -1)));
   EXPECT_TRUE(m->warnings.empty()) << m->warnings[0];
   const Scene expected = expected_quad_scene(dir / "tex.png");
@@ -397,12 +401,12 @@ TEST(GltfImport, VertexColoursWithoutCameraOrLightsAreFramedAndLit) {
     std::vector<std::uint8_t> px(64 * 48 * 4);
     const ImageView view{px.data(), 64, 48, 256, PixelFormat::rgba8, false};
     FrameStats stats;
-    ASSERT_TRUE(r.render(s, RenderOptions{}, view, nullptr, &stats).ok());
+    ASSERT_TRUE(r.render(s, test::gl_options(), view, nullptr, &stats).ok());
     EXPECT_EQ(stats.pixels_filled, 0u);
     EXPECT_NE(explain_empty_frame(stats).find("outside the view"), std::string::npos) << explain_empty_frame(stats);
     s.camera = *frame_scene(s, 64.0f / 48.0f);
     add_default_lights(s);
-    ASSERT_TRUE(r.render(s, RenderOptions{}, view, nullptr, &stats).ok());
+    ASSERT_TRUE(r.render(s, test::gl_options(), view, nullptr, &stats).ok());
     EXPECT_GT(stats.pixels_filled, 64u * 48u / 10);
     EXPECT_EQ(explain_empty_frame(stats), "");
     // The bottom-left corner's pixels are red: the colours arrive.
@@ -668,8 +672,12 @@ TEST(GltfImport, PunctualLightsFollowTheExtension) {
   EXPECT_EQ(spot.range, 5.0f);
   EXPECT_EQ(spot.quadratic_attenuation, 1.0f);
   EXPECT_EQ(spot.constant_attenuation, 0.0f);
-  EXPECT_EQ(spot.diffuse, Color3(10, 10, 10));
-  EXPECT_EQ(m->scene.lights[1].diffuse, Color3(0.5f, 0.5f, 1.0f));
+  // candela / pi: glTF's Lambert term is albedo / pi times the irradiance, GL's albedo times the colour.
+  EXPECT_EQ(spot.diffuse, Color3::Constant(float(10.0 / std::numbers::pi)));
+  EXPECT_EQ(m->scene.lights[1].diffuse, Color3(float(0.5 / std::numbers::pi), float(0.5 / std::numbers::pi), float(1.0 / std::numbers::pi)));
+  // Lights in physical units: metered, and the neutral operator (docs/color.md).
+  EXPECT_TRUE(m->scene.display.automatic);
+  EXPECT_EQ(m->scene.display.tone_mapping, ToneMapping::neutral);
 
   // facet's smooth cone with falloff 2 is glTF's spot formula: light one vertex at angles across
   // the cone with the reference path and compare with saturate(cd scale + offset)^2 / d^2.
@@ -736,7 +744,7 @@ TEST(GltfImport, DoubleSidedMaterialsDrawBackFaces) {
     for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
       std::vector<std::uint8_t> px(32 * 32 * 4);
       const ImageView view{px.data(), 32, 32, 128, PixelFormat::rgba8, false};
-      RenderOptions o;
+      RenderOptions o = test::gl_options();
       o.shading = shading;
       FrameStats stats;
       Renderer r;

@@ -95,7 +95,7 @@ struct Errors {
 Errors against_exact(const Scene& s, ShadingMode shading, LightingPath path = LightingPath::simd, Isa isa = Isa::best) {
   const int w = 160, h = 160;
   Canvas c(w, h);
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.shading = shading;
   o.path = path;
   o.isa = isa;
@@ -252,7 +252,7 @@ TEST(Environment, OneTexelFacesGiveTheFaceColours) {
 
 std::vector<std::uint8_t> picture(const Scene& s, ShadingMode shading, LightingPath path, Isa isa, int threads) {
   Canvas c(96, 96);
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.shading = shading;
   o.path = path;
   o.isa = isa;
@@ -307,7 +307,7 @@ TEST(Environment, BlendsAsDocumented) {
     inst.model = Eigen::Affine3f(Eigen::AngleAxisf(float(M_PI / 2), Eigen::Vector3f::UnitX())).matrix();
     s.objects.push_back(inst);
     Canvas canvas(16, 16);
-    RenderOptions o;
+    RenderOptions o = test::gl_options();
     o.shading = ShadingMode::phong;
     Renderer r;
     EXPECT_TRUE(r.render(s, o, canvas.view()).ok());
@@ -348,7 +348,7 @@ TEST(Environment, MapsAreClampedToTheEdge) {
     for (const LightingPath path : {LightingPath::scalar, LightingPath::simd}) {
       SCOPED_TRACE(std::string(to_string(shading)) + " " + to_string(path));
       Canvas c(32, 32);
-      RenderOptions opt;
+      RenderOptions opt = test::gl_options();
       opt.shading = shading;
       opt.path = path;
       Renderer r;
@@ -447,7 +447,7 @@ TEST(DynamicEnvironment, MirrorBallShowsTheWallItReflects) {
                                std::pair{ShadingMode::phong, CullMode::none}}) {
     const int w = 96, h = 96;
     Canvas c(w, h);
-    RenderOptions o;
+    RenderOptions o = test::gl_options();
     o.shading = shading;
     o.cull = cull;
     Renderer r;
@@ -511,7 +511,7 @@ TEST(DynamicEnvironment, Validation) {
   st = validate_scene(s);
   EXPECT_EQ(st.field(), "materials[12].environment.dynamic");
   s = mirror_in_room(4096);
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.memory_budget_bytes = 64u << 20;  // six 4096^2 faces take 384 MiB
   st = check_render(s, o, 64, 64);
   EXPECT_EQ(st.code(), ErrorCode::out_of_memory) << st.message();

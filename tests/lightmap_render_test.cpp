@@ -61,7 +61,7 @@ Scene lightmapped_quad() {
 
 Pixel render_centre(const Scene& s, LightingPath path, Isa isa, ShadingMode mode) {
   test::Canvas c(32, 32);
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.path = path, o.isa = isa, o.shading = mode;
   Renderer r;
   const Status st = r.render(s, o, c.view());
@@ -136,7 +136,7 @@ TEST(LightmapRender, GradientIsTheSameOnEveryPath) {
   s.objects[0].lightmap_scale = 1.0f;
   auto render = [&](LightingPath path, Isa isa, ShadingMode mode) {
     test::Canvas c(64, 48);
-    RenderOptions o;
+    RenderOptions o = test::gl_options();
     o.path = path, o.isa = isa, o.shading = mode;
     Renderer r;
     EXPECT_TRUE(r.render(s, o, c.view()).ok());
@@ -153,7 +153,7 @@ TEST(LightmapRender, GradientIsTheSameOnEveryPath) {
     // Red grows with u, to the right; green with the texel row, whose first (the image's top) is
     // at v = 1: green falls upwards. The quad covers columns 0-44 and, near the middle, rows 12-36.
     test::Canvas c(64, 48);
-    RenderOptions o;
+    RenderOptions o = test::gl_options();
     o.shading = mode;
     Renderer r;
     ASSERT_TRUE(r.render(s, o, c.view()).ok());
@@ -211,7 +211,7 @@ TEST(LightmapRender, BakedDirectLightMatchesPerPixelLighting) {
   lit.objects[0].lightmap_mode = LightmapMode::replace;
   auto render = [](const Scene& scene) {
     test::Canvas c(160, 120);
-    RenderOptions ro;
+    RenderOptions ro = test::gl_options();
     ro.shading = ShadingMode::phong;
     Renderer r;
     EXPECT_TRUE(r.render(scene, ro, c.view()).ok());

@@ -200,7 +200,7 @@ TEST(PixelTiers, FiltersHoldTheirContractInFrames) {
           const Scene s = quad_scene(tex, f);
           for (auto [path, isa] : paths()) {
             for (int fast = 0; fast < 2; ++fast) {
-              RenderOptions o;
+              RenderOptions o = test::gl_options();
               o.path = path, o.isa = isa;
               o.pixel_precision = fast ? PixelPrecision::fast : PixelPrecision::exact;
               Errors e;
@@ -253,7 +253,7 @@ TEST(PixelTiers, StagesHoldTheirContractInFrames) {
               const Scene s = quad_scene(tex, f);
               for (LightingPath path : {LightingPath::scalar, LightingPath::simd}) {
                 for (int fast = 0; fast < 2; ++fast) {
-                  RenderOptions o;
+                  RenderOptions o = test::gl_options();
                   o.path = path;
                   o.pixel_precision = fast ? PixelPrecision::fast : PixelPrecision::exact;
                   Errors e;

@@ -212,7 +212,7 @@ TEST_P(SimdRaster, ResolveQuantisesExactlyLikeToUnorm8) {
         for (bool y_up : {false, true}) {
           for (std::size_t offset : {0, 1}) {
             for (int w : {96, 91}) {
-              RenderOptions o;
+              RenderOptions o = test::gl_options();
               o.path = LightingPath::simd;
               o.isa = GetParam();
               o.shading = shading;

@@ -56,7 +56,7 @@ std::int32_t add_normal_map(Scene& s, const std::uint8_t (&rgb)[3]) {
 std::vector<std::uint8_t> render(const Scene& s, LightingPath path, Isa isa = Isa::best,
                                  ShadingMode shading = ShadingMode::phong, bool vertex_relief = false) {
   test::Canvas c(96, 96);
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.shading = shading;
   o.vertex_relief = vertex_relief;
   o.path = path;
@@ -141,7 +141,7 @@ TEST(NormalMaps, PerVertexShadingIgnoresTheMap) {
     Scene unmapped = s;
     unmapped.materials[0].normal_texture = kNoTexture;
     test::Canvas a(64, 64), b(64, 64);
-    RenderOptions o;
+    RenderOptions o = test::gl_options();
     o.shading = mode;
     ASSERT_TRUE(Renderer(o).render(s, a.view()).ok());
     ASSERT_TRUE(Renderer(o).render(unmapped, b.view()).ok());
@@ -270,7 +270,7 @@ TEST(VertexRelief, ApproachesPerPixelReliefAsTheMeshGrows) {
       EXPECT_LT(e, 0.5 * plain);
       for (int threads : {1, 3}) {
         test::Canvas c(96, 96);
-        RenderOptions o;
+        RenderOptions o = test::gl_options();
         o.vertex_relief = true;
         o.threads = threads;
         ASSERT_TRUE(Renderer(o).render(s, c.view()).ok());
@@ -325,7 +325,7 @@ TEST(NormalMaps, ReliefSceneIsByteIdenticalForAnyThreadCount) {
     std::vector<std::uint8_t> one;
     for (int threads : {1, 2, 8}) {
       test::Canvas c(200, 120);
-      RenderOptions o;
+      RenderOptions o = test::gl_options();
       o.shading = ShadingMode::phong;
       o.path = path;
       o.threads = threads;
@@ -340,7 +340,7 @@ TEST(NormalMaps, ReliefSceneIsByteIdenticalForAnyThreadCount) {
   for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
     if (!isa_supported(isa)) continue;
     test::Canvas c(200, 120);
-    RenderOptions o;
+    RenderOptions o = test::gl_options();
     o.shading = ShadingMode::phong;
     o.isa = isa;
     ASSERT_TRUE(Renderer(o).render(*s, c.view()).ok());
@@ -389,7 +389,7 @@ TEST(OcclusionMaps, DarkenExactlyTheAmbientTerms) {
         EXPECT_NE(render(mapped, LightingPath::simd), render(unmapped, LightingPath::simd)) << "the map changed nothing";
         for (ShadingMode mode : {ShadingMode::flat, ShadingMode::gouraud}) {
           test::Canvas a(64, 64), b(64, 64);
-          RenderOptions ro;
+          RenderOptions ro = test::gl_options();
           ro.shading = mode;
           ASSERT_TRUE(Renderer(ro).render(mapped, a.view()).ok());
           ASSERT_TRUE(Renderer(ro).render(unmapped, b.view()).ok());
@@ -487,7 +487,7 @@ TEST(BumpMaps, EnvironmentBumpMovesTheLookup) {
   ASSERT_TRUE(validate_scene(s).ok()) << validate_scene(s).message();
   auto draw = [&](const Scene& scene, LightingPath path) {
     test::Canvas c(32, 32);
-    RenderOptions ro;
+    RenderOptions ro = test::gl_options();
     ro.shading = ShadingMode::gouraud;
     ro.path = path;
     EXPECT_TRUE(Renderer(ro).render(scene, c.view()).ok());
@@ -528,7 +528,7 @@ TEST(Projectors, AOneColourPictureFiltersTheLight) {
           << to_string(isa);
     }
     test::Canvas a(48, 48), b(48, 48);
-    RenderOptions ro;
+    RenderOptions ro = test::gl_options();
     ro.shading = ShadingMode::gouraud;
     Scene unprojected = projected;
     unprojected.lights[0].projector.texture = -1;
@@ -561,7 +561,7 @@ TEST(Projectors, ThePictureLandsTheRightWayRound) {
   const std::vector<std::uint8_t> quads = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255};
   const Scene s = projector_scene(quads, 2, 2, ProjectorMode::modulate);
   test::Canvas c(96, 96);
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.shading = ShadingMode::phong;
   ASSERT_TRUE(Renderer(o).render(s, c.view()).ok());
   // Image position of world (x, 0, z): +x right, +z down, 6 units away with a 60-degree view.
@@ -602,7 +602,7 @@ TEST(NormalMaps, AGltfWithNormalOcclusionAndSrgbTextures) {
   std::vector<std::uint8_t> pictures[2];
   for (int threads : {1, 2}) {
     test::Canvas c(96, 96);
-    RenderOptions o;
+    RenderOptions o = test::gl_options();
     o.shading = ShadingMode::phong;
     o.threads = threads;
     o.srgb = true;
@@ -613,7 +613,7 @@ TEST(NormalMaps, AGltfWithNormalOcclusionAndSrgbTextures) {
   Scene flat = s;
   flat.materials[0].normal_texture = flat.materials[0].occlusion_texture = kNoTexture;
   test::Canvas c(96, 96);
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.shading = ShadingMode::phong;
   o.srgb = true;
   ASSERT_TRUE(Renderer(o).render(flat, c.view()).ok());

@@ -15,7 +15,7 @@ namespace {
 Rgba8Image render_rgba8(const Scene& scene, int w, int h, ShadingMode mode, FrameStats* stats = nullptr,
                         LightingPath path = LightingPath::simd) {
   test::Canvas c(w, h);
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.shading = mode;
   o.path = path;
   Renderer r;
@@ -35,7 +35,7 @@ void expect_matches_golden(ShadingMode mode, LightingPath path, Isa isa) {
   const Result<Rgba8Image> golden = read_png(test::data_dir() + "/golden/" + name);
   ASSERT_TRUE(golden.ok()) << golden.status().message();
   test::Canvas c(160, 120);
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.shading = mode;
   o.path = path;
   o.isa = isa;

@@ -63,10 +63,10 @@ TEST(RenderArguments, DepthViewOptionsAndSceneAreChecked) {
   DepthView wrong{depth.data(), 8, 16, 8 * sizeof(float), false};
   Renderer r;
   EXPECT_EQ(r.render(s, {}, c.view(), &wrong).field(), "depth");
-  RenderOptions bad_tile;
+  RenderOptions bad_tile = test::gl_options();
   bad_tile.tile_size = 12;
   EXPECT_EQ(r.render(s, bad_tile, c.view()).field(), "options.tile_size");
-  RenderOptions nan_clear;
+  RenderOptions nan_clear = test::gl_options();
   nan_clear.clear_color[1] = std::numeric_limits<float>::quiet_NaN();
   EXPECT_EQ(r.render(s, nan_clear, c.view()).field(), "options.clear_color");
   Scene broken = s;
@@ -85,13 +85,13 @@ TEST(RenderImage, PixelFormatsAndChannelOrder) {
   ASSERT_TRUE(render(s, rgba.view()).ok());
   ASSERT_TRUE(render(s, bgra.view()).ok());
   ASSERT_TRUE(render(s, f32.view()).ok());
-  // 0.5 * 255 + 0.5 rounds to 128.
+  // 8-bit output is sRGB-encoded by default: 0.5 is 0.7354 encoded, 187.5 + 0.5 rounds to 188.
   EXPECT_EQ(rgba.byte(2, 1, 0), 255);
-  EXPECT_EQ(rgba.byte(2, 1, 1), 128);
+  EXPECT_EQ(rgba.byte(2, 1, 1), 188);
   EXPECT_EQ(rgba.byte(2, 1, 2), 0);
   EXPECT_EQ(rgba.byte(2, 1, 3), 255);
   EXPECT_EQ(bgra.byte(2, 1, 0), 0);
-  EXPECT_EQ(bgra.byte(2, 1, 1), 128);
+  EXPECT_EQ(bgra.byte(2, 1, 1), 188);
   EXPECT_EQ(bgra.byte(2, 1, 2), 255);
   EXPECT_EQ(bgra.byte(2, 1, 3), 255);
   EXPECT_FLOAT_EQ(f32.channel_f(2, 1, 0), 1.0f);
@@ -105,7 +105,7 @@ TEST(RenderImage, HdrFloatOutputKeepsValuesAboveOne) {
   add_quad(s, -9, -9, 9, 9, -5, Color3(3.0f, 0.25f, 0.0f));
   Canvas clamped(4, 4, PixelFormat::rgba32f), hdr(4, 4, PixelFormat::rgba32f);
   ASSERT_TRUE(render(s, clamped.view()).ok());
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.hdr = true;
   ASSERT_TRUE(render(s, hdr.view(), nullptr, o).ok());
   EXPECT_FLOAT_EQ(clamped.channel_f(1, 1, 0), 1.0f);
@@ -132,7 +132,7 @@ TEST(RenderImage, OddSizesStridesAndTilesTouchOnlyPixels) {
       for (int tile : {8, 64}) {
         for (bool y_up : {false, true}) {
           Canvas c(w, h, f, 13, y_up);
-          RenderOptions o;
+          RenderOptions o = test::gl_options();
           o.tile_size = tile;
           ASSERT_TRUE(render(s, c.view(), nullptr, o).ok());
           EXPECT_TRUE(c.outside_pixels_untouched()) << to_string(f) << " " << w << "x" << h << " tile " << tile;
@@ -148,7 +148,7 @@ TEST(RenderImage, TileSizeDoesNotChangeAByte) {
     std::vector<std::uint8_t> first;
     for (int tile : {8, 16, 64, 256}) {
       Canvas c(161, 97);
-      RenderOptions o;
+      RenderOptions o = test::gl_options();
       o.shading = mode;
       o.tile_size = tile;
       ASSERT_TRUE(render(s, c.view(), nullptr, o).ok());
@@ -162,7 +162,7 @@ TEST(RenderImage, SameFrameTwiceIsIdentical) {
   const Scene s = make_default_scene();
   Renderer r;
   Canvas a(160, 120), b(160, 120);
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.shading = ShadingMode::phong;
   ASSERT_TRUE(r.render(s, o, a.view()).ok());
   ASSERT_TRUE(r.render(s, o, b.view()).ok());
@@ -190,7 +190,7 @@ TEST(RenderDepth, EqualDepthKeepsTheFirstSubmitted) {
   add_quad(s, -9, -9, 9, 9, -4, kGreen);  // same depth everywhere: LESS keeps red
   for (LightingPath path : {LightingPath::scalar, LightingPath::simd}) {  // both rasterizers' depth tests
     Canvas c(8, 8);
-    RenderOptions o;
+    RenderOptions o = test::gl_options();
     o.path = path;
     Renderer r;
     ASSERT_TRUE(r.render(s, o, c.view()).ok());
@@ -322,7 +322,7 @@ TEST(RenderCull, ModesAndTwoSidedScenes) {
     for (CullMode mode : {CullMode::none, CullMode::back, CullMode::front}) {
       Scene s = camera_scene();
       add_quad(s, -9, -9, 9, 9, -5, kRed, reversed);
-      RenderOptions o;
+      RenderOptions o = test::gl_options();
       o.cull = mode;
       Canvas c(8, 8);
       ASSERT_TRUE(render(s, c.view(), nullptr, o).ok());
@@ -406,7 +406,7 @@ TEST(RenderStats, LightingOnlyDrawableVerticesChangesNoByte) {
     for (const auto& [path, isa] : paths) {
       for (ShadingMode shading : {ShadingMode::gouraud, ShadingMode::flat}) {
         SCOPED_TRACE(std::string(v.name) + " " + to_string(path) + " " + to_string(isa) + " " + to_string(shading));
-        RenderOptions o;
+        RenderOptions o = test::gl_options();
         o.shading = shading;
         o.cull = v.cull;
         o.path = path;
@@ -444,7 +444,7 @@ TEST(RenderShading, GouraudMissesTheHighlightPhongFindsIt) {
   s.lights.push_back(l);
   // 65 x 65: the centre pixel's centre is exactly the view axis, which meets the quad at (0, 0, -5).
   Canvas gouraud(65, 65), phong(65, 65);
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.shading = ShadingMode::gouraud;
   ASSERT_TRUE(render(s, gouraud.view(), nullptr, o).ok());
   o.shading = ShadingMode::phong;

@@ -53,7 +53,7 @@ std::vector<std::uint8_t> render(const Scene& s, int threads = 0, LightingPath p
                                  Isa isa = Isa::best, Status* status = nullptr,
                                  ShadingMode shading = ShadingMode::phong) {
   Canvas c(kSize, kSize);
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.shading = shading;
   o.threads = threads;
   o.path = path;
@@ -234,7 +234,7 @@ TEST(Shadows, AmbientTermIsNotBlocked) {
 TEST(Shadows, RefusedWhereNotDrawnYet) {
   Scene s = sphere_over_plane();
   Canvas c(16, 16);
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.shading = ShadingMode::gouraud;
   Renderer r;
   // Flat and Gouraud shadows sum sub-frames: materials whose colour is not linear in the lighting
@@ -809,7 +809,7 @@ namespace {
 TEST(ShadowMaps, AReusedRendererDrawsWhatAFreshOneDraws) {
   auto draw = [](Renderer& r, const Scene& s, int tile_size) {
     Canvas c(kSize, kSize);
-    RenderOptions o;
+    RenderOptions o = test::gl_options();
     o.shading = ShadingMode::phong;
     o.tile_size = tile_size;
     EXPECT_TRUE(r.render(s, o, c.view()).ok());

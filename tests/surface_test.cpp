@@ -45,7 +45,7 @@ int step(double v) { return static_cast<int>(std::lround(255.0 * std::clamp(v, 0
 
 Pixel render_centre(const Scene& s, LightingPath path, ShadingMode mode = ShadingMode::gouraud, Isa isa = Isa::best) {
   Canvas c(32, 32);
-  RenderOptions o;
+  RenderOptions o = test::gl_options();
   o.path = path;
   o.isa = isa;
   o.shading = mode;
@@ -149,7 +149,7 @@ TEST(Surfaces, VertexColoursActAsTheMaterialColour) {
     for (auto [path, isa] : every_path()) {
       SCOPED_TRACE(std::string(to_string(path)) + " " + to_string(isa) + " " + to_string(shading));
       Canvas ca(160, 120), cb(160, 120);
-      RenderOptions o;
+      RenderOptions o = test::gl_options();
       o.path = path;
       o.isa = isa;
       o.shading = shading;
@@ -353,7 +353,7 @@ TEST(Surfaces, ByteIdenticalForAnyThreadCount) {
   const Scene s = surfaces_scene();
   for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
     for (LightingPath path : {LightingPath::scalar, LightingPath::simd}) {
-      RenderOptions o;
+      RenderOptions o = test::gl_options();
       o.shading = shading;
       o.path = path;
       o.tile_size = 32;  // many tiles over the threads
@@ -370,7 +370,7 @@ TEST(Surfaces, ByteIdenticalForAnyThreadCount) {
     std::vector<std::uint8_t> first;
     for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
       if (!isa_supported(isa)) continue;
-      RenderOptions o;
+      RenderOptions o = test::gl_options();
       o.shading = shading;
       o.isa = isa;
       const auto pixels = render_pixels(s, o);
@@ -394,7 +394,7 @@ TEST(Surfaces, SimdMatchesScalar) {
   for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
     std::vector<std::uint8_t> scalar_exact;
     for (PixelPrecision precision : {PixelPrecision::exact, PixelPrecision::fast}) {
-      RenderOptions a, b;
+      RenderOptions a = test::gl_options(), b = test::gl_options();
       a.shading = b.shading = shading;
       a.path = LightingPath::scalar;
       b.path = LightingPath::simd;
@@ -436,7 +436,7 @@ TEST(Surfaces, MultisampledSimdMatchesScalar) {
   }
   for (int samples : {4, 16}) {
     for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
-      RenderOptions a, b;
+      RenderOptions a = test::gl_options(), b = test::gl_options();
       a.shading = b.shading = shading;
       a.samples = b.samples = samples;
       a.path = LightingPath::scalar;
@@ -489,7 +489,7 @@ TEST(Surfaces, SpecialisedModulateProgramEqualsTheGeneralOne) {
       ASSERT_GE(textured, 2);
       for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
         if (!isa_supported(isa)) continue;
-        RenderOptions o;
+        RenderOptions o = test::gl_options();
         o.shading = ShadingMode::gouraud;
         o.path = LightingPath::simd;
         o.isa = isa;
@@ -531,7 +531,7 @@ TEST(Surfaces, FusedBlendProgramsEqualTheGeneralOne) {
     }
     for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
       if (!isa_supported(isa)) continue;
-      RenderOptions o;
+      RenderOptions o = test::gl_options();
       o.shading = ShadingMode::gouraud;
       o.path = LightingPath::simd;
       o.isa = isa;
@@ -559,7 +559,7 @@ TEST(Surfaces, FastPixelTierHoldsItsContract) {
         single.filter = filter;
         for (Texture& t : s.textures) t = single;
       }
-      RenderOptions o;
+      RenderOptions o = test::gl_options();
       o.shading = ShadingMode::gouraud;
       o.pixel_precision = PixelPrecision::fast;
       o.tile_size = 32;
@@ -643,7 +643,7 @@ TEST(Surfaces, EmissionStageOnlyWhereItChangesSomething) {
   Scene after = gl;
   for (Material& m : after.materials) m.emission_after_texture = true;
   for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
-    RenderOptions o;
+    RenderOptions o = test::gl_options();
     o.shading = shading;
     EXPECT_TRUE(render_pixels(gl, o) == render_pixels(after, o)) << to_string(shading);
   }
@@ -679,7 +679,7 @@ TEST(Surfaces, EmissiveTexturesSameBytesForAllThreadsAndEveryPath) {
   const Scene s = emissive_scene();
   ASSERT_TRUE(validate_scene(s).ok()) << validate_scene(s).message();
   for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
-    RenderOptions o;
+    RenderOptions o = test::gl_options();
     o.shading = shading;
     o.tile_size = 32;
     std::vector<std::uint8_t> scalar;
@@ -764,7 +764,7 @@ TEST(Surfaces, BadSurfaceInputIsRefusedWithItsField) {
   s.materials[0].diffuse_texture = 3;
   Canvas c(16, 16);
   Renderer r;
-  EXPECT_FALSE(r.render(s, RenderOptions{}, c.view()).ok());
+  EXPECT_FALSE(r.render(s, test::gl_options(), c.view()).ok());
   EXPECT_TRUE(c.untouched());
 }
 
@@ -807,7 +807,7 @@ TEST(Srgb, RenderEncodesColourNotAlpha) {
   for (auto [path, isa] : every_path()) {
     for (PixelFormat format : {PixelFormat::rgba8, PixelFormat::bgra8}) {
       Canvas c(32, 32, format);
-      RenderOptions o;
+      RenderOptions o = test::gl_options();
       o.path = path;
       o.isa = isa;
       o.srgb = true;
@@ -845,7 +845,7 @@ TEST(Surfaces, MeshMaterialGroupsDrawWithTheirOwnMaterials) {
     for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
       SCOPED_TRACE(std::string(to_string(path)) + " " + to_string(isa) + " " + to_string(shading));
       Canvas c(32, 32);
-      RenderOptions o;
+      RenderOptions o = test::gl_options();
       o.path = path, o.isa = isa, o.shading = shading;
       Renderer r;
       ASSERT_TRUE(r.render(s, o, c.view()).ok());
@@ -884,7 +884,7 @@ TEST(Surfaces, GroupsOfOneMaterialDrawLikeTheWholeMesh) {
   }
   for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
     for (LightingPath path : {LightingPath::scalar, LightingPath::simd}) {
-      RenderOptions o;
+      RenderOptions o = test::gl_options();
       o.shading = shading, o.path = path, o.threads = 2;
       EXPECT_TRUE(render_pixels(whole, o) == render_pixels(split, o)) << to_string(shading) << " " << to_string(path);
     }
@@ -923,7 +923,7 @@ TEST(Surfaces, StableAtHugeUvsZeroAndInfiniteDerivatives) {
     for (PixelPrecision precision : {PixelPrecision::exact, PixelPrecision::fast}) {
       SCOPED_TRACE(std::string(to_string(path)) + " " + to_string(isa) + " " + to_string(shading) + " " +
                    to_string(precision));
-      RenderOptions o;
+      RenderOptions o = test::gl_options();
       o.path = path, o.isa = isa, o.shading = shading, o.pixel_precision = precision;
       Canvas f(64, 64, PixelFormat::rgba32f);
       Renderer r;
@@ -984,7 +984,7 @@ TEST(TransparentOrder, BackToFrontDrawsWhatTheSceneSortedByHandDraws) {
   for (auto [path, isa] : every_path()) {
     for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
       SCOPED_TRACE(std::string(to_string(path)) + " " + to_string(isa) + " " + to_string(shading));
-      RenderOptions opt;
+      RenderOptions opt = test::gl_options();
       opt.path = path, opt.isa = isa, opt.shading = shading;
       const auto sorted = render_pixels(o.sorted, opt, 96, 96);
       EXPECT_TRUE(sorted == render_pixels(o.hand, opt, 96, 96));
@@ -1037,7 +1037,7 @@ TEST(TransparentOrder, BackToFrontSameBytesForAnyThreadCount) {
   s.transparent_order = TransparentOrder::back_to_front;
   for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
     for (LightingPath path : {LightingPath::scalar, LightingPath::simd}) {
-      RenderOptions o;
+      RenderOptions o = test::gl_options();
       o.shading = shading, o.path = path, o.tile_size = 32, o.threads = 1;
       const auto one = render_pixels(s, o);
       for (int threads : {2, 8}) {
@@ -1047,7 +1047,7 @@ TEST(TransparentOrder, BackToFrontSameBytesForAnyThreadCount) {
     }
   }
   const OrderScenes o = order_scenes();
-  RenderOptions opt;
+  RenderOptions opt = test::gl_options();
   opt.tile_size = 16, opt.threads = 1;
   const auto one = render_pixels(o.sorted, opt, 96, 96);
   for (int threads : {2, 3, 8}) {

@@ -23,6 +23,14 @@ inline LoadOptions scene_options() {
   return o;
 }
 
+// GL's framebuffer: 8-bit output written linear (RenderOptions::srgb false), as the tests of GL's
+// formulas and the golden images (made against llvmpipe) expect.
+inline RenderOptions gl_options() {
+  RenderOptions o;
+  o.srgb = false;
+  return o;
+}
+
 // A fresh folder for the running test, removed with everything in it at the end of the test.
 class TempDir {
  public:

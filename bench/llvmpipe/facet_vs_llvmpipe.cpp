@@ -1029,7 +1029,12 @@ facet::Result<facet::Scene> load_any(const std::string& path, const Options& opt
   facet::LoadOptions lo = repo_scene_options();
   for (const std::string& a : opt.allow_paths) lo.assets.allowed_roots.push_back(a);
   lo.frame_aspect = float(opt.width) / float(opt.height);
-  if (ext != ".gltf" && ext != ".glb" && ext != ".obj") return facet::load_scene_file(path, lo);
+  // GL has neither exposure nor tone mapping: the comparison draws every scene with GL's display.
+  if (ext != ".gltf" && ext != ".glb" && ext != ".obj") {
+    facet::Result<facet::Scene> s = facet::load_scene_file(path, lo);
+    if (s) s->display = facet::Display{};
+    return s;
+  }
   facet::ModelOptions mo;
   mo.assets = lo.assets;
   facet::Result<facet::Model> m = facet::load_model(path, mo);
@@ -1040,6 +1045,7 @@ facet::Result<facet::Scene> load_any(const std::string& path, const Options& opt
     m->scene.camera = *c;
   }
   if (!m->has_lights) facet::add_default_lights(m->scene);
+  m->scene.display = facet::Display{};
   return std::move(m->scene);
 }
 

@@ -89,6 +89,7 @@ py::dict stats_dict(const FrameStats& s) {
   d["seconds_raster"] = s.seconds_raster;
   d["seconds_shadows"] = s.seconds_shadows;
   d["seconds_total"] = s.seconds_total;
+  d["exposure_ev"] = s.exposure_ev;
   d["threads"] = s.threads;
   return d;
 }
@@ -486,6 +487,34 @@ PYBIND11_MODULE(_facet, m) {
         if (Status st = validate_camera(c); !st.ok()) raise(st);
         s.camera = c;
       }, py::arg("eye"), py::arg("target"), py::arg("up") = std::array<float, 3>{0, 1, 0}, py::arg("fov_deg") = 45.0f)
+      .def("set_display", [](PyScene& ps, py::object exposure, const std::string& tone_mapping) {
+        Display d;
+        if (py::isinstance<py::str>(exposure)) {
+          if (exposure.cast<std::string>() != "auto") raise({ErrorCode::invalid_argument, "exposure", "exposure: expected stops or 'auto'"});
+          d.automatic = true;
+        } else {
+          double ev = 0.0;
+          try {
+            ev = exposure.cast<double>();
+          } catch (const py::cast_error&) {
+            raise({ErrorCode::invalid_argument, "exposure", "exposure: expected stops (a number) or 'auto'"});
+          }
+          if (!(ev >= -30.0 && ev <= 30.0)) raise({ErrorCode::invalid_argument, "exposure", "exposure: expected stops in [-30, 30]"});
+          d.ev = static_cast<float>(ev);
+        }
+        d.tone_mapping = parse_named(tone_mapping, "tone_mapping", {ToneMapping::none, ToneMapping::neutral, ToneMapping::aces});
+        ps.edit().display = d;
+      }, py::arg("exposure") = 0.0, py::arg("tone_mapping") = "none",
+           "Exposure in stops (the light times 2^exposure) or 'auto' (metered to middle grey per frame), then a "
+           "tone-mapping operator: none (GL's clamp), neutral (Khronos PBR Neutral) or aces. Models load with neutral, "
+           "and with 'auto' when their lights are in physical units.")
+      .def_property_readonly("display", [](const PyScene& ps) {
+        py::dict d;
+        const Display& v = ps.scene.display;
+        d["exposure"] = v.automatic ? py::object(py::str("auto")) : py::object(py::float_(v.ev));
+        d["tone_mapping"] = to_string(v.tone_mapping);
+        return d;
+      }, "The scene's exposure and tone mapping, as set_display takes them.")
       .def("orbit", [](PyScene& ps, float angle_deg) {
         Scene& s = ps.edit();
         const Bounds b = scene_bounds(s);
@@ -504,7 +533,7 @@ PYBIND11_MODULE(_facet, m) {
       .def(py::init<const std::string&, const std::string&, const std::string&, const std::string&, int, int, bool, std::array<float, 4>,
                     const std::string&>(),
            py::arg("shading") = "gouraud", py::arg("path") = "simd", py::arg("isa") = "best", py::arg("pow") = "auto",
-           py::arg("threads") = 0, py::arg("msaa") = 1, py::arg("srgb") = false,
+           py::arg("threads") = 0, py::arg("msaa") = 1, py::arg("srgb") = true,
            py::arg("clear") = std::array<float, 4>{0, 0, 0, 1}, py::arg("pixel_precision") = "auto")
       .def("render", &PyRenderer::render, py::arg("scene"), py::arg("width"), py::arg("height"), py::arg("dtype") = "uint8",
            py::arg("out") = py::none(),

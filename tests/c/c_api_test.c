@@ -88,6 +88,7 @@ static void render_samples(const facet_scene* scene, int samples, unsigned char*
   facet_render_config rc = facet_render_config_default();
   rc.samples = samples;
   rc.cull = FACET_CULL_NONE;
+  rc.srgb = 0; /* GL's framebuffer: the linear values */
   facet_renderer* r = facet_renderer_create(&rc, NULL);
   CHECK(r != NULL);
   CHECK(facet_render(r, scene, px, size, size, (size_t)size * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
@@ -648,6 +649,8 @@ int main(void) {
     cam.vertical_fov_deg = 90;
     CHECK(facet_scene_set_camera(s, &cam) == FACET_OK);
     facet_render_config sc = facet_render_config_default();
+    CHECK(sc.srgb == 1); /* 8-bit output is sRGB-encoded by default */
+    sc.srgb = 0;         /* the values below are GL's linear framebuffer's */
     sc.clear_color[0] = 0, sc.clear_color[1] = 0, sc.clear_color[2] = 1, sc.clear_color[3] = 1;
     facet_renderer* sr = facet_renderer_create(&sc, &status);
     CHECK(sr != NULL);

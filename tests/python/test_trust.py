@@ -108,7 +108,7 @@ def test_texels_that_do_not_convert_exactly_are_refused(value, bad):
 def test_a_float_out_array_gets_floats_whatever_dtype_says():
     scene = facet.Scene()
     renderer = facet.Renderer(threads=1)
-    u8 = renderer.render(scene, 64, 36)
+    u8 = facet.Renderer(threads=1, srgb=False).render(scene, 64, 36)
     out = np.zeros((36, 64, 4), dtype=np.float32)
     renderer.render(scene, 64, 36, out=out)  # dtype left at "uint8"
     assert out.max() <= 1.0 and out.max() > 0.1
@@ -118,7 +118,7 @@ def test_a_float_out_array_gets_floats_whatever_dtype_says():
 def test_each_renderer_keyword_changes_what_it_names():
     scene = facet.Scene()
     base = facet.Renderer(threads=1).render(scene, 96, 54)
-    for kwargs in ({"shading": "flat"}, {"shading": "phong"}, {"msaa": 4}, {"srgb": True},
+    for kwargs in ({"shading": "flat"}, {"shading": "phong"}, {"msaa": 4}, {"srgb": False},
                    {"clear": [0.5, 0.25, 0.0, 1.0]}):
         image = facet.Renderer(threads=1, **kwargs).render(scene, 96, 54)
         assert not np.array_equal(image, base), kwargs
@@ -126,13 +126,16 @@ def test_each_renderer_keyword_changes_what_it_names():
 
 def test_each_render_keyword_changes_what_it_names():
     base = facet.render(width=96, height=54)
-    for kwargs in ({"shading": "flat"}, {"shading": "phong"}, {"msaa": 4}, {"srgb": True}, {"orbit_deg": 30.0}):
+    for kwargs in ({"shading": "flat"}, {"shading": "phong"}, {"msaa": 4}, {"srgb": False}, {"orbit_deg": 30.0},
+                   {"exposure": 1.0}, {"exposure": "auto"}, {"tone_mapping": "aces"}):
         assert not np.array_equal(facet.render(width=96, height=54, **kwargs), base), kwargs
     # and those that must not change it do not
-    for kwargs in ({"threads": 1}, {"pixel_precision": "exact"}):
+    for kwargs in ({"threads": 1}, {"pixel_precision": "exact"}, {"srgb": True}, {"exposure": 0.0},
+                   {"tone_mapping": "none"}):
         assert np.array_equal(facet.render(width=96, height=54, **kwargs), base), kwargs
     as_float = facet.render(width=96, height=54, dtype="float32")
-    assert as_float.dtype == np.float32 and np.abs(as_float * 255 - base).max() <= 1.0
+    linear = facet.render(width=96, height=54, srgb=False)
+    assert as_float.dtype == np.float32 and np.abs(as_float * 255 - linear).max() <= 1.0
 
 
 def sweep(out, *options, timeout=240):

@@ -114,6 +114,25 @@ std::optional<TransparentOrder> parse_transparent_order(const std::string& name)
   return std::nullopt;
 }
 
+bool apply_display_options(const std::string& exposure, const std::string& tone_mapping, Display& display) {
+  if (exposure == "auto") {
+    display.automatic = true;
+  } else if (!exposure.empty()) {
+    char* stop = nullptr;
+    const float ev = std::strtof(exposure.c_str(), &stop);
+    if (stop != exposure.c_str() + exposure.size() || !(ev >= -30.0f && ev <= 30.0f)) {
+      fail("--exposure: expected stops in [-30, 30] or auto, found '" + json_escape(exposure.substr(0, 40)) + "'");
+      return false;
+    }
+    display.automatic = false;
+    display.ev = ev;
+  }
+  for (ToneMapping t : {ToneMapping::none, ToneMapping::neutral, ToneMapping::aces}) {
+    if (tone_mapping == to_string(t)) display.tone_mapping = t;
+  }
+  return true;
+}
+
 void override_shadows(Scene& scene, ShadowMethod method) {
   for (Light& l : scene.lights) l.shadow.method = method;
 }

@@ -60,6 +60,9 @@ std::optional<TransparentOrder> parse_transparent_order(const std::string& name)
 inline constexpr const char* kTransparentOrderHelp =
     "submission | back_to_front: the order blended objects are drawn in (default: the scene's; scene files "
     "submission, models back_to_front)";
+// --exposure EV|auto and --tone-mapping none|neutral|aces over the scene's own display ("" when
+// not given). Prints the error and returns false for an exposure that is neither.
+bool apply_display_options(const std::string& exposure, const std::string& tone_mapping, Display& display);
 // "reference", "scalar", or "simd avx512 (pow auto)" with `best` resolved.
 std::string describe_path(LightingPath path, Isa isa, PowTier tier);
 

@@ -589,6 +589,7 @@ Status image_accuracy(bool quick, std::vector<Row>& rows) {
         got.rgba.assign(static_cast<std::size_t>(w * h * 4), 0);
         std::vector<float> depth(static_cast<std::size_t>(w * h));
         RenderOptions o;
+        o.srgb = false;  // the targets are in steps of linear 8-bit output, GL's
         o.shading = mode;
         o.path = choice.path;
         o.isa = choice.isa;
@@ -814,6 +815,7 @@ Status shadow_accuracy(bool quick, std::vector<Row>& rows) {
     auto render = [&](const Scene& s, double* ms) -> Result<std::vector<std::uint8_t>> {
       std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w * h * 4));
       RenderOptions o;
+      o.srgb = false;  // the targets are in steps of linear 8-bit output, GL's
       o.shading = ShadingMode::phong;
       o.threads = 1;
       const ImageView view{rgba.data(), w, h, static_cast<std::size_t>(w) * 4, PixelFormat::rgba8, false};
@@ -1012,6 +1014,7 @@ Status environment_accuracy(bool quick, std::vector<Row>& rows) {
     for (const ShadingMode shading : {ShadingMode::gouraud, ShadingMode::phong}) {
       std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w * h * 4));
       RenderOptions o;
+      o.srgb = false;  // the targets are in steps of linear 8-bit output, GL's
       o.shading = shading;
       o.threads = 1;
       const ImageView view{rgba.data(), w, h, static_cast<std::size_t>(w) * 4, PixelFormat::rgba8, false};
@@ -1097,6 +1100,7 @@ Status relief_accuracy(bool quick, std::vector<Row>& rows) {
     s.meshes.assign(1, {"ball", make_uv_sphere(1.0f, segments, segments / 2)});
     if (Status st = generate_missing_tangents(s); !st.ok()) return st;
     RenderOptions o;
+    o.srgb = false;  // the targets are in steps of linear 8-bit output, GL's
     o.shading = shading;
     o.path = path;
     o.vertex_relief = true;
@@ -1190,6 +1194,7 @@ Status msaa_accuracy(bool quick, std::vector<Row>& rows) {
   std::vector<std::uint8_t> ids(static_cast<std::size_t>(W) * H * 4);
   {
     RenderOptions o;
+    o.srgb = false;  // the targets are in steps of linear 8-bit output, GL's
     if (Status st = Renderer(o).render(s, {big.data(), W, H, static_cast<std::size_t>(W) * 16, PixelFormat::rgba32f, false}); !st.ok()) {
       return st;
     }
@@ -1230,6 +1235,7 @@ Status msaa_accuracy(bool quick, std::vector<Row>& rows) {
   }
   for (const int samples : {1, 4, 8, 16}) {
     RenderOptions o;
+    o.srgb = false;  // the targets are in steps of linear 8-bit output, GL's
     o.samples = samples;
     o.threads = 1;
     std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w * h * 4));

@@ -281,11 +281,12 @@ int check(const CheckState& st) {
   Scene* scene = &loaded->scene;
   if (!st.shadows.empty()) override_shadows(*scene, *parse_shadow_method(st.shadows));
   if (!st.transparent_order.empty()) scene->transparent_order = *parse_transparent_order(st.transparent_order);
-  if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(scene_path + ": " + s.message());
+  // The image the user asked for first (the plainer message), then the frame's scratch.
   const PixelFormat format = ext == ".png" ? PixelFormat::rgba8 : PixelFormat::rgba32f;
   if (Status s = check_output_image(width, height, format, !st.depth.empty(), options.memory_budget_bytes); !s.ok()) {
     return fail(scene_path + ": " + s.message());
   }
+  if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(scene_path + ": " + s.message());
   // Something to draw: a model always, a scene file when it has meshes.
   if (is_model_path(scene_path) || !scene->meshes.empty()) {
     Result<FrameStats> drawn = draw_once(*scene, options, width, height);

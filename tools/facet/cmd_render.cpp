@@ -51,12 +51,13 @@ void print_stats_text(const FrameStats& s, int frames, double seconds) {
 // `frame_seconds`: each frame's time, reported as its median, min, max and count. A frame that drew
 // nothing says why ("nothing_drawn"); the key is absent otherwise.
 void print_stats_json(const FrameStats& s, int frames, double seconds, const RenderOptions& o, int w, int h,
-                      const std::string& fields = "", const std::vector<double>& frame_seconds = {}) {
+                      const std::string& fields = "", const std::vector<double>& frame_seconds = {},
+                      const std::string& display = "") {
   const double per_frame = seconds / frames;
   const Isa isa = o.isa == Isa::best ? best_isa() : o.isa;
   const std::string context = json_context(o.path == LightingPath::simd ? to_string(isa) : "none",
                                            o.path == LightingPath::simd ? to_string(o.pow_tier) : "std::pow", o.threads);
-  std::printf("{%s\"context\": %s, \"width\": %d, \"height\": %d, \"shading\": \"%s\", \"path\": \"%s\", \"pixel_precision\": \"%s\", \"samples\": %d, \"threads\": %d, "
+  std::printf("{%s\"context\": %s, \"width\": %d, \"height\": %d, \"shading\": \"%s\", \"path\": \"%s\", \"pixel_precision\": \"%s\", \"samples\": %d, %s\"threads\": %d, "
               "\"triangles_in\": %llu, \"triangles_drawn\": %llu, \"triangles_culled\": %llu, "
               "\"triangles_outside\": %llu, \"triangles_clipped\": %llu, \"triangles_degenerate\": %llu, "
               "\"triangles_small\": %llu, "
@@ -69,7 +70,7 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               "\"seconds_frame\": %.6g, \"frames\": %d, \"mean_seconds_per_frame\": %.6g, "
               "\"vertices_lit_per_s\": %.6g, \"pixels_filled_per_s\": %.6g, \"frame_seconds\": %s%s}\n",
               fields.c_str(), context.c_str(), w, h, to_string(o.shading), describe_path(o.path, o.isa, o.pow_tier).c_str(),
-              to_string(o.pixel_precision), o.samples, s.threads,
+              to_string(o.pixel_precision), o.samples, display.c_str(), s.threads,
               (unsigned long long)s.triangles_in,
               (unsigned long long)s.triangles_drawn, (unsigned long long)s.triangles_culled,
               (unsigned long long)s.triangles_outside, (unsigned long long)s.triangles_clipped,
@@ -84,6 +85,19 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               double(s.vertices_lit) / per_frame, double(s.pixels_filled) / per_frame,
               json_spread(frame_seconds.empty() ? std::vector<double>{per_frame} : frame_seconds).c_str(),
               s.pixels_filled == 0 ? (", \"nothing_drawn\": \"" + json_escape(explain_empty_frame(s)) + "\"").c_str() : "");
+}
+
+// What the picture did with the light: "exposure_ev": -11.2, "exposure": "auto", ... as JSON
+// fields, or a line of text.
+std::string display_fields(const Display& d, const RenderOptions& o, const FrameStats& s) {
+  char buffer[200];
+  std::snprintf(buffer, sizeof buffer, "\"output_encoding\": \"%s\", \"exposure\": \"%s\", \"exposure_ev\": %.4g, \"tone_mapping\": \"%s\", ",
+                o.srgb ? "srgb" : "linear", d.automatic ? "auto" : "fixed", double(s.exposure_ev), to_string(d.tone_mapping));
+  return buffer;
+}
+void print_display_text(const Display& d, const RenderOptions& o, const FrameStats& s) {
+  std::printf("  display     exposure %+.2f EV (%s), tone mapping %s, 8-bit output %s\n", double(s.exposure_ev),
+              d.automatic ? "metered" : "fixed", to_string(d.tone_mapping), o.srgb ? "sRGB" : "linear");
 }
 
 // OUT.png -> OUT_0007.png
@@ -162,7 +176,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
       char fields[128];
       std::snprintf(fields, sizeof fields, "\"frame\": %d, \"angle_deg\": %.6g, ", k, angle);
       print_stats_json(stats, 1, frame_seconds, options, image.width, image.height,
-                       fields + std::string("\"file\": \"") + json_escape(name) + "\", ");
+                       fields + std::string("\"file\": \"") + json_escape(name) + "\", ", {}, display_fields(scene.display, options, stats));
     } else {
       std::fprintf(stderr, "\rfacet: frame %d/%d -> %s", k - t.first + 1, t.last - t.first, name.c_str());
       std::fflush(stderr);
@@ -189,12 +203,13 @@ namespace {
 
 struct RenderState {
   std::string scene_path, output, depth_path, frame_range, shading = "gouraud", shadows, path = "simd", isa = "auto", pow = "auto", pixel_precision = "auto",
-                                                cull = "back", clear, transparent_order, lights = "auto", depth_mode = "auto";
+                                                cull = "back", clear, transparent_order, lights = "auto", depth_mode = "auto",
+                                                exposure, tone_mapping;
   int width = 1280, height = 720, threads = 0, tile = 64, memory_mb = -1, frame_count = 1, msaa = 1;
   double min_seconds = 0, orbit_deg = 360.0, time_limit = 0;
   std::vector<std::string> allow_paths;
   ViewState view;
-  bool stats = false, json = false, allow_missing = false, hdr = false, srgb = false, no_light_culling = false,
+  bool stats = false, json = false, allow_missing = false, hdr = false, srgb = false, linear = false, no_light_culling = false,
        light_every_vertex = false, vertex_relief = false;
 };
 
@@ -215,7 +230,17 @@ Command add_render(CLI::App& facet) {
   app->add_option("--width", st->width, "image width (default 1280)")->check(int_in(1, kMaxImageDimension))->group(out);
   app->add_option("--height", st->height, "image height (default 720)")->check(int_in(1, kMaxImageDimension))->group(out);
   app->add_flag("--hdr", st->hdr, "keep unclamped lighting in .pfm or .exr output")->group(out);
-  app->add_flag("--srgb", st->srgb, "encode 8-bit output with the sRGB transfer function (exact)")->group(out);
+  app->add_flag("--srgb", st->srgb, "encode 8-bit output with the sRGB transfer function, exactly (the default)")->group(out);
+  app->add_flag("--linear", st->linear, "write 8-bit output's linear values as they are (GL 2.1's framebuffer; default sRGB)")
+      ->excludes("--srgb")->group(out);
+  app->add_option("--exposure", st->exposure,
+                  "EV | auto: the light times 2^EV before tone mapping, or metered to middle grey per frame (default: the "
+                  "scene's; a model with lights in physical units: auto; else 0)")
+      ->group(out);
+  app->add_option("--tone-mapping", st->tone_mapping,
+                  "none | neutral | aces: from the exposed light to [0, 1] (default: the scene's; models neutral, scene "
+                  "files none, GL's clamp)")
+      ->check(one_of({"none", "neutral", "aces"}, "operator"))->group(out);
   app->add_option("--clear", st->clear, "the background colour R,G,B[,A], components in [0, 1] (default 0,0,0,1)")->group(out);
   app->add_option("--depth", st->depth_path, "also write window-space depth (0 near .. 1 far) to FILE.pfm")->group(out);
   const char* draw = "Drawing";
@@ -312,7 +337,7 @@ int render(const RenderState& st) {
   options.tile_size = st.tile;
   options.samples = st.msaa;
   options.hdr = st.hdr;
-  options.srgb = st.srgb;
+  options.srgb = !st.linear;
   options.cull_lights = !st.no_light_culling;
   options.light_every_vertex = st.light_every_vertex;
   options.vertex_relief = st.vertex_relief;
@@ -362,14 +387,15 @@ int render(const RenderState& st) {
   for (const std::string& n : notes) std::fprintf(stderr, "facet: %s\n", n.c_str());
   if (shadows) override_shadows(*scene, *shadows);
   if (!st.transparent_order.empty()) scene->transparent_order = *parse_transparent_order(st.transparent_order);
-  // Everything the renderer refuses is refused before the image is allocated.
-  if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(s.message());
-
+  if (!apply_display_options(st.exposure, st.tone_mapping, scene->display)) return 2;
+  // Everything the renderer refuses is refused before the image is allocated: the image the
+  // user asked for first (the plainer message), then the frame's scratch.
   const PixelFormat format = ext == ".png" ? PixelFormat::rgba8 : PixelFormat::rgba32f;
   const std::size_t stride = static_cast<std::size_t>(width) * bytes_per_pixel(format);
   if (Status s = check_output_image(width, height, format, !depth_path.empty(), options.memory_budget_bytes); !s.ok()) {
     return fail(s.message());
   }
+  if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(s.message());
   std::vector<std::uint8_t> pixels;
   std::vector<float> depth_pixels;
   try {
@@ -427,13 +453,14 @@ int render(const RenderState& st) {
   const std::string empty = explain_empty_frame(frame);
   if (!empty.empty()) std::fprintf(stderr, "facet: nothing was drawn: %s\n", empty.c_str());
   if (json) {
-    print_stats_json(frame, frames, elapsed, options, width, height, "", frame_seconds);
+    print_stats_json(frame, frames, elapsed, options, width, height, "", frame_seconds, display_fields(scene->display, options, frame));
   } else if (stats) {
     std::printf("facet render: %s -> %s (%d x %d, %s shading, %s, pixels %s, %d thread%s)\n",
                 scene_path.empty() ? "built-in default scene" : scene_path.c_str(), output.c_str(), width, height,
                 to_string(options.shading), describe_path(options.path, options.isa, options.pow_tier).c_str(),
                 to_string(options.pixel_precision), frame.threads, frame.threads == 1 ? "" : "s");
     print_stats_text(frame, frames, elapsed);
+    print_display_text(scene->display, options, frame);
   }
   return 0;
 }

@@ -88,7 +88,8 @@ typedef struct facet_render_config {
   int tile_size;       /* 8..256, a multiple of 8 */
   int threads;         /* 0 = all cores, else 1..256; the image is the same for any value */
   float clear_color[4];
-  int srgb; /* non-zero: 8-bit output is sRGB-encoded (exactly rounded); alpha and float output stay linear */
+  int srgb; /* non-zero (default): 8-bit output is sRGB-encoded (exactly rounded); alpha and float
+             * output stay linear. 0: the lit values as they are (GL 2.1's framebuffer). */
   /* The most scratch memory one frame may take (estimated before allocating; a frame over it
    * fails with FACET_OUT_OF_MEMORY before any pixel is written); 0 = no limit. Default 4 GiB. */
   uint64_t memory_budget_bytes;
@@ -266,6 +267,9 @@ typedef struct facet_frame_stats {
    * texels (every face) and how many of them casters wrote */
   double seconds_shadows;
   uint64_t shadow_casters, shadow_map_texels, shadow_map_pixels;
+  /* added in facet 0.2 (written when struct_size reaches it): the exposure the frame used, in
+   * stops (the scene's display.exposure_ev, or the metered one); 0 for GL's display */
+  float exposure_ev;
 } facet_frame_stats;
 
 typedef struct facet_renderer facet_renderer;
@@ -475,6 +479,22 @@ facet_status facet_scene_set_transparent_order(facet_scene* scene, facet_transpa
 /* Whether an object blocks shadowed lights (cast) and can be in shadow (receive); both default
  * to non-zero. */
 facet_status facet_scene_set_object_shadows(facet_scene* scene, uint32_t object_id, int cast, int receive);
+/* What the picture does with the scene's light (facet::Display, docs/color.md): exposure in stops
+ * ([-30, 30]; the light times 2^exposure_ev), or with auto_exposure non-zero metered per frame to
+ * middle grey, then a tone-mapping operator into [0, 1]. Zeroed (the default): GL's clamp. A model
+ * loaded with lights in physical units gets auto exposure, and every model the neutral operator. */
+typedef enum facet_tone_mapping {
+  FACET_TONE_MAPPING_NONE = 0,    /* clamp (GL's) */
+  FACET_TONE_MAPPING_NEUTRAL = 1, /* Khronos PBR Neutral */
+  FACET_TONE_MAPPING_ACES = 2     /* Narkowicz's 2015 ACES fit */
+} facet_tone_mapping;
+typedef struct facet_display {
+  float exposure_ev;
+  int auto_exposure;
+  facet_tone_mapping tone_mapping;
+} facet_display;
+facet_status facet_scene_set_display(facet_scene* scene, const facet_display* display);
+facet_status facet_scene_get_display(const facet_scene* scene, facet_display* display);
 facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* camera);
 /* The scene's camera (after facet_scene_frame, a load with FACET_LOAD_FRAME or an orbit). */
 facet_status facet_scene_get_camera(const facet_scene* scene, facet_camera* camera);

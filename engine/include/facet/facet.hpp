@@ -11,6 +11,7 @@
 #include "facet/mesh.hpp"
 #include "facet/model.hpp"
 #include "facet/render.hpp"
+#include "facet/display.hpp"
 #include "facet/scene.hpp"
 #include "facet/scene_file.hpp"
 #include "facet/status.hpp"

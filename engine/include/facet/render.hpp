@@ -94,9 +94,11 @@ struct RenderOptions {
   std::array<float, 4> clear_color{0.0f, 0.0f, 0.0f, 1.0f};
   bool hdr = false;  // RGBA32F output keeps unclamped (>= 0) lighting; 8-bit output is always clamped
   // 8-bit output encodes the linear colour with the sRGB transfer function (as GL_FRAMEBUFFER_SRGB),
-  // exactly: each channel is the correctly rounded 8-bit value. Alpha and float output stay linear.
-  // Off (GL's default), the lit values are written as they are.
-  bool srgb = false;
+  // exactly: each channel is the correctly rounded 8-bit value, so that a picture looks as bright
+  // as the light it shows (the default, as every viewer and image file expects). Alpha and float
+  // output stay linear. False writes the lit values as they are (GL 2.1's framebuffer, what the
+  // llvmpipe comparisons ask for; `facet render --linear`).
+  bool srgb = true;
   bool cull_lights = true;  // the frame plan's per-object light culling (LightingOptions::cull_lights)
   // The camera pass's depth format. The depth image (render's `depth`) holds window depth (0 near,
   // 1 far) for gl, and near / w (1 at the near plane, 0 at infinity) for reversed.
@@ -156,6 +158,8 @@ struct FrameStats {
   std::uint64_t shadow_casters = 0;     // triangles that can cast shadows (ray-cast shadows, shadow maps)
   std::uint64_t shadow_map_texels = 0;  // texels of the frame's shadow maps (every face)
   std::uint64_t shadow_map_pixels = 0;  // of which written by casters (depth test passed)
+  // The exposure the frame used (Scene::display: its ev, or the metered one); 0 for GL's display.
+  float exposure_ev = 0;
   int threads = 0;              // worker threads the frame really had (the request, capped; see RenderOptions)
   double seconds_total = 0;
 };

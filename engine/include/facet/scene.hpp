@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "facet/camera.hpp"
+#include "facet/display.hpp"
 #include "facet/light.hpp"
 #include "facet/material.hpp"
 #include "facet/mesh.hpp"
@@ -96,6 +97,9 @@ struct Scene {
   Fog fog;
   Color3 global_ambient{0.2f, 0.2f, 0.2f};
   Camera camera;
+  // Exposure and tone mapping (facet/display.hpp): GL's by default; models with lights in
+  // physical units get automatic exposure and every model the neutral operator (docs/color.md).
+  Display display;
   ViewerMode viewer = ViewerMode::local;
   bool two_sided = false;  // back faces are lit with the negated normal
   TransparentOrder transparent_order = TransparentOrder::submission;

@@ -13,12 +13,19 @@ from ._facet import Error, Renderer, Scene, __version__, best_isa, light, load
 __all__ = ["Error", "Renderer", "Scene", "__version__", "best_isa", "light", "load", "render"]
 
 
-def render(path=None, width=640, height=360, *, shading="gouraud", msaa=1, srgb=False, threads=0,
-           dtype="uint8", allow_paths=(), orbit_deg=0.0, pixel_precision="auto"):
+def render(path=None, width=640, height=360, *, shading="gouraud", msaa=1, srgb=True, threads=0,
+           dtype="uint8", allow_paths=(), orbit_deg=0.0, pixel_precision="auto", exposure=None,
+           tone_mapping=None):
     """The picture of a scene file or model (or, with no path, the built-in scene), as `facet
-    render` draws it: an H x W x 4 array (uint8; float32 linear light with dtype="float32")."""
+    render` draws it: an H x W x 4 array (uint8, sRGB-encoded unless srgb=False; float32 linear
+    light with dtype="float32"). exposure (stops or "auto") and tone_mapping ("none", "neutral",
+    "aces") replace the scene's own (docs/color.md)."""
     scene = load(path, aspect=width / height, allow_paths=list(allow_paths)) if path is not None else Scene()
     if orbit_deg:
         scene.orbit(orbit_deg)
+    if exposure is not None or tone_mapping is not None:
+        own = scene.display
+        scene.set_display(exposure=own["exposure"] if exposure is None else exposure,
+                          tone_mapping=own["tone_mapping"] if tone_mapping is None else tone_mapping)
     return Renderer(shading=shading, msaa=msaa, srgb=srgb, threads=threads,
                     pixel_precision=pixel_precision).render(scene, width, height, dtype=dtype)

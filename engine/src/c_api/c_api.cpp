@@ -176,7 +176,8 @@ facet_status facet_render(facet_renderer* renderer, const facet_scene* scene, vo
     if (format_i < FACET_RGBA8 || format_i > FACET_RGBA32F) return fail(renderer->error, "format", "unknown pixel format");
     // facet 0.1's struct is the smallest there will be; a later library writes only the counters
     // that fit a smaller (older) struct_size.
-    if (stats && stats->struct_size != 0 && stats->struct_size < sizeof(facet_frame_stats)) {
+    constexpr std::size_t kFirstStatsSize = offsetof(facet_frame_stats, exposure_ev);
+    if (stats && stats->struct_size != 0 && stats->struct_size < kFirstStatsSize) {
       return fail(renderer->error, "stats.struct_size",
                   "expected sizeof(facet_frame_stats) (" + std::to_string(sizeof(facet_frame_stats)) + ") or 0, found " +
                       std::to_string(stats->struct_size));

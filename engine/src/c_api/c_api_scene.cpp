@@ -681,6 +681,31 @@ facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* came
   });
 }
 
+facet_status facet_scene_set_display(facet_scene* scene, const facet_display* display) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    if (!display) return fail(scene->error, "display", "null");
+    const long op = raw(display->tone_mapping);
+    if (op < FACET_TONE_MAPPING_NONE || op > FACET_TONE_MAPPING_ACES) return fail(scene->error, "display.tone_mapping", "unknown operator");
+    facet::Display d;
+    d.ev = display->exposure_ev;
+    d.automatic = display->auto_exposure != 0;
+    d.tone_mapping = static_cast<facet::ToneMapping>(op);
+    if (facet::Status st = facet::validate_display(d); !st.ok()) return report(scene->error, st);
+    scene->scene.display = d;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_get_display(const facet_scene* scene, facet_display* display) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  if (!display) return fail(scene->error, "display", "null");
+  display->exposure_ev = scene->scene.display.ev;
+  display->auto_exposure = scene->scene.display.automatic ? 1 : 0;
+  display->tone_mapping = static_cast<facet_tone_mapping>(scene->scene.display.tone_mapping);
+  return FACET_OK;
+}
+
 facet_status facet_scene_set_global_ambient(facet_scene* scene, const float rgb[3]) {
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {

@@ -618,6 +618,9 @@ Result<Model> parse_in(std::span<const std::uint8_t> bytes, const std::string& s
     model.scene.transparent_order = TransparentOrder::back_to_front;
     gltf::Reader reader(*doc, folder, options, model);
     FACET_TRY(reader.read(used));
+    // As a glTF viewer shows it: the neutral operator, and lights in physical units metered.
+    model.scene.display.tone_mapping = ToneMapping::neutral;
+    model.scene.display.automatic = model.has_lights;
     if (Status s = validate_scene(model.scene); !s.ok()) {
       return Status{s.code(), s.field(), source_name + ": the imported scene is not valid: " + s.message()};
     }

@@ -353,9 +353,12 @@ Status Reader::add_light(const Json& ext, const std::string& p, const Eigen::Mat
   FACET_TRY(f_.number(g, gp, "intensity", intensity, 0.0, 1e30));
   std::string type;
   FACET_TRY(f_.string(g, gp, "type", type, true));
-  // Units (docs/content.md): directional lux and point/spot candela both map to facet's light
-  // colour one to one; point and spot lights fall off as 1 / d^2 (quadratic attenuation 1).
-  l.diffuse = l.specular = Color3(float(color[0]), float(color[1]), float(color[2])) * float(intensity);
+  // Units (docs/content.md, docs/color.md): directional lux and point/spot candela, falling off as
+  // 1 / d^2 (quadratic attenuation 1). glTF's diffuse term is albedo / pi times the irradiance, GL's
+  // is albedo times the light colour: the colour is intensity / pi, so that a white surface shows
+  // the radiance glTF (and three.js) give it. Such light is far beyond GL's [0, 1]: the model gets
+  // automatic exposure (Scene::display).
+  l.diffuse = l.specular = Color3(float(color[0]), float(color[1]), float(color[2])) * float(intensity / std::numbers::pi);
   const Eigen::Vector3d pos = world.topRightCorner<3, 1>();
   Eigen::Vector3d dir = -world.block<3, 1>(0, 2);
   if (!(dir.norm() > 1e-12)) return f_.error(p, "the light node's matrix is singular");

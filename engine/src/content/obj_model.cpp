@@ -291,7 +291,9 @@ class MtlReader {
   }
 
   Status attach_texture() {
-    Result<Texture> kd = map_kd_.empty() ? Result<Texture>(Texture{}) : load(map_kd_);
+    // map_Kd and map_Ke are colour, sRGB-encoded (as Blender's and three.js's OBJ readers take
+    // them); the alpha of map_d is linear either way (alpha is never sRGB-encoded).
+    Result<Texture> kd = map_kd_.empty() ? Result<Texture>(Texture{}) : load(map_kd_, TextureEncoding::srgb);
     if (!kd) return kd.status();
     const bool kd_ok = !map_kd_.empty() && kd->width() > 0;
     Texture result;
@@ -326,6 +328,7 @@ class MtlReader {
           }
         }
         TextureOptions topt;
+        topt.encoding = TextureEncoding::srgb;
         topt.wrap = (kd_ok ? map_kd_ : map_d_).clamp ? TextureWrap::clamp : TextureWrap::repeat;
         topt.memory_budget_bytes = left();
         Result<Texture> made = make_texture(map_kd_.file + "+" + map_d_.file, w, h, rgba, topt);
@@ -347,7 +350,7 @@ class MtlReader {
   // map_Ke: the emissive texture, times Ke (1 when the material gives no Ke), added after the
   // diffuse texture (Material::emissive_texture). One uv scale per material: map_Kd's wins.
   Status attach_emissive_texture() {
-    Result<Texture> ke = load(map_ke_);
+    Result<Texture> ke = load(map_ke_, TextureEncoding::srgb);
     if (!ke) return ke.status();
     if (ke->width() == 0) return {};  // missing and allowed: warned by load()
     if (current_.diffuse_texture == kNoTexture) {
@@ -461,6 +464,7 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
     }
     Model model;
     model.scene.transparent_order = TransparentOrder::back_to_front;  // as glTF models (docs/content.md)
+    model.scene.display.tone_mapping = ToneMapping::neutral;            // as glTF models (docs/color.md)
     Scene& scene = model.scene;
     const std::string base = std::filesystem::path(path).parent_path().string();
     // mtllib statements: each names one or more files (names without spaces, as tinyobjloader reads them).

@@ -12,6 +12,7 @@
 #include <memory>
 #include <mutex>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "common/parallel.hpp"
@@ -170,6 +171,12 @@ struct Renderer::Impl {
   void render_composite(const Scene& scene, const RenderOptions& options, const ImageView& color,
                         const DepthView* depth);
   std::vector<float> composite_base, composite_part, composite_visibility;
+  // A frame with a display transform (Scene::display not GL's): rendered into display_color (and
+  // display_depth without the caller's), then metered, exposed, tone-mapped and stored (display.cpp).
+  void render_display(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth,
+                      bool composite);
+  std::vector<float> display_color, display_depth;
+  std::vector<std::pair<double, double>> display_rows;  // metering: per row, the sum of ln(1e-4 + L) and the pixels
   Scene composite_lights;  // lights, ambient and fog of a part (no meshes)
   // One pass: its draws' geometry and lighting, set-up and bins (object_setup.cpp), then its tiles
   // and their resolve (pass.cpp).

@@ -128,6 +128,10 @@ std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& opti
   if (raycast || maps || volume_lights > 0) {
     bytes = sat_add(bytes, sat_mul(slots, U(kMaxShadowedLights) * (frame::kVertexChunk + frame::kTriangleRange) * 8));
   }
+  // A display transform (Scene::display): the frame in floats and its depth (render_display).
+  if (!scene.display.identity()) {
+    bytes = sat_add(bytes, sat_mul(static_cast<U>(std::max(width, 1)) * static_cast<U>(std::max(height, 1)), 20));
+  }
   // Dynamic environments: six RGBA8 faces per reflecting object, and their passes' bins.
   for (const Instance& inst : scene.objects) {
     if (inst.material >= scene.materials.size()) continue;

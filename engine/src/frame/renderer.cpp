@@ -153,7 +153,9 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
                              return l.enabled && l.shadow.method != ShadowMethod::none;
                            });
     impl_->arena->execute([&] {
-      if (composite) {
+      if (!scene.display.identity()) {
+        impl_->render_display(scene, options, color, depth, composite);
+      } else if (composite) {
         impl_->render_composite(scene, options, color, depth);
       } else {
         impl_->render(scene, options, color, depth);

@@ -376,6 +376,7 @@ Status validate_lighting_inputs(const Scene& scene) {
   FACET_TRY(validate_global_ambient(scene.global_ambient));
   FACET_TRY(validate_fog(scene.fog));
   FACET_TRY(check_camera(scene.camera));
+  FACET_TRY(validate_display(scene.display));
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
     const Field f{"materials", i, true};

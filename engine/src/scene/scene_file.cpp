@@ -41,7 +41,7 @@ class SceneReader : public scene_json::JsonFields {
 
   Status read(const json& root, Scene& scene) {
     FACET_TRY(expect_object(root, "", {"camera", "global_ambient", "viewer", "two_sided", "transparent_order",
-                                       "textures", "materials", "meshes", "objects", "lights", "fog", "imports"}));
+                                       "exposure", "tone_mapping", "textures", "materials", "meshes", "objects", "lights", "fog", "imports"}));
     if (root.contains("camera")) FACET_TRY(read_camera(root["camera"], scene.camera));
     FACET_TRY(opt_color(root, "", "global_ambient", scene.global_ambient));
     if (root.contains("viewer")) {
@@ -54,6 +54,22 @@ class SceneReader : public scene_json::JsonFields {
       std::string order;
       FACET_TRY(read_enum(root["transparent_order"], "transparent_order", {"submission", "back_to_front"}, order));
       scene.transparent_order = order == "submission" ? TransparentOrder::submission : TransparentOrder::back_to_front;
+    }
+    if (root.contains("exposure")) {  // stops, or "auto" (facet/display.hpp)
+      const json& e = root["exposure"];
+      if (e.is_string()) {
+        std::string mode;
+        FACET_TRY(read_enum(e, "exposure", {"auto"}, mode));
+        scene.display.automatic = true;
+      } else {
+        FACET_TRY(opt_number(root, "", "exposure", scene.display.ev));
+        if (!(scene.display.ev >= -30.0f && scene.display.ev <= 30.0f)) return mismatch("exposure", "stops in [-30, 30] or \"auto\"", e);
+      }
+    }
+    if (root.contains("tone_mapping")) {
+      std::string op;
+      FACET_TRY(read_enum(root["tone_mapping"], "tone_mapping", {"none", "neutral", "aces"}, op));
+      scene.display.tone_mapping = op == "neutral" ? ToneMapping::neutral : op == "aces" ? ToneMapping::aces : ToneMapping::none;
     }
     auto add_texture = [&](const json& j, const std::string& p) {
       Texture t;
