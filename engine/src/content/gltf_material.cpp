@@ -153,6 +153,22 @@ Status Reader::material(int index, MaterialInfo& info) {
         info.uv_transform = base_transform;
       }
     }
+    // BLEND with alpha 1 everywhere (the factor and every texel of the base colour texture) is
+    // drawn opaque: blending with alpha 1 is replacing, and an opaque draw writes depth, so that
+    // the object hides its own far side (drawn blended it shows it through, in sawtooth patches).
+    if (mat.blend == BlendMode::alpha && mat.alpha == 1.0f) {
+      bool opaque = true;
+      if (mat.diffuse_texture != kNoTexture) {
+        const Texture& t = out_.scene.textures[static_cast<std::size_t>(mat.diffuse_texture)];
+        const std::size_t level0 = t.levels.empty() ? 0 : std::size_t(t.levels[0].width) * std::size_t(t.levels[0].height);
+        for (std::size_t i = 0; i < level0 && opaque; ++i) opaque = (t.texels[i] >> 24) == 255;
+      }
+      if (opaque) {
+        mat.blend = BlendMode::opaque;
+        info.uses_alpha = false;
+        warn(p + ".alphaMode: BLEND with alpha 1 everywhere; drawn opaque (the same picture, and depth-tested against itself)");
+      }
+    }
     const Json* et = Fields::find(g, "emissiveTexture");
     if (unlit) {
       if (et) warn(p + ".emissiveTexture: ignored by KHR_materials_unlit");

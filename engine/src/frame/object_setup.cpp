@@ -446,6 +446,7 @@ void Renderer::Impl::place_object(const Mesh& mesh, std::uint32_t object, const 
   placing.object = object;
   const std::size_t first = first_range[object];
   const DrawUnit& unit = units[object];
+  placing.only = unit.only;
   for_chunks(0, unit.ranges(), 1, slot, [&](const tbb::blocked_range<std::size_t>& rs, int) {
     for (std::size_t r = rs.begin(); r != rs.end(); ++r) {
       const std::size_t begin = unit.first_triangle + r * kTriangleRange;
@@ -489,6 +490,7 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   vertices.flat_secondary_back = flat && two_sided && lf.separate_specular ? os.back_spec.data() : nullptr;
   vertices.mirrored = os.mirrored;
   vertices.two_sided = two_sided;
+  vertices.only = units[object].only;
   vertices.object = object;
   vertices.alpha = alpha;
   // Gouraud and flat lit only where drawn: the second phase of the assembly prepare_object() began.

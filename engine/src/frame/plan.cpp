@@ -72,7 +72,9 @@ std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& opti
   for (const Instance& inst : scene.objects) {
     if (inst.mesh >= scene.meshes.size()) continue;
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
-    bytes = sat_add(bytes, sat_mul(mesh.triangle_count(), sizeof(raster::ScreenTriangle) + 5 + 3 * 4));
+    // A double-sided blended object is drawn twice (its faces apart): its records twice over.
+    const U draws = (inst.double_sided || scene.two_sided) && is_transparent(scene, inst) ? 2 : 1;
+    bytes = sat_add(bytes, sat_mul(draws * mesh.triangle_count(), sizeof(raster::ScreenTriangle) + 5 + 3 * 4));
     max_vertices = std::max<U>(max_vertices, mesh.vertex_count());
     max_triangles = std::max<U>(max_triangles, mesh.triangle_count());
   }
@@ -243,8 +245,18 @@ void plan_units(const Scene& scene, const RenderPass& p, std::vector<DrawUnit>& 
     if (casters_only && !inst.cast_shadows) continue;
     if (depth_writers && !inst.mesh_materials && !writes_depth(scene.materials[inst.material])) continue;
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+    // Back faces first, then front faces, for a double-sided blended draw of a sorted pass.
+    auto push = [&](const DrawUnit& u) {
+      const bool split = sorted && p.assembly.cull == CullMode::back && (inst.double_sided || scene.two_sided) &&
+                         scene.materials[u.material].blend != BlendMode::opaque;
+      if (!split) return units.push_back(u);
+      DrawUnit back = u, front = u;
+      back.only = 2, front.only = 1;
+      units.push_back(back);
+      units.push_back(front);
+    };
     if (!inst.mesh_materials) {
-      units.push_back({static_cast<std::uint32_t>(o), inst.material, 0, mesh.triangle_count(), 0, mesh.vertex_count()});
+      push({static_cast<std::uint32_t>(o), inst.material, 0, mesh.triangle_count(), 0, mesh.vertex_count()});
       continue;
     }
     for (const MaterialGroup& g : mesh.groups) {  // validated: every name is a scene material
@@ -258,7 +270,7 @@ void plan_units(const Scene& scene, const RenderPass& p, std::vector<DrawUnit>& 
         }
       }
       if (u.end_vertex < u.first_vertex) u.first_vertex = u.end_vertex = 0;  // no triangles
-      units.push_back(u);
+      push(u);
     }
   }
 }
@@ -269,11 +281,19 @@ std::string mib(std::uint64_t bytes) {
 }
 
 // The set-up ranges an object takes: one per kTriangleRange triangles of each of its draws.
+// A double-sided blended draw may take twice its ranges (plan_units draws its faces apart).
 std::size_t object_ranges(const Scene& scene, const Instance& inst) {
   const Mesh& mesh = scene.meshes[inst.mesh].mesh;
-  if (!inst.mesh_materials) return ranges_of(mesh.triangle_count());
+  const bool both_sides = inst.double_sided || scene.two_sided;
+  auto twice = [&](std::int64_t m) {
+    return both_sides && m >= 0 && static_cast<std::size_t>(m) < scene.materials.size() &&
+                   scene.materials[static_cast<std::size_t>(m)].blend != BlendMode::opaque
+               ? 2
+               : 1;
+  };
+  if (!inst.mesh_materials) return twice(inst.material) * ranges_of(mesh.triangle_count());
   std::size_t n = 0;
-  for (const MaterialGroup& g : mesh.groups) n += ranges_of(g.triangle_count);
+  for (const MaterialGroup& g : mesh.groups) n += twice(find_material(scene, g.material)) * ranges_of(g.triangle_count);
   return n;
 }
 }  // namespace

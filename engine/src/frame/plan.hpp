@@ -39,6 +39,10 @@ inline std::size_t ranges_of(std::size_t triangles) { return (triangles + kTrian
 struct DrawUnit {
   std::uint32_t object = 0, material = 0;
   std::size_t first_triangle = 0, end_triangle = 0, first_vertex = 0, end_vertex = 0;
+  // raster::ObjectVertices::only: a double-sided blended object drawn back to front is two draws,
+  // its back faces (2) then its front faces (1), as three.js draws it, so that its near side is
+  // blended over its far side; 0: one draw of both.
+  std::uint8_t only = 0;
   std::size_t triangles() const { return end_triangle - first_triangle; }
   std::size_t vertices() const { return end_vertex - first_vertex; }
   std::size_t ranges() const { return ranges_of(triangles()); }

@@ -72,9 +72,9 @@ class RangeAssembler {
     std::size_t t = begin;
     static_assert(sizeof(mesh.triangles[0]) == 3 * sizeof(std::uint32_t), "triangles are read as index triples");
     if (frame_.place && object_.screen.size() < kMaxGatheredVertices) {
-      const bool cull_back = frame_.cull == CullMode::back && !(frame_.two_sided || object_.two_sided);
+      const bool cull_back = cull() == CullMode::back && !two_sided();
       const simd::PlaceParams params{frame_.viewport.width, frame_.viewport.height, cull_back,
-                                     frame_.cull == CullMode::front, object_.mirrored,
+                                     cull() == CullMode::front, object_.mirrored,
                                      frame_.viewport.sample_lo, frame_.viewport.sample_hi};
       simd::PlaceGroup group;
       for (; t + simd::kPlaceGroup <= end; t += simd::kPlaceGroup) {
@@ -149,7 +149,7 @@ class RangeAssembler {
     }
     bool back_facing = false;
     const std::int64_t area2 = signed_area2(sv[0]->x, sv[0]->y, sv[1]->x, sv[1]->y, sv[2]->x, sv[2]->y);
-    const Placement early = orient(area2, frame_.cull, (frame_.two_sided || object_.two_sided), object_.mirrored, back_facing);
+    const Placement early = orient(area2, cull(), two_sided(), object_.mirrored, back_facing);
     if (early != Placement::placed) {
       ++(early == Placement::culled ? counts_.culled : counts_.degenerate);
       return;
@@ -252,8 +252,13 @@ class RangeAssembler {
     }
   }
 
+  // The draw's culling: the frame's, or for one of a double-sided blended object's two draws its
+  // faces alone (front: back faces culled, lit one-sided; back: front faces culled, lit as backs).
+  CullMode cull() const { return object_.only == 1 ? CullMode::back : object_.only == 2 ? CullMode::front : frame_.cull; }
+  bool two_sided() const { return object_.only == 1 ? false : object_.only == 2 ? true : frame_.two_sided || object_.two_sided; }
+
   bool place(ScreenTriangle& t, bool& swapped) {
-    switch (place_triangle(t, frame_.cull, (frame_.two_sided || object_.two_sided), object_.mirrored, frame_.viewport, swapped)) {
+    switch (place_triangle(t, cull(), two_sided(), object_.mirrored, frame_.viewport, swapped)) {
       case Placement::placed: return true;
       case Placement::degenerate: ++counts_.degenerate; return false;
       case Placement::culled: ++counts_.culled; return false;

@@ -74,6 +74,9 @@ struct ObjectVertices {
   const Color3* flat_secondary_back = nullptr;
   bool mirrored = false;                              // the model matrix has a negative determinant
   bool two_sided = false;                             // both faces drawn and lit (AssemblyFrame::two_sided or the object's own)
+  // A double-sided blended object is drawn as two draws, its back faces first (frame::FaceDraw):
+  // 0 both faces, 1 its front faces only, 2 its back faces only (lit as back faces).
+  std::uint8_t only = 0;
   std::uint32_t object = 0;
   float alpha = 1.0f;
 };

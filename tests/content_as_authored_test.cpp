@@ -1,0 +1,134 @@
+// Content drawn as its authors meant it (issue "content as authored"): double-sided blended objects
+// drawn back faces first, BLEND materials that are opaque everywhere drawn opaque.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "facet/facet.hpp"
+#include "gltf_builder.hpp"
+#include "render_support.hpp"
+
+namespace facet {
+namespace {
+
+// One double-sided, alpha-blended object of two quads facing the camera's way: a near one (red,
+// front-facing) listed first, a far one (green, wound clockwise: back-facing) second. Lit by the
+// ambient light alone (vertex colours as albedo).
+Scene two_layers(bool double_sided) {
+  Scene s = test::camera_scene();
+  s.global_ambient = Color3(1, 1, 1);
+  s.transparent_order = TransparentOrder::back_to_front;
+  Mesh m;
+  m.positions = {Vec3(-5, -5, -2), Vec3(5, -5, -2), Vec3(5, 5, -2), Vec3(-5, 5, -2),   // near, counter-clockwise
+                 Vec3(-5, -5, -3), Vec3(-5, 5, -3), Vec3(5, 5, -3), Vec3(5, -5, -3)};  // far, clockwise
+  for (int i = 0; i < 8; ++i) m.normals.push_back(Vec3(0, 0, i < 4 ? 1.0f : -1.0f));
+  for (int i = 0; i < 8; ++i) m.colors.push_back(i < 4 ? Color3(1, 0, 0) : Color3(0, 1, 0));
+  m.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
+  s.meshes.push_back({"layers", m});
+  Material mat;
+  mat.ambient = mat.diffuse = Color3(1, 1, 1);
+  mat.specular = Color3::Zero();
+  mat.alpha = 0.5f;
+  mat.blend = BlendMode::alpha;
+  s.materials.push_back(mat);
+  Instance inst{0, 0, Mat4::Identity()};
+  inst.double_sided = double_sided;
+  s.objects.push_back(inst);
+  return s;
+}
+
+TEST(BlendedDoubleSided, BackFacesAreDrawnBeforeFrontFaces) {
+  const Scene s = two_layers(true);
+  RenderOptions o = test::gl_options();
+  o.clear_color = {0, 0, 1, 1};
+  for (ShadingMode mode : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
+    for (LightingPath path : {LightingPath::scalar, LightingPath::simd}) {
+      o.shading = mode;
+      o.path = path;
+      test::Canvas c(8, 8);
+      Renderer r;
+      ASSERT_TRUE(r.render(s, o, c.view()).ok());
+      // Far green over blue, then near red over that: (0.5, 0.25, 0.25).
+      EXPECT_NEAR(c.byte(4, 4, 0), 128, 1) << to_string(mode);
+      EXPECT_NEAR(c.byte(4, 4, 1), 64, 1) << to_string(mode);
+      EXPECT_NEAR(c.byte(4, 4, 2), 64, 1) << to_string(mode);
+    }
+  }
+  // In submission order nothing is reordered: the triangles' own order, red first, green over it.
+  Scene submitted = s;
+  submitted.transparent_order = TransparentOrder::submission;
+  test::Canvas c(8, 8);
+  ASSERT_TRUE(Renderer().render(submitted, o, c.view()).ok());
+  EXPECT_NEAR(c.byte(4, 4, 0), 64, 1);
+  EXPECT_NEAR(c.byte(4, 4, 1), 128, 1);
+  // A one-sided object draws its front faces only.
+  test::Canvas one(8, 8);
+  ASSERT_TRUE(Renderer().render(two_layers(false), o, one.view()).ok());
+  EXPECT_NEAR(one.byte(4, 4, 0), 128, 1);
+  EXPECT_NEAR(one.byte(4, 4, 1), 0, 1);
+  EXPECT_NEAR(one.byte(4, 4, 2), 128, 1);
+}
+
+TEST(BlendedDoubleSided, SameBytesForAnyThreadCount) {
+  Scene s = two_layers(true);
+  s.meshes[0].mesh = make_uv_sphere(1.5f, 64, 32);
+  s.meshes[0].mesh.colors.assign(s.meshes[0].mesh.vertex_count(), Color3(0.2f, 0.6f, 0.9f));
+  s.objects[0].model = Mat4::Identity();
+  s.objects[0].model(2, 3) = -4.0f;
+  Light l;
+  l.type = LightType::directional;
+  l.direction = Vec3(-0.3f, -0.5f, -1.0f).normalized();
+  s.lights = {l};
+  s.global_ambient = Color3::Constant(0.1f);
+  std::vector<std::uint8_t> first;
+  for (int threads : {1, 2, 3}) {
+    RenderOptions o;
+    o.threads = threads;
+    o.tile_size = 16;
+    test::Canvas c(64, 48);
+    ASSERT_TRUE(Renderer().render(s, o, c.view()).ok());
+    if (first.empty()) first = c.pixels();
+    EXPECT_EQ(c.pixels(), first) << threads << " threads";
+  }
+}
+
+// A glTF quad with a BLEND material of base colour alpha `alpha`, and with `texel_alpha` a 2x1
+// base colour texture whose second texel has that alpha; returns the file's path.
+std::string blend_quad(const test::TempDir& dir, double alpha, int texel_alpha = -1) {
+  test::GltfBuilder b = test::quad();
+  nlohmann::json mat = {{"alphaMode", "BLEND"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 1.0, 1.0, alpha}}}}};
+  if (texel_alpha >= 0) {
+    std::uint8_t rgba[8] = {255, 255, 255, 255, 255, 255, 255, static_cast<std::uint8_t>(texel_alpha)};
+    EXPECT_TRUE(write_png(dir / "t.png", ImageView{rgba, 2, 1, 8, PixelFormat::rgba8, false}).ok());
+    b.add("images", {{"uri", "t.png"}});
+    b.add("textures", {{"source", 0}});
+    mat["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    b.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = b.vec2({0, 0, 1, 0, 1, 1, 0, 1});
+  }
+  b.add("materials", mat);
+  b.doc["meshes"][0]["primitives"][0]["material"] = 0;
+  const std::string path = dir / ("q" + std::to_string(texel_alpha) + "_" + std::to_string(int(alpha * 100)) + ".gltf");
+  test::write_text(path, b.embedded());
+  return path;
+}
+
+TEST(BlendedDoubleSided, BlendWithAlphaOneEverywhereIsDrawnOpaque) {
+  test::TempDir dir;
+  Result<Model> opaque = load_model(blend_quad(dir, 1.0));
+  ASSERT_TRUE(opaque.ok()) << opaque.status().message();
+  EXPECT_EQ(opaque->scene.materials[0].blend, BlendMode::opaque);
+  ASSERT_FALSE(opaque->warnings.empty());
+  EXPECT_NE(opaque->warnings.back().find("materials[0].alphaMode: BLEND with alpha 1 everywhere; drawn opaque"), std::string::npos);
+  Result<Model> half = load_model(blend_quad(dir, 0.5));
+  ASSERT_TRUE(half.ok());
+  EXPECT_EQ(half->scene.materials[0].blend, BlendMode::alpha);
+  Result<Model> textured = load_model(blend_quad(dir, 1.0, 128));
+  ASSERT_TRUE(textured.ok()) << textured.status().message();
+  EXPECT_EQ(textured->scene.materials[0].blend, BlendMode::alpha);  // a texel of alpha 128
+  Result<Model> solid = load_model(blend_quad(dir, 1.0, 255));
+  ASSERT_TRUE(solid.ok()) << solid.status().message();
+  EXPECT_EQ(solid->scene.materials[0].blend, BlendMode::opaque);
+}
+
+}  // namespace
+}  // namespace facet
