@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "facet/facet.hpp"
 #include "gltf_builder.hpp"
@@ -128,6 +129,70 @@ TEST(BlendedDoubleSided, BlendWithAlphaOneEverywhereIsDrawnOpaque) {
   Result<Model> solid = load_model(blend_quad(dir, 1.0, 255));
   ASSERT_TRUE(solid.ok()) << solid.status().message();
   EXPECT_EQ(solid->scene.materials[0].blend, BlendMode::opaque);
+}
+
+}  // namespace
+}  // namespace facet
+
+namespace facet {
+namespace {
+
+// The OBJ of one polygon in z = 0 (corners in order, counter-clockwise seen from +z).
+std::string polygon_obj(const std::vector<Vec2>& corners) {
+  std::string text;
+  for (const Vec2& c : corners) text += "v " + std::to_string(c.x()) + " " + std::to_string(c.y()) + " 0\n";
+  text += "f";
+  for (std::size_t i = 1; i <= corners.size(); ++i) text += " " + std::to_string(i);
+  return text + "\n";
+}
+
+// Twice the signed area of the polygon (shoelace) and of each of the mesh's triangles in z = 0.
+double shoelace(const std::vector<Vec2>& c) {
+  double a = 0.0;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const Vec2& p = c[i];
+    const Vec2& q = c[(i + 1) % c.size()];
+    a += double(p.x()) * double(q.y()) - double(q.x()) * double(p.y());
+  }
+  return a;
+}
+
+void expect_tiled(const std::vector<Vec2>& corners, const char* name) {
+  Result<Mesh> m = parse_obj(polygon_obj(corners), name);
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  ASSERT_EQ(m->triangles.size(), corners.size() - 2) << name;
+  double sum = 0.0;
+  for (const auto& t : m->triangles) {
+    const Vec3& a = m->positions[t[0]];
+    const Vec3& b = m->positions[t[1]];
+    const Vec3& c = m->positions[t[2]];
+    const double area2 = (double(b.x()) - a.x()) * (double(c.y()) - a.y()) - (double(b.y()) - a.y()) * (double(c.x()) - a.x());
+    EXPECT_GE(area2, 0.0) << name << ": a triangle winds the other way (it lies outside the polygon)";
+    sum += area2;
+  }
+  // The triangles, all wound as the polygon, cover exactly its area: none overlaps or sticks out.
+  EXPECT_NEAR(sum, shoelace(corners), 1e-4) << name;
+}
+
+TEST(ObjPolygons, ConcavePolygonsAreEarClipped) {
+  expect_tiled({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, "L.obj");
+  std::vector<Vec2> star;
+  for (int k = 0; k < 10; ++k) {
+    const double angle = k * std::numbers::pi / 5, r = k % 2 ? 0.4 : 1.0;
+    star.emplace_back(float(r * std::cos(angle)), float(r * std::sin(angle)));
+  }
+  expect_tiled(star, "star.obj");
+  // A ring as one polygon (as LightWave and assimp write it): the outer circle counter-clockwise,
+  // a bridge in, the inner circle clockwise, the bridge out.
+  std::vector<Vec2> ring;
+  const int n = 24;
+  for (int k = 0; k <= n; ++k) ring.emplace_back(float(2 * std::cos(2 * std::numbers::pi * k / n)), float(2 * std::sin(2 * std::numbers::pi * k / n)));
+  for (int k = n; k >= 0; --k) ring.emplace_back(float(std::cos(2 * std::numbers::pi * k / n)), float(std::sin(2 * std::numbers::pi * k / n)));
+  expect_tiled(ring, "ring.obj");
+  // A convex polygon keeps its fan from the first corner.
+  Result<Mesh> hex = parse_obj(polygon_obj({{1, 0}, {0.5f, 0.8f}, {-0.5f, 0.8f}, {-1, 0}, {-0.5f, -0.8f}, {0.5f, -0.8f}}), "hex.obj");
+  ASSERT_TRUE(hex.ok());
+  for (std::uint32_t k = 0; k < 4; ++k) EXPECT_EQ(hex->triangles[k], (std::array<std::uint32_t, 3>{0, k + 1, k + 2}));
 }
 
 }  // namespace

@@ -4,7 +4,8 @@
 // (comments and blank lines removed), not the original: it does not treat a '#' in the middle of
 // a line as a comment, so it once resolved indices the check never saw (found by fuzz_obj; the
 // input is in tests/data/fuzz/obj/). Every index it returns is bounds-checked again all the same.
-// Polygons are triangulated here, as fans from their first corner (exact for convex polygons).
+// Polygons are triangulated here: convex ones as fans from their first corner, concave ones by ear
+// clipping in their plane (scene/polygon.hpp), as Blender and assimp do.
 // Texture coordinates (`vt`), vertex colours (`v x y z r g b`) and material groups (`usemtl`) are
 // kept. Colours are all-or-nothing (every `v` has one, or none), and a file that mixes is refused
 // with the line of the first vertex that breaks the rule; a corner without a `vt` in a file whose
@@ -25,6 +26,7 @@
 #include "common/try.hpp"
 #include "facet/mesh.hpp"
 #include "io/file_access.hpp"
+#include "scene/polygon.hpp"
 
 namespace facet {
 namespace {
@@ -278,18 +280,37 @@ class ObjChecker {
   std::vector<std::size_t> origin_;
 };
 
-// Calls fn(face, corner_a, corner_b, corner_c) for the fan triangles of every face, in file order
-// (`face` counts the faces of all shapes).
+// Calls fn(face, corner_a, corner_b, corner_c) for the triangles of every face, in file order
+// (`face` counts the faces of all shapes): a triangle as it is, a polygon by triangulate_polygon
+// (a fan when convex, ear clipping when concave) over the positions `xyz` (x y z per vertex).
 template <class Fn>
-void for_each_fan_triangle(const std::vector<tinyobj::shape_t>& shapes, Fn fn) {
+void for_each_triangle(const std::vector<tinyobj::shape_t>& shapes, const std::vector<float>& xyz, Fn fn) {
   std::size_t face = 0;
+  std::vector<Eigen::Vector3d> corners;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
   for (const auto& shape : shapes) {
     const auto& idx = shape.mesh.indices;
     std::size_t offset = 0;
-    for (const unsigned int corners : shape.mesh.num_face_vertices) {
-      if (offset + corners > idx.size()) return;  // inconsistent counts: stop rather than read past
-      for (unsigned int k = 1; k + 1 < corners; ++k) fn(face, idx[offset], idx[offset + k], idx[offset + k + 1]);
-      offset += corners;
+    for (const unsigned int count : shape.mesh.num_face_vertices) {
+      if (offset + count > idx.size()) return;  // inconsistent counts: stop rather than read past
+      corners.clear();
+      triangles.clear();
+      bool known = true;  // every corner's position is in range (checked again when the mesh is built)
+      for (unsigned int k = 0; k < count && known; ++k) {
+        const long long v = idx[offset + k].vertex_index;
+        known = v >= 0 && static_cast<std::size_t>(v) < xyz.size() / 3;
+        if (known) {
+          const std::size_t i = 3 * static_cast<std::size_t>(v);
+          corners.emplace_back(double(xyz[i]), double(xyz[i + 1]), double(xyz[i + 2]));
+        }
+      }
+      if (known) {
+        triangulate_polygon(corners, triangles);
+      } else {
+        for (std::uint32_t k = 1; k + 1 < count; ++k) triangles.push_back({0, k, k + 1});
+      }
+      for (const auto& t : triangles) fn(face, idx[offset + t[0]], idx[offset + t[1]], idx[offset + t[2]]);
+      offset += count;
       ++face;
     }
   }
@@ -401,7 +422,7 @@ Result<Mesh> build_mesh(const ObjChecker& checked, const tinyobj::attrib_t& attr
   }
   const std::vector<std::uint32_t>& face_group = checked.face_groups();
   const std::vector<std::string>& group_names = checked.group_names();
-  for_each_fan_triangle(shapes, [&](std::size_t face, const tinyobj::index_t& a, const tinyobj::index_t& b,
+  for_each_triangle(shapes, vertex_xyz, [&](std::size_t face, const tinyobj::index_t& a, const tinyobj::index_t& b,
                                     const tinyobj::index_t& c) {
     const std::uint32_t ia = vertex(a), ib = vertex(b), ic = vertex(c);
     const auto t = static_cast<std::uint32_t>(mesh.triangles.size());
