@@ -96,10 +96,14 @@ out=$("$facet" render "$corpus/textured_lit.glb" --width 64 --height 48 -o glb.p
 check "render uses a .glb's camera and lights, and lists its warnings (exit $rc: $out)" '[ $rc -eq 0 ] && [ -s glb.png ] && [[ "$out" != *"framing"* ]] && [[ "$out" == *"warning: samplers[0]"* ]]'
 printf 'newmtl red\nKd 1 0 0\nmap_Kd red.png\n' > m.mtl
 printf 'mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl red\nf 1/1 2/1 3/1\n' > m.obj
-out=$("$facet" render m.obj --width 64 --height 48 -o m.png 2>&1); rc=$?
-check "a missing texture of an MTL is an error naming file and line (exit $rc: $out)" '[ $rc -eq 2 ] && [[ "$out" == *"m.mtl:3"* ]] && [[ "$out" == *"red.png"* ]] && [ ! -e m.png ]'
+out=$("$facet" render m.obj --strict --width 64 --height 48 -o m.png 2>&1); rc=$?
+check "--strict: a missing texture of an MTL is an error naming file and line (exit $rc: $out)" '[ $rc -eq 2 ] && [[ "$out" == *"m.mtl:3"* ]] && [[ "$out" == *"red.png"* ]] && [ ! -e m.png ]'
 out=$("$facet" render m.obj --allow-missing --width 64 --height 48 -o m.png 2>&1); rc=$?
-check "--allow-missing draws it untextured with a warning (exit $rc: $out)" '[ $rc -eq 0 ] && [ -s m.png ] && [[ "$out" == *"warning:"*"red.png"* ]]'
+check "--allow-missing (the default) draws it untextured with a warning (exit $rc: $out)" '[ $rc -eq 0 ] && [ -s m.png ] && [[ "$out" == *"warning:"*"red.png"* ]]'
+out=$("$facet" render m.obj --width 64 --height 48 -o m2.png 2>&1); rc=$?
+check "by default a missing texture is a warning (exit $rc: $out)" '[ $rc -eq 0 ] && [ -s m2.png ] && [[ "$out" == *"warning:"*"red.png"* ]]'
+out=$("$facet" check m.obj --strict 2>&1); rc=$?
+check "check --strict refuses it (exit $rc)" '[ $rc -eq 2 ] && [[ "$out" == *"--strict"* ]]'
 out=$("$facet" check m.obj --allow-missing 2>&1); rc=$?
 check "check reads models (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"m.obj: ok"* ]] && [[ "$out" == *"default rig"* ]]'
 out=$("$facet" render m.obj --allow-missing --frames 3 --orbit 90 --width 32 --height 24 -o turn.png 2>&1); rc=$?

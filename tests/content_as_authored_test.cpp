@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 
 #include "facet/facet.hpp"
@@ -193,6 +194,81 @@ TEST(ObjPolygons, ConcavePolygonsAreEarClipped) {
   Result<Mesh> hex = parse_obj(polygon_obj({{1, 0}, {0.5f, 0.8f}, {-0.5f, 0.8f}, {-1, 0}, {-0.5f, -0.8f}, {0.5f, -0.8f}}), "hex.obj");
   ASSERT_TRUE(hex.ok());
   for (std::uint32_t k = 0; k < 4; ++k) EXPECT_EQ(hex->triangles[k], (std::array<std::uint32_t, 3>{0, k + 1, k + 2}));
+}
+
+}  // namespace
+}  // namespace facet
+
+namespace facet {
+namespace {
+
+void write_grey_png(const std::string& path) {
+  std::uint8_t rgba[16];
+  for (int i = 0; i < 16; ++i) rgba[i] = i % 4 == 3 ? 255 : 128;
+  ASSERT_TRUE(write_png(path, ImageView{rgba, 2, 2, 8, PixelFormat::rgba8, false}).ok());
+}
+
+const char* kQuadObj = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3 4/4\n";
+
+TEST(MissingFiles, AMissingMaterialLibraryIsAWarningUnlessStrict) {
+  test::TempDir dir;
+  test::write_text(dir / "a.obj", std::string("mtllib gone.mtl\n") + kQuadObj);
+  Result<Model> m = load_model(dir / "a.obj");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  ASSERT_FALSE(m->warnings.empty());
+  EXPECT_NE(m->warnings[0].find("gone.mtl"), std::string::npos) << m->warnings[0];
+  EXPECT_EQ(m->scene.materials.size(), 1u);  // facet's default for usemtl m
+  ModelOptions strict;
+  strict.allow_missing = false;
+  Result<Model> refused = load_model(dir / "a.obj", strict);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("gone.mtl"), std::string::npos);
+  EXPECT_NE(refused.status().message().find("--strict"), std::string::npos) << refused.status().message();
+  // A texture that is not an image is a warning too, and an error when strict.
+  test::write_text(dir / "b.mtl", "newmtl m\nmap_Kd notes.png\n");
+  test::write_text(dir / "notes.png", "this is not a picture");
+  test::write_text(dir / "b.obj", std::string("mtllib b.mtl\n") + kQuadObj);
+  Result<Model> b = load_model(dir / "b.obj");
+  ASSERT_TRUE(b.ok()) << b.status().message();
+  EXPECT_EQ(b->scene.materials[0].diffuse_texture, kNoTexture);
+  EXPECT_FALSE(load_model(dir / "b.obj", strict).ok());
+}
+
+TEST(MissingFiles, TextureNamesFromAnotherMachineFallBackToTheirBaseName) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "model");
+  write_grey_png(dir / "model/tex.png");
+  write_grey_png(dir / "outside.png");  // beside the model's folder: never read
+  for (const char* name : {"D:\\models\\spider\\tex.png", "..\\LWO\\tex.png", "C:tex.png", "textures/tex.png"}) {
+    test::write_text(dir / "model/m.mtl", std::string("newmtl m\nmap_Kd ") + name + "\n");
+    test::write_text(dir / "model/m.obj", std::string("mtllib m.mtl\n") + kQuadObj);
+    ModelOptions strict;
+    strict.allow_missing = false;  // found by its base name: not even a missing file
+    Result<Model> m = load_model(dir / "model/m.obj", strict);
+    ASSERT_TRUE(m.ok()) << name << ": " << m.status().message();
+    EXPECT_EQ(m->scene.materials[0].diffuse_texture, 0) << name;
+    ASSERT_FALSE(m->warnings.empty()) << name;
+    EXPECT_NE(m->warnings.back().find("base name"), std::string::npos) << m->warnings.back();
+  }
+  // The base name is looked for in the model's folder only.
+  test::write_text(dir / "model/m.mtl", "newmtl m\nmap_Kd ..\\outside.png\n");
+  std::filesystem::remove(dir / "model/tex.png");
+  Result<Model> m = load_model(dir / "model/m.obj");
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_EQ(m->scene.materials[0].diffuse_texture, kNoTexture);
+}
+
+TEST(MissingFiles, GltfOneIsSaidToBeUnsupported) {
+  const char* files[] = {R"({"asset": {"version": 1}, "scenes": {}})",
+                         R"({"asset": {"version": "1.0"}, "buffers": {"b": {"uri": "x.bin"}}})",
+                         R"({"buffers": {"b": {"uri": "x.bin"}}, "shaders": {}, "techniques": {}})"};
+  for (const char* text : files) {
+    const std::string t(text);
+    Result<Model> m = parse_gltf(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(t.data()), t.size()), "old.gltf", "");
+    ASSERT_FALSE(m.ok()) << text;
+    EXPECT_EQ(m.status().code(), ErrorCode::unsupported) << m.status().message();
+    EXPECT_NE(m.status().message().find("glTF 1.0 and older are not supported"), std::string::npos) << m.status().message();
+  }
 }
 
 }  // namespace

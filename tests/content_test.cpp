@@ -600,12 +600,13 @@ TEST(GltfImport, MissingImageIsAnErrorUnlessAllowed) {
   const GltfBuilder b = textured_quad(png, "uri");
   test::write_text(dir / "quad.gltf", b.embedded());
   fs::remove(dir / "tex.png");
-  Result<Model> m = load_model(dir / "quad.gltf");
+  ModelOptions strict;
+  strict.allow_missing = false;
+  Result<Model> m = load_model(dir / "quad.gltf", strict);
   ASSERT_FALSE(m.ok());
   EXPECT_NE(m.status().message().find("images[0]"), std::string::npos) << m.status().message();
   EXPECT_NE(m.status().message().find("tex.png"), std::string::npos) << m.status().message();
-  ModelOptions o;
-  o.allow_missing = true;
+  ModelOptions o;  // by default: a warning, drawn untextured
   m = load_model(dir / "quad.gltf", o);
   ASSERT_TRUE(m.ok()) << m.status().message();
   EXPECT_EQ(m->scene.materials[0].diffuse_texture, kNoTexture);
@@ -830,7 +831,9 @@ TEST(ObjMtlImport, EmissiveTexturesFromMapKe) {
                    "newmtl broken\nmap_Ke absent.png\n");
   test::write_text(dir / "m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
                                   "usemtl lamp\nf 1/1 2/2 3/3\nusemtl sign\nf 1/1 2/2 3/3\n");
-  Result<Model> m = load_model(dir / "m.obj");
+  ModelOptions strict;
+  strict.allow_missing = false;
+  Result<Model> m = load_model(dir / "m.obj", strict);
   ASSERT_FALSE(m.ok());
   EXPECT_NE(m.status().message().find("m.mtl:11: texture 'absent.png'"), std::string::npos) << m.status().message();
   test::write_text(dir / "m.mtl",
@@ -885,7 +888,9 @@ TEST(ObjMtlImport, NormalMapsFromNorm) {
 TEST(ObjMtlImport, MissingFilesAreErrorsUnlessAllowed) {
   TempDir dir;
   test::write_text(dir / "a.obj", "mtllib none.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n");
-  Result<Model> m = load_model(dir / "a.obj");
+  ModelOptions strict;
+  strict.allow_missing = false;
+  Result<Model> m = load_model(dir / "a.obj", strict);
   ASSERT_FALSE(m.ok());
   EXPECT_NE(m.status().message().find("a.obj:1"), std::string::npos) << m.status().message();
   EXPECT_NE(m.status().message().find("none.mtl"), std::string::npos) << m.status().message();
@@ -897,7 +902,7 @@ TEST(ObjMtlImport, MissingFilesAreErrorsUnlessAllowed) {
 
   test::write_text(dir / "b.mtl", "newmtl x\nKd 1 0 0\nmap_Kd missing.png\n");
   test::write_text(dir / "b.obj", "mtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl x\nf 1/1 2/1 3/1\n");
-  m = load_model(dir / "b.obj");
+  m = load_model(dir / "b.obj", strict);
   ASSERT_FALSE(m.ok());
   EXPECT_NE(m.status().message().find("b.mtl:3"), std::string::npos) << m.status().message();
   EXPECT_NE(m.status().message().find("missing.png"), std::string::npos) << m.status().message();
@@ -908,7 +913,7 @@ TEST(ObjMtlImport, MissingFilesAreErrorsUnlessAllowed) {
   // usemtl naming a material no library has.
   test::write_text(dir / "c.obj", "mtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl nope\nf 1 2 3\n");
   test::write_text(dir / "b.mtl", "newmtl x\nKd 1 0 0\n");
-  m = load_model(dir / "c.obj");
+  m = load_model(dir / "c.obj", strict);
   ASSERT_FALSE(m.ok());
   EXPECT_NE(m.status().message().find("nope"), std::string::npos) << m.status().message();
 }

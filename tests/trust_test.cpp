@@ -70,9 +70,16 @@ TEST(Trust, GltfUrisStayInTheModelsFolder) {
   d["meshes"][0]["primitives"][0]["material"] = 0;
   d["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 0;
   test::write_text(dir / "model/m.gltf", d.dump());
-  ModelOptions allow_missing;
-  allow_missing.allow_missing = true;  // a refusal is not a missing file
-  expect_refused(load_model(dir / "model/m.gltf", allow_missing), "images[0].uri");
+  ModelOptions strict;
+  strict.allow_missing = false;
+  expect_refused(load_model(dir / "model/m.gltf", strict), "images[0].uri");
+  // By default a refused image is skipped, as a missing one (nothing read): the load goes on to
+  // the model's next fault (its TEXCOORD_0 is the VEC3 accessor), not the image.
+  Result<Model> lenient = load_model(dir / "model/m.gltf");
+  ASSERT_FALSE(lenient.ok());
+  EXPECT_EQ(lenient.status().message().find("images[0]"), std::string::npos) << lenient.status().message();
+  EXPECT_NE(lenient.status().message().find("TEXCOORD_0"), std::string::npos) << lenient.status().message();
+  EXPECT_EQ(lenient.status().message().find(kSecret), std::string::npos) << lenient.status().message();
 }
 
 TEST(Trust, AHostWidensOrReplacesTheFileSystem) {
@@ -115,13 +122,20 @@ TEST(Trust, AHostWidensOrReplacesTheFileSystem) {
 TEST(Trust, ObjMtlAndSceneNamesStayInTheirFolder) {
   Dir dir;
   test::write_text(dir / "model/a.obj", "mtllib ../secret.bin\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-  Result<Model> m = load_model(dir / "model/a.obj");
+  ModelOptions strict;
+  strict.allow_missing = false;
+  Result<Model> lenient = load_model(dir / "model/a.obj");  // a warning by default, nothing read
+  ASSERT_TRUE(lenient.ok()) << lenient.status().message();
+  ASSERT_FALSE(lenient->warnings.empty());
+  EXPECT_NE(lenient->warnings[0].find("leads out"), std::string::npos) << lenient->warnings[0];
+  EXPECT_EQ(lenient->warnings[0].find(kSecret), std::string::npos) << lenient->warnings[0];
+  Result<Model> m = load_model(dir / "model/a.obj", strict);
   ASSERT_FALSE(m.ok());
   EXPECT_EQ(m.status().message().find(kSecret), std::string::npos) << m.status().message();
   EXPECT_NE(m.status().message().find("leads out"), std::string::npos) << m.status().message();
   // An MTL whose name escapes with control characters: quoted, never raw.
   test::write_text(dir / "model/b.obj", "mtllib \x1b[31mred\n v 0 0 0\n");
-  m = load_model(dir / "model/b.obj");
+  m = load_model(dir / "model/b.obj", strict);
   ASSERT_FALSE(m.ok());
   for (const char c : m.status().message()) EXPECT_NE(c, '\x1b') << m.status().message();
   // A file that is not MTL at all is not quoted.

@@ -97,7 +97,8 @@ py::dict stats_dict(const FrameStats& s) {
 // What `facet render FILE` draws: a scene file as it is (a file that imports models and has no
 // camera or lights gets them as the loader says); a model with its own camera and lights, or
 // framed for the image's aspect and lit by facet's default rig; no path: the built-in scene.
-Scene load_for_render(const std::optional<std::string>& path, float aspect, const std::vector<std::string>& allow_paths) {
+Scene load_for_render(const std::optional<std::string>& path, float aspect, const std::vector<std::string>& allow_paths,
+                      bool strict = false, std::vector<std::string>* warnings = nullptr) {
   if (!path) return make_default_scene();
   std::string ext = *path;
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -105,7 +106,9 @@ Scene load_for_render(const std::optional<std::string>& path, float aspect, cons
   if (ends(".gltf") || ends(".glb") || ends(".obj")) {
     ModelOptions mo;
     mo.assets.allowed_roots = allow_paths;
+    mo.allow_missing = !strict;
     Model m = value_or_raise(load_model(*path, mo));
+    if (warnings) *warnings = m.warnings;
     if (!m.has_camera) m.scene.camera = value_or_raise(frame_scene(m.scene, aspect));
     if (!m.has_lights) add_default_lights(m.scene);
     return std::move(m.scene);
@@ -113,6 +116,8 @@ Scene load_for_render(const std::optional<std::string>& path, float aspect, cons
   LoadOptions lo;
   lo.assets.allowed_roots = allow_paths;
   lo.frame_aspect = aspect;
+  lo.strict = strict;
+  if (warnings) lo.warning = [warnings](const std::string& w) { warnings->push_back(w); };
   return value_or_raise(load_scene_file(*path, lo));
 }
 
@@ -123,6 +128,7 @@ Scene load_for_render(const std::optional<std::string>& path, float aspect, cons
 struct PyScene {
   Scene scene;
   int rendering = 0;
+  std::vector<std::string> warnings;  // what loading read approximately or not at all
 
   Scene& edit() {
     if (rendering > 0) {
@@ -508,6 +514,8 @@ PYBIND11_MODULE(_facet, m) {
            "Exposure in stops (the light times 2^exposure) or 'auto' (metered to middle grey per frame), then a "
            "tone-mapping operator: none (GL's clamp), neutral (Khronos PBR Neutral) or aces. Models load with neutral, "
            "and with 'auto' when their lights are in physical units.")
+      .def_property_readonly("warnings", [](const PyScene& ps) { return ps.warnings; },
+                             "What loading read approximately or not at all, one line each (facet.load).")
       .def_property_readonly("display", [](const PyScene& ps) {
         py::dict d;
         const Display& v = ps.scene.display;
@@ -522,12 +530,16 @@ PYBIND11_MODULE(_facet, m) {
         s.camera = orbit_camera(s.camera, centre, UpAxis::y, angle_deg);
       }, py::arg("angle_deg"), "Turns the camera about the scene's centre (y up), as facet render --orbit.");
 
-  m.def("load", [](const std::string& path, float aspect, std::vector<std::string> allow_paths) {
-    return PyScene{load_for_render(path, aspect, allow_paths)};
+  m.def("load", [](const std::string& path, float aspect, std::vector<std::string> allow_paths, bool strict) {
+    PyScene ps;
+    ps.scene = load_for_render(path, aspect, allow_paths, strict, &ps.warnings);
+    return ps;
   }, py::arg("path"), py::arg("aspect") = 16.0f / 9.0f, py::arg("allow_paths") = std::vector<std::string>{},
+        py::arg("strict") = false,
         "A scene file (.json) or a model (.gltf, .glb, .obj), as facet render reads it: a model without a camera is framed "
         "for `aspect`, one without lights gets facet's default rig. Files outside the file's folder are refused unless "
-        "a folder in allow_paths holds them.");
+        "a folder in allow_paths holds them. A missing or unreadable material library or texture is a warning "
+        "(Scene.warnings) unless strict=True, which refuses the model.");
 
   py::class_<PyRenderer>(m, "Renderer", "A renderer with its own threads and options; render() releases the GIL.")
       .def(py::init<const std::string&, const std::string&, const std::string&, const std::string&, int, int, bool, std::array<float, 4>,

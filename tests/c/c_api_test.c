@@ -934,12 +934,17 @@ int main(void) {
     f = fopen("facet_c_api_test_out.obj", "w");
     fputs("mtllib ../facet_c_api_outside.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", f);
     fclose(f);
-    CHECK(facet_scene_load_file(e, "facet_c_api_test_out.obj", 0, 0, 0) == FACET_INVALID_ARGUMENT);
+    CHECK(facet_scene_load_file(e, "facet_c_api_test_out.obj", FACET_LOAD_STRICT, 0, 0) == FACET_INVALID_ARGUMENT);
     CHECK(strstr(facet_scene_last_error(e), "leads out") != NULL);
-    CHECK(facet_scene_allow_path(e, "..") == FACET_OK);
-    CHECK(facet_scene_load_file(e, "facet_c_api_test_out.obj", FACET_LOAD_ALLOW_MISSING, 0, 0) == FACET_OK);
+    /* By default a refused library is a warning: the model loads with facet's default material. */
+    CHECK(facet_scene_load_file(e, "facet_c_api_test_out.obj", 0, 0, 0) == FACET_OK);
+    CHECK(strstr(facet_scene_warnings(e), "leads out") != NULL);
+    CHECK(facet_scene_load_file(e, "facet_c_api_test_out.obj", FACET_LOAD_STRICT | FACET_LOAD_ALLOW_MISSING, 0, 0) == FACET_INVALID_ARGUMENT);
+    CHECK(facet_scene_allow_path(e, "..") == FACET_OK); /* allowed, and then merely missing: a warning */
+    CHECK(facet_scene_load_file(e, "facet_c_api_test_out.obj", 0, 0, 0) == FACET_OK);
+    CHECK(strstr(facet_scene_warnings(e), "leads out") == NULL);
     CHECK(facet_scene_allow_path(e, NULL) == FACET_OK);
-    CHECK(facet_scene_load_file(e, "facet_c_api_test_out.obj", FACET_LOAD_ALLOW_MISSING, 0, 0) == FACET_INVALID_ARGUMENT);
+    CHECK(facet_scene_load_file(e, "facet_c_api_test_out.obj", FACET_LOAD_STRICT, 0, 0) == FACET_INVALID_ARGUMENT);
     remove("facet_c_api_test_out.obj");
     /* A resolver: the model comes from memory, no file is opened. */
     CHECK(facet_scene_set_resolver(e, resolve_from_memory, NULL) == FACET_OK);

@@ -53,3 +53,15 @@ def test_render_takes_exposure_and_tone_mapping():
     mapped = facet.render(width=64, height=36, threads=1, tone_mapping="aces")
     assert brighter[..., :3].astype(int).sum() > base[..., :3].astype(int).sum()
     assert not np.array_equal(mapped, base)
+
+
+def test_load_warns_of_missing_files_unless_strict(tmp_path):
+    (tmp_path / "m.obj").write_text("mtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n")
+    scene = facet.load(str(tmp_path / "m.obj"))
+    assert any("gone.mtl" in w for w in scene.warnings)
+    with pytest.raises(facet.Error) as e:
+        facet.load(str(tmp_path / "m.obj"), strict=True)
+    assert "gone.mtl" in str(e.value)
+    assert facet.render(str(tmp_path / "m.obj"), width=32, height=18).shape == (18, 32, 4)
+    with pytest.raises(facet.Error):
+        facet.render(str(tmp_path / "m.obj"), width=32, height=18, strict=True)

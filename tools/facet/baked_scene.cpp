@@ -150,7 +150,7 @@ Status write_baked_scene(const BakedSceneRequest& st, const OutputFolder& folder
       // Read again as the scene's loader read it: how many objects it adds, and which files.
       Files files;
       ModelOptions mo;
-      mo.allow_missing = import.value("allow_missing", false);
+      mo.allow_missing = import.value("allow_missing", ModelOptions{}.allow_missing);
       mo.assets.allowed_roots.push_back(from.empty() ? std::string(".") : from.string());
       for (const std::string& a : st.allow_paths) mo.assets.allowed_roots.push_back(a);
       mo.assets.on_read = [&files](const std::string& name, const std::string& bytes) { files.emplace(loader_name(name), bytes); };

@@ -246,6 +246,7 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
     lo.progress = options.progress;
     lo.view = options.view;
     lo.frame_aspect = options.aspect;
+    lo.strict = !options.allow_missing;
     lo.warning = [&](const std::string& w) { notes.push_back("warning: " + w); };
     Result<Scene> loaded = load_scene_file(path, lo);
     if (!loaded) {

@@ -40,7 +40,7 @@ struct LightState {
   std::string scene_path, path_name = "all", pow = "auto";
   double min_seconds = 0.5;
   int threads = 1, width = 1280, height = 720, memory_mb = -1;
-  bool json = false, allow_missing = false;
+  bool json = false, allow_missing = false, strict = false;
   std::vector<std::string> allow_paths;
   ViewState view;
 };
@@ -66,7 +66,8 @@ Command add_light(CLI::App& facet) {
   const char* model = "Models";
   app->add_option("--width", st->width, "the image width a model is framed for (default 1280)")->check(int_in(1, kMaxImageDimension))->group(model);
   app->add_option("--height", st->height, "the image height a model is framed for (default 720)")->check(int_in(1, kMaxImageDimension))->group(model);
-  app->add_flag("--allow-missing", st->allow_missing, "a model's missing .mtl or texture files are warnings, not errors")->group(model);
+  app->add_flag("--allow-missing", st->allow_missing, "a model's missing or unreadable .mtl, texture or image files are warnings (the default)")->group(model);
+  app->add_flag("--strict", st->strict, "a model's missing or unreadable .mtl, texture or image files are errors")->excludes("--allow-missing")->group(model);
   app->add_option("--allow-path", st->allow_paths, kAllowPathHelp)->group(model);
   app->add_option("--memory-budget-mb", st->memory_mb, "the most memory the scene may take, in MiB; 0 = no limit (default 4096)")
       ->check(int_in(0, 1 << 30))->group(model);
@@ -84,7 +85,7 @@ int light(const LightState& st) {
   InputOptions input;
   input.allowed_paths = st.allow_paths;
   if (st.memory_mb >= 0) input.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
-  input.allow_missing = st.allow_missing;
+  input.allow_missing = !st.strict;
   input.aspect = float(st.width) / float(st.height);
   if (!apply_view_options(st.view, input)) return 2;
   std::vector<std::string> notes;
@@ -194,7 +195,7 @@ int light(const LightState& st) {
 struct CheckState {
   std::string scene_path, shading = "gouraud", shadows, transparent_order, output, depth, depth_mode = "auto";
   int width = 1280, height = 720, memory_mb = -1, msaa = 1;
-  bool allow_missing = false, vertex_relief = false;
+  bool allow_missing = false, strict = false, vertex_relief = false;
   std::vector<std::string> allow_paths;
   ViewState view;
 };
@@ -227,7 +228,8 @@ Command add_check(CLI::App& facet) {
   app->add_flag("--vertex-relief", st->vertex_relief, "as for 'facet render': Gouraud reads normal and bump maps per vertex");
   app->add_option("--msaa", st->msaa, "1 | 4 | 8 | 16 samples per pixel, as for 'facet render' (the tiles' memory grows N-fold)")
       ->check(CLI::IsMember({1, 4, 8, 16}));
-  app->add_flag("--allow-missing", st->allow_missing, "a model's missing .mtl or texture files are warnings, not errors");
+  app->add_flag("--allow-missing", st->allow_missing, "a model's missing or unreadable .mtl, texture or image files are warnings (the default)");
+  app->add_flag("--strict", st->strict, "a model's missing or unreadable .mtl, texture or image files are errors")->excludes("--allow-missing");
   app->add_option("--allow-path", st->allow_paths, kAllowPathHelp);
   add_view_options(app, st->view);
   return {app, [st] { return check(*st); }};
@@ -272,7 +274,7 @@ int check(const CheckState& st) {
   InputOptions input;
   input.allowed_paths = st.allow_paths;
   input.memory_budget_bytes = options.memory_budget_bytes;
-  input.allow_missing = st.allow_missing;
+  input.allow_missing = !st.strict;
   input.aspect = float(width) / float(height);
   if (!apply_view_options(st.view, input)) return 2;
   std::vector<std::string> notes;

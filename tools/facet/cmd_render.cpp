@@ -209,7 +209,7 @@ struct RenderState {
   double min_seconds = 0, orbit_deg = 360.0, time_limit = 0;
   std::vector<std::string> allow_paths;
   ViewState view;
-  bool stats = false, json = false, allow_missing = false, hdr = false, srgb = false, linear = false, no_light_culling = false,
+  bool stats = false, json = false, allow_missing = false, strict = false, hdr = false, srgb = false, linear = false, no_light_culling = false,
        light_every_vertex = false, vertex_relief = false;
 };
 
@@ -281,7 +281,8 @@ Command add_render(CLI::App& facet) {
   app->add_option("--threads", st->threads, "worker threads, 0 = all cores (default 0); the image is the same for any N")
       ->check(int_in(0, 256))->group(how);
   const char* model = "Models";
-  app->add_flag("--allow-missing", st->allow_missing, "a model's missing .mtl or texture files are warnings, not errors")->group(model);
+  app->add_flag("--allow-missing", st->allow_missing, "a model's missing or unreadable .mtl, texture or image files are warnings (the default)")->group(model);
+  app->add_flag("--strict", st->strict, "a model's missing or unreadable .mtl, texture or image files are errors")->excludes("--allow-missing")->group(model);
   app->add_option("--allow-path", st->allow_paths, kAllowPathHelp)->group(model);
   add_view_options(app, st->view, model);
   app->add_option("--frames", st->frame_count,
@@ -316,7 +317,7 @@ int render(const RenderState& st) {
   const std::string& depth_path = st.depth_path;
   const int width = st.width, height = st.height, frame_count = st.frame_count;
   const double min_seconds = st.min_seconds, orbit_deg = st.orbit_deg;
-  const bool stats = st.stats, json = st.json, allow_missing = st.allow_missing;
+  const bool stats = st.stats, json = st.json;
   std::optional<ShadowMethod> shadows;
   if (!st.shadows.empty()) shadows = parse_shadow_method(st.shadows);
   RenderOptions options;
@@ -376,7 +377,7 @@ int render(const RenderState& st) {
   input.progress = options.progress;
   input.cancelled_message = deadline.message("loading " + (scene_path.empty() ? std::string("the scene") : scene_path));
   input.memory_budget_bytes = options.memory_budget_bytes;
-  input.allow_missing = allow_missing;
+  input.allow_missing = !st.strict;
   input.allowed_paths = st.allow_paths;
   input.aspect = float(width) / float(height);
   if (!apply_view_options(st.view, input)) return 2;

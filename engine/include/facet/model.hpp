@@ -24,9 +24,12 @@ struct ModelOptions {
   // The most memory the files, images and meshes of the model may take (ErrorCode::out_of_memory
   // beyond it, naming what crossed it). 0 = no limit.
   std::uint64_t memory_budget_bytes = kDefaultLoadBudgetBytes;
-  // OBJ: a missing .mtl file or texture is a warning (the material is untextured, or facet's
-  // default) instead of an error. glTF: a missing image file likewise.
-  bool allow_missing = false;
+  // A material library or texture that is missing or cannot be read (not found, outside the
+  // model's folder, not an image facet reads) is a warning, as every viewer treats it: the
+  // material is untextured, or facet's default. false (strict: `facet --strict`, C
+  // FACET_LOAD_STRICT, Python strict=True) refuses the model instead, naming the file. Running out
+  // of the memory budget is an error either way.
+  bool allow_missing = true;
   // OBJ: the crease angle used when the file has no normals (glTF: flat normals, as its
   // specification requires).
   float crease_angle_deg = kDefaultCreaseAngleDeg;

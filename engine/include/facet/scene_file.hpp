@@ -38,6 +38,9 @@ struct LoadOptions {
   // (add_default_lights), as `facet render MODEL` frames and lights a model. `warning` says so.
   ViewOptions view;
   float frame_aspect = 16.0f / 9.0f;
+  // Imported models load strictly (ModelOptions::allow_missing false: a missing or unreadable
+  // material library or texture is an error), whatever an import's "allow_missing" says.
+  bool strict = false;
 };
 
 Result<Scene> load_scene_file(const std::string& path, const LoadOptions& options = {});

@@ -520,7 +520,10 @@ facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigne
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
     if (!path) return fail(scene->error, "path", "null");
-    if (flags & ~unsigned(FACET_LOAD_ALLOW_MISSING | FACET_LOAD_FRAME)) return fail(scene->error, "flags", "unknown flag");
+    if (flags & ~unsigned(FACET_LOAD_ALLOW_MISSING | FACET_LOAD_FRAME | FACET_LOAD_STRICT)) return fail(scene->error, "flags", "unknown flag");
+    if ((flags & FACET_LOAD_STRICT) && (flags & FACET_LOAD_ALLOW_MISSING)) {
+      return fail(scene->error, "flags", "FACET_LOAD_STRICT and FACET_LOAD_ALLOW_MISSING contradict each other");
+    }
     if ((flags & FACET_LOAD_FRAME) && !(aspect > 0.0f && aspect < 1e6f)) {
       return fail(scene->error, "aspect", "expected width / height > 0 with FACET_LOAD_FRAME");
     }
@@ -531,7 +534,7 @@ facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigne
     if (ext == ".gltf" || ext == ".glb" || ext == ".obj") {
       facet::ModelOptions o;
       o.memory_budget_bytes = memory_budget_bytes;
-      o.allow_missing = (flags & FACET_LOAD_ALLOW_MISSING) != 0;
+      o.allow_missing = (flags & FACET_LOAD_STRICT) == 0;
       o.assets = scene->assets;
       facet::Result<facet::Model> model = facet::load_model(path, o);
       if (!model) return report(scene->error, model.status());

@@ -220,7 +220,23 @@ Result<Document> Document::parse(std::span<const std::uint8_t> bytes, const std:
     return fail("not valid JSON");
   }
   if (!doc.json_.is_object()) return fail("expected a JSON object at the top level");
+  // glTF 1.0 and 0.8 files: objects keyed by name where 2.0 has arrays, shaders and techniques, a
+  // numeric version or none. Said plainly rather than as the first field that does not fit.
+  const char* kOld = "; glTF 1.0 and older are not supported: facet reads glTF 2.0 (convert the file, e.g. with Blender's "
+                     "importer or gltf-pipeline)";
   const Json* asset = nullptr;
+  const Json* old_asset = Fields::find(doc.json_, "asset");
+  const bool old_layout = Fields::find(doc.json_, "techniques") || Fields::find(doc.json_, "shaders") ||
+                          Fields::find(doc.json_, "programs") ||
+                          (Fields::find(doc.json_, "buffers") && Fields::find(doc.json_, "buffers")->is_object());
+  if (old_asset && old_asset->is_object()) {
+    const Json* v = Fields::find(*old_asset, "version");
+    if (v && v->is_number()) return f.error("asset.version", "the number " + format_number(v->get<double>()) + kOld, ErrorCode::unsupported);
+    if (v && v->is_string() && v->get<std::string>().rfind("1.", 0) == 0) {
+      return f.error("asset.version", quote(v->get<std::string>(), 16) + kOld, ErrorCode::unsupported);
+    }
+  }
+  if ((!old_asset || !old_asset->is_object()) && old_layout) return f.error("asset", "missing, and the file is laid out as glTF 1.0" + std::string(kOld), ErrorCode::unsupported);
   FACET_TRY(f.object(doc.json_, "", "asset", asset));
   if (!asset) return f.error("asset", "required, missing (a glTF file states its version there)");
   std::string version;

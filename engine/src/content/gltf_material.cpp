@@ -276,11 +276,9 @@ Status Reader::texture(int index, std::int32_t& out, TextureEncoding encoding) {
   const std::uint64_t left = budget == 0 ? io::kNoSizeLimit : budget - std::min(used_, budget);
   std::string bytes, name;
   if (Status s = doc_.image_bytes(static_cast<std::size_t>(source), folder_, left, bytes, name); !s.ok()) {
-    // A file that cannot be read may be allowed to be missing; a refused or malformed one never.
-    if (s.code() != ErrorCode::io_error) return s;
-    if (!options_.allow_missing) {
-      return {s.code(), ip, s.message() + " (ModelOptions::allow_missing, facet --allow-missing: draw untextured)"};
-    }
+    // Missing, refused (outside the model's folder) or malformed: a warning unless strict.
+    if (!skippable(s)) return s;
+    if (!options_.allow_missing) return {s.code(), ip, s.message() + kStrictNote};
     warn(ip + ": the image could not be read: " + s.message() + "; drawn untextured");
     textures_[key] = kNoTexture;
     return {};
@@ -289,7 +287,14 @@ Status Reader::texture(int index, std::int32_t& out, TextureEncoding encoding) {
   Result<Texture> decoded =
       decode_texture(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()),
                      f_.source() + ": " + ip, name, topt);
-  if (!decoded) return {decoded.status().code(), ip, decoded.status().message()};
+  if (!decoded) {
+    if (!skippable(decoded.status()) || !options_.allow_missing) {
+      return {decoded.status().code(), ip, decoded.status().message() + (skippable(decoded.status()) ? kStrictNote : "")};
+    }
+    warn(ip + ": the image could not be decoded: " + decoded.status().message() + "; drawn untextured");
+    textures_[key] = kNoTexture;
+    return {};
+  }
   FACET_TRY(reserve(decoded->texels.size() * 4, ip));
   out_.scene.textures.push_back(std::move(*decoded));
   out = static_cast<std::int32_t>(out_.scene.textures.size() - 1);

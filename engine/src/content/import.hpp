@@ -2,9 +2,15 @@
 #pragma once
 
 #include "facet/material.hpp"
+#include "facet/status.hpp"
 #include "facet/types.hpp"
 
 namespace facet {
+
+// What ModelOptions::allow_missing lets a model skip with a warning (a material library or a
+// texture that is missing, refused or unreadable): anything but running out of memory or a cancel.
+inline bool skippable(const Status& s) { return s.code() != ErrorCode::out_of_memory && s.code() != ErrorCode::cancelled; }
+inline constexpr const char* kStrictNote = " (strict loading: ModelOptions::allow_missing false, facet --strict)";
 
 // glTF's metallic-roughness material on facet's Blinn-Phong model (docs/content.md):
 // mirror = metallic (1 - roughness); diffuse = ambient = base (1 - mirror);

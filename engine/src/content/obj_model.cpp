@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "content/import.hpp"
 #include "common/format.hpp"
 #include "common/text.hpp"
 #include "common/try.hpp"
@@ -389,15 +390,29 @@ class MtlReader {
     topt.encoding = encoding;
     topt.wrap = ref.clamp ? TextureWrap::clamp : TextureWrap::repeat;
     topt.memory_budget_bytes = left();
-    Result<Texture> t = read_texture(folder_, ref.file, source_ + ":" + std::to_string(ref.line) + ": texture", ref.file, topt);
+    const std::string where = source_ + ":" + std::to_string(ref.line) + ": texture";
+    Result<Texture> t = read_texture(folder_, ref.file, where, ref.file, topt);
     if (t) return t;
-    const bool missing = t.status().code() == ErrorCode::io_error;
+    // A name written on another machine (D:\models\tex.jpg, ..\LWO\x.png): its base name in the
+    // material library's folder, as Blender and assimp look for it; never outside the folder.
+    const std::size_t slash = ref.file.find_last_of("/:");
+    if (t.status().code() != ErrorCode::out_of_memory && t.status().code() != ErrorCode::cancelled &&
+        slash != std::string::npos && slash + 1 < ref.file.size()) {
+      const std::string base = ref.file.substr(slash + 1);
+      Result<Texture> found = read_texture(folder_, base, where, base, topt);
+      if (found) {
+        warnings_.push_back(where + ": " + quote(ref.file, 120) + " cannot be read (" + t.status().message() +
+                            "); the file of its base name " + quote(base, 80) + " beside the material library is used");
+        return found;
+      }
+    }
+    const bool missing = skippable(t.status());
     if (missing && options_.allow_missing) {
       warnings_.push_back(t.status().message() + "; drawn untextured");
       return Texture{};
     }
     return Status{t.status().code(), "line " + std::to_string(ref.line),
-                  t.status().message() + (missing ? " (ModelOptions::allow_missing, facet --allow-missing: draw untextured)"
+                  t.status().message() + (missing ? kStrictNote
                                           : t.status().code() == ErrorCode::out_of_memory
                                               ? " (what the model's mesh and textures before it leave of ModelOptions::memory_budget_bytes, facet --memory-budget-mb)"
                                               : "")};
@@ -481,14 +496,12 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
         Result<io::AssetFolder::Resolved> resolved = folder.resolve(file, where);
         Result<std::string> mtl = resolved ? folder.read(file, where, "MTL file", limit) : Result<std::string>(resolved.status());
         if (!mtl) {
-          if (options.allow_missing && mtl.status().code() == ErrorCode::io_error) {
+          if (options.allow_missing && skippable(mtl.status())) {
             model.warnings.push_back(mtl.status().message() + "; its materials are facet's default");
             continue;
           }
           return {mtl.status().code(), "line " + std::to_string(line),
-                  mtl.status().message() + (mtl.status().code() == ErrorCode::io_error
-                                                ? " (ModelOptions::allow_missing, facet --allow-missing: use default materials)"
-                                                : "")};
+                  mtl.status().message() + (skippable(mtl.status()) ? kStrictNote : "")};
         }
         const std::string full = resolved->name;
         libraries.push_back(file);
@@ -507,7 +520,7 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
         for (const auto& l : libraries) libs += (libs.empty() ? "" : ", ") + quote(l, 60);
         return Status{ErrorCode::invalid_argument, "usemtl",
                       path + ": usemtl " + quote(g.material, 40) + ": no material of that name in " + libs +
-                          " (ModelOptions::allow_missing, facet --allow-missing: use facet's default)"};
+                          kStrictNote};
       }
       if (!libraries.empty()) {
         model.warnings.push_back(path + ": usemtl " + quote(g.material, 40) + ": no such material; facet's default is used");

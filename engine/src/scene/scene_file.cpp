@@ -634,6 +634,7 @@ class SceneReader : public scene_json::JsonFields {
     FACET_TRY(opt_bool(j, p, "lights", lights));
     FACET_TRY(opt_bool(j, p, "camera", camera));
     FACET_TRY(opt_bool(j, p, "allow_missing", mo.allow_missing));
+    if (options_.strict) mo.allow_missing = false;
     if (camera && scene_has_camera) return invalid(child(p, "camera"), "the scene file has its own \"camera\"");
     mo.memory_budget_bytes = left();
     const std::string fp = child(p, "file");
