@@ -32,6 +32,9 @@ facet_install_packages() {
   apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null || return 1
 }
 
+# facet_build [TARGET...]: configure the release preset if needed and build the named targets
+# (default: everything; tools/run asks for the `facet` program alone, so that a newcomer's first
+# picture does not wait for the tests and benchmarks).
 facet_build() {
   local build_dir="$facet_root/build"
   # build.ninja, not CMakeCache.txt: a configure that failed (a package missing) leaves a cache
@@ -39,7 +42,9 @@ facet_build() {
   if [ ! -f "$build_dir/build.ninja" ]; then
     cmake --preset release -S "$facet_root" >/dev/null || return 1
   fi
-  cmake --build "$build_dir" --parallel "$(nproc)" || return 1
+  local targets=()
+  for t in "$@"; do targets+=(--target "$t"); done
+  cmake --build "$build_dir" --parallel "$(nproc)" "${targets[@]}" || return 1
 }
 
 # OSMesa (libosmesa6-dev) is optional: a build configured before it was installed must look for
