@@ -273,3 +273,37 @@ TEST(MissingFiles, GltfOneIsSaidToBeUnsupported) {
 
 }  // namespace
 }  // namespace facet
+
+namespace facet {
+namespace {
+
+TEST(GltfInstancing, EveryInstanceIsDrawnAtItsPlace) {
+  test::GltfBuilder b = test::quad();
+  const int t = b.vec3({0, 0, 0, 2, 0, 0, 4, 0, 0});
+  const int r = b.vec4({0, 0, 0, 1, 0, 0, 0.7071068f, 0.7071068f, 0, 0, 0, 1});
+  const int s = b.vec3({1, 1, 1, 1, 1, 1, 2, 2, 2});
+  b.doc["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
+  b.doc["nodes"][0]["translation"] = {0.0, 10.0, 0.0};
+  b.doc["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"] = {{"TRANSLATION", t}, {"ROTATION", r}, {"SCALE", s}};
+  const std::string text = b.embedded();
+  auto parse = [](const std::string& x) {
+    return parse_gltf(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(x.data()), x.size()), "i.gltf", "");
+  };
+  Result<Model> m = parse(text);
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  ASSERT_EQ(m->scene.objects.size(), 3u);
+  for (const std::string& w : m->warnings) EXPECT_EQ(w.find("EXT_mesh_gpu_instancing"), std::string::npos) << w;
+  // The node's translation, then each instance's T x R x S.
+  auto world = [&](std::size_t i, Vec3 p) { return Vec3((m->scene.objects[i].model * p.homogeneous()).head<3>()); };
+  EXPECT_TRUE(world(0, Vec3(1, 1, 0)).isApprox(Vec3(1, 11, 0)));
+  EXPECT_TRUE(world(1, Vec3(1, 0, 0)).isApprox(Vec3(2, 11, 0), 1e-5f));  // a quarter turn about z
+  EXPECT_TRUE(world(2, Vec3(1, 1, 0)).isApprox(Vec3(6, 12, 0)));
+  // Attributes of different counts are refused, naming the attribute.
+  b.doc["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["SCALE"] = b.vec3({1, 1, 1});
+  Result<Model> bad = parse(b.embedded());
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("EXT_mesh_gpu_instancing.attributes.SCALE"), std::string::npos) << bad.status().message();
+}
+
+}  // namespace
+}  // namespace facet

@@ -19,7 +19,7 @@ namespace {
 // The extensions facet reads; any other that a file requires is an error, any other it uses a warning.
 constexpr const char* kSupportedExtensions[] = {
     "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_mesh_quantization",
-    "KHR_texture_transform", "EXT_meshopt_compression", "KHR_draco_mesh_compression"};
+    "KHR_texture_transform", "EXT_meshopt_compression", "KHR_draco_mesh_compression", "EXT_mesh_gpu_instancing"};
 
 bool supported_extension(const std::string& name) {
   for (const char* s : kSupportedExtensions)
@@ -89,6 +89,12 @@ bool allowed(const char* semantic, int components, int component, bool normalize
     if (components != 2) return false;
     forms = {{kFloat, 0}, {kByte, 2}, {kUnsignedByte, 2}, {kShort, 2}, {kUnsignedShort, 2}};
   } else if (s == "TANGENT") {
+    if (components != 4) return false;
+    forms = {{kFloat, 0}, {kByte, 1}, {kShort, 1}};
+  } else if (s == "TRANSLATION" || s == "SCALE") {  // EXT_mesh_gpu_instancing (quantized forms as KHR_mesh_quantization)
+    if (components != 3) return false;
+    forms = {{kFloat, 0}, {kByte, 2}, {kShort, 2}};
+  } else if (s == "ROTATION") {
     if (components != 4) return false;
     forms = {{kFloat, 0}, {kByte, 1}, {kShort, 1}};
   } else if (s == "COLOR_0") {
@@ -201,12 +207,14 @@ Status Reader::walk(std::size_t scene_index) {
     FACET_TRY(f_.index(node, p, "mesh", doc_.count("meshes"), mesh));
     FACET_TRY(f_.index(node, p, "camera", doc_.count("cameras"), camera));
     FACET_TRY(f_.index(node, p, "skin", doc_.count("skins"), skin));
-    if (mesh >= 0) FACET_TRY(add_mesh_instances(mesh, p, world));
+    const Json* ext = nullptr;
+    FACET_TRY(f_.object(node, p, "extensions", ext));
+    const Json* instancing = ext ? Fields::find(*ext, "EXT_mesh_gpu_instancing") : nullptr;
+    if (mesh >= 0 && instancing) FACET_TRY(add_gpu_instances(mesh, p, world, *instancing));
+    if (mesh >= 0 && !instancing) FACET_TRY(add_mesh_instances(mesh, p, world));
     if (camera >= 0) FACET_TRY(add_camera(camera, p, world));
     if (skin >= 0) warn(p + ": skins are not supported; the mesh is drawn in its bind pose");
     if (Fields::find(node, "weights")) warn(p + ": morph target weights are not supported; the base mesh is drawn");
-    const Json* ext = nullptr;
-    FACET_TRY(f_.object(node, p, "extensions", ext));
     if (ext) {
       if (const Json* l = Fields::find(*ext, "KHR_lights_punctual")) FACET_TRY(add_light(*l, p, world));
     }
@@ -380,6 +388,53 @@ Status Reader::add_mesh_instances(int mesh_id, const std::string& node_path, con
     inst.model = world.cast<float>();
     inst.double_sided = double_sided;
     out_.scene.objects.push_back(inst);
+  }
+  return {};
+}
+
+// EXT_mesh_gpu_instancing: the node's mesh once per instance, at world x T x R x S of the
+// instance's TRANSLATION, ROTATION and SCALE (each optional, all of one count).
+Status Reader::add_gpu_instances(int mesh_id, const std::string& node_path, const Eigen::Matrix4d& world, const Json& x) {
+  const std::string xp = node_path + ".extensions.EXT_mesh_gpu_instancing";
+  FACET_TRY(f_.object(x, xp));
+  const Json* attributes = nullptr;
+  FACET_TRY(f_.object(x, xp, "attributes", attributes));
+  if (!attributes) return f_.error(xp + ".attributes", "required, missing");
+  Values t, r, s;
+  std::size_t count = 0;
+  for (auto [key, values] : {std::pair{"TRANSLATION", &t}, std::pair{"ROTATION", &r}, std::pair{"SCALE", &s}}) {
+    int index = -1;
+    const std::string ap = xp + ".attributes." + key;
+    FACET_TRY(f_.index(*attributes, xp + ".attributes", key, doc_.count("accessors"), index));
+    if (index < 0) continue;
+    FACET_TRY(read_accessor(index, ap, key, *values));
+    if (count != 0 && values->count() != count) {
+      return f_.error(ap, "has " + std::to_string(values->count()) + " instances where another attribute has " + std::to_string(count));
+    }
+    count = values->count();
+  }
+  if (count == 0) return f_.error(xp + ".attributes", "expected at least one of TRANSLATION, ROTATION and SCALE");
+  const Json& mesh = doc_.item("meshes", static_cast<std::size_t>(mesh_id));
+  const Json* prims = Fields::find(mesh, "primitives");
+  const std::size_t per_instance = prims && prims->is_array() ? prims->size() : 1;
+  FACET_TRY(reserve(std::uint64_t(count) * per_instance * sizeof(Instance), xp));
+  for (std::size_t i = 0; i < count; ++i) {
+    Eigen::Matrix4d local = Eigen::Matrix4d::Identity();
+    Eigen::Vector3d scale(1, 1, 1);
+    if (!s.v.empty()) scale = Eigen::Vector3d(s.v[3 * i], s.v[3 * i + 1], s.v[3 * i + 2]);
+    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+    if (!r.v.empty()) {
+      Eigen::Quaterniond q(r.v[4 * i + 3], r.v[4 * i], r.v[4 * i + 1], r.v[4 * i + 2]);
+      if (!(q.norm() > 1e-6)) {
+        return f_.error(xp + ".attributes.ROTATION", "instance " + std::to_string(i) + ": expected a unit quaternion");
+      }
+      rotation = q.normalized().toRotationMatrix();
+    }
+    local.topLeftCorner<3, 3>() = rotation * scale.asDiagonal();
+    if (!t.v.empty()) local.topRightCorner<3, 1>() = Eigen::Vector3d(t.v[3 * i], t.v[3 * i + 1], t.v[3 * i + 2]);
+    const Eigen::Matrix4d model = world * local;
+    if (!model.allFinite()) return f_.error(xp, "instance " + std::to_string(i) + ": the world matrix is not finite");
+    FACET_TRY(add_mesh_instances(mesh_id, node_path + " (instance " + std::to_string(i) + ")", model));
   }
   return {};
 }

@@ -67,6 +67,7 @@ class Reader {
   Status view_span(int view, std::uint64_t offset, std::uint64_t count, std::size_t element_bytes,
                    std::size_t stride, const std::string& p, const std::uint8_t*& data) const;
   Status add_mesh_instances(int mesh, const std::string& node_path, const Eigen::Matrix4d& world);
+  Status add_gpu_instances(int mesh, const std::string& node_path, const Eigen::Matrix4d& world, const Json& extension);
   Status primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index, std::uint32_t& material_index,
                    bool& double_sided);
   Status draco_attributes(const Json& ext, const std::string& p, const std::map<std::string, int>& attributes,
