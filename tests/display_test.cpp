@@ -218,11 +218,13 @@ TEST(OutputEncoding, EightBitOutputIsSrgbByDefaultAndLinearOnRequest) {
 // of grey 128: an sRGB-encoded texel shows as 128 again in sRGB output.
 TEST(OutputEncoding, MtlColourTexturesAreSrgb) {
   test::TempDir dir;
-  const std::vector<std::uint8_t> grey(4 * 4 * 4, 128);
-  std::vector<std::uint8_t> rgba = grey;
-  for (std::size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 255;
-  ASSERT_TRUE(write_png(dir / "grey.png", ImageView{rgba.data(), 4, 4, 16, PixelFormat::rgba8, false}).ok());
-  test::write_text(dir / "quad.mtl", "newmtl m\nKd 1 1 1\nillum 0\nmap_Kd grey.png\nmap_Ke grey.png\n");
+  // An uncompressed 4x4 TGA of grey 128: a format without an encoding tag (facet's PNGs carry an
+  // sRGB chunk, which would decide the encoding by itself).
+  std::string tga(18, '\0');
+  tga[2] = 2, tga[12] = 4, tga[14] = 4, tga[16] = 32, tga[17] = 8;
+  for (int i = 0; i < 16; ++i) tga += std::string("\x80\x80\x80\xff", 4);
+  test::write_text(dir / "grey.tga", tga);
+  test::write_text(dir / "quad.mtl", "newmtl m\nKd 1 1 1\nillum 0\nmap_Kd grey.tga\nmap_Ke grey.tga\n");
   test::write_text(dir / "quad.obj",
                    "mtllib quad.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
                    "usemtl m\nf 1/1 2/2 3/3 4/4\n");
