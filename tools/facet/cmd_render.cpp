@@ -219,7 +219,7 @@ int render(const RenderState& st);
 
 Command add_render(CLI::App& facet) {
   auto st = std::make_shared<RenderState>();
-  CLI::App* app = facet.add_subcommand("render", "render a scene, a model or the built-in scene to PNG or PFM");
+  CLI::App* app = facet.add_subcommand("render", "render a scene, a model or the built-in scene to PNG, PFM or EXR");
   app->footer(
       "Renders a scene file, a model (.gltf, .glb, .obj with .mtl) or, when none is given, the built-in\n"
       "scene. A model without a camera is framed by one; a model without lights gets a headlight and a\n"
