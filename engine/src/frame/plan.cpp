@@ -231,6 +231,13 @@ Status check_options(const RenderOptions& o) {
 bool writes_depth(const Material& m) {
   return m.depth_write == DepthWrite::on || (m.depth_write == DepthWrite::automatic && m.blend == BlendMode::opaque);
 }
+// Whether an object's draw of `material` shows both faces of a blended surface: what a sorted
+// pass draws as two draws, back faces first (plan_units), and what takes twice its ranges.
+static bool both_faces_blended(const Scene& scene, const Instance& inst, std::int64_t material) {
+  return (inst.double_sided || scene.two_sided) && material >= 0 && static_cast<std::size_t>(material) < scene.materials.size() &&
+         scene.materials[static_cast<std::size_t>(material)].blend != BlendMode::opaque;
+}
+
 void plan_units(const Scene& scene, const RenderPass& p, std::vector<DrawUnit>& units,
                 std::vector<scene_order::ObjectKey>& keys, bool depth_writers_only) {
   units.clear();
@@ -247,8 +254,7 @@ void plan_units(const Scene& scene, const RenderPass& p, std::vector<DrawUnit>& 
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
     // Back faces first, then front faces, for a double-sided blended draw of a sorted pass.
     auto push = [&](const DrawUnit& u) {
-      const bool split = sorted && p.assembly.cull == CullMode::back && (inst.double_sided || scene.two_sided) &&
-                         scene.materials[u.material].blend != BlendMode::opaque;
+      const bool split = sorted && p.assembly.cull == CullMode::back && both_faces_blended(scene, inst, u.material);
       if (!split) return units.push_back(u);
       DrawUnit back = u, front = u;
       back.only = 2, front.only = 1;
@@ -284,13 +290,7 @@ std::string mib(std::uint64_t bytes) {
 // A double-sided blended draw may take twice its ranges (plan_units draws its faces apart).
 std::size_t object_ranges(const Scene& scene, const Instance& inst) {
   const Mesh& mesh = scene.meshes[inst.mesh].mesh;
-  const bool both_sides = inst.double_sided || scene.two_sided;
-  auto twice = [&](std::int64_t m) {
-    return both_sides && m >= 0 && static_cast<std::size_t>(m) < scene.materials.size() &&
-                   scene.materials[static_cast<std::size_t>(m)].blend != BlendMode::opaque
-               ? 2
-               : 1;
-  };
+  auto twice = [&](std::int64_t m) -> std::size_t { return both_faces_blended(scene, inst, m) ? 2 : 1; };
   if (!inst.mesh_materials) return twice(inst.material) * ranges_of(mesh.triangle_count());
   std::size_t n = 0;
   for (const MaterialGroup& g : mesh.groups) n += twice(find_material(scene, g.material)) * ranges_of(g.triangle_count);
