@@ -315,6 +315,13 @@ int check(const CheckState& st) {
               options.samples > 1 ? (" with " + std::to_string(options.samples) + " samples a pixel").c_str() : "",
               static_cast<unsigned long long>((estimate_frame_bytes(*scene, options, width, height) + (1u << 20) - 1) >> 20));
   for (const std::string& n : notes) std::printf("  %s\n", n.c_str());
+  {
+    const Display& d = scene->display;
+    char ev[32];
+    std::snprintf(ev, sizeof ev, "%+g EV", double(d.ev));
+    std::printf("  display: exposure %s, tone mapping %s, 8-bit output sRGB (--linear for GL's)\n",
+                d.automatic ? "auto (metered per frame)" : ev, to_string(d.tone_mapping));
+  }
   const Camera& cam = scene->camera;
   if (depth_mode_for(cam, options.depth) == DepthMode::reversed) {
     std::printf("  depth: reversed-Z (near %g, far %s%s)\n", double(cam.near),
