@@ -15,7 +15,7 @@ namespace facet {
 namespace {
 
 // A smooth sky: each channel an affine function of the unit direction.
-std::array<double, 3> sky(const Eigen::Vector3d& d) {
+std::array<double, 3> sky_colour(const Eigen::Vector3d& d) {
   const Eigen::Vector3d u = d.normalized();
   return {0.5 + 0.45 * u.x(), 0.5 + 0.45 * u.y(), 0.5 + 0.45 * u.z()};
 }
@@ -31,7 +31,7 @@ Texture sky_picture(int w, int h) {
   std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w * h) * 4);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
-      const auto c = sky(picture_direction((x + 0.5) / w, 1.0 - (y + 0.5) / h));
+      const auto c = sky_colour(picture_direction((x + 0.5) / w, 1.0 - (y + 0.5) / h));
       std::uint8_t* p = &rgba[static_cast<std::size_t>(y * w + x) * 4];
       for (int k = 0; k < 3; ++k) p[k] = static_cast<std::uint8_t>(std::lround(255.0 * c[static_cast<std::size_t>(k)]));
       p[3] = 255;
@@ -43,7 +43,7 @@ Texture sky_picture(int w, int h) {
 }
 
 // GL 2.1 table 3.21: the direction through (s, t) of face f, t from the face's bottom row.
-Eigen::Vector3d face_direction(int f, double s, double t) {
+Eigen::Vector3d face_direction_from_bottom(int f, double s, double t) {
   const double sc = 2 * s - 1, tc = 1 - 2 * t;
   const Eigen::Vector3d d[6] = {{1, -tc, -sc}, {-1, -tc, sc}, {sc, 1, tc}, {sc, -1, -tc}, {sc, -tc, 1}, {-sc, -tc, -1}};
   return d[f];
@@ -69,7 +69,7 @@ TEST(EquirectToCube, EveryFaceTexelShowsItsDirection) {
     EXPECT_TRUE(validate_texture(face).ok());
     for (int j = 0; j < 32; ++j) {
       for (int i = 0; i < 32; ++i) {
-        const auto want = sky(face_direction(f, (i + 0.5) / 32, (j + 0.5) / 32));
+        const auto want = sky_colour(face_direction_from_bottom(f, (i + 0.5) / 32, (j + 0.5) / 32));
         const auto got = texel(face, i, j);
         for (int c = 0; c < 3; ++c) {
           const double d = std::abs(got[static_cast<std::size_t>(c)] - 255.0 * want[static_cast<std::size_t>(c)]);
@@ -97,7 +97,7 @@ TEST(EquirectToCube, PolesAndOneTexelFacesAreTheMeansOfTheirFaces) {
     const int g = 64;
     for (int j = 0; j < g; ++j)
       for (int i = 0; i < g; ++i) {
-        const auto c = sky(face_direction(f, (i + 0.5) / g, (j + 0.5) / g));
+        const auto c = sky_colour(face_direction_from_bottom(f, (i + 0.5) / g, (j + 0.5) / g));
         for (int k = 0; k < 3; ++k) mean[static_cast<std::size_t>(k)] += c[static_cast<std::size_t>(k)] / (g * g);
       }
     const auto got = texel((*faces)[static_cast<std::size_t>(f)], 0, 0);

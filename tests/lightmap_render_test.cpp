@@ -17,13 +17,6 @@ struct Pixel {
   int r, g, b, a;
 };
 
-std::vector<std::pair<LightingPath, Isa>> every_path() {
-  std::vector<std::pair<LightingPath, Isa>> p = {{LightingPath::reference, Isa::best}, {LightingPath::scalar, Isa::best}};
-  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512})
-    if (isa_supported(isa)) p.push_back({LightingPath::simd, isa});
-  return p;
-}
-
 Texture texture_of(int w, int h, const std::function<std::array<std::uint8_t, 4>(int, int)>& texel, TextureFilter filter) {
   std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w * h * 4));
   for (int y = 0; y < h; ++y)
@@ -75,7 +68,7 @@ TEST(LightmapRender, ColourIsAlbedoTimesBakedLight) {
   const Scene s = lightmapped_quad();
   const double light[3] = {2.0 * 96 / 255, 2.0 * 160 / 255, 2.0 * 64 / 255};
   const double albedo[3] = {0.5, 0.8, 1.0};
-  for (const auto& [path, isa] : every_path()) {
+  for (const auto& [path, isa] : test::every_path()) {
     for (ShadingMode mode : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
       const Pixel p = render_centre(s, path, isa, mode);
       EXPECT_NEAR(p.r, step(albedo[0] * light[0]), 1) << to_string(path) << " " << to_string(isa) << " " << to_string(mode);
@@ -93,7 +86,7 @@ TEST(LightmapRender, TextureModulatesAndEmissionAdds) {
   s.materials[0].emissive = Color3(0.1f, 0.0f, 0.05f);
   const double light[3] = {2.0 * 96 / 255, 2.0 * 160 / 255, 2.0 * 64 / 255};
   const double albedo[3] = {0.5, 0.8, 1.0}, tex[3] = {1.0, 128.0 / 255, 51.0 / 255}, e[3] = {0.1, 0.0, 0.05};
-  for (const auto& [path, isa] : every_path()) {
+  for (const auto& [path, isa] : test::every_path()) {
     for (ShadingMode mode : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
       const Pixel p = render_centre(s, path, isa, mode);
       // The emission is in the lit colour, so the texture modulates it too (GL_MODULATE).
@@ -116,7 +109,7 @@ TEST(LightmapRender, LightsAddTheirSpecularOnlyInDiffuseMode) {
   for (LightmapMode mode : {LightmapMode::diffuse, LightmapMode::replace}) {
     s.objects[0].lightmap_mode = mode;
     const double spec = mode == LightmapMode::diffuse ? 0.25 : 0.0;
-    for (const auto& [path, isa] : every_path()) {
+    for (const auto& [path, isa] : test::every_path()) {
       const Pixel p = render_centre(s, path, isa, ShadingMode::phong);
       EXPECT_NEAR(p.r, step(albedo[0] * light[0] + spec), 1) << to_string(mode) << " " << to_string(path) << " " << to_string(isa);
       EXPECT_NEAR(p.g, step(albedo[1] * light[1] + spec), 1) << to_string(mode) << " " << to_string(path) << " " << to_string(isa);
@@ -144,7 +137,7 @@ TEST(LightmapRender, GradientIsTheSameOnEveryPath) {
   };
   for (ShadingMode mode : {ShadingMode::gouraud, ShadingMode::phong}) {
     const auto scalar = render(LightingPath::scalar, Isa::best, mode);
-    for (const auto& [path, isa] : every_path()) {
+    for (const auto& [path, isa] : test::every_path()) {
       const auto other = render(path, isa, mode);
       int worst = 0;
       for (std::size_t i = 0; i < scalar.size(); ++i) worst = std::max(worst, std::abs(int(scalar[i]) - int(other[i])));

@@ -19,13 +19,6 @@ using test::Canvas;
 
 constexpr int kSide = 64;
 
-std::vector<std::pair<LightingPath, Isa>> every_path() {
-  std::vector<std::pair<LightingPath, Isa>> p = {{LightingPath::reference, Isa::best}, {LightingPath::scalar, Isa::best}};
-  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512})
-    if (isa_supported(isa)) p.push_back({LightingPath::simd, isa});
-  return p;
-}
-
 // The point (x, y, -1) seen by test::camera_scene's camera (90-degree field of view) at screen
 // position (sx, sy) (pixels, y down) of a kSide x kSide image.
 std::array<float, 2> to_world(double sx, double sy) {
@@ -152,7 +145,7 @@ TEST(Msaa, SharedEdgesCoverEachSampleOnce) {
     s.materials.back().blend = BlendMode::add;
   }
   for (int samples : {4, 8, 16}) {
-    for (auto [path, isa] : every_path()) {
+    for (auto [path, isa] : test::every_path()) {
       Canvas c(kSide, kSide, PixelFormat::rgba32f);
       Renderer r;
       ASSERT_TRUE(r.render(s, options_for(samples, path, isa), c.view()).ok());
@@ -182,7 +175,7 @@ TEST(Msaa, TriangleBetweenPixelCentresCoversSamples) {
   auto& triangles = s.meshes.back().mesh.triangles;
   triangles.assign(64, triangles.front());
   for (int samples : {1, 4, 8, 16}) {
-    for (auto [path, isa] : every_path()) {
+    for (auto [path, isa] : test::every_path()) {
       Canvas c(kSide, kSide, PixelFormat::rgba32f);
       FrameStats stats;
       ASSERT_TRUE(Renderer().render(s, options_for(samples, path, isa), c.view(), nullptr, &stats).ok());
@@ -210,7 +203,7 @@ TEST(Msaa, DepthIsTestedPerSample) {
   s.meshes.back().mesh.positions = {Vec3(-0.8f, -0.8f, 0), Vec3(0.8f, -0.8f, 0), Vec3(0.8f, 0.8f, 0), Vec3(-0.8f, 0.8f, 0)};
   s.objects.back().model = turn;
   for (int samples : {1, 4, 16}) {
-    for (auto [path, isa] : every_path()) {
+    for (auto [path, isa] : test::every_path()) {
       RenderOptions o = options_for(samples, path, isa);
       Canvas c(kSide, kSide, PixelFormat::rgba32f);
       ASSERT_TRUE(Renderer().render(s, o, c.view()).ok());
@@ -246,7 +239,7 @@ TEST(Msaa, EveryPathCoversTheSameSamples) {
   for (int samples : {4, 8, 16})
   for (ShadingMode shading : {ShadingMode::flat, ShadingMode::phong}) {
     std::vector<std::uint8_t> first;
-    for (auto [path, isa] : every_path()) {
+    for (auto [path, isa] : test::every_path()) {
       Canvas c(96, 64);
       RenderOptions o = options_for(samples, path, isa);
       o.shading = shading;
@@ -271,7 +264,7 @@ TEST(Msaa, EveryPathCoversTheSameSamples) {
 // the samples s of N with a > s / N, so the resolved pixel is k / N white with k = ceil(a N); at
 // one sample it does nothing (GL), and the alpha test still applies after it. Every path and ISA.
 TEST(Msaa, AlphaToCoverageKeepsTheSamplesBelowTheAlpha) {
-  for (auto [path, isa] : every_path())
+  for (auto [path, isa] : test::every_path())
   for (int samples : {1, 4, 8, 16})
   for (float cutoff : {0.0f, 0.5f})
   for (float alpha : {0.0f, 0.2f, 0.25f, 0.3f, 0.5f, 0.9f, 1.0f}) {
@@ -318,7 +311,7 @@ TEST(Msaa, AlphaToCoverageIsTheSameOnEveryPath) {
   for (int samples : {4, 8, 16})
   for (ShadingMode shading : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
     std::vector<std::uint8_t> first;
-    for (auto [path, isa] : every_path()) {
+    for (auto [path, isa] : test::every_path()) {
       Canvas c(kSide, kSide);
       RenderOptions o = options_for(samples, path, isa);
       o.shading = shading;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "test_support.hpp"
@@ -50,6 +51,14 @@ class Canvas {
 
 // Camera at the origin looking down -z (90 deg vertical field of view), near 1, far 100, no
 // ambient light; one emissive material per colour added with add_quad.
+// Every lighting path this machine runs: the reference, the scalar path, and SIMD on each ISA it has.
+inline std::vector<std::pair<LightingPath, Isa>> every_path() {
+  std::vector<std::pair<LightingPath, Isa>> p = {{LightingPath::reference, Isa::best}, {LightingPath::scalar, Isa::best}};
+  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512})
+    if (isa_supported(isa)) p.push_back({LightingPath::simd, isa});
+  return p;
+}
+
 inline Scene camera_scene() {
   Scene s;
   s.camera.eye = Vec3(0, 0, 0);

@@ -92,14 +92,14 @@ TEST(RenderThreads, HundredThousandSmallTrianglesAreByteIdenticalForAnyThreadCou
   expect_same_for_any_thread_count(random_triangles_scene(100000), 256, 160);
 }
 
-struct Frame {
+struct ThreadFrame {
   std::vector<std::uint8_t> pixels;
   std::vector<float> depth;
 };
 
-Frame render_frame(const Scene& s, int w, int h, ShadingMode mode, LightingPath path, Isa isa) {
+ThreadFrame render_frame(const Scene& s, int w, int h, ShadingMode mode, LightingPath path, Isa isa) {
   test::Canvas c(w, h);
-  Frame f{{}, std::vector<float>(static_cast<std::size_t>(w * h))};
+  ThreadFrame f{{}, std::vector<float>(static_cast<std::size_t>(w * h))};
   const DepthView d{f.depth.data(), w, h, static_cast<std::size_t>(w) * sizeof(float), false};
   RenderOptions o;
   o.shading = mode;
@@ -115,10 +115,10 @@ Frame render_frame(const Scene& s, int w, int h, ShadingMode mode, LightingPath 
 
 void expect_same_coverage_on_every_isa(const Scene& s, int w, int h) {
   for (ShadingMode mode : {ShadingMode::flat, ShadingMode::gouraud, ShadingMode::phong}) {
-    const Frame scalar = render_frame(s, w, h, mode, LightingPath::scalar, Isa::best);
+    const ThreadFrame scalar = render_frame(s, w, h, mode, LightingPath::scalar, Isa::best);
     for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
       if (!isa_supported(isa)) continue;
-      const Frame simd = render_frame(s, w, h, mode, LightingPath::simd, isa);
+      const ThreadFrame simd = render_frame(s, w, h, mode, LightingPath::simd, isa);
       std::size_t coverage_differs = 0, covered = 0;
       int worst = 0;
       for (std::size_t i = 0; i < scalar.depth.size(); ++i) {

@@ -27,7 +27,7 @@ namespace {
 using test::GltfBuilder;
 namespace fs = std::filesystem;
 
-Result<Model> parse(const std::string& text) {
+Result<Model> parse_gltf_text(const std::string& text) {
   return parse_gltf(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), "t.gltf", "",
                     {});
 }
@@ -121,7 +121,7 @@ TEST(TrustRound4, DracoAttributesMatchTheirAccessors) {
     return d;
   };
   for (int n : {3, 4}) {
-    const Result<Model> m = parse(encoded(n, n == 4 ? "VEC4" : "VEC3").dump());
+    const Result<Model> m = parse_gltf_text(encoded(n, n == 4 ? "VEC4" : "VEC3").dump());
     ASSERT_TRUE(m.ok()) << n << ": " << m.status().message();
     ASSERT_FALSE(m->scene.meshes[0].mesh.colors.empty());
     EXPECT_NEAR(m->scene.meshes[0].mesh.colors[0].y(), 0.5f, 1e-6f);
@@ -129,13 +129,13 @@ TEST(TrustRound4, DracoAttributesMatchTheirAccessors) {
   // Two components: refused whatever the accessor says (COLOR_0 is VEC3 or VEC4); four under a
   // VEC3 accessor: refused (the file contradicts itself).
   for (const auto& [n, type] : {std::pair{2, "VEC3"}, std::pair{2, "VEC2"}, std::pair{4, "VEC3"}}) {
-    const Result<Model> bad = parse(encoded(n, type).dump());
+    const Result<Model> bad = parse_gltf_text(encoded(n, type).dump());
     ASSERT_FALSE(bad.ok()) << n << " " << type;
     EXPECT_NE(bad.status().message().find("COLOR_0"), std::string::npos) << bad.status().message();
   }
   nlohmann::json strip = encoded(3, "VEC3");
   strip["meshes"][0]["primitives"][0]["mode"] = 5;
-  const Result<Model> s = parse(strip.dump());
+  const Result<Model> s = parse_gltf_text(strip.dump());
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.status().message().find("mode"), std::string::npos) << s.status().message();
 }
@@ -144,9 +144,9 @@ TEST(TrustRound4, DracoAttributesMatchTheirAccessors) {
 TEST(TrustRound4, AccessorOffsetsAreAlignedToTheirComponents) {
   GltfBuilder b = test::quad();
   nlohmann::json d = b.with_buffer("data:application/octet-stream;base64," + test::base64(b.bin + std::string(8, '\0')));
-  ASSERT_TRUE(parse(d.dump()).ok());
+  ASSERT_TRUE(parse_gltf_text(d.dump()).ok());
   d["accessors"][0]["byteOffset"] = 2;  // floats at offset 2
-  const Result<Model> m = parse(d.dump());
+  const Result<Model> m = parse_gltf_text(d.dump());
   ASSERT_FALSE(m.ok());
   EXPECT_NE(m.status().message().find("accessors[0].byteOffset"), std::string::npos) << m.status().message();
 }
@@ -165,7 +165,7 @@ TEST(TrustRound4, TextureTransformScalesEachComponentUnderARotation) {
   // A 1 x 1 TGA, embedded.
   const std::string tga = std::string("\0\0\2\0\0\0\0\0\0\0\0\0\1\0\1\0\x18\0\x10\x20\x30", 21);
   b.add("images", {{"uri", "data:image/x-tga;base64," + test::base64(tga)}});
-  const Result<Model> m = parse(b.embedded());
+  const Result<Model> m = parse_gltf_text(b.embedded());
   ASSERT_TRUE(m.ok()) << m.status().message();
   const Mesh& mesh = m->scene.meshes[0].mesh;
   ASSERT_EQ(mesh.uvs.size(), 4u);

@@ -37,14 +37,14 @@ void on_message(j_common_ptr info, int level) {
 }
 void no_output(j_common_ptr) {}
 
-struct Header {
+struct JpegHeader {
   int width = 0, height = 0, components = 0;
   bool progressive = false;
 };
 
 // Phase 1 reads the header into `header`; phase 2 the rows into `rgba`, sized by the caller.
 // Returns false with `errors.message` set when libjpeg reports an error.
-bool run(jpeg_decompress_struct& info, Errors& errors, const std::uint8_t* data, std::size_t size, Header& header,
+bool run(jpeg_decompress_struct& info, Errors& errors, const std::uint8_t* data, std::size_t size, JpegHeader& header,
          std::uint8_t* rgba, std::uint64_t max_bytes) {
   if (setjmp(errors.jump)) return false;
   if (!rgba) {
@@ -86,7 +86,7 @@ Result<PngPixels> decode_jpeg(std::span<const std::uint8_t> bytes, const std::st
     jpeg_decompress_struct* info;
     ~Destroy() { jpeg_destroy_decompress(info); }
   } destroy{&info};
-  Header header;
+  JpegHeader header;
   if (!run(info, errors, bytes.data(), bytes.size(), header, nullptr, 0)) {
     return fail(ErrorCode::parse_error, std::string("cannot read the JPEG header: ") + errors.message);
   }
