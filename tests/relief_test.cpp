@@ -497,10 +497,10 @@ TEST(BumpMaps, EnvironmentBumpMovesTheLookup) {
   EXPECT_LE(largest_difference(simd.pixels(), scalar.pixels()), 1);
   // The environment's red at s = 1/2 + 12 x 2/255, bilinear over 256 texels of value i / 255.
   const double at = (0.5 + 12.0 * 2.0 / 255.0) * 256.0 - 0.5;
-  EXPECT_NEAR(simd.byte(16, 16, 0), std::lround(at), 1.0);
+  EXPECT_NEAR(simd.byte(16, 16, 0), static_cast<double>(std::lround(at)), 1.0);
   Scene flat = s;
   flat.materials[0].bump_scale = 0.0f;
-  EXPECT_NEAR(draw(flat, LightingPath::simd).byte(16, 16, 0), std::lround(0.5 * 256.0 - 0.5), 1.0);
+  EXPECT_NEAR(draw(flat, LightingPath::simd).byte(16, 16, 0), static_cast<double>(std::lround(0.5 * 256.0 - 0.5)), 1.0);
 }
 
 using test::projector_scene;

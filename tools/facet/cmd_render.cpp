@@ -317,7 +317,7 @@ int render(const RenderState& st) {
   const std::string& depth_path = st.depth_path;
   const int width = st.width, height = st.height, frame_count = st.frame_count;
   const double min_seconds = st.min_seconds, orbit_deg = st.orbit_deg;
-  const bool stats = st.stats, json = st.json;
+  const bool stats = st.stats, as_json = st.json;
   std::optional<ShadowMethod> shadows;
   if (!st.shadows.empty()) shadows = parse_shadow_method(st.shadows);
   RenderOptions options;
@@ -428,7 +428,7 @@ int render(const RenderState& st) {
     }
     t.orbit_deg = orbit_deg;
     t.lights = st.lights == "camera" ? TurnLights::camera : st.lights == "world" ? TurnLights::world : TurnLights::automatic;
-    t.json = json;
+    t.json = as_json;
     return run_turntable(renderer, *loaded, input, options, image, output, t);
   }
   int frames = 0;
@@ -453,7 +453,7 @@ int render(const RenderState& st) {
 
   const std::string empty = explain_empty_frame(frame);
   if (!empty.empty()) std::fprintf(stderr, "facet: nothing was drawn: %s\n", empty.c_str());
-  if (json) {
+  if (as_json) {
     print_stats_json(frame, frames, elapsed, options, width, height, "", frame_seconds, display_fields(scene->display, options, frame));
   } else if (stats) {
     std::printf("facet render: %s -> %s (%d x %d, %s shading, %s, pixels %s, %d thread%s)\n",
