@@ -20,7 +20,14 @@ struct RandomScene {
 
   float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); }
   bool chance(float p) { return uniform(0, 1) < p; }
-  Vec3 vec(float lo, float hi) { return Vec3(uniform(lo, hi), uniform(lo, hi), uniform(lo, hi)); }
+  // One draw a statement: the order of a call's arguments is the compiler's choice (GCC right to
+  // left, Clang left to right), and the scene must be the same whichever builds the test.
+  Vec3 vec(float lo, float hi) {
+    const float x = uniform(lo, hi);
+    const float y = uniform(lo, hi);
+    const float z = uniform(lo, hi);
+    return Vec3(x, y, z);
+  }
   Vec3 unit() {
     Vec3 v;
     do v = vec(-1, 1);
@@ -78,7 +85,10 @@ struct RandomScene {
 
   Mat4 model() {
     Mat4 m = Mat4::Identity();
-    m.topLeftCorner<3, 3>() = Eigen::AngleAxisf(uniform(0, 6.28f), unit()).toRotationMatrix() * uniform(0.5f, 2.0f);
+    const float angle = uniform(0, 6.28f);
+    const Vec3 axis = unit();
+    const float scale = uniform(0.5f, 2.0f);
+    m.topLeftCorner<3, 3>() = Eigen::AngleAxisf(angle, axis).toRotationMatrix() * scale;
     m.block<3, 1>(0, 3) = vec(-2, 2);
     return m;
   }
@@ -110,7 +120,42 @@ struct Comparison {
   double max_excess = -1e9;  // largest |error| - bound(shininess)
   int max_delta8 = 0;        // largest difference after rounding both to 8 bits
   std::size_t nan_count = 0, out_of_range = 0, compared = 0;
+  std::size_t at_steps = 0;  // vertices on one of the model's steps, left out of the errors above
 };
+
+// GL's lighting is discontinuous in two places: a light's diffuse and specular terms switch on
+// where n.L crosses 0 (the specular one from 0 to (n.h)^s at once: with s = 0, the whole
+// specular colour), and a GL spot's cone cuts off where cos(angle) crosses cos(cutoff). A vertex
+// within rounding of either step may land on either side in float, whatever the precision of
+// everything else: such vertices (a few in 10^5) are counted apart instead of held to a bound
+// that no float evaluation of a step can meet. Worked out in world space in double (n.L and the
+// cone's angle do not change under the rigid view transform).
+std::vector<char> vertices_at_steps(const Scene& scene, std::size_t object) {
+  const Instance& inst = scene.objects[object];
+  const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+  const Eigen::Matrix4d m = inst.model.cast<double>();
+  const Eigen::Matrix3d normal_matrix = m.topLeftCorner<3, 3>().inverse().transpose();
+  constexpr double kStep = 1e-5;
+  std::vector<char> at(mesh.positions.size(), 0);
+  for (std::size_t v = 0; v < at.size(); ++v) {
+    const Eigen::Vector3d p = (m * mesh.positions[v].cast<double>().homogeneous()).head<3>();
+    const Eigen::Vector3d n = normal_matrix * mesh.normals[v].cast<double>();
+    if (!(n.norm() > 1e-6)) continue;  // no normal: unlit in every precision
+    for (const Light& l : scene.lights) {
+      if (!l.enabled) continue;
+      const Eigen::Vector3d to_light = l.type == LightType::directional ? Eigen::Vector3d(-l.direction.cast<double>())
+                                                                          : Eigen::Vector3d(l.position.cast<double>() - p);
+      const Eigen::Vector3d d = to_light.normalized();
+      bool step = std::abs(n.normalized().dot(d)) < kStep;
+      if (l.type == LightType::spot && l.spot_shape == SpotShape::cutoff_exponent && l.spot_cutoff_deg < 180.0f) {
+        const double cos_angle = -d.dot(l.direction.cast<double>().normalized());
+        step = step || std::abs(cos_angle - std::cos(double(l.spot_cutoff_deg) * std::numbers::pi / 180.0)) < kStep;
+      }
+      if (step) at[v] = 1;
+    }
+  }
+  return at;
+}
 
 // Compares `candidate` with the reference path on every vertex of every object.
 template <class Bound>
@@ -125,7 +170,12 @@ Comparison compare_with_reference(const Scene& scene, LightingOptions candidate,
     EXPECT_TRUE(light_instance(scene, i, ref_options, ref).ok());
     EXPECT_TRUE(light_instance(scene, i, candidate, scalar).ok());
     const double shininess = scene.materials[scene.objects[i].material].shininess;
+    const std::vector<char> at_steps = vertices_at_steps(scene, i);
     for (std::size_t v = 0; v < ref.front.size(); ++v) {
+      if (at_steps[v]) {
+        c.at_steps += 1;
+        continue;
+      }
       for (int ch = 0; ch < 3; ++ch) {
         const double r = ref.front[v][ch], s = scalar.front[v][ch];
         if (std::isnan(r) || std::isnan(s)) ++c.nan_count;
@@ -141,6 +191,7 @@ Comparison compare_with_reference(const Scene& scene, LightingOptions candidate,
       }
     }
   }
+  EXPECT_LE(c.at_steps * 1000, c.compared / 3) << "more than one vertex in 1000 on a step: the test no longer says much";
   return c;
 }
 
@@ -156,7 +207,7 @@ TEST(LightingRandom, ScalarMatchesReferenceWithin1e5) {
   RandomScene gen(20261121);
   const Scene scene = gen.scene(10, 10000, 128.0f);  // 10^5 vertices
   const Comparison c = compare_with_reference(scene, scalar_options(true), [](double) { return 1e-5; });
-  EXPECT_EQ(c.compared, 300000u);
+  EXPECT_EQ(c.compared + 3 * c.at_steps, 300000u);
   EXPECT_EQ(c.nan_count, 0u);
   EXPECT_EQ(c.out_of_range, 0u);
   EXPECT_LE(c.max_error, 1e-5);
@@ -203,7 +254,7 @@ TEST_P(SimdRandom, MatchesReference) {
   o.isa = isa;
   o.pow_tier = tier;
   const Comparison c = compare_with_reference(scene, o, [](double) { return 0.0; });
-  EXPECT_EQ(c.compared, 300000u);
+  EXPECT_EQ(c.compared + 3 * c.at_steps, 300000u);
   EXPECT_EQ(c.nan_count, 0u);
   EXPECT_EQ(c.out_of_range, 0u);
   EXPECT_LE(c.max_delta8, 1) << "8-bit output differs by more than one step";
@@ -247,9 +298,12 @@ TEST_P(SimdRandom, PhongLobeAndLinearRangeMatchReference) {
 TEST(LightingRandom, ScalarPhongLobeAndLinearRangeMatchReference) {
   RandomScene gen(616161, true);
   const Scene scene = gen.scene(10, 5000, 128.0f);
-  const Comparison c = compare_with_reference(scene, scalar_options(true), [](double) { return 1e-5; });
+  // Phong's lobe R.V, with R = 2 (n.L) n - L made in float, carries a few ulp more than Blinn's
+  // n.h, and the exponent multiplies them: the bound of high shininess, 1e-5 + s 2.4e-7, holds
+  // already at s = 108 (measured 1.52e-5 there; Blinn's lobe stays within 1e-5 up to 128).
+  const Comparison c = compare_with_reference(scene, scalar_options(true), [](double s) { return 1e-5 + s * 2.4e-7; });
   EXPECT_EQ(c.nan_count, 0u);
-  EXPECT_LE(c.max_error, 1e-5);
+  EXPECT_LE(c.max_excess, 0.0);
   std::printf("scalar, Phong lobe and linear range vs reference: max |error| = %.3g\n", c.max_error);
 }
 
@@ -389,9 +443,10 @@ TEST(LightingColorMaterial, EveryPathMatchesReference) {
   Scene scene = gen.scene(4, 5000, 256.0f);
   std::mt19937 rng(3);
   add_vertex_colours(scene, rng);
-  const Comparison s = compare_with_reference(scene, scalar_options(true), [](double) { return 1e-5; });
+  // Shininess up to 256: the high-shininess bound (measured 1.39e-5).
+  const Comparison s = compare_with_reference(scene, scalar_options(true), [](double x) { return 1e-5 + x * 2.4e-7; });
   EXPECT_EQ(s.nan_count, 0u);
-  EXPECT_LE(s.max_error, 1e-5);
+  EXPECT_LE(s.max_excess, 0.0);
   for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
     if (!isa_supported(isa)) continue;
     for (PowTier tier : {PowTier::automatic, PowTier::exact}) {

@@ -136,7 +136,12 @@ B pow_cos_exact(const V<B>& a, const V<B>& b, float s) {
   const B q = xsimd::sqrt(dot3(a, a) * dot3(b, b));
   const auto valid = (c > B(0.0f)) && (q > B(0.0f)) && (q <= B(std::numeric_limits<typename B::value_type>::max()));
   const B delta = xsimd::min(dot3(x, x) / (q * (q + c)), B(1.0f));
-  const B y = xsimd::exp2(B(static_cast<typename B::value_type>(double(s) * 1.4426950408889634)) * xsimd::log1p(-delta));
+  // delta = 1 gives log1p(-1) = -inf, and a lane that is not valid may hold NaN: exp2's range
+  // reduction converts its argument to an integer, which is undefined for either, so the argument
+  // is held at or above -1100, where 2^x is already 0 in double and float alike.
+  const B e = B(static_cast<typename B::value_type>(double(s) * 1.4426950408889634)) * xsimd::log1p(-delta);
+  const B lowest(-1100.0f);
+  const B y = xsimd::exp2(xsimd::select(e > lowest, e, lowest));
   return xsimd::select(valid, fastmath::clamp01(y), B(0.0f));
 }
 
