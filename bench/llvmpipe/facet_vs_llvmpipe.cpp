@@ -740,7 +740,14 @@ void gl_draw(const facet::Scene& s, const GlScene& g, int w, int h) {
   const facet::Mat4 proj = facet::projection_matrix(s.camera, aspect);
   const facet::Mat4 view = facet::view_matrix(s.camera);
   glMatrixMode(GL_PROJECTION);
-  glLoadMatrixf(proj.data());  // Eigen is column-major, like OpenGL
+  if (s.camera.projection == facet::Projection::orthographic) {
+    // GL's own box, not facet's matrix: the comparison checks facet's projection too.
+    const double hh = s.camera.half_height, hw = hh * double(aspect);
+    glLoadIdentity();
+    glOrtho(-hw, hw, -hh, hh, s.camera.near, s.camera.far);
+  } else {
+    glLoadMatrixf(proj.data());  // Eigen is column-major, like OpenGL
+  }
   glMatrixMode(GL_MODELVIEW);
   glLoadMatrixf(view.data());  // lights are given in world space: GL moves them to eye space
   const GLfloat global[4] = {s.global_ambient.x(), s.global_ambient.y(), s.global_ambient.z(), 1};

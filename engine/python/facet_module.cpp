@@ -59,7 +59,9 @@ E parse_named(const std::string& text, const char* what, std::initializer_list<E
     if (text == to_string(v)) return v;
     known += (known.empty() ? "" : ", ") + std::string(to_string(v));
   }
-  raise({ErrorCode::invalid_argument, what, std::string(what) + ": unknown value '" + text + "' (expected one of " + known + ")"});
+  std::string shown;  // the caller's text, short and without control characters
+  for (const char c : text.substr(0, 40)) shown += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? '?' : c;
+  raise({ErrorCode::invalid_argument, what, std::string(what) + ": unknown value '" + shown + "' (expected one of " + known + ")"});
 }
 
 ShadingMode shading_of(const std::string& s) {
@@ -67,6 +69,23 @@ ShadingMode shading_of(const std::string& s) {
 }
 LightingPath path_of(const std::string& s) {
   return parse_named(s, "path", {LightingPath::reference, LightingPath::scalar, LightingPath::simd});
+}
+UpAxis up_of(const std::string& s) {
+  return parse_named(s, "up", {UpAxis::y, UpAxis::z, UpAxis::x, UpAxis::neg_x, UpAxis::neg_y, UpAxis::neg_z});
+}
+Projection projection_of(const std::string& s) {
+  return parse_named(s, "projection", {Projection::perspective, Projection::orthographic});
+}
+// Where a framing camera looks from (facet render's --view, --up, --fov, --projection).
+ViewOptions view_of(std::array<float, 2> view, const std::string& up, float fov_deg, const std::string& projection, float fill) {
+  ViewOptions v;
+  v.azimuth_deg = view[0], v.elevation_deg = view[1];
+  v.up = up_of(up);
+  v.vertical_fov_deg = fov_deg;
+  v.projection = projection_of(projection);
+  v.fill = fill;
+  if (Status st = validate_view(v); !st.ok()) raise(st);
+  return v;
 }
 Isa isa_of(const std::string& s) { return parse_named(s, "isa", {Isa::best, Isa::sse2, Isa::avx2, Isa::avx512}); }
 PowTier pow_of(const std::string& s) {
@@ -97,9 +116,17 @@ py::dict stats_dict(const FrameStats& s) {
 // What `facet render FILE` draws: a scene file as it is (a file that imports models and has no
 // camera or lights gets them as the loader says); a model with its own camera and lights, or
 // framed for the image's aspect and lit by facet's default rig; no path: the built-in scene.
+// `camera`: a glTF file's camera (ModelOptions::camera); `view`: frame the model with it even
+// when the file has a camera (facet render --view, --fov, --projection); `cameras`: the file's.
 Scene load_for_render(const std::optional<std::string>& path, float aspect, const std::vector<std::string>& allow_paths,
-                      bool strict = false, std::vector<std::string>* warnings = nullptr) {
-  if (!path) return make_default_scene();
+                      bool strict = false, std::vector<std::string>* warnings = nullptr, const std::string& camera = "",
+                      const ViewOptions& framing = {}, bool reframe = false, std::vector<std::string>* cameras = nullptr) {
+  if (!path) {
+    if (!camera.empty()) raise({ErrorCode::invalid_argument, "camera", "camera: picks one of a glTF file's cameras; no file was given"});
+    Scene s = make_default_scene();
+    if (reframe) s.camera = value_or_raise(frame_scene(s, aspect, framing));
+    return s;
+  }
   std::string ext = *path;
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   auto ends = [&](const char* e) { return ext.size() >= std::strlen(e) && ext.compare(ext.size() - std::strlen(e), std::string::npos, e) == 0; };
@@ -107,18 +134,24 @@ Scene load_for_render(const std::optional<std::string>& path, float aspect, cons
     ModelOptions mo;
     mo.assets.allowed_roots = allow_paths;
     mo.allow_missing = !strict;
+    mo.camera = camera;
     Model m = value_or_raise(load_model(*path, mo));
     if (warnings) *warnings = m.warnings;
-    if (!m.has_camera) m.scene.camera = value_or_raise(frame_scene(m.scene, aspect));
+    if (cameras) *cameras = m.cameras;
+    if (!m.has_camera || reframe) m.scene.camera = value_or_raise(frame_scene(m.scene, aspect, framing));
     if (!m.has_lights) add_default_lights(m.scene);
     return std::move(m.scene);
   }
+  if (!camera.empty()) raise({ErrorCode::invalid_argument, "camera", "camera: picks one of a glTF file's cameras; this is a scene file"});
   LoadOptions lo;
   lo.assets.allowed_roots = allow_paths;
   lo.frame_aspect = aspect;
   lo.strict = strict;
+  lo.view = framing;
   if (warnings) lo.warning = [warnings](const std::string& w) { warnings->push_back(w); };
-  return value_or_raise(load_scene_file(*path, lo));
+  Scene s = value_or_raise(load_scene_file(*path, lo));
+  if (reframe) s.camera = value_or_raise(frame_scene(s, aspect, framing));
+  return s;
 }
 
 // A Python facet.Scene. Renderer.render draws it with the GIL released, so no other Python thread
@@ -129,6 +162,7 @@ struct PyScene {
   Scene scene;
   int rendering = 0;
   std::vector<std::string> warnings;  // what loading read approximately or not at all
+  std::vector<std::string> cameras;   // a loaded glTF file's cameras (Model::cameras)
 
   Scene& edit() {
     if (rendering > 0) {
@@ -474,9 +508,17 @@ PYBIND11_MODULE(_facet, m) {
          py::arg("attenuation") = std::array<float, 3>{1, 0, 0}, py::arg("spot_cutoff_deg") = 45.0f, py::arg("spot_exponent") = 0.0f,
          "A GL light: directional (direction: the way the light travels), point or spot (GL cone); attenuation = "
          "(constant, linear, quadratic). Returns its index.")
-      .def("frame", [](PyScene& ps, float aspect) {
-        Scene& s = ps.edit(); s.camera = value_or_raise(frame_scene(s, aspect)); }, py::arg("aspect") = 16.0f / 9.0f,
-           "Points the camera at every object from the front, as facet render frames a model.")
+      .def("frame", [](PyScene& ps, float aspect, std::array<float, 2> view, const std::string& up, float fov_deg,
+                       const std::string& projection, float fill) {
+        const ViewOptions v = view_of(view, up, fov_deg, projection, fill);
+        Scene& s = ps.edit();
+        s.camera = value_or_raise(frame_scene(s, aspect, v));
+      }, py::arg("aspect") = 16.0f / 9.0f, py::arg("view") = std::array<float, 2>{0, 0}, py::arg("up") = "y",
+           py::arg("fov_deg") = 45.0f, py::arg("projection") = "perspective", py::arg("fill") = 0.85f,
+           "Points the camera at every object, as facet render frames a model: from view = (azimuth, elevation) in "
+           "degrees (0, 0: the front; 90, 0: from +X), the model's up axis up ('y', 'z', 'x', '-x', '-y', '-z'), a "
+           "perspective camera of vertical field of view fov_deg or an orthographic one (projection='orthographic'), "
+           "the model spanning `fill` of the image.")
       .def_property_readonly("object_count", [](const PyScene& ps) { return ps.scene.objects.size(); })
       .def_property_readonly("light_count", [](const PyScene& ps) { return ps.scene.lights.size(); })
       .def_property_readonly("triangle_count", [](const PyScene& ps) {
@@ -485,14 +527,37 @@ PYBIND11_MODULE(_facet, m) {
         for (const Instance& i : s.objects) n += s.meshes[i.mesh].mesh.triangles.size();
         return n;
       })
-      .def("set_camera", [](PyScene& ps, std::array<float, 3> eye, std::array<float, 3> target, std::array<float, 3> up, float fov_deg) {
-        Scene& s = ps.edit();
-        Camera c = s.camera;
+      .def("set_camera", [](PyScene& ps, std::array<float, 3> eye, std::array<float, 3> target, std::array<float, 3> up, float fov_deg,
+                            const std::string& projection, float half_height, std::optional<float> near, std::optional<float> far) {
+        Camera c = ps.scene.camera;
         c.eye = Vec3(eye[0], eye[1], eye[2]), c.target = Vec3(target[0], target[1], target[2]), c.up = Vec3(up[0], up[1], up[2]);
+        c.projection = projection_of(projection);
         c.vertical_fov_deg = fov_deg;
+        c.half_height = half_height;
+        if (near) c.near = *near;
+        if (far) c.far = *far;
         if (Status st = validate_camera(c); !st.ok()) raise(st);
-        s.camera = c;
-      }, py::arg("eye"), py::arg("target"), py::arg("up") = std::array<float, 3>{0, 1, 0}, py::arg("fov_deg") = 45.0f)
+        ps.edit().camera = c;
+      }, py::arg("eye"), py::arg("target"), py::arg("up") = std::array<float, 3>{0, 1, 0}, py::arg("fov_deg") = 45.0f,
+         py::arg("projection") = "perspective", py::arg("half_height") = 1.0f, py::arg("near") = py::none(), py::arg("far") = py::none(),
+         "A look-at camera: perspective with a vertical field of view fov_deg, or orthographic (glOrtho) with a box "
+         "half_height scene units above and below the view; near and far planes (kept when not given; far may be "
+         "float('inf') for an infinite perspective projection).")
+      .def_property_readonly("camera", [](const PyScene& ps) {
+        const Camera& c = ps.scene.camera;
+        py::dict d;
+        d["eye"] = std::array<float, 3>{c.eye.x(), c.eye.y(), c.eye.z()};
+        d["target"] = std::array<float, 3>{c.target.x(), c.target.y(), c.target.z()};
+        d["up"] = std::array<float, 3>{c.up.x(), c.up.y(), c.up.z()};
+        d["projection"] = to_string(c.projection);
+        d["fov_deg"] = c.vertical_fov_deg;
+        d["half_height"] = c.half_height;
+        d["near"] = c.near;
+        d["far"] = c.far;
+        return d;
+      }, "The scene's camera, as set_camera takes it.")
+      .def_property_readonly("cameras", [](const PyScene& ps) { return ps.cameras; },
+                             "A loaded glTF file's cameras, one line each (facet.load's camera= picks one by index or name).")
       .def("set_display", [](PyScene& ps, py::object exposure, const std::string& tone_mapping) {
         Display d;
         if (py::isinstance<py::str>(exposure)) {
@@ -523,23 +588,38 @@ PYBIND11_MODULE(_facet, m) {
         d["tone_mapping"] = to_string(v.tone_mapping);
         return d;
       }, "The scene's exposure and tone mapping, as set_display takes them.")
-      .def("orbit", [](PyScene& ps, float angle_deg) {
+      .def("orbit", [](PyScene& ps, float angle_deg, const std::string& up) {
+        const UpAxis axis = up_of(up);
+        if (!(std::abs(angle_deg) <= 36000.0f)) raise({ErrorCode::invalid_argument, "angle_deg", "angle_deg: expected a number in [-36000, 36000]"});
         Scene& s = ps.edit();
         const Bounds b = scene_bounds(s);
         const Vec3 centre = b.empty() ? s.camera.target : Vec3(0.5f * (b.min + b.max));
-        s.camera = orbit_camera(s.camera, centre, UpAxis::y, angle_deg);
-      }, py::arg("angle_deg"), "Turns the camera about the scene's centre (y up), as facet render --orbit.");
+        s.camera = orbit_camera(s.camera, centre, axis, angle_deg);
+      }, py::arg("angle_deg"), py::arg("up") = "y",
+         "Turns the camera about the scene's centre and its up axis (y, z, x, -x, -y, -z), as facet render --orbit.");
 
-  m.def("load", [](const std::string& path, float aspect, std::vector<std::string> allow_paths, bool strict) {
+  m.def("load", [](const std::string& path, float aspect, std::vector<std::string> allow_paths, bool strict, const std::string& camera,
+                   std::optional<std::array<float, 2>> view, const std::string& up, std::optional<float> fov_deg,
+                   std::optional<std::string> projection) {
     PyScene ps;
-    ps.scene = load_for_render(path, aspect, allow_paths, strict, &ps.warnings);
+    const bool reframe = view || fov_deg || projection;
+    if (reframe && !camera.empty()) {
+      raise({ErrorCode::invalid_argument, "camera",
+             "camera: looks through the file's camera; view, fov_deg and projection frame the model with facet's instead"});
+    }
+    const ViewOptions framing = view_of(view.value_or(std::array<float, 2>{0, 0}), up, fov_deg.value_or(45.0f),
+                                        projection.value_or("perspective"), 0.85f);
+    ps.scene = load_for_render(path, aspect, allow_paths, strict, &ps.warnings, camera, framing, reframe, &ps.cameras);
     return ps;
   }, py::arg("path"), py::arg("aspect") = 16.0f / 9.0f, py::arg("allow_paths") = std::vector<std::string>{},
-        py::arg("strict") = false,
+        py::arg("strict") = false, py::arg("camera") = "", py::arg("view") = py::none(), py::arg("up") = "y",
+        py::arg("fov_deg") = py::none(), py::arg("projection") = py::none(),
         "A scene file (.json) or a model (.gltf, .glb, .obj), as facet render reads it: a model without a camera is framed "
         "for `aspect`, one without lights gets facet's default rig. Files outside the file's folder are refused unless "
         "a folder in allow_paths holds them. A missing or unreadable material library or texture is a warning "
-        "(Scene.warnings) unless strict=True, which refuses the model.");
+        "(Scene.warnings) unless strict=True, which refuses the model. camera picks a glTF file's camera by index or name "
+        "(Scene.cameras lists them); view=(azimuth, elevation), fov_deg or projection ('perspective', 'orthographic') "
+        "frame the model with facet's camera even when the file has one; up is the model's up axis for framing.");
 
   py::class_<PyRenderer>(m, "Renderer", "A renderer with its own threads and options; render() releases the GIL.")
       .def(py::init<const std::string&, const std::string&, const std::string&, const std::string&, int, int, bool, std::array<float, 4>,

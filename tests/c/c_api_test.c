@@ -309,7 +309,7 @@ static void setters_change_the_picture(void) {
   CHECK(got.eye[1] < got.target[1] && got.up[2] == 1.0f); /* Z up: the front faces -Y */
   CHECK(facet_scene_frame_view(s, 1.0f, 0.0f, 90.0f, FACET_UP_Y, 45.0f, 0.85f) == FACET_INVALID_ARGUMENT);
   CHECK(strstr(facet_scene_last_error(s), "elevation_deg") != NULL);
-  CHECK(facet_scene_frame_view(s, 1.0f, 0.0f, 0.0f, (facet_up)5, 45.0f, 0.85f) == FACET_INVALID_ARGUMENT);
+  CHECK(facet_scene_frame_view(s, 1.0f, 0.0f, 0.0f, (facet_up)6, 45.0f, 0.85f) == FACET_INVALID_ARGUMENT);
   CHECK(facet_scene_frame_view(s, 1.0f, 0.0f, 0.0f, FACET_UP_Y, 45.0f, 0.0f) == FACET_INVALID_ARGUMENT);
   CHECK(strstr(facet_scene_last_error(s), "fill") != NULL);
   CHECK(facet_scene_orbit(s, NAN, FACET_UP_Y, 0) == FACET_INVALID_ARGUMENT);

@@ -160,16 +160,35 @@ void add_view_options(CLI::App* app, ViewState& st, const char* group) {
   in_group(app->add_option("--view", st.view,
                            "AZIMUTH,ELEVATION in degrees: where facet's framing camera looks from (default 0,0: the front; "
                            "90,0 from +X; 0,30 from the front and above); frames even a file that has a camera"));
-  in_group(app->add_option("--up", st.up, "y | z: the model's up axis (default y, glTF's; z: CAD and Blender's, the front faces -Y)")
-               ->check(one_of({"y", "z"}, "up axis")));
+  in_group(app->add_option("--up", st.up,
+                           "y | z | x | -x | -y | -z: the model's up axis (default y, glTF's; z: CAD and Blender's, the front faces "
+                           "-Y); write a negative axis as --up=-z")
+               ->check(one_of({"y", "z", "x", "-x", "-y", "-z", "+x", "+y", "+z"}, "up axis")));
   in_group(app->add_option("--fov", st.fov_deg, "the framing camera's vertical field of view in degrees (default 45); frames even a file that has a camera")
                ->check(number_in(1, 170)));
+  in_group(app->add_option("--projection", st.projection,
+                           "perspective | orthographic: the framing camera's projection (orthographic: parallel rays, no "
+                           "foreshortening); frames even a file that has a camera")
+               ->check(one_of({"perspective", "orthographic"}, "projection")));
+  in_group(app->add_option("--camera", st.camera,
+                           "INDEX | NAME: which of a glTF file's cameras to look through, by its index in the file's cameras "
+                           "or its (or its node's) name (default: the first in the scene; facet check lists them)"));
   in_group(app->add_flag("--ignore-camera", st.ignore_camera, "frame the model even when its file has a camera"));
 }
 
 bool apply_view_options(const ViewState& st, InputOptions& input) {
-  input.view.up = st.up == "z" ? UpAxis::z : UpAxis::y;
+  if (!parse_up_axis(st.up, input.view.up)) {
+    fail("--up: expected y, z, x, -x, -y or -z, found '" + json_escape(st.up.substr(0, 40)) + "'");
+    return false;
+  }
   if (st.fov_deg > 0.0) input.view.vertical_fov_deg = static_cast<float>(st.fov_deg);
+  if (st.projection == "orthographic") input.view.projection = Projection::orthographic;
+  if (!st.camera.empty() && (st.ignore_camera || !st.view.empty() || st.fov_deg > 0.0 || !st.projection.empty())) {
+    fail("--camera looks through the file's camera: it cannot be combined with --view, --fov, --projection or --ignore-camera, "
+         "which frame the model with facet's");
+    return false;
+  }
+  input.camera = st.camera;
   if (!st.view.empty()) {
     const std::size_t comma = st.view.find(',');
     char* end = nullptr;
@@ -182,22 +201,27 @@ bool apply_view_options(const ViewState& st, InputOptions& input) {
       ok = ok && !el.empty() && end == el.c_str() + el.size();
     }
     if (!ok || !validate_view(input.view).ok()) {
-      fail("--view: expected AZIMUTH,ELEVATION in degrees, elevation in (-90, 90), found '" + st.view + "'");
+      fail("--view: expected AZIMUTH,ELEVATION in degrees, elevation in (-90, 90), found '" + json_escape(st.view.substr(0, 40)) + "'");
       return false;
     }
   }
-  input.reframe = st.ignore_camera || !st.view.empty() || st.fov_deg > 0.0;
+  input.reframe = st.ignore_camera || !st.view.empty() || st.fov_deg > 0.0 || !st.projection.empty();
   return true;
 }
 
-namespace {
-
 std::string describe_camera(const Camera& c) {
-  char buf[200];
-  std::snprintf(buf, sizeof buf, "eye (%.4g, %.4g, %.4g), target (%.4g, %.4g, %.4g), fov %.4g deg", c.eye.x(), c.eye.y(),
-                c.eye.z(), c.target.x(), c.target.y(), c.target.z(), c.vertical_fov_deg);
+  char buf[220];
+  if (c.projection == Projection::orthographic) {
+    std::snprintf(buf, sizeof buf, "eye (%.4g, %.4g, %.4g), target (%.4g, %.4g, %.4g), orthographic, half height %.4g", c.eye.x(),
+                  c.eye.y(), c.eye.z(), c.target.x(), c.target.y(), c.target.z(), c.half_height);
+  } else {
+    std::snprintf(buf, sizeof buf, "eye (%.4g, %.4g, %.4g), target (%.4g, %.4g, %.4g), fov %.4g deg", c.eye.x(), c.eye.y(),
+                  c.eye.z(), c.target.x(), c.target.y(), c.target.z(), c.vertical_fov_deg);
+  }
   return buf;
 }
+
+namespace {
 
 // Frames `scene` for `options`; prints and returns false when it cannot.
 bool frame(Scene& scene, const std::string& path, const InputOptions& options, const std::string& why,
@@ -221,9 +245,14 @@ bool frame(Scene& scene, const std::string& path, const InputOptions& options, c
 std::optional<Input> load_input(const std::string& path, const InputOptions& options, std::vector<std::string>& notes) {
   Input input;
   input.rig_first = std::numeric_limits<std::size_t>::max();
+  if (!options.camera.empty() && (!is_model_path(path) || lower_extension(path) == ".obj")) {
+    fail("--camera picks one of a glTF file's cameras; " + (path.empty() ? std::string("the built-in scene") : json_escape(path)) +
+         " is not a glTF file");
+    return std::nullopt;
+  }
   if (path.empty()) {
     input.scene = make_default_scene();
-    if (options.reframe && !frame(input.scene, "built-in scene", options, "--view, --fov or --ignore-camera", notes)) return std::nullopt;
+    if (options.reframe && !frame(input.scene, "built-in scene", options, "--view, --fov, --projection or --ignore-camera", notes)) return std::nullopt;
     input.framed = options.reframe;
     input.rig_first = input.scene.lights.size();
     return input;
@@ -255,7 +284,7 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
       return std::nullopt;
     }
     input.scene = std::move(*loaded);
-    if (options.reframe && !frame(input.scene, path, options, "--view, --fov or --ignore-camera", notes)) return std::nullopt;
+    if (options.reframe && !frame(input.scene, path, options, "--view, --fov, --projection or --ignore-camera", notes)) return std::nullopt;
     input.framed = options.reframe;
     // The rig a scene file that imports models gets when nothing else lights it (LoadOptions::view).
     const auto& lights = input.scene.lights;
@@ -268,16 +297,18 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
   mo.allow_missing = options.allow_missing;
   mo.assets.allowed_roots = options.allowed_paths;
   mo.assets.on_read = options.on_read;
+  mo.camera = options.camera;
   Result<Model> model = load_model(path, mo);
   if (!model) {
     fail(model.status().message());
     return std::nullopt;
   }
   for (const std::string& w : model->warnings) notes.push_back("warning: " + w);
+  input.cameras = model->cameras;
   input.scene = std::move(model->scene);
   Scene& scene = input.scene;
   if (!model->has_camera || options.reframe) {
-    if (!frame(scene, path, options, model->has_camera ? "--view, --fov or --ignore-camera" : "no camera in the file", notes)) {
+    if (!frame(scene, path, options, model->has_camera ? "--view, --fov, --projection or --ignore-camera" : "no camera in the file", notes)) {
       return std::nullopt;
     }
     input.framed = true;

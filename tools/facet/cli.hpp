@@ -82,7 +82,8 @@ struct InputOptions {
   std::vector<std::string> allowed_paths;  // --allow-path: AssetAccess::allowed_roots
   float aspect = 16.0f / 9.0f; // of the image, for framing a model without a camera
   ViewOptions view;            // --view, --up, --fov
-  bool reframe = false;        // --view, --fov or --ignore-camera: frame even a file that has a camera
+  bool reframe = false;        // --view, --fov, --projection or --ignore-camera: frame even a file that has a camera
+  std::string camera;          // --camera: ModelOptions::camera
   // A scene file's load asks it whether to go on (LoadOptions::progress): --time-limit; the
   // message printed when it said no.
   std::function<bool(double done)> progress;
@@ -96,6 +97,8 @@ struct ViewState {
   std::string view, up = "y";
   double fov_deg = 0.0;  // 0: not given
   bool ignore_camera = false;
+  std::string projection;  // --projection: "" (not given), perspective, orthographic
+  std::string camera;      // --camera INDEX|NAME: a glTF file's camera
 };
 void add_view_options(CLI::App* app, ViewState& st, const char* group = nullptr);
 // Sets input.view and input.reframe from the parsed options; prints and returns false if --view
@@ -106,7 +109,10 @@ struct Input {
   Scene scene;
   bool framed = false;       // the camera is facet's framing, not the file's
   std::size_t rig_first = 0;  // facet's default rig is lights [rig_first, end); none when == lights.size()
+  std::vector<std::string> cameras;  // a glTF file's cameras (Model::cameras), for --camera
 };
+// "eye (..), target (..), fov 45 deg" or "..., orthographic, half height 2".
+std::string describe_camera(const Camera& c);
 // A scene file, a model (framed by a camera and lit by the default rig when the file has none;
 // `notes` says so, with the model's warnings) or, for an empty path, the built-in scene. Prints
 // the error and returns nothing on failure.

@@ -323,6 +323,11 @@ int check(const CheckState& st) {
                 d.automatic ? "auto (metered per frame)" : ev, to_string(d.tone_mapping));
   }
   const Camera& cam = scene->camera;
+  std::printf("  camera: %s (%s)\n", describe_camera(cam).c_str(), loaded->framed ? "facet's framing" : "the file's");
+  if (!loaded->cameras.empty()) {
+    std::printf("  the file's cameras (--camera INDEX or NAME):\n");
+    for (const std::string& c : loaded->cameras) std::printf("    %s\n", c.c_str());
+  }
   if (depth_mode_for(cam, options.depth) == DepthMode::reversed) {
     std::printf("  depth: reversed-Z (near %g, far %s%s)\n", double(cam.near),
                 std::isfinite(cam.far) ? std::to_string(cam.far).c_str() : "infinite",

@@ -367,6 +367,12 @@ enum { FACET_LOAD_ALLOW_MISSING = 1, FACET_LOAD_FRAME = 2, FACET_LOAD_STRICT = 4
 facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigned flags, float aspect,
                                    uint64_t memory_budget_bytes);
 const char* facet_scene_warnings(const facet_scene* scene);
+/* Which of a glTF file's cameras the next facet_scene_load_file looks through (ModelOptions::camera):
+ * its index in the file's cameras ("2") or its name, or the camera's node's; NULL or "" (default)
+ * the first in the scene's order. A name the file does not have fails the load, listing those it
+ * has. facet_scene_cameras lists the last loaded file's cameras, one a line ("" if none). */
+facet_status facet_scene_set_load_camera(facet_scene* scene, const char* camera);
+const char* facet_scene_cameras(const facet_scene* scene);
 /* Which files facet_scene_load_file may read (facet/assets.hpp). By default a scene or model may
  * name files in its own folder only: no absolute path, no ".." that climbs out, no URI, no link
  * leading out. facet_scene_allow_path adds a folder whose files may be named too (NULL clears the
@@ -383,10 +389,19 @@ facet_status facet_scene_set_resolver(facet_scene* scene, facet_resolve_fn resol
  * at the model's front (glTF's convention: +Y up, the front faces +Z); the model spans 85 % of
  * the image's height or width. facet_scene_frame_view looks from `azimuth_deg` about the up axis
  * (0 the front, 90 from +X) and `elevation_deg` in (-90, 90) above the horizon, with `up`
- * FACET_UP_Z for models whose up is +Z (their front faces -Y), a vertical field of view of
- * `fov_deg` in (0, 180), spanning `fill` in (0, 1] of the image (ViewOptions in model.hpp).
+ * FACET_UP_Z for models whose up is +Z (their front faces -Y) or another axis below, a vertical
+ * field of view of `fov_deg` in (0, 180) (unused when the scene's camera is orthographic: see
+ * facet_scene_set_projection), spanning `fill` in (0, 1] of the image (ViewOptions in model.hpp).
  * FACET_INVALID_ARGUMENT when the scene has no vertices to frame. */
-typedef enum facet_up { FACET_UP_Y = 0, FACET_UP_Z = 1 } facet_up;
+typedef enum facet_up {
+  FACET_UP_Y = 0,
+  FACET_UP_Z = 1,
+  /* models lying on their side or upside down (facet::UpAxis): x and -x and -y face +Z, -z faces -Y */
+  FACET_UP_X = 2,
+  FACET_UP_NEG_X = 3,
+  FACET_UP_NEG_Y = 4,
+  FACET_UP_NEG_Z = 5
+} facet_up;
 facet_status facet_scene_frame(facet_scene* scene, float aspect);
 facet_status facet_scene_frame_view(facet_scene* scene, float aspect, float azimuth_deg, float elevation_deg,
                                     facet_up up, float fov_deg, float fill);
@@ -496,9 +511,19 @@ typedef struct facet_display {
 } facet_display;
 facet_status facet_scene_set_display(facet_scene* scene, const facet_display* display);
 facet_status facet_scene_get_display(const facet_scene* scene, facet_display* display);
+/* Sets the camera's placement, field of view and planes; its projection (below) is kept. */
 facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* camera);
 /* The scene's camera (after facet_scene_frame, a load with FACET_LOAD_FRAME or an orbit). */
 facet_status facet_scene_get_camera(const facet_scene* scene, facet_camera* camera);
+/* The camera's projection (facet::Projection): FACET_PROJECTION_PERSPECTIVE (default: the
+ * camera's vertical_fov_deg) or FACET_PROJECTION_ORTHOGRAPHIC (glOrtho's box: `half_height` scene
+ * units above and below the view, half_height x aspect across, in (0, 1e30]; near_plane >= 0 and
+ * a finite far_plane). The camera with the new projection must be valid (FACET_INVALID_ARGUMENT
+ * otherwise, and nothing changes). facet_scene_frame and facet_scene_frame_view frame with the
+ * projection the scene's camera has. A loaded glTF's orthographic camera sets it. */
+typedef enum facet_projection { FACET_PROJECTION_PERSPECTIVE = 0, FACET_PROJECTION_ORTHOGRAPHIC = 1 } facet_projection;
+facet_status facet_scene_set_projection(facet_scene* scene, facet_projection projection, float half_height);
+facet_status facet_scene_get_projection(const facet_scene* scene, facet_projection* projection, float* half_height);
 facet_status facet_scene_set_global_ambient(facet_scene* scene, const float rgb[3]);
 facet_fog facet_fog_default(void); /* no fog; GL's defaults otherwise */
 facet_status facet_scene_set_fog(facet_scene* scene, const facet_fog* fog);

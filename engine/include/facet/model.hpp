@@ -9,6 +9,7 @@
 #include <functional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "facet/assets.hpp"
@@ -36,6 +37,10 @@ struct ModelOptions {
   // Which files the model may name (its buffers, images, `mtllib`s and textures): by default only
   // files in the model's own folder (facet/assets.hpp).
   AssetAccess assets;
+  // glTF: the camera to use, by its index in the file's `cameras` ("2") or by name (the camera's
+  // or its node's); empty: the first camera node in the scene's order. A camera that is not in
+  // the drawn scene is an error that lists the ones that are (`facet --camera`).
+  std::string camera;
 };
 
 struct Model {
@@ -45,6 +50,10 @@ struct Model {
   Scene scene;
   bool has_camera = false;  // the scene's camera is the file's
   bool has_lights = false;  // the scene's lights are the file's
+  // glTF: the camera nodes of the drawn scene in its order, one line each: the index in
+  // `cameras`, the camera's name, its node's name when it differs, and its type
+  // (`1 "Top" (node "Camera.001"), "orthographic"`).
+  std::vector<std::string> cameras;
   // What was read approximately or not at all, one line each ("materials[2]: normalTexture is
   // not supported; ignored").
   std::vector<std::string> warnings;
@@ -77,11 +86,17 @@ struct Bounds {
 Bounds scene_bounds(const Scene& scene);
 
 // Which way is up in a model's world, and so where its front is: glTF's convention (+Y up, the
-// front faces +Z, the viewer) or the one of CAD and Blender (+Z up, the front faces -Y). Right is
-// +X in both.
-enum class UpAxis { y, z };
+// front faces +Z, the viewer) or the one of CAD and Blender (+Z up, the front faces -Y); right is
+// +X in both. The other four axes, for models lying on their side or upside down: -y (the front
+// faces +Z), x and -x (the front faces +Z), -z (the front faces -Y); in each, right = up x front.
+enum class UpAxis { y, z, x, neg_x, neg_y, neg_z };
+// "y", "z", "x", "-x", "-y", "-z"
 const char* to_string(UpAxis up) noexcept;
+// The axis named as to_string names it; false for anything else.
+bool parse_up_axis(std::string_view name, UpAxis& out) noexcept;
 Vec3 up_vector(UpAxis up) noexcept;
+// Where the model's front faces: the direction the default view looks from.
+Vec3 front_vector(UpAxis up) noexcept;
 
 // Where a framing camera looks from, and how much of the image the model takes.
 struct ViewOptions {
@@ -92,6 +107,9 @@ struct ViewOptions {
   // The part of the image's height or width (whichever the model reaches first) that the model's
   // projection spans, in (0, 1].
   float fill = 0.85f;
+  // A perspective framing with the field of view above, or an orthographic one (glOrtho: parallel
+  // rays, no foreshortening). Last, so that aggregate initialisers written before it still work.
+  Projection projection = Projection::perspective;
 };
 Status validate_view(const ViewOptions& view);
 

@@ -530,15 +530,17 @@ facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigne
     std::string ext = std::filesystem::path(path).extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     facet::Scene loaded;
-    std::string warnings;
+    std::string warnings, cameras;
     if (ext == ".gltf" || ext == ".glb" || ext == ".obj") {
       facet::ModelOptions o;
       o.memory_budget_bytes = memory_budget_bytes;
       o.allow_missing = (flags & FACET_LOAD_STRICT) == 0;
       o.assets = scene->assets;
+      o.camera = scene->load_camera;
       facet::Result<facet::Model> model = facet::load_model(path, o);
       if (!model) return report(scene->error, model.status());
       for (const std::string& w : model->warnings) warnings += w + "\n";
+      for (const std::string& c : model->cameras) cameras += c + "\n";
       loaded = std::move(model->scene);
       if (flags & FACET_LOAD_FRAME) {
         if (!model->has_camera) {
@@ -559,12 +561,22 @@ facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigne
     }
     scene->scene = std::move(loaded);
     scene->warnings = std::move(warnings);
+    scene->cameras = std::move(cameras);
     scene->reset_ids();
     return report(scene->error, {});
   });
 }
 
 const char* facet_scene_warnings(const facet_scene* scene) { return scene ? scene->warnings.c_str() : ""; }
+const char* facet_scene_cameras(const facet_scene* scene) { return scene ? scene->cameras.c_str() : ""; }
+
+facet_status facet_scene_set_load_camera(facet_scene* scene, const char* camera) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    scene->load_camera = camera ? camera : "";
+    return report(scene->error, {});
+  });
+}
 
 facet_status facet_scene_allow_path(facet_scene* scene, const char* folder) {
   if (!scene) return FACET_INVALID_ARGUMENT;
@@ -601,7 +613,9 @@ facet_status facet_scene_frame(facet_scene* scene, float aspect) {
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
     if (!(aspect > 0.0f && aspect < 1e6f)) return fail(scene->error, "aspect", "expected width / height > 0");
-    facet::Result<facet::Camera> framed = facet::frame_scene(scene->scene, aspect);
+    facet::ViewOptions view;
+    view.projection = scene->scene.camera.projection;
+    facet::Result<facet::Camera> framed = facet::frame_scene(scene->scene, aspect, view);
     if (!framed) return report(scene->error, framed.status());
     scene->scene.camera = *framed;
     return report(scene->error, {});
@@ -612,12 +626,11 @@ facet_status facet_scene_frame_view(facet_scene* scene, float aspect, float azim
                                     facet_up up, float fov_deg, float fill) {
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
-    const long up_i = raw(up);  // any bits a C caller passes, read without loading an invalid enum
-    if (up_i != FACET_UP_Y && up_i != FACET_UP_Z) return fail(scene->error, "up", "expected FACET_UP_Y or FACET_UP_Z");
     facet::ViewOptions view;
+    if (!up_axis(up, view.up)) return fail(scene->error, "up", "expected FACET_UP_Y, FACET_UP_Z or another facet_up");
     view.azimuth_deg = azimuth_deg;
     view.elevation_deg = elevation_deg;
-    view.up = up_i == FACET_UP_Z ? facet::UpAxis::z : facet::UpAxis::y;
+    view.projection = scene->scene.camera.projection;
     view.vertical_fov_deg = fov_deg;
     view.fill = fill;
     facet::Result<facet::Camera> framed = facet::frame_scene(scene->scene, aspect, view);
@@ -630,13 +643,12 @@ facet_status facet_scene_frame_view(facet_scene* scene, float aspect, float azim
 facet_status facet_scene_orbit(facet_scene* scene, float angle_deg, facet_up up, int turn_lights) {
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
-    const long up_i = raw(up);  // any bits a C caller passes, read without loading an invalid enum
-    if (up_i != FACET_UP_Y && up_i != FACET_UP_Z) return fail(scene->error, "up", "expected FACET_UP_Y or FACET_UP_Z");
+    facet::UpAxis axis = facet::UpAxis::y;
+    if (!up_axis(up, axis)) return fail(scene->error, "up", "expected FACET_UP_Y, FACET_UP_Z or another facet_up");
     if (!(std::abs(angle_deg) <= 36000.0f)) return fail(scene->error, "angle_deg", "expected a number in [-36000, 36000]");
     const facet::Bounds b = facet::scene_bounds(scene->scene);
     if (b.empty()) return fail(scene->error, "scene", "no vertices: nothing to orbit");
     const facet::Vec3 centre = ((b.min.cast<double>() + b.max.cast<double>()) * 0.5).cast<float>();
-    const facet::UpAxis axis = up_i == FACET_UP_Z ? facet::UpAxis::z : facet::UpAxis::y;
     scene->scene.camera = facet::orbit_camera(scene->scene.camera, centre, axis, angle_deg);
     if (turn_lights) {
       for (facet::Light& l : scene->scene.lights) l = facet::orbit_light(l, centre, axis, angle_deg);
@@ -671,7 +683,7 @@ facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* came
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
     if (!camera) return fail(scene->error, "camera", "null");
-    facet::Camera c;
+    facet::Camera c = scene->scene.camera;  // its projection and aspect kept
     c.eye = vec3(camera->eye);
     c.target = vec3(camera->target);
     c.up = vec3(camera->up);
@@ -682,6 +694,31 @@ facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* came
     scene->scene.camera = c;
     return report(scene->error, {});
   });
+}
+
+facet_status facet_scene_set_projection(facet_scene* scene, facet_projection projection, float half_height) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    const long p = raw(projection);  // any bits a C caller passes, read without loading an invalid enum
+    if (p != FACET_PROJECTION_PERSPECTIVE && p != FACET_PROJECTION_ORTHOGRAPHIC) {
+      return fail(scene->error, "projection", "expected FACET_PROJECTION_PERSPECTIVE or FACET_PROJECTION_ORTHOGRAPHIC");
+    }
+    facet::Camera c = scene->scene.camera;
+    c.projection = p == FACET_PROJECTION_ORTHOGRAPHIC ? facet::Projection::orthographic : facet::Projection::perspective;
+    if (c.projection == facet::Projection::orthographic) c.half_height = half_height;
+    if (facet::Status st = facet::validate_camera(c); !st.ok()) return report(scene->error, st);
+    scene->scene.camera = c;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_get_projection(const facet_scene* scene, facet_projection* projection, float* half_height) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  if (!projection || !half_height) return fail(scene->error, !projection ? "projection" : "half_height", "null");
+  const facet::Camera& c = scene->scene.camera;
+  *projection = c.projection == facet::Projection::orthographic ? FACET_PROJECTION_ORTHOGRAPHIC : FACET_PROJECTION_PERSPECTIVE;
+  *half_height = c.half_height;
+  return FACET_OK;
 }
 
 facet_status facet_scene_set_display(facet_scene* scene, const facet_display* display) {

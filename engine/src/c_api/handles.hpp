@@ -29,6 +29,8 @@ struct facet_scene {
   mutable std::string error;  // the last call's message: set by the calls that read a scene too
   std::string warnings;  // of the last facet_scene_load_file
   facet::AssetAccess assets;  // what facet_scene_load_file may read
+  std::string load_camera;    // facet_scene_set_load_camera: ModelOptions::camera
+  std::string cameras;        // of the last facet_scene_load_file: Model::cameras, one a line
   // Stable ids: object_ids[i] / light_ids[i] is the id of scene.objects[i] / scene.lights[i]
   // (ids are handed out in order and never reused, so they equal the index until one is removed).
   std::vector<std::uint32_t> object_ids, light_ids;
@@ -93,6 +95,15 @@ inline long raw(const E& e) {
   static_assert(sizeof v == sizeof e);
   std::memcpy(&v, &e, sizeof v);
   return static_cast<long>(v);
+}
+
+// A facet_up as facet::UpAxis (their orders agree); false for any other value.
+inline bool up_axis(const facet_up& up, facet::UpAxis& out) {
+  const long v = raw(up);
+  if (v < FACET_UP_Y || v > FACET_UP_NEG_Z) return false;
+  static_assert(int(facet::UpAxis::neg_z) == FACET_UP_NEG_Z && int(facet::UpAxis::x) == FACET_UP_X);
+  out = static_cast<facet::UpAxis>(v);
+  return true;
 }
 
 // Runs `fn` (returning facet_status), turning std::bad_alloc into FACET_OUT_OF_MEMORY.

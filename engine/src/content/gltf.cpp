@@ -130,16 +130,26 @@ Status Reader::read(std::uint64_t bytes_used) {
     warn("animations: " + std::to_string(doc_.count("animations")) +
          " animation(s) not supported; the nodes are drawn as the file places them");
   }
+  // ModelOptions::camera names a camera the drawn scene does not have: an error listing those it has.
+  const auto camera_found = [&]() -> Status {
+    if (options_.camera.empty() || out_.has_camera) return {};
+    std::string list;
+    for (const std::string& c : out_.cameras) list += (list.empty() ? "" : "; ") + c;
+    return f_.error("cameras", "no camera " + quote(options_.camera, 64) + " in the drawn scene (ModelOptions::camera, " +
+                                   "facet --camera): " + (list.empty() ? std::string("it has none") : "it has " + list),
+                    ErrorCode::invalid_argument);
+  };
   if (doc_.count("scenes") == 0) {
     if (doc_.count("nodes") > 0) warn("the file has no scenes: nothing to draw (glTF draws only a scene's nodes)");
-    return {};
+    return camera_found();
   }
   int scene_index = 0;
   FACET_TRY(f_.index(j, "", "scene", doc_.count("scenes"), scene_index));
   if (doc_.count("scenes") > 1) {
     warn("the file has " + std::to_string(doc_.count("scenes")) + " scenes; scenes[" + std::to_string(scene_index) + "] is drawn");
   }
-  return walk(static_cast<std::size_t>(scene_index));
+  FACET_TRY(walk(static_cast<std::size_t>(scene_index)));
+  return camera_found();
 }
 
 Status Reader::check_extensions() {
@@ -212,7 +222,7 @@ Status Reader::walk(std::size_t scene_index) {
     const Json* instancing = ext ? Fields::find(*ext, "EXT_mesh_gpu_instancing") : nullptr;
     if (mesh >= 0 && instancing) FACET_TRY(add_gpu_instances(mesh, p, world, *instancing));
     if (mesh >= 0 && !instancing) FACET_TRY(add_mesh_instances(mesh, p, world));
-    if (camera >= 0) FACET_TRY(add_camera(camera, p, world));
+    if (camera >= 0) FACET_TRY(add_camera(camera, n, p, world));
     if (skin >= 0) warn(p + ": skins are not supported; the mesh is drawn in its bind pose");
     if (Fields::find(node, "weights")) warn(p + ": morph target weights are not supported; the base mesh is drawn");
     if (ext) {

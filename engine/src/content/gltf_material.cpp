@@ -302,32 +302,28 @@ Status Reader::texture(int index, std::int32_t& out, TextureEncoding encoding) {
   return {};
 }
 
-Status Reader::add_camera(int camera, const std::string& p, const Eigen::Matrix4d& world) {
+Status Reader::add_camera(int camera, std::size_t node, const std::string& p, const Eigen::Matrix4d& world) {
   const Json& c = doc_.item("cameras", static_cast<std::size_t>(camera));
   const std::string cp = Fields::at("cameras", static_cast<std::size_t>(camera));
+  std::string type, name, node_name;
+  FACET_TRY(f_.string(c, cp, "type", type, true));
+  if (type != "perspective" && type != "orthographic") {
+    return f_.error(cp + ".type", "expected \"perspective\" or \"orthographic\", found " + quote(type, 32));
+  }
+  FACET_TRY(f_.string(c, cp, "name", name));
+  FACET_TRY(f_.string(doc_.item("nodes", node), p, "name", node_name));
+  // What `facet check` lists and --camera picks from: the index in `cameras`, or a name (the
+  // camera's or its node's).
+  out_.cameras.push_back(std::to_string(camera) + (name.empty() ? "" : " " + quote(name, 64)) +
+                         (node_name.empty() || node_name == name ? "" : " (node " + quote(node_name, 64) + ")") + ", " + type);
+  const std::string& wanted = options_.camera;
+  if (!wanted.empty() && wanted != std::to_string(camera) && wanted != name && wanted != node_name) return {};
   if (out_.has_camera) {
-    if (!cameras_noted_) warn("the file has more than one camera node; the first in the scene's order is used");
+    if (!cameras_noted_ && wanted.empty()) {
+      warn("the file has more than one camera node; the first in the scene's order is used (facet --camera picks another)");
+    }
     cameras_noted_ = true;
     return {};
-  }
-  std::string type;
-  FACET_TRY(f_.string(c, cp, "type", type, true));
-  if (type != "perspective") {
-    if (type != "orthographic") return f_.error(cp + ".type", "expected \"perspective\" or \"orthographic\", found " + quote(type, 32));
-    warn(cp + ": orthographic cameras are not supported (facet projects in perspective only); not used");
-    return {};
-  }
-  const Json* pc = nullptr;
-  FACET_TRY(f_.object(c, cp, "perspective", pc));
-  if (!pc) return f_.error(cp + ".perspective", "required, missing");
-  const std::string pp = cp + ".perspective";
-  double yfov = 0, znear = 0, zfar = 0, aspect = 0;
-  FACET_TRY(f_.number(*pc, pp, "yfov", yfov, 1e-6, std::numbers::pi - 1e-6, true));
-  FACET_TRY(f_.number(*pc, pp, "znear", znear, 1e-30, 1e30, true));
-  if (Fields::find(*pc, "aspectRatio")) {
-    FACET_TRY(f_.number(*pc, pp, "aspectRatio", aspect, 1e-6, 1e6));
-    warn(pp + ".aspectRatio " + format_number(aspect) +
-         ": the image's own aspect is used, keeping the vertical field of view (never stretching the picture)");
   }
   Camera cam;
   const Eigen::Vector3d eye = world.topRightCorner<3, 1>();
@@ -338,15 +334,49 @@ Status Reader::add_camera(int camera, const std::string& p, const Eigen::Matrix4
   cam.eye = eye.cast<float>();
   cam.target = (eye + forward).cast<float>();
   cam.up = up.cast<float>();
-  cam.vertical_fov_deg = float(yfov * 180.0 / std::numbers::pi);
   cam.aspect = 0.0f;
+  const Json* pc = nullptr;
+  FACET_TRY(f_.object(c, cp, type, pc));
+  const std::string pp = cp + "." + type;
+  if (!pc) return f_.error(pp, "required, missing");
+  if (type == "orthographic") {
+    // glTF 2.0 §5.13: xmag, ymag, zfar > znear >= 0, all required. three.js draws the box as given
+    // (stretched when the image's aspect differs); facet keeps ymag and takes the width from the
+    // image, as it does with a perspective camera's aspectRatio, and the viewer at infinity (a
+    // parallel projection's view direction is the same at every point, as three.js lights it).
+    double xmag = 0, ymag = 0, znear = 0, zfar = 0;
+    FACET_TRY(f_.number(*pc, pp, "xmag", xmag, -1e30, 1e30, true));
+    FACET_TRY(f_.number(*pc, pp, "ymag", ymag, -1e30, 1e30, true));
+    FACET_TRY(f_.number(*pc, pp, "znear", znear, 0.0, 1e30, true));
+    FACET_TRY(f_.number(*pc, pp, "zfar", zfar, -1e30, 1e30, true));
+    if (!(ymag != 0.0)) return f_.error(pp + ".ymag", "must not be zero");
+    if (!(xmag != 0.0)) return f_.error(pp + ".xmag", "must not be zero");
+    if (!(zfar > znear)) return f_.error(pp + ".zfar", "must be greater than znear (" + format_number(znear) + "), found " + format_number(zfar));
+    if (xmag < 0.0 || ymag < 0.0) warn(pp + ": a negative xmag or ymag (a mirrored picture) is drawn unmirrored");
+    cam.projection = Projection::orthographic;
+    cam.half_height = float(std::abs(ymag));
+    cam.near = float(znear);
+    cam.far = float(zfar);
+    out_.scene.viewer = ViewerMode::infinite;
+    out_.scene.camera = cam;
+    out_.has_camera = true;
+    return {};
+  }
+  double yfov = 0, znear = 0, zfar = 0, aspect = 0;
+  FACET_TRY(f_.number(*pc, pp, "yfov", yfov, 1e-6, std::numbers::pi - 1e-6, true));
+  FACET_TRY(f_.number(*pc, pp, "znear", znear, 1e-30, 1e30, true));
+  if (Fields::find(*pc, "aspectRatio")) {
+    FACET_TRY(f_.number(*pc, pp, "aspectRatio", aspect, 1e-6, 1e6));
+    warn(pp + ".aspectRatio " + format_number(aspect) +
+         ": the image's own aspect is used, keeping the vertical field of view (never stretching the picture)");
+  }
+  cam.vertical_fov_deg = float(yfov * 180.0 / std::numbers::pi);
   cam.near = float(znear);
   if (Fields::find(*pc, "zfar")) {
     FACET_TRY(f_.number(*pc, pp, "zfar", zfar, -1e30, 1e30));
     if (!(zfar > znear)) return f_.error(pp + ".zfar", "must be greater than znear (" + format_number(znear) + "), found " + format_number(zfar));
     cam.far = float(zfar);
   } else {
-    // An infinite projection: facet's depth needs a far plane, put a million near planes away.
     cam.far = std::numeric_limits<float>::infinity();  // an infinite projection, as glTF means
   }
   out_.scene.camera = cam;

@@ -81,7 +81,7 @@ class Reader {
                       TextureEncoding encoding);
   Status texture(int index, std::int32_t& out, TextureEncoding encoding);
   std::uint32_t untextured_twin(std::uint32_t index);
-  Status add_camera(int camera, const std::string& p, const Eigen::Matrix4d& world);
+  Status add_camera(int camera, std::size_t node, const std::string& p, const Eigen::Matrix4d& world);
   Status add_light(const Json& ext, const std::string& p, const Eigen::Matrix4d& world);
 
   const Document& doc_;

@@ -44,9 +44,48 @@ Bounds scene_bounds(const Scene& scene) {
   return b;
 }
 
-const char* to_string(UpAxis up) noexcept { return up == UpAxis::z ? "z" : "y"; }
+namespace {
+struct AxisInfo {
+  UpAxis axis;
+  const char* name;
+  float up[3], front[3];
+};
+constexpr AxisInfo kAxes[] = {
+    {UpAxis::y, "y", {0, 1, 0}, {0, 0, 1}},      {UpAxis::z, "z", {0, 0, 1}, {0, -1, 0}},
+    {UpAxis::x, "x", {1, 0, 0}, {0, 0, 1}},      {UpAxis::neg_x, "-x", {-1, 0, 0}, {0, 0, 1}},
+    {UpAxis::neg_y, "-y", {0, -1, 0}, {0, 0, 1}}, {UpAxis::neg_z, "-z", {0, 0, -1}, {0, -1, 0}},
+};
+const AxisInfo* axis_info(UpAxis up) noexcept {
+  for (const AxisInfo& a : kAxes)
+    if (a.axis == up) return &a;
+  return nullptr;
+}
+}  // namespace
 
-Vec3 up_vector(UpAxis up) noexcept { return up == UpAxis::z ? Vec3(0.0f, 0.0f, 1.0f) : Vec3(0.0f, 1.0f, 0.0f); }
+const char* to_string(UpAxis up) noexcept {
+  const AxisInfo* a = axis_info(up);
+  return a ? a->name : "unknown";
+}
+
+bool parse_up_axis(std::string_view name, UpAxis& out) noexcept {
+  for (const AxisInfo& a : kAxes) {
+    if (name == a.name || (name.size() == 2 && name[0] == '+' && name.substr(1) == a.name)) {
+      out = a.axis;
+      return true;
+    }
+  }
+  return false;
+}
+
+Vec3 up_vector(UpAxis up) noexcept {
+  const AxisInfo* a = axis_info(up);
+  return a ? Vec3(a->up[0], a->up[1], a->up[2]) : Vec3(0.0f, 1.0f, 0.0f);
+}
+
+Vec3 front_vector(UpAxis up) noexcept {
+  const AxisInfo* a = axis_info(up);
+  return a ? Vec3(a->front[0], a->front[1], a->front[2]) : Vec3(0.0f, 0.0f, 1.0f);
+}
 
 Status validate_view(const ViewOptions& v) {
   auto bad = [](const char* field, const std::string& what) {
@@ -56,7 +95,10 @@ Status validate_view(const ViewOptions& v) {
   if (!(v.elevation_deg > -90.0f && v.elevation_deg < 90.0f)) {
     return bad("elevation_deg", "expected a number in (-90, 90), found " + format_number(v.elevation_deg));
   }
-  if (v.up != UpAxis::y && v.up != UpAxis::z) return bad("up", "expected UpAxis::y or UpAxis::z");
+  if (!axis_info(v.up)) return bad("up", "expected one of UpAxis's six axes");
+  if (v.projection != Projection::perspective && v.projection != Projection::orthographic) {
+    return bad("projection", "expected Projection::perspective or Projection::orthographic");
+  }
   if (!(v.vertical_fov_deg > 0.0f && v.vertical_fov_deg < 180.0f)) {
     return bad("vertical_fov_deg", "expected a number in (0, 180), found " + format_number(v.vertical_fov_deg));
   }
@@ -86,6 +128,42 @@ void for_each_world_vertex(const Scene& scene, Fn fn) {
 // likewise for y. Each round first moves the target to the centre of the points' projection (so
 // that the model sits in the middle of the image), then solves D again; four rounds bring the
 // projection's centre to well under a percent of the image.
+Status too_large(double extent, const Status& s) {
+  return Status{ErrorCode::unsupported, "", "cannot frame the model: its coordinates (up to " + format_number(static_cast<float>(extent)) +
+                                                ") are too large for a camera in float (" + s.message() + ")"};
+}
+
+// The orthographic framing: parallel rays, so the box's centre across the view is the target,
+// its half height the larger of the points' half extents (the width's over the aspect) over the
+// fill, and the eye just in front of the nearest point.
+template <class Each>
+Result<Camera> frame_box(Each each, float aspect, const ViewOptions& view, Eigen::Vector3d target, double radius,
+                         const Eigen::Vector3d& d, const Eigen::Vector3d& r, const Eigen::Vector3d& u) {
+  const double inf = std::numeric_limits<double>::infinity();
+  Eigen::Array3d lo = Eigen::Array3d::Constant(inf), hi = -lo;  // along r, u, d
+  each([&](const Eigen::Vector3d& p) {
+    const Eigen::Vector3d rel = p - target;
+    const Eigen::Array3d q(rel.dot(r), rel.dot(u), rel.dot(d));
+    lo = lo.min(q), hi = hi.max(q);
+  });
+  const Eigen::Array3d mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+  target += mid.x() * r + mid.y() * u;
+  double half_height = std::max(half.y(), half.x() / double(aspect)) / double(view.fill);
+  if (!(half_height > 0.0)) half_height = radius > 0.0 ? radius : 1.0;  // a point, or a line along the view
+  const double margin = std::max(0.01 * radius, 1e-6 * std::max(std::abs(hi.z()), 1.0));
+  const double distance = hi.z() + margin;  // the eye in front of the nearest point
+  Camera c;
+  c.projection = Projection::orthographic;
+  c.half_height = static_cast<float>(half_height);
+  c.eye = (target + distance * d).cast<float>();
+  c.target = target.cast<float>();
+  c.up = up_vector(view.up);
+  c.near = 0.0f;
+  c.far = static_cast<float>(distance - lo.z() + margin);
+  if (Status s = validate_camera(c); !s.ok()) return too_large(std::max(target.cwiseAbs().maxCoeff(), radius), s);
+  return c;
+}
+
 template <class Each>
 Result<Camera> frame_points(Each each, float aspect, const ViewOptions& view) {
   FACET_TRY(validate_view(view));
@@ -98,16 +176,17 @@ Result<Camera> frame_points(Each each, float aspect, const ViewOptions& view) {
   if (count == 0) return Status{ErrorCode::invalid_argument, "", "nothing to frame: the scene has no vertices"};
   const double deg = std::numbers::pi / 180.0;
   const Eigen::Vector3d up = up_vector(view.up).cast<double>();
-  const Eigen::Vector3d front = view.up == UpAxis::z ? Eigen::Vector3d(0, -1, 0) : Eigen::Vector3d(0, 0, 1);
-  const Eigen::Vector3d right(1, 0, 0);
+  const Eigen::Vector3d front = front_vector(view.up).cast<double>();
+  const Eigen::Vector3d right = up.cross(front);
   const double az = double(view.azimuth_deg) * deg, el = double(view.elevation_deg) * deg;
   const Eigen::Vector3d d = (std::cos(el) * (std::cos(az) * front + std::sin(az) * right) + std::sin(el) * up).normalized();
   const Eigen::Vector3d r = (-d).cross(up).normalized();
   const Eigen::Vector3d u = r.cross(-d);
-  const double ty = std::tan(0.5 * double(view.vertical_fov_deg) * deg), tx = ty * double(aspect);
   const double k = double(view.fill);
   const double radius = 0.5 * (hi - lo).matrix().norm();
   Eigen::Vector3d target = 0.5 * (lo + hi).matrix();
+  if (view.projection == Projection::orthographic) return frame_box(each, aspect, view, target, radius, d, r, u);
+  const double ty = std::tan(0.5 * double(view.vertical_fov_deg) * deg), tx = ty * double(aspect);
   double distance = 0.0;
   auto solve_distance = [&] {
     double need = -std::numeric_limits<double>::infinity(), z_max = need;
@@ -148,11 +227,7 @@ Result<Camera> frame_points(Each each, float aspect, const ViewOptions& view) {
   c.up = up.cast<float>();
   c.near = static_cast<float>(near);
   c.far = static_cast<float>(far);
-  if (Status s = validate_camera(c); !s.ok()) {
-    return Status{ErrorCode::unsupported, "", "cannot frame the model: its coordinates (up to " +
-                                                  format_number(static_cast<float>(std::max(lo.abs().maxCoeff(), hi.abs().maxCoeff()))) +
-                                                  ") are too large for a camera in float (" + s.message() + ")"};
-  }
+  if (Status s = validate_camera(c); !s.ok()) return too_large(std::max(lo.abs().maxCoeff(), hi.abs().maxCoeff()), s);
   return c;
 }
 

@@ -37,6 +37,7 @@ const char* to_string(PixelPrecision precision) noexcept {
 
 DepthMode depth_mode_for(const Camera& camera, DepthMode mode) noexcept {
   if (mode != DepthMode::automatic) return mode;
+  if (camera.projection == Projection::orthographic) return DepthMode::gl;  // linear depth: no need
   const bool reversed = !std::isfinite(camera.far) || double(camera.far) > 1e5 * double(camera.near);
   return reversed ? DepthMode::reversed : DepthMode::gl;
 }
@@ -153,6 +154,18 @@ Status check_render(const Scene& scene, const RenderOptions& options, int width,
     }
     if (Status s = frame::check_options(options); !s.ok()) return s;
     if (Status s = validate_scene(scene); !s.ok()) return s;
+    if (scene.camera.projection == Projection::orthographic) {
+      // Reversed depth stores near / w and fog reads eye depth as clip w: both constant (w = 1) in
+      // a box, so neither has a meaning there.
+      if (options.depth == DepthMode::reversed) {
+        return {ErrorCode::unsupported, "options.depth",
+                "options.depth: reversed depth needs a perspective camera (an orthographic one stores depth linearly: "
+                "use \"gl\" or \"auto\")"};
+      }
+      if (scene.fog.mode != FogMode::none) {
+        return {ErrorCode::unsupported, "fog.mode", "fog.mode: fog needs a perspective camera (it reads eye depth from clip w)"};
+      }
+    }
     // Flat and Gouraud shadows sum sub-frames per pixel (render_composite): only for materials
     // whose colour is linear in the lighting.
     const bool shadowed = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {

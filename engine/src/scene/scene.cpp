@@ -337,10 +337,25 @@ Status check_camera(const Camera& c) {
   if (!(forward.normalized().cross(c.up.cast<double>().normalized()).norm() > 1e-6)) {
     return invalid("camera.up", "must not be parallel to the viewing direction");
   }
+  FACET_TRY(check_range(c.aspect, 0.0f, 1e6f, f, "aspect"));
+  if (c.projection == Projection::orthographic) {
+    if (!(c.half_height > 0.0f && c.half_height <= 1e30f)) {
+      return invalid("camera.half_height", "expected a number in (0, 1e30], found " + format_number(c.half_height));
+    }
+    if (!(c.near >= 0.0f && std::isfinite(c.near))) {
+      return invalid("camera.near", "expected a finite number >= 0, found " + format_number(c.near));
+    }
+    // In double: near and far of 1e38 are finite floats whose difference is not.
+    if (!(c.far > c.near && std::isfinite(c.far) && std::isfinite(double(c.far) - double(c.near)))) {
+      return invalid("camera.far", "expected a finite number > camera.near (an orthographic box has a far side), found " +
+                                       format_number(c.far));
+    }
+    return {};
+  }
+  if (c.projection != Projection::perspective) return invalid("camera.projection", "unknown projection");
   if (!(c.vertical_fov_deg > 0.0f && c.vertical_fov_deg < 180.0f)) {
     return invalid("camera.fov_deg", "expected a number in (0, 180), found " + format_number(c.vertical_fov_deg));
   }
-  FACET_TRY(check_range(c.aspect, 0.0f, 1e6f, f, "aspect"));
   if (!(c.near > 0.0f && std::isfinite(c.near))) {
     return invalid("camera.near", "expected a finite number > 0, found " + format_number(c.near));
   }
@@ -583,7 +598,28 @@ Status validate_scene(const Scene& scene) {
 
 Mat4 view_matrix(const Camera& camera) { return look_at_d(camera).cast<float>(); }
 
+const char* to_string(Projection projection) noexcept {
+  switch (projection) {
+    case Projection::perspective: return "perspective";
+    case Projection::orthographic: return "orthographic";
+  }
+  return "unknown";
+}
+
 Mat4 projection_matrix(const Camera& camera, float aspect) {
+  if (camera.projection == Projection::orthographic) {
+    // glOrtho(-w, w, -h, h, near, far): clip w stays 1, window depth is linear in eye depth.
+    // In double: a box of 1e30 units has a width whose reciprocal is below float's normal range
+    // only after the division.
+    const double h = camera.half_height, w = h * double(aspect), n = camera.near, f = camera.far;
+    Mat4 m = Mat4::Zero();
+    m(0, 0) = static_cast<float>(1.0 / w);
+    m(1, 1) = static_cast<float>(1.0 / h);
+    m(2, 2) = static_cast<float>(-2.0 / (f - n));
+    m(2, 3) = static_cast<float>(-(f + n) / (f - n));
+    m(3, 3) = 1.0f;
+    return m;
+  }
   const float t = 1.0f / std::tan(0.5f * camera.vertical_fov_deg * kDegToRad);
   const float n = camera.near, f = camera.far;
   Mat4 m = Mat4::Zero();

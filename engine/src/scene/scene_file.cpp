@@ -123,11 +123,24 @@ class SceneReader : public scene_json::JsonFields {
 
   Status read_camera(const json& j, Camera& c) const {
     const std::string p = "camera";
-    FACET_TRY(expect_object(j, p, {"eye", "target", "up", "fov_deg", "aspect", "near", "far"}));
+    FACET_TRY(expect_object(j, p, {"eye", "target", "up", "projection", "fov_deg", "half_height", "aspect", "near", "far"}));
     FACET_TRY(opt_vec3(j, p, "eye", c.eye));
     FACET_TRY(opt_vec3(j, p, "target", c.target));
     FACET_TRY(opt_vec3(j, p, "up", c.up));
+    if (j.contains("projection")) {
+      std::string projection;
+      FACET_TRY(read_enum(j["projection"], child(p, "projection"), {"perspective", "orthographic"}, projection));
+      c.projection = projection == "orthographic" ? Projection::orthographic : Projection::perspective;
+    }
+    // Each projection's own size; the other's would be read and ignored in silence.
+    const bool ortho = c.projection == Projection::orthographic;
+    if (j.contains(ortho ? "fov_deg" : "half_height")) {
+      return invalid(child(p, ortho ? "fov_deg" : "half_height"),
+                     ortho ? "an orthographic camera has no field of view: give \"half_height\""
+                           : "only an orthographic camera has a half height (\"projection\": \"orthographic\")");
+    }
     FACET_TRY(opt_number(j, p, "fov_deg", c.vertical_fov_deg));
+    FACET_TRY(opt_number(j, p, "half_height", c.half_height));
     FACET_TRY(opt_number(j, p, "aspect", c.aspect));
     FACET_TRY(opt_number(j, p, "near", c.near));
     if (j.contains("far") && j["far"].is_string()) {  // JSON has no infinity: "far": "infinite"
