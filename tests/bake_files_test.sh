@@ -90,7 +90,8 @@ check "--memory-budget-mb 16 refuses a bake of 8 x 8 pieces a texel (exit $rc: $
 # 7. A scene whose own texture is named lightmap_0: the lightmap takes another name.
 mkdir -p named && cp model/sub/t.png named/t.png
 cat > named/scene.json <<'EOF'
-{"textures": [{"name": "lightmap_0", "file": "t.png"}],
+{"camera": {"eye": [0, 3, 3], "target": [0, 0, 0]},
+ "textures": [{"name": "lightmap_0", "file": "t.png"}],
  "materials": [{"name": "m", "diffuse": [0.8, 0.8, 0.8], "diffuse_texture": "lightmap_0"}],
  "meshes": [{"name": "q", "shape": "plane"}],
  "objects": [{"mesh": "q", "material": "m"}],

@@ -113,7 +113,23 @@ out=$("$facet" render m.obj --allow-missing --frames 3 --orbit 90 --width 32 --h
 check "a turntable writes numbered frames and a summary (exit $rc: $out)" '[ $rc -eq 0 ] && [ -s turn_0000.png ] && [ -s turn_0002.png ] && [ ! -e turn_0003.png ] && [[ "$out" == *"3 frames in"* ]]'
 printf '{"camera": {"eye": [0, 0, 5], "target": [0, 0, 10]}, "meshes": [{"name": "b", "shape": "cube"}], "objects": [{"mesh": "b"}]}' > away.json
 out=$("$facet" render away.json --width 32 --height 24 -o away.png 2>&1); rc=$?
-check "a frame that draws nothing says why (exit $rc: $out)" '[ $rc -eq 0 ] && [[ "$out" == *"nothing was drawn: every triangle is outside the view"* ]]'
+check "a frame that draws nothing says why, writes the image and exits 1 (exit $rc: $out)" '[ $rc -eq 1 ] && [ -s away.png ] && [[ "$out" == *"nothing to see (exit status 1; the image is written): every triangle is outside the view"* ]]'
+out=$("$facet" check away.json 2>&1); rc=$?
+check "check gives render's verdict and status (exit $rc: $out)" '[ $rc -eq 1 ] && [[ "$out" == *"nothing to see: every triangle is outside the view"* ]]'
+# Fully transparent materials fill pixels that show nothing: the same verdict from both commands.
+printf '{"materials": [{"name": "glass", "alpha": 0, "blend": "alpha"}], "meshes": [{"name": "b", "shape": "cube"}], "objects": [{"mesh": "b", "material": "glass"}]}' > clear.json
+out=$("$facet" render clear.json --width 32 --height 24 -o clear.png --json 2>&1); rc=$?
+check "an invisible model: render exits 1 naming transparency (exit $rc: $out)" '[ $rc -eq 1 ] && [[ "$out" == *"every pixel is still the background colour"* ]] && [[ "$out" == *"\"nothing_drawn\": \""*"fully transparent"* ]]'
+out=$("$facet" check clear.json 2>&1); rc=$?
+check "an invisible model: check agrees (exit $rc: $out)" '[ $rc -eq 1 ] && [[ "$out" == *"every pixel is still the background colour"* ]]'
+out=$("$facet" render clear.json --width 32 --height 24 -o clear.png --clear 0.2,0.3,0.4 --msaa 4 2>&1); rc=$?
+check "the background is found for any clear colour and sample count (exit $rc: $out)" '[ $rc -eq 1 ] && [[ "$out" == *"background colour"* ]]'
+# A flat plane seen exactly edge-on has no area on screen: said so, not "degenerate".
+printf '{"camera": {"eye": [0, 0, 5], "target": [0, 0, 0]}, "meshes": [{"name": "p", "shape": "plane"}], "objects": [{"mesh": "p"}]}' > edge.json
+out=$("$facet" render edge.json --width 32 --height 24 -o edge.png --cull none 2>&1); rc=$?
+check "an edge-on plane is named as such (exit $rc: $out)" '[ $rc -eq 1 ] && [[ "$out" == *"seen edge-on"* ]]'
+out=$("$facet" render -o ok.png --width 32 --height 24 2>&1); rc=$?
+check "a frame that shows something exits 0 (exit $rc: $out)" '[ $rc -eq 0 ]'
 out=$("$facet" render model.fbx -o x.png 2>&1); rc=$?
 check "an unsupported model type is named (exit $rc: $out)" '[ $rc -eq 2 ] && [[ "$out" == *".fbx files are not supported"* ]]'
 

@@ -263,5 +263,28 @@ TEST(LightmapRender, RefusesWhatALightmappedObjectCannotCarry) {
   EXPECT_EQ(field(s), "objects[0].lightmap");
 }
 
+// What cannot draw with a lightmap is refused before a bake starts (it used to bake, and then the
+// baked scene file could not be read): a glTF with a normal map, and vertex colours.
+TEST(LightmapRefusal, BakeRefusesWhatCannotCarryALightmapBeforeAnyWork) {
+  Result<Model> relief = load_model(test::data_dir() + "/gltf/relief_cube.gltf");
+  ASSERT_TRUE(relief.ok()) << relief.status().message();
+  Result<BakeResult> r = bake_lightmaps(relief->scene);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().field(), "objects[0].lightmap");
+  EXPECT_NE(r.status().message().find("cannot bake: objects[0].lightmap: material materials[0] has an environment, normal or bump map"),
+            std::string::npos)
+      << r.status().message();
+  EXPECT_EQ(check_lightmap_object(relief->scene, 0).field(), "objects[0].lightmap");
+  Scene coloured;
+  coloured.meshes.push_back({"q", make_plane(1.0f, 1.0f, 1)});
+  coloured.meshes[0].mesh.colors.assign(coloured.meshes[0].mesh.positions.size(), Color3(1, 0, 0));
+  coloured.materials.push_back(Material{});
+  coloured.objects.push_back(Instance{});
+  EXPECT_NE(check_lightmap_object(coloured, 0).message().find("vertex colours"), std::string::npos);
+  coloured.meshes[0].mesh.colors.clear();
+  EXPECT_TRUE(check_lightmap_object(coloured, 0).ok());
+  EXPECT_FALSE(check_lightmap_object(coloured, 1).ok()) << "an object out of range";
+}
+
 }  // namespace
 }  // namespace facet

@@ -3,6 +3,7 @@
 #include "common/format.hpp"
 
 #include <cerrno>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
@@ -219,6 +220,26 @@ std::string describe_camera(const Camera& c) {
                   c.eye.z(), c.target.x(), c.target.y(), c.target.z(), c.vertical_fov_deg);
   }
   return buf;
+}
+
+std::string nothing_visible(const Scene& scene, const RenderOptions& options, const FrameStats& stats, const ImageView& image) {
+  if (stats.pixels_filled == 0) return explain_empty_frame(stats);
+  Scene empty;
+  empty.display = scene.display;
+  const std::size_t bpp = bytes_per_pixel(image.format);
+  std::vector<std::uint8_t> background(bpp);
+  RenderOptions one = options;
+  one.threads = 1;
+  if (!Renderer().render(empty, one, {background.data(), 1, 1, bpp, image.format, false}).ok()) return {};
+  for (int y = 0; y < image.height; ++y) {
+    const std::uint8_t* row = static_cast<const std::uint8_t*>(image.data) + static_cast<std::size_t>(y) * image.stride_bytes;
+    for (int x = 0; x < image.width; ++x) {
+      if (std::memcmp(row + static_cast<std::size_t>(x) * bpp, background.data(), bpp) != 0) return {};
+    }
+  }
+  return std::to_string(stats.pixels_filled) +
+         " pixels were drawn, but every pixel is still the background colour: the materials are fully transparent "
+         "(alpha 0), or the model has the background's colour (try --clear 0.5,0.5,0.5)";
 }
 
 namespace {

@@ -113,6 +113,13 @@ struct Input {
 };
 // "eye (..), target (..), fov 45 deg" or "..., orthographic, half height 2".
 std::string describe_camera(const Camera& c);
+
+// The verdict `render` and `check` share (exit status 1 when it is not empty): why the frame in
+// `image`, drawn from `scene` with `options`, shows nothing. No pixel filled: explain_empty_frame's
+// reason. Every pixel still the background (the clear colour as the frame stores it, found by
+// drawing an empty 1 x 1 frame with the same options and display): fully transparent materials, or
+// a model the colour of the background. Empty when something shows.
+std::string nothing_visible(const Scene& scene, const RenderOptions& options, const FrameStats& stats, const ImageView& image);
 // A scene file, a model (framed by a camera and lit by the default rig when the file has none;
 // `notes` says so, with the model's warnings) or, for an empty path, the built-in scene. Prints
 // the error and returns nothing on failure.

@@ -240,19 +240,20 @@ namespace {
 
 // One frame of `scene` at up to 640 pixels across (the whole size when that draws nothing, so that
 // a small model is not missed between the pixel centres of the smaller image): what it drew.
-Result<FrameStats> draw_once(const Scene& scene, const RenderOptions& options, int width, int height) {
-  FrameStats stats;
+// The frame's verdict (nothing_visible, as `render` gives it): empty when something shows.
+Result<std::string> draw_once(const Scene& scene, const RenderOptions& options, int width, int height) {
+  std::string nothing;
   const double scale = std::min(1.0, 640.0 / std::max(width, height));
   for (const double s : {scale, 1.0}) {
     const int w = std::max(1, int(std::lround(width * s))), h = std::max(1, int(std::lround(height * s)));
     std::vector<std::uint8_t> pixels(std::size_t(w) * std::size_t(h) * 4);
-    if (Status s2 = Renderer().render(scene, options, {pixels.data(), w, h, std::size_t(w) * 4, PixelFormat::rgba8, false}, nullptr, &stats);
-        !s2.ok()) {
-      return s2;
-    }
-    if (stats.pixels_filled > 0 || s == 1.0) break;
+    const ImageView image{pixels.data(), w, h, std::size_t(w) * 4, PixelFormat::rgba8, false};
+    FrameStats stats;
+    if (Status s2 = Renderer().render(scene, options, image, nullptr, &stats); !s2.ok()) return s2;
+    nothing = nothing_visible(scene, options, stats, image);
+    if (nothing.empty() || s == 1.0) break;
   }
-  return stats;
+  return nothing;
 }
 
 }  // namespace
@@ -291,11 +292,12 @@ int check(const CheckState& st) {
   if (Status s = check_render(*scene, options, width, height); !s.ok()) return fail(scene_path + ": " + s.message());
   // Something to draw: a model always, a scene file when it has meshes.
   if (is_model_path(scene_path) || !scene->meshes.empty()) {
-    Result<FrameStats> drawn = draw_once(*scene, options, width, height);
+    Result<std::string> drawn = draw_once(*scene, options, width, height);
     if (!drawn) return fail(scene_path + ": " + drawn.status().message());
-    if (drawn->pixels_filled == 0) {
+    if (!drawn->empty()) {  // the verdict `render` gives, with its exit status
       for (const std::string& n : notes) std::fprintf(stderr, "  %s\n", n.c_str());
-      return fail(scene_path + ": nothing to draw: " + explain_empty_frame(*drawn));
+      std::fprintf(stderr, "facet: %s: nothing to see: %s\n", json_escape(scene_path).c_str(), drawn->c_str());
+      return 1;
     }
   }
   std::size_t triangles = 0, blended = 0, textured = 0, emissive = 0;

@@ -3,7 +3,9 @@
 #include <array>
 #include <memory>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <future>
 #include <numbers>
 #include <vector>
 
@@ -48,11 +50,11 @@ void print_stats_text(const FrameStats& s, int frames, double seconds) {
 }
 
 // `fields`: more "key": value pairs to open the object with ("\"frame\": 3, ").
-// `frame_seconds`: each frame's time, reported as its median, min, max and count. A frame that drew
-// nothing says why ("nothing_drawn"); the key is absent otherwise.
+// `frame_seconds`: each frame's time, reported as its median, min, max and count. `nothing`: why
+// the frame shows nothing (nothing_visible), as "nothing_drawn"; the key is absent when it is empty.
 void print_stats_json(const FrameStats& s, int frames, double seconds, const RenderOptions& o, int w, int h,
-                      const std::string& fields = "", const std::vector<double>& frame_seconds = {},
-                      const std::string& display = "") {
+                      const std::string& fields, const std::vector<double>& frame_seconds, const std::string& display,
+                      const std::string& nothing) {
   const double per_frame = seconds / frames;
   const Isa isa = o.isa == Isa::best ? best_isa() : o.isa;
   const std::string context = json_context(o.path == LightingPath::simd ? to_string(isa) : "none",
@@ -84,7 +86,7 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               s.seconds_total, frames, per_frame,
               double(s.vertices_lit) / per_frame, double(s.pixels_filled) / per_frame,
               json_spread(frame_seconds.empty() ? std::vector<double>{per_frame} : frame_seconds).c_str(),
-              s.pixels_filled == 0 ? (", \"nothing_drawn\": \"" + json_escape(explain_empty_frame(s)) + "\"").c_str() : "");
+              nothing.empty() ? "" : (", \"nothing_drawn\": \"" + json_escape(nothing) + "\"").c_str());
 }
 
 // What the picture did with the light: "exposure_ev": -11.2, "exposure": "auto", ... as JSON
@@ -107,6 +109,35 @@ std::string numbered(const std::string& output, int index) {
   std::snprintf(digits, sizeof digits, "_%04d", index);
   return (p.parent_path() / (p.stem().string() + digits + p.extension().string())).string();
 }
+
+// A turntable's frame files, each written on its own thread while the next frame renders. The
+// library renders into the caller's image, so each frame's bytes are copied first; at most one
+// write is in flight, and a failed write is reported by the next wait().
+class FrameWriter {
+ public:
+  void start(const std::string& name, const ImageView& image) {
+    const std::size_t row = static_cast<std::size_t>(image.width) * bytes_per_pixel(image.format);
+    std::vector<std::uint8_t> bytes(row * static_cast<std::size_t>(image.height));
+    for (int y = 0; y < image.height; ++y) {
+      std::memcpy(bytes.data() + static_cast<std::size_t>(y) * row,
+                  static_cast<const std::uint8_t*>(image.data) + static_cast<std::size_t>(y) * image.stride_bytes, row);
+    }
+    const ImageView copy{nullptr, image.width, image.height, row, image.format, image.y_up};
+    pending_ = std::async(std::launch::async, [name, copy, bytes = std::move(bytes)]() mutable {
+      ImageView view = copy;
+      view.data = bytes.data();
+      const std::string ext = lower_extension(name);
+      return ext == ".png" ? write_png(name, view) : ext == ".exr" ? write_exr(name, view) : write_pfm(name, view);
+    });
+  }
+  Status wait() { return pending_.valid() ? pending_.get() : Status{}; }
+  ~FrameWriter() {
+    if (pending_.valid()) pending_.wait();
+  }
+
+ private:
+  std::future<Status> pending_;
+};
 
 // Which lights turn with a turntable's camera: auto (facet's default rig, not the file's own
 // lights), camera (all: the model seems to turn under fixed lights) or world (none).
@@ -149,7 +180,8 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
     start.near = static_cast<float>(std::max(0.9 * (distance - radius), 1e-4 * double(start.far)));
   }
   const std::vector<Light> start_lights = scene.lights;
-  const bool png = lower_extension(output) == ".png";
+  const auto wall_start = std::chrono::steady_clock::now();
+  FrameWriter writer;
   double seconds = 0;
   std::vector<double> all_seconds;
   std::uint64_t pixels = 0;
@@ -168,33 +200,44 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
     seconds += frame_seconds;
     all_seconds.push_back(frame_seconds);
     pixels += stats.pixels_filled;
-    empty_frames += stats.pixels_filled == 0;
+    const std::string nothing = nothing_visible(scene, options, stats, image);
+    empty_frames += !nothing.empty();
     const std::string name = numbered(output, k);
-    const Status written = png ? write_png(name, image) : lower_extension(name) == ".exr" ? write_exr(name, image) : write_pfm(name, image);
-    if (!written.ok()) return fail(written.message());
+    // The frame is encoded on another thread while the next one renders (PNG's deflate takes
+    // longer than most frames); one frame in flight, its bytes copied.
+    if (Status s = writer.wait(); !s.ok()) return fail(s.message());
+    writer.start(name, image);
     if (t.json) {
       char fields[128];
       std::snprintf(fields, sizeof fields, "\"frame\": %d, \"angle_deg\": %.6g, ", k, angle);
       print_stats_json(stats, 1, frame_seconds, options, image.width, image.height,
-                       fields + std::string("\"file\": \"") + json_escape(name) + "\", ", {}, display_fields(scene.display, options, stats));
+                       fields + std::string("\"file\": \"") + json_escape(name) + "\", ", {}, display_fields(scene.display, options, stats),
+                       nothing);
     } else {
       std::fprintf(stderr, "\rfacet: frame %d/%d -> %s", k - t.first + 1, t.last - t.first, name.c_str());
       std::fflush(stderr);
     }
   }
+  if (Status s = writer.wait(); !s.ok()) return fail(s.message());
+  const int count = t.last - t.first;
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  // Exit status 1 when no frame shows anything (the verdict of a single frame, for the whole run).
+  const int status = empty_frames == count ? 1 : 0;
   if (t.json) {
-    std::printf("{\"summary\": true, \"context\": %s, \"frames\": %d, \"seconds_rendering\": %.6g, \"mean_seconds_per_frame\": %.6g, "
-                "\"frame_seconds\": %s, \"pixels_filled_per_s\": %.6g, \"empty_frames\": %d}\n",
+    std::printf("{\"summary\": true, \"context\": %s, \"frames\": %d, \"seconds_rendering\": %.6g, \"seconds_wall\": %.6g, "
+                "\"mean_seconds_per_frame\": %.6g, \"frame_seconds\": %s, \"pixels_filled_per_s\": %.6g, \"empty_frames\": %d}\n",
                 json_context(options.path == LightingPath::simd ? to_string(options.isa == Isa::best ? best_isa() : options.isa) : "none",
                              options.path == LightingPath::simd ? to_string(options.pow_tier) : "std::pow", options.threads).c_str(),
-                t.last - t.first, seconds, seconds / (t.last - t.first), json_spread(all_seconds).c_str(), double(pixels) / seconds, empty_frames);
-    return 0;
+                count, seconds, wall, seconds / count, json_spread(all_seconds).c_str(), double(pixels) / seconds, empty_frames);
+    return status;
   }
   std::fprintf(stderr, "\n");
-  std::printf("facet render: %d frames in %.3f s of rendering: %.2f ms/frame, %.1f M pixels filled/s%s\n", t.last - t.first,
-              seconds, 1e3 * seconds / (t.last - t.first), double(pixels) / seconds / 1e6,
-              empty_frames ? (", " + std::to_string(empty_frames) + " frames drew nothing").c_str() : "");
-  return 0;
+  std::printf("facet render: %d frames in %.3f s (%.3f s of rendering: %.2f ms/frame, %.1f M pixels filled/s; the rest "
+              "writing the files)%s\n",
+              count, wall, seconds, 1e3 * seconds / count, double(pixels) / seconds / 1e6,
+              empty_frames ? (", " + std::to_string(empty_frames) + " frames show nothing").c_str() : "");
+  if (status) std::fprintf(stderr, "facet: no frame shows anything (exit status 1)\n");
+  return status;
 }
 
 }  // namespace
@@ -451,10 +494,11 @@ int render(const RenderState& st) {
     if (Status s = write_pfm(depth_path, depth); !s.ok()) return fail(s.message());
   }
 
-  const std::string empty = explain_empty_frame(frame);
-  if (!empty.empty()) std::fprintf(stderr, "facet: nothing was drawn: %s\n", empty.c_str());
+  const std::string nothing = nothing_visible(*scene, options, frame, image);
+  if (!nothing.empty()) std::fprintf(stderr, "facet: nothing to see (exit status 1; the image is written): %s\n", nothing.c_str());
   if (as_json) {
-    print_stats_json(frame, frames, elapsed, options, width, height, "", frame_seconds, display_fields(scene->display, options, frame));
+    print_stats_json(frame, frames, elapsed, options, width, height, "", frame_seconds, display_fields(scene->display, options, frame),
+                     nothing);
   } else if (stats) {
     std::printf("facet render: %s -> %s (%d x %d, %s shading, %s, pixels %s, %d thread%s)\n",
                 scene_path.empty() ? "built-in default scene" : scene_path.c_str(), output.c_str(), width, height,
@@ -463,7 +507,7 @@ int render(const RenderState& st) {
     print_stats_text(frame, frames, elapsed);
     print_display_text(scene->display, options, frame);
   }
-  return 0;
+  return nothing.empty() ? 0 : 1;
 }
 
 }  // namespace

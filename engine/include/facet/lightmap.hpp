@@ -13,6 +13,8 @@
 
 namespace facet {
 
+struct Scene;
+
 struct LightmapUvOptions {
   // Texels per unit of length in the mesh's own coordinates (the object's scale is the caller's).
   double texels_per_unit = 16.0;
@@ -49,6 +51,12 @@ struct LightmapUnwrap {
 // an invalid mesh or option (the field named), an atlas larger than max_size (the size it would
 // need and the density that would fit).
 Result<LightmapUnwrap> unwrap_lightmap(const Mesh& mesh, const LightmapUvOptions& options = {});
+
+// Whether scene.objects[object] can carry a lightmap: not with vertex colours, nor with a material
+// (or any of its per-face materials) that has an environment, normal or bump map, or a texture
+// environment other than modulate (the error, on objects[i].lightmap, names which). What
+// validate_scene asks of a lightmapped object, and bake_lightmaps of every object before any work.
+Status check_lightmap_object(const Scene& scene, std::size_t object);
 
 // `mesh` placed by `model` (positions through the matrix in double, rounded to float; normals
 // through its inverse transpose, unit length): what bake_lightmaps unwraps and lights, so that

@@ -590,6 +590,13 @@ Status apply_lightmaps(Scene& scene, const BakeResult& result, double scale, Lig
 Result<BakeResult> bake_lightmaps(const Scene& scene, const BakeOptions& options) {
   FACET_TRY(check_options(options));
   FACET_TRY(validate_scene(scene));
+  // Every object gets a lightmap: one that could not draw with it is refused now, not after the
+  // bake (where apply_lightmaps, or a baked scene file, would refuse it).
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    if (Status s = check_lightmap_object(scene, i); !s.ok()) {
+      return Status{s.code(), s.field(), "cannot bake: " + s.message()};
+    }
+  }
   try {
     Baker baker(scene, options);
     return baker.run();

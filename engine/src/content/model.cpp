@@ -312,7 +312,15 @@ std::string explain_empty_frame(const FrameStats& s) {
   }
   if (culled == total) return "every triangle faces away from the camera and is culled (inverted winding? try --cull none)";
   if (small == total) return "every triangle falls between pixel centres: the model is too small in the image";
-  if (bad == total) return "every triangle is degenerate or has non-finite coordinates";
+  if (s.triangles_nonfinite == total) return "every triangle has a vertex with non-finite coordinates (NaN or infinity)";
+  if (s.triangles_degenerate == total) {
+    return "every triangle has no area on screen: the model is seen edge-on (a flat model from its side: look from "
+           "above, e.g. --view 0,30) or its triangles are collapsed to lines or points";
+  }
+  if (bad == total) {
+    return "every triangle has no area on screen (" + std::to_string(s.triangles_degenerate) + ", seen edge-on or collapsed) or a "
+           "non-finite vertex (" + std::to_string(s.triangles_nonfinite) + ")";
+  }
   return "no triangle was drawn: " + std::to_string(outside) + " outside the view, " + std::to_string(culled) +
          " culled, " + std::to_string(small) + " between pixel centres, " + std::to_string(bad) +
          " degenerate or non-finite";

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "facet/scene.hpp"
+#include "facet/lightmap.hpp"
 #include "common/format.hpp"
 #include "common/look_at.hpp"
 #include "common/try.hpp"
@@ -387,6 +388,37 @@ Status validate_fog(const Fog& fog) {
   return {};
 }
 
+Status check_lightmap_object(const Scene& scene, std::size_t object) {
+  if (object >= scene.objects.size()) return invalid("object", "out of range");
+  const Instance& inst = scene.objects[object];
+  if (inst.mesh >= scene.meshes.size()) return invalid(Field{"objects", object, true}("mesh"), "out of range");
+  const Mesh& mesh = scene.meshes[inst.mesh].mesh;
+  const std::string field = Field{"objects", object, true}("lightmap");
+  if (!mesh.colors.empty()) {
+    return invalid(field, "a lightmapped object cannot have vertex colours (meshes[" + std::to_string(inst.mesh) + "] has them)");
+  }
+  auto refuse = [&](const Material& m, const std::string& name) -> Status {
+    if (m.environment.mode != EnvironmentMode::none || needs_tangents(m)) {
+      return invalid(field, "material " + name + " has an environment, normal or bump map, which a lightmapped object cannot have");
+    }
+    if (m.diffuse_texture != kNoTexture && m.texture_mode != TextureMode::modulate) {
+      return invalid(field, "material " + name + " uses the texture environment '" + std::string(to_string(m.texture_mode)) +
+                                "'; a lightmapped object takes 'modulate' only");
+    }
+    return {};
+  };
+  if (inst.mesh_materials) {
+    for (const MaterialGroup& g : mesh.groups) {
+      const std::int64_t m = find_material(scene, g.material);
+      if (m < 0) continue;  // validate_scene names it
+      FACET_TRY(refuse(scene.materials[static_cast<std::size_t>(m)], quote(g.material, 40)));
+    }
+    return {};
+  }
+  if (inst.material >= scene.materials.size()) return {};  // validate_scene names it
+  return refuse(scene.materials[inst.material], "materials[" + std::to_string(inst.material) + "]");
+}
+
 Status validate_lighting_inputs(const Scene& scene) {
   FACET_TRY(validate_global_ambient(scene.global_ambient));
   FACET_TRY(validate_fog(scene.fog));
@@ -502,24 +534,7 @@ Status validate_lighting_inputs(const Scene& scene) {
         return invalid(f("lightmap"), "meshes[" + std::to_string(inst.mesh) +
                                           "] has no lightmap coordinates (lightmap_uvs; unwrap_lightmap makes them)");
       }
-      if (!mesh.colors.empty()) {
-        return invalid(f("lightmap"), "a lightmapped object cannot have vertex colours (meshes[" + std::to_string(inst.mesh) + "] has them)");
-      }
-      auto refuse = [&](const Material& m, const std::string& name) -> Status {
-        if (m.environment.mode != EnvironmentMode::none || needs_tangents(m)) {
-          return invalid(f("lightmap"), "material " + name + " has an environment, normal or bump map, which a lightmapped object cannot have");
-        }
-        if (m.diffuse_texture != kNoTexture && m.texture_mode != TextureMode::modulate) {
-          return invalid(f("lightmap"), "material " + name + " uses the texture environment '" + std::string(to_string(m.texture_mode)) +
-                                            "'; a lightmapped object takes 'modulate' only");
-        }
-        return {};
-      };
-      if (inst.mesh_materials) {
-        for (const MaterialGroup& g : mesh.groups) FACET_TRY(refuse(scene.materials[static_cast<std::size_t>(find_material(scene, g.material))], quote(g.material, 40)));
-      } else {
-        FACET_TRY(refuse(scene.materials[inst.material], "materials[" + std::to_string(inst.material) + "]"));
-      }
+      FACET_TRY(check_lightmap_object(scene, i));
     }
     if (mesh.normals.size() != mesh.positions.size()) {
       return invalid(Field{"meshes", inst.mesh, true}("normals"),
