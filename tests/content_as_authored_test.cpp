@@ -307,3 +307,46 @@ TEST(GltfInstancing, EveryInstanceIsDrawnAtItsPlace) {
 
 }  // namespace
 }  // namespace facet
+
+namespace facet {
+namespace {
+
+// Blender's own exports with lights in its units (tests/data/blender, made by
+// tools/data/make_blender_exports.py with Blender 3.4): with no option, each shows its subject
+// neither black nor clipped: most covered pixels between 10 % and 95 % of white (the issue's
+// acceptance), where GL's reading of their intensities drew white silhouettes.
+TEST(BlenderExports, EveryExportShowsItsSubjectNeitherBlackNorClipped) {
+  const std::filesystem::path folder = std::filesystem::path(test::data_dir()) / "blender";
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (entry.path().extension() != ".glb") continue;
+    ++files;
+    Result<Model> m = load_model(entry.path().string());
+    ASSERT_TRUE(m.ok()) << m.status().message();
+    EXPECT_TRUE(m->has_camera && m->has_lights) << entry.path();
+    test::Canvas c(160, 90);
+    Renderer r;
+    RenderOptions o;
+    o.shading = ShadingMode::phong;  // as facet render draws a model: lit per pixel
+    ASSERT_TRUE(r.render(m->scene, o, c.view()).ok()) << entry.path();
+    int covered = 0, in_range = 0, clipped = 0;
+    for (int y = 0; y < 90; ++y) {
+      for (int x = 0; x < 160; ++x) {
+        const int top = std::max({c.byte(x, y, 0), c.byte(x, y, 1), c.byte(x, y, 2)});
+        if (top == 0) continue;  // the black background
+        ++covered;
+        in_range += top >= 26 && top <= 242;
+        clipped += top == 255;
+      }
+    }
+    EXPECT_GT(covered, 160 * 90 / 8) << entry.path() << ": the subject and its lit floor show";
+    EXPECT_GT(2 * in_range, covered) << entry.path() << ": " << in_range << " of " << covered << " covered pixels in 10-95 % of white";
+    EXPECT_LT(10 * clipped, covered) << entry.path() << ": " << clipped << " of " << covered << " covered pixels clipped";
+    std::printf("%s: %d of %d covered pixels in 10-95 %% of white, %d clipped\n", entry.path().filename().c_str(), in_range,
+                covered, clipped);
+  }
+  EXPECT_EQ(files, 10);
+}
+
+}  // namespace
+}  // namespace facet

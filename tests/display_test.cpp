@@ -153,8 +153,24 @@ TEST(Exposure, AutomaticMetersTheDrawnPixelsToMiddleGreyWithTheSameBytesForAnyTh
   Renderer r;
   test::Canvas one(w, h), three(w, h);
   ASSERT_TRUE(r.render(s, o, one.view(), nullptr, &stats).ok());
-  const double ev_reference = std::log2(0.18 / std::exp(sum / double(count)));
+  // The highlight guard: the 98th percentile of the lit pixels' brightest channel maps to 0.95
+  // after the neutral operator (1.712 before it); the exposure is the smaller of the two.
+  std::vector<double> peaks;
+  for (std::size_t p = 0; p < std::size_t(w) * std::size_t(h); ++p) {
+    const float* c = &raw[4 * p];
+    if (0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2] > 0.0) peaks.push_back(std::max({c[0], c[1], c[2]}));
+  }
+  std::sort(peaks.begin(), peaks.end());
+  const double p98 = peaks[static_cast<std::size_t>(0.98 * double(peaks.size() - 1))];
+  const double ev_average = std::log2(0.18 / std::exp(sum / double(count)));
+  const double ev_reference = std::min(ev_average, std::log2(1.712 / p98));
   EXPECT_NEAR(stats.exposure_ev, ev_reference, 1e-4);
+  EXPECT_FLOAT_EQ(highlight_ev(ToneMapping::neutral, p98), float(std::log2(1.712 / p98)));
+  EXPECT_FLOAT_EQ(highlight_ev(ToneMapping::none, 0.95), 0.0f);
+  EXPECT_FLOAT_EQ(highlight_ev(ToneMapping::aces, 2.863), 0.0f);
+  // The operators map the guard's white to 0.95 (the constants solved from their formulas).
+  EXPECT_NEAR(tone_map(ToneMapping::neutral, {1.712f, 1.712f, 1.712f})[0], 0.95f, 1e-3f);
+  EXPECT_NEAR(tone_map(ToneMapping::aces, {2.863f, 2.863f, 2.863f})[0], 0.95f, 1e-3f);
   EXPECT_LT(stats.exposure_ev, -4.0f);
   o.threads = 3;
   FrameStats stats3;

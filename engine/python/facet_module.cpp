@@ -163,6 +163,7 @@ struct PyScene {
   int rendering = 0;
   std::vector<std::string> warnings;  // what loading read approximately or not at all
   std::vector<std::string> cameras;   // a loaded glTF file's cameras (Model::cameras)
+  bool model = false;                 // loaded from a model (.gltf, .glb, .obj): Renderer's "auto" shading is Phong
 
   Scene& edit() {
     if (rendering > 0) {
@@ -216,7 +217,10 @@ class PyRenderer {
   PyRenderer(const std::string& shading, const std::string& path, const std::string& isa, const std::string& pow, int threads,
              int msaa, bool srgb, std::array<float, 4> clear, const std::string& pixel_precision) {
     RenderOptions o;
-    o.shading = shading_of(shading);
+    // "auto": per scene, Phong for a loaded model (lit per pixel, as a viewer lights it), Gouraud
+    // otherwise (facet render's default).
+    auto_shading_ = shading == "auto";
+    o.shading = auto_shading_ ? ShadingMode::gouraud : shading_of(shading);
     o.path = path_of(path);
     o.isa = isa_of(isa);
     o.pow_tier = pow_of(pow);
@@ -226,6 +230,7 @@ class PyRenderer {
     o.srgb = srgb;
     o.clear_color = clear;
     if (Status s = check_render_options(o); !s.ok()) raise(s);
+    options_ = o;
     renderer_ = Renderer(o);
   }
 
@@ -285,7 +290,9 @@ class PyRenderer {
       {
         py::gil_scoped_release release;  // other Python threads run while this one renders
         const std::lock_guard<std::mutex> one_frame_at_a_time(busy_);  // a renderer draws one frame at a time
-        s = renderer_.render(scene.scene, view);
+        RenderOptions o = options_;
+        if (auto_shading_) o.shading = scene.model ? ShadingMode::phong : ShadingMode::gouraud;
+        s = renderer_.render(scene.scene, o, view);
       }
     }
     if (!s.ok()) raise(s);
@@ -293,6 +300,8 @@ class PyRenderer {
   }
 
   Renderer renderer_;
+  RenderOptions options_;
+  bool auto_shading_ = false;
   std::mutex busy_;
 };
 
@@ -346,7 +355,11 @@ PYBIND11_MODULE(_facet, m) {
   m.def("best_isa", [] { return std::string(to_string(best_isa())); }, "The widest instruction set of this CPU facet uses.");
 
   py::class_<PyScene>(m, "Scene", "A scene: meshes, materials, objects, lights and a camera.")
-      .def(py::init([](bool empty) { return PyScene{empty ? Scene{} : make_default_scene()}; }), py::arg("empty") = false,
+      .def(py::init([](bool empty) {
+             PyScene ps;
+             ps.scene = empty ? Scene{} : make_default_scene();
+             return ps;
+           }), py::arg("empty") = false,
            "The built-in scene, or with empty=True a scene with nothing in it (build it with add_mesh, add_material, "
            "add_object and add_light).")
       .def("add_mesh", [](PyScene& ps, py::array_t<float, py::array::c_style | py::array::forcecast> positions,
@@ -357,6 +370,19 @@ PYBIND11_MODULE(_facet, m) {
         if (positions.ndim() != 2 || positions.shape(1) != 3) raise({ErrorCode::invalid_argument, "positions", "positions: expected an N x 3 array"});
         if (triangles.ndim() != 2 || triangles.shape(1) != 3) raise({ErrorCode::invalid_argument, "triangles", "triangles: expected an M x 3 array"});
         const std::size_t n = static_cast<std::size_t>(positions.shape(0));
+        // The library draws nothing of a triangle with a non-finite vertex, and says so only in
+        // FrameStats: an array with NaN or infinity (a division by zero upstream) is refused here.
+        const auto finite_rows = [](const float* v, std::size_t rows, std::size_t width, const char* what) {
+          for (std::size_t i = 0; i < rows * width; ++i) {
+            if (!std::isfinite(v[i])) {
+              raise({ErrorCode::invalid_argument, what, std::string(what) + "[" + std::to_string(i / width) + "]: " +
+                                                        (std::isnan(v[i]) ? "NaN" : "an infinity") + ", expected finite numbers"});
+            }
+          }
+        };
+        finite_rows(positions.data(), n, 3, "positions");
+        if (normals && normals->ndim() == 2 && normals->shape(1) == 3) finite_rows(normals->data(), static_cast<std::size_t>(normals->shape(0)), 3, "normals");
+        if (uvs && uvs->ndim() == 2 && uvs->shape(1) == 2) finite_rows(uvs->data(), static_cast<std::size_t>(uvs->shape(0)), 2, "uvs");
         const std::vector<std::uint32_t> indices = exact_values<std::uint32_t>(triangles, "triangles", 0, 4294967295.0);
         std::span<const float> normal_span;
         if (normals) {
@@ -610,6 +636,9 @@ PYBIND11_MODULE(_facet, m) {
     const ViewOptions framing = view_of(view.value_or(std::array<float, 2>{0, 0}), up, fov_deg.value_or(45.0f),
                                         projection.value_or("perspective"), 0.85f);
     ps.scene = load_for_render(path, aspect, allow_paths, strict, &ps.warnings, camera, framing, reframe, &ps.cameras);
+    std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : path;
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    ps.model = ext == "gltf" || ext == ".glb" || ext == ".obj";
     return ps;
   }, py::arg("path"), py::arg("aspect") = 16.0f / 9.0f, py::arg("allow_paths") = std::vector<std::string>{},
         py::arg("strict") = false, py::arg("camera") = "", py::arg("view") = py::none(), py::arg("up") = "y",
@@ -624,7 +653,7 @@ PYBIND11_MODULE(_facet, m) {
   py::class_<PyRenderer>(m, "Renderer", "A renderer with its own threads and options; render() releases the GIL.")
       .def(py::init<const std::string&, const std::string&, const std::string&, const std::string&, int, int, bool, std::array<float, 4>,
                     const std::string&>(),
-           py::arg("shading") = "gouraud", py::arg("path") = "simd", py::arg("isa") = "best", py::arg("pow") = "auto",
+           py::arg("shading") = "auto", py::arg("path") = "simd", py::arg("isa") = "best", py::arg("pow") = "auto",
            py::arg("threads") = 0, py::arg("msaa") = 1, py::arg("srgb") = true,
            py::arg("clear") = std::array<float, 4>{0, 0, 0, 1}, py::arg("pixel_precision") = "auto")
       .def("render", &PyRenderer::render, py::arg("scene"), py::arg("width"), py::arg("height"), py::arg("dtype") = "uint8",

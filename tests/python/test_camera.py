@@ -72,3 +72,24 @@ def test_load_picks_a_files_camera_by_name_and_lists_them():
     framed = facet.load(CAMERAS, projection="orthographic", view=(30, 20))
     assert framed.camera["projection"] == "orthographic"
     assert framed.camera["eye"] != top.camera["eye"]
+
+
+def test_non_finite_positions_normals_and_uvs_are_refused_by_row():
+    scene = facet.Scene(empty=True)
+    good = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], dtype=np.float32)
+    for kwargs, field in (({"positions": np.array([[0, 0, 0], [1, np.nan, 0], [0, 1, 0]])}, "positions[1]: NaN"),
+                          ({"positions": good, "normals": np.array([[0, 0, 1], [0, 0, 1], [0, 0, np.inf]])}, "normals[2]: an infinity"),
+                          ({"positions": good, "uvs": np.array([[0, 0], [np.nan, 0], [0, 1]])}, "uvs[1]: NaN")):
+        with pytest.raises(facet.Error, match=field.replace("[", r"\[").replace("]", r"\]")):
+            scene.add_mesh(triangles=np.array([[0, 1, 2]]), **kwargs)
+    assert scene.add_mesh(good, np.array([[0, 1, 2]])) == 0
+
+
+def test_auto_shading_lights_a_model_per_pixel_and_a_scene_file_per_vertex():
+    model = os.path.join(DATA, "gltf", "relief_cube.gltf")  # a normal map: lit per pixel only
+    auto = facet.render(model, width=64, height=36, threads=1)
+    assert (auto == facet.render(model, width=64, height=36, threads=1, shading="phong")).all()
+    assert (auto != facet.render(model, width=64, height=36, threads=1, shading="gouraud")).any()
+    assert (facet.render(width=64, height=36, threads=1) == facet.render(width=64, height=36, threads=1, shading="gouraud")).all()
+    with pytest.raises(facet.Error, match="shading"):
+        facet.Renderer(shading="per-pixel")

@@ -56,11 +56,37 @@ def test_a_worker_killed_mid_job_loses_no_frame(reference, tmp_path):
     assert rows[2]["pid"] != killed_pid  # frame 2 finished on another worker
 
 
-def test_a_failing_job_is_reported_not_lost(tmp_path):
-    result = sweep(tmp_path, "--frames", "2", "--workers", "1", "--retries", "1", "--", "--width", "0")
-    assert result.returncode == 1
+def test_a_failing_job_is_retried_and_reported_not_lost(tmp_path):
+    # Exposure -30 turns the model black on black: facet says nothing shows (exit status 1), which
+    # a retry might not repeat (a cluster's fault), so it is retried, then reported.
+    result = sweep(tmp_path, "--frames", "2", "--workers", "1", "--retries", "1", "--exposure=-30", *SIZE)
+    assert result.returncode == 1, result.stderr
     summary = json.loads((tmp_path / "summary.json").read_text())
-    assert summary["failed"] == 2 and "--width" in summary["rows"][0]["error"]
+    assert summary["failed"] == 2 and "exited 1" in summary["rows"][0]["error"]
+    assert "background colour" in summary["rows"][0]["error"]
+
+
+def test_a_refused_job_stops_the_sweep_with_facets_message(tmp_path):
+    result = sweep(tmp_path, "--frames", "6", "--workers", "1", "--", "--width", "0")
+    assert result.returncode == 2
+    assert "was refused" in result.stderr and "--width" in result.stderr
+    rows = json.loads((tmp_path / "summary.json").read_text())["rows"]
+    assert rows[0]["status"] == "refused" and "--width" in rows[0]["error"]
+    assert all(r["status"] in ("refused", "failed") for r in rows)
+
+
+def test_a_grid_into_a_new_folder_with_render_options_given_directly(tmp_path):
+    out = tmp_path / "new" / "folder"
+    result = sweep(out, "--grid", "shading=flat,phong", "--seconds", "0.01", *SIZE)
+    assert result.returncode == 0, result.stderr
+    rows = json.loads((out / "summary.json").read_text())["rows"]
+    assert [r["record"]["width"] for r in rows] == [64, 64] and [r["record"]["shading"] for r in rows] == ["flat", "phong"]
+
+
+def test_a_turntable_of_one_frame(tmp_path):
+    result = sweep(tmp_path, "--frames", "1", *SIZE)
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "turn_0000.png").exists()
 
 
 def test_a_parameter_grid(tmp_path):

@@ -210,6 +210,11 @@ bool apply_view_options(const ViewState& st, InputOptions& input) {
   return true;
 }
 
+std::string default_shading(const std::string& given, const std::string& input_path) {
+  if (!given.empty()) return given;
+  return is_model_path(input_path) ? "phong" : "gouraud";
+}
+
 std::string describe_camera(const Camera& c) {
   char buf[220];
   if (c.projection == Projection::orthographic) {
@@ -220,6 +225,20 @@ std::string describe_camera(const Camera& c) {
                   c.eye.z(), c.target.x(), c.target.y(), c.target.z(), c.vertical_fov_deg);
   }
   return buf;
+}
+
+void InputIdentity::add(const std::string& bytes) {
+  const auto mix = [this](unsigned char c) { hash = (hash ^ c) * 0x100000001b3ull; };
+  for (int k = 0; k < 8; ++k) mix(static_cast<unsigned char>(std::uint64_t(bytes.size()) >> (8 * k)));
+  for (const char c : bytes) mix(static_cast<unsigned char>(c));
+  ++files;
+}
+
+std::string InputIdentity::json_field() const {
+  char hex[24];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
+  return "\"input\": {\"name\": \"" + json_escape(name) + "\", \"hash\": \"" + (files ? std::string("fnv1a64:") + hex : std::string()) +
+         "\", \"files\": " + std::to_string(files) + "}, ";
 }
 
 std::string nothing_visible(const Scene& scene, const RenderOptions& options, const FrameStats& stats, const ImageView& image) {

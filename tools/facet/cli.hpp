@@ -111,6 +111,25 @@ struct Input {
   std::size_t rig_first = 0;  // facet's default rig is lights [rig_first, end); none when == lights.size()
   std::vector<std::string> cameras;  // a glTF file's cameras (Model::cameras), for --camera
 };
+// What a --json record says of its input ("input": {"name", "hash", "files"}): the file's name and
+// a hash of the bytes of every file the load read (FNV-1a 64 over each file's size and bytes, in
+// the order read), so that facet compare-runs can tell records of different inputs apart, and
+// of the same input moved or renamed alike.
+struct InputIdentity {
+  std::string name;  // the file's name without its folder; "built-in scene"
+  std::uint64_t hash = 0xcbf29ce484222325ull;
+  int files = 0;
+  void add(const std::string& bytes);
+  // "\"input\": {...}, "
+  std::string json_field() const;
+};
+
+// --shading as given, or its default for the input: phong for a model (.gltf, .glb, .obj: lit per
+// pixel, as a viewer lights it; a spot's pool on a two-triangle floor does not show per vertex),
+// gouraud for a scene file and the built-in scene (GL's fixed function, as the llvmpipe comparisons
+// draw them).
+std::string default_shading(const std::string& given, const std::string& input_path);
+
 // "eye (..), target (..), fov 45 deg" or "..., orthographic, half height 2".
 std::string describe_camera(const Camera& c);
 

@@ -83,6 +83,9 @@ int light(const LightState& st) {
   const int threads = st.threads;
   const bool json = st.json;
   InputOptions input;
+  InputIdentity identity;
+  identity.name = scene_path.empty() ? "built-in scene" : std::filesystem::path(scene_path).filename().string();
+  input.on_read = [&identity](const std::string&, const std::string& bytes) { identity.add(bytes); };
   input.allowed_paths = st.allow_paths;
   if (st.memory_mb >= 0) input.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
   input.allow_missing = !st.strict;
@@ -153,8 +156,8 @@ int light(const LightState& st) {
   if (json) {
     // Each result: the mean rate over the run and the spread of the per-pass rates; the difference
     // from the reference only when the reference ran (absent otherwise).
-    std::printf("{\"context\": %s, \"scene\": \"%s\", \"objects\": %zu, \"vertices\": %zu, \"lights\": %zu, \"results\": [",
-                json_context("", "", threads).c_str(), json_escape(scene_name).c_str(), scene.objects.size(), vertices_per_pass, lights);
+    std::printf("{%s\"context\": %s, \"scene\": \"%s\", \"objects\": %zu, \"vertices\": %zu, \"lights\": %zu, \"results\": [",
+                identity.json_field().c_str(), json_context("", "", threads).c_str(), json_escape(scene_name).c_str(), scene.objects.size(), vertices_per_pass, lights);
     for (std::size_t k = 0; k < results.size(); ++k) {
       const auto& r = results[k];
       const bool simd = r.options.path == LightingPath::simd;
@@ -193,7 +196,7 @@ int light(const LightState& st) {
 }
 
 struct CheckState {
-  std::string scene_path, shading = "gouraud", shadows, transparent_order, output, depth, depth_mode = "auto";
+  std::string scene_path, shading, shadows, transparent_order, output, depth, depth_mode = "auto";
   int width = 1280, height = 720, memory_mb = -1, msaa = 1;
   bool allow_missing = false, strict = false, vertex_relief = false;
   std::vector<std::string> allow_paths;
@@ -218,7 +221,7 @@ Command add_check(CLI::App& facet) {
       ->check(one_of({"auto", "gl", "reversed"}, "depth mode"));
   app->add_option("--width", st->width, "the image width to check for (default 1280)")->check(int_in(1, kMaxImageDimension));
   app->add_option("--height", st->height, "the image height to check for (default 720)")->check(int_in(1, kMaxImageDimension));
-  app->add_option("--shading", st->shading, "flat | gouraud | phong, as for 'facet render' (default gouraud)")
+  app->add_option("--shading", st->shading, "flat | gouraud | phong, as for 'facet render' (default: phong for a model, gouraud for a scene file)")
       ->check(one_of({"flat", "gouraud", "phong"}, "shading"));
   app->add_option("--shadows", st->shadows, "none | map | volume | raycast: every light casts shadows so")
       ->check(one_of({"none", "map", "volume", "raycast"}, "method"));
@@ -262,7 +265,7 @@ int check(const CheckState& st) {
   const std::string& scene_path = st.scene_path;
   const int width = st.width, height = st.height;
   RenderOptions options;
-  options.shading = *parse_shading(st.shading);
+  options.shading = *parse_shading(default_shading(st.shading, scene_path));
   options.vertex_relief = st.vertex_relief;
   options.samples = st.msaa;
   if (st.memory_mb >= 0) options.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
@@ -311,7 +314,8 @@ int check(const CheckState& st) {
   std::size_t srgb_textures = 0;
   for (const auto& t : scene->textures) texels += t.texels.size(), srgb_textures += t.encoding == TextureEncoding::srgb;
   std::printf("%s: ok — %zu meshes, %zu materials, %zu objects (%zu vertices, %zu triangles), %zu lights; a %d x %d "
-              "frame%s needs about %llu MiB\n",
+              "frame%s takes at most about %llu MiB of the renderer's scratch (a bound: every triangle counted as drawn; "
+              "what --memory-budget-mb is checked against)\n",
               scene_path.c_str(), scene->meshes.size(), scene->materials.size(), scene->objects.size(),
               scene_vertices(*scene), triangles, scene->lights.size(), width, height,
               options.samples > 1 ? (" with " + std::to_string(options.samples) + " samples a pixel").c_str() : "",

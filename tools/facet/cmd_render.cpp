@@ -1,4 +1,4 @@
-// facet render: a scene into a PNG or PFM file, with statistics and throughput.
+// facet render: a scene into a PNG, PFM or EXR file, with statistics and throughput.
 #include <chrono>
 #include <array>
 #include <memory>
@@ -149,6 +149,7 @@ struct Turntable {
   double orbit_deg = 360.0;
   TurnLights lights = TurnLights::automatic;
   bool json = false;
+  std::string input;  // InputIdentity::json_field(), for the records
 };
 
 // --frames N: the camera orbits the centre of the objects' box about the up axis, `orbit_deg` in
@@ -182,6 +183,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
   const std::vector<Light> start_lights = scene.lights;
   const auto wall_start = std::chrono::steady_clock::now();
   FrameWriter writer;
+  std::string first_nothing;  // why the first frame that shows nothing shows nothing
   double seconds = 0;
   std::vector<double> all_seconds;
   std::uint64_t pixels = 0;
@@ -202,6 +204,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
     pixels += stats.pixels_filled;
     const std::string nothing = nothing_visible(scene, options, stats, image);
     empty_frames += !nothing.empty();
+    if (first_nothing.empty()) first_nothing = nothing;
     const std::string name = numbered(output, k);
     // The frame is encoded on another thread while the next one renders (PNG's deflate takes
     // longer than most frames); one frame in flight, its bytes copied.
@@ -211,8 +214,8 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
       char fields[128];
       std::snprintf(fields, sizeof fields, "\"frame\": %d, \"angle_deg\": %.6g, ", k, angle);
       print_stats_json(stats, 1, frame_seconds, options, image.width, image.height,
-                       fields + std::string("\"file\": \"") + json_escape(name) + "\", ", {}, display_fields(scene.display, options, stats),
-                       nothing);
+                       fields + std::string("\"file\": \"") + json_escape(name) + "\", " + t.input, {},
+                       display_fields(scene.display, options, stats), nothing);
     } else {
       std::fprintf(stderr, "\rfacet: frame %d/%d -> %s", k - t.first + 1, t.last - t.first, name.c_str());
       std::fflush(stderr);
@@ -223,9 +226,11 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   // Exit status 1 when no frame shows anything (the verdict of a single frame, for the whole run).
   const int status = empty_frames == count ? 1 : 0;
+  if (status) std::fprintf(stderr, "facet: no frame shows anything (exit status 1): %s\n", first_nothing.c_str());
   if (t.json) {
-    std::printf("{\"summary\": true, \"context\": %s, \"frames\": %d, \"seconds_rendering\": %.6g, \"seconds_wall\": %.6g, "
+    std::printf("{\"summary\": true, %s\"context\": %s, \"frames\": %d, \"seconds_rendering\": %.6g, \"seconds_wall\": %.6g, "
                 "\"mean_seconds_per_frame\": %.6g, \"frame_seconds\": %s, \"pixels_filled_per_s\": %.6g, \"empty_frames\": %d}\n",
+                t.input.c_str(),
                 json_context(options.path == LightingPath::simd ? to_string(options.isa == Isa::best ? best_isa() : options.isa) : "none",
                              options.path == LightingPath::simd ? to_string(options.pow_tier) : "std::pow", options.threads).c_str(),
                 count, seconds, wall, seconds / count, json_spread(all_seconds).c_str(), double(pixels) / seconds, empty_frames);
@@ -236,7 +241,6 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
               "writing the files)%s\n",
               count, wall, seconds, 1e3 * seconds / count, double(pixels) / seconds / 1e6,
               empty_frames ? (", " + std::to_string(empty_frames) + " frames show nothing").c_str() : "");
-  if (status) std::fprintf(stderr, "facet: no frame shows anything (exit status 1)\n");
   return status;
 }
 
@@ -245,7 +249,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
 namespace {
 
 struct RenderState {
-  std::string scene_path, output, depth_path, frame_range, shading = "gouraud", shadows, path = "simd", isa = "auto", pow = "auto", pixel_precision = "auto",
+  std::string scene_path, output, depth_path, frame_range, shading, shadows, path = "simd", isa = "auto", pow = "auto", pixel_precision = "auto",
                                                 cull = "back", clear, transparent_order, lights = "auto", depth_mode = "auto",
                                                 exposure, tone_mapping;
   int width = 1280, height = 720, threads = 0, tile = 64, memory_mb = -1, frame_count = 1, msaa = 1;
@@ -287,7 +291,7 @@ Command add_render(CLI::App& facet) {
   app->add_option("--clear", st->clear, "the background colour R,G,B[,A], components in [0, 1] (default 0,0,0,1)")->group(out);
   app->add_option("--depth", st->depth_path, "also write window-space depth (0 near .. 1 far) to FILE.pfm")->group(out);
   const char* draw = "Drawing";
-  app->add_option("--shading", st->shading, "flat | gouraud | phong (default gouraud)")
+  app->add_option("--shading", st->shading, "flat | gouraud | phong (default: phong for a model, lit per pixel as a viewer lights it; gouraud for a scene file, GL's)")
       ->check(one_of({"flat", "gouraud", "phong"}, "shading"))->group(draw);
   app->add_option("--shadows", st->shadows, "none | map | volume | raycast: every light casts shadows so")
       ->check(one_of({"none", "map", "volume", "raycast"}, "method"))->group(draw);
@@ -364,7 +368,7 @@ int render(const RenderState& st) {
   std::optional<ShadowMethod> shadows;
   if (!st.shadows.empty()) shadows = parse_shadow_method(st.shadows);
   RenderOptions options;
-  options.shading = *parse_shading(st.shading);
+  options.shading = *parse_shading(default_shading(st.shading, scene_path));
   options.path = *parse_path(st.path);
   options.isa = *parse_isa(st.isa);
   if (!isa_supported(options.isa)) {
@@ -410,13 +414,19 @@ int render(const RenderState& st) {
   }
   if (options.hdr && ext == ".png") return fail("--hdr needs a .pfm or .exr output (PNG is 8-bit)");
 
-  if (frame_count > 1 && min_seconds > 0) return fail("--frames and --seconds cannot be combined");
-  if (frame_count <= 1 && !st.frame_range.empty()) return fail("--frame-range needs --frames N with N > 1");
+  // A turntable: more than one frame, or a range of frames (--frames 1 --frame-range 0:1, one job of
+  // a sweep, writes OUT_0000.png as every other job does).
+  const bool turntable = frame_count > 1 || !st.frame_range.empty();
+  if (turntable && min_seconds > 0) return fail("--frames and --seconds cannot be combined");
+  if (frame_count < 1) return fail("--frames: expected 1 or more");
   const Deadline deadline(st.time_limit);
   if (st.time_limit > 0) {
     options.progress = [&deadline](double) { return !deadline.expired(); };
   }
   InputOptions input;
+  InputIdentity identity;
+  identity.name = scene_path.empty() ? "built-in scene" : std::filesystem::path(scene_path).filename().string();
+  input.on_read = [&identity](const std::string&, const std::string& bytes) { identity.add(bytes); };
   input.progress = options.progress;
   input.cancelled_message = deadline.message("loading " + (scene_path.empty() ? std::string("the scene") : scene_path));
   input.memory_budget_bytes = options.memory_budget_bytes;
@@ -456,7 +466,7 @@ int render(const RenderState& st) {
 
   Renderer renderer;
   FrameStats frame;
-  if (frame_count > 1) {
+  if (turntable) {
     Turntable t;
     t.frames = frame_count;
     t.last = frame_count;
@@ -472,6 +482,7 @@ int render(const RenderState& st) {
     t.orbit_deg = orbit_deg;
     t.lights = st.lights == "camera" ? TurnLights::camera : st.lights == "world" ? TurnLights::world : TurnLights::automatic;
     t.json = as_json;
+    t.input = identity.json_field();
     return run_turntable(renderer, *loaded, input, options, image, output, t);
   }
   int frames = 0;
@@ -497,8 +508,8 @@ int render(const RenderState& st) {
   const std::string nothing = nothing_visible(*scene, options, frame, image);
   if (!nothing.empty()) std::fprintf(stderr, "facet: nothing to see (exit status 1; the image is written): %s\n", nothing.c_str());
   if (as_json) {
-    print_stats_json(frame, frames, elapsed, options, width, height, "", frame_seconds, display_fields(scene->display, options, frame),
-                     nothing);
+    print_stats_json(frame, frames, elapsed, options, width, height, identity.json_field(), frame_seconds,
+                     display_fields(scene->display, options, frame), nothing);
   } else if (stats) {
     std::printf("facet render: %s -> %s (%d x %d, %s shading, %s, pixels %s, %d thread%s)\n",
                 scene_path.empty() ? "built-in default scene" : scene_path.c_str(), output.c_str(), width, height,

@@ -89,6 +89,14 @@ bool read_document(const json& doc, Run& run, Fields& f) {
     if (!doc["context"].is_object()) return f.bad("context", "an object", doc["context"]);
     run.context = doc["context"];
   }
+  if (run.input.is_null() && doc.contains("input")) {
+    const json& in = doc["input"];
+    std::string name, hash;
+    double files = 0;
+    if (!in.is_object()) return f.bad("input", "an object {\"name\", \"hash\", \"files\"}", in);
+    if (!f.text(in, "input", "name", name) || !f.text(in, "input", "hash", hash) || !f.number(in, "input", "files", 0.0, files)) return false;
+    run.input = {{"name", name}, {"hash", hash}, {"files", files}};
+  }
   if (doc.contains("results")) {  // facet light: throughput, higher is better
     if (!doc["results"].is_array()) return f.bad("results", "an array", doc["results"]);
     for (std::size_t i = 0; i < doc["results"].size(); ++i) {

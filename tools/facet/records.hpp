@@ -21,6 +21,9 @@ struct Measure {
 
 struct Run {
   nlohmann::json context;  // the first context found
+  // The first "input" found ({"name", "hash", "files"}: what the record measured); null in
+  // records older than it, and in Google Benchmark's.
+  nlohmann::json input;
   std::map<std::string, Measure> measures;
   std::vector<std::string> order;
 };

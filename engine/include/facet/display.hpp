@@ -50,4 +50,11 @@ std::array<float, 3> tone_map(ToneMapping mapping, std::array<float, 3> rgb) noe
 // log2(0.18 / log_average), clamped to [-30, 30].
 float metered_ev(double log_average) noexcept;
 
+// The highlight guard of automatic exposure: the largest ev at which a colour channel of `peak`
+// (the 98th percentile of the lit pixels' brightest channel) still maps to 0.95 after `mapping`
+// (none: 0.95 itself; neutral: 1.712; aces: 2.863), clamped to [-30, 30]. Metering takes the
+// smaller of this and metered_ev, so that a bright subject in a dark frame (a spot light's pool
+// on a dark floor) is not clipped white by the dark pixels' pull on the average.
+float highlight_ev(ToneMapping mapping, double peak) noexcept;
+
 }  // namespace facet

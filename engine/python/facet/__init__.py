@@ -13,13 +13,14 @@ from ._facet import Error, Renderer, Scene, __version__, best_isa, light, load
 __all__ = ["Error", "Renderer", "Scene", "__version__", "best_isa", "light", "load", "render"]
 
 
-def render(path=None, width=640, height=360, *, shading="gouraud", msaa=1, srgb=True, threads=0,
+def render(path=None, width=640, height=360, *, shading="auto", msaa=1, srgb=True, threads=0,
            dtype="uint8", allow_paths=(), orbit_deg=0.0, pixel_precision="auto", exposure=None,
            tone_mapping=None, strict=False):
     """The picture of a scene file or model (or, with no path, the built-in scene), as `facet
     render` draws it: an H x W x 4 array (uint8, sRGB-encoded unless srgb=False; float32 linear
     light with dtype="float32"). exposure (stops or "auto") and tone_mapping ("none", "neutral",
-    "aces") replace the scene's own (docs/color.md)."""
+    "aces") replace the scene's own (docs/color.md). shading "auto" lights a model per pixel
+    (Phong) and a scene file per vertex (Gouraud), as `facet render` does."""
     scene = load(path, aspect=width / height, allow_paths=list(allow_paths), strict=strict) if path is not None else Scene()
     if orbit_deg:
         scene.orbit(orbit_deg)

@@ -8,8 +8,14 @@ DIR/summary.csv, one row per job with its status, attempts, worker, wall time an
 facet reported. A job whose command fails is retried (--retries); a job whose worker dies is run
 again on another worker by Dask: no job is lost.
 
-    python3 -m facet.sweep MODEL --frames 36 --workers 2 -o DIR [-- more facet render options]
+    python3 -m facet.sweep MODEL --frames 36 --workers 2 -o DIR --width 640 --height 360
     python3 -m facet.sweep MODEL --grid pow=auto,exact --grid threads=1,2 --seconds 0.5 -o DIR
+    python3 -m facet.sweep MODEL --frames 36 -o DIR -- --exposure -2 --clear 0.2,0.2,0.2
+
+The common render options (--width, --height, --shading, --msaa, --path, --isa, --pow, --view,
+--up, --fov, --projection, --camera, --exposure, --tone-mapping, --allow-path) are taken as they
+are; any other facet render option goes after `--`. A facet command that refuses its options or
+its input (exit status 2) is not retried: the sweep stops and prints facet's message.
     python3 -m facet.sweep MODEL --frames 36 --scheduler tcp://host:8786 -o DIR   # an existing cluster
 
 Without Dask (or for a Slurm job array, one task each), `facet render MODEL --frames 36
@@ -72,6 +78,11 @@ def run_job(job):
                                 timeout=None if deadline is None else max(0.01, deadline - time.time()))
     except subprocess.TimeoutExpired:
         raise RuntimeError("job %s: stopped at the sweep's time limit" % job["key"]) from None
+    if result.returncode == 2:
+        # Refused (a usage error, a file it cannot read): running it again cannot help. Reported,
+        # not raised, so that Dask does not retry it.
+        return {"key": job["key"], "status": "refused", "host": socket.gethostname(), "pid": os.getpid(),
+                "seconds": time.time() - started, "error": result.stderr.strip()}
     if result.returncode != 0:
         raise RuntimeError("job %s: %s exited %d: %s" % (job["key"], job["command"][0], result.returncode, result.stderr.strip()))
     record = None
@@ -86,11 +97,19 @@ def run_job(job):
             "seconds": time.time() - started, "record": record}
 
 
+# facet render's options a sweep takes as its own and passes to every job (the rest after `--`).
+PASSED_ON = ("width", "height", "shading", "msaa", "path", "isa", "pow", "view", "up", "fov", "projection", "camera",
+             "exposure", "tone-mapping", "allow-path")
+
+
 def make_jobs(args, facet_bin, extra):
     jobs = []
     common = [facet_bin, "render", args.model] if args.model else [facet_bin, "render"]
+    for option in PASSED_ON:
+        value = getattr(args, option.replace("-", "_"))
+        for v in value if isinstance(value, list) else ([] if value is None else [value]):
+            extra = ["--%s=%s" % (option, v)] + extra  # with "=": a value such as -z is not taken for an option
     if args.frames:
-        os.makedirs(args.output, exist_ok=True)
         out = os.path.join(args.output, args.name)
         for k in range(args.frames):
             jobs.append({"key": "frame-%04d" % k,
@@ -115,24 +134,38 @@ def make_jobs(args, facet_bin, extra):
 
 def run(jobs, client, retries=2, deadline=None):
     """Submits every job to `client` (a distributed.Client) and gathers their rows in job order;
-    a job that still fails after its retries gets a row with status "failed" and the error. With a
-    deadline (time.time() seconds), jobs not finished by then are cancelled and reported so."""
+    a job that still fails after its retries gets a row with status "failed" and the error. A job
+    facet refused (exit status 2) stops the sweep: the jobs not done are cancelled ("refused"
+    rows say why). With a deadline (time.time() seconds), jobs not finished by then are cancelled
+    and reported so."""
     from distributed import wait
 
     for job in jobs:
         job["deadline"] = deadline
     futures = {client.submit(run_job, job, key="facet-" + job["key"] + "-" + str(time.time_ns()), retries=retries, pure=False): job
                for job in jobs}
-    # A second past the deadline: the jobs themselves stop at it.
-    try:
-        wait(list(futures), timeout=None if deadline is None else max(0.0, deadline - time.time()) + 1.0)
-    except TimeoutError:
-        pass
+    refused = None
+    pending = list(futures)
+    end = None if deadline is None else deadline + 1.0  # a second past the deadline: the jobs themselves stop at it
+    while pending and refused is None:
+        remaining = None if end is None else end - time.time()
+        if remaining is not None and remaining <= 0:
+            break
+        try:
+            done, not_done = wait(pending, timeout=remaining, return_when="FIRST_COMPLETED")
+        except TimeoutError:
+            break
+        pending = list(not_done)
+        for future in done:
+            if future.status == "finished" and future.result().get("status") == "refused":
+                refused = future.result()
+                break
     rows = {}
     for future, job in futures.items():
         if not future.done():
             future.cancel()
-            row = {"key": job["key"], "status": "failed", "error": "cancelled at the sweep's time limit"}
+            why = "cancelled: job %s was refused" % refused["key"] if refused else "cancelled at the sweep's time limit"
+            row = {"key": job["key"], "status": "failed", "error": why}
         else:
             try:
                 row = future.result()
@@ -177,6 +210,9 @@ def main(argv=None):
     p.add_argument("--facet", help="the facet program (default: beside this package, else on PATH)")
     p.add_argument("--time-limit", type=float, help="stop the whole sweep after S seconds: running jobs are killed, "
                    "the rest cancelled, each reported as failed (default: no limit)")
+    for option in PASSED_ON:
+        p.add_argument("--" + option, action="append" if option == "allow-path" else None,
+                       help="passed to every facet render command" if option == "width" else argparse.SUPPRESS)
     p.add_argument("--kill-worker-once-at", help=argparse.SUPPRESS)  # fault injection: the job key whose worker dies once
     argv = list(sys.argv[1:] if argv is None else argv)
     extra = []
@@ -204,6 +240,7 @@ def main(argv=None):
             or any(ord(c) < 0x20 or ord(c) == 0x7f for c in args.name)):
         p.error("--name: expected a file name without a folder (turn.png), found %r" % args.name)
     facet_bin = os.path.abspath(args.facet) if args.facet else find_facet()
+    os.makedirs(args.output, exist_ok=True)  # the jobs write into it: a grid's as a turntable's
     jobs = make_jobs(args, facet_bin, extra)
     if args.kill_worker_once_at:
         for job in jobs:
@@ -228,6 +265,10 @@ def main(argv=None):
         if cluster is not None:
             cluster.close()
     summary = write_summary(rows, args.output, time.time() - started, args.workers if not args.scheduler else None)
+    refused = [r for r in rows if r["status"] == "refused"]
+    if refused:
+        sys.stderr.write("facet.sweep: job %s was refused, the sweep stopped:\n%s\n" % (refused[0]["key"], refused[0]["error"]))
+        return 2
     print("facet.sweep: %d jobs, %d ok, %d failed in %.2f s (%.2f jobs/s); %s" %
           (summary["jobs"], summary["ok"], summary["failed"], summary["wall_seconds"], summary["jobs_per_second"] or 0,
            os.path.join(args.output, "summary.json")))

@@ -63,6 +63,13 @@ std::array<float, 3> tone_map(ToneMapping mapping, std::array<float, 3> rgb) noe
   return rgb;
 }
 
+float highlight_ev(ToneMapping mapping, double peak) noexcept {
+  if (!(peak > 0.0)) return 30.0f;
+  // The linear value each operator maps to 0.95 (solved in double from the formulas above).
+  const double white = mapping == ToneMapping::neutral ? 1.712 : mapping == ToneMapping::aces ? 2.863 : 0.95;
+  return static_cast<float>(std::clamp(std::log2(white / peak), -30.0, 30.0));
+}
+
 float metered_ev(double log_average) noexcept {
   if (!(log_average > 0.0)) return 0.0f;
   const double ev = std::log2(0.18 / log_average);
@@ -105,10 +112,12 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
   float ev = scene.display.ev;
   if (scene.display.automatic) {
     display_rows.assign(static_cast<std::size_t>(h), {0.0, 0.0});
+    display_peaks.assign(pixels, 0.0f);
     arena->parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows, int) {
       for (int y = rows.begin(); y != rows.end(); ++y) {
         double sum = 0.0, count = 0.0;
         const float* row = display_color.data() + 4 * static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+        float* peaks = display_peaks.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
         for (int x = 0; x < w; ++x) {
           const float* p = row + 4 * x;
           if (background(p, x, y)) continue;
@@ -116,6 +125,7 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
           if (!(lum > 0.0 && std::isfinite(lum))) continue;  // unlit: says nothing about the exposure
           sum += std::log(1e-4 + lum);
           count += 1.0;
+          peaks[x] = std::max(p[0], std::max(p[1], p[2]));
         }
         display_rows[static_cast<std::size_t>(y)] = {sum, count};
       }
@@ -123,6 +133,17 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
     double sum = 0.0, count = 0.0;
     for (const auto& [s, c] : display_rows) sum += s, count += c;
     ev = count > 0.0 ? metered_ev(std::exp(sum / count)) : 0.0f;
+    // The highlight guard: the lit pixels' brightest channels, their 98th percentile (an order
+    // statistic: the same value whatever order the threads left them in).
+    std::size_t lit = 0;
+    for (const float v : display_peaks)
+      if (v > 0.0f) display_peaks[lit++] = v;
+    if (lit > 0) {
+      const std::size_t k = static_cast<std::size_t>(0.98 * double(lit - 1));
+      std::nth_element(display_peaks.begin(), display_peaks.begin() + static_cast<std::ptrdiff_t>(k),
+                       display_peaks.begin() + static_cast<std::ptrdiff_t>(lit));
+      ev = std::min(ev, highlight_ev(scene.display.tone_mapping, display_peaks[k]));
+    }
   }
   const float scale = std::exp2(ev);
   const bool float_out = color.format == PixelFormat::rgba32f;

@@ -176,6 +176,7 @@ struct Renderer::Impl {
   void render_display(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth,
                       bool composite);
   std::vector<float> display_color, display_depth;
+  std::vector<float> display_peaks;  // metering: each lit pixel's brightest channel (the highlight guard)
   std::vector<std::pair<double, double>> display_rows;  // metering: per row, the sum of ln(1e-4 + L) and the pixels
   Scene composite_lights;  // lights, ambient and fog of a part (no meshes)
   // One pass: its draws' geometry and lighting, set-up and bins (object_setup.cpp), then its tiles

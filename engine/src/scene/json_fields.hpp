@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <initializer_list>
 #include <limits>
 #include <string>
@@ -174,6 +175,43 @@ class JsonFields {
     for (auto c : choices)
       if (c == out) return {};
     return mismatch(path, expected, j);
+  }
+
+  template <class Named>
+  Status find_by_name(const json& obj, const std::string& path, const char* key, const std::vector<Named>& items,
+                      const char* kind, std::uint32_t& out) const {
+    const std::string p = child(path, key);
+    if (!obj.contains(key)) return invalid(p, std::string("missing: every object names its ") + kind);
+    return find_name(obj[key], p, items, kind, out);
+  }
+
+  // The index of the item named by string j (at path p).
+  template <class Named>
+  Status find_name(const json& j, const std::string& p, const std::vector<Named>& items, const char* kind,
+                   std::uint32_t& out) const {
+    if (!j.is_string()) return mismatch(p, std::string("the name of a ") + kind, j);
+    const std::string name = j.get<std::string>();
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      if (items[i].name == name) {
+        out = static_cast<std::uint32_t>(i);
+        return {};
+      }
+      names.push_back(quote(items[i].name, 32));
+    }
+    return invalid(p, std::string("no ") + kind + " named " + quote(name, 32) + " (defined: " +
+                          (names.empty() ? std::string("none") : join(names)) + ")");
+  }
+
+  // A texture named by `key` (when present): its index in `textures` (Scene::textures).
+  template <class Named>
+  Status opt_texture(const json& j, const std::string& p, const char* key, const std::vector<Named>& textures,
+                     std::int32_t& out) const {
+    if (!j.contains(key)) return {};
+    std::uint32_t index = 0;
+    FACET_TRY(find_by_name(j, p, key, textures, "texture", index));
+    out = static_cast<std::int32_t>(index);
+    return {};
   }
 
  protected:

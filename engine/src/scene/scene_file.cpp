@@ -24,6 +24,7 @@
 #include "texture/texture_file.hpp"
 #include "scene/json_fields.hpp"
 #include "scene/json_lines.hpp"
+#include "scene/scene_file_lights.hpp"
 
 namespace facet {
 namespace {
@@ -102,7 +103,7 @@ class SceneReader : public scene_json::JsonFields {
     };
     auto add_light = [&](const json& j, const std::string& p) {
       Light l;
-      FACET_TRY(read_light(j, p, scene, l));
+      FACET_TRY(scene_json::read_light(*this, j, p, scene, l));
       scene.lights.push_back(std::move(l));
       return Status{};
     };
@@ -152,15 +153,6 @@ class SceneReader : public scene_json::JsonFields {
     return opt_number(j, p, "far", c.far);
   }
 
-  // A texture named by `key` (when present): its index in scene.textures.
-  Status opt_texture(const json& j, const std::string& p, const char* key, const Scene& scene, std::int32_t& out) const {
-    if (!j.contains(key)) return {};
-    std::uint32_t index = 0;
-    FACET_TRY(find_by_name(j, p, key, scene.textures, "texture", index));
-    out = static_cast<std::int32_t>(index);
-    return {};
-  }
-
   Status read_material(const json& j, const std::string& p, Scene& scene, Material& m) {
     FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "specular_model",
                                    "alpha", "diffuse_texture", "normal_texture", "normal_scale",
@@ -178,14 +170,14 @@ class SceneReader : public scene_json::JsonFields {
       m.specular_model = model == "phong" ? SpecularModel::phong : SpecularModel::blinn;
     }
     FACET_TRY(opt_number(j, p, "alpha", m.alpha));
-    FACET_TRY(opt_texture(j, p, "diffuse_texture", scene, m.diffuse_texture));
-    FACET_TRY(opt_texture(j, p, "emissive_texture", scene, m.emissive_texture));
+    FACET_TRY(opt_texture(j, p, "diffuse_texture", scene.textures, m.diffuse_texture));
+    FACET_TRY(opt_texture(j, p, "emissive_texture", scene.textures, m.emissive_texture));
     FACET_TRY(opt_bool(j, p, "emission_after_texture", m.emission_after_texture));
-    FACET_TRY(opt_texture(j, p, "normal_texture", scene, m.normal_texture));
+    FACET_TRY(opt_texture(j, p, "normal_texture", scene.textures, m.normal_texture));
     FACET_TRY(opt_number(j, p, "normal_scale", m.normal_scale));
-    FACET_TRY(opt_texture(j, p, "occlusion_texture", scene, m.occlusion_texture));
+    FACET_TRY(opt_texture(j, p, "occlusion_texture", scene.textures, m.occlusion_texture));
     FACET_TRY(opt_number(j, p, "occlusion_strength", m.occlusion_strength));
-    FACET_TRY(opt_texture(j, p, "bump_texture", scene, m.bump_texture));
+    FACET_TRY(opt_texture(j, p, "bump_texture", scene.textures, m.bump_texture));
     FACET_TRY(opt_number(j, p, "bump_scale", m.bump_scale));
     std::string mode;
     if (j.contains("texture_mode")) {
@@ -485,30 +477,6 @@ class SceneReader : public scene_json::JsonFields {
     return {};
   }
 
-  template <class Named>
-  Status find_by_name(const json& obj, const std::string& path, const char* key, const std::vector<Named>& items,
-                      const char* kind, std::uint32_t& out) const {
-    const std::string p = child(path, key);
-    if (!obj.contains(key)) return invalid(p, std::string("missing: every object names its ") + kind);
-    return find_name(obj[key], p, items, kind, out);
-  }
-  // The index of the item named by string j (at path p).
-  template <class Named>
-  Status find_name(const json& j, const std::string& p, const std::vector<Named>& items, const char* kind,
-                   std::uint32_t& out) const {
-    if (!j.is_string()) return mismatch(p, std::string("the name of a ") + kind, j);
-    const std::string name = j.get<std::string>();
-    std::vector<std::string> names;
-    for (std::size_t i = 0; i < items.size(); ++i) {
-      if (items[i].name == name) {
-        out = static_cast<std::uint32_t>(i);
-        return {};
-      }
-      names.push_back(quote(items[i].name, 32));
-    }
-    return invalid(p, std::string("no ") + kind + " named " + quote(name, 32) + " (defined: " +
-                          (names.empty() ? std::string("none") : join(names)) + ")");
-  }
 
   Status read_object(const json& j, const std::string& p, Scene& scene, Instance& inst) const {
     FACET_TRY(expect_object(j, p, {"mesh", "material", "mesh_materials", "translate", "rotate_deg", "scale", "matrix",
@@ -746,114 +714,6 @@ class SceneReader : public scene_json::JsonFields {
     if (!root.contains("lights") && !imported_lights_) {
       add_default_lights(scene);
       note("no \"lights\": facet's default rig (a headlight and a key light, ambient 0.15)");
-    }
-    return {};
-  }
-
-  Status read_light(const json& j, const std::string& p, const Scene& scene, Light& l) const {
-    FACET_TRY(expect_object(j, p, {"name", "type", "enabled", "position", "direction", "ambient", "diffuse",
-                                   "specular", "attenuation", "range", "spot", "shadow", "projector"}));
-    FACET_TRY(opt_string(j, p, "name", l.name));
-    if (!j.contains("type")) return invalid(child(p, "type"), "missing: \"directional\", \"point\" or \"spot\"");
-    std::string type;
-    FACET_TRY(read_enum(j["type"], child(p, "type"), {"directional", "point", "spot"}, type));
-    l.type = type == "directional" ? LightType::directional : type == "point" ? LightType::point : LightType::spot;
-    FACET_TRY(opt_bool(j, p, "enabled", l.enabled));
-    if (l.type == LightType::point && j.contains("direction")) {
-      return invalid(child(p, "direction"), "a point light has no direction");
-    }
-    if (l.type == LightType::directional && j.contains("position")) {
-      return invalid(child(p, "position"), "a directional light has no position (give its \"direction\")");
-    }
-    FACET_TRY(opt_vec3(j, p, "position", l.position));
-    FACET_TRY(opt_vec3(j, p, "direction", l.direction));
-    FACET_TRY(opt_color(j, p, "ambient", l.ambient));
-    FACET_TRY(opt_color(j, p, "diffuse", l.diffuse));
-    FACET_TRY(opt_color(j, p, "specular", l.specular));
-    if (j.contains("attenuation")) {
-      if (l.type == LightType::directional) return invalid(child(p, "attenuation"), "a directional light has no attenuation");
-      const json& a = j["attenuation"];
-      const std::string ap = child(p, "attenuation");
-      FACET_TRY(expect_object(a, ap, {"model", "constant", "linear", "quadratic", "min", "max"}));
-      std::string model = "gl";
-      if (a.contains("model")) FACET_TRY(read_enum(a["model"], child(ap, "model"), {"gl", "linear_range"}, model));
-      if (model == "linear_range") {
-        l.attenuation_model = AttenuationModel::linear_range;
-        for (const char* k : {"constant", "linear", "quadratic"}) {
-          if (a.contains(k)) return invalid(child(ap, k), "the linear_range model takes \"min\" and \"max\", not GL's coefficients");
-        }
-        if (!a.contains("max")) return invalid(child(ap, "max"), "missing: the linear_range model needs \"max\" (> 0)");
-        FACET_TRY(opt_number(a, ap, "min", l.range_min));
-        FACET_TRY(opt_number(a, ap, "max", l.range_max));
-      } else {
-        for (const char* k : {"min", "max"}) {
-          if (a.contains(k)) return invalid(child(ap, k), "only the linear_range model has \"min\" and \"max\"");
-        }
-        FACET_TRY(opt_number(a, ap, "constant", l.constant_attenuation));
-        FACET_TRY(opt_number(a, ap, "linear", l.linear_attenuation));
-        FACET_TRY(opt_number(a, ap, "quadratic", l.quadratic_attenuation));
-      }
-    }
-    FACET_TRY(opt_number(j, p, "range", l.range));
-    if (j.contains("spot")) {
-      const std::string sp = child(p, "spot");
-      if (l.type != LightType::spot) return invalid(sp, "only spot lights have a \"spot\" cone");
-      const json& s = j["spot"];
-      FACET_TRY(expect_object(s, sp, {"cutoff_deg", "exponent", "inner_deg", "outer_deg", "falloff"}));
-      const bool gl = s.contains("cutoff_deg") || s.contains("exponent");
-      const bool smooth = s.contains("inner_deg") || s.contains("outer_deg") || s.contains("falloff");
-      if (gl && smooth) {
-        return invalid(sp, "use either cutoff_deg/exponent (GL cone) or inner_deg/outer_deg/falloff (smooth cone), not both");
-      }
-      l.spot_shape = smooth ? SpotShape::smooth_cone : SpotShape::cutoff_exponent;
-      FACET_TRY(opt_number(s, sp, "cutoff_deg", l.spot_cutoff_deg));
-      FACET_TRY(opt_number(s, sp, "exponent", l.spot_exponent));
-      FACET_TRY(opt_number(s, sp, "inner_deg", l.spot_inner_deg));
-      FACET_TRY(opt_number(s, sp, "outer_deg", l.spot_outer_deg));
-      FACET_TRY(opt_number(s, sp, "falloff", l.spot_falloff));
-    }
-    if (j.contains("shadow")) FACET_TRY(read_shadow(j["shadow"], child(p, "shadow"), l.shadow));
-    if (j.contains("projector")) {
-      const std::string pp = child(p, "projector");
-      if (l.type != LightType::spot) return invalid(pp, "only spot lights project a picture");
-      const json& pj = j["projector"];
-      FACET_TRY(expect_object(pj, pp, {"texture", "mode"}));
-      if (!pj.contains("texture")) return invalid(child(pp, "texture"), "missing: the picture's texture name");
-      FACET_TRY(opt_texture(pj, pp, "texture", scene, l.projector.texture));
-      if (pj.contains("mode")) {
-        std::string mode;
-        FACET_TRY(read_enum(pj["mode"], child(pp, "mode"), {"modulate", "gobo"}, mode));
-        l.projector.mode = mode == "gobo" ? ProjectorMode::gobo : ProjectorMode::modulate;
-      }
-    }
-    return {};
-  }
-
-  Status read_shadow(const json& s, const std::string& p, Shadow& shadow) const {
-    FACET_TRY(expect_object(s, p, {"method", "resolution", "filter", "bias"}));
-    if (!s.contains("method")) return invalid(child(p, "method"), "missing: \"raycast\", \"map\", \"volume\" or \"none\"");
-    std::string method;
-    FACET_TRY(read_enum(s["method"], child(p, "method"), {"none", "map", "volume", "raycast"}, method));
-    shadow.method = method == "none"     ? ShadowMethod::none
-                    : method == "map"    ? ShadowMethod::map
-                    : method == "volume" ? ShadowMethod::volume
-                                         : ShadowMethod::raycast;
-    FACET_TRY(opt_int(s, p, "resolution", 16, 16384, shadow.resolution));
-    if (s.contains("filter")) {
-      std::string filter;
-      FACET_TRY(read_enum(s["filter"], child(p, "filter"), {"none", "pcf2x2", "pcf3x3", "pcf5x5"}, filter));
-      shadow.filter = filter == "none"     ? ShadowFilter::none
-                      : filter == "pcf2x2" ? ShadowFilter::pcf2x2
-                      : filter == "pcf3x3" ? ShadowFilter::pcf3x3
-                                           : ShadowFilter::pcf5x5;
-    }
-    if (s.contains("bias")) {
-      const json& b = s["bias"];
-      const std::string bp = child(p, "bias");
-      FACET_TRY(expect_object(b, bp, {"constant", "slope", "normal"}));
-      FACET_TRY(opt_number(b, bp, "constant", shadow.bias.constant));
-      FACET_TRY(opt_number(b, bp, "slope", shadow.bias.slope));
-      FACET_TRY(opt_number(b, bp, "normal", shadow.bias.normal));
     }
     return {};
   }
