@@ -9,8 +9,8 @@ Commands are the lines of ``` blocks that start with `facet ` or `build/bin/face
 text (`facet render|check|bake|light` with a .json, .gltf, .glb or .obj file). Synopses (with [ ] or |), printed
 output (`facet render: ...`) and C++ are not commands. Each runs in WORK, where the names the docs
 use stand for small real files: model.glb, model.gltf, model.obj, scene.json, and the repository's
-tests/data. Every command must exit 0 (bakes run with --seconds 3 added: the README's bake of the
-Cornell box takes 90 s to converge, and what is checked here is its options and files). Not run: tools/run and tools/test (CI runs tools/test
+tests/data. Every command must exit 0 (bakes run with at most 2000 radiosity shots: the README's
+bake of the Cornell box takes 90 s to converge, and what is checked here is its options and files). Not run: tools/run and tools/test (CI runs tools/test
 itself, and tools/run's render is the built-in scene's), tools/charts (minutes of benchmarks),
 tools/cornell-pathtraced (Embree path tracing, minutes) and tools/data/*.py (they write the
 repository's own test data).
@@ -109,8 +109,14 @@ def main():
         words = shlex.split(text)
         if words[0] in ("facet", "build/bin/facet"):
             argv = [facet] + words[1:]
-            if words[1] == "bake" and "--seconds" not in words:
-                argv += ["--seconds", "3"]  # the options and files are checked, not the light: 3 s of the bake
+            if words[1] == "bake":
+                # The options and files are checked, not the light: at most 2000 shots of radiosity
+                # (a fixed amount of work, not a time limit, which a loaded machine could run out).
+                if "--max-shots" in argv:
+                    i = argv.index("--max-shots") + 1
+                    argv[i] = str(min(int(argv[i]), 2000))
+                else:
+                    argv += ["--max-shots", "2000"]
         elif "PYTHONPATH" in env:
             argv = [sys.executable, "-m", "facet.sweep"] + words[3:] + ["--facet", facet]
         else:

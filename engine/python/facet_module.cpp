@@ -116,6 +116,14 @@ py::dict stats_dict(const FrameStats& s) {
 // What `facet render FILE` draws: a scene file as it is (a file that imports models and has no
 // camera or lights gets them as the loader says); a model with its own camera and lights, or
 // framed for the image's aspect and lit by facet's default rig; no path: the built-in scene.
+// A model (.gltf, .glb, .obj, any case) rather than a scene file: load_model reads it.
+bool is_model_file(const std::string& path) {
+  std::string ext = path;
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  auto ends = [&](const char* e) { return ext.size() >= std::strlen(e) && ext.compare(ext.size() - std::strlen(e), std::string::npos, e) == 0; };
+  return ends(".gltf") || ends(".glb") || ends(".obj");
+}
+
 // `camera`: a glTF file's camera (ModelOptions::camera); `view`: frame the model with it even
 // when the file has a camera (facet render --view, --fov, --projection); `cameras`: the file's.
 Scene load_for_render(const std::optional<std::string>& path, float aspect, const std::vector<std::string>& allow_paths,
@@ -127,10 +135,7 @@ Scene load_for_render(const std::optional<std::string>& path, float aspect, cons
     if (reframe) s.camera = value_or_raise(frame_scene(s, aspect, framing));
     return s;
   }
-  std::string ext = *path;
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  auto ends = [&](const char* e) { return ext.size() >= std::strlen(e) && ext.compare(ext.size() - std::strlen(e), std::string::npos, e) == 0; };
-  if (ends(".gltf") || ends(".glb") || ends(".obj")) {
+  if (is_model_file(*path)) {
     ModelOptions mo;
     mo.assets.allowed_roots = allow_paths;
     mo.allow_missing = !strict;
@@ -636,9 +641,7 @@ PYBIND11_MODULE(_facet, m) {
     const ViewOptions framing = view_of(view.value_or(std::array<float, 2>{0, 0}), up, fov_deg.value_or(45.0f),
                                         projection.value_or("perspective"), 0.85f);
     ps.scene = load_for_render(path, aspect, allow_paths, strict, &ps.warnings, camera, framing, reframe, &ps.cameras);
-    std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : path;
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    ps.model = ext == "gltf" || ext == ".glb" || ext == ".obj";
+    ps.model = is_model_file(path);
     return ps;
   }, py::arg("path"), py::arg("aspect") = 16.0f / 9.0f, py::arg("allow_paths") = std::vector<std::string>{},
         py::arg("strict") = false, py::arg("camera") = "", py::arg("view") = py::none(), py::arg("up") = "y",

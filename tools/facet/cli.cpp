@@ -241,15 +241,21 @@ std::string InputIdentity::json_field() const {
          "\", \"files\": " + std::to_string(files) + "}, ";
 }
 
-std::string nothing_visible(const Scene& scene, const RenderOptions& options, const FrameStats& stats, const ImageView& image) {
-  if (stats.pixels_filled == 0) return explain_empty_frame(stats);
+std::vector<std::uint8_t> background_pixel(const Scene& scene, const RenderOptions& options, PixelFormat format) {
   Scene empty;
   empty.display = scene.display;
-  const std::size_t bpp = bytes_per_pixel(image.format);
-  std::vector<std::uint8_t> background(bpp);
+  const std::size_t bpp = bytes_per_pixel(format);
+  std::vector<std::uint8_t> pixel(bpp);
   RenderOptions one = options;
   one.threads = 1;
-  if (!Renderer().render(empty, one, {background.data(), 1, 1, bpp, image.format, false}).ok()) return {};
+  if (!Renderer().render(empty, one, {pixel.data(), 1, 1, bpp, format, false}).ok()) return {};
+  return pixel;
+}
+
+std::string nothing_visible(const FrameStats& stats, const ImageView& image, const std::vector<std::uint8_t>& background) {
+  if (stats.pixels_filled == 0) return explain_empty_frame(stats);
+  const std::size_t bpp = bytes_per_pixel(image.format);
+  if (background.size() != bpp) return {};  // no background to compare with: something shows
   for (int y = 0; y < image.height; ++y) {
     const std::uint8_t* row = static_cast<const std::uint8_t*>(image.data) + static_cast<std::size_t>(y) * image.stride_bytes;
     for (int x = 0; x < image.width; ++x) {

@@ -133,12 +133,15 @@ std::string default_shading(const std::string& given, const std::string& input_p
 // "eye (..), target (..), fov 45 deg" or "..., orthographic, half height 2".
 std::string describe_camera(const Camera& c);
 
+// The background pixel as a frame of `scene` drawn with `options` into `format` stores it (the clear
+// colour through the scene's display and the output encoding), found by drawing an empty 1 x 1
+// frame the same way: once per run, for nothing_visible.
+std::vector<std::uint8_t> background_pixel(const Scene& scene, const RenderOptions& options, PixelFormat format);
 // The verdict `render` and `check` share (exit status 1 when it is not empty): why the frame in
-// `image`, drawn from `scene` with `options`, shows nothing. No pixel filled: explain_empty_frame's
-// reason. Every pixel still the background (the clear colour as the frame stores it, found by
-// drawing an empty 1 x 1 frame with the same options and display): fully transparent materials, or
-// a model the colour of the background. Empty when something shows.
-std::string nothing_visible(const Scene& scene, const RenderOptions& options, const FrameStats& stats, const ImageView& image);
+// `image` shows nothing. No pixel filled: explain_empty_frame's reason. Every pixel still
+// `background` (background_pixel): fully transparent materials, or a model the colour of the
+// background. Empty when something shows.
+std::string nothing_visible(const FrameStats& stats, const ImageView& image, const std::vector<std::uint8_t>& background);
 // A scene file, a model (framed by a camera and lit by the default rig when the file has none;
 // `notes` says so, with the model's warnings) or, for an empty path, the built-in scene. Prints
 // the error and returns nothing on failure.

@@ -246,6 +246,7 @@ namespace {
 // The frame's verdict (nothing_visible, as `render` gives it): empty when something shows.
 Result<std::string> draw_once(const Scene& scene, const RenderOptions& options, int width, int height) {
   std::string nothing;
+  const std::vector<std::uint8_t> background = background_pixel(scene, options, PixelFormat::rgba8);
   const double scale = std::min(1.0, 640.0 / std::max(width, height));
   for (const double s : {scale, 1.0}) {
     const int w = std::max(1, int(std::lround(width * s))), h = std::max(1, int(std::lround(height * s)));
@@ -253,7 +254,7 @@ Result<std::string> draw_once(const Scene& scene, const RenderOptions& options, 
     const ImageView image{pixels.data(), w, h, std::size_t(w) * 4, PixelFormat::rgba8, false};
     FrameStats stats;
     if (Status s2 = Renderer().render(scene, options, image, nullptr, &stats); !s2.ok()) return s2;
-    nothing = nothing_visible(scene, options, stats, image);
+    nothing = nothing_visible(stats, image, background);
     if (nothing.empty() || s == 1.0) break;
   }
   return nothing;

@@ -183,6 +183,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
   const std::vector<Light> start_lights = scene.lights;
   const auto wall_start = std::chrono::steady_clock::now();
   FrameWriter writer;
+  const std::vector<std::uint8_t> background = background_pixel(scene, options, image.format);  // the same every frame
   std::string first_nothing;  // why the first frame that shows nothing shows nothing
   double seconds = 0;
   std::vector<double> all_seconds;
@@ -202,7 +203,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
     seconds += frame_seconds;
     all_seconds.push_back(frame_seconds);
     pixels += stats.pixels_filled;
-    const std::string nothing = nothing_visible(scene, options, stats, image);
+    const std::string nothing = nothing_visible(stats, image, background);
     empty_frames += !nothing.empty();
     if (first_nothing.empty()) first_nothing = nothing;
     const std::string name = numbered(output, k);
@@ -505,7 +506,7 @@ int render(const RenderState& st) {
     if (Status s = write_pfm(depth_path, depth); !s.ok()) return fail(s.message());
   }
 
-  const std::string nothing = nothing_visible(*scene, options, frame, image);
+  const std::string nothing = nothing_visible(frame, image, background_pixel(*scene, options, image.format));
   if (!nothing.empty()) std::fprintf(stderr, "facet: nothing to see (exit status 1; the image is written): %s\n", nothing.c_str());
   if (as_json) {
     print_stats_json(frame, frames, elapsed, options, width, height, identity.json_field(), frame_seconds,

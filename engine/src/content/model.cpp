@@ -121,13 +121,7 @@ void for_each_world_vertex(const Scene& scene, Fn fn) {
   }
 }
 
-// The framing of frame_scene over the points `each(fn)` enumerates, in double. The camera looks
-// along -d from target + D d. D is the least distance at which every point's projection lies
-// within `fill` of the image's half-width and half-height: for a point at (x, y) across the view
-// and z towards the eye (relative to the target), |x| <= fill tx (D - z), so D >= z + |x| / (fill tx),
-// likewise for y. Each round first moves the target to the centre of the points' projection (so
-// that the model sits in the middle of the image), then solves D again; four rounds bring the
-// projection's centre to well under a percent of the image.
+// The refusal of a framing whose camera does not fit in float (`s`: validate_camera's reason).
 Status too_large(double extent, const Status& s) {
   return Status{ErrorCode::unsupported, "", "cannot frame the model: its coordinates (up to " + format_number(static_cast<float>(extent)) +
                                                 ") are too large for a camera in float (" + s.message() + ")"};
@@ -164,6 +158,13 @@ Result<Camera> frame_box(Each each, float aspect, const ViewOptions& view, Eigen
   return c;
 }
 
+// The framing of frame_scene over the points `each(fn)` enumerates, in double. The camera looks
+// along -d from target + D d. D is the least distance at which every point's projection lies
+// within `fill` of the image's half-width and half-height: for a point at (x, y) across the view
+// and z towards the eye (relative to the target), |x| <= fill tx (D - z), so D >= z + |x| / (fill tx),
+// likewise for y. Each round first moves the target to the centre of the points' projection (so
+// that the model sits in the middle of the image), then solves D again; four rounds bring the
+// projection's centre to well under a percent of the image.
 template <class Each>
 Result<Camera> frame_points(Each each, float aspect, const ViewOptions& view) {
   FACET_TRY(validate_view(view));
