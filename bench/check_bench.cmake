@@ -2,8 +2,8 @@
 # without error (a model missing from ../shared/models is the one allowed skip) and reported each
 # of the named rate counters as a number > 0. Google Benchmark 1.7 exits 0 after SkipWithError,
 # so its exit status alone proves nothing.
-#   -D BENCH=program -D OUT=file.json -D FILTER=regex -D COUNTERS="a;b" -D MIN_COUNT=n
-execute_process(COMMAND ${BENCH} --benchmark_min_time=0.001 --benchmark_filter=${FILTER}
+#   -D BENCH=program -D OUT=file.json -D FILTER=regex -D COUNTERS="a;b" -D MIN_COUNT=n [-D ARGS="--smoke"]
+execute_process(COMMAND ${BENCH} ${ARGS} --benchmark_min_time=0.001 --benchmark_filter=${FILTER}
                         --benchmark_out=${OUT} --benchmark_out_format=json
                 RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)

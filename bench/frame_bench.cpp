@@ -24,8 +24,10 @@
 // image written per second over the triad bandwidth measured at start (bench/roofline.hpp), and
 // the mean per-stage times of a frame (lighting_ms, geometry_ms, tiles_ms; FrameStats), and the
 // resolve's thread time (resolve_ms) with its share of the image-store rate (resolve_share).
+// --smoke draws every benchmark at a sixth of its width and height (the ctest smoke test).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <random>
@@ -69,7 +71,12 @@ facet::Scene small_triangles_scene(int count) {
   return s;
 }
 
+// --smoke (the ctest smoke test): every benchmark draws a sixth of its width and height, so that
+// all of them run in seconds; their names keep the full size, their labels say the size drawn.
+bool smoke = false;
+
 void run_frames(benchmark::State& state, const facet::Scene& scene, facet::RenderOptions options, int w, int h) {
+  if (smoke) w = std::max(w / 6, 16), h = std::max(h / 6, 16);
   options.threads = static_cast<int>(state.range(0));
   std::vector<std::uint8_t> pixels(static_cast<std::size_t>(w) * h * 4);
   const facet::ImageView view{pixels.data(), w, h, static_cast<std::size_t>(w) * 4, facet::PixelFormat::rgba8, false};
@@ -273,4 +280,14 @@ void register_all() {
 
 }  // namespace
 
-int main(int argc, char** argv) { return facet::bench::run_benchmarks(argc, argv, register_all); }
+int main(int argc, char** argv) {
+  int kept = 1;
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--smoke") {
+      smoke = true;
+    } else {
+      argv[kept++] = argv[i];
+    }
+  }
+  return facet::bench::run_benchmarks(kept, argv, register_all);
+}
