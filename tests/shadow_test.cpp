@@ -19,15 +19,8 @@ TEST(Shadows, RaycastMatchesTheSpheresExactShadow) {
 // The same with a spot light above and beside the sphere: its cone covers part of the plane;
 // outside the cone no ray is cast (the light gives nothing there), inside the shadow is exact.
 TEST(Shadows, SpotLightMatchesTheSpheresExactShadow) {
-  Scene s = sphere_over_plane();
-  Light& spot = s.lights[0];
-  spot.type = LightType::spot;
-  spot.position = Vec3(-2.0f, 4.5f, 0.0f);
-  spot.direction = Vec3(0.8f, -1.0f, 0.0f).normalized();
-  spot.spot_shape = SpotShape::smooth_cone;
-  spot.spot_inner_deg = 30.0f;
-  spot.spot_outer_deg = 40.0f;
-  // The point light's shadow stretches more on the plane.
+  const Scene s = spot_over_sphere();
+  // The spot light's shadow stretches more on the plane.
   const auto [in_shadow, in_light] = compare_with_exact_shadow(s, 8.0 / kSize * 2.0);
   EXPECT_GT(in_shadow, 100);
   EXPECT_GT(in_light, 500);
