@@ -348,5 +348,24 @@ TEST(BlenderExports, EveryExportShowsItsSubjectNeitherBlackNorClipped) {
   EXPECT_EQ(files, 10);
 }
 
+// A surface that names no material (an OBJ without a .mtl, a glTF primitive without "material")
+// is lit by the ambient light as its diffuse grey, as three.js and Blender light it: GL's ambient
+// 0.2 left its unlit side near black under the default rig where viewers show it grey.
+TEST(DefaultMaterial, AmbientIsTheDiffuseGreyForObjAndGltf) {
+  test::TempDir dir;
+  test::write_text(dir / "a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  test::write_text(dir / "q.gltf", test::quad().embedded());
+  for (const std::string name : {"a.obj", "q.gltf"}) {
+    Result<Model> m = load_model(dir / name);
+    ASSERT_TRUE(m.ok()) << m.status().message();
+    ASSERT_EQ(m->scene.objects.size(), 1u) << name;
+    const Material& mat = m->scene.materials[m->scene.objects[0].material];
+    EXPECT_EQ(mat.name, "default") << name;
+    EXPECT_EQ(mat.diffuse, Color3::Constant(0.8f)) << name;
+    EXPECT_EQ(mat.ambient, mat.diffuse) << name;
+    EXPECT_EQ(mat.specular, Color3::Zero()) << name;
+  }
+}
+
 }  // namespace
 }  // namespace facet

@@ -81,8 +81,8 @@ Status Reader::material(int index, MaterialInfo& info) {
   }
   Material mat;
   if (index < 0) {
-    // No material: facet's default (GL's), not glTF's default metal (docs/content.md).
-    mat.name = "default";
+    // No material: facet's default (GL's grey), not glTF's default metal (docs/content.md).
+    mat = model_default_material();
   } else {
     const Json& g = doc_.item("materials", static_cast<std::size_t>(index));
     const std::string p = Fields::at("materials", static_cast<std::size_t>(index));

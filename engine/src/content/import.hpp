@@ -12,6 +12,17 @@ namespace facet {
 inline bool skippable(const Status& s) { return s.code() != ErrorCode::out_of_memory && s.code() != ErrorCode::cancelled; }
 inline constexpr const char* kStrictNote = " (strict loading: ModelOptions::allow_missing false, facet --strict)";
 
+// facet's default material for a model's surfaces that name none (an OBJ without a usable .mtl,
+// a glTF primitive without "material"): GL's grey (diffuse 0.8, specular 0, shininess 0), with the
+// ambient equal to the diffuse colour as a viewer lights it (GL's 0.2 left the side the lights do
+// not reach near black where three.js and Blender show it grey under the same ambient light).
+inline Material model_default_material() {
+  Material m;
+  m.name = "default";
+  m.ambient = m.diffuse;
+  return m;
+}
+
 // glTF's metallic-roughness material on facet's Blinn-Phong model (docs/content.md):
 // mirror = metallic (1 - roughness); diffuse = ambient = base (1 - mirror);
 // specular = mix(0.04, base, metallic) (1 - roughness); shininess = 2 / a^2 - 2 with a = roughness^2,

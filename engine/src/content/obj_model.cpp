@@ -529,7 +529,7 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
     }
     for (const MaterialGroup& g : mesh->groups) {
       if (find_material(scene, g.material) >= 0) continue;
-      Material m;
+      Material m = model_default_material();
       m.name = g.material;
       scene.materials.push_back(m);
     }
@@ -558,11 +558,7 @@ Result<Model> load_obj_model(const std::string& path, const ModelOptions& option
     inst.mesh_materials = groups;
     if (!groups) {
       // No usemtl: the only material of the libraries if there is exactly one, else facet's default.
-      if (scene.materials.size() != 1) {
-        Material m;
-        m.name = "default";
-        scene.materials.push_back(m);
-      }
+      if (scene.materials.size() != 1) scene.materials.push_back(model_default_material());
       inst.material = static_cast<std::uint32_t>(scene.materials.size() - 1);
     }
     scene.objects.push_back(inst);
