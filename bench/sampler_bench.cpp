@@ -15,7 +15,7 @@
 
 #include "context.hpp"
 #include "facet/facet.hpp"
-#include "raster/tile_raster.hpp"
+#include "tile/tile_raster.hpp"
 #include "texture/sampler.hpp"
 
 namespace {
@@ -47,7 +47,7 @@ facet::Texture texture(facet::TextureFilter filter) {
 void register_all() {
   for (facet::Isa isa : {facet::Isa::sse2, facet::Isa::avx2, facet::Isa::avx512}) {
     if (!facet::isa_supported(isa)) continue;
-    const facet::raster::simd::Kernels* kernels = facet::raster::simd_raster_kernels(isa);
+    const facet::tile::simd::Kernels* kernels = facet::tile::simd_raster_kernels(isa);
     for (facet::TextureFilter filter :
          {facet::TextureFilter::nearest, facet::TextureFilter::bilinear, facet::TextureFilter::trilinear}) {
       for (const bool fixed : {false, true}) {

@@ -12,7 +12,7 @@
 
 #include "raster/assemble.hpp"
 #include "raster/bins.hpp"
-#include "raster/tile_raster.hpp"
+#include "tile/tile_raster.hpp"
 #include "raster/triangle_setup.hpp"
 
 namespace facet::raster {
@@ -42,7 +42,7 @@ std::optional<ScreenTriangle> setup(P a, P b, P c, int width, int height) {
 // the depth plane.
 class Coverage {
  public:
-  Coverage(int w, int h, const simd::Kernels* kernels = nullptr)
+  Coverage(int w, int h, const tile::simd::Kernels* kernels = nullptr)
       : w_(w), h_(h), count_(static_cast<std::size_t>(w * h), 0), kernels_(kernels) {
     tile_.resize(w);
   }
@@ -59,17 +59,17 @@ class Coverage {
     compute_planes(*t, nullptr, 0);
     const ScreenTriangle* range = &*t;
     const std::uint32_t bin = 0;
-    simd::Draw draw;  // plain, flat: no varyings (the triangle is object 0)
+    tile::simd::Draw draw;  // plain, flat: no varyings (the triangle is object 0)
     draw.layout = plan_varyings(LitAt::triangle, false);
-    const simd::Fog fog;
-    simd::TileJob job{ShadingMode::flat, &range, &bin, 1, 0, 0, w_, h_, nullptr, &draw, &fog};
-    simd::TileCounters counters;
+    const tile::simd::Fog fog;
+    tile::simd::TileJob job{ShadingMode::flat, &range, &bin, 1, 0, 0, w_, h_, nullptr, &draw, &fog};
+    tile::simd::TileCounters counters;
     kernels_->raster(job, tile_.view({0, 0, 0, 1}, {}), counters);
     std::uint64_t found = 0;
     for (int y = t->min_py; y <= t->max_py; ++y) {
       for (int x = t->min_px; x <= t->max_px; ++x) {
         const std::size_t i = tile_.index(x, y);
-        if (tile_.touched[i / simd::kBlockPixels] && tile_.plane(4)[i] < 1.0f) ++at(x, y), ++found;
+        if (tile_.touched[i / tile::simd::kBlockPixels] && tile_.plane(4)[i] < 1.0f) ++at(x, y), ++found;
       }
     }
     // Every pixel the kernel counted lies inside the triangle's bounds.
@@ -86,8 +86,8 @@ class Coverage {
  private:
   int w_, h_;
   std::vector<int> count_;
-  const simd::Kernels* kernels_;
-  TileBuffers tile_;
+  const tile::simd::Kernels* kernels_;
+  tile::TileBuffers tile_;
 };
 
 // --- The top-left rule, case by case (y grows downwards; pixel (x, y) has its centre at
@@ -267,10 +267,10 @@ struct WatertightParam {
 class Watertight : public ::testing::TestWithParam<WatertightParam> {};
 
 TEST_P(Watertight, RandomFansAndGridsCoverEveryInteriorPixelExactlyOnce) {
-  const simd::Kernels* kernels = nullptr;
+  const tile::simd::Kernels* kernels = nullptr;
   if (GetParam().isa) {
     if (!isa_supported(*GetParam().isa)) GTEST_SKIP() << "this CPU does not have " << to_string(*GetParam().isa);
-    kernels = simd_raster_kernels(*GetParam().isa);
+    kernels = tile::simd_raster_kernels(*GetParam().isa);
   }
   MeshMaker maker(12345 + GetParam().shard);
   Coverage cov(64, 64, kernels);

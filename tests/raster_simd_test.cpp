@@ -13,7 +13,7 @@
 #include "io/image_convert.hpp"
 #include "geometry/project.hpp"
 #include "raster/assemble.hpp"
-#include "raster/tile_raster.hpp"
+#include "tile/tile_raster.hpp"
 #include "test_support.hpp"
 
 namespace facet::raster {
@@ -23,10 +23,10 @@ class SimdRaster : public ::testing::TestWithParam<Isa> {
  protected:
   void SetUp() override {
     if (!isa_supported(GetParam())) GTEST_SKIP() << "this CPU does not have " << to_string(GetParam());
-    kernels_ = simd_raster_kernels(GetParam());
+    kernels_ = tile::simd_raster_kernels(GetParam());
     ASSERT_NE(kernels_, nullptr);
   }
-  const simd::Kernels* kernels_ = nullptr;
+  const tile::simd::Kernels* kernels_ = nullptr;
 };
 
 // A triangle placed by the renderer's own set-up (place_triangle, nothing culled), at constant
@@ -48,23 +48,23 @@ std::optional<ScreenTriangle> make_triangle(const std::int32_t (&x)[3], const st
 }
 
 // Runs one tile with the kernels; returns the depth of each tile pixel (1 where nothing landed).
-std::vector<float> raster_depth(const simd::Kernels& k, std::span<const ScreenTriangle> triangles, const TileRect& rect,
-                                int tile_size, ShadingMode shading, simd::TileCounters& counters) {
-  TileBuffers tile;
+std::vector<float> raster_depth(const tile::simd::Kernels& k, std::span<const ScreenTriangle> triangles, const tile::TileRect& rect,
+                                int tile_size, ShadingMode shading, tile::simd::TileCounters& counters) {
+  tile::TileBuffers tile;
   tile.resize(tile_size);
   std::vector<std::uint32_t> bin(triangles.size());
   for (std::size_t i = 0; i < bin.size(); ++i) bin[i] = static_cast<std::uint32_t>(i);
   const ScreenTriangle* range = triangles.data();
-  simd::Draw draw;  // plain, flat: no varyings (every triangle here is object 0)
+  tile::simd::Draw draw;  // plain, flat: no varyings (every triangle here is object 0)
   draw.layout = plan_varyings(LitAt::triangle, false);
-  const simd::Fog fog;
-  simd::TileJob job{shading, &range, bin.data(), bin.size(), rect.x0, rect.y0, rect.x1, rect.y1,
+  const tile::simd::Fog fog;
+  tile::simd::TileJob job{shading, &range, bin.data(), bin.size(), rect.x0, rect.y0, rect.x1, rect.y1,
                     nullptr, &draw, &fog};
   k.raster(job, tile.view({0, 0, 0, 1}, {}), counters);
   std::vector<float> depth(static_cast<std::size_t>(tile_size * tile_size), 1.0f);
   for (int y = 0; y < rect.y1 - rect.y0; ++y) {
     for (int x = 0; x < rect.x1 - rect.x0; ++x) {
-      const std::size_t block = tile.index(x, y) / simd::kBlockPixels;
+      const std::size_t block = tile.index(x, y) / tile::simd::kBlockPixels;
       if (tile.touched[block]) depth[static_cast<std::size_t>(y * tile_size + x)] = tile.plane(4)[tile.index(x, y)];
     }
   }
@@ -80,7 +80,7 @@ TEST_P(SimdRaster, CoverageMatchesTheScalarRasterizerOnRandomTriangles) {
     const int tile_size = 8 * static_cast<int>(pick(1, 32));
     const int tx = static_cast<int>(pick(0, width / tile_size - 1)), ty = static_cast<int>(pick(0, height / tile_size - 1));
     // Rects cut by the image border half of the time.
-    const TileRect rect{tx * tile_size, ty * tile_size, tx * tile_size + static_cast<int>(pick(1, tile_size)),
+    const tile::TileRect rect{tx * tile_size, ty * tile_size, tx * tile_size + static_cast<int>(pick(1, tile_size)),
                         ty * tile_size + static_cast<int>(pick(1, tile_size))};
     // Scales from slivers inside one pixel to triangles spanning the +-32768 px guard band.
     const std::int64_t scales[] = {64, 1024, 8192, 65536, 1 << 20, std::int64_t(1) << 23};
@@ -106,7 +106,7 @@ TEST_P(SimdRaster, CoverageMatchesTheScalarRasterizerOnRandomTriangles) {
         ++expected_count;
       });
     }
-    simd::TileCounters counters;
+    tile::simd::TileCounters counters;
     const std::vector<float> depth = raster_depth(*kernels_, std::span(&*t, 1), rect, tile_size, ShadingMode::flat, counters);
     for (std::size_t i = 0; i < depth.size(); ++i) {
       const int got = depth[i] < 1.0f ? 1 : 0;
@@ -138,7 +138,7 @@ TEST_P(SimdRaster, WatertightFanAroundEveryPixelCentreOfATile) {
     const std::int32_t y[3] = {c, c + ring[i][1], c + ring[(i + 1) % 8][1]};
     if (auto t = make_triangle(x, y, 0.5f, size, size)) tris.push_back(*t);
   }
-  simd::TileCounters counters;
+  tile::simd::TileCounters counters;
   const std::vector<float> depth = raster_depth(*kernels_, tris, {0, 0, size, size}, size, ShadingMode::flat, counters);
   EXPECT_EQ(counters.tested, counters.filled);  // nothing covered twice
   // The fan is the square [c - r, c + r]^2: pixel centres strictly inside, plus the top-left edges.
@@ -178,7 +178,7 @@ TEST_P(SimdRaster, PlaneDepthAgreesWithBarycentricDepth) {
       good = good && std::hypot(dx, dy) >= 8;
     }
     well_shaped += good;
-    simd::TileCounters counters;
+    tile::simd::TileCounters counters;
     const std::vector<float> depth = raster_depth(*kernels_, std::span(&t, 1), {0, 0, 64, 64}, 64, ShadingMode::flat, counters);
     for_each_covered_pixel(t, t.min_px, t.min_py, t.max_px, t.max_py,
                            [&](int x, int y, std::int64_t e0, std::int64_t e1, std::int64_t e2) {

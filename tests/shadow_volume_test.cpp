@@ -5,7 +5,7 @@
 #include <cstring>
 #include <random>
 
-#include "raster/tile_raster.hpp"
+#include "tile/tile_raster.hpp"
 #include "shadow/map.hpp"
 #include "shadow_scenes.hpp"
 
@@ -89,7 +89,7 @@ TEST(ShadowMaps, SimdLookupIsTheScalarOneBitForBit) {
         EXPECT_GT(partial, 10);
       }
       for (const Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
-        const raster::simd::Kernels* k = raster::simd_raster_kernels(isa);
+        const tile::simd::Kernels* k = tile::simd_raster_kernels(isa);
         if (!k) continue;
         for (const bool soa : {true, false}) {
           const std::vector<float> simd = run(k->shadow_map, soa);

@@ -11,7 +11,7 @@
 #include <limits>
 #include <random>
 
-#include "raster/tile_raster.hpp"
+#include "tile/tile_raster.hpp"
 #include "test_support.hpp"
 #include "texture/sampler.hpp"
 #include "texture/srgb_table.hpp"
@@ -236,7 +236,7 @@ class TextureSampler : public ::testing::TestWithParam<Isa> {};
 
 TEST_P(TextureSampler, SimdMatchesItsScalarTwinBitForBit) {
   if (!isa_supported(GetParam())) GTEST_SKIP() << "this CPU does not have " << to_string(GetParam());
-  const raster::simd::Kernels* kernels = raster::simd_raster_kernels(GetParam());
+  const tile::simd::Kernels* kernels = tile::simd_raster_kernels(GetParam());
   ASSERT_NE(kernels, nullptr);
   const int sizes[][2] = {{1, 1}, {1, 7}, {2, 2}, {3, 5}, {16, 16}, {5, 3}, {64, 32}, {16384, 1}};
   for (const auto& size : sizes) {
@@ -273,7 +273,7 @@ INSTANTIATE_TEST_SUITE_P(Isas, TextureSampler, ::testing::Values(Isa::sse2, Isa:
 // ISA, for every filter, wrap mode and size, on random, border and hostile coordinates.
 TEST_P(TextureSampler, FixedPointSimdMatchesItsScalarTwin) {
   if (!isa_supported(GetParam())) GTEST_SKIP() << "this CPU does not have " << to_string(GetParam());
-  const raster::simd::Kernels* kernels = raster::simd_raster_kernels(GetParam());
+  const tile::simd::Kernels* kernels = tile::simd_raster_kernels(GetParam());
   ASSERT_NE(kernels, nullptr);
   const int sizes[][2] = {{1, 1}, {1, 7}, {2, 2}, {3, 5}, {16, 16}, {5, 3}, {64, 32}, {16384, 1}};
   for (const auto& size : sizes) {

@@ -18,7 +18,7 @@
 #include "common/format.hpp"
 #include "common/look_at.hpp"
 #include "lighting/point_shader.hpp"
-#include "raster/tile_raster.hpp"
+#include "tile/tile_raster.hpp"
 #include "texture/sampler.hpp"
 
 namespace facet::cli {
@@ -369,7 +369,7 @@ void texture_accuracy(bool quick, std::vector<Row>& rows) {
       }
     };
     for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
-      const raster::simd::Kernels* k = raster::simd_raster_kernels(isa);
+      const tile::simd::Kernels* k = tile::simd_raster_kernels(isa);
       if (!k) continue;
       measure(std::string("simd ") + to_string(isa), [&] { k->sample(sampler, n, ins, outs); }, nothing, 1.0);
       measure(std::string("simd ") + to_string(isa) + " 16-bit", [&] { k->sample_fixed(sampler, n, ins, packed.data()); },

@@ -18,7 +18,7 @@
 #include "common/format.hpp"
 #include "common/look_at.hpp"
 #include "lighting/point_shader.hpp"
-#include "raster/tile_raster.hpp"
+#include "tile/tile_raster.hpp"
 #include "texture/sampler.hpp"
 
 namespace facet::cli {

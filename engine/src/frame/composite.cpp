@@ -111,7 +111,7 @@ void Renderer::Impl::render_composite(const Scene& scene, const RenderOptions& o
       if (clamp) {
         for (int c = 0; c < 3; ++c) rgba[c] = rgba[c] > 0.0f ? (rgba[c] < 1.0f ? rgba[c] : 1.0f) : 0.0f;
       }
-      raster::store_pixel(rgba, color.format, srgb_threshold, dst + static_cast<std::size_t>(x) * bytes);
+      tile::store_pixel(rgba, color.format, srgb_threshold, dst + static_cast<std::size_t>(x) * bytes);
     }
   }
   stats = base;

@@ -167,7 +167,7 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
           const std::array<float, 3> t = tone_map(op, {p[0] * scale, p[1] * scale, p[2] * scale});
           out[0] = t[0], out[1] = t[1], out[2] = t[2], out[3] = clamp01(p[3]);
         }
-        raster::store_pixel(out, color.format, srgb_threshold, dst + static_cast<std::size_t>(x) * bytes);
+        tile::store_pixel(out, color.format, srgb_threshold, dst + static_cast<std::size_t>(x) * bytes);
       }
     }
   });

@@ -24,7 +24,7 @@
 #include "lighting/point_shader.hpp"
 #include "raster/assemble.hpp"
 #include "raster/bins.hpp"
-#include "raster/tile_raster.hpp"
+#include "tile/tile_raster.hpp"
 #include "shadow/frame.hpp"
 #include "shadow/map.hpp"
 #include "shadow/raycast.hpp"
@@ -48,7 +48,7 @@ inline double seconds_since(Clock::time_point start) {
 
 // What each worker thread needs for itself, kept from frame to frame.
 struct WorkerScratch {
-  raster::TileBuffers tile;
+  tile::TileBuffers tile;
   lighting::SoaScratch soa;
 };
 
@@ -76,7 +76,7 @@ struct Renderer::Impl {
   // thread before any parallel loop, so that no task ever allocates.
   std::vector<WorkerScratch> workers;
   WorkerScratch& worker(int slot) { return workers[static_cast<std::size_t>(slot)]; }
-  std::vector<raster::RasterCounters> tile_counters;
+  std::vector<tile::RasterCounters> tile_counters;
   // Frame-wide state, reused from frame to frame (capacity is kept).
   std::vector<std::vector<raster::ScreenTriangle>> range_triangles;
   std::vector<raster::RangeBinning> range_binning;
@@ -102,7 +102,7 @@ struct Renderer::Impl {
   frame::DynamicCubes cubes;
   void plan_environment_faces(const Scene& scene, const RenderOptions& options, const RenderPass& camera);
   void finish_environment_face(const RenderPass& p);
-  raster::simd::Fog fog;
+  pixel::Fog fog;
   SrgbTable srgb;  // made once per renderer (RenderOptions::srgb)
   Impl() { make_srgb_table(srgb); }
   // Per vertex: outcodes, and for vertices inside the guard band the snapped screen position,
@@ -147,7 +147,7 @@ struct Renderer::Impl {
   std::vector<RenderPass> passes;
   const RenderPass* pass = nullptr;
   bool simd_raster = true;  // the simd path rasterizes with the SIMD kernels
-  const raster::simd::Kernels* simd_kernels = nullptr;  // its ISA's, when simd_raster
+  const tile::simd::Kernels* simd_kernels = nullptr;  // its ISA's, when simd_raster
   bool light_every_vertex = false;  // RenderOptions::light_every_vertex
   bool vertex_relief = false;       // RenderOptions::vertex_relief
   FrameStats stats;

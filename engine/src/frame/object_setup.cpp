@@ -237,7 +237,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   const bool split = lf.separate_specular;
   // Eye-space positions and normals: flat and Phong light with them, and the pixel stages
   // generate varyings at the vertices from them (GL's texgen).
-  const raster::simd::Draw& draw = draws.programs[object];
+  const pixel::Draw& draw = draws.programs[object];
   bool generates = false;
   for (const raster::Varying v : raster::kGeneratedVaryings) generates = generates || draw.layout.has(v);
   if (shading != ShadingMode::gouraud || generates) {
@@ -462,7 +462,7 @@ void Renderer::Impl::assemble_object(const Mesh& mesh, std::uint32_t object, flo
   const std::size_t first = first_range[object];
   const bool flat = pass->shading == ShadingMode::flat;
   raster::ObjectVertices vertices;
-  const raster::simd::Draw& draw = draws.programs[object];
+  const pixel::Draw& draw = draws.programs[object];
   const lighting::LightingFeatures& lf = draws.features[object];
   vertices.layout = draw.layout;
   vertices.clip = os.clip;

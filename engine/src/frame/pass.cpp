@@ -28,7 +28,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   if (!p.depth_only) stats.seconds_geometry += seconds_since(merge_start);
   range_data.resize(range_count);
   for (std::size_t r = 0; r < range_count; ++r) range_data[r] = range_triangles[r].data();
-  const raster::RasterJob job{p.shading,
+  const tile::RasterJob job{p.shading,
                               range_data.data(),
                               shaders,
                               p.clear_color,
@@ -46,18 +46,18 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
     for (int index = range.begin(); index != range.end(); ++index) {
       if (cancelled.load(std::memory_order_relaxed)) return;
       const int tx = index % tiles_x, ty = index / tiles_x;
-      const raster::TileRect rect{tx * tile_size, ty * tile_size, std::min(p.width(), (tx + 1) * tile_size),
+      const tile::TileRect rect{tx * tile_size, ty * tile_size, std::min(p.width(), (tx + 1) * tile_size),
                                   std::min(p.height(), (ty + 1) * tile_size)};
-      raster::RasterCounters& c = tile_counters[static_cast<std::size_t>(index)];
+      tile::RasterCounters& c = tile_counters[static_cast<std::size_t>(index)];
       const auto& bin = bins[static_cast<std::size_t>(index)];
       if (p.depth_only) {  // a shadow map's face: depth alone
         std::uint8_t& dirty = p.depth_dirty[index];
         if (bin.empty()) {
-          if (dirty) raster::resolve_clear_depth(rect, *p.depth);  // else still far depth from an earlier frame
+          if (dirty) tile::resolve_clear_depth(rect, *p.depth);  // else still far depth from an earlier frame
           dirty = 0;
         } else {
-          raster::rasterize_tile(job, bin, rect, w.tile, w.soa, c);
-          raster::resolve_depth_tile(job, w.tile, rect, *p.depth);
+          tile::rasterize_tile(job, bin, rect, w.tile, w.soa, c);
+          tile::resolve_depth_tile(job, w.tile, rect, *p.depth);
           dirty = 1;
         }
         unit_done();
@@ -65,20 +65,20 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
       }
       if (bin.empty()) {  // nothing to rasterize: the clear colour goes straight to the image
         const auto resolve_start = Clock::now();
-        raster::resolve_clear_tile(p.clear_color, job.srgb, rect, *p.color, p.depth, job.depth.output(job.depth.far()));
+        tile::resolve_clear_tile(p.clear_color, job.srgb, rect, *p.color, p.depth, job.depth.output(job.depth.far()));
         c.seconds_resolve = seconds_since(resolve_start);
         continue;
       }
-      raster::rasterize_tile(job, bin, rect, w.tile, w.soa, c);
+      tile::rasterize_tile(job, bin, rect, w.tile, w.soa, c);
       const auto resolve_start = Clock::now();
-      raster::resolve_tile(job, w.tile, rect, *p.color, p.depth);
+      tile::resolve_tile(job, w.tile, rect, *p.color, p.depth);
       c.seconds_resolve = seconds_since(resolve_start);
       unit_done();
     }
   });
   stats.seconds_raster = seconds_since(raster_start);
-  raster::RasterCounters counters;
-  for (const raster::RasterCounters& c : tile_counters) counters += c;  // in tile order
+  tile::RasterCounters counters;
+  for (const tile::RasterCounters& c : tile_counters) counters += c;  // in tile order
   if (p.depth_only) {
     if (p.casters_only) stats.shadow_map_pixels += counters.filled;
     return;

@@ -344,7 +344,7 @@ void bound_casters(const Scene& scene, shadow::CasterBounds& out) {
   for (const Instance& inst : scene.objects) {
     const Mesh& mesh = scene.meshes[inst.mesh].mesh;
     Eigen::Vector3d lo, hi;
-    if (!inst.cast_shadows || mesh.triangles.empty() || !lighting::finite_box(mesh.positions, lo, hi)) continue;
+    if (!inst.cast_shadows || mesh.triangles.empty() || !geometry::finite_box(mesh.positions, lo, hi)) continue;
     const Eigen::Matrix4d model = inst.model.cast<double>();
     Eigen::AlignedBox3d box;
     for (int k = 0; k < 8; ++k) {
@@ -435,8 +435,8 @@ void make_samplers(const Scene& scene, SceneSamplers& out) {
   }
 }
 
-raster::simd::Fog plan_fog(const Fog& f) {
-  raster::simd::Fog fog;
+pixel::Fog plan_fog(const Fog& f) {
+  pixel::Fog fog;
   fog.mode = f.mode;
   for (int c = 0; c < 3; ++c) fog.color[c] = f.color[c];
   fog.start = f.start, fog.end = f.end, fog.density = f.density;
@@ -502,8 +502,8 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     needs.uv = textured || emission_texture || normal_map || occlusion_map || bump_map;
     needs.environment = environment;
     needs.lightmap = lightmap_stage;
-    raster::simd::Draw& d = out.programs[o];
-    d = raster::simd::Draw{};
+    pixel::Draw& d = out.programs[o];
+    d = pixel::Draw{};
     if (p.depth_only) continue;  // no varying, no program: depth alone (every caster is opaque)
     d.layout = raster::plan_varyings(lit, out.two_sided[o] != 0, needs);
     d.texture = textured ? &samplers.as_made[static_cast<std::size_t>(m.diffuse_texture)] : nullptr;
@@ -558,7 +558,7 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     const bool surface = textured || d.emission || d.blend != BlendMode::opaque || m.alpha_cutoff > 0.0f || d.alpha_to_coverage ||
                          !d.depth_write || f.mode != FogMode::none || needs.albedo || environment || normal_map ||
                          occlusion_map || bump_map;
-    using raster::simd::PixelProgram;
+    using pixel::PixelProgram;
     if (!surface) {
       d.program = lit == raster::LitAt::triangle ? PixelProgram::flat
                   : lit == raster::LitAt::vertex ? PixelProgram::gouraud

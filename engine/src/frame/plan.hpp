@@ -13,7 +13,7 @@
 #include "facet/scene.hpp"
 #include "frame/pass.hpp"
 #include "lighting/setup.hpp"
-#include "raster/raster_kernels.hpp"
+#include "pixel/program.hpp"
 #include "scene/order.hpp"
 #include "shadow/map.hpp"
 #include "texture/sampler.hpp"
@@ -23,7 +23,7 @@ namespace facet::frame {
 // Vertices per parallel lighting task and triangles per parallel set-up range. Fixed, so the
 // split (and so every bin) is the same for any thread count; small enough that a single object of
 // a few thousand triangles spreads over two cores. A range's clipped pieces fit the 16-bit index
-// of a bin entry (raster_kernels.hpp), and at most kMaxRanges ranges fit its other 16 bits.
+// of a bin entry (raster/place.hpp), and at most kMaxRanges ranges fit its other 16 bits.
 inline constexpr std::size_t kVertexChunk = 1024;
 inline constexpr std::size_t kTriangleRange = 2048;
 inline constexpr std::size_t kMaxRanges = std::size_t{1} << (32 - raster::kRangeShift);
@@ -104,13 +104,13 @@ struct DynamicCubes {
 // gives, and whether both of its faces are drawn and lit. Parallel arrays: the tile kernels take
 // the programs as one array.
 struct PassDraws {
-  std::vector<raster::simd::Draw> programs;
+  std::vector<pixel::Draw> programs;
   std::vector<lighting::LightingFeatures> features;
   std::vector<char> two_sided;
   bool any_two_sided() const;
 };
 // The fog of the frame's pixel programs.
-raster::simd::Fog plan_fog(const Fog& fog);
+pixel::Fog plan_fog(const Fog& fog);
 // The samplers the pixel programs read the scene's textures with, made once per frame
 // (make_samplers): `as_made`, one per texture, as the texture says; `clamped`, the same clamped to
 // the edge, made only for the textures that environment maps read (the others are left as they

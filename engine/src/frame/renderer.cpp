@@ -46,7 +46,7 @@ void Renderer::Impl::plan_environment_faces(const Scene& scene, const RenderOpti
     const Instance& inst = scene.objects[o];
     const Environment& e = scene.materials[inst.material].environment;
     Eigen::Vector3d lo, hi;
-    if (inst.mesh_materials || !e.dynamic || !lighting::finite_box(scene.meshes[inst.mesh].mesh.positions, lo, hi)) continue;
+    if (inst.mesh_materials || !e.dynamic || !geometry::finite_box(scene.meshes[inst.mesh].mesh.positions, lo, hi)) continue;
     EnvironmentCube& cube = cube_faces[count];
     const int n = e.resolution;
     const Eigen::Vector3d centre = (inst.model.cast<double>() * (0.5 * (lo + hi)).homogeneous()).head<3>();
@@ -201,7 +201,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   vertex_relief = options.vertex_relief;
   frame::make_samplers(scene, samplers);
   simd_raster = options.path == LightingPath::simd;
-  simd_kernels = simd_raster ? raster::simd_raster_kernels(options.isa) : nullptr;
+  simd_kernels = simd_raster ? tile::simd_raster_kernels(options.isa) : nullptr;
   passes.clear();
   RenderPass camera = frame::camera_pass(scene, options, color, depth);
   camera.assembly.place = simd_kernels ? simd_kernels->place : nullptr;

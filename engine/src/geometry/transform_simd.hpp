@@ -1,5 +1,5 @@
 // Internal: geometry::transform_vertices W vertices at a time, a template on the xsimd
-// architecture. Only the per-ISA files raster_simd_{sse2,avx2,avx512}.cpp include this header,
+// architecture. Only the per-ISA files tile/kernels_{sse2,avx2,avx512}.cpp include this header,
 // each compiled with -ffp-contract=off, so every operation is the scalar function's IEEE
 // operation in the same order and every output field is bit-identical to it (coverage depends on
 // the snapped positions: tests/raster_simd_test.cpp compares them on every ISA). Everything here

@@ -9,8 +9,9 @@
 #include <Eigen/Core>
 
 #include "facet/lighting.hpp"
-#include "facet/scene.hpp"
 #include "facet/mesh.hpp"
+#include "facet/scene.hpp"
+#include "geometry/bounds.hpp"
 #include "lighting/shade.hpp"
 
 namespace facet::lighting {
@@ -51,11 +52,6 @@ struct EyeSphere {
   double radius;
 };
 
-// Model-space box of the finite vertices among `n` from `p`, or false when there is none.
-bool finite_box(const Vec3* p, std::size_t n, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
-inline bool finite_box(const std::vector<Vec3>& positions, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
-  return finite_box(positions.data(), positions.size(), lo, hi);
-}
 // Largest squared distance from `c` to a finite vertex among `n` from `p` (at least the true
 // one: the float pass inflates its result by 1e-5), 0 when there is none.
 double farthest_squared(const Vec3* p, std::size_t n, const Eigen::Vector3d& c);
@@ -80,7 +76,7 @@ EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, con
   Eigen::Vector3d lo[kBoundsChunks], hi[kBoundsChunks];
   bool found[kBoundsChunks] = {};
   double r2[kBoundsChunks] = {};
-  run(chunks, [&](std::size_t c) { found[c] = finite_box(p + c * size, std::min(size, n - c * size), lo[c], hi[c]); });
+  run(chunks, [&](std::size_t c) { found[c] = geometry::finite_box(p + c * size, std::min(size, n - c * size), lo[c], hi[c]); });
   Eigen::Vector3d box_lo = Eigen::Vector3d::Constant(HUGE_VAL), box_hi = -box_lo;
   bool any = false;
   for (std::size_t c = 0; c < chunks; ++c) {

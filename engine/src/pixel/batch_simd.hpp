@@ -10,15 +10,15 @@
 
 #include <xsimd/xsimd.hpp>
 
-#include "raster/raster_kernels.hpp"
+#include "pixel/program.hpp"
 #include "raster/samples.hpp"
 #include "raster/triangle_setup.hpp"
 
 namespace facet::pixel::simd {
 namespace {
 
-using raster::simd::kBlock;
-using raster::simd::kBlockPixels;
+using pixel::kBlock;
+using pixel::kBlockPixels;
 
 template <class Arch>
 struct Types {

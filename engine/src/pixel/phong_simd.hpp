@@ -14,17 +14,17 @@
 
 #include "pixel/batch_simd.hpp"
 #include "pixel/stages.hpp"
-#include "raster/raster_kernels.hpp"
+#include "pixel/program.hpp"
 #include "texture/sample_simd.hpp"
 
 namespace facet::pixel::simd {
 namespace {
 
-using raster::simd::Draw;
-using raster::simd::kPhongCapacity;
-using raster::simd::PhongSink;
-using raster::simd::TileJob;
-using raster::simd::TileView;
+using pixel::Draw;
+using pixel::kPhongCapacity;
+using pixel::PhongSink;
+using pixel::TileJob;
+using pixel::TileView;
 
 // The compressing permutations of avx2: for each mask of 8 lanes, the set lanes in order, then zeros.
 struct Compress8 {
@@ -136,13 +136,13 @@ struct PhongBatch {
     float* const streams[] = {s.px,       s.py,       s.pz,       s.nx,       s.ny,       s.nz,       s.ao,
                               s.ar,       s.ag,       s.ab,       s.carry[0], s.carry[1], s.carry[2],
                               s.carry[3], s.carry[4], s.carry[5], s.carry[6], s.carry[7]};
-    static_assert(raster::simd::kMaxCarried == 8);
+    static_assert(pixel::kMaxCarried == 8);
     for (float* f : streams) {
       for (int k = count; k < padded; ++k) f[k] = 0.0f;
     }
     s.shade(s.context, object, static_cast<std::size_t>(count), static_cast<std::size_t>(padded));
     const Draw& d = job->draws[object];
-    if (d.program < raster::simd::PixelProgram::surface) {
+    if (d.program < pixel::PixelProgram::surface) {
       for (int k = 0; k < count;) {
         if (const std::uint32_t m = run_at(k)) {  // W consecutive pixels with the same samples: stored as vectors
           for (std::uint32_t left = m; left; left &= left - 1) {
@@ -178,7 +178,7 @@ struct PhongBatch {
       const F sec[3] = {F::load_unaligned(s.sr + k), F::load_unaligned(s.sg + k), F::load_unaligned(s.sb + k)};
       const F position[3] = {F::load_unaligned(s.px + k), F::load_unaligned(s.py + k), F::load_unaligned(s.pz + k)};
       const F normal[3] = {F::load_unaligned(s.nx + k), F::load_unaligned(s.ny + k), F::load_unaligned(s.nz + k)};
-      F carried[raster::simd::kMaxCarried];
+      F carried[pixel::kMaxCarried];
       pixel::TailInputs<F> in;
       in.position = position;
       in.normal = normal;

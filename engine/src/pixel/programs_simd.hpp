@@ -1,5 +1,5 @@
 // Internal: the pixel programs of the SIMD path, templates on the xsimd architecture, each built
-// from the stages of stages.hpp. The tile rasterizer (raster/raster_simd.hpp) covers a triangle's
+// from the stages of stages.hpp. The tile rasterizer (tile/raster_simd.hpp) covers a triangle's
 // blocks and tests depth; it hands each batch of passing pixels, with the planes the program asked
 // for evaluated at the block's origin, to the draw's program (Draw::program, chosen by the frame
 // plan):
@@ -29,7 +29,7 @@
 #include "pixel/batch_simd.hpp"
 #include "pixel/phong_simd.hpp"
 #include "pixel/stages.hpp"
-#include "raster/raster_kernels.hpp"
+#include "pixel/program.hpp"
 #include "texture/sample_fixed_simd.hpp"
 #include "texture/sample_simd.hpp"
 
@@ -358,7 +358,7 @@ struct SurfaceProgram {
       Texturing<Arch>::sample(s, moved, t);
     };
     if (job.shading == ShadingMode::phong) {  // light at the gather's flush
-      F v[10 + raster::simd::kMaxCarried];
+      F v[10 + pixel::kMaxCarried];
       const int position = d.layout.at(Varying::eye_position), albedo = d.layout.at(Varying::albedo);
       F normal[3];
       pixel_normal(d, value, cx.t.bitangent_negative(), sample_moved, normal);
@@ -369,8 +369,8 @@ struct SurfaceProgram {
       }
       int n = 9 + carry(d, *job.fog, tin, v + 9);
       PhongSink& s = *cx.phong.sink;
-      float* dst[10 + raster::simd::kMaxCarried] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab};
-      for (int k = 0; k < raster::simd::kMaxCarried; ++k) dst[9 + k] = s.carry[k];
+      float* dst[10 + pixel::kMaxCarried] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab};
+      for (int k = 0; k < pixel::kMaxCarried; ++k) dst[9 + k] = s.carry[k];
       if (d.occlusion_map) {  // after the carried values: the lighting reads it from s.ao
         dst[n] = s.ao;
         v[n++] = occlusion<F>(d, [&](const texture::Sampler& sm, F(&t)[4]) { sample_moved(sm, 0.0f, 0.0f, t); });

@@ -2,7 +2,7 @@
 // scalar rasterizer, one pixel) or an xsimd batch (the SIMD programs, programs_simd.hpp, one
 // batch of pixels). Both do the same IEEE operations in the same order (every file that includes
 // this is built with -ffp-contract=off), so the scalar and SIMD paths give the same bits for the
-// same interpolated inputs. A draw's pixel program (raster_kernels.hpp, Draw) runs, in GL 2.1's
+// same interpolated inputs. A draw's pixel program (program.hpp, Draw) runs, in GL 2.1's
 // order (§3.8.13, §3.10, §4.1):
 //   texture coordinates (uv_from_planes) -> sample -> alpha test (fragment_alpha) -> depth write
 //   -> fog factor -> emission (and baked light) -> primary and secondary colour (vertex_colours; Phong: light) ->
@@ -21,15 +21,15 @@
 
 #include <xsimd/xsimd.hpp>
 
-#include "raster/raster_kernels.hpp"
+#include "pixel/program.hpp"
 #include "raster/triangle_setup.hpp"
 #include "raster/varyings.hpp"
 
 namespace facet::pixel {
 namespace {
 
-using raster::simd::Draw;
-using raster::simd::Fog;
+using pixel::Draw;
+using pixel::Fog;
 
 // Selection and bounds for both value types (NaN compares false: a NaN input becomes the "else").
 inline float pick(bool c, float a, float b) { return c ? a : b; }
@@ -87,7 +87,7 @@ B exp2_nonpositive(const B& y) {
 
 inline constexpr float kLog2e = 1.44269504088896f;
 
-// The fog factor at eye depth z (Fog in raster_kernels.hpp), in [0, 1].
+// The fog factor at eye depth z (Fog in program.hpp), in [0, 1].
 template <class V>
 V fog_factor(const Fog& fog, const V& z) {
   if (fog.mode == FogMode::linear) {
@@ -436,7 +436,7 @@ template <class V, class Value>
 // the PhongSink's carry streams), in this order and only those the draw uses: the texel RGBA,
 // the emission RGB, the fog factor. carry packs them into out and says how many; uncarry points
 // `in` at them again (load(k) reads carried value k into storage).
-static_assert(4 + 3 + 1 <= raster::simd::kMaxCarried, "the sink has a stream for every carried value");
+static_assert(4 + 3 + 1 <= pixel::kMaxCarried, "the sink has a stream for every carried value");
 template <class V>
 [[gnu::always_inline]] inline int carry(const Draw& d, const Fog& fog, const TailInputs<V>& in, V* out) {
   int n = 0;
@@ -446,7 +446,7 @@ template <class V>
   return n;
 }
 template <class V, class Load>
-[[gnu::always_inline]] inline void uncarry(const Draw& d, const Fog& fog, const Load& load, V (&storage)[raster::simd::kMaxCarried],
+[[gnu::always_inline]] inline void uncarry(const Draw& d, const Fog& fog, const Load& load, V (&storage)[pixel::kMaxCarried],
                                            TailInputs<V>& in) {
   int n = 0;
   if (d.texture) {

@@ -111,7 +111,7 @@ class RangeAssembler {
   }
 
  private:
-  // The placing kernel gathers 32-bit words, five a screen vertex (raster_kernels.hpp).
+  // The placing kernel gathers 32-bit words, five a screen vertex (place.hpp).
   static constexpr std::size_t kMaxGatheredVertices = (std::size_t{1} << 31) / 5;
 
   // `zw`: a placed triangle's oriented z and 1/w (z0 z1 z2 w0 w1 w2), for its planes; null for a

@@ -14,7 +14,7 @@
 #include "geometry/clip.hpp"
 #include "geometry/project.hpp"
 #include "raster/bins.hpp"
-#include "raster/raster_kernels.hpp"
+#include "raster/place.hpp"
 #include "raster/triangle_setup.hpp"
 #include "raster/varyings.hpp"
 

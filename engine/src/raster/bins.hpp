@@ -8,7 +8,8 @@
 #include <vector>
 
 #include "facet/render.hpp"
-#include "raster/raster_kernels.hpp"
+#include "raster/place.hpp"
+#include "raster/triangle_setup.hpp"
 
 namespace facet::raster {
 

@@ -3,7 +3,7 @@
 // crossing the guard band, not projected, zero area, culled, covering no pixel centre) and the
 // same integers for the placed ones (oriented vertices, pixel bounds, top-left biases), so the
 // records are bit-identical to the scalar path's (tests/raster_simd_test.cpp, every ISA). Only
-// the per-ISA files raster_simd_{sse2,avx2,avx512}.cpp include this header; everything is a
+// the per-ISA files tile/kernels_{sse2,avx2,avx512}.cpp include this header; everything is a
 // template on Arch in an unnamed namespace (an inline function compiled into files with different ISA flags is merged by the linker, and the wider copy may run on a CPU without it).
 //
 // Exactness: snapped positions inside the guard band are |x|, |y| <= 2^23 (triangle_setup.hpp),
@@ -23,7 +23,7 @@
 
 #include "common/gather_simd.hpp"
 #include "geometry/project.hpp"
-#include "raster/raster_kernels.hpp"
+#include "raster/place.hpp"
 #include "raster/triangle_setup.hpp"
 
 namespace facet::raster::simd {

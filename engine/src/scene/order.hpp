@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 
 #include "facet/scene.hpp"
-#include "lighting/setup.hpp"
+#include "geometry/bounds.hpp"
 
 namespace facet::scene_order {
 
@@ -24,7 +24,7 @@ struct ObjectKey {
 // result is not finite (such an object draws nothing anyway).
 inline double eye_depth(const Mesh& mesh, const Mat4& model, const Eigen::Matrix4d& view) {
   Eigen::Vector3d lo, hi;
-  if (!lighting::finite_box(mesh.positions, lo, hi)) return 0.0;
+  if (!geometry::finite_box(mesh.positions, lo, hi)) return 0.0;
   const Eigen::Vector4d c = (view * model.cast<double>()) * (0.5 * (lo + hi)).homogeneous();
   return std::isfinite(c.z()) ? -c.z() : 0.0;
 }

@@ -1,6 +1,6 @@
 // The SIMD tile rasterizer for sse2, built with: (none) -ffp-contract=off (engine/CMakeLists.txt).
 #if defined(__AVX__)
-#error "raster_simd_sse2.cpp must be compiled without AVX flags"
+#error "kernels_sse2.cpp must be compiled without AVX flags"
 #endif
 #if !defined(FACET_NO_FP_CONTRACT)
 #error "raster kernels must be compiled with -ffp-contract=off (byte-identical images on every ISA)"
@@ -8,13 +8,13 @@
 
 #include "geometry/transform_simd.hpp"
 #include "raster/place_simd.hpp"
-#include "raster/raster_simd.hpp"
-#include "raster/resolve_simd.hpp"
+#include "tile/raster_simd.hpp"
+#include "tile/resolve_simd.hpp"
 #include "shadow/map_simd.hpp"
 #include "texture/sample_fixed_simd.hpp"
 #include "texture/sample_simd.hpp"
 
-namespace facet::raster::simd::sse2 {
+namespace facet::tile::simd::sse2 {
 void transform_vertices(const geometry::Mat4Rows& mvp, const float* positions, std::size_t begin, std::size_t end,
                         const geometry::ClipPlanes& planes, const geometry::Viewport& viewport, std::array<float, 4>* clip,
                         geometry::ScreenVertex* screen) {
@@ -22,7 +22,7 @@ void transform_vertices(const geometry::Mat4Rows& mvp, const float* positions, s
 }
 void place_triangles(const std::uint32_t* triangles, const geometry::ScreenVertex* screen, const PlaceParams& params,
                      PlaceGroup& out) {
-  Place<xsimd::sse2>::run(triangles, screen, params, out);
+  raster::simd::Place<xsimd::sse2>::run(triangles, screen, params, out);
 }
 void raster_tile(const TileJob& job, const TileView& tile, TileCounters& counters) {
   TileKernel<xsimd::sse2>::raster(job, tile, counters);
@@ -41,4 +41,4 @@ void shadow_map(const shadow::MapLookup& map, std::size_t count, const float* px
                 const float* nx, const float* ny, const float* nz, std::size_t stride, float* visible) {
   shadow::simd::MapSimd<xsimd::sse2>::run(map, count, px, py, pz, nx, ny, nz, stride, visible);
 }
-}  // namespace facet::raster::simd::sse2
+}  // namespace facet::tile::simd::sse2

@@ -1,37 +1,30 @@
-// Internal: the SIMD tile rasterizer's interface. Plain data only (no Eigen, no standard
-// containers): the kernels are compiled once per ISA and must not instantiate inline code the
-// linker could merge across ISA files (an inline function compiled into files with different ISA flags is merged by the linker, and the wider copy may run on a CPU without it).
+// Internal: the pixel program's contract: the plain data a tile rasterizer hands the pixel
+// programs (pixel/stages.hpp, pixel/programs_simd.hpp) and the frame plan fills (frame/plan.cpp):
+// the tile's memory (TileView), a draw's settings (Draw, PixelProgram, Fog), the Phong sink and a
+// tile's job. Plain data only (no Eigen, no standard containers): the programs are compiled once
+// per ISA (tile/kernels.hpp) and must not instantiate inline code the linker could merge across
+// ISA files (an inline function compiled into files with different ISA flags is merged by the
+// linker, and the wider copy may run on a CPU without it).
 //
 // Tile memory is block-linear: each plane (R, G, B, A, depth) of a size x size tile is stored as
 // 8x8 blocks of 64 floats (row-major inside a block, blocks row-major in the tile), so every SIMD
 // width (4, 8 or 16 lanes) reads and writes whole contiguous batches, and a block is the unit of
 // the hierarchical test: blocks outside a triangle are skipped with three compares, blocks inside
 // it skip the edge tests, only blocks on an edge test their pixels.
+
 #pragma once
 
-#include <array>
 #include <cstddef>
 #include <cstdint>
 
-#include "facet/image.hpp"
 #include "facet/material.hpp"
 #include "facet/render.hpp"
 #include "facet/scene.hpp"
-#include "geometry/project.hpp"
 #include "raster/triangle_setup.hpp"
 #include "raster/varyings.hpp"
-#include "shadow/map_lookup.hpp"
 #include "texture/sampler.hpp"
 
-namespace facet::raster {
-// Triangles are set up in parallel ranges; a bin entry names one as (range << 16) | index. A range
-// holds at most 8192 input triangles, each clipped into at most 7 pieces (< 2^16).
-inline constexpr int kRangeShift = 16;
-inline constexpr std::uint32_t kIndexMask = (1u << kRangeShift) - 1;
-
-}  // namespace facet::raster
-
-namespace facet::raster::simd {
+namespace facet::pixel {
 
 inline constexpr int kBlock = 8;  // block side in pixels
 inline constexpr int kBlockPixels = kBlock * kBlock;
@@ -75,7 +68,7 @@ enum class PixelProgram : std::uint8_t {
 };
 
 struct Draw {
-  VaryingLayout layout;  // this draw's varyings (ScreenTriangle::attr and the attribute planes)
+  raster::VaryingLayout layout;  // this draw's varyings (ScreenTriangle::attr and the attribute planes)
   PixelProgram program = PixelProgram::flat;
   const texture::Sampler* texture = nullptr;  // null: untextured
   // The 16-bit tier (RenderOptions::pixel_precision fast): `texture` is sampled by the fixed-point
@@ -169,7 +162,7 @@ struct PhongSink {
 
 struct TileJob {
   ShadingMode shading;
-  const ScreenTriangle* const* ranges;  // set-up ranges; a bin entry is (range << 16) | index
+  const raster::ScreenTriangle* const* ranges;  // set-up ranges; a bin entry is (range << 16) | index
   const std::uint32_t* bin;
   std::size_t bin_size;
   int x0, y0, x1, y1;  // the tile's pixels in the image, [x0, x1) x [y0, y1)
@@ -182,97 +175,4 @@ struct TileCounters {
   std::uint64_t tested = 0, filled = 0;
 };
 
-using RasterTileFunction = void (*)(const TileJob&, const TileView&, TileCounters&);
-// Writes the tile's [x0, x1) x [y0, y1) into the caller's views (validated; depth may be null).
-using ResolveTileFunction = void (*)(const TileView&, int x0, int y0, int x1, int y1, const ImageView&,
-                                     const DepthView*);
-
-// The ISA's texture sampler on planar streams: in = u, v, ds/dx, dt/dx, ds/dy, dt/dy; out = R, G, B, A.
-using SampleTextureFunction = void (*)(const texture::Sampler&, std::size_t count, const float* const* in,
-                                       float* const* out);
-// The 16-bit tier's fixed-point sampler (texture/sample_fixed_simd.hpp) on the same inputs: packed
-// RGBA8 per sample, the bytes sample_fixed_scalar returns.
-using SampleFixedFunction = void (*)(const texture::Sampler&, std::size_t count, const float* const* in,
-                                     std::uint32_t* out);
-
-// geometry::transform_vertices on the ISA (bit-identical to it); positions are xyz triples.
-using TransformFunction = void (*)(const geometry::Mat4Rows&, const float* positions, std::size_t begin, std::size_t end,
-                                   const geometry::ClipPlanes&, const geometry::Viewport&, std::array<float, 4>* clip,
-                                   geometry::ScreenVertex* screen);
-
-// Placing (raster/assemble.hpp) kPlaceGroup triangles at a time: each triangle's fate, and for
-// the placed ones their oriented screen vertices, covered pixel bounds, top-left biases and facing,
-// exactly as the scalar twin (RangeAssembler's per-triangle placing) computes them. Lanes the
-// kernel does not decide (an edge spanning 2^15 sub-pixels or more, see place_simd.hpp) are
-// `scalar`: the caller places those triangles with the scalar code.
-inline constexpr int kPlaceGroup = 16;
-struct PlaceGroup {
-  enum Fate : std::int32_t { nonfinite, outside, clip, culled, degenerate, small, placed, placed_swapped, scalar };
-  static constexpr int kFates = scalar + 1;
-  alignas(64) std::int32_t fate[kPlaceGroup];
-  // Bit l: lane l is placed, clipped or handed back to the scalar code (the lanes to take; the
-  // fields below are written for groups of W lanes with one such lane at least). Lanes per fate.
-  std::uint32_t keep;
-  std::int32_t count[kFates];
-  alignas(64) std::int32_t x[3][kPlaceGroup], y[3][kPlaceGroup];  // oriented (area2 > 0)
-  alignas(64) float z[3][kPlaceGroup], inv_w[3][kPlaceGroup];
-  alignas(64) std::int32_t min_px[kPlaceGroup], min_py[kPlaceGroup], max_px[kPlaceGroup], max_py[kPlaceGroup];
-  alignas(64) std::int32_t bias[3][kPlaceGroup];  // 0 or -1
-  alignas(64) std::int32_t back_facing[kPlaceGroup];  // 0 or 1
-};
-struct PlaceParams {
-  int width, height;                  // the viewport
-  bool cull_back, cull_front;         // which facing is culled (CullMode and two-sidedness folded in)
-  bool mirrored;                      // the object's front faces wind clockwise on screen
-  std::int32_t sample_lo, sample_hi;  // geometry::Viewport's sample offsets (finish_setup)
-};
-// `triangles`: kPlaceGroup vertex-index triples; `screen`: the object's screen vertices, fewer than
-// 2^31 / 5 of them (gathers index 32-bit words).
-using PlaceFunction = void (*)(const std::uint32_t* triangles, const geometry::ScreenVertex* screen,
-                               const PlaceParams&, PlaceGroup&);
-
-struct Kernels {
-  RasterTileFunction raster;
-  ResolveTileFunction resolve;
-  SampleTextureFunction sample;
-  TransformFunction transform;
-  PlaceFunction place;
-  shadow::MapVisibilityFunction shadow_map;
-  SampleFixedFunction sample_fixed;
-};
-
-namespace sse2 {
-void transform_vertices(const geometry::Mat4Rows&, const float*, std::size_t, std::size_t, const geometry::ClipPlanes&,
-                        const geometry::Viewport&, std::array<float, 4>*, geometry::ScreenVertex*);
-void place_triangles(const std::uint32_t*, const geometry::ScreenVertex*, const PlaceParams&, PlaceGroup&);
-void raster_tile(const TileJob&, const TileView&, TileCounters&);
-void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
-void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
-void sample_fixed(const texture::Sampler&, std::size_t, const float* const*, std::uint32_t*);
-void shadow_map(const shadow::MapLookup&, std::size_t, const float*, const float*, const float*, const float*,
-                const float*, const float*, std::size_t, float*);
-}  // namespace sse2
-namespace avx2 {
-void transform_vertices(const geometry::Mat4Rows&, const float*, std::size_t, std::size_t, const geometry::ClipPlanes&,
-                        const geometry::Viewport&, std::array<float, 4>*, geometry::ScreenVertex*);
-void place_triangles(const std::uint32_t*, const geometry::ScreenVertex*, const PlaceParams&, PlaceGroup&);
-void raster_tile(const TileJob&, const TileView&, TileCounters&);
-void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
-void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
-void sample_fixed(const texture::Sampler&, std::size_t, const float* const*, std::uint32_t*);
-void shadow_map(const shadow::MapLookup&, std::size_t, const float*, const float*, const float*, const float*,
-                const float*, const float*, std::size_t, float*);
-}  // namespace avx2
-namespace avx512 {
-void transform_vertices(const geometry::Mat4Rows&, const float*, std::size_t, std::size_t, const geometry::ClipPlanes&,
-                        const geometry::Viewport&, std::array<float, 4>*, geometry::ScreenVertex*);
-void place_triangles(const std::uint32_t*, const geometry::ScreenVertex*, const PlaceParams&, PlaceGroup&);
-void raster_tile(const TileJob&, const TileView&, TileCounters&);
-void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
-void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
-void sample_fixed(const texture::Sampler&, std::size_t, const float* const*, std::uint32_t*);
-void shadow_map(const shadow::MapLookup&, std::size_t, const float*, const float*, const float*, const float*,
-                const float*, const float*, std::size_t, float*);
-}  // namespace avx512
-
-}  // namespace facet::raster::simd
+}  // namespace facet::pixel

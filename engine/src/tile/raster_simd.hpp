@@ -1,7 +1,7 @@
 // Internal: the SIMD tile rasterizer, a template on the xsimd architecture. It covers triangles
 // and tests depth; each batch of pixels that passes goes, with the triangle's planes evaluated at
 // its block's origin, to the draw's pixel program (pixel/programs_simd.hpp). Only the per-ISA
-// files raster_simd_{sse2,avx2,avx512}.cpp include this header; each instantiates it once with its
+// files tile/kernels_{sse2,avx2,avx512}.cpp include this header; each instantiates it once with its
 // own flags, always with -ffp-contract=off so that every ISA does the same IEEE operations in the
 // same order: images are then byte-identical across sse2, avx2 and avx512
 // (tests/raster_simd_test.cpp). Everything here is a template on Arch or sits in an unnamed
@@ -30,10 +30,12 @@
 #include "pixel/batch_simd.hpp"
 #include "pixel/phong_simd.hpp"
 #include "pixel/programs_simd.hpp"
-#include "raster/raster_kernels.hpp"
+#include "tile/kernels.hpp"
 
-namespace facet::raster::simd {
+namespace facet::tile::simd {
 namespace {
+
+using namespace facet::raster;  // the set-up's records (ScreenTriangle, planes, samples) it covers
 
 template <class Arch>
 struct TileKernel {
@@ -376,4 +378,4 @@ struct TileKernel {
 };
 
 }  // namespace
-}  // namespace facet::raster::simd
+}  // namespace facet::tile::simd

@@ -12,9 +12,9 @@
 #include <xsimd/xsimd.hpp>
 
 #include "io/rows.hpp"
-#include "raster/raster_kernels.hpp"
+#include "tile/kernels.hpp"
 
-namespace facet::raster::simd {
+namespace facet::tile::simd {
 namespace {
 
 template <class Arch>
@@ -104,7 +104,7 @@ struct Resolve {
     }
   }
 
-  // Resolve works on rows of 8 pixels: avx512 uses its avx2 half (see raster_simd_avx512.cpp).
+  // Resolve works on rows of 8 pixels: avx512 uses its avx2 half (see kernels_avx512.cpp).
   static void resolve(const TileView& tv, int x0, int y0, int x1, int y1, const ImageView& color,
                       const DepthView* depth) {
     const int blocks_per_row = tv.size / kBlock;
@@ -195,4 +195,4 @@ struct Resolve {
 };
 
 }  // namespace
-}  // namespace facet::raster::simd
+}  // namespace facet::tile::simd

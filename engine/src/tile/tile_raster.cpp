@@ -1,5 +1,5 @@
 #include "io/rows.hpp"
-#include "raster/tile_raster.hpp"
+#include "tile/tile_raster.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -9,9 +9,10 @@
 #include "pixel/stages.hpp"
 #include "texture/sampler.hpp"
 
-namespace facet::raster {
+namespace facet::tile {
 
 namespace stages = facet::pixel;  // the pixel stages (a local here is named pixel)
+using namespace facet::raster;   // the set-up's records (ScreenTriangle, planes, varyings) it rasterizes
 
 void TileBuffers::resize(int tile_size, int sample_count) {
   size = tile_size;
@@ -460,4 +461,4 @@ void resolve_clear_depth(const TileRect& rect, const DepthView& depth) {
   for (int y = rect.y0; y < rect.y1; ++y) std::fill(depth_row(depth, y) + rect.x0, depth_row(depth, y) + rect.x1, 1.0f);
 }
 
-}  // namespace facet::raster
+}  // namespace facet::tile

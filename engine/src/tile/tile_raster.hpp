@@ -1,5 +1,5 @@
 // Internal: one screen tile, rasterized and resolved. The tile's colour (float R, G, B, A planes)
-// and depth live in tile-local, block-linear buffers (raster_kernels.hpp) that are cleared here;
+// and depth live in tile-local, block-linear buffers (pixel/program.hpp) that are cleared here;
 // triangles are processed in bin order (= submission order), so the result does not depend on
 // which task renders which tile. Two rasterizers fill them: the scalar one below (the twin the
 // SIMD kernels are tested against, used by the reference and scalar paths) and the SIMD kernels
@@ -12,11 +12,14 @@
 
 #include "facet/render.hpp"
 #include "lighting/point_shader.hpp"
-#include "raster/raster_kernels.hpp"
+#include "tile/kernels.hpp"
 #include "raster/samples.hpp"
 #include "raster/triangle_setup.hpp"
 
-namespace facet::raster {
+namespace facet::tile {
+
+using raster::SamplePattern;
+using raster::ScreenTriangle;
 
 struct TileRect {
   int x0, y0, x1, y1;  // pixels, [x0, x1) x [y0, y1)
@@ -116,4 +119,4 @@ void store_pixel(const float* rgba, PixelFormat format, const float* srgb, std::
 void resolve_clear_tile(const std::array<float, 4>& clear_color, const float* srgb, const TileRect& rect,
                         const ImageView& color, const DepthView* depth, float far_depth);
 
-}  // namespace facet::raster
+}  // namespace facet::tile
