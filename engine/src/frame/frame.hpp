@@ -1,7 +1,7 @@
 // Internal: the renderer's state, kept from frame to frame (capacity is kept, so a steady frame
 // allocates nothing), and the steps of a frame. The steps live in this folder in the order they
-// run: plan.cpp (checks, passes, draws, pixel programs), renderer.cpp (the frame: plan, then each
-// pass), object_setup.cpp (per draw: transform, light, assemble into set-up ranges), pass.cpp
+// run: frame_plan.cpp (the passes), plan.cpp (checks, draws, pixel programs), renderer.cpp (the
+// frame: plan, then each pass), object_setup.cpp (per draw: transform, light, assemble into set-up ranges), pass.cpp
 // (bins, tiles, resolve), composite.cpp (flat and Gouraud frames with shadows, as sub-frames).
 #pragma once
 
@@ -17,6 +17,7 @@
 
 #include "common/parallel.hpp"
 #include "facet/render.hpp"
+#include "frame/frame_plan.hpp"
 #include "frame/pass.hpp"
 #include "frame/plan.hpp"
 #include "geometry/project.hpp"
@@ -60,16 +61,9 @@ struct Renderer::Impl {
   shadow::RayCaster caster;
   const shadow::RayCaster* frame_caster = nullptr;  // this frame's, or null
   bool has_shadows = false;  // some light is shadowed this frame (frame_shadows applies)
-  // Shadow maps: one per scene light (planned and drawn when the light has one), the casters'
-  // bounds they are fitted to, the depth views their passes write, and what the lighting reads.
-  std::vector<shadow::ShadowMap> maps;
-  std::vector<const shadow::ShadowMap*> frame_maps;  // per scene light: its map this frame, or null
-  std::vector<DepthView> map_views;
-  shadow::CasterBounds caster_bounds;
-  // Shadow volumes: the camera's depth (drawn by a depth-only pass first) and each volume
-  // light's mask.
-  shadow::ShadowVolumes volumes;
-  DepthView volume_depth;
+  // The frame plan (frame_plan.hpp) and the targets its passes draw into.
+  frame::FrameTargets targets;
+  frame::FramePlan plan;
   shadow::FrameShadows frame_shadows;
   Status frame_status;  // a failure inside the arena (the casters' build)
   // One per arena slot (tbb::this_task_arena::current_thread_index()), sized on the calling
@@ -92,16 +86,6 @@ struct Renderer::Impl {
   std::vector<lighting::PointShader> shaders;  // one per draw
   PassDraws draws;  // the running pass's: per draw its pixel program, lighting features and faces (plan.hpp)
   frame::SceneSamplers samplers;  // the scene's textures as the pixel programs read them (plan.hpp)
-  // Dynamic environments: per reflecting object, its six faces, drawn every frame by face passes.
-  struct EnvironmentCube {
-    std::array<Texture, 6> faces;
-    std::array<ImageView, 6> views;
-    std::array<bool, 6> mirrored{};
-  };
-  std::vector<EnvironmentCube> cube_faces;
-  frame::DynamicCubes cubes;
-  void plan_environment_faces(const Scene& scene, const RenderOptions& options, const RenderPass& camera);
-  void finish_environment_face(const RenderPass& p);
   pixel::Fog fog;
   SrgbTable srgb;  // made once per renderer (RenderOptions::srgb)
   Impl() { make_srgb_table(srgb); }
@@ -143,8 +127,7 @@ struct Renderer::Impl {
   std::vector<std::size_t> first_range;
   std::vector<ObjectCounts> object_counts;
 
-  // The frame plan: its passes, run in order (capacity is kept), and the one running.
-  std::vector<RenderPass> passes;
+  // The running pass.
   const RenderPass* pass = nullptr;
   bool simd_raster = true;  // the simd path rasterizes with the SIMD kernels
   const tile::simd::Kernels* simd_kernels = nullptr;  // its ISA's, when simd_raster

@@ -16,7 +16,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
   // Grow only: a frame's passes differ in tile count, and a shrunk bin would give its capacity up.
   if (bins.size() < static_cast<std::size_t>(p.tile_count())) bins.resize(static_cast<std::size_t>(p.tile_count()));
   for (int t = 0; t < p.tile_count(); ++t) bins[static_cast<std::size_t>(t)].clear();
-  frame::plan_draws(scene, options, p, units, kind, samplers, cubes, draws);
+  frame::plan_draws(scene, options, p, units, kind, samplers, targets.cubes, draws);
   fog = frame::plan_fog(kind.plain() ? Fog{} : kind.lights_of(scene).fog);
   set_up_objects(scene, options);
   const int tiles_x = p.tiles_x, tile_size = p.tile_size;

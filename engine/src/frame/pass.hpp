@@ -1,9 +1,8 @@
 // Internal: a render pass — one view of the scene into one set of targets, and everything the
 // frame decides once for it: the view and projection, the viewport (with its depth format) and
 // its tile grid, the face rules, the shading mode and the clear colour (each draw's varyings and
-// pixel program are planned per draw, plan.hpp). A frame is a list of passes run in order: a
-// depth-only pass per shadow-map face, the camera's depth for shadow volumes, then the camera's
-// pass into the caller's colour and depth views.
+// pixel program are planned per draw, plan.hpp). A frame is a list of passes run in order
+// (frame_plan.hpp); plan.hpp makes each kind (camera_pass, view_pass, depth_pass).
 #pragma once
 
 #include <array>
@@ -45,20 +44,11 @@ struct RenderPass {
   bool environment_face = false;
   // Samples per pixel (RenderOptions::samples): the camera's colour pass only.
   raster::SamplePattern samples{};
-  int environment_cube = -1, environment_face_index = 0;  // which face of which cube (frame.hpp)
 
   int width() const { return assembly.viewport.width; }
   int height() const { return assembly.viewport.height; }
   bool two_sided() const { return assembly.two_sided; }
   int tile_count() const { return tiles_x * tiles_y; }
 };
-
-// The camera's pass: the scene's camera, the options' shading, culling, tile size and clear
-// colour, into `color` (and `depth`).
-RenderPass camera_pass(const Scene& scene, const RenderOptions& options, const ImageView& color, const DepthView* depth);
-
-// A depth-only pass from `view` and `projection` into `depth` (a square shadow-map face).
-RenderPass depth_pass(const Eigen::Matrix4d& view, const Eigen::Matrix4d& projection, const DepthView& depth,
-                      int tile_size);
 
 }  // namespace facet::frame
