@@ -210,8 +210,8 @@ constexpr std::size_t kSimdChunk = 2048;
 
 // Copies `count` (position, normal) pairs into padded SoA chunks (normals times `normal_sign`),
 // runs the kernel on each and writes the colours to `out` (albedo read and secondary written
-// when the params use them). The copies are SSE2 transposes (soa.cpp): the Eigen per-vertex loop
-// they replace took 28 % of a one-light pass (perf). With `index`, element i of every array is
+// when the params use them). The copies are SSE2 transposes (soa.cpp), four vertices at a time.
+// With `index`, element i of every array is
 // element index[i] (a gather in, a scatter out).
 // `visibility` (shadowed lights): slot k's value for point i at visibility[k * count + i].
 void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd::Transform* xf, std::size_t count,

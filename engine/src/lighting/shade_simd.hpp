@@ -12,9 +12,7 @@
 //    estimates (rsqrtps / rcpps, 12 bits; rsqrt14 / rcp14 on avx512) refined by one Newton step,
 //    relative error about 2^-22, far inside the Delta8 <= 1 budget of those tiers (facet accuracy:
 //    the random-vertex maximum stays at 0.002 of an 8-bit step). A point light needed two sqrt and
-//    three divisions per vertex, all on one divider. Together with the method-specialised kernel
-//    below and the copies in soa.cpp this took BM_Lighting/simd_avx2_auto/point/lights:4 (65k
-//    vertices, one thread) from 148 M to 291 M vertex-lights/s. The estimates' low bits differ
+//    three divisions per vertex, all on one divider. The estimates' low bits differ
 //    between CPU vendors, so colours may differ by an ulp between an Intel and an AMD machine; on
 //    one machine they are fixed (and the same for any thread count).
 // With -mfma the compiler contracts a*b+c, so avx2/avx512 differ from sse2 by ulps.

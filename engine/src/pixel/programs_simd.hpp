@@ -52,8 +52,8 @@ struct Context {
 };
 
 // The tile's and so the programs' batch count of held textured batches: 2 x 16 lanes, 4 x 8 or
-// 4 x 4 (measured best for the float sampler); the 16-bit tier's fused programs hold 4 on every
-// ISA (its texels take fewer registers; 4 x 16 measured faster than 2 x 16 on avx512).
+// 4 x 4, which measured best for the float sampler; the 16-bit tier's fused programs hold 4 on
+// every ISA (its texels take fewer registers; 4 x 16 measured faster than 2 x 16 on avx512).
 template <class Arch>
 inline constexpr int kHold = Types<Arch>::W >= 16 ? 2 : 4;
 inline constexpr int kHoldFixed = 4;

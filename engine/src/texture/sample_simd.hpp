@@ -152,9 +152,8 @@ struct SampleSimd {
   }
   // The texels at index and index + 1 of each lane (both in one row of the level) as one 64-bit
   // element: two gathers of W / 2 64-bit elements and two permutes instead of two gathers of W
-  // 32-bit elements, which cost about 1.5 times as much on AMD Zen 4 (independent loops: avx512
-  // 4.35 ns per 8 x 64 bits against 6.3 ns per 16 x 32; avx2 2.47 ns per 4 x 64 against 4.08 ns
-  // per 8 x 32). The same texels, so the same bits.
+  // 32-bit elements (a gather's cost grows with its element count, not its width). The same
+  // texels, so the same bits.
   static void texel_pairs(const Sampler& s, const I& index, I& first, I& second) {
     if constexpr (W == 16) {
       const auto* base = reinterpret_cast<const long long*>(s.texels);

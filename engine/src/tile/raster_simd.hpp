@@ -341,9 +341,9 @@ struct TileKernel {
         phong.alpha = t.alpha;
       }
       if (tv.samples > 1) {
-        // Multisampled: the fused programs' draws run the general programs (the same bytes as the
-        // float tier's fused ones; the 16-bit tier's draws run exact), so that only these five
-        // are compiled a second time, for samples.
+        // Multisampled: the fused programs' draws run the general programs (in the float tier the
+        // same bytes as its fused ones; a 16-bit tier draw keeps its fixed-point texels,
+        // Draw::fixed_texels), so that only these five are compiled a second time, for samples.
         switch (job.draws[t.object].program) {
           case PixelProgram::flat: triangle<FlatProgram<Arch>, true>(job, tv, t, phong, counters); break;
           case PixelProgram::gouraud: triangle<GouraudProgram<Arch>, true>(job, tv, t, phong, counters); break;

@@ -1,4 +1,4 @@
-#include "scene/json_fields.hpp"
+#include "content/json_fields.hpp"
 
 namespace facet::scene_json {
 

@@ -22,9 +22,9 @@
 #include "io/assets.hpp"
 #include "io/file_access.hpp"
 #include "texture/texture_file.hpp"
-#include "scene/json_fields.hpp"
-#include "scene/json_lines.hpp"
-#include "scene/scene_file_lights.hpp"
+#include "content/json_fields.hpp"
+#include "content/json_lines.hpp"
+#include "content/scene_file_lights.hpp"
 
 namespace facet {
 namespace {

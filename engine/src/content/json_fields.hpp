@@ -20,7 +20,7 @@
 #include "common/try.hpp"
 #include "facet/status.hpp"
 #include "facet/types.hpp"
-#include "scene/json_lines.hpp"
+#include "content/json_lines.hpp"
 
 namespace facet::scene_json {
 

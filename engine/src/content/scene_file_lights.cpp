@@ -1,6 +1,6 @@
 // The scene file's lights and their shadows (docs/scene-format.md, "lights[i]"): read by the
 // scene reader (scene_file.cpp) through the same JsonFields, so that messages name the line.
-#include "scene/scene_file_lights.hpp"
+#include "content/scene_file_lights.hpp"
 
 #include <string>
 

@@ -6,7 +6,7 @@
 
 #include "facet/light.hpp"
 #include "facet/scene.hpp"
-#include "scene/json_fields.hpp"
+#include "content/json_fields.hpp"
 
 namespace facet::scene_json {
 

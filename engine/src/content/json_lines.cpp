@@ -1,4 +1,4 @@
-#include "scene/json_lines.hpp"
+#include "content/json_lines.hpp"
 
 #include <algorithm>
 #include <set>
