@@ -142,7 +142,7 @@ struct PhongBatch {
     }
     s.shade(s.context, object, static_cast<std::size_t>(count), static_cast<std::size_t>(padded));
     const Draw& d = job->draws[object];
-    if (d.program < pixel::PixelProgram::surface) {
+    if (!pixel::runs_surface_stages(d.program)) {
       for (int k = 0; k < count;) {
         if (const std::uint32_t m = run_at(k)) {  // W consecutive pixels with the same samples: stored as vectors
           for (std::uint32_t left = m; left; left &= left - 1) {

@@ -66,6 +66,13 @@ enum class PixelProgram : std::uint8_t {
   modulate_fixed, modulate_fog_fixed,  // the 16-bit tier (RenderOptions::pixel_precision): fixed-point texels
   blend_alpha, blend_premultiplied, blend_add  // Gouraud, untextured, blended (programs_simd.hpp's BlendProgram)
 };
+namespace {  // internal linkage: the per-ISA files include this header (see above)
+// Whether a draw runs the surface program's stages after its lighting (every program but the
+// lighting's own three), whatever the enumerators' order.
+constexpr bool runs_surface_stages(PixelProgram p) {
+  return p != PixelProgram::flat && p != PixelProgram::gouraud && p != PixelProgram::phong;
+}
+}  // namespace
 
 struct Draw {
   raster::VaryingLayout layout;  // this draw's varyings (ScreenTriangle::attr and the attribute planes)

@@ -83,7 +83,7 @@ class PixelBatch {
   void flush(const lighting::PointShader& shader, const simd::Draw& d, const simd::Fog& fog, float alpha,
              TileBuffers& tile, RasterCounters& counters) {
     if (count_ == 0) return;
-    const bool surface = d.program >= simd::PixelProgram::surface;
+    const bool surface = pixel::runs_surface_stages(d.program);
     const bool separate = surface && d.separate_specular;
     shader.shade_points(static_cast<std::size_t>(count_), p_, n_, out_, scratch_, albedo_, separate ? spec_ : nullptr,
                         occlusion_);
@@ -261,7 +261,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
       auto plane_at = [&](const Plane& q) { return static_cast<float>(q.at_v0 + q.dx * cx + q.dy * cy); };
       const float inv_sum = 1.0f / plane_at(t.plane[kPlaneInvW]);  // clip w: the eye-space depth
       auto interp = [&](int a) { return plane_at(t.plane[kPlaneAttr + a]) * inv_sum; };
-      if (d.program >= simd::PixelProgram::surface) {
+      if (pixel::runs_surface_stages(d.program)) {
         // The surface program's stages (pixel/stages.hpp), one pixel at a time.
         float texel[4];
         const float* tex = nullptr;
