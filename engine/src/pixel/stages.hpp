@@ -507,21 +507,39 @@ template <class V>
 
 // Blends source c (RGBA) over destination dst (RGBA) with GL's factors (the same for alpha as for
 // colour): alpha (SRC_ALPHA, ONE_MINUS_SRC_ALPHA), premultiplied (ONE, ONE_MINUS_SRC_ALPHA), add
-// (ONE, ONE), multiply (DST_COLOR, ZERO), subtract (reverse subtract: dst - src); saturated.
-template <class V>
-[[gnu::always_inline]] inline void blend(const Draw& d, const V (&c)[4], V (&dst)[4]) {
+// (ONE, ONE), multiply (DST_COLOR, ZERO), subtract (reverse subtract: dst - src); then finish
+// (saturated when `clamp`). blend_as: the mode fixed at compile time (the fused BlendProgram's);
+// blend: the draw's mode.
+template <BlendMode Mode, class V>
+[[gnu::always_inline]] inline void blend_as(const V (&c)[4], V (&dst)[4], bool clamp) {
   const V a = c[3];
   for (int k = 0; k < 4; ++k) {
     V out;
-    switch (d.blend) {
-      case BlendMode::alpha: out = c[k] * a + dst[k] * (V(1.0f) - a); break;
-      case BlendMode::premultiplied: out = c[k] + dst[k] * (V(1.0f) - a); break;
-      case BlendMode::add: out = c[k] + dst[k]; break;
-      case BlendMode::multiply: out = c[k] * dst[k]; break;
-      case BlendMode::subtract: out = dst[k] - c[k]; break;
-      default: out = c[k]; break;
+    if constexpr (Mode == BlendMode::alpha) {
+      out = c[k] * a + dst[k] * (V(1.0f) - a);
+    } else if constexpr (Mode == BlendMode::premultiplied) {
+      out = c[k] + dst[k] * (V(1.0f) - a);
+    } else if constexpr (Mode == BlendMode::add) {
+      out = c[k] + dst[k];
+    } else if constexpr (Mode == BlendMode::multiply) {
+      out = c[k] * dst[k];
+    } else if constexpr (Mode == BlendMode::subtract) {
+      out = dst[k] - c[k];
+    } else {
+      out = c[k];
     }
-    dst[k] = finish(out, d.clamp);
+    dst[k] = finish(out, clamp);
+  }
+}
+template <class V>
+[[gnu::always_inline]] inline void blend(const Draw& d, const V (&c)[4], V (&dst)[4]) {
+  switch (d.blend) {
+    case BlendMode::alpha: return blend_as<BlendMode::alpha>(c, dst, d.clamp);
+    case BlendMode::premultiplied: return blend_as<BlendMode::premultiplied>(c, dst, d.clamp);
+    case BlendMode::add: return blend_as<BlendMode::add>(c, dst, d.clamp);
+    case BlendMode::multiply: return blend_as<BlendMode::multiply>(c, dst, d.clamp);
+    case BlendMode::subtract: return blend_as<BlendMode::subtract>(c, dst, d.clamp);
+    default: return blend_as<BlendMode::opaque>(c, dst, d.clamp);
   }
 }
 
