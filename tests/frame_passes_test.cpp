@@ -43,7 +43,7 @@ TEST(FramePasses, AnUnshadowedSceneIsTheCameraPassAlone) {
   EXPECT_EQ(kinds(p.plan), std::vector<PassKind>{PassKind::camera});
   EXPECT_FALSE(p.plan.raycast);
   EXPECT_FALSE(p.plan.volumes);
-  EXPECT_FALSE(p.plan.any_map);
+  EXPECT_FALSE(p.plan.any_map());
   const frame::PlannedPass& c = p.plan.camera();
   EXPECT_EQ(c.after, AfterPass::nothing);
   EXPECT_EQ(c.pass.color, &p.color);
@@ -102,7 +102,7 @@ TEST(FramePasses, AMapWithNothingToCastHasNoPass) {
   Planned p;
   plan(s, RenderOptions{}, p);
   EXPECT_EQ(kinds(p.plan), std::vector<PassKind>{PassKind::camera});
-  EXPECT_FALSE(p.plan.any_map);
+  EXPECT_FALSE(p.plan.any_map());
   EXPECT_EQ(p.plan.maps[0], nullptr);
 }
 

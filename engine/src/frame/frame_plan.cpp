@@ -39,7 +39,6 @@ void plan_shadow_maps(const Scene& scene, const RenderOptions& options, const Re
     if (map.empty()) continue;  // nothing can shade a visible point: the light is not shadowed
     map.set_kernel(kernels ? kernels->shadow_map : nullptr);
     out.maps[l] = &map;
-    out.any_map = true;
     for (int f = 0; f < map.face_count(); ++f) {
       t.map_views.push_back(map.depth_view(f));
       PlannedPass p;
@@ -159,7 +158,6 @@ void plan_frame(const Scene& scene, const RenderOptions& options, const FrameKin
                 const DepthView* depth, const tile::simd::Kernels* kernels, FrameTargets& t, FramePlan& out) {
   out.passes.clear();
   out.maps.assign(scene.lights.size(), nullptr);
-  out.any_map = false;
   out.shadow_map_texels = out.map_casters = out.volume_casters = 0;
   out.seconds_maps = 0;
   // A part of a flat or Gouraud frame with shadows is drawn without them (render_composite).

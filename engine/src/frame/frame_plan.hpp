@@ -6,6 +6,7 @@
 // shadows or dynamic reflections is the camera's pass alone.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -77,10 +78,13 @@ struct FramePlan {
   std::vector<const shadow::ShadowMap*> maps;  // per scene light: its map this frame, or null
   bool raycast = false;  // a light casts ray-cast shadows: Embree's casters are built first
   bool volumes = false;  // shadow volumes: a volume_depth pass builds their masks
-  bool any_map = false;  // some light's map has a face (a light whose casters cannot shade a visible point has none)
   std::uint64_t shadow_map_texels = 0, map_casters = 0, volume_casters = 0;  // for FrameStats
   double seconds_maps = 0;  // fitting the maps
   const PlannedPass& camera() const { return passes.back(); }
+  // Some light's map has a face (a light whose casters cannot shade a visible point has none).
+  bool any_map() const {
+    return std::any_of(maps.begin(), maps.end(), [](const shadow::ShadowMap* m) { return m != nullptr; });
+  }
   // One line per pass: its kind, target size, samples, shading, light or object and face, and
   // after-step; then the frame's ray-cast casters, if any.
   std::string describe() const;

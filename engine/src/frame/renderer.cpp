@@ -140,7 +140,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
     frame_caster = &caster;
   }
   frame_shadows = {frame_caster, plan.maps, plan.volumes ? &targets.volumes : nullptr};
-  has_shadows = frame_caster || plan.any_map || plan.volumes;
+  has_shadows = frame_caster || plan.any_map() || plan.volumes;
   work_total = 0;
   if (pass_units.size() < plan.passes.size()) pass_units.resize(plan.passes.size());
   for (std::size_t k = 0; k < plan.passes.size(); ++k) {
