@@ -24,14 +24,14 @@ namespace {
 namespace fs = std::filesystem;
 
 // A fresh directory under the test's working directory, removed at the end.
-struct TempDir {
+struct ScratchDir {
   fs::path path;
-  TempDir() {
+  ScratchDir() {
     path = fs::temp_directory_path() / ("facet_rel_" + std::to_string(::getpid()) + "_" + std::to_string(counter()++));
     fs::remove_all(path);
     fs::create_directories(path);
   }
-  ~TempDir() {
+  ~ScratchDir() {
     std::error_code ec;
     fs::remove_all(path, ec);
   }
@@ -138,7 +138,7 @@ TEST(ObjMessages, EveryErrorNamesTheFileAndTheRealLine) {
 // ---- 4. Files: regular files only, whole reads, atomic writes --------------------------------
 
 TEST(FileAccess, FifoIsRefusedWithoutBlocking) {
-  TempDir dir;
+  ScratchDir dir;
   const std::string fifo = (dir.path / "pipe.json").string();
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   const Result<Scene> scene = load_scene_file(fifo);
@@ -161,7 +161,7 @@ std::string read_all(const std::string& path) {
 }
 
 TEST(FileAccess, WriteIntoMissingDirectoryFailsAndCreatesNothing) {
-  TempDir dir;
+  ScratchDir dir;
   std::vector<std::uint8_t> px(4 * 4 * 4, 200);
   const ImageView img{px.data(), 4, 4, 16, PixelFormat::rgba8, false};
   const std::string target = (dir.path / "missing" / "out.png").string();
@@ -175,7 +175,7 @@ TEST(FileAccess, WriteIntoMissingDirectoryFailsAndCreatesNothing) {
 // temporary file behind.
 TEST(FileAccess, FailedWriteKeepsTheOldFile) {
   for (const char* name : {"old.png", "old.pfm"}) {
-    TempDir dir;
+    ScratchDir dir;
     const std::string target = dir.file(name, std::string("the old output, intact"));
     const pid_t child = ::fork();
     ASSERT_GE(child, 0);
@@ -245,7 +245,7 @@ TEST(MemoryBudget, BudgetCountsEveryMeshOfTheScene) {
 }
 
 TEST(MemoryBudget, FileLargerThanTheBudgetIsNotRead) {
-  TempDir dir;
+  ScratchDir dir;
   const std::string path = dir.file("big.obj", std::string(1 << 20, '#'));
   ObjOptions o;
   o.memory_budget_bytes = 1000;
@@ -379,7 +379,7 @@ TEST(SceneLoadCancel, ProgressCanStopALoad) {
 // ---- 6. Untrusted text in messages ------------------------------------------------------------
 
 TEST(UntrustedText, NonObjFileIsNotQuotedWhole) {
-  TempDir dir;
+  ScratchDir dir;
   const std::string secret = "root:x:0:0:root:/root:/bin/bash-with-a-long-tail-of-secrets\nsecond line\n";
   const std::string path = dir.file("passwd", secret);
   const Result<Mesh> m = load_obj(path);

@@ -23,26 +23,15 @@
 #include <vector>
 
 #include "facet/facet.hpp"
+#include "py_scene.hpp"
 
 namespace py = pybind11;
 
 namespace {
 
 using namespace facet;
-
-// facet.Error(message) with .code ("invalid_argument", "parse_error", "io_error", "unsupported",
-// "out_of_memory", "cancelled") and .field (the JSON path or option named, may be empty). The
-// class lives in the module (looked up there: the binding keeps no state of its own).
-[[noreturn]] void raise(const Status& s) {
-  py::object type = py::module_::import("facet._facet").attr("Error");
-  py::object e = type(s.message());
-  static constexpr const char* kCodes[] = {"ok", "invalid_argument", "parse_error", "io_error", "unsupported", "out_of_memory", "cancelled"};
-  const auto code = static_cast<std::size_t>(s.code());
-  e.attr("code") = code < std::size(kCodes) ? kCodes[code] : "unknown";
-  e.attr("field") = s.field();
-  PyErr_SetObject(type.ptr(), e.ptr());
-  throw py::error_already_set();
-}
+using facet_py::PyScene;
+using facet_py::raise;
 
 template <class T>
 T value_or_raise(Result<T> r) {
@@ -163,21 +152,6 @@ Scene load_for_render(const std::optional<std::string>& path, float aspect, cons
 // may change it meanwhile: while any render of it is under way, every call that changes it raises
 // facet.Error (code "invalid_argument", field "scene"). `rendering` is read and written only with
 // the GIL held.
-struct PyScene {
-  Scene scene;
-  int rendering = 0;
-  std::vector<std::string> warnings;  // what loading read approximately or not at all
-  std::vector<std::string> cameras;   // a loaded glTF file's cameras (Model::cameras)
-  bool model = false;                 // loaded from a model (.gltf, .glb, .obj): Renderer's "auto" shading is Phong
-
-  Scene& edit() {
-    if (rendering > 0) {
-      raise({ErrorCode::invalid_argument, "scene",
-             "scene: it is being rendered on another thread; change it after that render returns (or render a copy)"});
-    }
-    return scene;
-  }
-};
 
 // The values of a NumPy array of any real dtype as `T`, refusing any that does not convert exactly
 // (a fraction, NaN, or outside [lo, hi]): NumPy's own cast would wrap 2^32 + 1 to 1, truncate
@@ -359,7 +333,8 @@ PYBIND11_MODULE(_facet, m) {
   m.attr("__version__") = version();
   m.def("best_isa", [] { return std::string(to_string(best_isa())); }, "The widest instruction set of this CPU facet uses.");
 
-  py::class_<PyScene>(m, "Scene", "A scene: meshes, materials, objects, lights and a camera.")
+  py::class_<PyScene> scene_class(m, "Scene", "A scene: meshes, materials, objects, lights and a camera.");
+  scene_class
       .def(py::init([](bool empty) {
              PyScene ps;
              ps.scene = empty ? Scene{} : make_default_scene();
@@ -668,4 +643,5 @@ PYBIND11_MODULE(_facet, m) {
         py::arg("pow") = "auto", py::arg("threads") = 1, py::arg("seconds") = 0.5, py::arg("allow_paths") = std::vector<std::string>{},
         "Lights every vertex of the scene (or model, or the built-in scene) again and again for `seconds`: vertices lit "
         "per second on one lighting path, ISA and pow method.");
+  facet_py::bind_fields(m, scene_class);
 }

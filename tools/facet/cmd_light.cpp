@@ -9,6 +9,7 @@
 #include "cli.hpp"
 
 #include <memory>
+#include "common/format.hpp"
 #include "shadow/volume.hpp"
 
 namespace facet::cli {
@@ -198,7 +199,7 @@ int light(const LightState& st) {
 struct CheckState {
   std::string scene_path, shading, shadows, transparent_order, output, depth, depth_mode = "auto";
   int width = 1280, height = 720, memory_mb = -1, msaa = 1;
-  bool allow_missing = false, strict = false, vertex_relief = false;
+  bool allow_missing = false, strict = false, vertex_relief = false, fields = false;
   std::vector<std::string> allow_paths;
   ViewState view;
 };
@@ -229,6 +230,8 @@ Command add_check(CLI::App& facet) {
       ->check(one_of({"submission", "back_to_front"}, "order"));
   app->add_option("--memory-budget-mb", st->memory_mb, "as for 'facet render' (default 4096; 0 = no limit)")->check(int_in(0, 1 << 30));
   app->add_flag("--vertex-relief", st->vertex_relief, "as for 'facet render': Gouraud reads normal and bump maps per vertex");
+  app->add_flag("--fields", st->fields,
+                "list every material's and light's fields that differ from their defaults (docs/scene-format.md's field tables)");
   app->add_option("--msaa", st->msaa, "1 | 4 | 8 | 16 samples per pixel, as for 'facet render' (the tiles' memory grows N-fold)")
       ->check(CLI::IsMember({1, 4, 8, 16}));
   app->add_flag("--allow-missing", st->allow_missing, "a model's missing or unreadable .mtl, texture or image files are warnings (the default)");
@@ -258,6 +261,26 @@ Result<std::string> draw_once(const Scene& scene, const RenderOptions& options, 
     if (nothing.empty() || s == 1.0) break;
   }
   return nothing;
+}
+
+// Each material's and light's fields that differ from their defaults, one object a line, in the
+// field table's names and the scene file's notation (texture fields as indices).
+template <class T>
+void print_non_default(const char* list, std::size_t index, const std::string& name, std::span<const FieldSpec<T>> table,
+                       const T& object) {
+  std::string line;
+  for (const FieldSpec<T>& f : table) {
+    if (!is_default(f, object)) line += std::string(line.empty() ? "" : ", ") + f.name + " " + format_field(f, object);
+  }
+  std::printf("    %s[%zu] %s: %s\n", list, index, quote(name, 40).c_str(), line.empty() ? "the defaults" : line.c_str());
+}
+
+void print_fields(const Scene& scene) {
+  std::printf("  fields that differ from their defaults (docs/scene-format.md, \"Material fields\" and \"Light fields\"):\n");
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+    print_non_default("materials", i, scene.materials[i].name, material_fields(), scene.materials[i]);
+  }
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) print_non_default("lights", i, scene.lights[i].name, light_fields(), scene.lights[i]);
 }
 
 }  // namespace
@@ -345,7 +368,7 @@ int check(const CheckState& st) {
   for (const auto& l : scene->lights) {
     if (!l.enabled || l.shadow.method == ShadowMethod::none) continue;
     ++shadowed;
-    methods += std::string(methods.empty() ? "" : ", ") + (l.name.empty() ? "(unnamed)" : l.name) + " " +
+    methods += std::string(methods.empty() ? "" : ", ") + (l.name.empty() ? "(unnamed)" : printable(l.name)) + " " +
                to_string(l.shadow.method);
     if (l.shadow.method == ShadowMethod::map) {
       methods += " " + std::to_string(l.shadow.resolution) + "^2 " + to_string(l.shadow.filter) +
@@ -377,7 +400,7 @@ int check(const CheckState& st) {
       if (edges.closed) {
         ++closed;
       } else if (++open_count <= 5) {
-        open += std::string(open.empty() ? "" : ", ") + scene->meshes[m].name;
+        open += std::string(open.empty() ? "" : ", ") + printable(scene->meshes[m].name);
       }
     }
     std::printf("  volumes: exact, hard (resolution, filter and bias do not apply); %zu closed caster meshes, %zu open "
@@ -480,6 +503,7 @@ int check(const CheckState& st) {
                 "min/max range attenuation (each costs nothing beyond max + min)\n",
                 phong_lobes, linear_range);
   }
+  if (st.fields) print_fields(*scene);
   return 0;
 }
 

@@ -485,6 +485,36 @@ facet_status facet_scene_bake(facet_scene* scene, const facet_bake_config* confi
  * uses (its id is not reused). */
 facet_status facet_scene_set_material(facet_scene* scene, uint32_t material_id, const facet_material* material);
 facet_status facet_scene_remove_material(facet_scene* scene, uint32_t material_id);
+/* Fields by name: every material and light field of the field table (docs/scene-format.md,
+ * "Material fields" and "Light fields"; the scene file's keys, dotted below an object:
+ * "diffuse", "environment.strength", "shadow.bias.slope"), as doubles: a colour or vector its
+ * components, a choice the index of its name in `choices`, a boolean 0 or 1, a texture its id or
+ * -1 (none). A field added to the table reaches C through these, with no change to
+ * facet_material or facet_light. `count` must equal the field's components. A set is checked as
+ * facet_scene_set_material / facet_scene_set_light check a whole one (range, the rules between
+ * fields, the scene's limits); on an error nothing changes. */
+typedef struct facet_field_info {
+  const char* name;
+  const char* type; /* "number", "integer", "boolean", "choice", "colour", "vector" or "texture" */
+  int components;
+  double lo, hi;    /* number, integer, vector: each value's accepted range */
+  double also;      /* number: one more accepted value outside [lo, hi], or NaN */
+  const char* const* choices; /* choice: the names, in index order */
+  size_t choice_count;
+  const char* doc;  /* one line: what the field does */
+} facet_field_info;
+size_t facet_material_field_count(void);
+size_t facet_light_field_count(void);
+facet_status facet_material_field_info(size_t index, facet_field_info* info);
+facet_status facet_light_field_info(size_t index, facet_field_info* info);
+facet_status facet_scene_set_material_field(facet_scene* scene, uint32_t material_id, const char* name,
+                                            const double* values, size_t count);
+facet_status facet_scene_get_material_field(const facet_scene* scene, uint32_t material_id, const char* name,
+                                            double* values, size_t count);
+facet_status facet_scene_set_light_field(facet_scene* scene, uint32_t light_id, const char* name, const double* values,
+                                         size_t count);
+facet_status facet_scene_get_light_field(const facet_scene* scene, uint32_t light_id, const char* name, double* values,
+                                         size_t count);
 /* Scene-wide switches: two-sided lighting for every object (default 0); the specular half-vector
  * of a local (default) or infinite viewer (GL_LIGHT_MODEL_LOCAL_VIEWER). */
 facet_status facet_scene_set_two_sided(facet_scene* scene, int two_sided);

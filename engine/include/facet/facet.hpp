@@ -12,6 +12,7 @@
 #include "facet/model.hpp"
 #include "facet/render.hpp"
 #include "facet/display.hpp"
+#include "facet/fields.hpp"
 #include "facet/scene.hpp"
 #include "facet/scene_file.hpp"
 #include "facet/status.hpp"

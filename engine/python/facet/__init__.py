@@ -8,9 +8,9 @@ facet.Renderer renders a facet.Scene (facet.load) with its own threads and optio
 GIL; facet.light measures vertex lighting throughput; facet.Error carries facet's message, its
 .code and .field. docs/python.md in the facet repository describes it all.
 """
-from ._facet import Error, Renderer, Scene, __version__, best_isa, light, load
+from ._facet import Error, Renderer, Scene, __version__, best_isa, fields, light, load
 
-__all__ = ["Error", "Renderer", "Scene", "__version__", "best_isa", "light", "load", "render"]
+__all__ = ["Error", "Renderer", "Scene", "__version__", "best_isa", "fields", "light", "load", "render"]
 
 
 def render(path=None, width=640, height=360, *, shading="auto", msaa=1, srgb=True, threads=0,

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -18,6 +19,7 @@
 
 #include "common/format.hpp"
 #include "common/try.hpp"
+#include "facet/fields.hpp"
 #include "facet/status.hpp"
 #include "facet/types.hpp"
 #include "content/json_lines.hpp"
@@ -53,6 +55,9 @@ class JsonFields {
   }
 
   Status expect_object(const json& j, const std::string& path, std::initializer_list<std::string_view> allowed) const {
+    return expect_object(j, path, std::span<const std::string_view>(allowed.begin(), allowed.size()));
+  }
+  Status expect_object(const json& j, const std::string& path, std::span<const std::string_view> allowed) const {
     if (!j.is_object()) return mismatch(path, "an object", j);
     for (const auto& [key, value] : j.items()) {
       bool known = false;
@@ -175,6 +180,88 @@ class JsonFields {
     for (auto c : choices)
       if (c == out) return {};
     return mismatch(path, expected, j);
+  }
+
+  // Field `f` of the field table (facet/fields.hpp) at obj[key], when present, stored into `object`
+  // (its range is validate_scene's to check, with the line): a colour as opt_color, a choice by
+  // name (one with "on" and "off" also as true or false), a two-component vector as one number for
+  // both, a texture by name.
+  template <class T, class Named>
+  Status opt_field(const json& obj, const std::string& path, const char* key, const FieldSpec<T>& f,
+                   const std::vector<Named>& textures, T& object) const {
+    if (!obj.contains(key)) return {};
+    const json& j = obj[key];
+    const std::string p = child(path, key);
+    switch (f.type) {
+      case FieldType::colour: {
+        Color3 c;
+        FACET_TRY(opt_color(obj, path, key, c));
+        for (int k = 0; k < 3; ++k) f.set(object, k, c[k]);
+        return {};
+      }
+      case FieldType::number: {
+        float v = 0;
+        FACET_TRY(read_number(j, p, v));
+        f.set(object, 0, v);
+        return {};
+      }
+      case FieldType::integer: {
+        int v = 0;
+        FACET_TRY(opt_int(obj, path, key, static_cast<int>(f.lo), static_cast<int>(f.hi), v));
+        f.set(object, 0, v);
+        return {};
+      }
+      case FieldType::boolean: {
+        bool v = false;
+        FACET_TRY(opt_bool(obj, path, key, v));
+        f.set(object, 0, v ? 1.0 : 0.0);
+        return {};
+      }
+      case FieldType::choice: {
+        std::string name;
+        if (j.is_boolean()) {
+          name = j.get<bool>() ? "on" : "off";
+        } else {
+          std::vector<std::string> names(f.choices.begin(), f.choices.end());
+          if (!j.is_string()) return mismatch(p, "one of \"" + join(names) + "\"", j);
+          name = j.get<std::string>();
+        }
+        for (std::size_t i = 0; i < f.choices.size(); ++i) {
+          if (name == f.choices[i]) {
+            f.set(object, 0, double(i));
+            return {};
+          }
+        }
+        std::vector<std::string> names(f.choices.begin(), f.choices.end());
+        return mismatch(p, "one of \"" + join(names) + "\"", j);
+      }
+      case FieldType::vector: {
+        const auto n = static_cast<std::size_t>(f.components);
+        if (n == 2 && j.is_number()) {
+          float v = 0;
+          FACET_TRY(read_number(j, p, v));
+          f.set(object, 0, v), f.set(object, 1, v);
+          return {};
+        }
+        if (!j.is_array() || j.size() != n) {
+          return mismatch(p, "an array of " + std::to_string(n) + " numbers" + (n == 2 ? " or one number" : ""), j);
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+          float v = 0;
+          FACET_TRY(read_number(j[i], p + "[" + std::to_string(i) + "]", v));
+          f.set(object, static_cast<int>(i), v);
+        }
+        return {};
+      }
+      case FieldType::texture: {
+        if (f.components != 1) return invalid(p, "a list of textures is read by its object's own rules");
+        std::uint32_t index = 0;
+        FACET_TRY(find_name(j, p, textures, "texture", index));
+        f.set(object, 0, double(index));
+        return {};
+      }
+    }
+    return invalid(p, "unknown field type");
   }
 
   template <class Named>

@@ -11,6 +11,7 @@
 #include <initializer_list>
 #include <limits>
 #include <numbers>
+#include <cstring>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -153,72 +154,16 @@ class SceneReader : public scene_json::JsonFields {
     return opt_number(j, p, "far", c.far);
   }
 
+  // A material: each field of the field table (facet/fields.hpp) by its name, the environment by
+  // read_environment's rules.
   Status read_material(const json& j, const std::string& p, Scene& scene, Material& m) {
-    FACET_TRY(expect_object(j, p, {"name", "emissive", "ambient", "diffuse", "specular", "shininess", "specular_model",
-                                   "alpha", "diffuse_texture", "normal_texture", "normal_scale",
-                                   "occlusion_texture", "occlusion_strength", "bump_texture", "bump_scale", "texture_mode", "uv_scale", "alpha_cutoff", "blend", "depth_write",
-                                   "emissive_texture", "emission_after_texture", "alpha_to_coverage", "environment"}));
+    std::vector<std::string_view> keys = {"name", "environment"};
+    for (const MaterialField& f : material_fields())
+      if (!std::strchr(f.name, '.')) keys.push_back(f.name);
+    FACET_TRY(expect_object(j, p, keys));
     FACET_TRY(opt_string(j, p, "name", m.name));
-    FACET_TRY(opt_color(j, p, "emissive", m.emissive));
-    FACET_TRY(opt_color(j, p, "ambient", m.ambient));
-    FACET_TRY(opt_color(j, p, "diffuse", m.diffuse));
-    FACET_TRY(opt_color(j, p, "specular", m.specular));
-    FACET_TRY(opt_number(j, p, "shininess", m.shininess));
-    if (j.contains("specular_model")) {
-      std::string model;
-      FACET_TRY(read_enum(j["specular_model"], child(p, "specular_model"), {"blinn", "phong"}, model));
-      m.specular_model = model == "phong" ? SpecularModel::phong : SpecularModel::blinn;
-    }
-    FACET_TRY(opt_number(j, p, "alpha", m.alpha));
-    FACET_TRY(opt_texture(j, p, "diffuse_texture", scene.textures, m.diffuse_texture));
-    FACET_TRY(opt_texture(j, p, "emissive_texture", scene.textures, m.emissive_texture));
-    FACET_TRY(opt_bool(j, p, "emission_after_texture", m.emission_after_texture));
-    FACET_TRY(opt_texture(j, p, "normal_texture", scene.textures, m.normal_texture));
-    FACET_TRY(opt_number(j, p, "normal_scale", m.normal_scale));
-    FACET_TRY(opt_texture(j, p, "occlusion_texture", scene.textures, m.occlusion_texture));
-    FACET_TRY(opt_number(j, p, "occlusion_strength", m.occlusion_strength));
-    FACET_TRY(opt_texture(j, p, "bump_texture", scene.textures, m.bump_texture));
-    FACET_TRY(opt_number(j, p, "bump_scale", m.bump_scale));
-    std::string mode;
-    if (j.contains("texture_mode")) {
-      FACET_TRY(read_enum(j["texture_mode"], child(p, "texture_mode"), {"modulate", "replace", "decal", "add"}, mode));
-      m.texture_mode = mode == "modulate" ? TextureMode::modulate
-                       : mode == "replace" ? TextureMode::replace
-                       : mode == "decal"   ? TextureMode::decal
-                                           : TextureMode::add;
-    }
-    if (j.contains("uv_scale")) {
-      const json& u = j["uv_scale"];
-      const std::string up = child(p, "uv_scale");
-      if (u.is_number()) {
-        float k = 1;
-        FACET_TRY(read_number(u, up, k));
-        m.uv_scale = Vec2(k, k);
-      } else {
-        if (!u.is_array() || u.size() != 2) return mismatch(up, "[su, sv] or one number", u);
-        FACET_TRY(read_number(u[0], up + "[0]", m.uv_scale.x()));
-        FACET_TRY(read_number(u[1], up + "[1]", m.uv_scale.y()));
-      }
-    }
-    FACET_TRY(opt_number(j, p, "alpha_cutoff", m.alpha_cutoff));
-    FACET_TRY(opt_bool(j, p, "alpha_to_coverage", m.alpha_to_coverage));
-    if (j.contains("blend")) {
-      FACET_TRY(read_enum(j["blend"], child(p, "blend"),
-                          {"opaque", "alpha", "premultiplied", "add", "multiply", "subtract"}, mode));
-      const BlendMode modes[] = {BlendMode::opaque, BlendMode::alpha, BlendMode::premultiplied,
-                                 BlendMode::add, BlendMode::multiply, BlendMode::subtract};
-      for (BlendMode b : modes)
-        if (mode == to_string(b)) m.blend = b;
-    }
-    if (j.contains("depth_write")) {
-      const json& d = j["depth_write"];
-      if (d.is_boolean()) {
-        m.depth_write = d.get<bool>() ? DepthWrite::on : DepthWrite::off;
-      } else {
-        FACET_TRY(read_enum(d, child(p, "depth_write"), {"auto"}, mode));
-        m.depth_write = DepthWrite::automatic;
-      }
-    }
+    for (const MaterialField& f : material_fields())
+      if (!std::strchr(f.name, '.')) FACET_TRY(opt_field(j, p, f.name, f, scene.textures, m));
     if (j.contains("environment")) FACET_TRY(read_environment(j["environment"], child(p, "environment"), scene, m.environment));
     return {};
   }

@@ -57,13 +57,22 @@ Status read_light(const JsonFields& f, const json& j, const std::string& p, cons
     const std::string sp = child(p, "spot");
     if (l.type != LightType::spot) return f.invalid(sp, "only spot lights have a \"spot\" cone");
     const json& s = j["spot"];
-    FACET_TRY(f.expect_object(s, sp, {"cutoff_deg", "exponent", "inner_deg", "outer_deg", "falloff"}));
+    FACET_TRY(f.expect_object(s, sp, {"shape", "cutoff_deg", "exponent", "inner_deg", "outer_deg", "falloff"}));
     const bool gl = s.contains("cutoff_deg") || s.contains("exponent");
     const bool smooth = s.contains("inner_deg") || s.contains("outer_deg") || s.contains("falloff");
     if (gl && smooth) {
       return f.invalid(sp, "use either cutoff_deg/exponent (GL cone) or inner_deg/outer_deg/falloff (smooth cone), not both");
     }
+    // The shape named, or the one whose keys are given (GL's cone when none are).
     l.spot_shape = smooth ? SpotShape::smooth_cone : SpotShape::cutoff_exponent;
+    if (s.contains("shape")) {
+      const LightField& shape = *find_light_field("spot.shape");
+      FACET_TRY(f.opt_field(s, sp, "shape", shape, scene.textures, l));
+      if (l.spot_shape == SpotShape::cutoff_exponent ? smooth : gl) {
+        return f.invalid(child(sp, "shape"), std::string("a ") + (smooth ? "smooth cone's keys (inner_deg, outer_deg, falloff)" : "GL cone's keys (cutoff_deg, exponent)") +
+                                                  " with \"shape\": \"" + shape.choices[static_cast<std::size_t>(l.spot_shape)] + "\"");
+      }
+    }
     FACET_TRY(f.opt_number(s, sp, "cutoff_deg", l.spot_cutoff_deg));
     FACET_TRY(f.opt_number(s, sp, "exponent", l.spot_exponent));
     FACET_TRY(f.opt_number(s, sp, "inner_deg", l.spot_inner_deg));

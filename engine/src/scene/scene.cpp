@@ -141,19 +141,7 @@ std::string describe(const Vec3& v) {
   return "[" + format_number(v.x()) + ", " + format_number(v.y()) + ", " + format_number(v.z()) + "]";
 }
 
-// A field path such as "lights[2].position", built only when there is an error to report:
-// validating a valid scene allocates nothing (the renderer validates every frame).
-struct Field {
-  const char* list;   // "lights", or an object such as "camera"
-  std::size_t index;  // used when `indexed`
-  bool indexed;
-  std::string operator()(const char* member) const {
-    std::string s = list;
-    if (indexed) s += "[" + std::to_string(index) + "]";
-    if (*member) s += std::string(".") + member;
-    return s;
-  }
-};
+using Field = FieldPath;
 
 Status invalid(const std::string& field, const std::string& what) {
   return {ErrorCode::invalid_argument, field, field + ": " + what};
@@ -182,62 +170,14 @@ Status check_direction(const Vec3& d, const Field& f, const char* member) {
 }
 
 Status validate_material(const Material& m, const Field& f) {
-  FACET_TRY(check_color(m.emissive, f, "emissive"));
-  FACET_TRY(check_color(m.ambient, f, "ambient"));
-  FACET_TRY(check_color(m.diffuse, f, "diffuse"));
-  FACET_TRY(check_color(m.specular, f, "specular"));
-  FACET_TRY(check_range(m.shininess, 0.0f, kMaxShininess, f, "shininess"));
-  if (static_cast<unsigned>(m.specular_model) > static_cast<unsigned>(SpecularModel::phong)) {
-    return invalid(f("specular_model"), "unknown specular model");
-  }
-  FACET_TRY(check_range(m.alpha, 0.0f, 1.0f, f, "alpha"));
-  FACET_TRY(check_range(m.alpha_cutoff, 0.0f, 1.0f, f, "alpha_cutoff"));
-  if (!m.uv_scale.allFinite() || m.uv_scale.x() == 0.0f || m.uv_scale.y() == 0.0f) {
+  FACET_TRY(check_material_fields(m, f));  // each field's type and range (facet/fields.hpp)
+  if (m.uv_scale.x() == 0.0f || m.uv_scale.y() == 0.0f) {
     return invalid(f("uv_scale"), "expected two finite non-zero numbers, found [" + format_number(m.uv_scale.x()) + ", " +
                                       format_number(m.uv_scale.y()) + "]");
   }
-  if (m.diffuse_texture < kNoTexture) {
-    return invalid(f("diffuse_texture"), "expected a texture index or -1 (none), found " + std::to_string(m.diffuse_texture));
-  }
-  if (m.emissive_texture < kNoTexture) {
-    return invalid(f("emissive_texture"), "expected a texture index or -1 (none), found " + std::to_string(m.emissive_texture));
-  }
-  if (m.normal_texture < kNoTexture) {
-    return invalid(f("normal_texture"), "expected a texture index or -1 (none), found " + std::to_string(m.normal_texture));
-  }
-  if (m.occlusion_texture < kNoTexture) {
-    return invalid(f("occlusion_texture"), "expected a texture index or -1 (none), found " + std::to_string(m.occlusion_texture));
-  }
-  FACET_TRY(check_range(m.occlusion_strength, 0.0f, 1.0f, f, "occlusion_strength"));
-  if (m.bump_texture < kNoTexture) {
-    return invalid(f("bump_texture"), "expected a texture index or -1 (none), found " + std::to_string(m.bump_texture));
-  }
-  if (!(std::abs(m.bump_scale) <= 1e6f)) {
-    return invalid(f("bump_scale"), "expected a number in [-1e+06, 1e+06], found " + format_number(m.bump_scale));
-  }
-  if (!(std::abs(m.normal_scale) <= 1e6f)) {
-    return invalid(f("normal_scale"), "expected a number in [-1e+06, 1e+06], found " + format_number(m.normal_scale));
-  }
-  if (static_cast<unsigned>(m.texture_mode) > static_cast<unsigned>(TextureMode::add)) {
-    return invalid(f("texture_mode"), "unknown texture mode");
-  }
-  if (static_cast<unsigned>(m.blend) > static_cast<unsigned>(BlendMode::subtract)) return invalid(f("blend"), "unknown blend mode");
-  if (static_cast<unsigned>(m.depth_write) > static_cast<unsigned>(DepthWrite::off)) {
-    return invalid(f("depth_write"), "unknown depth-write mode");
-  }
   const Environment& e = m.environment;
-  if (static_cast<unsigned>(e.mode) > static_cast<unsigned>(EnvironmentMode::normal)) {
-    return invalid(f("environment.mode"), "unknown environment mode");
-  }
-  if (static_cast<unsigned>(e.blend) > static_cast<unsigned>(EnvironmentBlend::mix)) {
-    return invalid(f("environment.blend"), "unknown environment blend");
-  }
-  FACET_TRY(check_range(e.strength, 0.0f, 1.0f, f, "environment.strength"));
   if (e.dynamic && e.mode != EnvironmentMode::cube) {
     return invalid(f("environment.dynamic"), "only a cube environment is rendered from the scene");
-  }
-  if (e.dynamic && (e.resolution < 1 || e.resolution > 4096)) {
-    return invalid(f("environment.resolution"), "expected 1..4096 pixels, found " + std::to_string(e.resolution));
   }
   const int needed = e.mode == EnvironmentMode::none || e.dynamic ? 0 : e.mode == EnvironmentMode::cube ? 6 : 1;
   for (int k = 0; k < 6; ++k) {  // (messages made only on failure: validation runs every frame)
@@ -254,75 +194,22 @@ Status validate_material(const Material& m, const Field& f) {
   return {};
 }
 
-Status validate_shadow(const Shadow& s, const Field& f) {
-  switch (s.method) {
-    case ShadowMethod::none:
-    case ShadowMethod::map:
-    case ShadowMethod::raycast:
-    case ShadowMethod::volume: break;
-    default: return invalid(f("shadow.method"), "unknown shadow method");
-  }
-  if (!(s.resolution >= 16 && s.resolution <= 16384)) {
-    return invalid(f("shadow.resolution"), "expected an integer in [16, 16384], found " + std::to_string(s.resolution));
-  }
-  switch (s.filter) {
-    case ShadowFilter::none:
-    case ShadowFilter::pcf2x2:
-    case ShadowFilter::pcf3x3:
-    case ShadowFilter::pcf5x5: break;
-    default: return invalid(f("shadow.filter"), "unknown filter");
-  }
-  FACET_TRY(check_range(s.bias.constant, 0.0f, 1e4f, f, "shadow.bias.constant"));
-  FACET_TRY(check_range(s.bias.slope, 0.0f, 1e4f, f, "shadow.bias.slope"));
-  FACET_TRY(check_range(s.bias.normal, 0.0f, 1e4f, f, "shadow.bias.normal"));
-  return {};
-}
-
 Status validate_light(const Light& l, const Field& f) {
-  FACET_TRY(validate_shadow(l.shadow, f));
-  FACET_TRY(check_color(l.ambient, f, "ambient"));
-  FACET_TRY(check_color(l.diffuse, f, "diffuse"));
-  FACET_TRY(check_color(l.specular, f, "specular"));
+  FACET_TRY(check_light_fields(l, f));  // each field's type and range (facet/fields.hpp)
   if (l.type != LightType::point) FACET_TRY(check_direction(l.direction, f, "direction"));
-  if (l.projector.mode != ProjectorMode::modulate && l.projector.mode != ProjectorMode::gobo) {
-    return invalid(f("projector.mode"), "unknown projector mode");
-  }
-  if (l.projector.texture != -1) {
-    if (l.type != LightType::spot) return invalid(f("projector"), "only spot lights project a picture");
-    if (l.projector.texture < 0) return invalid(f("projector.texture"), "expected a texture index or -1 (none), found " + std::to_string(l.projector.texture));
-  }
+  if (l.projector.texture != -1 && l.type != LightType::spot) return invalid(f("projector"), "only spot lights project a picture");
   if (l.type == LightType::directional) {
     if (l.range != 0.0f) return invalid(f("range"), "only point and spot lights have a range");
     return {};
   }
-  if (!finite(l.position)) return invalid(f("position"), "expected finite coordinates, found " + describe(l.position));
-  const float big = 3.0e38f;
   if (l.attenuation_model == AttenuationModel::linear_range) {
-    // Capped so that max + min stays a finite float.
-    if (!(l.range_max > 0.0f && l.range_max <= 1e30f)) {
-      return invalid(f("attenuation.max"), "expected a number in (0, 1e+30], found " + format_number(l.range_max));
-    }
+    if (!(l.range_max > 0.0f)) return invalid(f("attenuation.max"), "expected a number in (0, 1e+30], found " + format_number(l.range_max));
     FACET_TRY(check_range(l.range_min, 0.0f, l.range_max, f, "attenuation.min"));
-  } else if (l.attenuation_model != AttenuationModel::gl) {
-    return invalid(f("attenuation.model"), "unknown attenuation model");
-  } else {
-    FACET_TRY(check_range(l.constant_attenuation, 0.0f, big, f, "attenuation.constant"));
-    FACET_TRY(check_range(l.linear_attenuation, 0.0f, big, f, "attenuation.linear"));
-    FACET_TRY(check_range(l.quadratic_attenuation, 0.0f, big, f, "attenuation.quadratic"));
-    if (!(l.constant_attenuation + l.linear_attenuation + l.quadratic_attenuation > 0.0f)) {
-      return invalid(f("attenuation"), "at least one attenuation coefficient must be > 0");
-    }
+  } else if (!(l.constant_attenuation + l.linear_attenuation + l.quadratic_attenuation > 0.0f)) {
+    return invalid(f("attenuation"), "at least one attenuation coefficient must be > 0");
   }
-  FACET_TRY(check_range(l.range, 0.0f, big, f, "range"));
   if (l.type != LightType::spot) return {};
-  if (l.spot_shape == SpotShape::cutoff_exponent) {
-    if (l.spot_cutoff_deg != 180.0f) FACET_TRY(check_range(l.spot_cutoff_deg, 0.0f, 90.0f, f, "spot.cutoff_deg"));
-    FACET_TRY(check_range(l.spot_exponent, 0.0f, kMaxShininess, f, "spot.exponent"));
-  } else {
-    FACET_TRY(check_range(l.spot_outer_deg, 0.0f, 90.0f, f, "spot.outer_deg"));
-    FACET_TRY(check_range(l.spot_inner_deg, 0.0f, l.spot_outer_deg, f, "spot.inner_deg"));
-    FACET_TRY(check_range(l.spot_falloff, 0.0f, kMaxShininess, f, "spot.falloff"));
-  }
+  if (l.spot_shape == SpotShape::smooth_cone) FACET_TRY(check_range(l.spot_inner_deg, 0.0f, l.spot_outer_deg, f, "spot.inner_deg"));
   return {};
 }
 
