@@ -273,6 +273,21 @@ TEST(FieldTable, TheCApiSetsAndReadsEveryField) {
   const double spot[] = {2};
   ASSERT_EQ(facet_scene_set_light_field(scene, 0, "type", spot, 1), FACET_OK);
   EXPECT_EQ(facet_scene_set_light_field(scene, 0, "range", twelve, 1), FACET_OK);
+  // A texture on a material an object without uvs draws: the material alone is valid, the scene
+  // with it is not (the mesh has no texture coordinates), and the material stays as it was.
+  const float positions[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const uint32_t indices[] = {0, 1, 2};
+  uint32_t mesh = 0, object = 0, tex = 0;
+  const uint8_t texel[4] = {255, 255, 255, 255};
+  ASSERT_EQ(facet_scene_add_mesh(scene, positions, 3, nullptr, indices, 1, &mesh), FACET_OK) << facet_scene_last_error(scene);
+  ASSERT_EQ(facet_scene_add_object(scene, mesh, 1, nullptr, &object), FACET_OK) << facet_scene_last_error(scene);
+  ASSERT_EQ(facet_scene_add_texture_rgba8(scene, texel, 1, 1, FACET_NEAREST, FACET_WRAP_REPEAT, &tex), FACET_OK);
+  const double first[] = {double(tex)};
+  EXPECT_EQ(facet_scene_set_material_field(scene, 1, "diffuse_texture", first, 1), FACET_INVALID_ARGUMENT);
+  double now = 0;
+  ASSERT_EQ(facet_scene_get_material_field(scene, 1, "diffuse_texture", &now, 1), FACET_OK);
+  EXPECT_EQ(now, -1);
+  EXPECT_EQ(facet_scene_set_material_field(scene, 0, "diffuse_texture", first, 1), FACET_OK);  // material 0: drawn by nothing
   facet_scene_destroy(scene);
 }
 

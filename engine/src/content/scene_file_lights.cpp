@@ -2,32 +2,34 @@
 // scene reader (scene_file.cpp) through the same JsonFields, so that messages name the line.
 #include "content/scene_file_lights.hpp"
 
+#include <cstring>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "common/try.hpp"
 
 namespace facet::scene_json {
 
 Status read_light(const JsonFields& f, const json& j, const std::string& p, const Scene& scene, Light& l) {
-  FACET_TRY(f.expect_object(j, p, {"name", "type", "enabled", "position", "direction", "ambient", "diffuse",
-                                 "specular", "attenuation", "range", "spot", "shadow", "projector"}));
+  // The light's own fields by the field table (facet/fields.hpp); its nested objects (attenuation,
+  // spot, shadow, projector) by the rules between their fields, below.
+  std::vector<std::string_view> keys = {"name", "attenuation", "spot", "shadow", "projector"};
+  for (const LightField& field : light_fields())
+    if (!std::strchr(field.name, '.')) keys.push_back(field.name);
+  FACET_TRY(f.expect_object(j, p, keys));
   FACET_TRY(f.opt_string(j, p, "name", l.name));
   if (!j.contains("type")) return f.invalid(child(p, "type"), "missing: \"directional\", \"point\" or \"spot\"");
-  std::string type;
-  FACET_TRY(f.read_enum(j["type"], child(p, "type"), {"directional", "point", "spot"}, type));
-  l.type = type == "directional" ? LightType::directional : type == "point" ? LightType::point : LightType::spot;
-  FACET_TRY(f.opt_bool(j, p, "enabled", l.enabled));
-  if (l.type == LightType::point && j.contains("direction")) {
-    return f.invalid(child(p, "direction"), "a point light has no direction");
+  for (const LightField& field : light_fields()) {
+    if (std::strchr(field.name, '.')) continue;
+    FACET_TRY(f.opt_field(j, p, field.name, field, scene.textures, l));
+    if (std::string_view(field.name) == "type") {  // (first: the rules below need it)
+      if (l.type == LightType::point && j.contains("direction")) return f.invalid(child(p, "direction"), "a point light has no direction");
+      if (l.type == LightType::directional && j.contains("position")) {
+        return f.invalid(child(p, "position"), "a directional light has no position (give its \"direction\")");
+      }
+    }
   }
-  if (l.type == LightType::directional && j.contains("position")) {
-    return f.invalid(child(p, "position"), "a directional light has no position (give its \"direction\")");
-  }
-  FACET_TRY(f.opt_vec3(j, p, "position", l.position));
-  FACET_TRY(f.opt_vec3(j, p, "direction", l.direction));
-  FACET_TRY(f.opt_color(j, p, "ambient", l.ambient));
-  FACET_TRY(f.opt_color(j, p, "diffuse", l.diffuse));
-  FACET_TRY(f.opt_color(j, p, "specular", l.specular));
   if (j.contains("attenuation")) {
     if (l.type == LightType::directional) return f.invalid(child(p, "attenuation"), "a directional light has no attenuation");
     const json& a = j["attenuation"];
@@ -52,7 +54,6 @@ Status read_light(const JsonFields& f, const json& j, const std::string& p, cons
       FACET_TRY(f.opt_number(a, ap, "quadratic", l.quadratic_attenuation));
     }
   }
-  FACET_TRY(f.opt_number(j, p, "range", l.range));
   if (j.contains("spot")) {
     const std::string sp = child(p, "spot");
     if (l.type != LightType::spot) return f.invalid(sp, "only spot lights have a \"spot\" cone");
