@@ -337,27 +337,14 @@ struct SurfaceProgram {
         xsimd::select(b.samples ? ms.pass[s] : pass, b.samples ? ms.z[s] : b.z, F::load_unaligned(depth)).store_unaligned(depth);
       }
     }
-    const F f = job.fog->mode != FogMode::none ? fog_factor(*job.fog, cw) : F(1.0f);
-    F emitted[3];
-    if (d.emission) {
-      emission(d, [&](const texture::Sampler& s, F(&t)[4]) { Texturing<Arch>::sample(s, uv, t); }, emitted);
-      if (d.lightmap) {  // a lightmapped draw always has the emission stage
-        const int lm = d.layout.at(Varying::lightmap_uv);
-        const F lu = in.over_w(lm, b.fi, b.fj) * cw, lv = in.over_w(lm + 1, b.fi, b.fj) * cw;
-        lightmap_light(d, [&](const texture::Sampler& s, F(&t)[4]) { Texturing<Arch>::level0(s, lu, lv, t); }, texel, emitted);
-      }
-    }
-    TailInputs<F> tin;
-    tin.texel = texel;
-    tin.emitted = d.emission ? emitted : nullptr;
-    tin.fog = f;
     // A map at the pixel's coordinates moved by (du, dv), with its LOD (normal, bump, occlusion maps).
     auto sample_moved = [&](const texture::Sampler& s, float du, float dv, F(&t)[4]) {
       Uv<F> moved = uv;
       moved.u = moved.u + F(du), moved.v = moved.v + F(dv);
       Texturing<Arch>::sample(s, moved, t);
     };
-    if (job.shading == ShadingMode::phong) {  // light at the gather's flush
+    auto sample_uv = [&](const texture::Sampler& s, F(&t)[4]) { Texturing<Arch>::sample(s, uv, t); };
+    auto to_phong = [&](const TailInputs<F>& tin) __attribute__((always_inline)) {  // light at the gather's flush
       F v[10 + pixel::kMaxCarried];
       const int position = d.layout.at(Varying::eye_position), albedo = d.layout.at(Varying::albedo);
       F normal[3];
@@ -376,17 +363,12 @@ struct SurfaceProgram {
         v[n++] = occlusion<F>(d, [&](const texture::Sampler& sm, F(&t)[4]) { sample_moved(sm, 0.0f, 0.0f, t); });
       }
       cx.phong.gather(dst, v, n, pass, b.at, b.samples ? &ms : nullptr);
+    };
+    F c[4];
+    if (!surface_tail(d, *job.fog, job.shading, cx.t, value, cw, texel, alpha, sample_uv, sample_moved, Texturing<Arch>::level0,
+                      to_phong, c)) {
       return;
     }
-    F p[3], sec[3], generated[3], moved[2];
-    const F* secondary = vertex_colours(job.shading, d, cx.t, value, p, sec);
-    read_tail_varyings(d, value, generated, tin);
-    if (d.bump_map && d.environment != EnvironmentMode::none) {  // environment-mapped bump
-      bump_slopes(d, sample_moved, moved[0], moved[1]);
-      tin.environment_offset = moved;
-    }
-    F c[4];
-    surface_colour<false>(d, *job.fog, p, secondary, alpha, tin, Texturing<Arch>::level0, c);
     for (int s = 0; s < samples; ++s) {  // each sample over its own destination
       const std::size_t at = sample_at(s);
       const BF passed = b.samples ? ms.pass[s] : pass;

@@ -488,6 +488,46 @@ template <bool kPerPixel, class V, class Sample>
   if (fog.mode != FogMode::none) apply_fog(fog, in.fog, c);
 }
 
+// The surface program after coverage, depth and the alpha test: the same stages in the same
+// order for the scalar rasterizer (V = float, one fragment) and the SIMD programs (V = a batch).
+// The fog factor at clip w `w`, the emission and the lightmap, then either the hand-off to the
+// per-pixel lighting (to_phong(in), lit where the gathered pixels are flushed; returns false) or
+// the colour c of a fragment lit per vertex (returns true). value(a): varying a at the fragment;
+// sample_at(sampler, rgba): a map at the fragment's coordinates with its LOD; sample_moved(sampler,
+// du, dv, rgba): the same moved by (du, dv); level0(sampler, s, t, rgba): a map at level 0.
+template <class V, class Value, class SampleAt, class SampleMoved, class Level0, class ToPhong>
+[[gnu::always_inline]] inline bool surface_tail(const Draw& d, const Fog& fog, ShadingMode shading, const raster::ScreenTriangle& t,
+                                                const Value& value, const V& w, const V* texel, const V& alpha,
+                                                const SampleAt& sample_at, const SampleMoved& sample_moved, const Level0& level0,
+                                                const ToPhong& to_phong, V (&c)[4]) {
+  TailInputs<V> in;
+  in.texel = texel;
+  in.fog = fog.mode != FogMode::none ? fog_factor(fog, w) : V(1.0f);
+  V emitted[3];
+  if (d.emission) {  // added after the texture environment
+    emission(d, sample_at, emitted);
+    if (d.lightmap) {  // a lightmapped draw always has the emission stage
+      const int lm = d.layout.at(raster::Varying::lightmap_uv);
+      const V lu = value(lm), lv = value(lm + 1);
+      lightmap_light(d, [&](const texture::Sampler& s, V (&out)[4]) { level0(s, lu, lv, out); }, texel, emitted);
+    }
+    in.emitted = emitted;
+  }
+  if (shading == ShadingMode::phong) {
+    to_phong(in);
+    return false;
+  }
+  V p[3], sec[3], generated[3], moved[2];
+  const V* secondary = vertex_colours(shading, d, t, value, p, sec);
+  read_tail_varyings(d, value, generated, in);
+  if (d.bump_map && d.environment != EnvironmentMode::none) {  // environment-mapped bump
+    bump_slopes(d, sample_moved, moved[0], moved[1]);
+    in.environment_offset = moved;
+  }
+  surface_colour<false>(d, fog, p, secondary, alpha, in, level0, c);
+  return true;
+}
+
 // The alpha a fragment will have (what the alpha test sees) without computing its colour.
 template <class V>
 [[gnu::always_inline]] inline V fragment_alpha(const Draw& d, const V& a, const V* t) {

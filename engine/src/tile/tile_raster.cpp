@@ -293,20 +293,7 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
         if (!(alpha >= d.alpha_cutoff)) return;  // the alpha test
         if (d.depth_write) depth[pixel] = z;
         ++counters.filled;
-        stages::TailInputs<float> in;
-        in.texel = tex;
-        in.fog = fog.mode != FogMode::none ? stages::fog_factor(fog, inv_sum) : 1.0f;
-        float emitted[3];
-        if (d.emission) {  // added after the texture environment
-          stages::emission(d, sample_at, emitted);
-          if (d.lightmap) {
-            const int lm = layout.at(Varying::lightmap_uv);
-            const float lu = interp(lm), lv = interp(lm + 1);
-            stages::lightmap_light(d, [&](const texture::Sampler& s, float (&out)[4]) { level0(s, lu, lv, out); }, tex, emitted);
-          }
-          in.emitted = emitted;
-        }
-        if (job.shading == ShadingMode::phong) {
+        auto to_phong = [&](const stages::TailInputs<float>& in) {
           const Color3 albedo = albedo_at >= 0 ? Color3(interp(albedo_at), interp(albedo_at + 1), interp(albedo_at + 2))
                                                : Color3(1.0f, 1.0f, 1.0f);
           float n[3];
@@ -314,17 +301,11 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
           batch.add_surface(pixel, Vec3(interp(position_at), interp(position_at + 1), interp(position_at + 2)),
                             Vec3(n[0], n[1], n[2]), albedo, stages::occlusion<float>(d, sample_at), d, fog, in);
           if (batch.full()) batch.flush(shading, d, fog, t.alpha, tile, counters);
+        };
+        float c[4];
+        if (!stages::surface_tail(d, fog, job.shading, t, interp, inv_sum, tex, t.alpha, sample_at, sample_moved, level0, to_phong, c)) {
           return;
         }
-        float primary[3], secondary[3], generated[3], moved[2];
-        const float* sec = stages::vertex_colours(job.shading, d, t, interp, primary, secondary);
-        stages::read_tail_varyings(d, interp, generated, in);
-        if (d.bump_map && d.environment != EnvironmentMode::none) {  // environment-mapped bump
-          stages::bump_slopes(d, sample_moved, moved[0], moved[1]);
-          in.environment_offset = moved;
-        }
-        float c[4];
-        stages::surface_colour<false>(d, fog, primary, sec, t.alpha, in, level0, c);
         float dst[4] = {tile.plane(0)[pixel], tile.plane(1)[pixel], tile.plane(2)[pixel], tile.plane(3)[pixel]};
         stages::blend(d, c, dst);
         for (int ch = 0; ch < 4; ++ch) tile.plane(ch)[pixel] = dst[ch];
