@@ -178,13 +178,9 @@ struct PhongBatch {
       const F sec[3] = {F::load_unaligned(s.sr + k), F::load_unaligned(s.sg + k), F::load_unaligned(s.sb + k)};
       const F position[3] = {F::load_unaligned(s.px + k), F::load_unaligned(s.py + k), F::load_unaligned(s.pz + k)};
       const F normal[3] = {F::load_unaligned(s.nx + k), F::load_unaligned(s.ny + k), F::load_unaligned(s.nz + k)};
-      F carried[pixel::kMaxCarried];
-      pixel::TailInputs<F> in;
-      in.position = position;
-      in.normal = normal;
-      pixel::uncarry(d, fog, [&](int q) { return F::load_unaligned(s.carry[q] + k); }, carried, in);
       F c[4];
-      pixel::surface_colour<true>(d, fog, p, d.separate_specular ? sec : nullptr, F(alpha), in, level0, c);
+      pixel::lit_surface_colour(d, fog, p, sec, position, normal, [&](int q) { return F::load_unaligned(s.carry[q] + k); },
+                                F(alpha), level0, c);
       c[0].store_unaligned(s.r + k);
       c[1].store_unaligned(s.g + k);
       c[2].store_unaligned(s.b + k);

@@ -528,6 +528,22 @@ template <class V, class Value, class SampleAt, class SampleMoved, class Level0,
   return true;
 }
 
+// The surface program of a pixel lit per pixel, after the lighting kernel: its primary colour p
+// and specular s (used when Draw::separate_specular), the eye-space position and normal it was
+// lit at, and the tail's inputs carried through the lighting (load(q): carried value q, as
+// carry() stored them). The same for the scalar rasterizer's batches and the SIMD Phong sink.
+template <class V, class Load, class Level0>
+[[gnu::always_inline]] inline void lit_surface_colour(const Draw& d, const Fog& fog, const V (&p)[3], const V (&s)[3],
+                                                      const V (&position)[3], const V (&normal)[3], const Load& load,
+                                                      const V& alpha, const Level0& level0, V (&c)[4]) {
+  V carried[pixel::kMaxCarried];
+  TailInputs<V> in;
+  in.position = position;
+  in.normal = normal;
+  uncarry(d, fog, load, carried, in);
+  surface_colour<true>(d, fog, p, d.separate_specular ? s : nullptr, alpha, in, level0, c);
+}
+
 // The alpha a fragment will have (what the alpha test sees) without computing its colour.
 template <class V>
 [[gnu::always_inline]] inline V fragment_alpha(const Draw& d, const V& a, const V* t) {

@@ -99,13 +99,9 @@ class PixelBatch {
       const float primary[3] = {out_[i].x(), out_[i].y(), out_[i].z()};
       const float secondary[3] = {spec_[i].x(), spec_[i].y(), spec_[i].z()};
       const float position[3] = {p_[i].x(), p_[i].y(), p_[i].z()}, normal[3] = {n_[i].x(), n_[i].y(), n_[i].z()};
-      float carried[simd::kMaxCarried];
-      stages::TailInputs<float> in;
-      in.position = position;
-      in.normal = normal;
-      stages::uncarry(d, fog, [&](int q) { return carried_[i][q]; }, carried, in);
       float c[4];
-      stages::surface_colour<true>(d, fog, primary, separate ? secondary : nullptr, alpha, in, level0, c);
+      stages::lit_surface_colour(d, fog, primary, secondary, position, normal, [&](int q) { return carried_[i][q]; }, alpha,
+                                 level0, c);
       float dst[4] = {tile.plane(0)[p], tile.plane(1)[p], tile.plane(2)[p], tile.plane(3)[p]};
       stages::blend(d, c, dst);
       for (int ch = 0; ch < 4; ++ch) tile.plane(ch)[p] = dst[ch];
