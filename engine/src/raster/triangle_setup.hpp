@@ -110,6 +110,26 @@ inline void compute_planes(ScreenTriangle& t, const float (*attr)[geometry::kMax
   compute_planes(t, t.z, t.inv_w, attr, attribute_count);
 }
 
+// Edge k of a triangle with oriented fixed-point vertices x[3], y[3], from vertex k+1 to vertex
+// k+2: E_k(p) = B (p.y - a.y) + A (p.x - a.x) with A = -(b.y - a.y), B = b.x - a.x, and its value
+// biased by the top-left rule (bias[k]: 0 or -1) at the point (px, py) in 1/kSubpixelOne pixels.
+// The one definition the scalar rasterizer, the SIMD tile kernel and the shadow volumes step from
+// (whole pixels: A kSubpixelOne across, B kSubpixelOne down; exact in int64).
+// In an unnamed namespace (and always inlined) as the SIMD kernels' code is: the per-ISA files
+// include it, and one inline copy merged across their flags could run on a CPU without them.
+struct Edge {
+  std::int64_t A, B, at;
+};
+namespace {
+[[gnu::always_inline]] inline Edge edge_at(const std::int32_t (&x)[3], const std::int32_t (&y)[3], const std::int8_t (&bias)[3], int k,
+                    std::int64_t px, std::int64_t py) {
+  const int a = (k + 1) % 3, b = (k + 2) % 3;
+  const std::int64_t A = -(std::int64_t(y[b]) - y[a]);
+  const std::int64_t B = std::int64_t(x[b]) - x[a];
+  return {A, B, B * (py - y[a]) + A * (px - x[a]) + bias[k]};
+}
+}  // namespace
+
 // Calls fn(x, y, e0, e1, e2) for every covered pixel of `t` in [x0, x1] x [y0, y1] (inclusive,
 // inside t's bounds), row by row, left to right; e_k are the unbiased edge values (barycentric
 // weight k = e_k / area2). Edge k runs from vertex k+1 to vertex k+2:
@@ -124,12 +144,10 @@ void for_each_covered_pixel(const ScreenTriangle& t, int x0, int y0, int x1, int
   const std::int64_t px = std::int64_t(x0) * kSubpixelOne + sx;
   const std::int64_t py = std::int64_t(y0) * kSubpixelOne + sy;
   for (int k = 0; k < 3; ++k) {
-    const int a = (k + 1) % 3, b = (k + 2) % 3;
-    const std::int64_t A = -(std::int64_t(t.y[b]) - t.y[a]);
-    const std::int64_t B = std::int64_t(t.x[b]) - t.x[a];
-    row_e[k] = B * (py - t.y[a]) + A * (px - t.x[a]) + t.bias[k];
-    step_x[k] = A * kSubpixelOne;
-    step_y[k] = B * kSubpixelOne;
+    const Edge e = edge_at(t.x, t.y, t.bias, k, px, py);
+    row_e[k] = e.at;
+    step_x[k] = e.A * kSubpixelOne;
+    step_y[k] = e.B * kSubpixelOne;
   }
   for (int y = y0; y <= y1; ++y) {
     std::int64_t e0 = row_e[0], e1 = row_e[1], e2 = row_e[2];

@@ -371,11 +371,10 @@ void ShadowVolumes::rasterize(std::uint8_t* mask, parallel::Arena& arena) {
         const std::int64_t px = std::int64_t(t.min_px) * raster::kSubpixelOne + raster::kPixelCentre;
         const std::int64_t py = std::int64_t(r0) * raster::kSubpixelOne + raster::kPixelCentre;
         for (int k = 0; k < 3; ++k) {
-          const int a = (k + 1) % 3, c = (k + 2) % 3;
-          const std::int64_t A = -(std::int64_t(t.y[c]) - t.y[a]), B = std::int64_t(t.x[c]) - t.x[a];
-          row_e[k] = B * (py - t.y[a]) + A * (px - t.x[a]) + t.bias[k];
-          step_x[k] = A * raster::kSubpixelOne;
-          step_y[k] = B * raster::kSubpixelOne;
+          const raster::Edge e = raster::edge_at(t.x, t.y, t.bias, k, px, py);
+          row_e[k] = e.at;
+          step_x[k] = e.A * raster::kSubpixelOne;
+          step_y[k] = e.B * raster::kSubpixelOne;
           dzx += static_cast<double>(step_x[k]) * t.z[k];
         }
         dzx *= inv_area;

@@ -131,10 +131,9 @@ struct TileKernel {
       const std::int64_t px = std::int64_t(job.x0 + bx0 * kBlock) * kSubpixelOne + kPixelCentre;
       const std::int64_t py = std::int64_t(job.y0 + by0 * kBlock) * kSubpixelOne + kPixelCentre;
       for (int k = 0; k < 3; ++k) {
-        const int a = (k + 1) % 3, b = (k + 2) % 3;
-        const std::int64_t A = -(std::int64_t(t.y[b]) - t.y[a]);
-        const std::int64_t B = std::int64_t(t.x[b]) - t.x[a];
-        e_row[k] = B * (py - t.y[a]) + A * (px - t.x[a]) + t.bias[k];
+        const raster::Edge edge = raster::edge_at(t.x, t.y, t.bias, k, px, py);
+        const std::int64_t A = edge.A, B = edge.B;
+        e_row[k] = edge.at;
         const std::int64_t sa = A * kSubpixelOne, sb = B * kSubpixelOne;
         step_bx[k] = kBlock * sa;
         step_by[k] = kBlock * sb;
