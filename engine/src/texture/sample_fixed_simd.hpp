@@ -117,13 +117,9 @@ struct SampleFixed {
     I k[P], next[P], w[P];
     bool second = false, hit = guessed;
     for (int p = 0; p < P; ++p) {
-      const auto minify = lambda[p] > F(0.0f);
-      const F l = xsimd::select(lambda[p] < F(static_cast<float>(q)), lambda[p], F(static_cast<float>(q)));
-      const F d1 = xsimd::select(minify, xsimd::floor(l), F(0.0f));
-      k[p] = xsimd::batch_cast<std::int32_t>(d1);
-      const auto single = (!minify) | (d1 >= F(static_cast<float>(q)));
-      w[p] = xsimd::select(xsimd::bool_cast(single), I(0), xsimd::batch_cast<std::int32_t>((l - d1) * F(256.0f)));
-      next[p] = xsimd::select(k[p] >= I(q), k[p], k[p] + I(1));
+      const typename S::LevelChoice c = S::choose_levels(lambda[p], q);  // the float sampler's levels
+      k[p] = c.k, next[p] = c.next;
+      w[p] = xsimd::select(xsimd::bool_cast(c.single), I(0), xsimd::batch_cast<std::int32_t>(c.fraction * F(256.0f)));
       second = second || xsimd::any(w[p] != I(0));
       hit = hit && xsimd::all(k[p] == I(g));
     }

@@ -265,6 +265,28 @@ struct SampleSimd {
     }
   }
 
+  // The levels a trilinear sample at LOD lambda reads, q being the last level: k (lanes with
+  // lambda <= 0, or NaN, magnify from level 0), next = k + 1 (k at the last level), the fraction
+  // l - k towards next, and `single`, the lanes that read k alone (magnified, or at or past the
+  // last level). The float and the fixed-point samplers' one rule (each weighs the fraction in its
+  // own number format).
+  struct LevelChoice {
+    I k, next;
+    F fraction;
+    xsimd::batch_bool<float, Arch> single;
+  };
+  [[gnu::always_inline]] inline static LevelChoice choose_levels(const F& lambda, int q) {
+    const auto minify = lambda > F(0.0f);
+    const F l = xsimd::select(lambda < F(static_cast<float>(q)), lambda, F(static_cast<float>(q)));
+    const F d1 = xsimd::select(minify, xsimd::floor(l), F(0.0f));
+    LevelChoice c;
+    c.k = xsimd::batch_cast<std::int32_t>(d1);
+    c.single = (!minify) | (d1 >= F(static_cast<float>(q)));
+    c.fraction = l - d1;
+    c.next = xsimd::select(c.k >= I(q), c.k, c.k + I(1));
+    return c;
+  }
+
   // RGBA at (u, v) with level of detail lambda (used only by trilinear textures), for P batches.
   //
   // guess (may be null): a trilinear sample's levels depend on its LOD, a chain of about 70
@@ -323,13 +345,9 @@ struct SampleSimd {
     F f[P];
     bool second = false, hit = guessed;
     for (int p = 0; p < P; ++p) {
-      const auto minify = lambda[p] > F(0.0f);
-      const F l = xsimd::select(lambda[p] < F(static_cast<float>(q)), lambda[p], F(static_cast<float>(q)));
-      const F d1 = xsimd::select(minify, xsimd::floor(l), F(0.0f));
-      k[p] = xsimd::batch_cast<std::int32_t>(d1);
-      const auto single = (!minify) | (d1 >= F(static_cast<float>(q)));
-      f[p] = xsimd::select(single, F(0.0f), l - d1);
-      next[p] = xsimd::select(k[p] >= I(q), k[p], k[p] + I(1));
+      const LevelChoice c = choose_levels(lambda[p], q);
+      k[p] = c.k, next[p] = c.next;
+      f[p] = xsimd::select(c.single, F(0.0f), c.fraction);
       second = second || xsimd::any(f[p] != F(0.0f));
       hit = hit && xsimd::all(k[p] == I(g));
     }

@@ -105,15 +105,27 @@ std::array<T, 4> sample_level(const SamplerLevel& l, int wrap, bool linear, T s,
   return out;
 }
 
+// The levels a trilinear sample at LOD lambda > 0 reads, q being the last level: k, and the
+// fraction l - k towards k + 1 (k >= q: the last level alone). The rule of the SIMD samplers'
+// choose_levels, one lane; the float and the fixed-point samplers both read it.
+template <class T>
+struct LevelChoice {
+  int k;
+  T fraction;
+};
+template <class T>
+LevelChoice<T> choose_levels(T lambda, int q) {
+  const T l = lambda < T(q) ? lambda : T(q);
+  const T d1 = std::floor(l);
+  return {static_cast<int>(d1), l - d1};
+}
+
 template <class T>
 std::array<T, 4> sample(const Sampler& s, T u, T v, T lambda) {
   if (s.filter != kTrilinear || !(lambda > T(0))) return sample_level<T>(s.level[0], s.wrap, s.filter != kNearest, u, v, s.decode);
   const int q = s.levels - 1;
-  const T l = lambda < T(q) ? lambda : T(q);
-  const T d1 = std::floor(l);
-  const int k = static_cast<int>(d1);
+  const auto [k, f] = choose_levels(lambda, q);
   if (k >= q) return sample_level<T>(s.level[q], s.wrap, true, u, v, s.decode);
-  const T f = l - d1;
   const std::array<T, 4> c1 = sample_level<T>(s.level[k], s.wrap, true, u, v, s.decode);
   const std::array<T, 4> c2 = sample_level<T>(s.level[k + 1], s.wrap, true, u, v, s.decode);
   std::array<T, 4> out{};
@@ -154,11 +166,9 @@ std::uint32_t sample_fixed_scalar(const Sampler& s, float u, float v, float lamb
   const float rs = wrap_coordinate(u, s.wrap), rt = wrap_coordinate(v, s.wrap);
   if (s.filter != kTrilinear || !(lambda > 0.0f)) return fixed_level(s.level[0], s.wrap, s.filter != kNearest, rs, rt);
   const int q = s.levels - 1;
-  const float l = lambda < static_cast<float>(q) ? lambda : static_cast<float>(q);
-  const float d1 = std::floor(l);
-  const int k = static_cast<int>(d1);
+  const auto [k, fraction] = choose_levels(lambda, q);
   if (k >= q) return fixed_level(s.level[q], s.wrap, true, rs, rt);
-  const auto w = static_cast<std::uint32_t>(static_cast<int>((l - d1) * 256.0f));
+  const auto w = static_cast<std::uint32_t>(static_cast<int>(fraction * 256.0f));
   return lerp_bytes(fixed_level(s.level[k], s.wrap, true, rs, rt), fixed_level(s.level[k + 1], s.wrap, true, rs, rt), w);
 }
 
