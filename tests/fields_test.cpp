@@ -250,6 +250,11 @@ TEST(FieldTable, TheCApiSetsAndReadsEveryField) {
   EXPECT_NE(std::string(facet_scene_last_error(scene)).find("materials[1].environment.strength: expected a number in [0, 1]"), std::string::npos);
   const double texture[] = {0};
   EXPECT_EQ(facet_scene_set_material_field(scene, 1, "diffuse_texture", texture, 1), FACET_INVALID_ARGUMENT);  // no textures
+  // Indices an int32 cannot hold are refused before they are stored (never converted: undefined).
+  for (const double huge : {1e30, 4294967296.0, -2.0, 0.5, std::nan("")}) {
+    EXPECT_EQ(facet_scene_set_material_field(scene, 1, "diffuse_texture", &huge, 1), FACET_INVALID_ARGUMENT) << huge;
+    EXPECT_EQ(facet_scene_set_light_field(scene, 0, "shadow.resolution", &huge, 1), FACET_INVALID_ARGUMENT) << huge;
+  }
   EXPECT_EQ(facet_scene_set_material_field(scene, 1, "no_such\x1b[2J", strength, 1), FACET_INVALID_ARGUMENT);
   EXPECT_EQ(std::string(facet_scene_last_error(scene)).find('\x1b'), std::string::npos);  // the caller's bytes, escaped
   EXPECT_EQ(facet_scene_set_material_field(scene, 1, "diffuse", strength, 1), FACET_INVALID_ARGUMENT);  // 3 values

@@ -18,8 +18,9 @@ namespace facet {
 namespace field_table {
 
 constexpr double kFloatMax = std::numeric_limits<float>::max();
-constexpr double kBig = 3.0e38;
-constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();  // the largest coefficient a light takes (sums of three stay finite)
+constexpr double kBig = 3.0e38;  // the largest coefficient a light takes (sums of three stay finite)
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
+constexpr double kMaxIndex = std::numeric_limits<std::int32_t>::max();  // the largest texture index an int32 holds
 
 // Reading and writing one component of a member, whatever its C++ type.
 template <class V>
@@ -103,7 +104,7 @@ constexpr MaterialField kMaterialFields[] = {
     m<&M::specular_model>("specular_model", FT::choice, 1, 0, 0, kSpecularModels,
                           "the specular lobe: around the half vector (blinn) or the reflected light (phong)"),
     m<&M::alpha>("alpha", FT::number, 1, 0, 1, kNone, "the fragment's alpha (blending, the alpha test, the output's alpha)"),
-    m<&M::diffuse_texture>("diffuse_texture", FT::texture, 1, -1, kFloatMax, kNone,
+    m<&M::diffuse_texture>("diffuse_texture", FT::texture, 1, -1, kMaxIndex, kNone,
                            "the texture combined with the lit colour by texture_mode (needs uvs)"),
     m<&M::texture_mode>("texture_mode", FT::choice, 1, 0, 0, kTextureModes,
                         "how the diffuse texture combines with the lit colour (GL's texture environment)"),
@@ -115,22 +116,22 @@ constexpr MaterialField kMaterialFields[] = {
     m<&M::blend>("blend", FT::choice, 1, 0, 0, kBlendModes, "how the fragment combines with the image (GL's blend factors)"),
     m<&M::depth_write>("depth_write", FT::choice, 1, 0, 0, kDepthWrites,
                        "whether fragments write depth (auto: opaque materials do; a scene file may say true or false)"),
-    m<&M::emissive_texture>("emissive_texture", FT::texture, 1, -1, kFloatMax, kNone,
+    m<&M::emissive_texture>("emissive_texture", FT::texture, 1, -1, kMaxIndex, kNone,
                             "the emission is emissive times this texture's RGB, added after texturing"),
     m<&M::emission_after_texture>("emission_after_texture", FT::boolean, 1, 0, 1, kNone,
                                   "add the emission after the texture environment (glTF's rule) instead of lighting it"),
-    m<&M::normal_texture>("normal_texture", FT::texture, 1, -1, kFloatMax, kNone,
+    m<&M::normal_texture>("normal_texture", FT::texture, 1, -1, kMaxIndex, kNone,
                           "a tangent-space normal map (lit per pixel; needs uvs and tangents)"),
     m<&M::normal_scale>("normal_scale", FT::number, 1, -1e6, 1e6, kNone, "the normal map's x and y are multiplied by it"),
-    m<&M::occlusion_texture>("occlusion_texture", FT::texture, 1, -1, kFloatMax, kNone,
+    m<&M::occlusion_texture>("occlusion_texture", FT::texture, 1, -1, kMaxIndex, kNone,
                              "an ambient-occlusion map: its red channel darkens every ambient term (lit per pixel)"),
     m<&M::occlusion_strength>("occlusion_strength", FT::number, 1, 0, 1, kNone, "how much the occlusion map darkens (0: not at all)"),
-    m<&M::bump_texture>("bump_texture", FT::texture, 1, -1, kFloatMax, kNone,
+    m<&M::bump_texture>("bump_texture", FT::texture, 1, -1, kMaxIndex, kNone,
                         "a height map whose differences tilt the normal (Blinn's bump mapping)"),
     m<&M::bump_scale>("bump_scale", FT::number, 1, -1e6, 1e6, kNone, "the height map's differences are multiplied by it"),
     m<&M::environment, &E::mode>("environment.mode", FT::choice, 1, 0, 0, kEnvironmentModes,
                                  "environment mapping: a picture of the surroundings looked up per reflected direction or normal"),
-    m<&M::environment, &E::maps>("environment.maps", FT::texture, 6, -1, kFloatMax, kNone,
+    m<&M::environment, &E::maps>("environment.maps", FT::texture, 6, -1, kMaxIndex, kNone,
                                  "sphere and normal: the map first; cube: the faces +X, -X, +Y, -Y, +Z, -Z (a scene file names them)"),
     m<&M::environment, &E::strength>("environment.strength", FT::number, 1, 0, 1, kNone, "how strongly the environment combines"),
     m<&M::environment, &E::blend>("environment.blend", FT::choice, 1, 0, 0, kEnvironmentBlends,
@@ -178,7 +179,7 @@ constexpr LightField kLightFields[] = {
                                        "map: as constant, times the tangent of the light's angle to the normal"),
     l<&L::shadow, &S::bias, &B::normal>("shadow.bias.normal", FT::number, 1, 0, 1e4, kNone,
                                         "map and raycast: moves the point along its normal"),
-    l<&L::projector, &P::texture>("projector.texture", FT::texture, 1, -1, kFloatMax, kNone, "spot lights: a picture the light projects"),
+    l<&L::projector, &P::texture>("projector.texture", FT::texture, 1, -1, kMaxIndex, kNone, "spot lights: a picture the light projects"),
     l<&L::projector, &P::mode>("projector.mode", FT::choice, 1, 0, 0, kProjectorModes,
                                "the picture multiplies the light per channel (modulate) or by its luminance (gobo)"),
 };
