@@ -485,10 +485,11 @@ struct BlendProgram {
     const F inv_w = in.clip_w(b.fi, b.fj);
     const F c[4] = {in.over_w(0, b.fi, b.fj) * inv_w, in.over_w(1, b.fi, b.fj) * inv_w, in.over_w(2, b.fi, b.fj) * inv_w,
                     alpha};
-    F dst[4], out[4];
-    for (int k = 0; k < 4; ++k) out[k] = dst[k] = F::load_unaligned(cx.planes[k] + b.at);
-    blend_as<Mode>(c, out, true);  // the plan fuses clamped draws only
-    for (int k = 0; k < 4; ++k) (all ? out[k] : xsimd::select(b.pass, out[k], dst[k])).store_unaligned(cx.planes[k] + b.at);
+    for (int k = 0; k < 4; ++k) {  // a channel at a time: fewer batches live than all four at once
+      const F dst = F::load_unaligned(cx.planes[k] + b.at);
+      const F out = blend_channel<Mode>(c[k], alpha, dst, true);  // the plan fuses clamped draws only
+      (all ? out : xsimd::select(b.pass, out, dst)).store_unaligned(cx.planes[k] + b.at);
+    }
   }
   void end_block(const Interpolants<Arch, 3>&) {}
 };

@@ -564,28 +564,30 @@ template <class V>
 // Blends source c (RGBA) over destination dst (RGBA) with GL's factors (the same for alpha as for
 // colour): alpha (SRC_ALPHA, ONE_MINUS_SRC_ALPHA), premultiplied (ONE, ONE_MINUS_SRC_ALPHA), add
 // (ONE, ONE), multiply (DST_COLOR, ZERO), subtract (reverse subtract: dst - src); then finish
-// (saturated when `clamp`). blend_as: the mode fixed at compile time (the fused BlendProgram's);
-// blend: the draw's mode.
+// (saturated when `clamp`). blend_channel: one channel, the mode fixed at compile time (the fused
+// BlendProgram's, which loads, blends and stores a channel at a time); blend_as: all four; blend:
+// the draw's mode.
+template <BlendMode Mode, class V>
+[[gnu::always_inline]] inline V blend_channel(const V& c, const V& a, const V& dst, bool clamp) {
+  V out;
+  if constexpr (Mode == BlendMode::alpha) {
+    out = c * a + dst * (V(1.0f) - a);
+  } else if constexpr (Mode == BlendMode::premultiplied) {
+    out = c + dst * (V(1.0f) - a);
+  } else if constexpr (Mode == BlendMode::add) {
+    out = c + dst;
+  } else if constexpr (Mode == BlendMode::multiply) {
+    out = c * dst;
+  } else if constexpr (Mode == BlendMode::subtract) {
+    out = dst - c;
+  } else {
+    out = c;
+  }
+  return finish(out, clamp);
+}
 template <BlendMode Mode, class V>
 [[gnu::always_inline]] inline void blend_as(const V (&c)[4], V (&dst)[4], bool clamp) {
-  const V a = c[3];
-  for (int k = 0; k < 4; ++k) {
-    V out;
-    if constexpr (Mode == BlendMode::alpha) {
-      out = c[k] * a + dst[k] * (V(1.0f) - a);
-    } else if constexpr (Mode == BlendMode::premultiplied) {
-      out = c[k] + dst[k] * (V(1.0f) - a);
-    } else if constexpr (Mode == BlendMode::add) {
-      out = c[k] + dst[k];
-    } else if constexpr (Mode == BlendMode::multiply) {
-      out = c[k] * dst[k];
-    } else if constexpr (Mode == BlendMode::subtract) {
-      out = dst[k] - c[k];
-    } else {
-      out = c[k];
-    }
-    dst[k] = finish(out, clamp);
-  }
+  for (int k = 0; k < 4; ++k) dst[k] = blend_channel<Mode>(c[k], c[3], dst[k], clamp);
 }
 template <class V>
 [[gnu::always_inline]] inline void blend(const Draw& d, const V (&c)[4], V (&dst)[4]) {
