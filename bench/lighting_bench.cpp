@@ -9,7 +9,10 @@
 //     n.h and Phong's R.V specular lobe (Material::specular_model);
 //   BM_Lighting/<method>/point/lights:{1,4}/vertices:{65536,1048576}/threads:{1,2}: scalar and
 //     the best ISA (pow auto) on one and two threads (LightingOptions::threads; wall time), for
-//     the targets "4 point lights, best ISA, 2 threads" and "1 light, data larger than cache".
+//     the targets "4 point lights, best ISA, 2 threads" and "1 light, data larger than cache";
+//   BM_LightingPerCall/<best ISA>/point/lights:4/vertices:65536/threads:{1,2}: the same through
+//     light_instance(), which makes its threads and working memory per call (every other family
+//     calls one facet::Lighter, which keeps them).
 // Counters: vertices_lit/s, vertex_lights/s, and the share of the machine's limits measured at
 // start (bench/roofline.hpp, one thread; times the thread count for threads:N): bw_share = bytes
 // the kernel must stream (24 in + 12 out per vertex) / triad bandwidth; for point lights,
@@ -93,13 +96,15 @@ struct Method {
 };
 
 void run_lighting(benchmark::State& state, const facet::LightingOptions& options, Mix mix, int lights, int vertex_count,
-                  bool phong_lobe = false) {
+                  bool phong_lobe = false, bool per_call = false) {
   const facet::Scene scene = bench_scene(vertex_count, lights, mix, phong_lobe);
   const auto vertices = static_cast<std::int64_t>(scene.meshes[0].mesh.vertex_count());
   facet::VertexColors out;
+  facet::Lighter lighter;  // its threads and working memory kept between calls, as a caller would
   const auto start = std::chrono::steady_clock::now();
   for (auto _ : state) {
-    const facet::Status s = facet::light_instance(scene, 0, options, out);
+    const facet::Status s = per_call ? facet::light_instance(scene, 0, options, out)
+                                     : lighter.light_instance(scene, 0, options, out);
     if (!s.ok()) {
       state.SkipWithError(s.message().c_str());
       break;
@@ -177,6 +182,18 @@ void register_all() {
     for (int lights : {1, 4})
       for (int vertices : {1 << 16, 1 << 20})
         for (int threads : {1, 2}) add(m, Mix::point, lights, vertices, threads);
+  // What a call costs without a Lighter: light_instance() makes its threads and memory each time.
+  for (const Method& m : sweep) {
+    if (m.options.path != facet::LightingPath::simd) continue;
+    for (int threads : {1, 2}) {
+      facet::LightingOptions options = m.options;
+      options.threads = threads;
+      const std::string name = "BM_LightingPerCall/" + m.name + "/point/lights:4/vertices:65536/threads:" + std::to_string(threads);
+      facet::bench::with_spread(benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& state) {
+        run_lighting(state, options, Mix::point, 4, 1 << 16, false, true);
+      }))->Unit(benchmark::kMillisecond)->UseRealTime();
+    }
+  }
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Scalar (float) against reference (double) on random scenes: random vertices, normals, lights of
 // every type and materials, through random camera and model transforms.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -369,6 +370,81 @@ TEST(LightingThreads, AnyThreadCountGivesTheSameBytes) {
             << to_string(path) << " " << to_string(tier) << " threads " << threads;
       }
     }
+  }
+}
+
+// One Lighter kept across calls and thread counts (its arena made again when the count changes)
+// gives light_instance()'s bytes, and so does a Lighter that was moved from.
+TEST(LightingThreads, ALighterKeptAcrossCallsGivesTheSameBytes) {
+  RandomScene gen(4242);
+  const Scene scene = gen.scene(2, 20000, 48.0f);
+  LightingOptions o;
+  o.path = LightingPath::simd;
+  Lighter lighter;
+  for (int threads : {2, 2, 1, 3, 2}) {
+    o.threads = threads;
+    for (std::size_t object : {0u, 1u}) {
+      VertexColors fresh, kept;
+      ASSERT_TRUE(light_instance(scene, object, o, fresh).ok());
+      ASSERT_TRUE(lighter.light_instance(scene, object, o, kept).ok());
+      ASSERT_EQ(kept.front.size(), fresh.front.size());
+      EXPECT_EQ(0, std::memcmp(kept.front.data(), fresh.front.data(), fresh.front.size() * sizeof(Color3))) << threads;
+    }
+  }
+  Lighter moved_to(std::move(lighter));
+  VertexColors a, b;
+  ASSERT_TRUE(moved_to.light_instance(scene, 1, o, a).ok());
+  ASSERT_TRUE(lighter.light_instance(scene, 1, o, b).ok());  // NOLINT(bugprone-use-after-move): a moved-from Lighter works
+  EXPECT_EQ(a.front, b.front);
+}
+
+// light_instance() culls lights per chunk of 8192 vertices, against the sphere around the chunk's
+// box: along a strip of three chunks, a light whose range ends inside the first chunk adds exactly
+// nothing further on either way, and a dim far light is dropped where it adds less than half an
+// 8-bit step. Every colour stays within that budget of the colours lit without culling (and the
+// culling did drop something: some colours differ), on every path.
+TEST(LightingCull, PerChunkCullingStaysWithinHalfAStep) {
+  Scene scene;
+  Mesh strip;
+  const std::size_t n = 3 * 8192;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float x = 30.0f * static_cast<float>(i) / static_cast<float>(n) - 15.0f;
+    strip.positions.emplace_back(x, (i % 2) ? 0.1f : -0.1f, -10.0f);
+    strip.normals.emplace_back(0.0f, 0.0f, 1.0f);
+    if (i + 2 < n) strip.triangles.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(i + 1), static_cast<std::uint32_t>(i + 2)});
+  }
+  scene.meshes.push_back({"strip", strip});
+  Material m;
+  m.diffuse = {0.8f, 0.8f, 0.8f};
+  m.specular = {0.5f, 0.5f, 0.5f};
+  m.shininess = 20.0f;
+  scene.materials.push_back(m);
+  scene.objects.push_back({0, 0, Mat4::Identity()});
+  Light ranged;  // near the strip's left end, reaching 4 units
+  ranged.type = LightType::point;
+  ranged.position = Vec3(-13.0f, 0.0f, -8.0f);
+  ranged.range = 4.0f;
+  scene.lights.push_back(ranged);
+  Light dim;  // at the right end, strong there and far below half a step at the left end
+  dim.type = LightType::point;
+  dim.position = Vec3(14.0f, 0.0f, -9.0f);
+  dim.diffuse = dim.specular = Color3(0.3f, 0.3f, 0.3f);
+  dim.quadratic_attenuation = 1.0f;
+  scene.lights.push_back(dim);
+  scene.camera.eye = Vec3(0.0f, 0.0f, 0.0f);
+  scene.camera.target = Vec3(0.0f, 0.0f, -1.0f);
+  for (LightingPath path : {LightingPath::reference, LightingPath::scalar, LightingPath::simd}) {
+    LightingOptions culled, all;
+    culled.path = all.path = path;
+    all.cull_lights = false;
+    VertexColors a, b;
+    ASSERT_TRUE(light_instance(scene, 0, culled, a).ok());
+    ASSERT_TRUE(light_instance(scene, 0, all, b).ok());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < n; ++i) worst = std::max(worst, double((a.front[i] - b.front[i]).cwiseAbs().maxCoeff()));
+    EXPECT_GT(worst, 0.0) << to_string(path) << ": nothing was culled";
+    EXPECT_LE(worst, 0.5 / 255.0 + 1e-6) << to_string(path);
+    EXPECT_GT(b.front[n - 1].x(), 0.05f);  // the dim light matters where it is
   }
 }
 

@@ -148,5 +148,20 @@ TEST(LightingSoa, BoundingSphereIsTheSameInAnyChunkOrder) {
   }
 }
 
+// The centre the float pass measures from is a float point in every coordinate (the bounds of an
+// object off the axes took the double loop when Eigen's cast left one coordinate unrounded).
+TEST(LightingSoa, BoundsCentreIsAFloatPoint) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-100.0, 100.0);
+  for (int i = 0; i < 1000; ++i) {
+    const Eigen::Vector3d lo(u(rng), u(rng), u(rng)), hi = lo + Eigen::Vector3d(u(rng), u(rng), u(rng)).cwiseAbs();
+    const Eigen::Vector3d c = float_centre(lo, hi);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(double(float(c[k])), c[k]) << "coordinate " << k;
+      EXPECT_NEAR(c[k], 0.5 * (lo[k] + hi[k]), 1e-5 * (std::abs(lo[k]) + std::abs(hi[k])));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace facet::lighting

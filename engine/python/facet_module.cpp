@@ -297,10 +297,11 @@ py::dict light(const std::optional<std::string>& path, const std::string& lighti
   double elapsed = 0;
   {
     py::gil_scoped_release release;
+    Lighter lighter;  // threads and working memory kept over the rounds
     const auto start = std::chrono::steady_clock::now();
     do {
       for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        if (Status s = light_instance(scene, i, o, colors); !s.ok()) {
+        if (Status s = lighter.light_instance(scene, i, o, colors); !s.ok()) {
           py::gil_scoped_acquire again;
           raise(s);
         }

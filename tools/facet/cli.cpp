@@ -390,12 +390,17 @@ Status check_output_image(int width, int height, PixelFormat format, bool depth,
   return {};
 }
 
-Status light_scene(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out) {
+Status light_scene(Lighter& lighter, const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out) {
   out.resize(scene.objects.size());
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    if (Status s = light_instance(scene, i, options, out[i]); !s.ok()) return s;
+    if (Status s = lighter.light_instance(scene, i, options, out[i]); !s.ok()) return s;
   }
   return {};
+}
+
+Status light_scene(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out) {
+  Lighter lighter;
+  return light_scene(lighter, scene, options, out);
 }
 
 }  // namespace facet::cli

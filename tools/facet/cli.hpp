@@ -166,7 +166,9 @@ inline constexpr const char* kTimeLimitHelp =
 // (0 = no limit): `facet check` makes the same check.
 Status check_output_image(int width, int height, PixelFormat format, bool depth, std::uint64_t budget);
 
-// Lights every object of `scene` into out[i] (light_instance for each).
+// Lights every object of `scene` into out[i] (light_instance for each), through `lighter` (kept by
+// a caller that lights again and again) or a Lighter of its own.
+Status light_scene(Lighter& lighter, const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out);
 Status light_scene(const Scene& scene, const LightingOptions& options, std::vector<VertexColors>& out);
 
 

@@ -122,13 +122,14 @@ int light(const LightState& st) {
   std::vector<PathResult> results;
   std::vector<std::vector<VertexColors>> colours(paths.size());
   for (std::size_t k = 0; k < paths.size(); ++k) {
-    if (Status s = light_scene(scene, paths[k], colours[k]); !s.ok()) return fail(s.message());  // warm-up
+    Lighter lighter;  // threads and working memory kept over the passes, as a caller would
+    if (Status s = light_scene(lighter, scene, paths[k], colours[k]); !s.ok()) return fail(s.message());  // warm-up
     PathResult r;
     r.options = paths[k];
     const auto start = std::chrono::steady_clock::now();
     do {
       const auto t0 = std::chrono::steady_clock::now();
-      if (Status s = light_scene(scene, paths[k], colours[k]); !s.ok()) return fail(s.message());
+      if (Status s = light_scene(lighter, scene, paths[k], colours[k]); !s.ok()) return fail(s.message());
       r.pass_rates.push_back(double(vertices_per_pass) / std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
       ++r.passes;
       r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

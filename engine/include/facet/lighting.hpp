@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "facet/scene.hpp"
@@ -71,5 +72,23 @@ struct VertexColors {
 // options.threads outside [0, 1024] or the requested ISA missing on this CPU.
 Status light_instance(const Scene& scene, std::size_t instance, const LightingOptions& options,
                       VertexColors& out);
+
+// light_instance() for a caller that lights again and again: a Lighter keeps its threads (a
+// tbb::task_arena of its own, made again only when options.threads changes) and its working memory
+// between calls, where light_instance() makes both per call. Same results, same errors. One
+// Lighter serves one caller at a time; several Lighters may run at once.
+class Lighter {
+ public:
+  Lighter();
+  ~Lighter();
+  Lighter(Lighter&&) noexcept;
+  Lighter& operator=(Lighter&&) noexcept;
+
+  Status light_instance(const Scene& scene, std::size_t instance, const LightingOptions& options, VertexColors& out);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace facet

@@ -1,6 +1,7 @@
 // Public lighting entry points: validate, set up once per call, run the chosen path.
 #include "facet/lighting.hpp"
 
+#include <algorithm>
 #include <new>
 #include <optional>
 #include <vector>
@@ -16,8 +17,9 @@
 namespace facet {
 namespace {
 
-// Vertices per task when light_instance() runs on several threads: far more work than a task
-// costs (with a few lights), and few enough to stay in L2 with their SoA copies.
+// Vertices per chunk of light_instance(): each is bounded, culled and lit in one pass, on any
+// thread; far more work than a task costs (with a few lights), and few enough to stay in L2
+// with their SoA copies.
 constexpr std::size_t kParallelChunk = 8192;
 
 }  // namespace
@@ -73,8 +75,31 @@ Isa best_isa() noexcept {
   return Isa::sse2;
 }
 
-Status light_instance(const Scene& scene, std::size_t instance, const LightingOptions& options,
-                      VertexColors& out) {
+// A Lighter's threads and working memory, kept between calls.
+struct Lighter::Impl {
+  // A thread's part: the SoA streams and its copy of the shader for the chunk at hand.
+  struct Part {
+    lighting::SoaScratch scratch;
+    lighting::PointShader shader;
+  };
+  std::optional<parallel::Arena> arena;
+  int arena_threads = 0;  // the count the arena was made for
+  lighting::PointShader shader;
+  std::vector<Part> parts;
+};
+
+Lighter::Lighter() : impl_(std::make_unique<Impl>()) {}
+Lighter::~Lighter() = default;
+Lighter::Lighter(Lighter&&) noexcept = default;
+Lighter& Lighter::operator=(Lighter&&) noexcept = default;
+
+Status light_instance(const Scene& scene, std::size_t instance, const LightingOptions& options, VertexColors& out) {
+  Lighter lighter;
+  return lighter.light_instance(scene, instance, options, out);
+}
+
+Status Lighter::light_instance(const Scene& scene, std::size_t instance, const LightingOptions& options,
+                               VertexColors& out) {
   if (instance >= scene.objects.size()) {
     return {ErrorCode::invalid_argument, "instance",
             "instance: index " + std::to_string(instance) + " is out of range (" +
@@ -85,6 +110,8 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
             "threads: " + std::to_string(options.threads) + " is outside [0, 1024] (0 = one per hardware thread)"};
   }
   if (Status s = validate_lighting_inputs(scene); !s.ok()) return s;
+  if (!impl_) impl_ = std::make_unique<Impl>();  // a moved-from Lighter works again
+  Impl& im = *impl_;
   try {
     const Instance& inst = scene.objects[instance];
     const Eigen::Matrix4d view = look_at_d(scene.camera);
@@ -93,24 +120,23 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
     // 0: as many as the renderer takes for RenderOptions::threads = 0.
     const int threads = options.threads == 0 ? tbb::info::default_concurrency() : options.threads;
     const bool parallel = threads > 1 && n > kParallelChunk;
-    std::optional<parallel::Arena> arena;
-    if (parallel) arena.emplace(threads);
-    // The bounds' passes over the positions on the same threads (their chunks fixed by the count).
-    const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model, [&](std::size_t chunks, const auto& fn) {
-      if (!parallel) return lighting::chunks_in_turn(chunks, fn);
-      arena->execute([&] {
-        arena->parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r, int) {
-          for (std::size_t c = r.begin(); c < r.end(); ++c) fn(c);
-        });
-      });
-    });
-    lighting::PointShader shader;
+    if (parallel && (!im.arena || im.arena_threads != threads)) {
+      im.arena.reset();
+      im.arena.emplace(threads);
+      im.arena_threads = threads;
+    }
+    lighting::PointShader& shader = im.shader;
     // A mesh with vertex colours lights them as the albedo (glColorMaterial(AMBIENT_AND_DIFFUSE)).
     lighting::LightingFeatures features;
     features.color_material = !mesh.colors.empty();
-    if (Status s = shader.prepare(scene, view, scene.materials[inst.material], options, &bounds, features); !s.ok()) {
+    // Prepared without bounds: every light. Each chunk then drops the lights that cannot reach its
+    // own vertices (the frame plan's culling per chunk, against the sphere around the chunk's box),
+    // so the positions are read chunk by chunk while they are in cache, with no pass over the
+    // whole mesh before the lighting starts.
+    if (Status s = shader.prepare(scene, view, scene.materials[inst.material], options, nullptr, features); !s.ok()) {
       return s;
     }
+    const bool per_part = shader.culls_per_part();
     out.front.resize(n);
     const bool two_sided = scene.two_sided || inst.double_sided;
     if (two_sided) {
@@ -118,21 +144,32 @@ Status light_instance(const Scene& scene, std::size_t instance, const LightingOp
     } else {
       out.back.clear();
     }
-    auto light_range = [&](std::size_t begin, std::size_t end, lighting::SoaScratch& scratch) {
-      shader.light_mesh(mesh, view, inst.model, false, begin, end, out.front.data(), scratch);
-      if (two_sided) shader.light_mesh(mesh, view, inst.model, true, begin, end, out.back.data(), scratch);
+    // Chunks fixed by the vertex count (kParallelChunk from 0), each lit independently: the split
+    // over threads cannot change a byte.
+    auto light_chunk = [&](std::size_t begin, std::size_t end, Impl::Part& part) {
+      const lighting::PointShader* chunk = &shader;
+      if (per_part) {
+        part.shader.cull_from(shader, lighting::eye_box_sphere(mesh.positions.data() + begin, end - begin, view, inst.model));
+        chunk = &part.shader;
+      }
+      chunk->light_mesh(mesh, view, inst.model, false, begin, end, out.front.data(), part.scratch);
+      if (two_sided) chunk->light_mesh(mesh, view, inst.model, true, begin, end, out.back.data(), part.scratch);
     };
+    const std::size_t slots = parallel ? static_cast<std::size_t>(im.arena->threads()) : 1;
+    if (im.parts.size() < slots) im.parts.resize(slots);
     if (!parallel) {
-      lighting::SoaScratch scratch;
-      light_range(0, n, scratch);
+      for (std::size_t begin = 0; begin < n; begin += kParallelChunk) {
+        light_chunk(begin, std::min(n, begin + kParallelChunk), im.parts[0]);
+      }
     } else {
-      // Fixed chunks, each lit independently: the split cannot change a byte.
-      std::vector<lighting::SoaScratch> scratch(static_cast<std::size_t>(arena->threads()));
-      arena->execute([&] {
-        arena->parallel_for(tbb::blocked_range<std::size_t>(0, n, kParallelChunk),
-                           [&](const tbb::blocked_range<std::size_t>& r, int slot) {
-                             light_range(r.begin(), r.end(), scratch[static_cast<std::size_t>(slot)]);
-                           });
+      im.arena->execute([&] {
+        im.arena->parallel_for(tbb::blocked_range<std::size_t>(0, (n + kParallelChunk - 1) / kParallelChunk, 1),
+                               [&](const tbb::blocked_range<std::size_t>& r, int slot) {
+                                 for (std::size_t c = r.begin(); c < r.end(); ++c) {
+                                   light_chunk(c * kParallelChunk, std::min(n, (c + 1) * kParallelChunk),
+                                               im.parts[static_cast<std::size_t>(slot)]);
+                                 }
+                               });
       });
     }
   } catch (const std::bad_alloc&) {

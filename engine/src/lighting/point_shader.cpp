@@ -78,6 +78,7 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
                             const shadow::FrameShadows* shadows) {
   path_ = options.path;
   features_ = features;
+  cull_ = options.cull_lights;
   // The frame plan decides once, in double, for every path, so all paths light the same lights.
   make_shade_params(scene, view, material, options.clamp, reference_, features);
   if (bounds && options.cull_lights) {
@@ -196,6 +197,26 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
     default: return {ErrorCode::invalid_argument, "path", "path: unknown lighting path"};
   }
   return {};
+}
+
+bool PointShader::culls_per_part() const {
+  if (!cull_) return false;
+  for (const EyeLight<double>& L : reference_.lights)
+    if (L.type != LightType::directional) return true;
+  return false;
+}
+
+void PointShader::cull_from(const PointShader& whole, const EyeSphere& part) {
+  *this = whole;  // the lists' copies reuse this shader's capacity
+  if (!cull_) return;
+  lights_to_drop(reference_, part, kLightCullBudget, drop_, candidates_);
+  culled_ = whole.culled_ + remove_lights(reference_, drop_);
+  if (path_ != LightingPath::reference) remove_lights(scalar_, drop_);
+  if (path_ == LightingPath::simd) {  // the kernels read this shader's lists, not whole's
+    simd_params_.lights = scalar_.lights.data();
+    simd_params_.lights_d = reference_.lights.data();
+    simd_params_.light_count = static_cast<int>(scalar_.lights.size());
+  }
 }
 
 std::size_t PointShader::light_count() const {

@@ -69,6 +69,14 @@ class PointShader {
 
   const LightingFeatures& features() const { return features_; }
 
+  // For a part of an object (light_instance's chunks of vertices): this shader becomes `whole`,
+  // prepared without bounds (so with every light), less the lights that cannot reach `part`,
+  // decided as prepare() decides for a whole object when `whole` was asked to cull lights; the
+  // kept lights keep their shadow and projector slots. Allocates only while its lists grow.
+  void cull_from(const PointShader& whole, const EyeSphere& part);
+  // Whether cull_from can drop a light: the options ask for culling and a light has a position.
+  bool culls_per_part() const;
+
   std::size_t light_count() const;    // lights evaluated per point
   std::size_t culled_lights() const { return culled_; }  // enabled lights the frame plan dropped
 
@@ -80,6 +88,7 @@ class PointShader {
   simd::Params simd_params_;
   simd::ShadeFunction simd_shade_ = nullptr;
   std::size_t culled_ = 0;
+  bool cull_ = false;  // LightingOptions::cull_lights
   // Shadows: per slot, the light's target in eye space and what answers for it: its map, or the
   // caster with the normal offset.
   const shadow::RayCaster* caster_ = nullptr;

@@ -58,6 +58,16 @@ double farthest_squared(const Vec3* p, std::size_t n, const Eigen::Vector3d& c);
 // The sphere from the mesh's box and its farthest vertex from the box's centre, in eye space.
 EyeSphere sphere_from_bounds(const Eigen::Vector3d& centre, double r2, const Eigen::Matrix4d& view, const Mat4& model);
 
+// The box's centre as a float point, so that farthest_squared's float pass measures distances to
+// the centre itself. The box's corners are float coordinates, so the midpoint is computed in
+// float (halves first: no overflow). Rounding a double midpoint with cast<float>().cast<double>()
+// did not survive GCC 12's vectoriser (the x and y pair skipped the round trip), which sent every
+// object off the axes to the double loop.
+inline Eigen::Vector3d float_centre(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  auto mid = [](double a, double b) { return double(0.5f * float(a) + 0.5f * float(b)); };
+  return {mid(lo.x(), hi.x()), mid(lo.y(), hi.y()), mid(lo.z(), hi.z())};
+}
+
 // The bounds are found in at most kBoundsChunks chunks of at least kBoundsChunkVertices vertices
 // (a split that depends on the vertex count only), each chunk on its own, then combined with min
 // and max (exact in any order): the sphere is the same however the chunks are run.
@@ -67,12 +77,11 @@ inline std::size_t bounds_chunk_size(std::size_t n) {
   return std::max(kBoundsChunkVertices, (n + kBoundsChunks - 1) / kBoundsChunks);
 }
 
-// An object's eye-space sphere. run(chunks, fn) calls fn(c) once for every chunk c in
-// [0, chunks), in any order and on any threads (a parallel loop), or in turn.
+// The eye-space sphere of the n points p (an object, or a part of one). run(chunks, fn) calls fn(c)
+// once for every chunk c in [0, chunks), in any order and on any threads (a parallel loop), or in turn.
 template <class Run>
-EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, const Run& run) {
-  const Vec3* p = mesh.positions.data();
-  const std::size_t n = mesh.positions.size(), size = bounds_chunk_size(n), chunks = (n + size - 1) / size;
+EyeSphere eye_bounding_sphere(const Vec3* p, std::size_t n, const Eigen::Matrix4d& view, const Mat4& model, const Run& run) {
+  const std::size_t size = bounds_chunk_size(n), chunks = (n + size - 1) / size;
   Eigen::Vector3d lo[kBoundsChunks], hi[kBoundsChunks];
   bool found[kBoundsChunks] = {};
   double r2[kBoundsChunks] = {};
@@ -85,16 +94,28 @@ EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, con
     box_lo = box_lo.cwiseMin(lo[c]), box_hi = box_hi.cwiseMax(hi[c]);
   }
   if (!any) return {Eigen::Vector3d::Zero(), 0.0};  // no finite vertex
-  const Eigen::Vector3d centre = (0.5 * (box_lo + box_hi)).cast<float>().cast<double>();  // a float point
+  const Eigen::Vector3d centre = float_centre(box_lo, box_hi);
   run(chunks, [&](std::size_t c) { r2[c] = farthest_squared(p + c * size, std::min(size, n - c * size), centre); });
   double farthest = 0.0;
   for (std::size_t c = 0; c < chunks; ++c) farthest = std::max(farthest, r2[c]);
   return sphere_from_bounds(centre, farthest, view, model);
 }
+// A looser sphere in one pass, for a part of an object (light_instance's chunks): centred on the
+// box of its finite points, with the box's half diagonal for radius.
+inline EyeSphere eye_box_sphere(const Vec3* p, std::size_t n, const Eigen::Matrix4d& view, const Mat4& model) {
+  Eigen::Vector3d lo, hi;
+  if (!geometry::finite_box(p, n, lo, hi)) return {Eigen::Vector3d::Zero(), 0.0};  // no finite vertex
+  return sphere_from_bounds(0.5 * (lo + hi), 0.25 * (hi - lo).squaredNorm(), view, model);
+}
+
 // The runner without threads: every chunk in turn.
 inline constexpr auto chunks_in_turn = [](std::size_t chunks, const auto& fn) {
   for (std::size_t c = 0; c < chunks; ++c) fn(c);
 };
+template <class Run>
+EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model, const Run& run) {
+  return eye_bounding_sphere(mesh.positions.data(), mesh.positions.size(), view, model, run);
+}
 inline EyeSphere eye_bounding_sphere(const Mesh& mesh, const Eigen::Matrix4d& view, const Mat4& model) {
   return eye_bounding_sphere(mesh, view, model, chunks_in_turn);
 }
