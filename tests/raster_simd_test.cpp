@@ -4,6 +4,9 @@
 //    with the scalar 64-bit one everywhere, including |edge deltas| near 2^24);
 //  - depth from the screen-space planes against the barycentric depth of the scalar path;
 //  - block-linear tile layout, lazy clear and resolve: every format, orientation and odd size.
+#include <algorithm>
+#include <bit>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -11,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "io/image_convert.hpp"
+#include "io/srgb.hpp"
 #include "geometry/project.hpp"
 #include "raster/assemble.hpp"
 #include "tile/tile_raster.hpp"
@@ -250,6 +254,66 @@ TEST_P(SimdRaster, ResolveQuantisesExactlyLikeToUnorm8) {
           }
         }
       }
+    }
+  }
+}
+
+// The resolve's sRGB encoding (SrgbTable's buckets and two gathers a channel) against the
+// threshold search of io/srgb.hpp, byte for byte: every threshold, the floats either side of it,
+// the first float of every bucket and the one before it, 2^-13 and 1 and their neighbours, zeros,
+// negatives, values above 1, infinities and NaN, as red, green and blue of touched blocks; through
+// the fast resolve (whole blocks) and the general one (a partial block, and with a depth view).
+TEST_P(SimdRaster, ResolveEncodesSrgbLikeTheThresholdSearch) {
+  SrgbTable table;
+  make_srgb_table(table);
+  std::vector<float> values = {0.0f, -0.0f, -1.0f, 0x1p-13f, std::nextafter(0x1p-13f, 0.0f), std::nextafter(0x1p-13f, 1.0f),
+                               1.0f, std::nextafter(1.0f, 0.0f), std::nextafter(1.0f, 2.0f), 7.0f, 1e-30f,
+                               std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                               std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::denorm_min()};
+  for (int k = 1; k < 256; ++k) {
+    values.push_back(table.threshold[k]);
+    values.push_back(std::nextafter(table.threshold[k], -1.0f));
+    values.push_back(std::nextafter(table.threshold[k], 2.0f));
+  }
+  for (int b = 0; b <= SrgbTable::kBuckets; ++b) {
+    const float first = std::bit_cast<float>((b + SrgbTable::kBucketBias) << SrgbTable::kBucketShift);
+    values.push_back(first);
+    values.push_back(std::nextafter(first, 0.0f));
+  }
+  const int size = 64;
+  ASSERT_LE(values.size(), std::size_t{3} * size * size);
+  tile::TileBuffers tile;
+  tile.resize(size);
+  std::fill(tile.touched.begin(), tile.touched.end(), std::uint8_t{1});
+  const geometry::DepthFormat depth_format{};
+  std::size_t next = 0;
+  for (int y = 0; y < size; ++y) {
+    for (int x = 0; x < size; ++x) {
+      for (int c = 0; c < 3; ++c) tile.plane(c)[tile.index(x, y)] = values[next++ % values.size()];
+      tile.plane(3)[tile.index(x, y)] = 1.0f;
+      tile.plane(4)[tile.index(x, y)] = 0.5f;
+    }
+  }
+  for (int w : {size, size - 3}) {
+    for (bool with_depth : {false, true}) {
+      std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size) * size * 4);
+      std::vector<float> depth(static_cast<std::size_t>(size) * size);
+      const ImageView image{bytes.data(), size, size, static_cast<std::size_t>(size) * 4, PixelFormat::rgba8, false};
+      const DepthView depth_view{depth.data(), size, size, static_cast<std::size_t>(size) * 4, false};
+      kernels_->resolve(tile.view({0, 0, 0, 1}, depth_format, &table), 0, 0, w, size, image, with_depth ? &depth_view : nullptr);
+      int mismatches = 0;
+      for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < w; ++x) {
+          for (int c = 0; c < 3; ++c) {
+            const float v = tile.plane(c)[tile.index(x, y)];
+            const int got = bytes[(static_cast<std::size_t>(y) * size + x) * 4 + c];
+            if (got != srgb_unorm8(table.threshold, v)) {
+              if (++mismatches < 5) ADD_FAILURE() << "value " << v << ": " << got << ", not " << int(srgb_unorm8(table.threshold, v));
+            }
+          }
+        }
+      }
+      EXPECT_EQ(mismatches, 0) << "width " << w << (with_depth ? " with depth" : "");
     }
   }
 }

@@ -1,5 +1,6 @@
 // Surfaces, continued from surface_test.cpp: sRGB output, a mesh's material groups, stability at
 // extreme texture coordinates, and the order of transparent objects.
+#include <bit>
 #include <cmath>
 #include <cstring>
 
@@ -38,6 +39,33 @@ TEST(Srgb, EncodingIsCorrectlyRounded) {
   EXPECT_EQ(srgb_unorm8(t.threshold, -1.0f), 0);
   EXPECT_EQ(srgb_unorm8(t.threshold, 7.0f), 255);
   EXPECT_GT(checked, 1000000);
+}
+
+// The SIMD resolve's buckets (io/srgb.hpp): each float in [2^-13, 1) has its bucket's base plus one
+// if it reaches the one threshold the bucket may hold; no bucket holds two, and the buckets cover
+// every threshold.
+TEST(Srgb, EveryBucketHoldsAtMostOneThreshold) {
+  SrgbTable t;
+  make_srgb_table(t);
+  EXPECT_GT(t.threshold[1], 0x1p-13f);
+  EXPECT_LT(t.threshold[255], 1.0f);
+  int inside_total = 0;
+  for (int b = 0; b < SrgbTable::kBuckets; ++b) {
+    const float lo = std::bit_cast<float>((b + SrgbTable::kBucketBias) << SrgbTable::kBucketShift);
+    const float hi = std::bit_cast<float>((b + 1 + SrgbTable::kBucketBias) << SrgbTable::kBucketShift);
+    int below = 0, inside = 0;
+    for (int k = 1; k < 256; ++k) {
+      below += t.threshold[k] <= lo;
+      inside += t.threshold[k] > lo && t.threshold[k] < hi;
+    }
+    ASSERT_LE(inside, 1) << "bucket " << b;
+    EXPECT_EQ(t.base[b], below) << "bucket " << b;
+    EXPECT_EQ(t.bucket_threshold[b] != HUGE_VALF, inside == 1) << "bucket " << b;
+    EXPECT_EQ(srgb_unorm8(t.threshold, lo), t.base[b]);
+    inside_total += inside;
+  }
+  EXPECT_EQ(std::bit_cast<float>((SrgbTable::kBuckets + SrgbTable::kBucketBias) << SrgbTable::kBucketShift), 1.0f);
+  EXPECT_GT(inside_total, 200);  // most thresholds are not a bucket's first float
 }
 
 // Rendering with srgb: colour encoded, alpha linear, clear colour encoded, every path and format.

@@ -102,7 +102,7 @@ void Renderer::Impl::render_composite(const Scene& scene, const RenderOptions& o
   finish();
   // 4. Store.
   const bool clamp = !(options.hdr && color.format == PixelFormat::rgba32f);
-  const float* srgb_threshold = options.srgb && color.format != PixelFormat::rgba32f ? srgb.threshold : nullptr;
+  const SrgbTable* srgb_table = options.srgb && color.format != PixelFormat::rgba32f ? &srgb : nullptr;
   const std::size_t bytes = color.format == PixelFormat::rgba32f ? 16 : 4;
   for (int y = 0; y < h; ++y) {
     std::uint8_t* dst = io::row_bytes(color, y);
@@ -111,7 +111,7 @@ void Renderer::Impl::render_composite(const Scene& scene, const RenderOptions& o
       if (clamp) {
         for (int c = 0; c < 3; ++c) rgba[c] = rgba[c] > 0.0f ? (rgba[c] < 1.0f ? rgba[c] : 1.0f) : 0.0f;
       }
-      tile::store_pixel(rgba, color.format, srgb_threshold, dst + static_cast<std::size_t>(x) * bytes);
+      tile::store_pixel(rgba, color.format, srgb_table, dst + static_cast<std::size_t>(x) * bytes);
     }
   }
   stats = base;

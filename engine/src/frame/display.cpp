@@ -148,7 +148,7 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
   const float scale = std::exp2(ev);
   const bool float_out = color.format == PixelFormat::rgba32f;
   const bool hdr_out = float_out && options.hdr;
-  const float* srgb_threshold = options.srgb && !float_out ? srgb.threshold : nullptr;
+  const SrgbTable* srgb_table = options.srgb && !float_out ? &srgb : nullptr;
   const std::size_t bytes = float_out ? 16 : 4;
   const ToneMapping op = scene.display.tone_mapping;
   arena->parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows, int) {
@@ -167,7 +167,7 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
           const std::array<float, 3> t = tone_map(op, {p[0] * scale, p[1] * scale, p[2] * scale});
           out[0] = t[0], out[1] = t[1], out[2] = t[2], out[3] = clamp01(p[3]);
         }
-        tile::store_pixel(out, color.format, srgb_threshold, dst + static_cast<std::size_t>(x) * bytes);
+        tile::store_pixel(out, color.format, srgb_table, dst + static_cast<std::size_t>(x) * bytes);
       }
     }
   });

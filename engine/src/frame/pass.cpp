@@ -35,7 +35,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
                               simd_kernels,
                               draws.programs.data(),
                               &fog,
-                              options.srgb && p.color && p.color->format != PixelFormat::rgba32f && !p.environment_face ? srgb.threshold : nullptr,
+                              options.srgb && p.color && p.color->format != PixelFormat::rgba32f && !p.environment_face ? &srgb : nullptr,
                               p.assembly.viewport.depth,
                               p.samples};
   const int tile_count = p.tile_count();

@@ -1,5 +1,6 @@
 #include "io/srgb.hpp"
 
+#include <bit>
 #include <cmath>
 
 namespace facet {
@@ -12,6 +13,21 @@ void make_srgb_table(SrgbTable& table) noexcept {
     float t = static_cast<float>(linear);
     if (static_cast<double>(t) < linear) t = std::nextafter(t, HUGE_VALF);
     table.threshold[k] = t;
+  }
+  for (int b = 0; b < SrgbTable::kBuckets; ++b) {
+    const float lo = std::bit_cast<float>((b + SrgbTable::kBucketBias) << SrgbTable::kBucketShift);
+    const float hi = std::bit_cast<float>((b + 1 + SrgbTable::kBucketBias) << SrgbTable::kBucketShift);
+    int base = 0;
+    float inside = HUGE_VALF;
+    for (int k = 1; k < 256; ++k) {
+      if (table.threshold[k] <= lo) {
+        ++base;
+      } else if (table.threshold[k] < hi && inside == HUGE_VALF) {
+        inside = table.threshold[k];  // the first inside (a test checks there is no second)
+      }
+    }
+    table.base[b] = base;
+    table.bucket_threshold[b] = inside;
   }
 }
 

@@ -22,6 +22,7 @@
 #include "facet/scene.hpp"
 #include "raster/triangle_setup.hpp"
 #include "raster/varyings.hpp"
+#include "io/srgb.hpp"
 #include "texture/sampler.hpp"
 
 namespace facet::pixel {
@@ -37,7 +38,7 @@ struct TileView {
   std::uint8_t* touched;
   int size;
   float clear[4];
-  const float* srgb = nullptr;  // resolve: SrgbTable::threshold (io/srgb.hpp) to encode 8-bit output; null: linear
+  const SrgbTable* srgb = nullptr;  // resolve: the table (io/srgb.hpp) that encodes 8-bit output; null: linear
   // The depth format (geometry::DepthFormat): stored depth lies in [depth_lo, depth_far], depth_far
   // is the clear value; a reversed pass's output is the negated stored value.
   float depth_lo = 0.0f, depth_far = 1.0f;

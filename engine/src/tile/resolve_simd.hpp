@@ -34,7 +34,7 @@ struct Resolve {
     if (!tv.srgb) return unorm8(v);
     int k = 0;
     for (int step = 128; step >= 1; step >>= 1) {
-      if (v >= tv.srgb[k + step]) k += step;
+      if (v >= tv.srgb->threshold[k + step]) k += step;
     }
     return static_cast<std::uint32_t>(k);
   }
@@ -44,18 +44,42 @@ struct Resolve {
     const B c = xsimd::select(v > B(0.0f), xsimd::min(v, B(1.0f)), B(0.0f));
     return xsimd::batch_cast<std::int32_t>(c * B(255.0f) + B(0.5f));  // truncation, as the cast above
   }
+  // colour8's sRGB byte for a batch: the same count of thresholds, from the table's buckets
+  // (io/srgb.hpp): base + (v >= the bucket's threshold) in [2^-13, 1), 0 below (and for NaN), 255
+  // from 1 on. Two gathers.
+  template <class A>
+  static xsimd::batch<std::int32_t, A> srgb8(const SrgbTable& t, const xsimd::batch<float, A>& v) {
+    using B = xsimd::batch<float, A>;
+    using Int = xsimd::batch<std::int32_t, A>;
+    const auto in = (v >= B(0x1p-13f)) & (v < B(1.0f));  // false for NaN
+    const Int bucket = (xsimd::bitwise_cast<Int>(v) >> SrgbTable::kBucketShift) - Int(SrgbTable::kBucketBias);
+    const Int b = xsimd::select(xsimd::bool_cast(in), bucket, Int(0));
+    const Int base = Int::gather(t.base, b);
+    const B threshold = B::gather(t.bucket_threshold, b);
+    const Int k = base + xsimd::select(xsimd::bool_cast(v >= threshold), Int(1), Int(0));
+    return xsimd::select(xsimd::bool_cast(in), k,
+                         xsimd::select(xsimd::bool_cast(v >= B(1.0f)), Int(255), Int(0)));
+  }
+  template <class A>
+  static xsimd::batch<std::int32_t, A> colour8(const TileView& tv, const xsimd::batch<float, A>& v) {
+    return tv.srgb ? srgb8(*tv.srgb, v) : unorm8(v);
+  }
 
-  // The commonest resolve: 8-bit RGBA or BGRA, linear, no depth output, whole blocks across the
+  // The commonest resolve: 8-bit RGBA or BGRA, linear or sRGB, no depth output, whole blocks across the
   // tile (fast_resolve). The same conversion as resolve() with nothing decided per pixel: one row
   // of the image at a time, a block's row of 8 pixels per step (avx512: two blocks' rows, 16
   // horizontally adjacent pixels, when both blocks were touched), the planes read at a fixed step.
   static bool fast_resolve(const TileView& tv, int x0, int x1, const ImageView& color, const DepthView* depth) {
-    return !depth && !tv.srgb && color.format != PixelFormat::rgba32f && (x1 - x0) % kBlock == 0;
+    return !depth && color.format != PixelFormat::rgba32f && (x1 - x0) % kBlock == 0;
   }
   static std::uint32_t clear_word(const TileView& tv, int red_shift, int blue_shift) {
     return (colour8(tv, tv.clear[0]) << red_shift) | (colour8(tv, tv.clear[1]) << 8) |
            (colour8(tv, tv.clear[2]) << blue_shift) | (unorm8(tv.clear[3]) << 24);
   }
+  static void resolve_fast(const TileView& tv, int x0, int y0, int x1, int y1, const ImageView& color) {
+    tv.srgb ? resolve_unorm8<true>(tv, x0, y0, x1, y1, color) : resolve_unorm8<false>(tv, x0, y0, x1, y1, color);
+  }
+  template <bool Srgb>
   static void resolve_unorm8(const TileView& tv, int x0, int y0, int x1, int y1, const ImageView& color) {
     static_assert(W == 4 || W == 8 || W == 16);
     const int red_shift = color.format == PixelFormat::bgra8 ? 16 : 0, blue_shift = 16 - red_shift;
@@ -65,8 +89,15 @@ struct Resolve {
     using Half = std::conditional_t<W == 16, xsimd::batch<std::int32_t, xsimd::fma3<xsimd::avx2>>, I>;
     using HalfF = std::conditional_t<W == 16, xsimd::batch<float, xsimd::fma3<xsimd::avx2>>, F>;
     static_assert(Half::size == kLane);
+    const auto channel = [&](const auto& v) {
+      if constexpr (Srgb) {
+        return srgb8(*tv.srgb, v);
+      } else {
+        return unorm8(v);
+      }
+    };
     const auto word = [&](const auto& r, const auto& g, const auto& b, const auto& a) {
-      return (unorm8(r) << red_shift) | (unorm8(g) << 8) | (unorm8(b) << blue_shift) | (unorm8(a) << 24);
+      return (channel(r) << red_shift) | (channel(g) << 8) | (channel(b) << blue_shift) | (unorm8(a) << 24);
     };
     for (int y = y0; y < y1; ++y) {
       const int ty = y - y0;
@@ -116,7 +147,7 @@ struct Resolve {
                                          static_cast<std::uint8_t>(clear_word >> 16),
                                          static_cast<std::uint8_t>(clear_word >> 24)};
     if (fast_resolve(tv, x0, x1, color, depth)) {
-      resolve_unorm8(tv, x0, y0, x1, y1, color);
+      resolve_fast(tv, x0, y0, x1, y1, color);
       return;
     }
     for (int y = y0; y < y1; ++y) {
@@ -172,11 +203,11 @@ struct Resolve {
         auto* dst = reinterpret_cast<std::uint32_t*>(row + 4 * static_cast<std::size_t>(x));
         int i = 0;
         if constexpr (W <= kBlock) {
-          if (n == kBlock && !tv.srgb) {
+          if (n == kBlock) {
             for (; i < kBlock; i += W) {
-              const I word = (unorm8(F::load_unaligned(r + i)) << red_shift) |
-                             (unorm8(F::load_unaligned(g + i)) << 8) |
-                             (unorm8(F::load_unaligned(b + i)) << blue_shift) | (unorm8(F::load_unaligned(a + i)) << 24);
+              const I word = (colour8(tv, F::load_unaligned(r + i)) << red_shift) |
+                             (colour8(tv, F::load_unaligned(g + i)) << 8) |
+                             (colour8(tv, F::load_unaligned(b + i)) << blue_shift) | (unorm8(F::load_unaligned(a + i)) << 24);
               // Unaligned store: image rows need not be 4-byte aligned.
               word.store_unaligned(reinterpret_cast<std::int32_t*>(dst + i));
             }

@@ -187,8 +187,8 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
 
 // One RGBA float pixel in an output format (8-bit channels as to_unorm8, or sRGB-encoded colour
 // with `srgb`; floats as they are).
-void store_pixel(const float* rgba, PixelFormat format, const float* srgb, std::uint8_t* dst) {
-  auto colour = [srgb](float v) { return srgb ? srgb_unorm8(srgb, v) : to_unorm8(v); };
+void store_pixel(const float* rgba, PixelFormat format, const SrgbTable* srgb, std::uint8_t* dst) {
+  auto colour = [srgb](float v) { return srgb ? srgb_unorm8(srgb->threshold, v) : to_unorm8(v); };
   switch (format) {
     case PixelFormat::rgba8:
       for (int c = 0; c < 3; ++c) dst[c] = colour(rgba[c]);
@@ -378,7 +378,7 @@ void resolve_tile(const RasterJob& job, TileBuffers& tile, const TileRect& rect,
   kernels->resolve(tile.view(job.clear_color, job.depth, job.srgb), rect.x0, rect.y0, rect.x1, rect.y1, color, depth);
 }
 
-void resolve_clear_tile(const std::array<float, 4>& clear_color, const float* srgb, const TileRect& rect,
+void resolve_clear_tile(const std::array<float, 4>& clear_color, const SrgbTable* srgb, const TileRect& rect,
                         const ImageView& color, const DepthView* depth, float far_depth) {
   // One pixel in the output format, converted by the same code as resolve_tile.
   std::uint8_t pixel[16];

@@ -40,7 +40,7 @@ struct TileBuffers {
   void resize(int tile_size, int sample_count = 1);
   float* plane(int c) { return storage.data() + offset_ + static_cast<std::size_t>(c) * plane_size_; }
   const float* plane(int c) const { return storage.data() + offset_ + static_cast<std::size_t>(c) * plane_size_; }
-  simd::TileView view(const std::array<float, 4>& clear, const geometry::DepthFormat& depth, const float* srgb = nullptr,
+  simd::TileView view(const std::array<float, 4>& clear, const geometry::DepthFormat& depth, const SrgbTable* srgb = nullptr,
                       const SamplePattern* pattern = nullptr) {
     simd::TileView v{{plane(0), plane(1), plane(2), plane(3), plane(4)}, touched.data(), size, {clear[0], clear[1], clear[2], clear[3]},
                      srgb, depth.lo(), depth.far(), depth.reversed};
@@ -74,7 +74,7 @@ struct RasterJob {
   const simd::Kernels* kernels;  // the SIMD rasterizer of the chosen ISA; null: the scalar one
   const simd::Draw* draws;        // per ScreenTriangle::object: its varying layout and pixel program
   const simd::Fog* fog;
-  const float* srgb;              // SrgbTable::threshold when 8-bit output is sRGB-encoded, else null
+  const SrgbTable* srgb;          // when 8-bit output is sRGB-encoded, else null
   geometry::DepthFormat depth;    // how the pass stores depth (the viewport's)
   SamplePattern samples{};        // the pass's samples per pixel (one: the centre)
 };
@@ -110,13 +110,13 @@ void resolve_depth_tile(const RasterJob& job, const TileBuffers& tile, const Til
 void resolve_clear_depth(const TileRect& rect, const DepthView& depth);
 
 // One RGBA float pixel in an output format: 8-bit channels as to_unorm8 (sRGB-encoded colour with
-// `srgb`, SrgbTable::threshold), floats as they are.
-void store_pixel(const float* rgba, PixelFormat format, const float* srgb, std::uint8_t* dst);
+// `srgb`), floats as they are.
+void store_pixel(const float* rgba, PixelFormat format, const SrgbTable* srgb, std::uint8_t* dst);
 
 // A tile no triangle touches: writes the clear colour (converted exactly as resolve_tile would)
 // and far depth (`far_depth`, in the output's convention) straight into the caller's views,
 // without the tile buffers.
-void resolve_clear_tile(const std::array<float, 4>& clear_color, const float* srgb, const TileRect& rect,
+void resolve_clear_tile(const std::array<float, 4>& clear_color, const SrgbTable* srgb, const TileRect& rect,
                         const ImageView& color, const DepthView* depth, float far_depth);
 
 }  // namespace facet::tile
