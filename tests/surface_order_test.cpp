@@ -25,19 +25,22 @@ TEST(Srgb, EncodingIsCorrectlyRounded) {
   int checked = 0;
   for (int i = 0; i <= 1 << 20; ++i) {
     const float x = static_cast<float>(i) / float(1 << 20);
-    ASSERT_EQ(srgb_unorm8(t.threshold, x), exact(x)) << x;
+    ASSERT_EQ(srgb_unorm8_search(t.threshold, x), exact(x)) << x;
+    ASSERT_EQ(srgb_unorm8(t, x), exact(x)) << x;
     ++checked;
   }
   for (int k = 1; k < 256; ++k) {  // both sides of each threshold
     const float at = t.threshold[k], below = std::nextafter(at, -1.0f);
-    EXPECT_EQ(srgb_unorm8(t.threshold, at), k);
-    EXPECT_EQ(srgb_unorm8(t.threshold, below), k - 1);
+    EXPECT_EQ(srgb_unorm8_search(t.threshold, at), k);
+    EXPECT_EQ(srgb_unorm8(t, at), k);
+    EXPECT_EQ(srgb_unorm8_search(t.threshold, below), k - 1);
+    EXPECT_EQ(srgb_unorm8(t, below), k - 1);
     EXPECT_EQ(exact(at), k);
     EXPECT_EQ(exact(below), k - 1);
   }
-  EXPECT_EQ(srgb_unorm8(t.threshold, std::nanf("")), 0);
-  EXPECT_EQ(srgb_unorm8(t.threshold, -1.0f), 0);
-  EXPECT_EQ(srgb_unorm8(t.threshold, 7.0f), 255);
+  EXPECT_EQ(srgb_unorm8(t, std::nanf("")), 0);
+  EXPECT_EQ(srgb_unorm8(t, -1.0f), 0);
+  EXPECT_EQ(srgb_unorm8(t, 7.0f), 255);
   EXPECT_GT(checked, 1000000);
 }
 
@@ -61,11 +64,19 @@ TEST(Srgb, EveryBucketHoldsAtMostOneThreshold) {
     ASSERT_LE(inside, 1) << "bucket " << b;
     EXPECT_EQ(t.base[b], below) << "bucket " << b;
     EXPECT_EQ(t.bucket_threshold[b] != HUGE_VALF, inside == 1) << "bucket " << b;
-    EXPECT_EQ(srgb_unorm8(t.threshold, lo), t.base[b]);
+    EXPECT_EQ(srgb_unorm8_search(t.threshold, lo), t.base[b]);
     inside_total += inside;
   }
   EXPECT_EQ(std::bit_cast<float>((SrgbTable::kBuckets + SrgbTable::kBucketBias) << SrgbTable::kBucketShift), 1.0f);
   EXPECT_GT(inside_total, 200);  // most thresholds are not a bucket's first float
+  // The scalar bucket encoder against the search on floats spread over every exponent up to 1.
+  std::uint64_t checked = 0;
+  for (std::uint32_t bits = 0; bits <= 0x3F800100u; bits += 97) {
+    const float v = std::bit_cast<float>(bits);
+    ASSERT_EQ(srgb_unorm8(t, v), srgb_unorm8_search(t.threshold, v)) << v;
+    ++checked;
+  }
+  EXPECT_GT(checked, 10000000u);
 }
 
 // Rendering with srgb: colour encoded, alpha linear, clear colour encoded, every path and format.

@@ -5,7 +5,9 @@
 
 #include "common/format.hpp"
 #include "frame/frame.hpp"
+#include "io/image_convert.hpp"
 #include "io/rows.hpp"
+#include "io/srgb.hpp"
 
 namespace facet {
 
@@ -151,10 +153,29 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
   const SrgbTable* srgb_table = options.srgb && !float_out ? &srgb : nullptr;
   const std::size_t bytes = float_out ? 16 : 4;
   const ToneMapping op = scene.display.tone_mapping;
+  // 8-bit output: each channel encoded here (store_pixel's conversions, inline).
+  const int red = color.format == PixelFormat::bgra8 ? 2 : 0;
+  auto channel8 = [srgb_table](float v) { return srgb_table ? srgb_unorm8(*srgb_table, v) : to_unorm8(v); };
   arena->parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows, int) {
     for (int y = rows.begin(); y != rows.end(); ++y) {
       std::uint8_t* dst = io::row_bytes(color, y);
       const float* row = display_color.data() + 4 * static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+      if (!float_out) {
+        const float* d = reinterpret_cast<const float*>(io::row_bytes(inner_depth, y));
+        for (int x = 0; x < w; ++x) {
+          const float* p = row + 4 * x;
+          std::uint8_t* out = dst + 4 * static_cast<std::size_t>(x);
+          std::array<float, 3> t;
+          if (d[x] == far && p[0] == clear[0] && p[1] == clear[1] && p[2] == clear[2] && p[3] == clear[3]) {  // background
+            t = {clamp01(p[0]), clamp01(p[1]), clamp01(p[2])};
+          } else {
+            t = tone_map(op, {p[0] * scale, p[1] * scale, p[2] * scale});
+          }
+          out[red] = channel8(t[0]), out[1] = channel8(t[1]), out[2 - red] = channel8(t[2]);
+          out[3] = to_unorm8(p[3]);
+        }
+        continue;
+      }
       for (int x = 0; x < w; ++x) {
         const float* p = row + 4 * x;
         float out[4];

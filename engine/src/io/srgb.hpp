@@ -15,6 +15,7 @@
 // gives 0 (threshold[1] is 1.5e-4), from 1 on 255.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 
 namespace facet {
@@ -30,13 +31,23 @@ struct SrgbTable {
 
 void make_srgb_table(SrgbTable& table) noexcept;
 
-// The scalar resolve's encoder (the SIMD kernels have their own copy of the search).
-inline std::uint8_t srgb_unorm8(const float* threshold, float v) noexcept {
+// The definition: the number of thresholds <= v, by binary search (what the tests hold the
+// encoders below to).
+inline std::uint8_t srgb_unorm8_search(const float* threshold, float v) noexcept {
   int k = 0;
   for (int step = 128; step >= 1; step >>= 1) {
     if (v >= threshold[k + step]) k += step;
   }
   return static_cast<std::uint8_t>(k);
+}
+
+// The scalar encoder (store_pixel, the display pass): the same count through the buckets, two
+// loads and no search (the SIMD resolve has its own copy).
+inline std::uint8_t srgb_unorm8(const SrgbTable& t, float v) noexcept {
+  if (!(v >= 0x1p-13f)) return 0;  // NaN too
+  if (v >= 1.0f) return 255;
+  const int b = (std::bit_cast<std::int32_t>(v) >> SrgbTable::kBucketShift) - SrgbTable::kBucketBias;
+  return static_cast<std::uint8_t>(t.base[b] + (v >= t.bucket_threshold[b] ? 1 : 0));
 }
 
 }  // namespace facet

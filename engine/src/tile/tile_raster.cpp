@@ -188,7 +188,7 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
 // One RGBA float pixel in an output format (8-bit channels as to_unorm8, or sRGB-encoded colour
 // with `srgb`; floats as they are).
 void store_pixel(const float* rgba, PixelFormat format, const SrgbTable* srgb, std::uint8_t* dst) {
-  auto colour = [srgb](float v) { return srgb ? srgb_unorm8(srgb->threshold, v) : to_unorm8(v); };
+  auto colour = [srgb](float v) { return srgb ? srgb_unorm8(*srgb, v) : to_unorm8(v); };
   switch (format) {
     case PixelFormat::rgba8:
       for (int c = 0; c < 3; ++c) dst[c] = colour(rgba[c]);
