@@ -10,6 +10,8 @@
 
 #include "facet/facet.hpp"
 #include "gltf_builder.hpp"
+#include "io/image_convert.hpp"
+#include "io/srgb.hpp"
 #include "render_support.hpp"
 
 namespace facet {
@@ -204,6 +206,41 @@ TEST(Exposure, BackgroundKeepsTheClearColourExactly) {
   ASSERT_TRUE(r.render(s, o, gl.view()).ok());
   for (int c = 0; c < 4; ++c) EXPECT_EQ(with.byte(0, 0, c), gl.byte(0, 0, c));
   EXPECT_NE(with.byte(32, 24, 0), gl.byte(32, 24, 0));  // the sphere's centre is exposed and tone-mapped
+}
+
+// The display pass's 8-bit store against its float output: every pixel of an exposed, tone-mapped
+// frame in RGBA8 and BGRA8 (channels swapped), linear and sRGB-encoded, is the float frame's pixel
+// encoded (to_unorm8, or the sRGB threshold search); background pixels too.
+TEST(Exposure, EightBitStoreIsTheFloatFrameEncoded) {
+  Scene s = lit_sphere(400.0f);
+  s.display.ev = -2.0f;
+  s.display.tone_mapping = ToneMapping::neutral;
+  const int w = 64, h = 48;
+  RenderOptions o;
+  o.clear_color = {0.3f, 0.002f, 0.7f, 0.5f};
+  const std::vector<float> floats = render_floats(s, o, w, h);  // not HDR: tone-mapped and clamped
+  SrgbTable table;
+  make_srgb_table(table);
+  for (const bool srgb : {true, false}) {
+    for (const PixelFormat format : {PixelFormat::rgba8, PixelFormat::bgra8}) {
+      o.srgb = srgb;
+      test::Canvas c(w, h, format);
+      Renderer r;
+      ASSERT_TRUE(r.render(s, o, c.view()).ok());
+      int mismatches = 0;
+      for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+          for (int ch = 0; ch < 4; ++ch) {
+            const float v = floats[(std::size_t(y) * w + x) * 4 + ch];
+            const int expected = ch == 3 || !srgb ? to_unorm8(v) : srgb_unorm8_search(table.threshold, v);
+            const int byte = format == PixelFormat::bgra8 && ch != 1 && ch != 3 ? 2 - ch : ch;
+            mismatches += c.byte(x, y, byte) != expected;
+          }
+        }
+      }
+      EXPECT_EQ(mismatches, 0) << (srgb ? "srgb " : "linear ") << to_string(format);
+    }
+  }
 }
 
 TEST(Exposure, IsValidatedWithItsField) {
