@@ -245,11 +245,18 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
         } else {
           finite = d2 <= B(FLT_MAX);
           has_dir = finite && (d2 > B(1e-12f));
-          inv_d = rsqrt_nr(xsimd::select(has_dir, d2, one));
-          d = xsimd::select(has_dir, d2 * inv_d, zero);  // below 1e-6 the distance counts as 0
+          // 1/d, or 0 where there is no direction: the products below are then 0 (a finite diff),
+          // or NaN where the position or distance is not finite, which only lanes the selects on
+          // `finite` (att) and `lit` (n.l > 0 fails for NaN) leave out; no select per product.
+          inv_d = xsimd::select(has_dir, rsqrt_nr(xsimd::select(has_dir, d2, one)), zero);
+          d = d2 * inv_d;  // below 1e-6 the distance counts as 0
         }
-        vp = {xsimd::select(has_dir, diff.x * inv_d, zero), xsimd::select(has_dir, diff.y * inv_d, zero),
-              xsimd::select(has_dir, diff.z * inv_d, zero)};
+        if constexpr (Exact) {
+          vp = {xsimd::select(has_dir, diff.x * inv_d, zero), xsimd::select(has_dir, diff.y * inv_d, zero),
+                xsimd::select(has_dir, diff.z * inv_d, zero)};
+        } else {
+          vp = {diff.x * inv_d, diff.y * inv_d, diff.z * inv_d};
+        }
         const B denom = xsimd::fma(B(L.k2), d2, xsimd::fma(B(L.k1), d, B(L.k0)));
         if (Extras && L.linear_range) {
           if constexpr (Exact) {
