@@ -63,7 +63,7 @@ TEST(Srgb, EveryBucketHoldsAtMostOneThreshold) {
     }
     ASSERT_LE(inside, 1) << "bucket " << b;
     EXPECT_EQ(t.base[b], below) << "bucket " << b;
-    EXPECT_EQ(t.bucket_threshold[b] != HUGE_VALF, inside == 1) << "bucket " << b;
+    EXPECT_EQ(std::bit_cast<float>(t.bucket_threshold[b]) != HUGE_VALF, inside == 1) << "bucket " << b;
     EXPECT_EQ(srgb_unorm8_search(t.threshold, lo), t.base[b]);
     inside_total += inside;
   }

@@ -27,7 +27,7 @@ void make_srgb_table(SrgbTable& table) noexcept {
       }
     }
     table.base[b] = base;
-    table.bucket_threshold[b] = inside;
+    table.bucket_threshold[b] = std::bit_cast<std::int32_t>(inside);
   }
 }
 

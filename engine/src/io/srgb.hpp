@@ -11,7 +11,7 @@
 // bucket (bits(x) >> 16) - kBucketBias, its exponent and top 7 mantissa bits, and no bucket holds
 // more than one threshold (buckets are narrower than the gaps between thresholds: 2^-8 wide below
 // 1, where the gaps are 0.0089 wide, and narrower still where the gaps narrow; checked by a test),
-// so the byte is base[b] + (x >= bucket_threshold[b]): two gathers per channel. Below 2^-13 every x
+// so the byte is base[b] + (bits(x) >= bucket_threshold[b]): two gathers per channel. Below 2^-13 every x
 // gives 0 (threshold[1] is 1.5e-4), from 1 on 255.
 #pragma once
 
@@ -26,7 +26,9 @@ struct SrgbTable {
   static constexpr std::int32_t kBucketBias = (127 - 13) << 7;  // bucket 0 starts at 2^-13
   static constexpr int kBuckets = 13 << 7;                      // the last ends at 1
   std::int32_t base[kBuckets];       // thresholds <= the bucket's first float
-  float bucket_threshold[kBuckets];  // the threshold inside the bucket, or +Inf
+  // The bits of the threshold inside the bucket, or of +Inf: positive floats order as their bits
+  // do as integers, so the encoders compare bits (one kind of gather in the SIMD resolve).
+  std::int32_t bucket_threshold[kBuckets];
 };
 
 void make_srgb_table(SrgbTable& table) noexcept;
@@ -46,8 +48,9 @@ inline std::uint8_t srgb_unorm8_search(const float* threshold, float v) noexcept
 inline std::uint8_t srgb_unorm8(const SrgbTable& t, float v) noexcept {
   if (!(v >= 0x1p-13f)) return 0;  // NaN too
   if (v >= 1.0f) return 255;
-  const int b = (std::bit_cast<std::int32_t>(v) >> SrgbTable::kBucketShift) - SrgbTable::kBucketBias;
-  return static_cast<std::uint8_t>(t.base[b] + (v >= t.bucket_threshold[b] ? 1 : 0));
+  const std::int32_t bits = std::bit_cast<std::int32_t>(v);
+  const int b = (bits >> SrgbTable::kBucketShift) - SrgbTable::kBucketBias;
+  return static_cast<std::uint8_t>(t.base[b] + (bits >= t.bucket_threshold[b] ? 1 : 0));
 }
 
 }  // namespace facet

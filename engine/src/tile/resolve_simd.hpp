@@ -11,6 +11,7 @@
 #include <immintrin.h>
 #include <xsimd/xsimd.hpp>
 
+#include "common/gather_simd.hpp"
 #include "io/rows.hpp"
 #include "tile/kernels.hpp"
 
@@ -48,15 +49,15 @@ struct Resolve {
   // (io/srgb.hpp): base + (v >= the bucket's threshold) in [2^-13, 1), 0 below (and for NaN), 255
   // from 1 on. Two gathers.
   template <class A>
-  static xsimd::batch<std::int32_t, A> srgb8(const SrgbTable& t, const xsimd::batch<float, A>& v) {
+  [[gnu::always_inline]] static xsimd::batch<std::int32_t, A> srgb8(const SrgbTable& t, const xsimd::batch<float, A>& v) {
     using B = xsimd::batch<float, A>;
     using Int = xsimd::batch<std::int32_t, A>;
     const auto in = (v >= B(0x1p-13f)) & (v < B(1.0f));  // false for NaN
-    const Int bucket = (xsimd::bitwise_cast<Int>(v) >> SrgbTable::kBucketShift) - Int(SrgbTable::kBucketBias);
-    const Int b = xsimd::select(xsimd::bool_cast(in), bucket, Int(0));
-    const Int base = Int::gather(t.base, b);
-    const B threshold = B::gather(t.bucket_threshold, b);
-    const Int k = base + xsimd::select(xsimd::bool_cast(v >= threshold), Int(1), Int(0));
+    const Int bits = xsimd::bitwise_cast<Int>(v);
+    const Int b = xsimd::select(xsimd::bool_cast(in), (bits >> SrgbTable::kBucketShift) - Int(SrgbTable::kBucketBias), Int(0));
+    const Int base = simd_util::gather32(t.base, b);
+    const Int threshold = simd_util::gather32(t.bucket_threshold, b);
+    const Int k = base + xsimd::select(bits >= threshold, Int(1), Int(0));
     return xsimd::select(xsimd::bool_cast(in), k,
                          xsimd::select(xsimd::bool_cast(v >= B(1.0f)), Int(255), Int(0)));
   }
