@@ -6,6 +6,8 @@
 
 #include "io/image_convert.hpp"
 #include "io/srgb.hpp"
+
+#include <emmintrin.h>
 #include "pixel/stages.hpp"
 #include "texture/sampler.hpp"
 
@@ -390,7 +392,15 @@ void resolve_clear_tile(const std::array<float, 4>& clear_color, const SrgbTable
   for (int y = rect.y0; y < rect.y1; ++y) {
     std::uint8_t* dst = io::row_bytes(color, y) + static_cast<std::size_t>(rect.x0) * bpp;
     if (first_color) {
-      std::memcpy(dst, first_color, row_bytes);  // every row is the same as the first
+      // Every row is the same as the first: streaming stores from the first 16-byte boundary
+      // (the image is not read back by the frame, and a read for ownership would double the traffic).
+      const std::size_t head = std::min(row_bytes, (16 - reinterpret_cast<std::uintptr_t>(dst) % 16) % 16);
+      std::memcpy(dst, first_color, head);
+      std::size_t i = head;
+      for (; i + 16 <= row_bytes; i += 16) {
+        _mm_stream_si128(reinterpret_cast<__m128i*>(dst + i), _mm_loadu_si128(reinterpret_cast<const __m128i*>(first_color + i)));
+      }
+      std::memcpy(dst + i, first_color + i, row_bytes - i);
     } else {
       if (bpp == 4) {
         for (int x = rect.x0; x < rect.x1; ++x) std::memcpy(dst + 4 * (x - rect.x0), pixel, 4);
@@ -409,6 +419,7 @@ void resolve_clear_tile(const std::array<float, 4>& clear_color, const SrgbTable
       }
     }
   }
+  _mm_sfence();  // the streaming stores are visible before the tile's job is reported done
 }
 
 namespace {
