@@ -318,6 +318,70 @@ TEST_P(SimdRaster, ResolveEncodesSrgbLikeTheThresholdSearch) {
   }
 }
 
+// The display pass's store (Kernels::display_row) against the scalar definition, byte for byte:
+// background pixels (far depth and exactly the clear colour) clamped and encoded, the others
+// scaled, tone-mapped by facet::tone_map and encoded; for every operator, linear and sRGB, RGBA8 and
+// BGRA8, on random values from 1e-4 to 100 (both of Neutral's branches), zeros, negatives,
+// infinities and NaN; a width that is not a whole number of batches (the kernel leaves the tail).
+TEST_P(SimdRaster, DisplayStoreIsTheScalarToneMapAndEncoding) {
+  SrgbTable table;
+  make_srgb_table(table);
+  const int w = 1003;
+  std::mt19937 rng(99);
+  std::uniform_real_distribution<float> exponent(-4.0f, 2.0f);
+  const float clear[4] = {0.25f, 0.5f, 0.75f, 1.0f};
+  std::vector<float> rgba(4 * static_cast<std::size_t>(w)), depth(w);
+  const float specials[] = {0.0f, -0.0f, -3.0f, std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                            std::numeric_limits<float>::quiet_NaN(), 0.079f, 0.08f, 0.76f, 1.0f};
+  for (int x = 0; x < w; ++x) {
+    for (int c = 0; c < 4; ++c) rgba[4 * x + c] = std::pow(10.0f, exponent(rng));
+    if (x % 7 == 0) rgba[4 * x + x % 3] = specials[(x / 7) % std::size(specials)];
+    if (x % 5 == 0) rgba[4 * x + 3] = 1.0f;
+    depth[x] = x % 4 == 0 ? 1.0f : 0.5f;
+    if (x % 8 == 0) {  // background (depth far as well: x % 4 == 0)
+      for (int c = 0; c < 4; ++c) rgba[4 * x + c] = clear[c];
+    }
+    if (x % 24 == 12) rgba[4 * x] = clear[0] + 0.5f;  // far, but not the clear colour: drawn
+  }
+  for (const ToneMapping op : {ToneMapping::none, ToneMapping::neutral, ToneMapping::aces}) {
+    for (const bool srgb : {false, true}) {
+      for (const int red : {0, 2}) {
+        std::vector<std::uint8_t> out(4 * static_cast<std::size_t>(w), 0xAB);
+        const float scale = 1.7f;
+        const tile::simd::DisplayRow row{rgba.data(), depth.data(), w, 1.0f, {clear[0], clear[1], clear[2], clear[3]}, scale, op,
+                                         srgb ? &table : nullptr, red, out.data()};
+        const int done = kernels_->display_row(row);
+        ASSERT_GT(done, w - 16);
+        ASSERT_LE(done, w);
+        auto encode = [&](float v) { return srgb ? int(srgb_unorm8_search(table.threshold, v)) : int(to_unorm8(v)); };
+        int mismatches = 0;
+        for (int x = 0; x < done; ++x) {
+          const float* p = rgba.data() + 4 * x;
+          const bool background = depth[x] == 1.0f && p[0] == clear[0] && p[1] == clear[1] && p[2] == clear[2] && p[3] == clear[3];
+          std::array<float, 3> t{};
+          if (background) {
+            for (int c = 0; c < 3; ++c) t[c] = std::clamp(p[c], 0.0f, 1.0f);
+          } else {
+            t = tone_map(op, {p[0] * scale, p[1] * scale, p[2] * scale});
+          }
+          const int expected[4] = {encode(t[0]), encode(t[1]), encode(t[2]), to_unorm8(p[3])};
+          for (int c = 0; c < 4; ++c) {
+            const int byte = red == 2 && c != 1 && c != 3 ? 2 - c : c;
+            if (out[4 * x + byte] != expected[c] && ++mismatches < 5) {
+              ADD_FAILURE() << to_string(op) << (srgb ? " srgb" : " linear") << " red " << red << " pixel " << x << " channel " << c
+                            << " value " << p[c] << ": " << int(out[4 * x + byte]) << ", not " << expected[c];
+            }
+          }
+        }
+        EXPECT_EQ(mismatches, 0);
+        if (done < w) {
+          EXPECT_EQ(out[4 * static_cast<std::size_t>(done)], 0xAB);  // the tail is the caller's
+        }
+      }
+    }
+  }
+}
+
 // The ISA's vertex transform (Kernels::transform) against geometry::transform_vertices, bit for
 // bit: clip positions, outcodes, the finite and projected flags and, where projected, the snapped
 // position, depth and 1/w (coverage is decided by them). Vertices in front of, behind and on the

@@ -166,12 +166,7 @@ void bind_fields(py::module_& m, py::class_<PyScene>& scene_class) {
         Material mat = s.materials[index];
         set_fields(mat, fields, prefix, [](const std::string& n) { return find_material_field(n); });
         // The material alone, then the scene with it (textures exist, meshes have uvs): a failure changes nothing.
-        if (Status st = validate_material(mat, index); !st.ok()) raise(st);
-        std::swap(s.materials[index], mat);
-        if (Status st = validate_scene(s); !st.ok()) {
-          std::swap(s.materials[index], mat);
-          raise(st);
-        }
+        if (Status st = replace_material(s, index, mat); !st.ok()) raise(st);
       }, py::arg("index"), py::arg("fields"),
          "Changes the named fields of material `index`, e.g. {'diffuse': (1, 0, 0), 'blend': 'alpha', "
          "'environment.strength': 0.5}; checked as a whole, nothing changes on an error.")
@@ -185,12 +180,7 @@ void bind_fields(py::module_& m, py::class_<PyScene>& scene_class) {
         const std::string prefix = "lights[" + std::to_string(index) + "]";
         Light l = s.lights[index];
         set_fields(l, fields, prefix, [](const std::string& n) { return find_light_field(n); });
-        if (Status st = validate_light(l, index); !st.ok()) raise(st);
-        std::swap(s.lights[index], l);
-        if (Status st = validate_scene(s); !st.ok()) {  // (the scene's limits: shadowed lights, projectors)
-          std::swap(s.lights[index], l);
-          raise(st);
-        }
+        if (Status st = replace_light(s, index, l); !st.ok()) raise(st);  // (the scene's limits: shadowed lights, projectors)
       }, py::arg("index"), py::arg("fields"),
          "Changes the named fields of light `index`, e.g. {'diffuse': (2, 2, 2), 'shadow.method': 'map', "
          "'shadow.bias.normal': 2}; checked as a whole, nothing changes on an error.");

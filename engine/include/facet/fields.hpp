@@ -11,6 +11,7 @@
 
 #include "facet/light.hpp"
 #include "facet/material.hpp"
+#include "facet/scene.hpp"
 #include "facet/status.hpp"
 
 namespace facet {
@@ -65,6 +66,12 @@ bool is_default(const LightField& field, const Light& light) noexcept;
 // indices, -1 for none).
 std::string format_field(const MaterialField& field, const Material& material);
 std::string format_field(const LightField& field, const Light& light);
+// Puts `material` in place of scene.materials[index] when it is valid alone and the scene is valid
+// with it (its textures exist, the meshes it draws have uvs, the scene's limits); otherwise the
+// scene is as it was and the first problem is returned. On success `material` holds the one it
+// replaced. (What the C and Python field setters end in.) replace_light likewise.
+Status replace_material(Scene& scene, std::size_t index, Material& material);
+Status replace_light(Scene& scene, std::size_t index, Light& light);
 // The accepted values in words ("[0, 1]", "blinn | phong", "a texture or -1 (none)").
 std::string describe_range(const MaterialField& field);
 std::string describe_range(const LightField& field);

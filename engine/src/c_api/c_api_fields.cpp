@@ -76,22 +76,9 @@ facet_status facet_scene_set_material_field(facet_scene* scene, uint32_t materia
     if (facet::Status st = facet::set_field(*f, m, std::span<const double>(values, count), path); !st.ok()) {
       return report(scene->error, st);
     }
-    if (f->type == facet::FieldType::texture) {
-      for (int c = 0; c < f->components; ++c) {
-        const double t = values[c];
-        if (t != -1.0 && t >= double(s.textures.size())) return fail(scene->error, f->name, "no texture " + facet::format_number(t));
-      }
-    }
-    // The material alone, then the scene with it (a textured material needs uvs on its meshes):
-    // on a copy, so that a failure changes nothing.
-    if (facet::Status st = facet::validate_material(m, material_id); !st.ok()) return report(scene->error, st);
-    const facet::Material previous = s.materials[material_id];
-    s.materials[material_id] = std::move(m);
-    if (facet::Status st = facet::validate_scene(s); !st.ok()) {
-      s.materials[material_id] = previous;
-      return report(scene->error, st);
-    }
-    return report(scene->error, {});
+    // The material alone, then the scene with it (its textures exist, its meshes have uvs): a
+    // failure changes nothing.
+    return report(scene->error, facet::replace_material(s, material_id, m));
   });
 }
 
@@ -124,17 +111,7 @@ facet_status facet_scene_set_light_field(facet_scene* scene, uint32_t light_id, 
     if (facet::Status st = facet::set_field(*f, l, std::span<const double>(values, count), path); !st.ok()) {
       return report(scene->error, st);
     }
-    if (f->type == facet::FieldType::texture && values[0] != -1.0 && values[0] >= double(s.textures.size())) {
-      return fail(scene->error, f->name, "no texture " + facet::format_number(values[0]));
-    }
-    if (facet::Status st = facet::validate_light(l, index); !st.ok()) return report(scene->error, st);
-    const facet::Light previous = s.lights[index];
-    s.lights[index] = std::move(l);
-    if (facet::Status st = facet::validate_scene(s); !st.ok()) {  // (the scene's limits: shadowed lights, projectors)
-      s.lights[index] = previous;
-      return report(scene->error, st);
-    }
-    return report(scene->error, {});
+    return report(scene->error, facet::replace_light(s, index, l));  // (the scene's limits: shadowed lights, projectors)
   });
 }
 

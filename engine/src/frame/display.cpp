@@ -162,7 +162,12 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
       const float* row = display_color.data() + 4 * static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
       if (!float_out) {
         const float* d = reinterpret_cast<const float*>(io::row_bytes(inner_depth, y));
-        for (int x = 0; x < w; ++x) {
+        int x = 0;
+        if (simd_kernels) {  // the ISA's batches first (the same bytes), the scalar loop for the rest
+          const tile::simd::DisplayRow args{row, d, w, far, {clear[0], clear[1], clear[2], clear[3]}, scale, op, srgb_table, red, dst};
+          x = simd_kernels->display_row(args);
+        }
+        for (; x < w; ++x) {
           const float* p = row + 4 * x;
           std::uint8_t* out = dst + 4 * static_cast<std::size_t>(x);
           std::array<float, 3> t;

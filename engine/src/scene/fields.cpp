@@ -312,6 +312,18 @@ Status check_all(std::span<const FieldSpec<T>> fields, const T& object, const Fi
   return {};
 }
 
+// Swaps `object` into `list[index]` if it passes `alone` and the scene passes with it; swaps it
+// back otherwise.
+template <class T, class Check>
+Status replace(Scene& scene, std::vector<T>& list, std::size_t index, T& object, const Check& alone) {
+  if (index >= list.size()) return {ErrorCode::invalid_argument, "index", "index: " + std::to_string(index) + " is out of range"};
+  FACET_TRY(alone(object, index));
+  std::swap(list[index], object);
+  Status st = validate_scene(scene);
+  if (!st.ok()) std::swap(list[index], object);
+  return st;
+}
+
 }  // namespace field_table
 
 
@@ -340,6 +352,13 @@ const LightField* find_light_field(std::string_view name) noexcept {
   for (const LightField& f : field_table::kLightFields)
     if (name == f.name) return &f;
   return nullptr;
+}
+
+Status replace_material(Scene& scene, std::size_t index, Material& material) {
+  return field_table::replace(scene, scene.materials, index, material, validate_material);
+}
+Status replace_light(Scene& scene, std::size_t index, Light& light) {
+  return field_table::replace(scene, scene.lights, index, light, validate_light);
 }
 
 Status check_field_value(const MaterialField& f, double v, const std::string& path) { return field_table::check_value(f, v, path); }

@@ -3,14 +3,15 @@
 // table the frame picks one ISA's from (simd_raster_kernels, tile_raster.hpp): the tile
 // rasterizer and resolve (raster_simd.hpp, resolve_simd.hpp), the texture samplers
 // (texture/sample_simd.hpp, texture/sample_fixed_simd.hpp), vertex transform and triangle placing
-// (geometry/transform_simd.hpp, raster/place_simd.hpp), and the shadow-map lookup
-// (shadow/map_simd.hpp). Plain data only, for the reason pixel/program.hpp gives.
+// (geometry/transform_simd.hpp, raster/place_simd.hpp), the shadow-map lookup
+// (shadow/map_simd.hpp) and the display pass's store (display_simd.hpp). Plain data only, for the reason pixel/program.hpp gives.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 
+#include "facet/display.hpp"
 #include "facet/image.hpp"
 #include "geometry/project.hpp"
 #include "pixel/program.hpp"
@@ -51,6 +52,26 @@ using SampleTextureFunction = void (*)(const texture::Sampler&, std::size_t coun
 using SampleFixedFunction = void (*)(const texture::Sampler&, std::size_t count, const float* const* in,
                                      std::uint32_t* out);
 
+// One row of the display pass's 8-bit store (frame/display.cpp): the exposed float frame's row
+// (RGBA, `width` pixels) and its depth, the background test's far depth and clear colour, the
+// exposure scale and operator, the encoding (null: linear) and the output row (red at byte `red`:
+// 0 for RGBA8, 2 for BGRA8).
+struct DisplayRow {
+  const float* rgba;
+  const float* depth;
+  int width;
+  float far;
+  float clear[4];
+  float scale;
+  ToneMapping tone_mapping;
+  const SrgbTable* srgb;
+  int red;
+  std::uint8_t* dst;
+};
+// Stores the row's first pixels, a whole number of batches; returns how many (the caller stores
+// the rest with the scalar loop).
+using DisplayRowFunction = int (*)(const DisplayRow&);
+
 struct Kernels {
   RasterTileFunction raster;
   ResolveTileFunction resolve;
@@ -59,6 +80,7 @@ struct Kernels {
   PlaceFunction place;
   shadow::MapVisibilityFunction shadow_map;
   SampleFixedFunction sample_fixed;
+  DisplayRowFunction display_row;
 };
 
 namespace sse2 {
@@ -69,6 +91,7 @@ void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
 void sample_fixed(const texture::Sampler&, std::size_t, const float* const*, std::uint32_t*);
+int display_row(const DisplayRow&);
 void shadow_map(const shadow::MapLookup&, std::size_t, const float*, const float*, const float*, const float*,
                 const float*, const float*, std::size_t, float*);
 }  // namespace sse2
@@ -80,6 +103,7 @@ void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
 void sample_fixed(const texture::Sampler&, std::size_t, const float* const*, std::uint32_t*);
+int display_row(const DisplayRow&);
 void shadow_map(const shadow::MapLookup&, std::size_t, const float*, const float*, const float*, const float*,
                 const float*, const float*, std::size_t, float*);
 }  // namespace avx2
@@ -91,6 +115,7 @@ void raster_tile(const TileJob&, const TileView&, TileCounters&);
 void resolve_tile(const TileView&, int, int, int, int, const ImageView&, const DepthView*);
 void sample_texture(const texture::Sampler&, std::size_t, const float* const*, float* const*);
 void sample_fixed(const texture::Sampler&, std::size_t, const float* const*, std::uint32_t*);
+int display_row(const DisplayRow&);
 void shadow_map(const shadow::MapLookup&, std::size_t, const float*, const float*, const float*, const float*,
                 const float*, const float*, std::size_t, float*);
 }  // namespace avx512

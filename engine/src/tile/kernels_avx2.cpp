@@ -9,6 +9,7 @@
 #include "geometry/transform_simd.hpp"
 #include "raster/place_simd.hpp"
 #include "tile/raster_simd.hpp"
+#include "tile/display_simd.hpp"
 #include "tile/resolve_simd.hpp"
 #include "shadow/map_simd.hpp"
 #include "texture/sample_fixed_simd.hpp"
@@ -41,4 +42,5 @@ void shadow_map(const shadow::MapLookup& map, std::size_t count, const float* px
                 const float* nx, const float* ny, const float* nz, std::size_t stride, float* visible) {
   shadow::simd::MapSimd<xsimd::fma3<xsimd::avx2>>::run(map, count, px, py, pz, nx, ny, nz, stride, visible);
 }
+int display_row(const DisplayRow& row) { return DisplayStore<xsimd::fma3<xsimd::avx2>>::row(row); }
 }  // namespace facet::tile::simd::avx2

@@ -70,7 +70,7 @@ struct Resolve {
   // tile (fast_resolve). The same conversion as resolve() with nothing decided per pixel: one row
   // of the image at a time, a block's row of 8 pixels per step (avx512: two blocks' rows, 16
   // horizontally adjacent pixels, when both blocks were touched), the planes read at a fixed step.
-  static bool fast_resolve(const TileView& tv, int x0, int x1, const ImageView& color, const DepthView* depth) {
+  static bool fast_resolve(const TileView&, int x0, int x1, const ImageView& color, const DepthView* depth) {
     return !depth && color.format != PixelFormat::rgba32f && (x1 - x0) % kBlock == 0;
   }
   static std::uint32_t clear_word(const TileView& tv, int red_shift, int blue_shift) {

@@ -35,13 +35,13 @@ void TileBuffers::resize(int tile_size, int sample_count) {
 const simd::Kernels* simd_raster_kernels(Isa isa) noexcept {
   static constexpr simd::Kernels sse2{simd::sse2::raster_tile, simd::sse2::resolve_tile, simd::sse2::sample_texture,
                                             simd::sse2::transform_vertices, simd::sse2::place_triangles,
-                                            simd::sse2::shadow_map, simd::sse2::sample_fixed};
+                                            simd::sse2::shadow_map, simd::sse2::sample_fixed, simd::sse2::display_row};
   static constexpr simd::Kernels avx2{simd::avx2::raster_tile, simd::avx2::resolve_tile, simd::avx2::sample_texture,
                                             simd::avx2::transform_vertices, simd::avx2::place_triangles,
-                                            simd::avx2::shadow_map, simd::avx2::sample_fixed};
+                                            simd::avx2::shadow_map, simd::avx2::sample_fixed, simd::avx2::display_row};
   static constexpr simd::Kernels avx512{simd::avx512::raster_tile, simd::avx512::resolve_tile, simd::avx512::sample_texture,
                                             simd::avx512::transform_vertices, simd::avx512::place_triangles,
-                                            simd::avx512::shadow_map, simd::avx512::sample_fixed};
+                                            simd::avx512::shadow_map, simd::avx512::sample_fixed, simd::avx512::display_row};
   if (isa == Isa::best) isa = best_isa();
   if (!isa_supported(isa)) return nullptr;
   switch (isa) {
