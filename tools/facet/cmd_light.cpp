@@ -182,10 +182,13 @@ int light(const LightState& st) {
   for (std::size_t k = 0; k < results.size(); ++k) {
     const auto& r = results[k];
     const double vps = double(r.vertices) / r.seconds;
-    std::printf("  %-26s %14.2f M %16.2f M %11.2f %8.2fx %14.3g\n",
+    // "-" where the comparison's other side did not run (--path without scalar or reference).
+    char speedup[32] = "-", diff[32] = "-";
+    if (scalar_rate > 0) std::snprintf(speedup, sizeof speedup, "%.2fx", vps / scalar_rate);
+    if (max_diff[k] >= 0) std::snprintf(diff, sizeof diff, "%.3g", max_diff[k]);
+    std::printf("  %-26s %14.2f M %16.2f M %11.2f %9s %14s\n",
                 describe_path(r.options.path, r.options.isa, r.options.pow_tier).c_str(), vps / 1e6,
-                double(r.vertex_lights) / r.seconds / 1e6, 1e9 / vps, scalar_rate > 0 ? vps / scalar_rate : 0.0,
-                max_diff[k]);
+                double(r.vertex_lights) / r.seconds / 1e6, 1e9 / vps, speedup, diff);
   }
   if (threads == 1) {
     std::printf("  (one thread; measured for at least %.2g s per path)\n", min_seconds);
