@@ -26,8 +26,9 @@ void make_srgb_table(SrgbTable& table) noexcept {
         inside = table.threshold[k];  // the first inside (a test checks there is no second)
       }
     }
-    table.base[b] = base;
-    table.bucket_threshold[b] = std::bit_cast<std::int32_t>(inside);
+    // The threshold's low 16 bits (its top 16 are the bucket's), or 0x10000: no float's low bits reach it.
+    const std::int32_t low = inside == HUGE_VALF ? 0x10000 : (std::bit_cast<std::int32_t>(inside) & 0xffff);
+    table.bucket[b] = (base << SrgbTable::kBaseShift) | low;
   }
 }
 

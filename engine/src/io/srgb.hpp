@@ -11,8 +11,11 @@
 // bucket (bits(x) >> 16) - kBucketBias, its exponent and top 7 mantissa bits, and no bucket holds
 // more than one threshold (buckets are narrower than the gaps between thresholds: 2^-8 wide below
 // 1, where the gaps are 0.0089 wide, and narrower still where the gaps narrow; checked by a test),
-// so the byte is base[b] + (bits(x) >= bucket_threshold[b]): two gathers per channel. Below 2^-13 every x
-// gives 0 (threshold[1] is 1.5e-4), from 1 on 255.
+// so the byte is the bucket's base count plus (x >= the threshold inside it). A bucket's floats share
+// their top 16 bits, so the comparison needs only the low 16: one 32-bit entry holds both,
+// base << 17 | the threshold's low 16 bits (0x10000 when the bucket holds none), and the encoders
+// read one entry per channel (one gather). Below 2^-13 every x gives 0 (threshold[1] is 1.5e-4),
+// from 1 on 255.
 #pragma once
 
 #include <bit>
@@ -25,10 +28,9 @@ struct SrgbTable {
   static constexpr int kBucketShift = 16;
   static constexpr std::int32_t kBucketBias = (127 - 13) << 7;  // bucket 0 starts at 2^-13
   static constexpr int kBuckets = 13 << 7;                      // the last ends at 1
-  std::int32_t base[kBuckets];       // thresholds <= the bucket's first float
-  // The bits of the threshold inside the bucket, or of +Inf: positive floats order as their bits
-  // do as integers, so the encoders compare bits (one kind of gather in the SIMD resolve).
-  std::int32_t bucket_threshold[kBuckets];
+  static constexpr int kBaseShift = 17;
+  static constexpr std::int32_t kLowMask = 0x1ffff;  // the threshold's low bits, or 0x10000 (none)
+  std::int32_t bucket[kBuckets];
 };
 
 void make_srgb_table(SrgbTable& table) noexcept;
@@ -43,14 +45,14 @@ inline std::uint8_t srgb_unorm8_search(const float* threshold, float v) noexcept
   return static_cast<std::uint8_t>(k);
 }
 
-// The scalar encoder (store_pixel, the display pass): the same count through the buckets, two
-// loads and no search (the SIMD resolve has its own copy).
+// The scalar encoder (store_pixel, the display pass): the same count through the buckets, one
+// load and no search (the SIMD resolve has its own copy).
 inline std::uint8_t srgb_unorm8(const SrgbTable& t, float v) noexcept {
   if (!(v >= 0x1p-13f)) return 0;  // NaN too
   if (v >= 1.0f) return 255;
   const std::int32_t bits = std::bit_cast<std::int32_t>(v);
-  const int b = (bits >> SrgbTable::kBucketShift) - SrgbTable::kBucketBias;
-  return static_cast<std::uint8_t>(t.base[b] + (bits >= t.bucket_threshold[b] ? 1 : 0));
+  const std::int32_t e = t.bucket[(bits >> SrgbTable::kBucketShift) - SrgbTable::kBucketBias];
+  return static_cast<std::uint8_t>((e >> SrgbTable::kBaseShift) + ((bits & 0xffff) >= (e & SrgbTable::kLowMask) ? 1 : 0));
 }
 
 }  // namespace facet

@@ -47,7 +47,7 @@ struct Resolve {
   }
   // colour8's sRGB byte for a batch: the same count of thresholds, from the table's buckets
   // (io/srgb.hpp): base + (v >= the bucket's threshold) in [2^-13, 1), 0 below (and for NaN), 255
-  // from 1 on. Two gathers.
+  // from 1 on. One gather.
   template <class A>
   [[gnu::always_inline]] static xsimd::batch<std::int32_t, A> srgb8(const SrgbTable& t, const xsimd::batch<float, A>& v) {
     using B = xsimd::batch<float, A>;
@@ -55,9 +55,8 @@ struct Resolve {
     const auto in = (v >= B(0x1p-13f)) & (v < B(1.0f));  // false for NaN
     const Int bits = xsimd::bitwise_cast<Int>(v);
     const Int b = xsimd::select(xsimd::bool_cast(in), (bits >> SrgbTable::kBucketShift) - Int(SrgbTable::kBucketBias), Int(0));
-    const Int base = simd_util::gather32(t.base, b);
-    const Int threshold = simd_util::gather32(t.bucket_threshold, b);
-    const Int k = base + xsimd::select(bits >= threshold, Int(1), Int(0));
+    const Int e = simd_util::gather32(t.bucket, b);
+    const Int k = (e >> SrgbTable::kBaseShift) + xsimd::select((bits & Int(0xffff)) >= (e & Int(SrgbTable::kLowMask)), Int(1), Int(0));
     return xsimd::select(xsimd::bool_cast(in), k,
                          xsimd::select(xsimd::bool_cast(v >= B(1.0f)), Int(255), Int(0)));
   }
