@@ -119,10 +119,11 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
       for (int y = rows.begin(); y != rows.end(); ++y) {
         double sum = 0.0, count = 0.0;
         const float* row = display_color.data() + 4 * static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+        const float* d = reinterpret_cast<const float*>(io::row_bytes(inner_depth, y));
         float* peaks = display_peaks.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
         for (int x = 0; x < w; ++x) {
           const float* p = row + 4 * x;
-          if (background(p, x, y)) continue;
+          if (d[x] == far && p[0] == clear[0] && p[1] == clear[1] && p[2] == clear[2] && p[3] == clear[3]) continue;  // background
           const double lum = 0.2126 * double(p[0]) + 0.7152 * double(p[1]) + 0.0722 * double(p[2]);
           if (!(lum > 0.0 && std::isfinite(lum))) continue;  // unlit: says nothing about the exposure
           sum += std::log(1e-4 + lum);
