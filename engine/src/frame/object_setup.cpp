@@ -207,12 +207,20 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   lighting::PointShader& shader = shaders[object];
   // The bounds' passes over the positions: a large object spread over the threads (chunks fixed
   // by its vertex count, so the sphere is the same for any thread count).
-  const lighting::EyeSphere bounds = lighting::eye_bounding_sphere(mesh, view, inst.model, [&](std::size_t chunks, const auto& fn) {
-    if (slot >= 0 || chunks == 1) return lighting::chunks_in_turn(chunks, fn);
-    arena->parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r, int) {
-      for (std::size_t c = r.begin(); c < r.end(); ++c) fn(c);
-    });
+  // Only when the plan can cull: a point or spot light is on (directional lights are never culled).
+  const Scene& lit_by = kind.lights_of(scene);
+  const bool cullable = lighting.cull_lights && std::any_of(lit_by.lights.begin(), lit_by.lights.end(), [](const Light& l) {
+    return l.enabled && l.type != LightType::directional;
   });
+  lighting::EyeSphere bounds{};
+  if (cullable) {
+    bounds = lighting::eye_bounding_sphere(mesh, view, inst.model, [&](std::size_t chunks, const auto& fn) {
+      if (slot >= 0 || chunks == 1) return lighting::chunks_in_turn(chunks, fn);
+      arena->parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const tbb::blocked_range<std::size_t>& r, int) {
+        for (std::size_t c = r.begin(); c < r.end(); ++c) fn(c);
+      });
+    });
+  }
   // Options were checked in render(), so preparing cannot fail here.
   const lighting::LightingFeatures& lf = draws.features[object];
   Material material = scene.materials[unit.material];
@@ -222,7 +230,7 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
   if (kind.without_emission || (draws.programs[object].emission && adds_emission_after_texture(material))) {
     material.emissive = Color3(0.0f, 0.0f, 0.0f);
   }
-  (void)shader.prepare(kind.lights_of(scene), view, material, lighting, &bounds, lf,
+  (void)shader.prepare(lit_by, view, material, lighting, cullable ? &bounds : nullptr, lf,
                        inst.receive_shadows && has_shadows && !pass->environment_face ? &frame_shadows : nullptr);
   if (kind.kind == FrameKind::Kind::visibility) shader.output_visibility(kind.visibility_lights);
   ObjectCounts& counts = object_counts[object];
