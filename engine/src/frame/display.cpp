@@ -107,10 +107,11 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
   const auto store_start = Clock::now();
   const float far = depth_mode_for(scene.camera, options.depth) == DepthMode::reversed ? 0.0f : 1.0f;
   const std::array<float, 4>& clear = options.clear_color;
-  auto background = [&](const float* rgba, int x, int y) {
-    const float* d = reinterpret_cast<const float*>(io::row_bytes(inner_depth, y)) + x;
-    return *d == far && rgba[0] == clear[0] && rgba[1] == clear[1] && rgba[2] == clear[2] && rgba[3] == clear[3];
+  // A pixel's colour and depth, the depth row found once per row by each pass.
+  auto background = [&](const float* rgba, float z) {
+    return z == far && rgba[0] == clear[0] && rgba[1] == clear[1] && rgba[2] == clear[2] && rgba[3] == clear[3];
   };
+  auto depth_row = [&](int y) { return reinterpret_cast<const float*>(io::row_bytes(inner_depth, y)); };
   float ev = scene.display.ev;
   if (scene.display.automatic) {
     display_rows.assign(static_cast<std::size_t>(h), {0.0, 0.0});
@@ -119,11 +120,11 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
       for (int y = rows.begin(); y != rows.end(); ++y) {
         double sum = 0.0, count = 0.0;
         const float* row = display_color.data() + 4 * static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
-        const float* d = reinterpret_cast<const float*>(io::row_bytes(inner_depth, y));
+        const float* d = depth_row(y);
         float* peaks = display_peaks.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
         for (int x = 0; x < w; ++x) {
           const float* p = row + 4 * x;
-          if (d[x] == far && p[0] == clear[0] && p[1] == clear[1] && p[2] == clear[2] && p[3] == clear[3]) continue;  // background
+          if (background(p, d[x])) continue;
           const double lum = 0.2126 * double(p[0]) + 0.7152 * double(p[1]) + 0.0722 * double(p[2]);
           if (!(lum > 0.0 && std::isfinite(lum))) continue;  // unlit: says nothing about the exposure
           sum += std::log(1e-4 + lum);
@@ -161,8 +162,8 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
     for (int y = rows.begin(); y != rows.end(); ++y) {
       std::uint8_t* dst = io::row_bytes(color, y);
       const float* row = display_color.data() + 4 * static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+      const float* d = depth_row(y);
       if (!float_out) {
-        const float* d = reinterpret_cast<const float*>(io::row_bytes(inner_depth, y));
         int x = 0;
         if (simd_kernels) {  // the ISA's batches first (the same bytes), the scalar loop for the rest
           const tile::simd::DisplayRow args{row, d, w, far, {clear[0], clear[1], clear[2], clear[3]}, scale, op, srgb_table, red, dst};
@@ -172,7 +173,7 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
           const float* p = row + 4 * x;
           std::uint8_t* out = dst + 4 * static_cast<std::size_t>(x);
           std::array<float, 3> t;
-          if (d[x] == far && p[0] == clear[0] && p[1] == clear[1] && p[2] == clear[2] && p[3] == clear[3]) {  // background
+          if (background(p, d[x])) {
             t = {clamp01(p[0]), clamp01(p[1]), clamp01(p[2])};
           } else {
             t = tone_map(op, {p[0] * scale, p[1] * scale, p[2] * scale});
@@ -185,7 +186,7 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
       for (int x = 0; x < w; ++x) {
         const float* p = row + 4 * x;
         float out[4];
-        if (background(p, x, y)) {
+        if (background(p, d[x])) {
           for (int c = 0; c < 4; ++c) out[c] = hdr_out ? p[c] : clamp01(p[c]);
         } else if (hdr_out) {
           for (int c = 0; c < 3; ++c) out[c] = p[c] * scale > 0.0f ? p[c] * scale : 0.0f;

@@ -31,7 +31,7 @@ void raster_tile(const TileJob& job, const TileView& tile, TileCounters& counter
 void resolve_tile(const TileView& tile, int x0, int y0, int x1, int y1, const ImageView& color,
                   const DepthView* depth) {
   // The common 8-bit case 16 pixels at a time; the others on rows of 8 (the avx2 half).
-  if (Resolve<xsimd::avx512bw>::fast_resolve(tile, x0, x1, color, depth)) {
+  if (Resolve<xsimd::avx512bw>::fast_resolve(x0, x1, color, depth)) {
     Resolve<xsimd::avx512bw>::resolve_fast(tile, x0, y0, x1, y1, color);
     return;
   }

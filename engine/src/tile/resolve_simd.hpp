@@ -69,7 +69,7 @@ struct Resolve {
   // tile (fast_resolve). The same conversion as resolve() with nothing decided per pixel: one row
   // of the image at a time, a block's row of 8 pixels per step (avx512: two blocks' rows, 16
   // horizontally adjacent pixels, when both blocks were touched), the planes read at a fixed step.
-  static bool fast_resolve(const TileView&, int x0, int x1, const ImageView& color, const DepthView* depth) {
+  static bool fast_resolve(int x0, int x1, const ImageView& color, const DepthView* depth) {
     return !depth && color.format != PixelFormat::rgba32f && (x1 - x0) % kBlock == 0;
   }
   static std::uint32_t clear_word(const TileView& tv, int red_shift, int blue_shift) {
@@ -146,7 +146,7 @@ struct Resolve {
     const std::uint8_t clear_bytes[4] = {static_cast<std::uint8_t>(clear_word), static_cast<std::uint8_t>(clear_word >> 8),
                                          static_cast<std::uint8_t>(clear_word >> 16),
                                          static_cast<std::uint8_t>(clear_word >> 24)};
-    if (fast_resolve(tv, x0, x1, color, depth)) {
+    if (fast_resolve(x0, x1, color, depth)) {
       resolve_fast(tv, x0, y0, x1, y1, color);
       return;
     }
