@@ -15,12 +15,10 @@
 namespace facet {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // Howell C-11: two parallel, directly opposed rectangles a x b at distance c.
 double parallel_rectangles(double a, double b, double c) {
   const double x = a / c, y = b / c, x2 = x * x, y2 = y * y;
-  return 2.0 / (kPi * x * y) *
+  return 2.0 / (std::numbers::pi * x * y) *
          (std::log(std::sqrt((1 + x2) * (1 + y2) / (1 + x2 + y2))) + x * std::sqrt(1 + y2) * std::atan(x / std::sqrt(1 + y2)) +
           y * std::sqrt(1 + x2) * std::atan(y / std::sqrt(1 + x2)) - x * std::atan(x) - y * std::atan(y));
 }
@@ -31,7 +29,7 @@ double perpendicular_rectangles(double w, double h, double l) {
   const double W = w / l, H = h / l, W2 = W * W, H2 = H * H, S = W2 + H2;
   const double log_term = std::log((1 + W2) * (1 + H2) / (1 + S)) + W2 * std::log(W2 * (1 + S) / ((1 + W2) * S)) +
                           H2 * std::log(H2 * (1 + S) / ((1 + H2) * S));
-  return 1.0 / (kPi * W) * (W * std::atan(1 / W) + H * std::atan(1 / H) - std::sqrt(S) * std::atan(1 / std::sqrt(S)) + 0.25 * log_term);
+  return 1.0 / (std::numbers::pi * W) * (W * std::atan(1 / W) + H * std::atan(1 / H) - std::sqrt(S) * std::atan(1 / std::sqrt(S)) + 0.25 * log_term);
 }
 
 // A rectangle from corner `o` spanned by `u` and `v` (facing u x v), split into n x n quads.
@@ -415,7 +413,7 @@ TEST(Bake, DiscAndRectangleLightsMatchTheirClosedForms) {
   auto corner = [](double a, double b, double c) {  // a point below a corner of an a x b rectangle at c
     const double A = a / c, B = b / c;
     return (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) + B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B))) /
-           (2 * kPi);
+           (2 * std::numbers::pi);
   };
   std::vector<Case> cases;
   auto disc = [](double radius, double height, double d) {  // parallel disc, its axis d away (Howell B-12)

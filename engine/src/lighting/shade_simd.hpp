@@ -26,6 +26,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "fastmath/pow_simd.hpp"
+#include "lighting/aos_simd.hpp"
 #include "lighting/simd_types.hpp"
 
 namespace facet::lighting::simd {
@@ -193,9 +194,38 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
       return pow_spec(x, spec);
     }
   };
+  // Triples (Streams::p3): whole batches straight from the caller's arrays, the last one through
+  // a buffer padded with zeros (finite, no normal: what the streams' padding holds).
+  const bool triples = s.p3 != nullptr;
+  auto read3 = [&](const float* src, std::size_t i) {
+    V<B> v;
+    if (i + lanes <= s.count) {
+      load_xyz(src + 3 * i, v.x, v.y, v.z);
+    } else {
+      alignas(64) float buf[3 * lanes] = {};
+      for (std::size_t k = 0; k < 3 * (s.count - i); ++k) buf[k] = src[3 * i + k];
+      load_xyz(buf, v.x, v.y, v.z);
+    }
+    return v;
+  };
+  auto write3 = [&](float* dst, std::size_t i, const B& x, const B& y, const B& z) {
+    if (i + lanes <= s.count) {
+      store_xyz(x, y, z, dst + 3 * i);
+    } else {
+      alignas(64) float buf[3 * lanes];
+      store_xyz(x, y, z, buf);
+      for (std::size_t k = 0; k < 3 * (s.count - i); ++k) dst[3 * i + k] = buf[k];
+    }
+  };
   for (std::size_t i = 0; i < s.count; i += lanes) {
-    V<B> p{B::load_unaligned(s.px + i), B::load_unaligned(s.py + i), B::load_unaligned(s.pz + i)};
-    V<B> n{B::load_unaligned(s.nx + i), B::load_unaligned(s.ny + i), B::load_unaligned(s.nz + i)};
+    V<B> p, n;
+    if (triples) {
+      p = read3(s.p3, i);
+      n = read3(s.n3, i);
+    } else {
+      p = {B::load_unaligned(s.px + i), B::load_unaligned(s.py + i), B::load_unaligned(s.pz + i)};
+      n = {B::load_unaligned(s.nx + i), B::load_unaligned(s.ny + i), B::load_unaligned(s.nz + i)};
+    }
     if (xf) {
       const T* m = xf_position;
       const T* q = xf_normal;
@@ -378,21 +408,29 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
     if (split) {
       if (prm.color_material) {
         // Albedo streams are float; in double lanes they are widened (load_unaligned converts).
-        r = xsimd::fma(B::load_unaligned(s.ar + i), r, B(base[0]));
-        g = xsimd::fma(B::load_unaligned(s.ag + i), g, B(base[1]));
-        b = xsimd::fma(B::load_unaligned(s.ab + i), b, B(base[2]));
+        const V<B> albedo = triples ? read3(s.a3, i)
+                                    : V<B>{B::load_unaligned(s.ar + i), B::load_unaligned(s.ag + i), B::load_unaligned(s.ab + i)};
+        r = xsimd::fma(albedo.x, r, B(base[0]));
+        g = xsimd::fma(albedo.y, g, B(base[1]));
+        b = xsimd::fma(albedo.z, b, B(base[2]));
       }
-      if (prm.separate_specular) {
+      if (!prm.separate_specular) {
+        r += spr, g += spg, b += spb;
+      } else if (triples) {
+        write3(s.spec3, i, finish(prm, spr), finish(prm, spg), finish(prm, spb));
+      } else {
         finish(prm, spr).store_unaligned(s.sr + i);
         finish(prm, spg).store_unaligned(s.sg + i);
         finish(prm, spb).store_unaligned(s.sb + i);
-      } else {
-        r += spr, g += spg, b += spb;
       }
     }
-    finish(prm, r).store_unaligned(s.r + i);
-    finish(prm, g).store_unaligned(s.g + i);
-    finish(prm, b).store_unaligned(s.b + i);
+    if (triples) {
+      write3(s.rgb3, i, finish(prm, r), finish(prm, g), finish(prm, b));
+    } else {
+      finish(prm, r).store_unaligned(s.r + i);
+      finish(prm, g).store_unaligned(s.g + i);
+      finish(prm, b).store_unaligned(s.b + i);
+    }
   }
 }
 

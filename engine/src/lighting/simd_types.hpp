@@ -117,6 +117,14 @@ struct Streams {
   const float* ao = nullptr;  // per point ambient occlusion: read with Params::occlusion
   // Projectors (EyeLight::projector >= 0): stream 3 k + c is each point's channel c of slot k's filter.
   const float* const* projector = nullptr;
+  // Triples instead of the streams above (xyz, as a mesh holds them; any count, no padding):
+  // positions p3 and normals n3 read, colours rgb3 (and secondary spec3) written, albedo a3 read,
+  // for points [0, count). Never with visibility, ao or projector streams.
+  const float* p3 = nullptr;
+  const float* n3 = nullptr;
+  const float* a3 = nullptr;
+  float* rgb3 = nullptr;
+  float* spec3 = nullptr;
 };
 
 using ShadeFunction = void (*)(const Params&, const Transform*, const Streams&);
