@@ -1,7 +1,8 @@
 // The SIMD lighting kernel reading a mesh's xyz triples itself (positions, normals, vertex colours)
 // and writing its colours as triples, against the same kernel on its structure-of-arrays copies
 // (the path the frame's indexed vertices take): the same bytes on every ISA and tier, for every
-// tail length and start, both sides, with colour material and separate specular.
+// tail length and start, both sides, with colour material and separate specular. And the frame's
+// choice between them per chunk of vertices (frame::kLightWholeChunk).
 #include <cstring>
 #include <random>
 #include <string>
@@ -12,6 +13,8 @@
 #include "common/look_at.hpp"
 #include "facet/facet.hpp"
 #include "lighting/point_shader.hpp"
+#include "render_support.hpp"
+#include "test_support.hpp"
 
 namespace facet {
 namespace {
@@ -116,6 +119,71 @@ TEST(LightingTriples, KernelOnTriplesGivesTheBytesOfItsStreams) {
     }
   }
   EXPECT_GT(compared, 0);
+}
+
+// Three chunks of 1024 vertices (32 x 32 grids side by side, facing the camera): the first draws
+// the cells of its first 10 rows (320 vertices: lit through their list), the second those of its
+// first 20 rows (640, more than half: the whole chunk is lit in place), the third faces away
+// (culled, nothing lit). The counts say which way each chunk went; the picture is the one with
+// every vertex lit, on every path.
+TEST(LightingTriples, FrameLightsAMostlyDrawnChunkWholeAndTheRestThroughTheirList) {
+  Scene s;
+  Mesh grid;
+  const std::uint32_t side = 32;
+  for (std::uint32_t c = 0; c < 3; ++c) {
+    const std::uint32_t first = c * side * side;
+    for (std::uint32_t j = 0; j < side; ++j) {
+      for (std::uint32_t i = 0; i < side; ++i) {
+        grid.positions.emplace_back(-2.5f + 0.05f * static_cast<float>(i) + 1.7f * static_cast<float>(c),
+                                    -0.8f + 0.05f * static_cast<float>(j), -6.0f);
+        grid.normals.emplace_back(0.1f * static_cast<float>(c), 0.02f * static_cast<float>(j % 5), 1.0f);
+      }
+    }
+    const std::uint32_t rows = c == 0 ? 9 : c == 1 ? 19 : side - 1;  // cells: rows + 1 rows of vertices
+    for (std::uint32_t j = 0; j < rows; ++j) {
+      for (std::uint32_t i = 0; i + 1 < side; ++i) {
+        const std::uint32_t a = first + j * side + i, b = a + 1, d = a + side, e = d + 1;
+        if (c == 2) {  // facing away
+          grid.triangles.push_back({a, d, b});
+          grid.triangles.push_back({b, d, e});
+        } else {
+          grid.triangles.push_back({a, b, d});
+          grid.triangles.push_back({b, e, d});
+        }
+      }
+    }
+  }
+  s.meshes.push_back({"grids", grid});
+  Material m;
+  m.diffuse = {0.7f, 0.5f, 0.3f};
+  m.specular = {0.4f, 0.4f, 0.4f};
+  m.shininess = 20.0f;
+  s.materials.push_back(m);
+  s.objects.push_back({0, 0, Mat4::Identity()});
+  Light point;
+  point.type = LightType::point;
+  point.position = Vec3(0.0f, 0.5f, -3.0f);
+  s.lights.push_back(point);
+  s.camera.eye = Vec3(0.0f, 0.0f, 0.0f);
+  s.camera.target = Vec3(0.0f, 0.0f, -1.0f);
+  for (const auto& [path, isa] : std::vector<std::pair<LightingPath, Isa>>{
+           {LightingPath::scalar, Isa::best}, {LightingPath::simd, Isa::sse2}, {LightingPath::simd, Isa::best}}) {
+    RenderOptions o = test::gl_options();
+    o.path = path;
+    o.isa = isa;
+    o.threads = 2;
+    test::Canvas listed(400, 300), every(400, 300);  // cells of 3 pixels: none is too small to draw
+    FrameStats a, b;
+    Renderer r;
+    ASSERT_TRUE(r.render(s, o, listed.view(), nullptr, &a).ok());
+    o.light_every_vertex = true;
+    ASSERT_TRUE(r.render(s, o, every.view(), nullptr, &b).ok());
+    EXPECT_TRUE(listed.pixels() == every.pixels()) << to_string(path) << " " << to_string(isa);
+    EXPECT_EQ(a.triangles_culled, 2u * 31u * 31u) << a.triangles_drawn << " " << a.triangles_small << " " << a.triangles_outside << " " << a.triangles_clipped;
+    EXPECT_EQ(a.vertices_lit, 320u + 1024u) << to_string(path);
+    EXPECT_EQ(a.vertices_skipped, 3u * 1024u - 1344u);
+    EXPECT_EQ(b.vertices_lit, 3u * 1024u);
+  }
 }
 
 }  // namespace

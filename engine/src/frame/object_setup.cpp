@@ -329,9 +329,11 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
       place_object(mesh, object, os, drawn.data(), slot);
       index = os.lit_index.data();
     }
-    for_chunks(v0, v1, kVertexChunk, slot, [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
+    // Chunks of exactly kVertexChunk vertices from v0 (a task takes whole chunks), so that which
+    // way each is lit, and so the counts, is the same for any thread count.
+    auto light_chunk = [&](std::size_t begin, std::size_t end, int chunk_slot) {
       lighting::SoaScratch& soa = worker(chunk_slot).soa;
-      std::size_t begin = r.begin(), end = r.end();
+      const std::uint32_t* chunk_index = index;
       if (index) {  // this chunk's drawn vertices, listed from its own offset
         std::uint32_t* list = os.lit_index.data() + begin;
         std::size_t count = 0;
@@ -339,22 +341,34 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
           list[count] = static_cast<std::uint32_t>(v);
           count += os.drawn[v];
         }
-        end = begin + count;
+        // Most of the chunk drawn: every vertex of it is lit where it lies, which costs less than
+        // copying the drawn ones out through the list and back (frame::kLightWholeChunk).
+        if (count * frame::kLightWholeChunk.denominator > (end - begin) * frame::kLightWholeChunk.numerator) {
+          chunk_index = nullptr;
+        } else {
+          end = begin + count;
+        }
       }
       listed.fetch_add(end - begin, std::memory_order_relaxed);
       if (relief) {
         for (std::size_t k = begin; k != end; ++k) {
-          const std::size_t v = index ? index[k] : k;
+          const std::size_t v = chunk_index ? chunk_index[k] : k;
           os.relief_normals[v] = frame::vertex_relief_normal(vr, mesh, v);
         }
       }
       shader.light_mesh(mesh, view, inst.model, false, begin, end, front.data(), soa,
-                        split ? os.front_spec.data() : nullptr, index, normals);
+                        split ? os.front_spec.data() : nullptr, chunk_index, normals);
       if (two_sided) {
         shader.light_mesh(mesh, view, inst.model, true, begin, end, back.data(), soa,
-                          split ? os.back_spec.data() : nullptr, index, normals);
+                          split ? os.back_spec.data() : nullptr, chunk_index, normals);
       }
-    });
+    };
+    for_chunks(0, (v1 - v0 + kVertexChunk - 1) / kVertexChunk, 1, slot,
+               [&](const tbb::blocked_range<std::size_t>& r, int chunk_slot) {
+                 for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                   light_chunk(v0 + c * kVertexChunk, std::min(v1, v0 + (c + 1) * kVertexChunk), chunk_slot);
+                 }
+               });
     const std::size_t lit_vertices = listed.load(std::memory_order_relaxed);
     counts.vertices_skipped += (v1 - v0 - lit_vertices) * (two_sided ? 2 : 1);
     count_pairs(lit_vertices * (two_sided ? 2 : 1));

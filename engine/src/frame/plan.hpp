@@ -26,6 +26,13 @@ namespace facet::frame {
 // of a bin entry (raster/place.hpp), and at most kMaxRanges ranges fit its other 16 bits.
 inline constexpr std::size_t kVertexChunk = 1024;
 inline constexpr std::size_t kTriangleRange = 2048;
+// A Gouraud chunk with more than this share of its vertices drawn is lit whole, in place (the
+// kernel reads the mesh's arrays itself); otherwise only its drawn vertices are, copied through
+// their list. A vertex's colour does not depend on which way it was lit: the same bytes.
+struct Share {
+  std::size_t numerator, denominator;
+};
+inline constexpr Share kLightWholeChunk{1, 2};
 inline constexpr std::size_t kMaxRanges = std::size_t{1} << (32 - raster::kRangeShift);
 // Objects at most this large are set up whole by one task, side by side with other such objects.
 inline constexpr std::size_t kSmallObjectVertices = 4096;
