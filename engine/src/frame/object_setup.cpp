@@ -334,18 +334,20 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
     auto light_chunk = [&](std::size_t begin, std::size_t end, int chunk_slot) {
       lighting::SoaScratch& soa = worker(chunk_slot).soa;
       const std::uint32_t* chunk_index = index;
-      if (index) {  // this chunk's drawn vertices, listed from its own offset
-        std::uint32_t* list = os.lit_index.data() + begin;
-        std::size_t count = 0;
-        for (std::size_t v = begin; v != end; ++v) {
-          list[count] = static_cast<std::uint32_t>(v);
-          count += os.drawn[v];
-        }
+      if (index) {
+        std::uint32_t drawn = 0;  // the flags are 0 or 1 (a sum the compiler vectorises)
+        for (std::size_t v = begin; v != end; ++v) drawn += os.drawn[v];
         // Most of the chunk drawn: every vertex of it is lit where it lies, which costs less than
         // copying the drawn ones out through the list and back (frame::kLightWholeChunk).
-        if (count * frame::kLightWholeChunk.denominator > (end - begin) * frame::kLightWholeChunk.numerator) {
+        if (drawn * frame::kLightWholeChunk.denominator > (end - begin) * frame::kLightWholeChunk.numerator) {
           chunk_index = nullptr;
-        } else {
+        } else {  // the drawn vertices, listed from the chunk's own offset
+          std::uint32_t* list = os.lit_index.data() + begin;
+          std::size_t count = 0;
+          for (std::size_t v = begin; v != end; ++v) {
+            list[count] = static_cast<std::uint32_t>(v);
+            count += os.drawn[v];
+          }
           end = begin + count;
         }
       }
