@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "facet/facet.hpp"
+#include "geometry/bounds.hpp"
+#include "lighting/point_shader.hpp"
 #include "lighting/setup.hpp"
 #include "lighting/soa.hpp"
 
@@ -161,6 +163,38 @@ TEST(LightingSoa, BoundsCentreIsAFloatPoint) {
       EXPECT_NEAR(c[k], 0.5 * (lo[k] + hi[k]), 1e-5 * (std::abs(lo[k]) + std::abs(hi[k])));
     }
   }
+}
+
+// Each ISA's box of xyz triples (light_instance's chunks) against the scalar finite_box: the same
+// floats for every length up to past two avx512 batches, and false (the scalar pass takes over)
+// when a NaN or an infinity is anywhere, batch or tail.
+TEST(LightingSoa, SimdBoxIsTheScalarBoxOrDeclines) {
+  int compared = 0;
+  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+    const SimdKernels* k = simd_kernels(isa);
+    if (!k) continue;
+    for (std::size_t n = 1; n <= 37; ++n) {
+      std::vector<Vec3> p = random_points(n, 10.0f, static_cast<std::uint32_t>(100 + n));
+      Eigen::Vector3d lo, hi;
+      ASSERT_TRUE(geometry::finite_box(p.data(), n, lo, hi));
+      float flo[3], fhi[3];
+      ASSERT_TRUE(k->box(p.data()->data(), n, flo, fhi)) << to_string(isa) << " " << n;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(double(flo[c]), lo[c]) << to_string(isa) << " " << n << " " << c;
+        EXPECT_EQ(double(fhi[c]), hi[c]) << to_string(isa) << " " << n << " " << c;
+      }
+      for (float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                        -std::numeric_limits<float>::infinity()}) {
+        for (std::size_t at : {std::size_t{0}, n / 2, n - 1}) {
+          std::vector<Vec3> q = p;
+          q[at][static_cast<int>(at % 3)] = bad;
+          EXPECT_FALSE(k->box(q.data()->data(), n, flo, fhi)) << to_string(isa) << " " << n << " at " << at;
+        }
+      }
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 37);
 }
 
 }  // namespace

@@ -137,6 +137,8 @@ Status Lighter::light_instance(const Scene& scene, std::size_t instance, const L
       return s;
     }
     const bool per_part = shader.culls_per_part();
+    const lighting::SimdKernels* kernels = options.path == LightingPath::simd ? lighting::simd_kernels(options.isa) : nullptr;
+    const lighting::simd::BoxFunction box = kernels ? kernels->box : nullptr;
     out.front.resize(n);
     const bool two_sided = scene.two_sided || inst.double_sided;
     if (two_sided) {
@@ -149,7 +151,7 @@ Status Lighter::light_instance(const Scene& scene, std::size_t instance, const L
     auto light_chunk = [&](std::size_t begin, std::size_t end, Impl::Part& part) {
       const lighting::PointShader* chunk = &shader;
       if (per_part) {
-        part.shader.cull_from(shader, lighting::eye_box_sphere(mesh.positions.data() + begin, end - begin, view, inst.model));
+        part.shader.cull_from(shader, lighting::eye_box_sphere(mesh.positions.data() + begin, end - begin, view, inst.model, box));
         chunk = &part.shader;
       }
       chunk->light_mesh(mesh, view, inst.model, false, begin, end, out.front.data(), part.scratch);

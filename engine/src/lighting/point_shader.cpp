@@ -19,9 +19,9 @@ void SoaScratch::reserve_padded(std::size_t count) {
 }
 
 const SimdKernels* simd_kernels(Isa isa) noexcept {
-  static constexpr SimdKernels kSse2{&simd::sse2::shade, &simd::sse2::pow_array};
-  static constexpr SimdKernels kAvx2{&simd::avx2::shade, &simd::avx2::pow_array};
-  static constexpr SimdKernels kAvx512{&simd::avx512::shade, &simd::avx512::pow_array};
+  static constexpr SimdKernels kSse2{&simd::sse2::shade, &simd::sse2::pow_array, &simd::sse2::box};
+  static constexpr SimdKernels kAvx2{&simd::avx2::shade, &simd::avx2::pow_array, &simd::avx2::box};
+  static constexpr SimdKernels kAvx512{&simd::avx512::shade, &simd::avx512::pow_array, &simd::avx512::box};
   if (isa == Isa::best) isa = best_isa();
   if (!isa_supported(isa)) return nullptr;
   switch (isa) {

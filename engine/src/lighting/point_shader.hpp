@@ -124,6 +124,7 @@ class PointShader {
 struct SimdKernels {
   simd::ShadeFunction shade;
   simd::PowFunction pow;
+  simd::BoxFunction box;
 };
 // The kernels of an ISA (Isa::best resolved), or null if this CPU lacks it.
 const SimdKernels* simd_kernels(Isa isa) noexcept;

@@ -101,10 +101,17 @@ EyeSphere eye_bounding_sphere(const Vec3* p, std::size_t n, const Eigen::Matrix4
   return sphere_from_bounds(centre, farthest, view, model);
 }
 // A looser sphere in one pass, for a part of an object (light_instance's chunks): centred on the
-// box of its finite points, with the box's half diagonal for radius.
-inline EyeSphere eye_box_sphere(const Vec3* p, std::size_t n, const Eigen::Matrix4d& view, const Mat4& model) {
+// box of its finite points, with the box's half diagonal for radius. With `box` (an ISA's
+// SimdKernels::box) the box of finite data is found in SIMD; the same box either way.
+inline EyeSphere eye_box_sphere(const Vec3* p, std::size_t n, const Eigen::Matrix4d& view, const Mat4& model,
+                                simd::BoxFunction box = nullptr) {
   Eigen::Vector3d lo, hi;
-  if (!geometry::finite_box(p, n, lo, hi)) return {Eigen::Vector3d::Zero(), 0.0};  // no finite vertex
+  float flo[3], fhi[3];
+  if (box && n > 0 && box(p->data(), n, flo, fhi)) {
+    lo = Eigen::Vector3d(flo[0], flo[1], flo[2]), hi = Eigen::Vector3d(fhi[0], fhi[1], fhi[2]);
+  } else if (!geometry::finite_box(p, n, lo, hi)) {
+    return {Eigen::Vector3d::Zero(), 0.0};  // no finite vertex
+  }
   return sphere_from_bounds(0.5 * (lo + hi), 0.25 * (hi - lo).squaredNorm(), view, model);
 }
 

@@ -472,6 +472,47 @@ void shade_streams(const Params& prm, const Transform* xf, const Streams& s) {
   }
 }
 
+// The box of n xyz triples (Kernels' box): true with lo and hi exact when every coordinate is
+// finite; false as soon as the data hold a NaN or an infinity (the caller's scalar pass then
+// leaves those points out).
+template <class Arch>
+bool box_triples(const float* p, std::size_t n, float lo[3], float hi[3]) {
+  // Three registers hold `lanes` triples as they lie (float e of the block is coordinate e % 3):
+  // a minimum and a maximum per register, with no transpose; the coordinates are sorted out once.
+  using B = xsimd::batch<float, Arch>;
+  constexpr std::size_t lanes = B::size;
+  B l[3] = {B(FLT_MAX), B(FLT_MAX), B(FLT_MAX)}, h[3] = {B(-FLT_MAX), B(-FLT_MAX), B(-FLT_MAX)};
+  auto finite = xsimd::batch_bool<float, Arch>(true);
+  std::size_t i = 0;
+  for (; i + lanes <= n; i += lanes) {
+    for (std::size_t r = 0; r < 3; ++r) {
+      const B v = B::load_unaligned(p + 3 * i + r * lanes);
+      finite = finite & (xsimd::abs(v) <= B(FLT_MAX));  // false for NaN and both infinities
+      l[r] = xsimd::min(l[r], v), h[r] = xsimd::max(h[r], v);
+    }
+  }
+  if (!xsimd::all(finite)) return false;
+  for (int k = 0; k < 3; ++k) lo[k] = FLT_MAX, hi[k] = -FLT_MAX;
+  for (std::size_t r = 0; r < 3; ++r) {
+    alignas(64) float vl[lanes], vh[lanes];
+    l[r].store_aligned(vl), h[r].store_aligned(vh);
+    for (std::size_t e = 0; e < lanes; ++e) {
+      const std::size_t k = (r * lanes + e) % 3;
+      lo[k] = vl[e] < lo[k] ? vl[e] : lo[k];
+      hi[k] = vh[e] > hi[k] ? vh[e] : hi[k];
+    }
+  }
+  for (; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const float v = p[3 * i + k];
+      if (!(v >= -FLT_MAX && v <= FLT_MAX)) return false;
+      lo[k] = v < lo[k] ? v : lo[k];
+      hi[k] = v > hi[k] ? v : hi[k];
+    }
+  }
+  return true;
+}
+
 template <class Arch>
 void pow_streams(const PowSpec& spec, const float* x, float* out, std::size_t count) {
   using B = xsimd::batch<float, Arch>;

@@ -12,4 +12,5 @@ void shade(const Params& params, const Transform* xf, const Streams& streams) {
 void pow_array(const PowSpec& spec, const float* x, float* out, std::size_t count) {
   pow_streams<xsimd::sse2>(spec, x, out, count);
 }
+bool box(const float* p, std::size_t n, float lo[3], float hi[3]) { return box_triples<xsimd::sse2>(p, n, lo, hi); }
 }  // namespace facet::lighting::simd::sse2

@@ -133,18 +133,24 @@ using ShadeFunction = void (*)(const Params&, const Transform*, const Streams&);
 // to check each tier on each ISA.
 using PowFunction = void (*)(const PowSpec&, const float* x, float* out, std::size_t count);
 
+// The box of n xyz triples, exact, when every coordinate is finite (else false: see box_triples).
+using BoxFunction = bool (*)(const float* p, std::size_t n, float lo[3], float hi[3]);
+
 // One per ISA file; each is compiled with that ISA's flags.
 namespace sse2 {
 void shade(const Params&, const Transform*, const Streams&);
 void pow_array(const PowSpec&, const float*, float*, std::size_t);
+bool box(const float* p, std::size_t n, float lo[3], float hi[3]);
 }  // namespace sse2
 namespace avx2 {
 void shade(const Params&, const Transform*, const Streams&);
 void pow_array(const PowSpec&, const float*, float*, std::size_t);
+bool box(const float* p, std::size_t n, float lo[3], float hi[3]);
 }  // namespace avx2
 namespace avx512 {
 void shade(const Params&, const Transform*, const Streams&);
 void pow_array(const PowSpec&, const float*, float*, std::size_t);
+bool box(const float* p, std::size_t n, float lo[3], float hi[3]);
 }  // namespace avx512
 
 }  // namespace facet::lighting::simd
