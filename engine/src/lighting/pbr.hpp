@@ -1,0 +1,102 @@
+// Internal: the glTF 2.0 metallic-roughness BRDF (the specification's Appendix B, with
+// KHR_materials_ior and KHR_materials_specular), the reference the per-vertex and per-pixel
+// kernels are measured against. Templates on the scalar type: T = double is the reference.
+//
+//   f = mix(dielectric, metal, metallic)
+//   dielectric = (1 - F_d) c / pi + F_d D V        F_d = Schlick(f0_d w, w, v.h)
+//   metal      = F_m D V                            F_m = Schlick(c, 1, v.h)
+//   f0_d = min(((ior - 1) / (ior + 1))^2 specular_colour, 1),  w = specular (weight)
+//   D = a^2 / (pi ((n.h)^2 (a^2 - 1) + 1)^2)        Trowbridge-Reitz (GGX), a = roughness^2
+//   V = 0.5 / (n.l sqrt((n.v)^2 (1 - a^2) + a^2) + n.v sqrt((n.l)^2 (1 - a^2) + a^2))
+//                                                   height-correlated Smith, G / (4 n.l n.v)
+// c is the base colour. Directions are unit vectors from the point: n the normal, l towards the
+// light, v towards the eye. Light arriving from below the surface (n.l <= 0) or seen from below
+// (n.v <= 0) contributes nothing.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "lighting/shade.hpp"
+
+namespace facet::lighting::pbr {
+
+// The smallest perceptual roughness the BRDF uses: at 0 the GGX lobe is a delta, which a point
+// light never meets (0 / 0 at n.h = 1). A choice, not the specification's.
+template <class T>
+inline constexpr T kMinRoughness = T(0.045);
+
+template <class T>
+struct Material {
+  V3<T> base_color{T(1), T(1), T(1)};
+  T metallic = T(1), roughness = T(1);
+  T ior = T(1.5);
+  T specular = T(1);                            // KHR_materials_specular: specularFactor
+  V3<T> specular_color{T(1), T(1), T(1)};       // KHR_materials_specular: specularColorFactor
+};
+
+template <class T>
+T alpha_of(T roughness) {
+  const T r = std::clamp(roughness, kMinRoughness<T>, T(1));
+  return r * r;
+}
+
+template <class T>
+T ggx_d(T n_dot_h, T alpha) {
+  const T a2 = alpha * alpha;
+  const T k = n_dot_h * n_dot_h * (a2 - T(1)) + T(1);
+  return a2 / (std::numbers::pi_v<T> * k * k);
+}
+
+template <class T>
+T smith_v(T n_dot_l, T n_dot_v, T alpha) {
+  const T a2 = alpha * alpha;
+  const T gv = n_dot_l * std::sqrt(n_dot_v * n_dot_v * (T(1) - a2) + a2);
+  const T gl = n_dot_v * std::sqrt(n_dot_l * n_dot_l * (T(1) - a2) + a2);
+  const T sum = gv + gl;
+  return sum > T(0) ? T(0.5) / sum : T(0);
+}
+
+template <class T>
+T schlick(T f0, T f90, T v_dot_h) {
+  const T x = std::clamp(T(1) - v_dot_h, T(0), T(1));
+  const T x2 = x * x;
+  return f0 + (f90 - f0) * (x2 * x2 * x);
+}
+
+// The dielectric reflectance at normal incidence, per channel, before the specular weight.
+template <class T>
+V3<T> dielectric_f0(const Material<T>& m) {
+  const T r = (m.ior - T(1)) / (m.ior + T(1));
+  const T f0 = r * r;
+  return {std::min(f0 * m.specular_color.x, T(1)), std::min(f0 * m.specular_color.y, T(1)),
+          std::min(f0 * m.specular_color.z, T(1))};
+}
+
+// f(l, v) for unit n, l and v (per channel; no cosine).
+template <class T>
+V3<T> brdf(const Material<T>& m, V3<T> n, V3<T> l, V3<T> v) {
+  const T n_dot_l = dot(n, l), n_dot_v = dot(n, v);
+  if (!(n_dot_l > T(0) && n_dot_v > T(0))) return {T(0), T(0), T(0)};
+  const V3<T> h_sum = l + v;
+  const T h_len = std::sqrt(dot(h_sum, h_sum));
+  // l = -v cannot happen with both above the surface; h is the unit half vector.
+  const V3<T> h = (T(1) / h_len) * h_sum;
+  const T n_dot_h = std::clamp(dot(n, h), T(0), T(1)), v_dot_h = std::clamp(dot(v, h), T(0), T(1));
+  const T alpha = alpha_of(m.roughness);
+  const T dv = ggx_d(n_dot_h, alpha) * smith_v(n_dot_l, n_dot_v, alpha);
+  const V3<T> f0 = dielectric_f0(m);
+  const T w = m.specular, metal = std::clamp(m.metallic, T(0), T(1));
+  const T c[3] = {m.base_color.x, m.base_color.y, m.base_color.z}, f0d[3] = {f0.x, f0.y, f0.z};
+  T out[3];
+  for (int k = 0; k < 3; ++k) {
+    const T fd = schlick(f0d[k] * w, w, v_dot_h);
+    const T dielectric = (T(1) - fd) * c[k] / std::numbers::pi_v<T> + fd * dv;
+    const T metal_f = schlick(c[k], T(1), v_dot_h) * dv;
+    out[k] = dielectric + (metal_f - dielectric) * metal;
+  }
+  return {out[0], out[1], out[2]};
+}
+
+}  // namespace facet::lighting::pbr
