@@ -155,27 +155,31 @@ TEST(PbrBrdf, Reciprocity) {
   }
 }
 
+// The directional albedo of a material seen at view_theta: the integral of f (n.l) over the
+// light's hemisphere (red channel), by a 600 x 600 midpoint grid.
+double directional_albedo(const pbr::Material<double>& m, double view_theta) {
+  const V n{0, 0, 1}, v = polar(view_theta, 0.0);
+  const int nt = 600, np = 600;
+  double sum = 0.0;
+  for (int i = 0; i < nt; ++i) {
+    const double theta = (i + 0.5) / nt * kPiRef / 2.0;
+    for (int j = 0; j < np; ++j) {
+      const double phi = (j + 0.5) / np * 2.0 * kPiRef;
+      sum += pbr::brdf(m, n, polar(theta, phi), v).x * std::cos(theta) * std::sin(theta);
+    }
+  }
+  return sum * (kPiRef / 2.0 / nt) * (2.0 * kPiRef / np);
+}
+
 // A white metal's directional albedo, the integral of f (n.l) over the light's hemisphere: never
 // above 1 (a single-scattering microfacet model loses energy, more the rougher it is, which the
 // environment's multiple-scattering compensation is for), less at roughness 1 than at 0.3, and
 // at roughness 1 seen along the normal, 1 - ln 2.
 TEST(PbrBrdf, AWhiteMetalReflectsAtMostWhatArrives) {
-  const V n{0, 0, 1};
   pbr::Material<double> m;  // white, metallic, rough by default
   auto albedo = [&](double roughness, double view_theta) {
     m.roughness = roughness;
-    const V v = polar(view_theta, 0.0);
-    const int nt = 600, np = 600;
-    double sum = 0.0;
-    for (int i = 0; i < nt; ++i) {
-      const double theta = (i + 0.5) / nt * kPiRef / 2.0;
-      for (int j = 0; j < np; ++j) {
-        const double phi = (j + 0.5) / np * 2.0 * kPiRef;
-        const V l = polar(theta, phi);
-        sum += pbr::brdf(m, n, l, v).x * std::cos(theta) * std::sin(theta);
-      }
-    }
-    return sum * (kPiRef / 2.0 / nt) * (2.0 * kPiRef / np);
+    return directional_albedo(m, view_theta);
   };
   for (double theta : {0.0, 0.6, 1.2}) {
     const double smooth = albedo(0.3, theta), rough = albedo(1.0, theta);
@@ -185,6 +189,49 @@ TEST(PbrBrdf, AWhiteMetalReflectsAtMostWhatArrives) {
   // Roughness 1, eye along the normal, in closed form: D = 1 / pi, V = 1 / (2 (mu + 1)), F = 1,
   // so the albedo is 2 pi / pi * integral of mu / (2 (mu + 1)) over [0, 1] = 1 - ln 2.
   EXPECT_NEAR(albedo(1.0, 0.0), 1.0 - std::log(2.0), 1e-4);
+}
+
+// The split-sum terms found by importance sampling against the brute-force integral of the same
+// BRDF: a white metal (f0 = f90 = 1: scale + bias) and the default dielectric's specular layer
+// on a black base (0.04 scale + bias), at three roughnesses and three view angles.
+TEST(PbrEnvironment, DfgIsTheBruteForceIntegralOfTheBrdf) {
+  for (double roughness : {0.3, 0.6, 1.0}) {
+    for (double theta : {0.0, 0.6, 1.2}) {
+      const pbr::Dfg d = pbr::dfg(std::cos(theta), roughness, 4096);
+      pbr::Material<double> metal;
+      metal.roughness = roughness;
+      EXPECT_NEAR(d.scale + d.bias, directional_albedo(metal, theta), 2e-3) << roughness << " " << theta;
+      pbr::Material<double> dielectric;
+      dielectric.base_color = {0.0, 0.0, 0.0};
+      dielectric.metallic = 0.0;
+      dielectric.roughness = roughness;
+      EXPECT_NEAR(0.04 * d.scale + d.bias, directional_albedo(dielectric, theta), 2e-3) << roughness << " " << theta;
+    }
+  }
+  const pbr::Dfg rough = pbr::dfg(1.0, 1.0, 4096);
+  EXPECT_NEAR(rough.scale + rough.bias, 1.0 - std::log(2.0), 1e-3);
+}
+
+// The white furnace: albedo 1 returns 1 at every roughness, metal, dielectric and between, once
+// the multiple-scattering term gives back what the single-scattering lobe loses (which it does
+// lose: the white metal's single scattering alone is below 1 when rough).
+TEST(PbrEnvironment, WhiteFurnaceStaysWhite) {
+  for (double roughness : {0.0, 0.25, 0.5, 0.75, 1.0}) {
+    for (double n_dot_v : {1.0, 0.7, 0.3, 0.05}) {
+      const pbr::Dfg d = pbr::dfg(n_dot_v, roughness, 1024);
+      for (double metallic : {0.0, 0.5, 1.0}) {
+        pbr::Material<double> m;
+        m.metallic = metallic;
+        m.roughness = roughness;
+        const V out = pbr::furnace(m, d);
+        EXPECT_NEAR(out.x, 1.0, 1e-9) << roughness << " " << n_dot_v << " " << metallic;
+        EXPECT_NEAR(out.z, 1.0, 1e-9);
+      }
+      if (roughness == 1.0) {
+        EXPECT_LT(d.scale + d.bias, 0.9) << n_dot_v;
+      }
+    }
+  }
 }
 
 }  // namespace

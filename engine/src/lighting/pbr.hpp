@@ -99,4 +99,73 @@ V3<T> brdf(const Material<T>& m, V3<T> n, V3<T> l, V3<T> v) {
   return {out[0], out[1], out[2]};
 }
 
+// The split-sum environment terms (Karis 2013) in double: for a white furnace's specular part,
+// integral of f_spec (n.l) over the light's hemisphere = f0 scale + f90 bias, with Schlick's
+// Fresnel F = f0 + (f90 - f0) (1 - v.h)^5. Found by importance-sampling the GGX normals (pdf of
+// l: D n.h / (4 v.h)) along a Hammersley sequence of `samples` points: deterministic.
+struct Dfg {
+  double scale = 0.0, bias = 0.0;
+};
+
+inline double radical_inverse(unsigned i) {
+  unsigned b = i;
+  b = (b << 16u) | (b >> 16u);
+  b = ((b & 0x55555555u) << 1u) | ((b & 0xAAAAAAAAu) >> 1u);
+  b = ((b & 0x33333333u) << 2u) | ((b & 0xCCCCCCCCu) >> 2u);
+  b = ((b & 0x0F0F0F0Fu) << 4u) | ((b & 0xF0F0F0F0u) >> 4u);
+  b = ((b & 0x00FF00FFu) << 8u) | ((b & 0xFF00FF00u) >> 8u);
+  return double(b) * (1.0 / 4294967296.0);
+}
+
+inline Dfg dfg(double n_dot_v, double roughness, unsigned samples) {
+  const double a = alpha_of(roughness);
+  const V3<double> v{std::sqrt(std::max(0.0, 1.0 - n_dot_v * n_dot_v)), 0.0, n_dot_v};  // n = +z
+  Dfg out;
+  for (unsigned i = 0; i < samples; ++i) {
+    const double u1 = (i + 0.5) / samples, u2 = radical_inverse(i);
+    // GGX normal: cos^2 theta_h = (1 - u1) / (1 + (a^2 - 1) u1).
+    const double cos_h = std::sqrt((1.0 - u1) / (1.0 + (a * a - 1.0) * u1));
+    const double sin_h = std::sqrt(std::max(0.0, 1.0 - cos_h * cos_h)), phi = 2.0 * std::numbers::pi * u2;
+    const V3<double> h{sin_h * std::cos(phi), sin_h * std::sin(phi), cos_h};
+    const double v_dot_h = dot(v, h);
+    const V3<double> l = (2.0 * v_dot_h) * h - v;
+    const double n_dot_l = l.z;
+    if (n_dot_l <= 0.0 || v_dot_h <= 0.0) continue;
+    // f_spec (n.l) / pdf(l) without F: V (n.l) 4 (v.h) / (n.h).
+    const double weight = smith_v(n_dot_l, n_dot_v, a) * n_dot_l * 4.0 * v_dot_h / cos_h;
+    const double x = 1.0 - v_dot_h, fc = x * x * x * x * x;
+    out.scale += (1.0 - fc) * weight;
+    out.bias += fc * weight;
+  }
+  out.scale /= samples, out.bias /= samples;
+  return out;
+}
+
+// The light a furnace of uniform radiance 1 returns from a point seen at the n.v `d` was found
+// for, per channel: single-scattering
+// specular (f0 scale + f90 bias) with Fdez-Aguera's (2019) multiple-scattering term, plus the
+// diffuse part on what the specular layer leaves. With albedo 1 (white base, any metallic) it is
+// 1: the energy the single-scattering lobe loses comes back as multiple scattering.
+inline V3<double> furnace(const Material<double>& m, const Dfg& d) {
+  const V3<double> f0d = dielectric_f0(m);
+  const double w = m.specular, metal = std::clamp(m.metallic, 0.0, 1.0);
+  const double c[3] = {m.base_color.x, m.base_color.y, m.base_color.z}, fd[3] = {f0d.x, f0d.y, f0d.z};
+  double out[3];
+  for (int k = 0; k < 3; ++k) {
+    // The dielectric and the metal layer, each compensated, mixed by metallic as the BRDF is.
+    auto layer = [&](double f0, double f90, double diffuse) {
+      const double ess = d.scale + d.bias;  // directional albedo with F = 1
+      const double fss_ess = f0 * d.scale + f90 * d.bias;
+      const double f_avg = f0 + (f90 - f0) / 21.0;
+      const double ems = 1.0 - ess;
+      const double fms = fss_ess * f_avg / (1.0 - ems * f_avg);
+      return fss_ess + fms * ems + diffuse * (1.0 - fss_ess - fms * ems);
+    };
+    const double dielectric = layer(fd[k] * w, w, c[k]);
+    const double metal_part = layer(c[k], 1.0, 0.0);
+    out[k] = dielectric + (metal_part - dielectric) * metal;
+  }
+  return {out[0], out[1], out[2]};
+}
+
 }  // namespace facet::lighting::pbr
