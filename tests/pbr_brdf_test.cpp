@@ -234,5 +234,21 @@ TEST(PbrEnvironment, WhiteFurnaceStaysWhite) {
   }
 }
 
+// The multiple-scattering term's average Fresnel against the hemispherical cosine-weighted
+// average of Schlick's curve, integrated numerically.
+TEST(PbrEnvironment, AverageFresnelIsTheCosineWeightedMean) {
+  for (double f0 : {0.0, 0.04, 0.5, 0.9}) {
+    for (double f90 : {1.0, 0.5}) {
+      const int n = 100000;
+      double sum = 0.0;
+      for (int i = 0; i < n; ++i) {
+        const double mu = (i + 0.5) / n;
+        sum += 2.0 * pbr::schlick(f0, f90, mu) * mu / n;
+      }
+      EXPECT_NEAR(pbr::average_fresnel(f0, f90), sum, 1e-8) << f0 << " " << f90;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace facet::lighting

@@ -141,6 +141,10 @@ inline Dfg dfg(double n_dot_v, double roughness, unsigned samples) {
   return out;
 }
 
+// Schlick's Fresnel averaged over the hemisphere with the cosine: 2 integral of F(mu) mu dmu
+// = f0 + (f90 - f0) / 21.
+inline double average_fresnel(double f0, double f90) { return f0 + (f90 - f0) / 21.0; }
+
 // The light a furnace of uniform radiance 1 returns from a point seen at the n.v `d` was found
 // for, per channel: single-scattering
 // specular (f0 scale + f90 bias) with Fdez-Aguera's (2019) multiple-scattering term, plus the
@@ -156,7 +160,7 @@ inline V3<double> furnace(const Material<double>& m, const Dfg& d) {
     auto layer = [&](double f0, double f90, double diffuse) {
       const double ess = d.scale + d.bias;  // directional albedo with F = 1
       const double fss_ess = f0 * d.scale + f90 * d.bias;
-      const double f_avg = f0 + (f90 - f0) / 21.0;
+      const double f_avg = average_fresnel(f0, f90);
       const double ems = 1.0 - ess;
       const double fms = fss_ess * f_avg / (1.0 - ems * f_avg);
       return fss_ess + fms * ems + diffuse * (1.0 - fss_ess - fms * ems);
