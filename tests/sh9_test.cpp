@@ -53,8 +53,8 @@ TEST(Sh9, BandLimitedEnvironmentsComeBackExactly) {
 
 // A sky lit from above (radiance max(0, d.y)): the exact irradiance by direct integration
 // against the order-2 estimate. The clamped cosine has harmonics above l = 2 (l = 4, 6, ...),
-// so the estimate is not exact; its error stays within 1.5 % of the largest irradiance (it
-// measures 0.78 %).
+// so the estimate is not exact; its error stays within 1.5 % of the largest irradiance (the test
+// prints what it measures).
 TEST(Sh9, ClampedSkyWithinTheTruncationError) {
   auto sky = [](const V& d) { const double s = d.y > 0.0 ? d.y : 0.0; return V{s, s, s}; };
   const sh9::Coefficients c = sh9::project(sky, 256, 512);

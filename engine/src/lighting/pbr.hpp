@@ -172,4 +172,32 @@ inline V3<double> furnace(const Material<double>& m, const Dfg& d) {
   return {out[0], out[1], out[2]};
 }
 
+// The split-sum's first factor: the environment's radiance around the reflected direction r,
+// GGX-weighted for `roughness` with the normal and the eye taken along r (Karis 2013: sum of
+// L(l) n.l over GGX-sampled l, divided by the sum of n.l), Hammersley-sampled, deterministic.
+// The image-based lighting's prefiltered cube map is this, tabulated.
+template <class Radiance>
+V3<double> prefiltered(const Radiance& radiance, const V3<double>& r, double roughness, unsigned samples) {
+  const double a = alpha_of(roughness);
+  // A frame around r: t and b perpendicular to it.
+  const V3<double> up = std::abs(r.z) < 0.999 ? V3<double>{0.0, 0.0, 1.0} : V3<double>{1.0, 0.0, 0.0};
+  V3<double> t{up.y * r.z - up.z * r.y, up.z * r.x - up.x * r.z, up.x * r.y - up.y * r.x};
+  t = (1.0 / std::sqrt(dot(t, t))) * t;
+  const V3<double> b{r.y * t.z - r.z * t.y, r.z * t.x - r.x * t.z, r.x * t.y - r.y * t.x};
+  V3<double> sum{0.0, 0.0, 0.0};
+  double weight = 0.0;
+  for (unsigned i = 0; i < samples; ++i) {
+    const double u1 = (i + 0.5) / samples, u2 = radical_inverse(i);
+    const double cos_h = std::sqrt((1.0 - u1) / (1.0 + (a * a - 1.0) * u1));
+    const double sin_h = std::sqrt(std::max(0.0, 1.0 - cos_h * cos_h)), phi = 2.0 * std::numbers::pi * u2;
+    const V3<double> h = (sin_h * std::cos(phi)) * t + (sin_h * std::sin(phi)) * b + cos_h * r;
+    const V3<double> l = (2.0 * dot(r, h)) * h - r;
+    const double n_dot_l = dot(r, l);
+    if (n_dot_l <= 0.0) continue;
+    sum = sum + n_dot_l * radiance(l);
+    weight += n_dot_l;
+  }
+  return (1.0 / weight) * sum;
+}
+
 }  // namespace facet::lighting::pbr
