@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "lighting/shade.hpp"
 
@@ -199,5 +200,46 @@ V3<double> prefiltered(const Radiance& radiance, const V3<double>& r, double rou
   }
   return (1.0 / weight) * sum;
 }
+
+// The analytic fit of the split-sum terms for Schlick's Fresnel with f90 = 1 (Karis, "Physically
+// Based Shading on Mobile", 2014; three.js evaluates the same fit), against which the tabulated
+// terms of dfg() are weighed: a choice for the kernels, with its error measured.
+inline Dfg dfg_fit(double n_dot_v, double roughness) {
+  const double c0[4] = {-1.0, -0.0275, -0.572, 0.022}, c1[4] = {1.0, 0.0425, 1.04, -0.04};
+  double r[4];
+  for (int k = 0; k < 4; ++k) r[k] = roughness * c0[k] + c1[k];
+  const double a004 = std::min(r[0] * r[0], std::exp2(-9.28 * std::clamp(n_dot_v, 0.0, 1.0))) * r[0] + r[1];
+  return {-1.04 * a004 + r[2], 1.04 * a004 + r[3]};
+}
+
+// dfg() tabulated on a size x size grid of cell centres over n.v and roughness in [0, 1], read
+// bilinearly (clamped to the outer centres): what the kernels will read instead of integrating.
+class DfgTable {
+ public:
+  DfgTable(int size, unsigned samples) : size_(size), cells_(static_cast<std::size_t>(size) * size) {
+    for (int j = 0; j < size; ++j) {
+      for (int i = 0; i < size; ++i) cells_[static_cast<std::size_t>(j) * size + i] = dfg((i + 0.5) / size, (j + 0.5) / size, samples);
+    }
+  }
+  Dfg at(double n_dot_v, double roughness) const {
+    auto coordinate = [&](double x, int& k, double& t) {
+      const double c = std::clamp(x * size_ - 0.5, 0.0, double(size_ - 1));
+      k = std::min(static_cast<int>(c), size_ - 2);
+      t = c - k;
+    };
+    int i, j;
+    double s, t;
+    coordinate(n_dot_v, i, s);
+    coordinate(roughness, j, t);
+    auto cell = [&](int a, int b) { return cells_[static_cast<std::size_t>(b) * size_ + a]; };
+    const Dfg c00 = cell(i, j), c10 = cell(i + 1, j), c01 = cell(i, j + 1), c11 = cell(i + 1, j + 1);
+    auto mix = [&](double a, double b, double c, double d) { return (a * (1 - s) + b * s) * (1 - t) + (c * (1 - s) + d * s) * t; };
+    return {mix(c00.scale, c10.scale, c01.scale, c11.scale), mix(c00.bias, c10.bias, c01.bias, c11.bias)};
+  }
+
+ private:
+  int size_;
+  std::vector<Dfg> cells_;
+};
 
 }  // namespace facet::lighting::pbr
