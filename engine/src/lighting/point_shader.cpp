@@ -240,6 +240,7 @@ void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd:
               Color3* secondary, SoaScratch& scratch, const std::uint32_t* index = nullptr,
               const float* visibility = nullptr, int slots = 0, const float* occlusion = nullptr,
               const float* filters = nullptr, int projector_slots = 0, float* filter_scratch = nullptr) {
+  if (count == 0) return;
   if (xf && !index && slots == 0 && !params.occlusion && projector_slots == 0) {
     // The kernel reads and writes the triples itself: no copies. The back side's negated normals
     // are the normal matrix negated (exact: -(q n) = (-q) n in every rounding the kernel does).
@@ -254,7 +255,7 @@ void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd:
     s.rgb3 = out->data();
     if (params.color_material) s.a3 = albedo->data();
     if (params.separate_specular) s.spec3 = secondary->data();
-    if (count > 0) shade(params, &signed_xf, s);
+    shade(params, &signed_xf, s);
     return;
   }
   scratch.reserve_padded(std::min(kSimdChunk, count));
