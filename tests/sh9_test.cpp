@@ -2,12 +2,16 @@
 // without harmonics above l = 2 come back exactly (uniform, linear, z squared), and a sky lit from
 // one side (the clamped cosine, not band-limited) within the truncation error the method is known
 // for, measured against direct integration.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 
 #include <gtest/gtest.h>
 
+#include <vector>
+
+#include "facet/texture.hpp"
 #include "lighting/sh9.hpp"
 
 namespace facet::lighting {
@@ -80,6 +84,42 @@ TEST(Sh9, ClampedSkyWithinTheTruncationError) {
   // The largest irradiance (normal straight up) is 2 pi / 3.
   EXPECT_LT(worst, 0.015 * (2.0 * kPiSh / 3.0));
   EXPECT_GT(worst, 1e-4);  // not band-limited: the estimate is not exact
+}
+
+// An equirectangular picture's texel directions are the inverse of facet's own mapping (the one
+// the cube conversion reads pictures with), and a picture's light lands where that convention
+// puts it: brighter above (1 + d.y) lights an upward normal by pi + 2 pi / 3; a bright patch at
+// the picture's centre lights a normal looking along -Z.
+TEST(Sh9, EquirectangularPicturesFollowFacetsConvention) {
+  const int w = 256, h = 128;
+  for (int r = 0; r < h; r += 7) {
+    for (int c = 0; c < w; c += 11) {
+      const V d = sh9::equirect_direction(c, r, w, h);
+      const double dd[3] = {d.x, d.y, d.z};
+      double u = 0.0, v = 0.0;
+      equirect_coordinates(dd, u, v);
+      EXPECT_NEAR(u, (c + 0.5) / w, 1e-12) << c << " " << r;
+      EXPECT_NEAR(v, 1.0 - (r + 0.5) / h, 1e-12) << c << " " << r;  // v = 1 is the top row
+    }
+  }
+  std::vector<float> sky(3 * w * h), patch(3 * w * h, 0.0f);
+  for (int r = 0; r < h; ++r) {
+    for (int c = 0; c < w; ++c) {
+      const V d = sh9::equirect_direction(c, r, w, h);
+      for (int k = 0; k < 3; ++k) sky[3 * (r * w + c) + k] = static_cast<float>(1.0 + d.y);
+      const bool centre = std::abs(c - w / 2) < 8 && std::abs(r - h / 2) < 8;
+      patch[3 * (r * w + c)] = centre ? 50.0f : 0.0f;
+    }
+  }
+  const sh9::Coefficients s = sh9::project_equirect(sky.data(), w, h);
+  EXPECT_NEAR(sh9::irradiance(s, V{0.0, 1.0, 0.0}).x, kPiSh + 2.0 * kPiSh / 3.0, 1e-3);
+  EXPECT_NEAR(sh9::irradiance(s, V{0.0, -1.0, 0.0}).x, kPiSh - 2.0 * kPiSh / 3.0, 1e-3);
+  EXPECT_NEAR(sh9::irradiance(s, V{1.0, 0.0, 0.0}).x, kPiSh, 1e-3);
+  const sh9::Coefficients p = sh9::project_equirect(patch.data(), w, h);
+  const double front = sh9::irradiance(p, V{0.0, 0.0, -1.0}).x, back = sh9::irradiance(p, V{0.0, 0.0, 1.0}).x;
+  const double right = sh9::irradiance(p, V{1.0, 0.0, 0.0}).x, up = sh9::irradiance(p, V{0.0, 1.0, 0.0}).x;
+  EXPECT_GT(front, 0.0);
+  EXPECT_GT(front, 4.0 * std::max({back, right, up}));
 }
 
 }  // namespace

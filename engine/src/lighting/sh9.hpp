@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <numbers>
 
 #include "lighting/shade.hpp"
@@ -73,6 +74,33 @@ inline V3<double> irradiance(const Coefficients& c, const V3<double>& n) {
     e.z += a[k] * c[k].z * y[k];
   }
   return e;
+}
+
+// The direction at the centre of texel (column c, row r) of a width x height equirectangular
+// picture stored top row first, in facet's convention (facet::equirect_coordinates: u = 1/2 +
+// atan2(d.x, -d.z) / 2 pi, v = 1/2 + asin(d.y) / pi, v = 1 the top row): the picture's centre
+// looks along -Z, its top row is +Y.
+inline V3<double> equirect_direction(int c, int r, int width, int height) {
+  const double pi = std::numbers::pi;
+  const double u = (c + 0.5) / width, v = 1.0 - (r + 0.5) / height;
+  const double elevation = (v - 0.5) * pi, azimuth = (u - 0.5) * 2.0 * pi;
+  return {std::cos(elevation) * std::sin(azimuth), std::sin(elevation), -std::cos(elevation) * std::cos(azimuth)};
+}
+
+// Projects a float RGB equirectangular picture (top row first, 3 floats a texel), each texel
+// weighed by the exact solid angle of its cell.
+inline Coefficients project_equirect(const float* rgb, int width, int height) {
+  Coefficients c{};
+  const double pi = std::numbers::pi;
+  for (int r = 0; r < height; ++r) {
+    const double top = pi / 2.0 - pi * r / height, bottom = pi / 2.0 - pi * (r + 1) / height;
+    const double cell = (std::sin(top) - std::sin(bottom)) * (2.0 * pi / width);
+    for (int col = 0; col < width; ++col) {
+      const float* t = rgb + 3 * (static_cast<std::size_t>(r) * width + col);
+      accumulate(c, equirect_direction(col, r, width, height), V3<double>{t[0], t[1], t[2]}, cell);
+    }
+  }
+  return c;
 }
 
 }  // namespace facet::lighting::sh9
