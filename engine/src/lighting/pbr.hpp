@@ -118,16 +118,23 @@ inline double radical_inverse(unsigned i) {
   return double(b) * (1.0 / 4294967296.0);
 }
 
+// Sample i of `samples` of GGX's normal distribution for alpha a, around +z: the half vector's
+// local coordinates (Hammersley point (i + 1/2) / samples, radical_inverse(i)).
+inline V3<double> ggx_sample(unsigned i, unsigned samples, double a) {
+  const double u1 = (i + 0.5) / samples, u2 = radical_inverse(i);
+  // cos^2 theta_h = (1 - u1) / (1 + (a^2 - 1) u1).
+  const double cos_h = std::sqrt((1.0 - u1) / (1.0 + (a * a - 1.0) * u1));
+  const double sin_h = std::sqrt(std::max(0.0, 1.0 - cos_h * cos_h)), phi = 2.0 * std::numbers::pi * u2;
+  return {sin_h * std::cos(phi), sin_h * std::sin(phi), cos_h};
+}
+
 inline Dfg dfg(double n_dot_v, double roughness, unsigned samples) {
   const double a = alpha_of(roughness);
   const V3<double> v{std::sqrt(std::max(0.0, 1.0 - n_dot_v * n_dot_v)), 0.0, n_dot_v};  // n = +z
   Dfg out;
   for (unsigned i = 0; i < samples; ++i) {
-    const double u1 = (i + 0.5) / samples, u2 = radical_inverse(i);
-    // GGX normal: cos^2 theta_h = (1 - u1) / (1 + (a^2 - 1) u1).
-    const double cos_h = std::sqrt((1.0 - u1) / (1.0 + (a * a - 1.0) * u1));
-    const double sin_h = std::sqrt(std::max(0.0, 1.0 - cos_h * cos_h)), phi = 2.0 * std::numbers::pi * u2;
-    const V3<double> h{sin_h * std::cos(phi), sin_h * std::sin(phi), cos_h};
+    const V3<double> h = ggx_sample(i, samples, a);
+    const double cos_h = h.z;
     const double v_dot_h = dot(v, h);
     const V3<double> l = (2.0 * v_dot_h) * h - v;
     const double n_dot_l = l.z;
@@ -188,10 +195,8 @@ V3<double> prefiltered(const Radiance& radiance, const V3<double>& r, double rou
   V3<double> sum{0.0, 0.0, 0.0};
   double weight = 0.0;
   for (unsigned i = 0; i < samples; ++i) {
-    const double u1 = (i + 0.5) / samples, u2 = radical_inverse(i);
-    const double cos_h = std::sqrt((1.0 - u1) / (1.0 + (a * a - 1.0) * u1));
-    const double sin_h = std::sqrt(std::max(0.0, 1.0 - cos_h * cos_h)), phi = 2.0 * std::numbers::pi * u2;
-    const V3<double> h = (sin_h * std::cos(phi)) * t + (sin_h * std::sin(phi)) * b + cos_h * r;
+    const V3<double> s = ggx_sample(i, samples, a);
+    const V3<double> h = s.x * t + s.y * b + s.z * r;
     const V3<double> l = (2.0 * dot(r, h)) * h - r;
     const double n_dot_l = dot(r, l);
     if (n_dot_l <= 0.0) continue;
