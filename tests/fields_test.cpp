@@ -238,6 +238,12 @@ TEST(FieldTable, TheCApiSetsAndReadsEveryField) {
     ASSERT_EQ(facet_scene_get_material_field(scene, 1, f.name, back.data(), back.size()), FACET_OK);
     for (std::size_t c = 0; c < v.size(); ++c) EXPECT_EQ(float(back[c]), float(v[c])) << f.name;
   }
+  // The loop made material 1 a pbr material, which GL's environment mapping refuses.
+  const double sphere[] = {1}, gl[] = {0};
+  EXPECT_EQ(facet_scene_set_material_field(scene, 1, "environment.mode", sphere, 1), FACET_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(facet_scene_last_error(scene)).find("materials[1].environment.mode: a pbr material"), std::string::npos)
+      << facet_scene_last_error(scene);
+  ASSERT_EQ(facet_scene_set_material_field(scene, 1, "model", gl, 1), FACET_OK);
   const double cube[] = {2};  // "cube" needs six faces: refused, nothing changed
   EXPECT_EQ(facet_scene_set_material_field(scene, 1, "environment.mode", cube, 1), FACET_INVALID_ARGUMENT);
   EXPECT_NE(std::string(facet_scene_last_error(scene)).find("materials[1].environment.maps[0]"), std::string::npos) << facet_scene_last_error(scene);

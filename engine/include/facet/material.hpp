@@ -91,8 +91,15 @@ struct Environment {
 const char* to_string(EnvironmentMode mode) noexcept;
 const char* to_string(EnvironmentBlend mode) noexcept;
 
+// The lighting model of a material: GL 2.1's fixed function (emissive, ambient, diffuse, specular,
+// shininess), or glTF 2.0's metallic-roughness BRDF (base_color, metallic, roughness, ior,
+// specular; docs/pbr.md), which is also lit by the scene's surroundings (Scene::environment_light).
+enum class MaterialModel : std::uint8_t { gl, pbr };
+const char* to_string(MaterialModel model) noexcept;
+
 struct Material {
   std::string name;
+  MaterialModel model = MaterialModel::gl;
   Color3 emissive{0.0f, 0.0f, 0.0f};
   Color3 ambient{0.2f, 0.2f, 0.2f};
   Color3 diffuse{0.8f, 0.8f, 0.8f};
@@ -100,6 +107,18 @@ struct Material {
   float shininess = 0.0f;  // specular exponent in [0, kMaxShininess]; 0^0 = 1 as in GL
   SpecularModel specular_model = SpecularModel::blinn;
   float alpha = 1.0f;      // [0, 1]: the fragment's alpha (blending, alpha test, the output's alpha)
+
+  // pbr: the metallic-roughness material (glTF's pbrMetallicRoughness, KHR_materials_ior and
+  // KHR_materials_specular). Its base colour texture is diffuse_texture (sRGB), its alpha `alpha`,
+  // its emission `emissive` (with emissive_texture), and normal_texture and occlusion_texture
+  // apply as they do to GL materials (occlusion darkening the surroundings' light). Vertex colours
+  // multiply the base colour. The GL colours, shininess and specular_model are not read.
+  Color3 base_color{1.0f, 1.0f, 1.0f};  // linear, [0, 1]
+  float metallic = 0.0f;                // [0, 1]
+  float roughness = 1.0f;               // perceptual roughness, [0, 1] (held at >= 0.045 when lit)
+  float ior = 1.5f;                     // [1, 10]: dielectric reflectance ((ior - 1) / (ior + 1))^2
+  float specular_weight = 1.0f;         // [0, 1]: KHR_materials_specular's specularFactor
+  Color3 specular_color{1.0f, 1.0f, 1.0f};  // [0, 1e6]: its specularColorFactor (reflectance capped at 1)
 
   // Surface (see docs/surfaces.md). A texture needs the mesh's uvs.
   std::int32_t diffuse_texture = kNoTexture;  // index into Scene::textures
@@ -152,7 +171,8 @@ struct Material {
 // Whether the renderer adds the material's emission after the texture environment (and leaves it
 // out of the lighting): where that differs from GL's rule, a texture, and only when there is emission.
 inline bool adds_emission_after_texture(const Material& m) noexcept {
-  const bool differs = m.emissive_texture != kNoTexture || (m.emission_after_texture && m.diffuse_texture != kNoTexture);
+  const bool after = m.emission_after_texture || m.model == MaterialModel::pbr;  // PBR: glTF's rule always
+  const bool differs = m.emissive_texture != kNoTexture || (after && m.diffuse_texture != kNoTexture);
   return differs && (m.emissive.array() != 0.0f).any();
 }
 

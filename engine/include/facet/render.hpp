@@ -155,6 +155,7 @@ struct FrameStats {
   // Shadows: building the casters' ray-cast hierarchy, and fitting and drawing the shadow maps
   // (their depth-only passes); the lookups are part of the lighting of pixels (seconds_raster).
   double seconds_shadows = 0;
+  double seconds_environment = 0;  // preparing PBR materials' surroundings (DFG table, harmonics, prefiltered cube)
   std::uint64_t shadow_casters = 0;     // triangles that can cast shadows (ray-cast shadows, shadow maps)
   std::uint64_t shadow_map_texels = 0;  // texels of the frame's shadow maps (every face)
   std::uint64_t shadow_map_pixels = 0;  // of which written by casters (depth test passed)

@@ -9,6 +9,7 @@
 
 #include "facet/camera.hpp"
 #include "facet/display.hpp"
+#include "facet/environment_light.hpp"
 #include "facet/light.hpp"
 #include "facet/material.hpp"
 #include "facet/mesh.hpp"
@@ -100,6 +101,9 @@ struct Scene {
   // Exposure and tone mapping (facet/display.hpp): GL's by default; models with lights in
   // physical units get automatic exposure and every model the neutral operator (docs/color.md).
   Display display;
+  // What PBR materials see around them (facet/environment_light.hpp): none by default; glTF
+  // models without lights of their own get the neutral studio.
+  EnvironmentLight environment_light;
   ViewerMode viewer = ViewerMode::local;
   bool two_sided = false;  // back faces are lit with the negated normal
   TransparentOrder transparent_order = TransparentOrder::submission;
@@ -131,6 +135,7 @@ Status validate_light(const Light& light, std::size_t index);
 Status validate_camera(const Camera& camera);
 Status validate_global_ambient(const Color3& ambient);
 Status validate_fog(const Fog& fog);
+Status validate_environment_light(const EnvironmentLight& environment);
 
 // The built-in scene: procedural shapes only (spheres of shininess 8, 64 and 512, a cube, a torus
 // and a ground plane with a procedural checkered texture; the shininess-512 sphere is alpha-blended

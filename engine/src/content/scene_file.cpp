@@ -43,7 +43,7 @@ class SceneReader : public scene_json::JsonFields {
 
   Status read(const json& root, Scene& scene) {
     FACET_TRY(expect_object(root, "", {"camera", "global_ambient", "viewer", "two_sided", "transparent_order",
-                                       "exposure", "tone_mapping", "textures", "materials", "meshes", "objects", "lights", "fog", "imports"}));
+                                       "exposure", "tone_mapping", "environment_image", "textures", "materials", "meshes", "objects", "lights", "fog", "imports"}));
     if (root.contains("camera")) FACET_TRY(read_camera(root["camera"], scene.camera));
     FACET_TRY(opt_color(root, "", "global_ambient", scene.global_ambient));
     if (root.contains("viewer")) {
@@ -73,6 +73,7 @@ class SceneReader : public scene_json::JsonFields {
       FACET_TRY(read_enum(root["tone_mapping"], "tone_mapping", {"none", "neutral", "aces"}, op));
       scene.display.tone_mapping = op == "neutral" ? ToneMapping::neutral : op == "aces" ? ToneMapping::aces : ToneMapping::none;
     }
+    if (root.contains("environment_image")) FACET_TRY(read_environment_image(root["environment_image"], scene.environment_light));
     auto add_texture = [&](const json& j, const std::string& p) {
       Texture t;
       FACET_TRY(read_texture(j, p, t));
@@ -152,6 +153,24 @@ class SceneReader : public scene_json::JsonFields {
       return {};
     }
     return opt_number(j, p, "far", c.far);
+  }
+
+  // "environment_image": {"source": "studio" | "none", "intensity": k, "rotation_deg": a} (what
+  // PBR materials see around them; facet/environment_light.hpp).
+  Status read_environment_image(const json& j, EnvironmentLight& e) {
+    const std::string p = "environment_image";
+    FACET_TRY(expect_object(j, p, {"source", "intensity", "rotation_deg"}));
+    if (!j.contains("source")) return invalid(child(p, "source"), "missing (\"studio\" or \"none\")");
+    std::string source;
+    FACET_TRY(read_enum(j["source"], child(p, "source"), {"studio", "none"}, source));
+    e.source = source == "studio" ? EnvironmentSource::studio : EnvironmentSource::none;
+    FACET_TRY(opt_number(j, p, "intensity", e.intensity));
+    if (!(e.intensity >= 0.0f && e.intensity <= 1e6f)) return mismatch(child(p, "intensity"), "a number in [0, 1e6]", j["intensity"]);
+    FACET_TRY(opt_number(j, p, "rotation_deg", e.rotation_deg));
+    if (!(e.rotation_deg >= -3600.0f && e.rotation_deg <= 3600.0f)) {
+      return mismatch(child(p, "rotation_deg"), "a number in [-3600, 3600]", j["rotation_deg"]);
+    }
+    return {};
   }
 
   // A material: each field of the field table (facet/fields.hpp) by its name, the environment by

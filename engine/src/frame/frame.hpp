@@ -22,6 +22,7 @@
 #include "frame/plan.hpp"
 #include "geometry/project.hpp"
 #include "io/srgb.hpp"
+#include "lighting/image_light.hpp"
 #include "lighting/point_shader.hpp"
 #include "raster/assemble.hpp"
 #include "raster/bins.hpp"
@@ -65,6 +66,11 @@ struct Renderer::Impl {
   frame::FrameTargets targets;
   frame::FramePlan plan;
   shadow::FrameShadows frame_shadows;
+  // PBR materials' DFG table and prepared surroundings: made when a scene first has a PBR
+  // material, rebuilt only when Scene::environment_light's picture changes.
+  std::unique_ptr<lighting::ImageLight> image_light;
+  const lighting::ImageLight* frame_image_light = nullptr;  // this frame's, or null (no PBR material)
+  Status prepare_image_light(const Scene& scene);
   Status frame_status;  // a failure inside the arena (the casters' build)
   // One per arena slot (tbb::this_task_arena::current_thread_index()), sized on the calling
   // thread before any parallel loop, so that no task ever allocates.

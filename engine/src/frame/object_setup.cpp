@@ -222,7 +222,8 @@ void Renderer::Impl::prepare_object(const Scene& scene, const Instance& inst, co
     });
   }
   // Options were checked in render(), so preparing cannot fail here.
-  const lighting::LightingFeatures& lf = draws.features[object];
+  lighting::LightingFeatures lf = draws.features[object];
+  lf.image_light = frame_image_light;
   Material material = scene.materials[unit.material];
   // Emission left out of the lighting: in the parts of a composite frame, or added by the pixel program.
   // (A lightmapped draw has the emission stage for its baked light; its material's emission stays

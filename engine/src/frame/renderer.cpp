@@ -97,6 +97,19 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
   }
 }
 
+Status Renderer::Impl::prepare_image_light(const Scene& scene) {
+  if (!image_light) image_light = std::make_unique<lighting::ImageLight>();
+  if (image_light->built_from(scene.environment_light)) return {};
+  return image_light->build(
+      scene.environment_light,
+      [&](std::size_t count, const std::function<void(std::size_t)>& fn) {
+        arena->parallel_for(tbb::blocked_range<std::size_t>(0, count, 1), [&](const tbb::blocked_range<std::size_t>& r, int) {
+          for (std::size_t i = r.begin(); i < r.end(); ++i) fn(i);
+        });
+      },
+      [&] { return cancelled.load(std::memory_order_relaxed); });
+}
+
 void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, const ImageView& color,
                             const DepthView* depth, const FrameKind& frame_kind) {
   const auto frame_start = Clock::now();
@@ -122,6 +135,14 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   light_every_vertex = options.light_every_vertex;
   vertex_relief = options.vertex_relief;
   frame::make_samplers(scene, samplers);
+  frame_image_light = nullptr;
+  if (std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.model == MaterialModel::pbr; })) {
+    const auto start = Clock::now();
+    frame_status = prepare_image_light(scene);
+    stats.seconds_environment += seconds_since(start);
+    if (!frame_status.ok()) return;
+    frame_image_light = image_light.get();
+  }
   simd_raster = options.path == LightingPath::simd;
   simd_kernels = simd_raster ? tile::simd_raster_kernels(options.isa) : nullptr;
   frame::plan_frame(scene, options, kind, color, depth, simd_kernels, targets, plan);

@@ -77,6 +77,15 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
                             const LightingOptions& options, const EyeSphere* bounds, LightingFeatures features,
                             const shadow::FrameShadows* shadows) {
   path_ = options.path;
+  if (options.path == LightingPath::simd && !simd_kernels(options.isa)) {
+    return {ErrorCode::unsupported, "isa",
+            std::string("isa: this CPU has no ") + to_string(options.isa) + " (best available: " + to_string(best_isa()) + ")"};
+  }
+  // PBR materials have no SIMD kernel yet: the SIMD path lights them with the scalar float kernel.
+  if (material.model == MaterialModel::pbr && path_ == LightingPath::simd) path_ = LightingPath::scalar;
+  if (material.model == MaterialModel::pbr && !features.image_light) {
+    return {ErrorCode::invalid_argument, "image_light", "image_light: a PBR material needs the prepared DFG table"};
+  }
   features_ = features;
   cull_ = options.cull_lights;
   // The frame plan decides once, in double, for every path, so all paths light the same lights.

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <span>
 
+#include "lighting/pbr.hpp"
 #include "lighting/soa.hpp"
 
 namespace facet::lighting {
@@ -24,6 +25,52 @@ double cos_deg(double deg) {
 template <class T>
 V3<T> v3(const Vec3d& v) {
   return {T(v.x()), T(v.y()), T(v.z())};
+}
+
+// A PBR material (pbr_shade.hpp): the lights carry pi d_i (the irradiance that shows a white
+// Lambertian surface as d_i) and a_i; the specular colour, which the PBR kernel does not read,
+// is set so large that the frame plan's cull bound never drops a lit light (only a range window's
+// exact zeros drop one). The base holds the emission alone.
+template <class T>
+void set_pbr_terms(const Scene& scene, const Eigen::Matrix4d& view, const Material& material, LightingFeatures features,
+                   ShadeParams<T>& sp) {
+  PbrTerms<T>& q = sp.pbr;
+  q.on = true;
+  q.base_color = v3<T>(material.base_color.cast<double>());
+  q.metallic = T(std::clamp(double(material.metallic), 0.0, 1.0));
+  const double roughness = std::clamp(double(material.roughness), pbr::kMinRoughness<double>, 1.0);
+  q.roughness = T(roughness);
+  q.alpha = T(roughness * roughness);
+  pbr::Material<double> m;
+  m.ior = material.ior;
+  m.specular_color = {material.specular_color.x(), material.specular_color.y(), material.specular_color.z()};
+  const V3<double> f0 = pbr::dielectric_f0(m);
+  const double w = std::clamp(double(material.specular_weight), 0.0, 1.0);
+  q.f0 = {T(f0.x * w), T(f0.y * w), T(f0.z * w)};
+  q.f90 = T(w);
+  q.ambient = v3<T>(scene.global_ambient.cast<double>());
+  q.image = features.image_light;
+  const EnvironmentLight& env = scene.environment_light;
+  q.intensity = T(env.intensity);
+  // eye -> world (the view's inverse rotation), then world -> the picture's frame: the
+  // surroundings turned by rotation_deg about +Y, so a world direction is the picture's
+  // direction turned back.
+  const Eigen::Matrix3d to_world = view.topLeftCorner<3, 3>().inverse();
+  const double a = -double(env.rotation_deg) * std::numbers::pi / 180.0;
+  Eigen::Matrix3d turn;
+  turn << std::cos(a), 0.0, std::sin(a), 0.0, 1.0, 0.0, -std::sin(a), 0.0, std::cos(a);
+  const Eigen::Matrix3d to_env = turn * to_world;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) q.to_env[3 * r + c] = T(to_env(r, c));
+  sp.base = v3<T>(material.emissive.cast<double>());
+  sp.emission = sp.base, sp.ambient = V3<T>{}, sp.scene_ambient = V3<T>{};
+  for (EyeLight<T>& L : sp.lights) {
+    const Light& light = scene.lights[static_cast<std::size_t>(L.scene_light)];
+    L.ambient = v3<T>(light.ambient.cast<double>());
+    L.diffuse = v3<T>(std::numbers::pi * light.diffuse.cast<double>());
+    const T big = T(1e30);
+    L.specular = {big, big, big};
+  }
 }
 
 }  // namespace
@@ -93,6 +140,8 @@ void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Ma
     }
     sp.lights.push_back(L);
   }
+  sp.pbr = PbrTerms<T>{};
+  if (material.model == MaterialModel::pbr) set_pbr_terms(scene, view, material, features, sp);
 }
 
 template <class T>

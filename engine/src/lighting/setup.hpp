@@ -29,6 +29,8 @@ struct LightingFeatures {
   // and the base colour is the emission alone.
   bool lightmapped = false;
   bool lightmap_replaces = false;
+  // PBR materials: the prepared surroundings and DFG table (kept by the renderer); required then.
+  const ImageLight* image_light = nullptr;
 };
 
 // Fills `out` (its light list keeps its capacity, so a steady frame allocates nothing).

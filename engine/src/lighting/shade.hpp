@@ -56,6 +56,24 @@ V3<T> normalize_or_zero(V3<T> v) {
 // NaN -> 0 (the comparison order is deliberate: NaN fails `x > 0`).
 template <class T> T clamp01(T x) { return x > T(0) ? (x < T(1) ? x : T(1)) : T(0); }
 
+class ImageLight;  // image_light.hpp
+
+// A PBR material (Material::model == pbr) under the lights and the surroundings: the glTF BRDF
+// (pbr_shade.hpp) instead of the classic terms. Set up in double, rounded once to T.
+template <class T>
+struct PbrTerms {
+  bool on = false;
+  V3<T> base_color{T(1), T(1), T(1)};  // the factor (times the albedo with colour material)
+  T metallic = T(0), roughness = T(1);  // roughness held in [0.045, 1] (pbr::kMinRoughness)
+  T alpha = T(1);                       // roughness^2
+  V3<T> f0{};                           // the dielectric's reflectance at normal incidence, times f90
+  T f90 = T(1);                         // KHR_materials_specular's weight
+  V3<T> ambient{};                      // uniform radiance all around: the scene's ambient
+  const ImageLight* image = nullptr;    // the DFG table, and the environment when it has one
+  T intensity = T(1);                   // the environment's
+  T to_env[9] = {T(1), T(0), T(0), T(0), T(1), T(0), T(0), T(0), T(1)};  // eye -> environment, row-major
+};
+
 template <class T>
 struct ShadeParams {
   V3<T> base{};  // e_m + a_m a_scene; with colour_material: e_m
@@ -69,7 +87,13 @@ struct ShadeParams {
   bool local_viewer = true;
   bool clamp = true;
   std::vector<EyeLight<T>> lights;  // enabled lights only
+  PbrTerms<T> pbr;  // pbr.on: a PBR material (the lights carry pi d_i as diffuse, a_i as ambient)
 };
+
+// The PBR colour at p (pbr_shade.hpp; instantiated with light_mesh and shade_points).
+template <class T>
+V3<T> shade_pbr(const ShadeParams<T>& sp, V3<T> p, V3<T> n_in, V3<T> albedo, V3<T>* secondary, const float* visibility,
+                T occlusion, const float* projector);
 
 template <class T>
 T spot_factor(const EyeLight<T>& L, T cos_angle) {
@@ -84,34 +108,44 @@ T spot_factor(const EyeLight<T>& L, T cos_angle) {
 
 // Adds light L's contribution at eye-space position p with unit (or zero) normal n: all of it to
 // `colour`, or with `specular` its ambient and diffuse parts to `colour` and its specular to `specular`.
+// The unit vector vp from p towards light L and L's attenuation there (distance, range window,
+// spot cone); false when L adds nothing at p (attenuation 0, or a non-finite distance).
+template <class T>
+bool light_at(const EyeLight<T>& L, V3<T> p, V3<T>& vp, T& att) {
+  att = T(1);
+  if (L.type == LightType::directional) {
+    vp = L.to_light;
+    return true;
+  }
+  const V3<T> diff = L.position - p;
+  const T d2 = dot(diff, diff);
+  const T d = std::sqrt(d2);
+  if (!(d <= std::numeric_limits<T>::max())) return false;  // NaN/Inf position or distance: no contribution
+  vp = d > kMinLength<T> ? (T(1) / d) * diff : V3<T>{T(0), T(0), T(0)};
+  if (L.linear_range) {
+    att = clamp01((L.range_max - d + L.range_min) / L.range_max);
+  } else {
+    const T denom = L.k0 + L.k1 * d + L.k2 * d2;
+    att = T(1) / (denom > kMinAttenuationDenominator<T> ? denom : kMinAttenuationDenominator<T>);
+  }
+  if (L.inv_range > T(0)) {
+    const T x = d * L.inv_range, x2 = x * x;
+    const T w = clamp01(T(1) - x2 * x2);
+    att *= w * w;
+  }
+  if (L.type == LightType::spot) att *= spot_factor(L, -dot(vp, L.spot_axis));
+  return att != T(0);
+}
+
+// Adds light L's contribution at eye-space position p with unit (or zero) normal n: all of it to
+// `colour`, or with `specular` its ambient and diffuse parts to `colour` and its specular to `specular`.
 template <class T>
 void light_contribution(const ShadeParams<T>& sp, const EyeLight<T>& L, V3<T> p, V3<T> n, V3<T> eye_dir,
                         V3<T>& colour, V3<T>* specular, const float* visibility = nullptr, T occlusion = T(1),
                         const float* projector = nullptr) {
   V3<T> vp;
-  T att = T(1);
-  if (L.type == LightType::directional) {
-    vp = L.to_light;
-  } else {
-    const V3<T> diff = L.position - p;
-    const T d2 = dot(diff, diff);
-    const T d = std::sqrt(d2);
-    if (!(d <= std::numeric_limits<T>::max())) return;  // NaN/Inf position or distance: no contribution
-    vp = d > kMinLength<T> ? (T(1) / d) * diff : V3<T>{T(0), T(0), T(0)};
-    if (L.linear_range) {
-      att = clamp01((L.range_max - d + L.range_min) / L.range_max);
-    } else {
-      const T denom = L.k0 + L.k1 * d + L.k2 * d2;
-      att = T(1) / (denom > kMinAttenuationDenominator<T> ? denom : kMinAttenuationDenominator<T>);
-    }
-    if (L.inv_range > T(0)) {
-      const T x = d * L.inv_range, x2 = x * x;
-      const T w = clamp01(T(1) - x2 * x2);
-      att *= w * w;
-    }
-    if (L.type == LightType::spot) att *= spot_factor(L, -dot(vp, L.spot_axis));
-    if (att == T(0)) return;
-  }
+  T att;
+  if (!light_at(L, p, vp, att)) return;
   const T n_dot_l = dot(n, vp);
   V3<T> sum = sp.occlusion ? occlusion * L.ambient : L.ambient;
   if (n_dot_l > T(0)) {
@@ -157,6 +191,7 @@ template <class T>
 V3<T> shade_vertex(const ShadeParams<T>& sp, V3<T> p, V3<T> n_in, V3<T> albedo = {T(1), T(1), T(1)},
                    V3<T>* secondary = nullptr, const float* visibility = nullptr, T occlusion = T(1),
                    const float* projector = nullptr) {
+  if (sp.pbr.on) return shade_pbr(sp, p, n_in, albedo, secondary, visibility, occlusion, projector);
   const V3<T> n = normalize_or_zero(n_in);
   const V3<T> eye_dir = sp.local_viewer ? normalize_or_zero(V3<T>{-p.x, -p.y, -p.z}) : V3<T>{T(0), T(0), T(1)};
   const V3<T> base = sp.occlusion ? sp.emission + occlusion * sp.ambient : sp.base;
@@ -240,6 +275,10 @@ void shade_points(const ShadeParams<T>& sp, std::size_t count, const Vec3* p_eye
 }
 
 // Each precision is instantiated in exactly one file, with that file's compile flags.
+extern template V3<double> shade_pbr<double>(const ShadeParams<double>&, V3<double>, V3<double>, V3<double>, V3<double>*,
+                                             const float*, double, const float*);
+extern template V3<float> shade_pbr<float>(const ShadeParams<float>&, V3<float>, V3<float>, V3<float>, V3<float>*,
+                                           const float*, float, const float*);
 extern template void light_mesh<double>(const ShadeParams<double>&, const EyeTransform<double>&, const Mesh&, bool,
                                         std::size_t, std::size_t, Color3*, Color3*, const std::uint32_t*, const Vec3*);
 extern template void light_mesh<float>(const ShadeParams<float>&, const EyeTransform<float>&, const Mesh&, bool,

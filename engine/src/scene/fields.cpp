@@ -81,6 +81,7 @@ using FT = FieldType;
 constexpr std::span<const char* const> kNone{};
 // Choices, in each enum's order (facet/material.hpp, facet/light.hpp).
 constexpr const char* kSpecularModels[] = {"blinn", "phong"};
+constexpr const char* kMaterialModels[] = {"gl", "pbr"};
 constexpr const char* kTextureModes[] = {"modulate", "replace", "decal", "add"};
 constexpr const char* kBlendModes[] = {"opaque", "alpha", "premultiplied", "add", "multiply", "subtract"};
 constexpr const char* kDepthWrites[] = {"auto", "on", "off"};
@@ -96,6 +97,8 @@ constexpr const char* kProjectorModes[] = {"modulate", "gobo"};
 using M = Material;
 using E = Environment;
 constexpr MaterialField kMaterialFields[] = {
+    m<&M::model>("model", FT::choice, 1, 0, 0, kMaterialModels,
+                 "the lighting model: GL's fixed function (gl) or glTF's metallic-roughness BRDF (pbr; docs/pbr.md)"),
     m<&M::emissive>("emissive", FT::colour, 3, 0, kFloatMax, kNone, "light the surface gives off (GL's emission)"),
     m<&M::ambient>("ambient", FT::colour, 3, 0, kFloatMax, kNone, "reflectance of ambient light"),
     m<&M::diffuse>("diffuse", FT::colour, 3, 0, kFloatMax, kNone, "reflectance of diffuse light (the albedo)"),
@@ -103,6 +106,14 @@ constexpr MaterialField kMaterialFields[] = {
     m<&M::shininess>("shininess", FT::number, 1, 0, kMaxShininess, kNone, "the specular exponent (0^0 = 1, as GL)"),
     m<&M::specular_model>("specular_model", FT::choice, 1, 0, 0, kSpecularModels,
                           "the specular lobe: around the half vector (blinn) or the reflected light (phong)"),
+    m<&M::base_color>("base_color", FT::colour, 3, 0, 1, kNone, "pbr: the base colour, linear (diffuse_texture is its texture)"),
+    m<&M::metallic>("metallic", FT::number, 1, 0, 1, kNone, "pbr: 0 a dielectric, 1 a metal (between: a mix)"),
+    m<&M::roughness>("roughness", FT::number, 1, 0, 1, kNone, "pbr: perceptual roughness, 0 a mirror (held at >= 0.045), 1 matte"),
+    m<&M::ior>("ior", FT::number, 1, 1, 10, kNone, "pbr: the dielectric's index of refraction (its reflectance, 0.04 at 1.5)"),
+    m<&M::specular_weight>("specular_weight", FT::number, 1, 0, 1, kNone,
+                           "pbr: strength of the dielectric's specular layer (KHR_materials_specular)"),
+    m<&M::specular_color>("specular_color", FT::colour, 3, 0, 1e6, kNone,
+                          "pbr: tints the dielectric's reflectance at normal incidence (capped at 1)"),
     m<&M::alpha>("alpha", FT::number, 1, 0, 1, kNone, "the fragment's alpha (blending, the alpha test, the output's alpha)"),
     m<&M::diffuse_texture>("diffuse_texture", FT::texture, 1, -1, kMaxIndex, kNone,
                            "the texture combined with the lit colour by texture_mode (needs uvs)"),
@@ -185,6 +196,11 @@ constexpr LightField kLightFields[] = {
 };
 
 template <class T>
+std::string colour_bound(const FieldSpec<T>& f) {
+  return f.hi < kFloatMax ? "in [0, " + format_number(f.hi) + "]" : ">= 0";
+}
+
+template <class T>
 std::string range_words(const FieldSpec<T>& f) {
   switch (f.type) {
     case FieldType::boolean: return "false or true";
@@ -194,7 +210,7 @@ std::string range_words(const FieldSpec<T>& f) {
       return s;
     }
     case FieldType::texture: return f.components > 1 ? std::to_string(f.components) + " textures or -1 (none)" : "a texture or -1 (none)";
-    case FieldType::colour: return "[r, g, b], each >= 0";
+    case FieldType::colour: return "[r, g, b], each " + colour_bound(f);
     case FieldType::vector:
       if (f.lo == -kFloatMax && f.hi == kFloatMax) return std::to_string(f.components) + " finite numbers";
       [[fallthrough]];
@@ -223,7 +239,7 @@ Status check_value(const FieldSpec<T>& f, double v, const std::string& path) {
       if (!(v >= -1.0 && v <= f.hi && v == std::floor(v))) return bad("expected a texture index or -1 (none), found " + format_number(v));
       return {};
     case FieldType::colour:
-      if (!(v >= 0.0 && v <= f.hi)) return bad("expected finite colour components >= 0, found " + format_number(v));
+      if (!(v >= 0.0 && v <= f.hi)) return bad("expected finite colour components " + colour_bound(f) + ", found " + format_number(v));
       return {};
     case FieldType::integer:
       if (!(v >= f.lo && v <= f.hi && v == std::floor(v))) return bad("expected an integer in " + range_words(f) + ", found " + format_number(v));
@@ -304,7 +320,7 @@ Status check_all(std::span<const FieldSpec<T>> fields, const T& object, const Fi
       if (check_value(f, v, std::string()).ok()) continue;  // (no message made for a good value)
       if (f.type == FieldType::colour) {
         const std::string p = path(f.name);
-        return {ErrorCode::invalid_argument, p, p + ": expected finite colour components >= 0, found " + format_value(f, object)};
+        return {ErrorCode::invalid_argument, p, p + ": expected finite colour components " + colour_bound(f) + ", found " + format_value(f, object)};
       }
       return check_value(f, v, f.components > 1 && f.type == FieldType::texture ? path(f.name) + "[" + std::to_string(c) + "]" : path(f.name));
     }

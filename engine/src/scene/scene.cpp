@@ -121,6 +121,14 @@ const char* to_string(ShadowFilter filter) noexcept {
   return "unknown";
 }
 
+const char* to_string(MaterialModel model) noexcept {
+  switch (model) {
+    case MaterialModel::gl: return "gl";
+    case MaterialModel::pbr: return "pbr";
+  }
+  return "?";
+}
+
 const char* to_string(FogMode mode) noexcept {
   switch (mode) {
     case FogMode::none: return "none";
@@ -176,6 +184,9 @@ Status validate_material(const Material& m, const Field& f) {
                                       format_number(m.uv_scale.y()) + "]");
   }
   const Environment& e = m.environment;
+  if (m.model == MaterialModel::pbr && e.mode != EnvironmentMode::none) {
+    return invalid(f("environment.mode"), "a pbr material is lit by the scene's environment_light, not by GL's environment mapping");
+  }
   if (e.dynamic && e.mode != EnvironmentMode::cube) {
     return invalid(f("environment.dynamic"), "only a cube environment is rendered from the scene");
   }
@@ -264,6 +275,27 @@ Status validate_global_ambient(const Color3& ambient) {
   return check_color(ambient, Field{"global_ambient", 0, false}, "");
 }
 
+Status validate_environment_light(const EnvironmentLight& e) {
+  const char* p = "environment_light";  // (no string made unless it fails: validation runs every frame)
+  if (e.source != EnvironmentSource::none && e.source != EnvironmentSource::studio && e.source != EnvironmentSource::image) {
+    return invalid(std::string(p) + ".source", "unknown source");
+  }
+  if (!(e.intensity >= 0.0f && e.intensity <= 1e6f)) return invalid(std::string(p) + ".intensity", "expected a number in [0, 1e6], found " + format_number(e.intensity));
+  if (!(e.rotation_deg >= -3600.0f && e.rotation_deg <= 3600.0f)) {
+    return invalid(std::string(p) + ".rotation_deg", "expected a number in [-3600, 3600], found " + format_number(e.rotation_deg));
+  }
+  if (e.source != EnvironmentSource::image) return {};
+  if (e.width < 2 || e.height < 1 || e.width > kMaxEnvironmentSide || e.height > kMaxEnvironmentSide || e.width != 2 * e.height) {
+    return invalid(p, "an equirectangular picture is twice as wide as high, at most " + std::to_string(kMaxEnvironmentSide) +
+                          " texels a side; found " + std::to_string(e.width) + "x" + std::to_string(e.height));
+  }
+  const std::size_t n = std::size_t(e.width) * std::size_t(e.height) * 3;
+  if (e.rgb.size() != n) {
+    return invalid(std::string(p) + ".rgb", "expected " + std::to_string(n) + " floats (3 a texel), found " + std::to_string(e.rgb.size()));
+  }
+  return {};  // (the texels' values are checked when the picture is prepared: validation runs every frame)
+}
+
 Status validate_fog(const Fog& fog) {
   const Field f{"fog", 0, false};
   if (static_cast<unsigned>(fog.mode) > static_cast<unsigned>(FogMode::exp2)) return invalid(f("mode"), "unknown fog mode");
@@ -285,6 +317,7 @@ Status check_lightmap_object(const Scene& scene, std::size_t object) {
     return invalid(field, "a lightmapped object cannot have vertex colours (meshes[" + std::to_string(inst.mesh) + "] has them)");
   }
   auto refuse = [&](const Material& m, const std::string& name) -> Status {
+    if (m.model == MaterialModel::pbr) return invalid(field, "material " + name + " is a pbr material, which facet does not lightmap");
     if (m.environment.mode != EnvironmentMode::none || needs_tangents(m)) {
       return invalid(field, "material " + name + " has an environment, normal or bump map, which a lightmapped object cannot have");
     }
@@ -311,6 +344,7 @@ Status validate_lighting_inputs(const Scene& scene) {
   FACET_TRY(validate_fog(scene.fog));
   FACET_TRY(check_camera(scene.camera));
   FACET_TRY(validate_display(scene.display));
+  FACET_TRY(validate_environment_light(scene.environment_light));
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
     const Field f{"materials", i, true};

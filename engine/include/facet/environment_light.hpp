@@ -1,0 +1,34 @@
+// Light from the surroundings for PBR materials (Material::model == pbr; docs/pbr.md): a
+// picture of the radiance arriving from every direction, which lights every PBR surface by
+// image-based lighting (its diffuse part by order-2 spherical harmonics, its specular part by a
+// prefiltered cube map and the split-sum approximation). GL materials never see it.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace facet {
+
+enum class EnvironmentSource : std::uint8_t {
+  none,    // no image: PBR surfaces see the scene's ambient (and the lights' ambient) all around
+  studio,  // facet's neutral studio (docs/pbr.md): soft panels in a dim grey room, made in code
+  image,   // EnvironmentLight::rgb
+};
+const char* to_string(EnvironmentSource source) noexcept;
+
+// Largest side of an environment picture (a texel count the prefilter's first pass reads whole).
+inline constexpr int kMaxEnvironmentSide = 16384;
+
+struct EnvironmentLight {
+  EnvironmentSource source = EnvironmentSource::none;
+  // image: an equirectangular picture of linear RGB radiance, 3 floats a texel, top row first,
+  // width = 2 height, in facet's convention (the picture's centre looks along -Z, its top row
+  // is +Y, u grows towards +X: u = 1/2 + atan2(d.x, -d.z) / 2 pi, v = 1/2 + asin(d.y) / pi).
+  // Every value finite and >= 0.
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+  float intensity = 1.0f;     // multiplies the radiance; [0, 1e6]
+  float rotation_deg = 0.0f;  // turns the surroundings about world +Y (counter-clockwise seen from above); [-3600, 3600]
+};
+
+}  // namespace facet

@@ -1,0 +1,271 @@
+#include "lighting/image_light.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <numbers>
+
+namespace facet::lighting {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// The equirectangular coordinates (u, v) of a unit direction, v = 1 the top row.
+void equirect_uv(const V3<double>& d, double& u, double& v) {
+  u = 0.5 + std::atan2(d.x, -d.z) / (2.0 * kPi);
+  v = 0.5 + std::asin(std::clamp(d.y, -1.0, 1.0)) / kPi;
+}
+
+V3<double> bilinear(const EquirectLevel& l, double u, double v) {
+  const double x = u * l.width - 0.5, y = (1.0 - v) * l.height - 0.5;
+  const double fx = std::floor(x), fy = std::floor(y);
+  const double sx = x - fx, sy = y - fy;
+  auto texel = [&](long i, long j) {
+    i = ((i % l.width) + l.width) % l.width;
+    j = std::clamp<long>(j, 0, l.height - 1);
+    const float* t = l.rgb.data() + 3 * (std::size_t(j) * std::size_t(l.width) + std::size_t(i));
+    return V3<double>{t[0], t[1], t[2]};
+  };
+  const long i = static_cast<long>(fx), j = static_cast<long>(fy);
+  const V3<double> a = (1.0 - sx) * texel(i, j) + sx * texel(i + 1, j);
+  const V3<double> b = (1.0 - sx) * texel(i, j + 1) + sx * texel(i + 1, j + 1);
+  return (1.0 - sy) * a + sy * b;
+}
+
+EquirectLevel halve(const EquirectLevel& l) {
+  EquirectLevel h;
+  h.width = std::max(1, l.width / 2), h.height = std::max(1, l.height / 2);
+  h.rgb.resize(std::size_t(h.width) * std::size_t(h.height) * 3);
+  for (int j = 0; j < h.height; ++j) {
+    for (int i = 0; i < h.width; ++i) {
+      for (int c = 0; c < 3; ++c) {
+        double sum = 0.0;
+        int n = 0;
+        for (int dj = 0; dj < 2; ++dj) {
+          for (int di = 0; di < 2; ++di) {
+            const int x = std::min(2 * i + di, l.width - 1), y = std::min(2 * j + dj, l.height - 1);
+            sum += l.rgb[3 * (std::size_t(y) * std::size_t(l.width) + std::size_t(x)) + std::size_t(c)];
+            ++n;
+          }
+        }
+        h.rgb[3 * (std::size_t(j) * std::size_t(h.width) + std::size_t(i)) + std::size_t(c)] = float(sum / n);
+      }
+    }
+  }
+  return h;
+}
+
+std::uint64_t checksum_of(const std::vector<float>& rgb) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the bytes
+  const auto* b = reinterpret_cast<const unsigned char*>(rgb.data());
+  for (std::size_t i = 0, n = rgb.size() * sizeof(float); i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  return h;
+}
+
+// A soft-edged rectangular panel around the unit direction `centre`: 1 inside half-widths (w, h)
+// radians of its frame, falling to 0 over the outer fifth.
+double panel(const V3<double>& d, const V3<double>& centre, double w, double h) {
+  const double c = dot(d, centre);
+  if (c <= 0.0) return 0.0;
+  const V3<double> up = std::abs(centre.y) < 0.99 ? V3<double>{0.0, 1.0, 0.0} : V3<double>{0.0, 0.0, 1.0};
+  V3<double> right{up.y * centre.z - up.z * centre.y, up.z * centre.x - up.x * centre.z, up.x * centre.y - up.y * centre.x};
+  right = (1.0 / std::sqrt(dot(right, right))) * right;
+  const V3<double> top{centre.y * right.z - centre.z * right.y, centre.z * right.x - centre.x * right.z,
+                       centre.x * right.y - centre.y * right.x};
+  const double x = std::abs(std::atan2(dot(d, right), c)) / w, y = std::abs(std::atan2(dot(d, top), c)) / h;
+  auto edge = [](double t) { return std::clamp((1.0 - t) / 0.2, 0.0, 1.0); };
+  return edge(x) * edge(y);
+}
+
+V3<double> unit(double x, double y, double z) {
+  const double l = std::sqrt(x * x + y * y + z * z);
+  return {x / l, y / l, z / l};
+}
+
+}  // namespace
+
+V3<double> cube_direction(int face, double s, double t) {
+  const double sc = 2.0 * s - 1.0, tc = 2.0 * t - 1.0;
+  V3<double> d{};
+  switch (face) {
+    case 0: d = {1.0, -tc, -sc}; break;
+    case 1: d = {-1.0, -tc, sc}; break;
+    case 2: d = {sc, 1.0, tc}; break;
+    case 3: d = {sc, -1.0, -tc}; break;
+    case 4: d = {sc, -tc, 1.0}; break;
+    default: d = {-sc, -tc, -1.0}; break;
+  }
+  return (1.0 / std::sqrt(dot(d, d))) * d;
+}
+
+EquirectLevel make_studio(int width, int height) {
+  EquirectLevel out;
+  out.width = width, out.height = height;
+  out.rgb.resize(std::size_t(width) * std::size_t(height) * 3);
+  // The panels (a key above the camera's left, a fill to its right, a strip overhead and a rim
+  // behind), in world space with the camera's default side at +Z; radiance in linear units.
+  struct Panel {
+    V3<double> centre;
+    double w, h, radiance;
+  };
+  const Panel panels[] = {{unit(-0.7, 0.55, 0.6), 0.45, 0.3, 6.0},
+                          {unit(0.85, 0.15, 0.5), 0.35, 0.45, 2.0},
+                          {unit(0.0, 1.0, 0.0), 0.5, 0.2, 4.0},
+                          {unit(0.35, 0.3, -0.9), 0.3, 0.35, 3.0}};
+  for (int r = 0; r < height; ++r) {
+    for (int c = 0; c < width; ++c) {
+      const V3<double> d = sh9::equirect_direction(c, r, width, height);
+      // A dim room: a darker floor, a lighter ceiling, a soft horizon between.
+      const double t = std::clamp(0.5 + 0.5 * d.y, 0.0, 1.0);
+      double l = 0.06 + 0.22 * t * t;
+      for (const Panel& p : panels) l += p.radiance * panel(d, p.centre, p.w, p.h);
+      float* o = out.rgb.data() + 3 * (std::size_t(r) * std::size_t(width) + std::size_t(c));
+      o[0] = o[1] = o[2] = float(l);
+    }
+  }
+  return out;
+}
+
+ImageLight::ImageLight() {
+  const pbr::DfgTable table(kDfgSize, kDfgSamples);
+  dfg_.resize(2 * kDfgSize * kDfgSize);
+  for (int j = 0; j < kDfgSize; ++j) {
+    for (int i = 0; i < kDfgSize; ++i) {
+      const pbr::Dfg d = table.at((i + 0.5) / kDfgSize, (j + 0.5) / kDfgSize);
+      dfg_[std::size_t(2 * (j * kDfgSize + i))] = float(d.scale);
+      dfg_[std::size_t(2 * (j * kDfgSize + i) + 1)] = float(d.bias);
+    }
+  }
+}
+
+bool ImageLight::built_from(const EnvironmentLight& env) const {
+  if (env.source != source_kind_) return false;
+  if (env.source != EnvironmentSource::image) return true;
+  return env.width == width_ && env.height == height_ && checksum_of(env.rgb) == checksum_;
+}
+
+std::uint64_t ImageLight::bytes() const {
+  std::uint64_t n = dfg_.size() * sizeof(float);
+  for (const auto& l : levels_) n += l.size() * sizeof(float);
+  for (const auto& l : source_) n += l.rgb.size() * sizeof(float);
+  return n;
+}
+
+V3<double> ImageLight::source(const V3<double>& d, double lod) const {
+  if (source_.empty()) return {0.0, 0.0, 0.0};
+  double u, v;
+  equirect_uv(d, u, v);
+  lod = std::clamp(lod, 0.0, double(source_.size() - 1));
+  const std::size_t k = std::min(static_cast<std::size_t>(lod), source_.size() - 1);
+  const double f = lod - double(k);
+  const V3<double> a = bilinear(source_[k], u, v);
+  if (f <= 0.0 || k + 1 >= source_.size()) return a;
+  return (1.0 - f) * a + f * bilinear(source_[k + 1], u, v);
+}
+
+Status ImageLight::build(const EnvironmentLight& env,
+                         const std::function<void(std::size_t, const std::function<void(std::size_t)>&)>& run,
+                         const std::function<bool()>& cancelled) {
+  has_image_ = false;
+  source_.clear();
+  for (auto& l : levels_) l.clear();
+  std::memset(sh_, 0, sizeof sh_);
+  source_kind_ = env.source, width_ = env.width, height_ = env.height, checksum_ = 0;
+  if (env.source == EnvironmentSource::none) return {};
+  if (env.source == EnvironmentSource::studio) {
+    source_.push_back(make_studio(256, 128));
+  } else {
+    for (std::size_t i = 0; i < env.rgb.size(); ++i) {
+      if (!(env.rgb[i] >= 0.0f && env.rgb[i] <= 3.4e38f)) {
+        source_kind_ = EnvironmentSource::none;
+        return {ErrorCode::invalid_argument, "environment_light.rgb",
+                "environment_light.rgb: texel " + std::to_string(i / 3) + " holds a negative, infinite or NaN value"};
+      }
+    }
+    checksum_ = checksum_of(env.rgb);
+    source_.push_back(EquirectLevel{env.width, env.height, env.rgb});
+  }
+  while (source_.back().width > 8 && source_.back().height > 4) source_.push_back(halve(source_.back()));
+  // Harmonics from the widest halving at most 512 texels wide (they hold nothing finer).
+  std::size_t project_from = 0;
+  while (project_from + 1 < source_.size() && source_[project_from].width > 512) ++project_from;
+  const EquirectLevel& p = source_[project_from];
+  const sh9::Coefficients sh = sh9::project_equirect(p.rgb.data(), p.width, p.height);
+  // diffuse() = sum of (A_l / pi) L_lm Y_lm: the basis functions' constants folded in here.
+  const double a[9] = {1.0, 2.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0, 0.25, 0.25, 0.25, 0.25, 0.25};
+  const double k[9] = {0.28209479177387814, 0.4886025119029199, 0.4886025119029199, 0.4886025119029199,
+                       1.0925484305920792,  1.0925484305920792, 0.31539156525252005, 1.0925484305920792,
+                       0.5462742152960396};
+  for (int i = 0; i < 9; ++i) {
+    sh_[0][i] = float(a[i] * k[i] * sh[std::size_t(i)].x);
+    sh_[1][i] = float(a[i] * k[i] * sh[std::size_t(i)].y);
+    sh_[2][i] = float(a[i] * k[i] * sh[std::size_t(i)].z);
+  }
+  // The prefiltered levels, one face row per task.
+  const double texel0 = 4.0 * kPi / (double(source_[0].width) * double(source_[0].height));
+  bool stop = false;
+  for (int level = 0; level < kRadianceLevels && !stop; ++level) {
+    const int n = std::max(kRadianceMinSize, kRadianceSize >> level);
+    sizes_[level] = n;
+    std::vector<float>& out = levels_[level];
+    out.assign(std::size_t(6) * std::size_t(n) * std::size_t(n) * 3, 0.0f);
+    const double roughness = double(level) / (kRadianceLevels - 1);
+    const double alpha = pbr::alpha_of(roughness);
+    const double cube_texel = 4.0 * kPi / (6.0 * n * n);
+    run(std::size_t(6) * std::size_t(n), [&](std::size_t row) {
+      if (cancelled && cancelled()) return;
+      const int face = int(row / std::size_t(n)), j = int(row % std::size_t(n));
+      for (int i = 0; i < n; ++i) {
+        const V3<double> r = cube_direction(face, (i + 0.5) / n, (j + 0.5) / n);
+        V3<double> value;
+        if (level == 0) {  // a mirror: the picture itself, read at the cube texel's size
+          value = source(r, std::max(0.0, 0.5 * std::log2(cube_texel / texel0)));
+        } else {
+          // GGX-weighted radiance around r (pbr::prefiltered), each sample read from the halving
+          // whose texel matches the sample's share of the lobe (Colbert and Krivanek 2007).
+          const V3<double> up = std::abs(r.z) < 0.999 ? V3<double>{0.0, 0.0, 1.0} : V3<double>{1.0, 0.0, 0.0};
+          V3<double> t{up.y * r.z - up.z * r.y, up.z * r.x - up.x * r.z, up.x * r.y - up.y * r.x};
+          t = (1.0 / std::sqrt(dot(t, t))) * t;
+          const V3<double> b{r.y * t.z - r.z * t.y, r.z * t.x - r.x * t.z, r.x * t.y - r.y * t.x};
+          V3<double> sum{0.0, 0.0, 0.0};
+          double weight = 0.0;
+          for (unsigned s = 0; s < kPrefilterSamples; ++s) {
+            const V3<double> hs = pbr::ggx_sample(s, kPrefilterSamples, alpha);
+            const V3<double> h = hs.x * t + hs.y * b + hs.z * r;
+            const V3<double> l = (2.0 * dot(r, h)) * h - r;
+            const double n_dot_l = dot(r, l);
+            if (n_dot_l <= 0.0) continue;
+            const double pdf = pbr::ggx_d(hs.z, alpha) / 4.0;  // of l, with n = v = r
+            const double lod = 0.5 * std::log2(1.0 / (kPrefilterSamples * pdf * texel0)) + 1.0;
+            sum = sum + n_dot_l * source(l, std::max(0.0, lod));
+            weight += n_dot_l;
+          }
+          value = (1.0 / weight) * sum;
+        }
+        float* o = out.data() + 3 * ((std::size_t(face) * std::size_t(n) + std::size_t(j)) * std::size_t(n) + std::size_t(i));
+        o[0] = float(value.x), o[1] = float(value.y), o[2] = float(value.z);
+      }
+    });
+    stop = cancelled && cancelled();
+  }
+  if (stop) {
+    source_kind_ = EnvironmentSource::none;  // half built: never reused
+    return {ErrorCode::cancelled, "environment_image", "environment_image: prefiltering was cancelled"};
+  }
+  has_image_ = true;
+  return {};
+}
+
+}  // namespace facet::lighting
+
+namespace facet {
+
+const char* to_string(EnvironmentSource source) noexcept {
+  switch (source) {
+    case EnvironmentSource::none: return "none";
+    case EnvironmentSource::studio: return "studio";
+    case EnvironmentSource::image: return "image";
+  }
+  return "?";
+}
+
+}  // namespace facet
