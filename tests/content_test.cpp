@@ -94,6 +94,10 @@ Scene expected_quad_scene(const std::string& texture_path) {
   mat.diffuse = mat.ambient = pbr.diffuse;
   mat.specular = pbr.specular;
   mat.shininess = pbr.shininess;
+  mat.model = MaterialModel::pbr;  // the glTF BRDF itself (the GL colours above stay for --gl-materials)
+  mat.base_color = Color3(0.8f, 0.6f, 0.4f);
+  mat.metallic = 0.0f;
+  mat.roughness = 0.5f;
   mat.diffuse_texture = 0;
   mat.emission_after_texture = true;  // glTF adds the emission after the base colour
   s.materials.push_back(mat);
@@ -135,8 +139,18 @@ TEST(GltfImport, TexturedQuadIsTheSceneDocsDescribe) {
   EXPECT_EQ(m->scene.lights[0].diffuse, Color3(float(2.0 / std::numbers::pi), float(1.0 / std::numbers::pi), float(0.5 / std::numbers::pi)));
   EXPECT_TRUE(m->scene.lights[0].direction.isApprox(Vec3(0, 0, -1)));
   EXPECT_TRUE(m->warnings.empty()) << m->warnings[0];
-  const Scene expected = expected_quad_scene(dir / "tex.png");
+  Scene expected = expected_quad_scene(dir / "tex.png");
   EXPECT_EQ(render_rgba(m->scene), render_rgba(expected));
+  // ModelOptions::gl_materials: the same material lit by GL's model, as before the glTF BRDF.
+  ModelOptions gl;
+  gl.gl_materials = true;
+  Result<Model> as_gl = load_model(dir / "quad.gltf", gl);
+  ASSERT_TRUE(as_gl.ok()) << as_gl.status().message();
+  EXPECT_EQ(as_gl->scene.materials[0].model, MaterialModel::gl);
+  expected.materials[0].model = MaterialModel::gl;
+  EXPECT_EQ(render_rgba(as_gl->scene), render_rgba(expected));
+  EXPECT_NE(render_rgba(m->scene), render_rgba(expected));
+  expected.materials[0].model = MaterialModel::pbr;
   // The picture is the texture's: the top-left pixel of the quad's image area is red-ish.
 }
 
@@ -190,7 +204,7 @@ TEST(GltfImport, SecondUvSetIsBakedOverAndDrawnFromAScene) {
   test::write_text(dir / "lm.bin", b.bin);
   test::write_text(dir / "lm.gltf", b.external("lm.bin"));
   const std::string lights = R"("lights": [ { "type": "directional", "direction": [0, 0, -1], "diffuse": 0.8 } ])";
-  test::write_text(dir / "scene.json", "{ " + lights + R"(, "imports": [ { "file": "lm.gltf" } ] })");
+  test::write_text(dir / "scene.json", "{ " + lights + R"(, "imports": [ { "file": "lm.gltf", "gl_materials": true } ] })");
   Result<Scene> scene = load_scene_file(dir / "scene.json");
   ASSERT_TRUE(scene.ok()) << scene.status().message();
   BakeOptions o;
@@ -206,7 +220,7 @@ TEST(GltfImport, SecondUvSetIsBakedOverAndDrawnFromAScene) {
   write_test_png(dir / "lightmap.png");
   const std::string textures = R"("textures": [ { "name": "lm", "file": "lightmap.png", "encoding": "linear" } ])";
   test::write_text(dir / "baked.json", "{ " + lights + ", " + textures +
-                                           R"(, "imports": [ { "file": "lm.gltf", "lightmaps": [ { "texture": "lm", "scale": 0.5, "uv": "mesh" } ] } ] })");
+                                           R"(, "imports": [ { "file": "lm.gltf", "gl_materials": true, "lightmaps": [ { "texture": "lm", "scale": 0.5, "uv": "mesh" } ] } ] })");
   Result<Scene> drawn = load_scene_file(dir / "baked.json");
   ASSERT_TRUE(drawn.ok()) << drawn.status().message();
   EXPECT_EQ(drawn->objects[0].lightmap, 0);

@@ -266,7 +266,15 @@ TEST(LightmapRender, RefusesWhatALightmappedObjectCannotCarry) {
 // What cannot draw with a lightmap is refused before a bake starts (it used to bake, and then the
 // baked scene file could not be read): a glTF with a normal map, and vertex colours.
 TEST(LightmapRefusal, BakeRefusesWhatCannotCarryALightmapBeforeAnyWork) {
-  Result<Model> relief = load_model(test::data_dir() + "/gltf/relief_cube.gltf");
+  Result<Model> as_pbr = load_model(test::data_dir() + "/gltf/relief_cube.gltf");
+  ASSERT_TRUE(as_pbr.ok()) << as_pbr.status().message();
+  Result<BakeResult> pbr = bake_lightmaps(as_pbr->scene);
+  ASSERT_FALSE(pbr.ok());
+  EXPECT_NE(pbr.status().message().find("materials[0] is a pbr material, which facet does not lightmap"), std::string::npos)
+      << pbr.status().message();
+  ModelOptions gl;
+  gl.gl_materials = true;
+  Result<Model> relief = load_model(test::data_dir() + "/gltf/relief_cube.gltf", gl);
   ASSERT_TRUE(relief.ok()) << relief.status().message();
   Result<BakeResult> r = bake_lightmaps(relief->scene);
   ASSERT_FALSE(r.ok());

@@ -354,6 +354,7 @@ facet::Result<facet::Scene> load_any(const std::string& path, const Options& opt
   for (const std::string& a : opt.allow_paths) lo.assets.allowed_roots.push_back(a);
   lo.frame_aspect = float(opt.width) / float(opt.height);
   // GL has neither exposure nor tone mapping: the comparison draws every scene with GL's display.
+  lo.gl_materials = true;
   if (ext != ".gltf" && ext != ".glb" && ext != ".obj") {
     facet::Result<facet::Scene> s = facet::load_scene_file(path, lo);
     if (s) s->display = facet::Display{};
@@ -361,6 +362,7 @@ facet::Result<facet::Scene> load_any(const std::string& path, const Options& opt
   }
   facet::ModelOptions mo;
   mo.assets = lo.assets;
+  mo.gl_materials = true;  // GL's lighting model: what llvmpipe draws
   facet::Result<facet::Model> m = facet::load_model(path, mo);
   if (!m) return m.status();
   if (!m->has_camera) {

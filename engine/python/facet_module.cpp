@@ -117,7 +117,8 @@ bool is_model_file(const std::string& path) {
 // when the file has a camera (facet render --view, --fov, --projection); `cameras`: the file's.
 Scene load_for_render(const std::optional<std::string>& path, float aspect, const std::vector<std::string>& allow_paths,
                       bool strict = false, std::vector<std::string>* warnings = nullptr, const std::string& camera = "",
-                      const ViewOptions& framing = {}, bool reframe = false, std::vector<std::string>* cameras = nullptr) {
+                      const ViewOptions& framing = {}, bool reframe = false, std::vector<std::string>* cameras = nullptr,
+                      bool gl_materials = false) {
   if (!path) {
     if (!camera.empty()) raise({ErrorCode::invalid_argument, "camera", "camera: picks one of a glTF file's cameras; no file was given"});
     Scene s = make_default_scene();
@@ -129,6 +130,7 @@ Scene load_for_render(const std::optional<std::string>& path, float aspect, cons
     mo.assets.allowed_roots = allow_paths;
     mo.allow_missing = !strict;
     mo.camera = camera;
+    mo.gl_materials = gl_materials;
     Model m = value_or_raise(load_model(*path, mo));
     if (warnings) *warnings = m.warnings;
     if (cameras) *cameras = m.cameras;
@@ -141,6 +143,7 @@ Scene load_for_render(const std::optional<std::string>& path, float aspect, cons
   lo.assets.allowed_roots = allow_paths;
   lo.frame_aspect = aspect;
   lo.strict = strict;
+  lo.gl_materials = gl_materials;
   lo.view = framing;
   if (warnings) lo.warning = [warnings](const std::string& w) { warnings->push_back(w); };
   Scene s = value_or_raise(load_scene_file(*path, lo));
@@ -607,7 +610,7 @@ PYBIND11_MODULE(_facet, m) {
 
   m.def("load", [](const std::string& path, float aspect, std::vector<std::string> allow_paths, bool strict, const std::string& camera,
                    std::optional<std::array<float, 2>> view, const std::string& up, std::optional<float> fov_deg,
-                   std::optional<std::string> projection) {
+                   std::optional<std::string> projection, bool gl_materials) {
     PyScene ps;
     const bool reframe = view || fov_deg || projection;
     if (reframe && !camera.empty()) {
@@ -616,14 +619,15 @@ PYBIND11_MODULE(_facet, m) {
     }
     const ViewOptions framing = view_of(view.value_or(std::array<float, 2>{0, 0}), up, fov_deg.value_or(45.0f),
                                         projection.value_or("perspective"), 0.85f);
-    ps.scene = load_for_render(path, aspect, allow_paths, strict, &ps.warnings, camera, framing, reframe, &ps.cameras);
+    ps.scene = load_for_render(path, aspect, allow_paths, strict, &ps.warnings, camera, framing, reframe, &ps.cameras, gl_materials);
     ps.model = is_model_file(path);
     return ps;
   }, py::arg("path"), py::arg("aspect") = 16.0f / 9.0f, py::arg("allow_paths") = std::vector<std::string>{},
         py::arg("strict") = false, py::arg("camera") = "", py::arg("view") = py::none(), py::arg("up") = "y",
-        py::arg("fov_deg") = py::none(), py::arg("projection") = py::none(),
+        py::arg("fov_deg") = py::none(), py::arg("projection") = py::none(), py::arg("gl_materials") = false,
         "A scene file (.json) or a model (.gltf, .glb, .obj), as facet render reads it: a model without a camera is framed "
-        "for `aspect`, one without lights gets facet's default rig. Files outside the file's folder are refused unless "
+        "for `aspect`, one without lights gets facet's default lighting (add_default_lights: the neutral studio for glTF's "
+        "PBR materials, the GL rig otherwise); gl_materials=True lights glTF materials with GL's model (facet --gl-materials). Files outside the file's folder are refused unless "
         "a folder in allow_paths holds them. A missing or unreadable material library or texture is a warning "
         "(Scene.warnings) unless strict=True, which refuses the model. camera picks a glTF file's camera by index or name "
         "(Scene.cameras lists them); view=(azimuth, elevation), fov_deg or projection ('perspective', 'orthographic') "

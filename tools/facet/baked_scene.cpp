@@ -151,6 +151,7 @@ Status write_baked_scene(const BakedSceneRequest& st, const OutputFolder& folder
       Files files;
       ModelOptions mo;
       mo.allow_missing = import.value("allow_missing", ModelOptions{}.allow_missing);
+      mo.gl_materials = true;  // as the bake read it (a lightmap draws with GL's model)
       mo.assets.allowed_roots.push_back(from.empty() ? std::string(".") : from.string());
       for (const std::string& a : st.allow_paths) mo.assets.allowed_roots.push_back(a);
       mo.assets.on_read = [&files](const std::string& name, const std::string& bytes) { files.emplace(loader_name(name), bytes); };
@@ -182,6 +183,7 @@ Status write_baked_scene(const BakedSceneRequest& st, const OutputFolder& folder
         lightmaps.push_back(entry(next++));
       }
       import["lightmaps"] = lightmaps;
+      import["gl_materials"] = true;
     }
   }
   nlohmann::json& list = root["objects"];

@@ -322,6 +322,7 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
     lo.view = options.view;
     lo.frame_aspect = options.aspect;
     lo.strict = !options.allow_missing;
+    lo.gl_materials = options.gl_materials;
     lo.warning = [&](const std::string& w) { notes.push_back("warning: " + w); };
     Result<Scene> loaded = load_scene_file(path, lo);
     if (!loaded) {
@@ -341,6 +342,7 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
   ModelOptions mo;
   mo.memory_budget_bytes = options.memory_budget_bytes;
   mo.allow_missing = options.allow_missing;
+  mo.gl_materials = options.gl_materials;
   mo.assets.allowed_roots = options.allowed_paths;
   mo.assets.on_read = options.on_read;
   mo.camera = options.camera;
@@ -361,8 +363,7 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
   }
   input.rig_first = scene.lights.size();
   if (!model->has_lights) {
-    add_default_lights(scene);
-    notes.push_back("no lights in the file: facet's default rig (a headlight and a key light, ambient 0.15)");
+    notes.push_back(std::string("no lights in the file: ") + add_default_lights(scene));
   }
   return input;
 }

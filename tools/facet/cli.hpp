@@ -79,6 +79,7 @@ inline constexpr const char* kAllowPathHelp =
 struct InputOptions {
   std::uint64_t memory_budget_bytes = kDefaultLoadBudgetBytes;
   bool allow_missing = true;  // false with --strict (--allow-missing, the default, says so)
+  bool gl_materials = false;  // --gl-materials: ModelOptions::gl_materials, LoadOptions::gl_materials
   std::vector<std::string> allowed_paths;  // --allow-path: AssetAccess::allowed_roots
   float aspect = 16.0f / 9.0f; // of the image, for framing a model without a camera
   ViewOptions view;            // --view, --up, --fov

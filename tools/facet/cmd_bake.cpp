@@ -106,6 +106,7 @@ namespace {
 int bake(const BakeState& st) {
   InputOptions in;
   in.allowed_paths = st.allow_paths;
+  in.gl_materials = true;  // lightmaps are GL's: glTF materials bake and draw with GL's model
   if (st.memory_mb >= 0) in.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
   Files read;
   in.on_read = [&read](const std::string& name, const std::string& bytes) { read.emplace(loader_name(name), bytes); };

@@ -41,7 +41,7 @@ struct LightState {
   std::string scene_path, path_name = "all", pow = "auto";
   double min_seconds = 0.5;
   int threads = 1, width = 1280, height = 720, memory_mb = -1;
-  bool json = false, allow_missing = false, strict = false;
+  bool json = false, allow_missing = false, strict = false, gl_materials = false;
   std::vector<std::string> allow_paths;
   ViewState view;
 };
@@ -69,6 +69,7 @@ Command add_light(CLI::App& facet) {
   app->add_option("--height", st->height, "the image height a model is framed for (default 720)")->check(int_in(1, kMaxImageDimension))->group(model);
   app->add_flag("--allow-missing", st->allow_missing, "a model's missing or unreadable .mtl, texture or image files are warnings (the default)")->group(model);
   app->add_flag("--strict", st->strict, "a model's missing or unreadable .mtl, texture or image files are errors")->excludes("--allow-missing")->group(model);
+  app->add_flag("--gl-materials", st->gl_materials, "light a glTF model's materials with GL's lighting model (facet's Blinn-Phong mapping) instead of the glTF BRDF")->group(model);
   app->add_option("--allow-path", st->allow_paths, kAllowPathHelp)->group(model);
   app->add_option("--memory-budget-mb", st->memory_mb, "the most memory the scene may take, in MiB; 0 = no limit (default 4096)")
       ->check(int_in(0, 1 << 30))->group(model);
@@ -90,6 +91,7 @@ int light(const LightState& st) {
   input.allowed_paths = st.allow_paths;
   if (st.memory_mb >= 0) input.memory_budget_bytes = static_cast<std::uint64_t>(st.memory_mb) << 20;
   input.allow_missing = !st.strict;
+  input.gl_materials = st.gl_materials;
   input.aspect = float(st.width) / float(st.height);
   if (!apply_view_options(st.view, input)) return 2;
   std::vector<std::string> notes;
@@ -203,7 +205,7 @@ int light(const LightState& st) {
 struct CheckState {
   std::string scene_path, shading, shadows, transparent_order, output, depth, depth_mode = "auto";
   int width = 1280, height = 720, memory_mb = -1, msaa = 1;
-  bool allow_missing = false, strict = false, vertex_relief = false, fields = false;
+  bool allow_missing = false, strict = false, vertex_relief = false, fields = false, gl_materials = false;
   std::vector<std::string> allow_paths;
   ViewState view;
 };
@@ -240,6 +242,7 @@ Command add_check(CLI::App& facet) {
       ->check(CLI::IsMember({1, 4, 8, 16}));
   app->add_flag("--allow-missing", st->allow_missing, "a model's missing or unreadable .mtl, texture or image files are warnings (the default)");
   app->add_flag("--strict", st->strict, "a model's missing or unreadable .mtl, texture or image files are errors")->excludes("--allow-missing");
+  app->add_flag("--gl-materials", st->gl_materials, "light a glTF model's materials with GL's lighting model (facet's Blinn-Phong mapping) instead of the glTF BRDF");
   app->add_option("--allow-path", st->allow_paths, kAllowPathHelp);
   add_view_options(app, st->view);
   return {app, [st] { return check(*st); }};
@@ -307,6 +310,7 @@ int check(const CheckState& st) {
   input.allowed_paths = st.allow_paths;
   input.memory_budget_bytes = options.memory_budget_bytes;
   input.allow_missing = !st.strict;
+  input.gl_materials = st.gl_materials;
   input.aspect = float(width) / float(height);
   if (!apply_view_options(st.view, input)) return 2;
   std::vector<std::string> notes;

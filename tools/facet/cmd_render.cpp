@@ -257,6 +257,7 @@ struct RenderState {
   double min_seconds = 0, orbit_deg = 360.0, time_limit = 0;
   std::vector<std::string> allow_paths;
   ViewState view;
+  bool gl_materials = false;
   bool stats = false, json = false, allow_missing = false, strict = false, hdr = false, srgb = false, linear = false, no_light_culling = false,
        light_every_vertex = false, vertex_relief = false;
 };
@@ -331,6 +332,7 @@ Command add_render(CLI::App& facet) {
   const char* model = "Models";
   app->add_flag("--allow-missing", st->allow_missing, "a model's missing or unreadable .mtl, texture or image files are warnings (the default)")->group(model);
   app->add_flag("--strict", st->strict, "a model's missing or unreadable .mtl, texture or image files are errors")->excludes("--allow-missing")->group(model);
+  app->add_flag("--gl-materials", st->gl_materials, "light a glTF model's materials with GL's lighting model (facet's Blinn-Phong mapping) instead of the glTF BRDF")->group(model);
   app->add_option("--allow-path", st->allow_paths, kAllowPathHelp)->group(model);
   add_view_options(app, st->view, model);
   app->add_option("--frames", st->frame_count,
@@ -432,6 +434,7 @@ int render(const RenderState& st) {
   input.cancelled_message = deadline.message("loading " + (scene_path.empty() ? std::string("the scene") : scene_path));
   input.memory_budget_bytes = options.memory_budget_bytes;
   input.allow_missing = !st.strict;
+  input.gl_materials = st.gl_materials;
   input.allowed_paths = st.allow_paths;
   input.aspect = float(width) / float(height);
   if (!apply_view_options(st.view, input)) return 2;

@@ -359,11 +359,13 @@ facet_status facet_scene_add_cube_from_equirect_progress(facet_scene* scene, uin
  * with a memory budget (0 = no limit). A model's missing or unreadable .mtl, texture or image
  * files are warnings (FACET_LOAD_ALLOW_MISSING, now the default, says so); with FACET_LOAD_STRICT
  * they are errors; with FACET_LOAD_FRAME a model without a camera gets one
- * that frames it at `aspect` (width / height) and a model without lights facet's default rig.
+ * that frames it at `aspect` (width / height) and a model without lights facet's default lighting
+ * (the neutral studio for glTF's PBR materials, GL's rig otherwise); with FACET_LOAD_GL_MATERIALS
+ * a glTF model's materials are lit with GL's model (facet --gl-materials).
  * Meshes, materials, textures, objects and lights get ids 0, 1, ... in the file's order. On
  * failure the scene is unchanged. facet_scene_warnings then lists what was read approximately
  * or not at all, one line each ("" if nothing). */
-enum { FACET_LOAD_ALLOW_MISSING = 1, FACET_LOAD_FRAME = 2, FACET_LOAD_STRICT = 4 };
+enum { FACET_LOAD_ALLOW_MISSING = 1, FACET_LOAD_FRAME = 2, FACET_LOAD_STRICT = 4, FACET_LOAD_GL_MATERIALS = 8 };
 facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigned flags, float aspect,
                                    uint64_t memory_budget_bytes);
 const char* facet_scene_warnings(const facet_scene* scene);

@@ -41,6 +41,10 @@ struct ModelOptions {
   // or its node's); empty: the first camera node in the scene's order. A camera that is not in
   // the drawn scene is an error that lists the ones that are (`facet --camera`).
   std::string camera;
+  // glTF: light its metallic-roughness materials with GL's lighting model (the Blinn-Phong mapping
+  // of docs/content.md, as facet did before it had the glTF BRDF): what GL parity asks for
+  // (`facet --gl-materials`, facet_vs_llvmpipe). false: Material::model pbr (docs/pbr.md).
+  bool gl_materials = false;
 };
 
 struct Model {
@@ -130,10 +134,13 @@ Result<Camera> frame_bounds(const Bounds& bounds, float aspect, const ViewOption
 Camera orbit_camera(const Camera& camera, const Vec3& centre, UpAxis up, float angle_deg);
 Light orbit_light(const Light& light, const Vec3& centre, UpAxis up, float angle_deg);
 
-// facet's default rig, for models that bring no lights: a white headlight along the camera's view
+// facet's default lighting, for models that bring no lights. A scene whose materials are all
+// pbr gets the neutral studio (Scene::environment_light, docs/pbr.md) and no ambient, as a glTF
+// viewer lights a model; otherwise facet's rig: a white headlight along the camera's view
 // (diffuse 0.5, no specular) and a key light from above, left and in front of the camera (diffuse
-// 0.7, specular 0.5), both directional, and a global ambient of 0.15.
-void add_default_lights(Scene& scene);
+// 0.7, specular 0.5), both directional, and a global ambient of 0.15 (with the studio as well when
+// some material is pbr). Returns what it added, in words (for a note).
+const char* add_default_lights(Scene& scene);
 
 // Why a frame drew nothing ("no objects", "every triangle is outside the view", "every triangle
 // is back-facing and culled", ...), or an empty string when it filled pixels.

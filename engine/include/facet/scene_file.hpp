@@ -41,6 +41,9 @@ struct LoadOptions {
   // Imported models load strictly (ModelOptions::allow_missing false: a missing or unreadable
   // material library or texture is an error), whatever an import's "allow_missing" says.
   bool strict = false;
+  // Imported glTF models light their materials with GL's model (ModelOptions::gl_materials), as
+  // an import's "gl_materials": true asks for one.
+  bool gl_materials = false;
 };
 
 Result<Scene> load_scene_file(const std::string& path, const LoadOptions& options = {});

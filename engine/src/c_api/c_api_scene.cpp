@@ -520,7 +520,9 @@ facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigne
   if (!scene) return FACET_INVALID_ARGUMENT;
   return guarded(&scene->error, [&] {
     if (!path) return fail(scene->error, "path", "null");
-    if (flags & ~unsigned(FACET_LOAD_ALLOW_MISSING | FACET_LOAD_FRAME | FACET_LOAD_STRICT)) return fail(scene->error, "flags", "unknown flag");
+    if (flags & ~unsigned(FACET_LOAD_ALLOW_MISSING | FACET_LOAD_FRAME | FACET_LOAD_STRICT | FACET_LOAD_GL_MATERIALS)) {
+      return fail(scene->error, "flags", "unknown flag");
+    }
     if ((flags & FACET_LOAD_STRICT) && (flags & FACET_LOAD_ALLOW_MISSING)) {
       return fail(scene->error, "flags", "FACET_LOAD_STRICT and FACET_LOAD_ALLOW_MISSING contradict each other");
     }
@@ -537,6 +539,7 @@ facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigne
       o.allow_missing = (flags & FACET_LOAD_STRICT) == 0;
       o.assets = scene->assets;
       o.camera = scene->load_camera;
+      o.gl_materials = (flags & FACET_LOAD_GL_MATERIALS) != 0;
       facet::Result<facet::Model> model = facet::load_model(path, o);
       if (!model) return report(scene->error, model.status());
       for (const std::string& w : model->warnings) warnings += w + "\n";
@@ -555,6 +558,7 @@ facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigne
       o.memory_budget_bytes = memory_budget_bytes;
       o.warning = [&](const std::string& w) { warnings += w + "\n"; };
       o.assets = scene->assets;
+      o.gl_materials = (flags & FACET_LOAD_GL_MATERIALS) != 0;
       facet::Result<facet::Scene> s = facet::load_scene_file(path, o);
       if (!s) return report(scene->error, s.status());
       loaded = std::move(*s);

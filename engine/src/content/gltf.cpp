@@ -18,7 +18,8 @@ namespace {
 
 // The extensions facet reads; any other that a file requires is an error, any other it uses a warning.
 constexpr const char* kSupportedExtensions[] = {
-    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_mesh_quantization",
+    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_materials_ior",
+    "KHR_materials_specular", "KHR_mesh_quantization",
     "KHR_texture_transform", "EXT_meshopt_compression", "KHR_draco_mesh_compression", "EXT_mesh_gpu_instancing"};
 
 bool supported_extension(const std::string& name) {

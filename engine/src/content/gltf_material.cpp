@@ -81,8 +81,15 @@ Status Reader::material(int index, MaterialInfo& info) {
   }
   Material mat;
   if (index < 0) {
-    // No material: facet's default (GL's grey), not glTF's default metal (docs/content.md).
+    // No material: glTF's default (a white rough metal: base colour 1, metallic 1, roughness 1),
+    // as three.js draws it; with GL materials facet's default (GL's grey), which the Blinn-Phong
+    // mapping of the default metal would draw black (docs/content.md).
     mat = model_default_material();
+    if (!options_.gl_materials) {
+      mat.model = MaterialModel::pbr;
+      mat.base_color = Color3::Ones();
+      mat.metallic = mat.roughness = 1.0f;
+    }
   } else {
     const Json& g = doc_.item("materials", static_cast<std::size_t>(index));
     const std::string p = Fields::at("materials", static_cast<std::size_t>(index));
@@ -124,6 +131,15 @@ Status Reader::material(int index, MaterialInfo& info) {
       mat.ambient = mat.diffuse = mat.specular = Color3::Zero();
       info.vertex_color_scale = Color3::Zero();
       warn(p + ": KHR_materials_unlit: drawn as emission of the base colour (vertex colours are not applied)");
+    } else if (!options_.gl_materials) {
+      // The glTF BRDF itself (docs/pbr.md); the GL colours above stay for a host that switches
+      // the material to model gl. Vertex colours multiply the base colour in the BRDF.
+      mat.model = MaterialModel::pbr;
+      mat.base_color = base;
+      mat.metallic = float(metallic);
+      mat.roughness = float(roughness);
+      info.vertex_color_scale = Color3::Ones();
+      FACET_TRY(pbr_extensions(ext, p, mat));
     }
     mat.alpha = float(bc[3]);
     std::string alpha_mode = "OPAQUE";
@@ -225,6 +241,33 @@ Status Reader::material(int index, MaterialInfo& info) {
   out_.scene.materials.push_back(std::move(mat));
   info.index = static_cast<std::uint32_t>(out_.scene.materials.size() - 1);
   materials_[index] = info;
+  return {};
+}
+
+// KHR_materials_ior (ior >= 1; 0, which the extension allows for "no refraction", reads as
+// 1.5, its default) and KHR_materials_specular's factors; their textures are warned and ignored.
+Status Reader::pbr_extensions(const Json* ext, const std::string& p, Material& mat) {
+  if (!ext) return {};
+  if (const Json* ior = Fields::find(*ext, "KHR_materials_ior")) {
+    const std::string ip = p + ".extensions.KHR_materials_ior";
+    FACET_TRY(f_.object(*ior, ip));
+    double value = 1.5;
+    FACET_TRY(f_.number(*ior, ip, "ior", value, 0.0, 10.0));
+    if (value != 0.0 && value < 1.0) return f_.error(ip + ".ior", "expected 0 or a number in [1, 10], found " + format_number(value));
+    mat.ior = value == 0.0 ? 1.5f : float(value);
+  }
+  if (const Json* sp = Fields::find(*ext, "KHR_materials_specular")) {
+    const std::string xp = p + ".extensions.KHR_materials_specular";
+    FACET_TRY(f_.object(*sp, xp));
+    double weight = 1.0, colour[3] = {1, 1, 1};
+    FACET_TRY(f_.number(*sp, xp, "specularFactor", weight, 0.0, 1.0));
+    FACET_TRY(f_.numbers(*sp, xp, "specularColorFactor", 3, colour, 0.0, 1e6));
+    mat.specular_weight = float(weight);
+    mat.specular_color = Color3(float(colour[0]), float(colour[1]), float(colour[2]));
+    for (const char* t : {"specularTexture", "specularColorTexture"}) {
+      if (Fields::find(*sp, t)) warn(xp + "." + t + ": not supported; ignored (the factor alone applies)");
+    }
+  }
   return {};
 }
 

@@ -80,6 +80,7 @@ class Reader {
   Status texture_info(const Json& ti, const std::string& tp, std::int32_t& t, UvTransform& transform, bool& has_transform,
                       TextureEncoding encoding);
   Status texture(int index, std::int32_t& out, TextureEncoding encoding);
+  Status pbr_extensions(const Json* ext, const std::string& p, Material& mat);
   std::uint32_t untextured_twin(std::uint32_t index);
   Status add_camera(int camera, std::size_t node, const std::string& p, const Eigen::Matrix4d& world);
   Status add_light(const Json& ext, const std::string& p, const Eigen::Matrix4d& world);

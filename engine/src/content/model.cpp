@@ -269,7 +269,14 @@ Light orbit_light(const Light& light, const Vec3& centre, UpAxis up, float angle
   return out;
 }
 
-void add_default_lights(Scene& scene) {
+const char* add_default_lights(Scene& scene) {
+  std::size_t pbr = 0;
+  for (const Material& m : scene.materials) pbr += m.model == MaterialModel::pbr ? 1 : 0;
+  if (pbr > 0) scene.environment_light.source = EnvironmentSource::studio;
+  if (pbr > 0 && pbr == scene.materials.size()) {
+    scene.global_ambient = Color3::Zero();
+    return "facet's neutral studio (docs/pbr.md)";
+  }
   const Eigen::Vector3d eye = scene.camera.eye.cast<double>(), target = scene.camera.target.cast<double>();
   Eigen::Vector3d forward = target - eye;
   if (!(forward.norm() > 0.0)) forward = Eigen::Vector3d(0, 0, -1);
@@ -295,6 +302,8 @@ void add_default_lights(Scene& scene) {
   scene.lights.push_back(head);
   scene.lights.push_back(key);
   scene.global_ambient = Color3::Constant(0.15f);
+  return pbr > 0 ? "facet's default rig (a headlight and a key light, ambient 0.15) and its neutral studio"
+                 : "facet's default rig (a headlight and a key light, ambient 0.15)";
 }
 
 std::string explain_empty_frame(const FrameStats& s) {

@@ -565,7 +565,7 @@ class SceneReader : public scene_json::JsonFields {
   // with their names prefixed by the file name ("chair.obj:wood"), its objects transformed, its
   // lights added unless "lights" is false, its camera used when "camera" is true.
   Status read_import(const json& j, const std::string& p, bool scene_has_camera, Scene& scene) {
-    FACET_TRY(expect_object(j, p, {"file", "translate", "rotate_deg", "scale", "matrix", "lights", "camera", "allow_missing", "lightmaps"}));
+    FACET_TRY(expect_object(j, p, {"file", "translate", "rotate_deg", "scale", "matrix", "lights", "camera", "allow_missing", "lightmaps", "gl_materials"}));
     if (!j.contains("file")) return invalid(child(p, "file"), "missing: the model file (.gltf, .glb or .obj)");
     std::string file;
     FACET_TRY(opt_string(j, p, "file", file));
@@ -580,6 +580,8 @@ class SceneReader : public scene_json::JsonFields {
     FACET_TRY(opt_bool(j, p, "camera", camera));
     FACET_TRY(opt_bool(j, p, "allow_missing", mo.allow_missing));
     if (options_.strict) mo.allow_missing = false;
+    mo.gl_materials = options_.gl_materials;
+    FACET_TRY(opt_bool(j, p, "gl_materials", mo.gl_materials));
     if (camera && scene_has_camera) return invalid(child(p, "camera"), "the scene file has its own \"camera\"");
     mo.memory_budget_bytes = left();
     const std::string fp = child(p, "file");
@@ -676,8 +678,7 @@ class SceneReader : public scene_json::JsonFields {
       note("no \"camera\": framing the imported models from the front");
     }
     if (!root.contains("lights") && !imported_lights_) {
-      add_default_lights(scene);
-      note("no \"lights\": facet's default rig (a headlight and a key light, ambient 0.15)");
+      note(std::string("no \"lights\": ") + add_default_lights(scene));
     }
     return {};
   }
