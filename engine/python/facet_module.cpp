@@ -96,6 +96,7 @@ py::dict stats_dict(const FrameStats& s) {
   d["seconds_geometry"] = s.seconds_geometry;
   d["seconds_raster"] = s.seconds_raster;
   d["seconds_shadows"] = s.seconds_shadows;
+  d["seconds_environment"] = s.seconds_environment;
   d["seconds_total"] = s.seconds_total;
   d["exposure_ev"] = s.exposure_ev;
   d["threads"] = s.threads;

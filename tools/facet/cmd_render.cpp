@@ -40,6 +40,10 @@ void print_stats_text(const FrameStats& s, int frames, double seconds) {
     }
     std::printf("\n");
   }
+  if (s.seconds_environment > 0) {
+    std::printf("  environment %.3f ms (the PBR materials' DFG table, harmonics and prefiltered cube: once per renderer and picture)\n",
+                1e3 * s.seconds_environment);
+  }
   std::printf("  time (ms)   lighting %.3f, geometry %.3f, tiles %.3f (resolve %.3f of thread time), frame %.3f\n",
               1e3 * s.seconds_lighting, 1e3 * s.seconds_geometry, 1e3 * s.seconds_raster, 1e3 * s.seconds_resolve,
               1e3 * s.seconds_total);
@@ -67,7 +71,7 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               "\"vertex_lights_evaluated\": %llu, \"vertex_lights_skipped\": %llu, "
               "\"pixels_tested\": %llu, \"pixels_filled\": %llu, \"seconds_lighting\": %.6g, "
               "\"seconds_geometry\": %.6g, \"seconds_raster\": %.6g, \"seconds_resolve\": %.6g, "
-              "\"shadow_casters\": %llu, \"seconds_shadows\": %.6g, \"shadow_map_texels\": %llu, "
+              "\"shadow_casters\": %llu, \"seconds_shadows\": %.6g, \"seconds_environment\": %.6g, \"shadow_map_texels\": %llu, "
               "\"shadow_map_pixels\": %llu, "
               "\"seconds_frame\": %.6g, \"frames\": %d, \"mean_seconds_per_frame\": %.6g, "
               "\"vertices_lit_per_s\": %.6g, \"pixels_filled_per_s\": %.6g, \"frame_seconds\": %s%s}\n",
@@ -82,7 +86,7 @@ void print_stats_json(const FrameStats& s, int frames, double seconds, const Ren
               (unsigned long long)s.vertex_lights_evaluated,
               (unsigned long long)s.vertex_lights_skipped, (unsigned long long)s.pixels_tested, (unsigned long long)s.pixels_filled, s.seconds_lighting,
               s.seconds_geometry, s.seconds_raster, s.seconds_resolve, (unsigned long long)s.shadow_casters,
-              s.seconds_shadows, (unsigned long long)s.shadow_map_texels, (unsigned long long)s.shadow_map_pixels,
+              s.seconds_shadows, s.seconds_environment, (unsigned long long)s.shadow_map_texels, (unsigned long long)s.shadow_map_pixels,
               s.seconds_total, frames, per_frame,
               double(s.vertices_lit) / per_frame, double(s.pixels_filled) / per_frame,
               json_spread(frame_seconds.empty() ? std::vector<double>{per_frame} : frame_seconds).c_str(),

@@ -270,6 +270,9 @@ typedef struct facet_frame_stats {
   /* added in facet 0.2 (written when struct_size reaches it): the exposure the frame used, in
    * stops (the scene's display.exposure_ev, or the metered one); 0 for GL's display */
   float exposure_ev;
+  /* added in facet 0.5: preparing PBR materials' surroundings (DFG table, harmonics, prefiltered
+   * cube), once per renderer and environment picture */
+  double seconds_environment;
 } facet_frame_stats;
 
 typedef struct facet_renderer facet_renderer;

@@ -271,6 +271,9 @@ inline void write_stats(const facet::FrameStats& s, facet_frame_stats* stats) {
       stats->shadow_casters = s.shadow_casters;
       stats->shadow_map_texels = s.shadow_map_texels;
       stats->shadow_map_pixels = s.shadow_map_pixels;
+      if (stats->struct_size == 0 || stats->struct_size >= offsetof(facet_frame_stats, seconds_environment) + sizeof(double)) {
+        stats->seconds_environment = s.seconds_environment;
+      }
       if (stats->struct_size == 0 || stats->struct_size >= offsetof(facet_frame_stats, exposure_ev) + sizeof(float)) {
         stats->exposure_ev = s.exposure_ev;
       }

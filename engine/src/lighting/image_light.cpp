@@ -147,7 +147,17 @@ std::uint64_t ImageLight::bytes() const {
   std::uint64_t n = dfg_.size() * sizeof(float);
   for (const auto& l : levels_) n += l.size() * sizeof(float);
   for (const auto& l : source_) n += l.rgb.size() * sizeof(float);
+  for (const auto& l : source_cube_) n += l.size() * sizeof(float);
   return n;
+}
+
+V3<double> ImageLight::cube_source(const V3<double>& d, double lod) const {
+  lod = std::clamp(lod, 0.0, double(source_cube_.size() - 1));
+  const std::size_t k = std::min(static_cast<std::size_t>(lod), source_cube_.size() - 1);
+  const double f = lod - double(k);
+  const V3<double> a = cube_sample(source_cube_[k].data(), std::max(1, source_cube_size_ >> k), d);
+  if (f <= 0.0 || k + 1 >= source_cube_.size()) return a;
+  return (1.0 - f) * a + f * cube_sample(source_cube_[k + 1].data(), std::max(1, source_cube_size_ >> (k + 1)), d);
 }
 
 V3<double> ImageLight::source(const V3<double>& d, double lod) const {
@@ -167,6 +177,7 @@ Status ImageLight::build(const EnvironmentLight& env,
                          const std::function<bool()>& cancelled) {
   has_image_ = false;
   source_.clear();
+  source_cube_.clear();
   for (auto& l : levels_) l.clear();
   std::memset(sh_, 0, sizeof sh_);
   source_kind_ = env.source, width_ = env.width, height_ = env.height, checksum_ = 0;
@@ -200,8 +211,45 @@ Status ImageLight::build(const EnvironmentLight& env,
     sh_[1][i] = float(a[i] * k[i] * sh[std::size_t(i)].y);
     sh_[2][i] = float(a[i] * k[i] * sh[std::size_t(i)].z);
   }
+  // The picture as a cube of about its own resolution (at most 256 a side), read at the level of
+  // the halvings that matches a cube texel, and the cube's halvings: what the prefilter samples
+  // (no trigonometry per sample).
+  source_cube_size_ = std::clamp(source_[0].height / 2, 8, 256);
+  source_cube_.clear();
+  {
+    const int n = source_cube_size_;
+    std::vector<float> base(std::size_t(6) * std::size_t(n) * std::size_t(n) * 3);
+    const double lod = std::max(0.0, 0.5 * std::log2((4.0 * kPi / (6.0 * n * n)) /
+                                                      (4.0 * kPi / (double(source_[0].width) * double(source_[0].height)))));
+    run(std::size_t(6) * std::size_t(n), [&](std::size_t row) {
+      const int face = int(row / std::size_t(n)), j = int(row % std::size_t(n));
+      for (int i = 0; i < n; ++i) {
+        const V3<double> v = source(cube_direction(face, (i + 0.5) / n, (j + 0.5) / n), lod);
+        float* o = base.data() + 3 * ((std::size_t(face) * std::size_t(n) + std::size_t(j)) * std::size_t(n) + std::size_t(i));
+        o[0] = float(v.x), o[1] = float(v.y), o[2] = float(v.z);
+      }
+    });
+    source_cube_.push_back(std::move(base));
+    for (int m = n / 2; m >= 1; m /= 2) {
+      const std::vector<float>& up = source_cube_.back();
+      const int u = 2 * m;
+      std::vector<float> down(std::size_t(6) * std::size_t(m) * std::size_t(m) * 3);
+      for (int face = 0; face < 6; ++face) {
+        for (int j = 0; j < m; ++j) {
+          for (int i = 0; i < m; ++i) {
+            for (int c = 0; c < 3; ++c) {
+              auto at = [&](int x, int y) { return up[3 * ((std::size_t(face) * u + std::size_t(y)) * u + std::size_t(x)) + std::size_t(c)]; };
+              down[3 * ((std::size_t(face) * m + std::size_t(j)) * m + std::size_t(i)) + std::size_t(c)] =
+                  0.25f * (at(2 * i, 2 * j) + at(2 * i + 1, 2 * j) + at(2 * i, 2 * j + 1) + at(2 * i + 1, 2 * j + 1));
+            }
+          }
+        }
+      }
+      source_cube_.push_back(std::move(down));
+    }
+  }
   // The prefiltered levels, one face row per task.
-  const double texel0 = 4.0 * kPi / (double(source_[0].width) * double(source_[0].height));
+  const double texel0 = 4.0 * kPi / (6.0 * double(source_cube_size_) * double(source_cube_size_));
   bool stop = false;
   for (int level = 0; level < kRadianceLevels && !stop; ++level) {
     const int n = std::max(kRadianceMinSize, kRadianceSize >> level);
@@ -211,6 +259,28 @@ Status ImageLight::build(const EnvironmentLight& env,
     const double roughness = double(level) / (kRadianceLevels - 1);
     const double alpha = pbr::alpha_of(roughness);
     const double cube_texel = 4.0 * kPi / (6.0 * n * n);
+    // The level's GGX samples around +z, once: each half vector, its weight n.l (samples below
+    // the horizon dropped) and the two halvings its light is read from, with the blend between.
+    struct Sample {
+      float hx, hy, hz, weight, blend;
+      int k;
+    };
+    std::vector<Sample> samples;
+    double weight = 0.0;
+    const int halvings = int(source_cube_.size());
+    if (level > 0) {
+      const unsigned count = prefilter_samples(level);
+      for (unsigned s = 0; s < count; ++s) {
+        const V3<double> hs = pbr::ggx_sample(s, count, alpha);
+        const double n_dot_l = 2.0 * hs.z * hs.z - 1.0;
+        if (n_dot_l <= 0.0) continue;
+        const double pdf = pbr::ggx_d(hs.z, alpha) / 4.0;  // of l, with n = v = r
+        const double lod = std::clamp(0.5 * std::log2(1.0 / (count * pdf * texel0)), 0.0, double(halvings - 1));
+        const int k = std::min(static_cast<int>(lod), std::max(0, halvings - 2));
+        samples.push_back({float(hs.x), float(hs.y), float(hs.z), float(n_dot_l), float(std::min(1.0, lod - k)), k});
+        weight += n_dot_l;
+      }
+    }
     run(std::size_t(6) * std::size_t(n), [&](std::size_t row) {
       if (cancelled && cancelled()) return;
       const int face = int(row / std::size_t(n)), j = int(row % std::size_t(n));
@@ -218,7 +288,7 @@ Status ImageLight::build(const EnvironmentLight& env,
         const V3<double> r = cube_direction(face, (i + 0.5) / n, (j + 0.5) / n);
         V3<double> value;
         if (level == 0) {  // a mirror: the picture itself, read at the cube texel's size
-          value = source(r, std::max(0.0, 0.5 * std::log2(cube_texel / texel0)));
+          value = cube_source(r, std::max(0.0, 0.5 * std::log2(cube_texel / texel0)));
         } else {
           // GGX-weighted radiance around r (pbr::prefiltered), each sample read from the halving
           // whose texel matches the sample's share of the lobe (Colbert and Krivanek 2007).
@@ -226,20 +296,25 @@ Status ImageLight::build(const EnvironmentLight& env,
           V3<double> t{up.y * r.z - up.z * r.y, up.z * r.x - up.x * r.z, up.x * r.y - up.y * r.x};
           t = (1.0 / std::sqrt(dot(t, t))) * t;
           const V3<double> b{r.y * t.z - r.z * t.y, r.z * t.x - r.x * t.z, r.x * t.y - r.y * t.x};
-          V3<double> sum{0.0, 0.0, 0.0};
-          double weight = 0.0;
-          for (unsigned s = 0; s < kPrefilterSamples; ++s) {
-            const V3<double> hs = pbr::ggx_sample(s, kPrefilterSamples, alpha);
-            const V3<double> h = hs.x * t + hs.y * b + hs.z * r;
-            const V3<double> l = (2.0 * dot(r, h)) * h - r;
-            const double n_dot_l = dot(r, l);
-            if (n_dot_l <= 0.0) continue;
-            const double pdf = pbr::ggx_d(hs.z, alpha) / 4.0;  // of l, with n = v = r
-            const double lod = 0.5 * std::log2(1.0 / (kPrefilterSamples * pdf * texel0)) + 1.0;
-            sum = sum + n_dot_l * source(l, std::max(0.0, lod));
-            weight += n_dot_l;
+          const V3<float> tf{float(t.x), float(t.y), float(t.z)}, bf{float(b.x), float(b.y), float(b.z)},
+              rf{float(r.x), float(r.y), float(r.z)};
+          double sum[3] = {0.0, 0.0, 0.0};
+          for (const Sample& sm : samples) {
+            const float h[3] = {sm.hx * tf.x + sm.hy * bf.x + sm.hz * rf.x, sm.hx * tf.y + sm.hy * bf.y + sm.hz * rf.y,
+                                sm.hx * tf.z + sm.hy * bf.z + sm.hz * rf.z};
+            const float two = 2.0f * sm.hz;
+            const V3<float> l{two * h[0] - rf.x, two * h[1] - rf.y, two * h[2] - rf.z};
+            const int k = sm.k, m = std::min(k + 1, halvings - 1);
+            int face_of_l;
+            float s, t;
+            cube_face(l.x, l.y, l.z, face_of_l, s, t);
+            const V3<float> a = face_bilinear(source_cube_[std::size_t(k)].data(), std::max(1, source_cube_size_ >> k), face_of_l, s, t);
+            const V3<float> c = face_bilinear(source_cube_[std::size_t(m)].data(), std::max(1, source_cube_size_ >> m), face_of_l, s, t);
+            sum[0] += sm.weight * (a.x + (c.x - a.x) * sm.blend);
+            sum[1] += sm.weight * (a.y + (c.y - a.y) * sm.blend);
+            sum[2] += sm.weight * (a.z + (c.z - a.z) * sm.blend);
           }
-          value = (1.0 / weight) * sum;
+          value = {sum[0] / weight, sum[1] / weight, sum[2] / weight};
         }
         float* o = out.data() + 3 * ((std::size_t(face) * std::size_t(n) + std::size_t(j)) * std::size_t(n) + std::size_t(i));
         o[0] = float(value.x), o[1] = float(value.y), o[2] = float(value.z);

@@ -27,12 +27,13 @@ inline constexpr unsigned kDfgSamples = 512;
 inline constexpr int kRadianceLevels = 6;
 inline constexpr int kRadianceSize = 128;
 inline constexpr int kRadianceMinSize = 16;
-inline constexpr unsigned kPrefilterSamples = 64;
+// GGX samples per texel of level k >= 1: fewer for the narrow lobes, whose samples read finer halvings.
+inline constexpr unsigned prefilter_samples(int level) { return 128u << (level < 3 ? level - 1 : 1); }
 
 // GL's cube face of a direction (GL 2.1 table 3.21): faces +X, -X, +Y, -Y, +Z, -Z and the face
 // coordinates s, t in [0, 1]; and back.
 template <class T>
-void cube_face(T x, T y, T z, int& face, T& s, T& t) {
+[[gnu::always_inline]] inline void cube_face(T x, T y, T z, int& face, T& s, T& t) {
   const T ax = std::abs(x), ay = std::abs(y), az = std::abs(z);
   T sc, tc, ma;
   if (ax >= ay && ax >= az) {
@@ -46,6 +47,42 @@ void cube_face(T x, T y, T z, int& face, T& s, T& t) {
   s = T(0.5) * (sc * inv + T(1)), t = T(0.5) * (tc * inv + T(1));
 }
 V3<double> cube_direction(int face, double s, double t);
+
+// Bilinear at face coordinates (s, t) of `face` (clamped at its edges) of six n x n faces of RGB
+// texels, each face's rows of s at increasing t.
+template <class T>
+[[gnu::always_inline]] inline V3<T> face_bilinear(const float* faces, int n, int face, T s, T t) {
+  auto coordinate = [n](T x, int& i, T& f) {
+    T c = x * T(n) - T(0.5);
+    c = c > T(0) ? (c < T(n - 1) ? c : T(n - 1)) : T(0);
+    i = static_cast<int>(c);
+    if (i > n - 2) i = n - 2 < 0 ? 0 : n - 2;
+    f = c - T(i);
+  };
+  int i, j;
+  T fs, ft;
+  coordinate(s, i, fs);
+  coordinate(t, j, ft);
+  const std::size_t step = n > 1 ? 3 : 0, row = n > 1 ? 3 * std::size_t(n) : 0;
+  const float* t00 = faces + std::size_t(face) * std::size_t(n) * std::size_t(n) * 3 + 3 * (std::size_t(j) * std::size_t(n) + std::size_t(i));
+  const float* t01 = t00 + row;
+  T out[3];
+  for (int c = 0; c < 3; ++c) {
+    const T a = T(t00[c]) + (T(t00[c + step]) - T(t00[c])) * fs;
+    const T b = T(t01[c]) + (T(t01[c + step]) - T(t01[c])) * fs;
+    out[c] = a + (b - a) * ft;
+  }
+  return {out[0], out[1], out[2]};
+}
+
+// Bilinear within the face of the direction r.
+template <class T>
+[[gnu::always_inline]] inline V3<T> cube_sample(const float* faces, int n, V3<T> r) {
+  int face;
+  T s, t;
+  cube_face(r.x, r.y, r.z, face, s, t);
+  return face_bilinear(faces, n, face, s, t);
+}
 
 // A picture of radiance around the scene, read bilinearly (wrapping in u, clamped in v), with
 // its box-filtered halvings for reading a wide cone at once.
@@ -124,32 +161,10 @@ class ImageLight {
  private:
   template <class T>
   V3<T> cube_bilinear(int k, V3<T> r) const {
-    int face;
-    T s, t;
-    cube_face(r.x, r.y, r.z, face, s, t);
-    const int n = sizes_[static_cast<std::size_t>(k)];
-    auto coordinate = [n](T x, int& i, T& f) {
-      T c = x * T(n) - T(0.5);
-      c = c > T(0) ? (c < T(n - 1) ? c : T(n - 1)) : T(0);
-      i = static_cast<int>(c);
-      if (i > n - 2) i = n - 2;
-      f = c - T(i);
-    };
-    int i, j;
-    T fs, ft;
-    coordinate(s, i, fs);
-    coordinate(t, j, ft);
-    const float* face0 = levels_[static_cast<std::size_t>(k)].data() + std::size_t(face) * n * n * 3;
-    const float* t00 = face0 + 3 * (std::size_t(j) * n + i);
-    const float* t01 = t00 + 3 * std::size_t(n);
-    T out[3];
-    for (int c = 0; c < 3; ++c) {
-      const T a = T(t00[c]) + (T(t00[c + 3]) - T(t00[c])) * fs;
-      const T b = T(t01[c]) + (T(t01[c + 3]) - T(t01[c])) * fs;
-      out[c] = a + (b - a) * ft;
-    }
-    return {out[0], out[1], out[2]};
+    return cube_sample(levels_[static_cast<std::size_t>(k)].data(), sizes_[static_cast<std::size_t>(k)], r);
   }
+  // The radiance the prefilter reads: the picture as a cube with its halvings, at a level of detail.
+  V3<double> cube_source(const V3<double>& d, double lod) const;
 
   std::vector<float> dfg_;  // kDfgSize^2 cells of (scale, bias), n.v fastest
   bool has_image_ = false;
@@ -157,6 +172,8 @@ class ImageLight {
   int sizes_[kRadianceLevels] = {};
   std::vector<float> levels_[kRadianceLevels];  // 6 faces of size^2 RGB texels, t rows of s
   std::vector<EquirectLevel> source_;           // the picture and its halvings
+  std::vector<std::vector<float>> source_cube_;  // the picture as a cube (source_cube_size_ texels a side) and its halvings
+  int source_cube_size_ = 0;
   // What was built (built_from): the source and its picture (intensity and rotation are the
   // kernels' to apply, so that turning the surroundings rebuilds nothing).
   EnvironmentSource source_kind_ = EnvironmentSource::none;

@@ -8,7 +8,8 @@
 // with E_i = pi d_i att_i spot_i (a light's diffuse colour d_i is the radiance a white
 // Lambertian surface facing it shows), o the ambient occlusion, and the surroundings
 //   L_d = ambient + sum of att_i spot_i a_i + intensity SH irradiance(n) / pi      (diffuse)
-//   L_s = ambient + sum of att_i spot_i a_i + intensity prefiltered(r, roughness)  (specular)
+//   L_s = ambient + sum of att_i spot_i a_i + intensity prefiltered(r', roughness) (specular)
+// where r' = normalize(mix(r, n, roughness^2)) is the mirror direction r turned towards the normal,
 // the split sum's Fss Ess = f0 A + f90 B from the DFG table and Fdez-Aguera's multiple
 // scattering Fms Ems = Fss Ess F_avg (1 - A - B) / (1 - (1 - A - B) F_avg), per layer
 // (dielectric: f0 from ior and KHR_materials_specular, f90 the specular weight; metal: f0 the
@@ -88,8 +89,12 @@ V3<T> shade_pbr(const ShadeParams<T>& sp, V3<T> p, V3<T> n_in, V3<T> albedo, V3<
     const T* r = q.to_env;
     const V3<T> nw{r[0] * n.x + r[1] * n.y + r[2] * n.z, r[3] * n.x + r[4] * n.y + r[5] * n.z,
                    r[6] * n.x + r[7] * n.y + r[8] * n.z};
+    // The mirror direction turned towards the normal as the lobe widens (the lobe's dominant
+    // direction: three.js mixes by roughness^2 as here; Filament likewise), which keeps rough
+    // surfaces from gathering light from behind their tangent plane.
     const T two = T(2) * dot(n, v);
-    const V3<T> re{two * n.x - v.x, two * n.y - v.y, two * n.z - v.z};  // the mirror direction
+    const V3<T> re{two * n.x - v.x + q.alpha * (n.x - two * n.x + v.x), two * n.y - v.y + q.alpha * (n.y - two * n.y + v.y),
+                   two * n.z - v.z + q.alpha * (n.z - two * n.z + v.z)};
     const V3<T> rw{r[0] * re.x + r[1] * re.y + r[2] * re.z, r[3] * re.x + r[4] * re.y + r[5] * re.z,
                    r[6] * re.x + r[7] * re.y + r[8] * re.z};
     const V3<T> diffuse = q.image->diffuse(nw), specular = q.image->specular(normalize_or_zero(rw), q.roughness);
