@@ -154,6 +154,52 @@ bool is_model_path(const std::string& path) {
   return ext == ".gltf" || ext == ".glb" || ext == ".obj";
 }
 
+void add_environment_options(CLI::App* app, EnvironmentState& st, const char* group) {
+  auto in_group = [&](CLI::Option* o) {
+    if (group) o->group(group);
+  };
+  in_group(app->add_option("--environment-image", st.image,
+                           "studio | none | FILE (.hdr, .exr, .png, .jpg; equirectangular): what PBR materials see around them "
+                           "(default: the scene's; a glTF model without lights: studio, facet's neutral one)"));
+  in_group(app->add_option("--environment-intensity", st.intensity, "the surroundings' radiance times K (default 1)")
+               ->check(number_in(0, 1e6)));
+  in_group(app->add_option("--environment-rotation", st.rotation_deg,
+                           "turns the surroundings by DEG about the world's +Y axis (default 0)")
+               ->check(number_in(-3600, 3600)));
+}
+
+bool apply_environment_options(const EnvironmentState& st, std::uint64_t memory_budget_bytes, Scene& scene) {
+  EnvironmentLight& e = scene.environment_light;
+  if (st.image == "studio" || st.image == "none") {
+    const float intensity = e.intensity, rotation = e.rotation_deg;
+    e = EnvironmentLight{};
+    e.source = st.image == "studio" ? EnvironmentSource::studio : EnvironmentSource::none;
+    e.intensity = intensity, e.rotation_deg = rotation;
+  } else if (!st.image.empty()) {
+    Result<EnvironmentLight> picture = load_environment_image(st.image, {}, memory_budget_bytes);
+    if (!picture) {
+      fail("--environment-image: " + picture.status().message());
+      return false;
+    }
+    const float intensity = e.intensity, rotation = e.rotation_deg;
+    e = std::move(*picture);
+    e.intensity = intensity, e.rotation_deg = rotation;
+  }
+  if (st.intensity >= 0.0) e.intensity = float(st.intensity);
+  if (st.rotation_deg < 1e8) e.rotation_deg = float(st.rotation_deg);
+  return true;
+}
+
+std::string describe_environment(const Scene& scene) {
+  const EnvironmentLight& e = scene.environment_light;
+  std::string s = to_string(e.source);
+  if (e.source == EnvironmentSource::image) s += " " + std::to_string(e.width) + "x" + std::to_string(e.height);
+  if (e.source != EnvironmentSource::none) {
+    s += ", intensity " + format_number(e.intensity) + ", rotation " + format_number(e.rotation_deg) + " deg";
+  }
+  return s;
+}
+
 void add_view_options(CLI::App* app, ViewState& st, const char* group) {
   auto in_group = [&](CLI::Option* o) {
     if (group) o->group(group);

@@ -63,6 +63,19 @@ inline constexpr const char* kTransparentOrderHelp =
 // --exposure EV|auto and --tone-mapping none|neutral|aces over the scene's own display ("" when
 // not given). Prints the error and returns false for an exposure that is neither.
 bool apply_display_options(const std::string& exposure, const std::string& tone_mapping, Display& display);
+// --environment-image studio|none|FILE, --environment-intensity K, --environment-rotation DEG:
+// what PBR materials see around them, over the scene's own (Scene::environment_light).
+struct EnvironmentState {
+  std::string image;
+  double intensity = -1.0, rotation_deg = 1e9;  // not given
+};
+void add_environment_options(CLI::App* app, EnvironmentState& st, const char* group = nullptr);
+// Reads the picture (a file the user named: not confined to the scene's folder) within the
+// memory budget; prints the error and returns false when it cannot.
+bool apply_environment_options(const EnvironmentState& st, std::uint64_t memory_budget_bytes, Scene& scene);
+// One line: "studio", "none" or "image 2048x1024", with the intensity and rotation.
+std::string describe_environment(const Scene& scene);
+
 // "reference", "scalar", or "simd avx512 (pow auto)" with `best` resolved.
 std::string describe_path(LightingPath path, Isa isa, PowTier tier);
 

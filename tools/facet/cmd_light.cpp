@@ -42,6 +42,7 @@ struct LightState {
   double min_seconds = 0.5;
   int threads = 1, width = 1280, height = 720, memory_mb = -1;
   bool json = false, allow_missing = false, strict = false, gl_materials = false;
+  EnvironmentState environment;
   std::vector<std::string> allow_paths;
   ViewState view;
 };
@@ -74,6 +75,7 @@ Command add_light(CLI::App& facet) {
   app->add_option("--memory-budget-mb", st->memory_mb, "the most memory the scene may take, in MiB; 0 = no limit (default 4096)")
       ->check(int_in(0, 1 << 30))->group(model);
   add_view_options(app, st->view, model);
+  add_environment_options(app, st->environment, model);
   return {app, [st] { return light(*st); }};
 }
 
@@ -100,6 +102,7 @@ int light(const LightState& st) {
   if (!json) {
     for (const std::string& n : notes) std::fprintf(stderr, "facet: %s\n", n.c_str());
   }
+  if (!apply_environment_options(st.environment, input.memory_budget_bytes, loaded->scene)) return 2;
   const Scene& scene = loaded->scene;
   const std::string scene_name = scene_path.empty() ? "built-in default scene" : scene_path;
 
@@ -206,6 +209,7 @@ struct CheckState {
   std::string scene_path, shading, shadows, transparent_order, output, depth, depth_mode = "auto";
   int width = 1280, height = 720, memory_mb = -1, msaa = 1;
   bool allow_missing = false, strict = false, vertex_relief = false, fields = false, gl_materials = false;
+  EnvironmentState environment;
   std::vector<std::string> allow_paths;
   ViewState view;
 };
@@ -245,6 +249,7 @@ Command add_check(CLI::App& facet) {
   app->add_flag("--gl-materials", st->gl_materials, "light a glTF model's materials with GL's lighting model (facet's Blinn-Phong mapping) instead of the glTF BRDF");
   app->add_option("--allow-path", st->allow_paths, kAllowPathHelp);
   add_view_options(app, st->view);
+  add_environment_options(app, st->environment);
   return {app, [st] { return check(*st); }};
 }
 
@@ -319,6 +324,7 @@ int check(const CheckState& st) {
   Scene* scene = &loaded->scene;
   if (!st.shadows.empty()) override_shadows(*scene, *parse_shadow_method(st.shadows));
   if (!st.transparent_order.empty()) scene->transparent_order = *parse_transparent_order(st.transparent_order);
+  if (!apply_environment_options(st.environment, options.memory_budget_bytes, *scene)) return 2;
   // The image the user asked for first (the plainer message), then the frame's scratch.
   const PixelFormat format = ext == ".png" ? PixelFormat::rgba8 : PixelFormat::rgba32f;
   if (Status s = check_output_image(width, height, format, !st.depth.empty(), options.memory_budget_bytes); !s.ok()) {
@@ -359,6 +365,13 @@ int check(const CheckState& st) {
     std::snprintf(ev, sizeof ev, "%+g EV", double(d.ev));
     std::printf("  display: exposure %s, tone mapping %s, 8-bit output sRGB (--linear for GL's)\n",
                 d.automatic ? "auto (metered per frame)" : ev, to_string(d.tone_mapping));
+  }
+  {
+    std::size_t pbr = 0;
+    for (const Material& m : scene->materials) pbr += m.model == MaterialModel::pbr ? 1 : 0;
+    std::printf("  materials: %zu pbr (glTF's BRDF), %zu gl (GL's fixed function); environment: %s%s\n", pbr,
+                scene->materials.size() - pbr, describe_environment(*scene).c_str(),
+                pbr == 0 && scene->environment_light.source != EnvironmentSource::none ? " (no pbr material sees it)" : "");
   }
   const Camera& cam = scene->camera;
   std::printf("  camera: %s (%s)\n", describe_camera(cam).c_str(), loaded->framed ? "facet's framing" : "the file's");

@@ -262,6 +262,7 @@ struct RenderState {
   std::vector<std::string> allow_paths;
   ViewState view;
   bool gl_materials = false;
+  EnvironmentState environment;
   bool stats = false, json = false, allow_missing = false, strict = false, hdr = false, srgb = false, linear = false, no_light_culling = false,
        light_every_vertex = false, vertex_relief = false;
 };
@@ -294,6 +295,7 @@ Command add_render(CLI::App& facet) {
                   "none | neutral | aces: from the exposed light to [0, 1] (default: the scene's; models neutral, scene "
                   "files none, GL's clamp)")
       ->check(one_of({"none", "neutral", "aces"}, "operator"))->group(out);
+  add_environment_options(app, st->environment, out);
   app->add_option("--clear", st->clear, "the background colour R,G,B[,A], components in [0, 1] (default 0,0,0,1)")->group(out);
   app->add_option("--depth", st->depth_path, "also write window-space depth (0 near .. 1 far) to FILE.pfm")->group(out);
   const char* draw = "Drawing";
@@ -450,6 +452,7 @@ int render(const RenderState& st) {
   if (shadows) override_shadows(*scene, *shadows);
   if (!st.transparent_order.empty()) scene->transparent_order = *parse_transparent_order(st.transparent_order);
   if (!apply_display_options(st.exposure, st.tone_mapping, scene->display)) return 2;
+  if (!apply_environment_options(st.environment, options.memory_budget_bytes, *scene)) return 2;
   // Everything the renderer refuses is refused before the image is allocated: the image the
   // user asked for first (the plainer message), then the frame's scratch.
   const PixelFormat format = ext == ".png" ? PixelFormat::rgba8 : PixelFormat::rgba32f;

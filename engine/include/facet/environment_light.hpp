@@ -5,7 +5,13 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
+#include <string>
 #include <vector>
+
+#include "facet/assets.hpp"
+#include "facet/mesh.hpp"
+#include "facet/status.hpp"
 
 namespace facet {
 
@@ -30,5 +36,17 @@ struct EnvironmentLight {
   float intensity = 1.0f;     // multiplies the radiance; [0, 1e6]
   float rotation_deg = 0.0f;  // turns the surroundings about world +Y (counter-clockwise seen from above); [-3600, 3600]
 };
+
+// An environment picture from a file's bytes: Radiance .hdr (RGBE, flat or run-length encoded; its
+// EXPOSURE divided out; RGBE decoded as Radiance does, (m + 1/2) 2^(e - 136)), OpenEXR (RGB, alpha
+// ignored; negative, infinite or NaN texels refused) or 8-bit PNG or JPEG (sRGB, decoded to linear),
+// told apart by their signatures; equirectangular (twice as wide as high). The memory budget (0:
+// none) bounds the picture's floats, checked before they are allocated. `source_name` is used in
+// messages. Returns source image, intensity 1, rotation 0.
+Result<EnvironmentLight> decode_environment_image(std::span<const std::uint8_t> bytes, const std::string& source_name,
+                                                  std::uint64_t memory_budget_bytes = kDefaultLoadBudgetBytes);
+// The same from a file the host names (regular files only; through AssetAccess::resolver when set).
+Result<EnvironmentLight> load_environment_image(const std::string& path, const AssetAccess& access = {},
+                                                std::uint64_t memory_budget_bytes = kDefaultLoadBudgetBytes);
 
 }  // namespace facet

@@ -155,15 +155,34 @@ class SceneReader : public scene_json::JsonFields {
     return opt_number(j, p, "far", c.far);
   }
 
-  // "environment_image": {"source": "studio" | "none", "intensity": k, "rotation_deg": a} (what
-  // PBR materials see around them; facet/environment_light.hpp).
+  // "environment_image": {"file": F} or {"source": "studio" | "none"}, with "intensity": k and
+  // "rotation_deg": a (what PBR materials see around them; facet/environment_light.hpp). The file
+  // is read as textures are: in the scene's folder, counted against the memory budget.
   Status read_environment_image(const json& j, EnvironmentLight& e) {
     const std::string p = "environment_image";
-    FACET_TRY(expect_object(j, p, {"source", "intensity", "rotation_deg"}));
-    if (!j.contains("source")) return invalid(child(p, "source"), "missing (\"studio\" or \"none\")");
-    std::string source;
-    FACET_TRY(read_enum(j["source"], child(p, "source"), {"studio", "none"}, source));
-    e.source = source == "studio" ? EnvironmentSource::studio : EnvironmentSource::none;
+    FACET_TRY(expect_object(j, p, {"file", "source", "intensity", "rotation_deg"}));
+    if (j.contains("file") == j.contains("source")) {
+      return invalid(p, "give either \"file\" (a picture) or \"source\" (\"studio\" or \"none\")");
+    }
+    if (j.contains("file")) {
+      std::string file;
+      FACET_TRY(opt_string(j, p, "file", file));
+      const std::string fp = child(p, "file");
+      const std::uint64_t limit = left() == 0 ? io::kNoSizeLimit : left();
+      Result<std::string> bytes = folder_.read(file, fp, "environment picture", limit);
+      if (!bytes) return located(fp, bytes.status().code(), bytes.status().message() + (bytes.status().code() == ErrorCode::out_of_memory ? spent() : ""));
+      Result<EnvironmentLight> picture = decode_environment_image(
+          std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size()), fp + " " + quote(file, 80),
+          left());
+      if (!picture) return located(fp, picture.status().code(), picture.status().message() + (picture.status().code() == ErrorCode::out_of_memory ? spent() : ""));
+      FACET_TRY(reserve(p, picture->rgb.size() * sizeof(float), "the environment picture (" + std::to_string(picture->width) + "x" +
+                                                                     std::to_string(picture->height) + ")"));
+      e = std::move(*picture);
+    } else {
+      std::string source;
+      FACET_TRY(read_enum(j["source"], child(p, "source"), {"studio", "none"}, source));
+      e.source = source == "studio" ? EnvironmentSource::studio : EnvironmentSource::none;
+    }
     FACET_TRY(opt_number(j, p, "intensity", e.intensity));
     if (!(e.intensity >= 0.0f && e.intensity <= 1e6f)) return mismatch(child(p, "intensity"), "a number in [0, 1e6]", j["intensity"]);
     FACET_TRY(opt_number(j, p, "rotation_deg", e.rotation_deg));

@@ -10,6 +10,7 @@
 
 #include "common/look_at.hpp"
 #include "common/parallel.hpp"
+#include "lighting/image_light.hpp"
 #include "lighting/point_shader.hpp"
 #include "lighting/setup.hpp"
 #include "scene/validate.hpp"
@@ -86,6 +87,8 @@ struct Lighter::Impl {
   int arena_threads = 0;  // the count the arena was made for
   lighting::PointShader shader;
   std::vector<Part> parts;
+  // PBR materials' DFG table and prepared surroundings (made for the first PBR material).
+  std::unique_ptr<lighting::ImageLight> image_light;
 };
 
 Lighter::Lighter() : impl_(std::make_unique<Impl>()) {}
@@ -129,6 +132,16 @@ Status Lighter::light_instance(const Scene& scene, std::size_t instance, const L
     // A mesh with vertex colours lights them as the albedo (glColorMaterial(AMBIENT_AND_DIFFUSE)).
     lighting::LightingFeatures features;
     features.color_material = !mesh.colors.empty();
+    if (scene.materials[inst.material].model == MaterialModel::pbr) {
+      if (!im.image_light) im.image_light = std::make_unique<lighting::ImageLight>();
+      if (!im.image_light->built_from(scene.environment_light)) {
+        const auto in_turn = [](std::size_t count, const std::function<void(std::size_t)>& fn) {
+          for (std::size_t i = 0; i < count; ++i) fn(i);
+        };
+        if (Status s = im.image_light->build(scene.environment_light, in_turn); !s.ok()) return s;
+      }
+      features.image_light = im.image_light.get();
+    }
     // Prepared without bounds: every light. Each chunk then drops the lights that cannot reach its
     // own vertices (the frame plan's culling per chunk, against the sphere around the chunk's box),
     // so the positions are read chunk by chunk while they are in cache, with no pass over the
