@@ -8,14 +8,14 @@
 
 namespace facet::cli {
 namespace {
-int compare(const std::vector<std::string>& files, int tolerance, bool json, const std::string& diff_path);
+int compare(const std::vector<std::string>& files, int tolerance, bool json, const std::string& diff_path, int drawn_within);
 }  // namespace
 
 Command add_compare(CLI::App& facet) {
   struct State {
     std::vector<std::string> files;
     std::string diff;
-    int tolerance = 0;
+    int tolerance = 0, drawn_within = -1;
     bool json = false;
   };
   auto st = std::make_shared<State>();
@@ -31,11 +31,41 @@ Command add_compare(CLI::App& facet) {
   app->add_option("--diff", st->diff,
                   "write a difference image (PNG): |A - B| per channel, scaled so that the largest difference is 255; "
                   "pixels within --tolerance are black");
-  return {app, [st] { return compare(st->files, st->tolerance, st->json, st->diff); }};
+  app->add_option("--drawn-within", st->drawn_within,
+                  "N: also measure over the pixels either image draws (not pure black in both: a comparison with another "
+                  "renderer on a black background): their mean difference and the share within N steps in every channel")
+      ->check(int_in(0, 255));
+  return {app, [st] { return compare(st->files, st->tolerance, st->json, st->diff, st->drawn_within); }};
 }
 
 namespace {
-int compare(const std::vector<std::string>& files, int tolerance, bool json, const std::string& diff_path) {
+// Over the pixels either image draws (not black in both): how many, their mean channel difference
+// and the share whose every channel is within `within` steps.
+struct Drawn {
+  std::size_t pixels = 0, close = 0;
+  double mean = 0.0;
+};
+Drawn drawn_difference(const Rgba8Image& a, const Rgba8Image& b, int within) {
+  Drawn d;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < a.pixels.size(); i += 4) {
+    const bool black_a = a.pixels[i] == 0 && a.pixels[i + 1] == 0 && a.pixels[i + 2] == 0;
+    const bool black_b = b.pixels[i] == 0 && b.pixels[i + 1] == 0 && b.pixels[i + 2] == 0;
+    if (black_a && black_b) continue;
+    ++d.pixels;
+    int worst = 0;
+    for (std::size_t c = 0; c < 3; ++c) {
+      const int delta = std::abs(int(a.pixels[i + c]) - int(b.pixels[i + c]));
+      sum += delta;
+      worst = std::max(worst, delta);
+    }
+    d.close += worst <= within ? 1 : 0;
+  }
+  d.mean = d.pixels ? sum / (3.0 * double(d.pixels)) : 0.0;
+  return d;
+}
+
+int compare(const std::vector<std::string>& files, int tolerance, bool json, const std::string& diff_path, int drawn_within) {
   Result<Rgba8Image> a = read_png(files[0]);
   if (!a) return fail(a.status().message());
   Result<Rgba8Image> b = read_png(files[1]);
@@ -62,18 +92,31 @@ int compare(const std::vector<std::string>& files, int tolerance, bool json, con
     if (Status s = write_png(diff_path, view); !s.ok()) return fail(s.message());
   }
   const std::string psnr = std::isinf(d->psnr_db) ? "inf" : std::to_string(d->psnr_db);
+  const Drawn drawn = drawn_within >= 0 ? drawn_difference(*a, *b, drawn_within) : Drawn{};
+  const double close_share = drawn.pixels ? 100.0 * double(drawn.close) / double(drawn.pixels) : 100.0;
   if (json) {
+    std::string extra;
+    if (drawn_within >= 0) {
+      char buffer[160];
+      std::snprintf(buffer, sizeof buffer, ", \"drawn_pixels\": %zu, \"drawn_mean_difference\": %.6g, \"drawn_within\": %d, \"drawn_within_share\": %.6g",
+                    drawn.pixels, drawn.mean, drawn_within, close_share / 100.0);
+      extra = buffer;
+    }
     std::printf("{\"psnr_db\": %s, \"max_channel_difference\": %d, \"mean_absolute_difference\": %.6g, "
-                "\"differing_pixels\": %zu, \"pixels\": %zu, \"tolerance\": %d, \"match\": %s}\n",
+                "\"differing_pixels\": %zu, \"pixels\": %zu, \"tolerance\": %d, \"match\": %s%s}\n",
                 std::isinf(d->psnr_db) ? "null" : psnr.c_str(), d->max_channel_difference,
                 d->mean_absolute_difference, d->differing_pixels,
                 static_cast<std::size_t>(a->width) * static_cast<std::size_t>(a->height), tolerance,
-                match ? "true" : "false");
+                match ? "true" : "false", extra.c_str());
   } else {
     std::printf("PSNR %s dB, largest difference %d, mean difference %.4g, %zu of %zu pixels differ: %s (tolerance %d)\n",
                 psnr.c_str(), d->max_channel_difference, d->mean_absolute_difference, d->differing_pixels,
                 static_cast<std::size_t>(a->width) * static_cast<std::size_t>(a->height),
                 match ? "match" : "differ", tolerance);
+    if (drawn_within >= 0) {
+      std::printf("drawn by either: %zu pixels, mean difference %.3g steps, %.1f %% within %d\n", drawn.pixels, drawn.mean,
+                  close_share, drawn_within);
+    }
   }
   return match ? 0 : 1;
 }

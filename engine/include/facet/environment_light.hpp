@@ -1,7 +1,8 @@
 // Light from the surroundings for PBR materials (Material::model == pbr; docs/pbr.md): a
 // picture of the radiance arriving from every direction, which lights every PBR surface by
 // image-based lighting (its diffuse part by order-2 spherical harmonics, its specular part by a
-// prefiltered cube map and the split-sum approximation). GL materials never see it.
+// prefiltered cube map and the split-sum approximation). GL materials never see it; with it, PBR
+// materials do not see the scene's global ambient (which stands for the surroundings without one).
 #pragma once
 
 #include <cstdint>
@@ -16,7 +17,7 @@
 namespace facet {
 
 enum class EnvironmentSource : std::uint8_t {
-  none,    // no image: PBR surfaces see the scene's ambient (and the lights' ambient) all around
+  none,    // no picture: PBR surfaces see the scene's global ambient (and the lights' ambient) all around
   studio,  // facet's neutral studio (docs/pbr.md): soft panels in a dim grey room, made in code
   image,   // EnvironmentLight::rgb
 };
@@ -28,8 +29,9 @@ inline constexpr int kMaxEnvironmentSide = 16384;
 struct EnvironmentLight {
   EnvironmentSource source = EnvironmentSource::none;
   // image: an equirectangular picture of linear RGB radiance, 3 floats a texel, top row first,
-  // width = 2 height, in facet's convention (the picture's centre looks along -Z, its top row
-  // is +Y, u grows towards +X: u = 1/2 + atan2(d.x, -d.z) / 2 pi, v = 1/2 + asin(d.y) / pi).
+  // width = 2 height, read as three.js (and <model-viewer>) read one: direction d is seen at
+  // u = 1/2 + atan2(d.z, d.x) / 2 pi, v = 1/2 + asin(d.y) / pi (v = 1 the top row): the picture's
+  // centre column is seen along +X, its left edge along -X, a quarter of the way along -Z.
   // Every value finite and >= 0.
   int width = 0, height = 0;
   std::vector<float> rgb;

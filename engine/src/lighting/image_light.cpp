@@ -107,10 +107,13 @@ EquirectLevel make_studio(int width, int height) {
     V3<double> centre;
     double w, h, radiance;
   };
-  const Panel panels[] = {{unit(-0.7, 0.55, 0.6), 0.45, 0.3, 6.0},
-                          {unit(0.85, 0.15, 0.5), 0.35, 0.45, 2.0},
-                          {unit(0.0, 1.0, 0.0), 0.5, 0.2, 4.0},
-                          {unit(0.35, 0.3, -0.9), 0.3, 0.35, 3.0}};
+  // World directions w, placed where the kernels look them up: (w.z, w.y, -w.x) (setup.cpp's
+  // quarter turn from three.js's reading of a picture to the image light's).
+  auto at = [](double x, double y, double z) { return unit(z, y, -x); };
+  const Panel panels[] = {{at(-0.7, 0.55, 0.6), 0.45, 0.3, 6.0},
+                          {at(0.85, 0.15, 0.5), 0.35, 0.45, 2.0},
+                          {at(0.0, 1.0, 0.0), 0.5, 0.2, 4.0},
+                          {at(0.35, 0.3, -0.9), 0.3, 0.35, 3.0}};
   for (int r = 0; r < height; ++r) {
     for (int c = 0; c < width; ++c) {
       const V3<double> d = sh9::equirect_direction(c, r, width, height);

@@ -6,7 +6,8 @@
 //          + o [c_diff (1 - Fss Ess - Fms Ems) L_d + Fss Ess L_s + Fms Ems L_d]   (surroundings)
 //
 // with E_i = pi d_i att_i spot_i (a light's diffuse colour d_i is the radiance a white
-// Lambertian surface facing it shows), o the ambient occlusion, and the surroundings
+// Lambertian surface facing it shows), o the ambient occlusion, and the surroundings (`ambient`
+// is the scene's global ambient when it has no environment picture, else 0)
 //   L_d = ambient + sum of att_i spot_i a_i + intensity SH irradiance(n) / pi      (diffuse)
 //   L_s = ambient + sum of att_i spot_i a_i + intensity prefiltered(r', roughness) (specular)
 // where r' = normalize(mix(r, n, roughness^2)) is the mirror direction r turned towards the normal,

@@ -48,15 +48,18 @@ void set_pbr_terms(const Scene& scene, const Eigen::Matrix4d& view, const Materi
   const double w = std::clamp(double(material.specular_weight), 0.0, 1.0);
   q.f0 = {T(f0.x * w), T(f0.y * w), T(f0.z * w)};
   q.f90 = T(w);
-  q.ambient = v3<T>(scene.global_ambient.cast<double>());
+  // The surroundings: the environment picture when the scene has one, else its ambient as a
+  // uniform radiance (never both: GL's default ambient of 0.2 is not meant as light around a model).
+  q.ambient = scene.environment_light.source == EnvironmentSource::none ? v3<T>(scene.global_ambient.cast<double>()) : V3<T>{};
   q.image = features.image_light;
   const EnvironmentLight& env = scene.environment_light;
   q.intensity = T(env.intensity);
   // eye -> world (the view's inverse rotation), then world -> the picture's frame: the
-  // surroundings turned by rotation_deg about +Y, so a world direction is the picture's
-  // direction turned back.
+  // surroundings turned by rotation_deg about +Y, so a world direction is the picture's direction
+  // turned back; and three.js's reading of the picture (its centre column seen along +X, u = 1/2 +
+  // atan2(z, x) / 2 pi) onto the image light's (centre along -Z), a quarter turn.
   const Eigen::Matrix3d to_world = view.topLeftCorner<3, 3>().inverse();
-  const double a = -double(env.rotation_deg) * std::numbers::pi / 180.0;
+  const double a = (90.0 - double(env.rotation_deg)) * std::numbers::pi / 180.0;
   Eigen::Matrix3d turn;
   turn << std::cos(a), 0.0, std::sin(a), 0.0, 1.0, 0.0, -std::sin(a), 0.0, std::cos(a);
   const Eigen::Matrix3d to_env = turn * to_world;
