@@ -171,6 +171,48 @@ TEST(PbrClosedForm, DirectionalLightOnAPlaneIsTheBrdf) {
   }
 }
 
+// A picture is read as three.js reads it: direction d at u = 1/2 + atan2(d.z, d.x) / 2 pi, so a
+// bright band around the picture's centre column lights a rough white plane facing +X, and one a
+// quarter from the left a plane facing -Z; planes facing the other way stay dark. (Each plane is
+// seen head-on by an orthographic camera.)
+TEST(PbrEnvironmentPicture, IsReadAsThreeJsReadsIt) {
+  auto brightness = [](float band_u, const Vec3& facing) {
+    Scene s;
+    const Vec3 eye = 5.0f * facing;
+    s.camera.eye = eye;
+    s.camera.target = Vec3(0, 0, 0);
+    s.camera.projection = Projection::orthographic;
+    s.camera.half_height = 0.5f;
+    s.camera.near = 1;
+    s.camera.far = 10;
+    s.meshes.push_back({"plane", make_plane(4.0f, 4.0f, 1)});
+    s.materials.push_back(pbr_material(Color3::Ones(), 0.0f, 1.0f));
+    // The plane's +y normal turned to `facing`.
+    const Eigen::Quaternionf q = Eigen::Quaternionf::FromTwoVectors(Vec3(0, 1, 0), facing);
+    Mat4 model = Mat4::Identity();
+    model.block<3, 3>(0, 0) = q.toRotationMatrix();
+    s.objects.push_back({0, 0, model});
+    EnvironmentLight& e = s.environment_light;
+    e.source = EnvironmentSource::image;
+    e.width = 64, e.height = 32;
+    e.rgb.assign(64 * 32 * 3, 0.05f);
+    for (int r = 0; r < 32; ++r) {
+      for (int c = 0; c < 64; ++c) {
+        const float u = (c + 0.5f) / 64.0f;
+        if (std::abs(u - band_u) < 0.1f) e.rgb[3 * std::size_t(r * 64 + c)] = e.rgb[3 * std::size_t(r * 64 + c) + 1] = e.rgb[3 * std::size_t(r * 64 + c) + 2] = 4.0f;
+      }
+    }
+    RenderOptions o;
+    o.shading = ShadingMode::phong;
+    const std::vector<float> px = floats(s, o, 8, 8);
+    return px[4 * (4 * 8 + 4)];
+  };
+  EXPECT_GT(brightness(0.5f, Vec3(1, 0, 0)), 4.0f * brightness(0.5f, Vec3(-1, 0, 0)));
+  EXPECT_GT(brightness(0.25f, Vec3(0, 0, -1)), 4.0f * brightness(0.25f, Vec3(0, 0, 1)));
+  EXPECT_GT(brightness(0.75f, Vec3(0, 0, 1)), 4.0f * brightness(0.75f, Vec3(0, 0, -1)));
+  EXPECT_GT(brightness(0.0f, Vec3(-1, 0, 0)), 2.0f * brightness(0.0f, Vec3(1, 0, 0)));  // the band wraps at the edges
+}
+
 TEST(PbrRender, TheStudioGivesTheSameBytesForAnyThreadCount) {
   Scene s = furnace_scene();
   s.global_ambient = Color3::Zero();

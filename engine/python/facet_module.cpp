@@ -590,6 +590,50 @@ PYBIND11_MODULE(_facet, m) {
            "Exposure in stops (the light times 2^exposure) or 'auto' (metered to middle grey per frame), then a "
            "tone-mapping operator: none (GL's clamp), neutral (Khronos PBR Neutral) or aces. Models load with neutral, "
            "and with 'auto' when their lights are in physical units.")
+      .def("set_environment", [](PyScene& ps, py::object source, float intensity, float rotation_deg) {
+        EnvironmentLight e;
+        if (py::isinstance<py::str>(source)) {
+          const std::string name = source.cast<std::string>();
+          if (name == "studio" || name == "none") {
+            e.source = name == "studio" ? EnvironmentSource::studio : EnvironmentSource::none;
+          } else {
+            e = value_or_raise(load_environment_image(name));
+          }
+        } else {
+          // An H x W x 3 array of linear radiance, top row first.
+          const py::array_t<float, py::array::c_style | py::array::forcecast> a(source);
+          if (a.ndim() != 3 || a.shape(2) != 3) raise({ErrorCode::invalid_argument, "source", "source: expected 'studio', 'none', a file name or an H x W x 3 array"});
+          if (a.shape(0) > kMaxEnvironmentSide || a.shape(1) > kMaxEnvironmentSide) {
+            raise({ErrorCode::invalid_argument, "source", "source: at most 16384 texels a side"});
+          }
+          e.source = EnvironmentSource::image;
+          e.height = int(a.shape(0)), e.width = int(a.shape(1));
+          e.rgb.assign(a.data(), a.data() + a.size());
+          for (std::size_t i = 0; i < e.rgb.size(); ++i) {
+            if (!(e.rgb[i] >= 0.0f && e.rgb[i] <= 3.4e38f)) {
+              raise({ErrorCode::invalid_argument, "source", "source: texel " + std::to_string(i / 3) + " holds a negative, infinite or NaN value"});
+            }
+          }
+        }
+        e.intensity = intensity;
+        e.rotation_deg = rotation_deg;
+        if (Status st = validate_environment_light(e); !st.ok()) raise(st);
+        ps.edit().environment_light = std::move(e);
+      }, py::arg("source"), py::arg("intensity") = 1.0f, py::arg("rotation_deg") = 0.0f,
+           "What PBR materials see around them: 'studio' (facet's neutral one), 'none' (the scene's global ambient), "
+           "an environment picture's file name (.hdr, .exr, .png, .jpg; equirectangular) or an H x W x 3 float array "
+           "of linear radiance (W = 2 H, top row first), read as three.js reads one; its radiance times intensity, "
+           "turned by rotation_deg about +Y.")
+      .def_property_readonly("environment", [](const PyScene& ps) {
+        const EnvironmentLight& e = ps.scene.environment_light;
+        py::dict d;
+        d["source"] = to_string(e.source);
+        d["width"] = e.width;
+        d["height"] = e.height;
+        d["intensity"] = e.intensity;
+        d["rotation_deg"] = e.rotation_deg;
+        return d;
+      }, "The scene's surroundings for PBR materials, as set_environment takes them (a picture's size, not its texels).")
       .def_property_readonly("warnings", [](const PyScene& ps) { return ps.warnings; },
                              "What loading read approximately or not at all, one line each (facet.load).")
       .def_property_readonly("display", [](const PyScene& ps) {

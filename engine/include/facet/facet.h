@@ -546,6 +546,25 @@ typedef struct facet_display {
 } facet_display;
 facet_status facet_scene_set_display(facet_scene* scene, const facet_display* display);
 facet_status facet_scene_get_display(const facet_scene* scene, facet_display* display);
+/* What PBR materials see around them (facet::EnvironmentLight, docs/pbr.md): nothing but the
+ * scene's global ambient (NONE, the default), facet's neutral studio, or an equirectangular
+ * picture of radiance (Radiance .hdr, OpenEXR, PNG or JPEG from a file, read through the scene's
+ * asset access; or linear RGB floats, top row first, width = 2 height), read as three.js reads
+ * one; its radiance times `intensity` ([0, 1e6]), turned by rotation_deg about +Y. A model loaded
+ * with FACET_LOAD_FRAME and no lights of its own gets the studio when its materials are PBR. */
+typedef enum facet_surroundings {
+  FACET_SURROUNDINGS_NONE = 0,
+  FACET_SURROUNDINGS_STUDIO = 1,
+  FACET_SURROUNDINGS_IMAGE = 2
+} facet_surroundings;
+facet_status facet_scene_set_environment(facet_scene* scene, facet_surroundings source, float intensity, float rotation_deg);
+facet_status facet_scene_load_environment_image(facet_scene* scene, const char* path, float intensity, float rotation_deg,
+                                                uint64_t memory_budget_bytes);
+facet_status facet_scene_set_environment_pixels(facet_scene* scene, const float* rgb, int width, int height, float intensity,
+                                                float rotation_deg);
+/* Any pointer may be null. */
+facet_status facet_scene_get_environment(const facet_scene* scene, facet_surroundings* source, int* width, int* height,
+                                         float* intensity, float* rotation_deg);
 /* Sets the camera's placement, field of view and planes; its projection (below) is kept. */
 facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* camera);
 /* The scene's camera (after facet_scene_frame, a load with FACET_LOAD_FRAME or an orbit). */
