@@ -213,6 +213,67 @@ TEST(PbrEnvironmentPicture, IsReadAsThreeJsReadsIt) {
   EXPECT_GT(brightness(0.0f, Vec3(-1, 0, 0)), 2.0f * brightness(0.0f, Vec3(1, 0, 0)));  // the band wraps at the edges
 }
 
+// A metallic-roughness map (per pixel) gives each pixel what the factors times its blue and green
+// texels give an untextured material, on every path: a 2 x 1 map, metal and smooth on the left,
+// dielectric and rough on the right, over a quad under a light and the studio.
+TEST(PbrMetalRough, TheMapIsTheFactorsTimesItsTexels) {
+  auto scene_with = [](const Material& m, bool textured) {
+    Scene s;
+    s.camera.eye = Vec3(0, 0, 3);
+    s.camera.target = Vec3(0, 0, 0);
+    s.camera.vertical_fov_deg = 30;
+    s.environment_light.source = EnvironmentSource::studio;
+    Mesh quad = make_plane(1.6f, 1.0f, 1);  // in y = 0: turned to face +z
+    for (Vec3& p : quad.positions) p = Vec3(p.x(), -p.z(), 0.0f);
+    for (Vec3& n : quad.normals) n = Vec3(0, 0, 1);
+    s.meshes.push_back({"quad", quad});
+    if (textured) {
+      const std::uint8_t texels[8] = {0, 64, 255, 255, 0, 200, 0, 255};  // (r, g, b, a): left G 64 B 255, right G 200 B 0
+      TextureOptions o;
+      o.filter = TextureFilter::nearest;
+      o.encoding = TextureEncoding::linear;
+      Result<Texture> t = make_texture("mr", 2, 1, texels, o);
+      EXPECT_TRUE(t.ok());
+      s.textures.push_back(*t);
+    }
+    s.materials.push_back(m);
+    s.objects.push_back({0, 0, Mat4::Identity()});
+    Light l;
+    l.type = LightType::point;
+    l.position = Vec3(0.5f, 0.8f, 2.0f);
+    l.constant_attenuation = 0, l.quadratic_attenuation = 1;
+    l.diffuse = Color3(2, 2, 2);
+    s.lights.push_back(l);
+    return s;
+  };
+  Material textured = pbr_material(Color3(0.9f, 0.5f, 0.3f), 0.8f, 0.9f);
+  textured.metallic_roughness_texture = 0;
+  Material left = textured, right = textured;
+  left.metallic_roughness_texture = right.metallic_roughness_texture = kNoTexture;
+  left.metallic = 0.8f * (255.0f / 255.0f), left.roughness = 0.9f * (64.0f / 255.0f);
+  right.metallic = 0.0f, right.roughness = 0.9f * (200.0f / 255.0f);
+  for (const auto& [path, isa] : test::every_path()) {
+    RenderOptions o;
+    o.path = path, o.isa = isa, o.shading = ShadingMode::phong;
+    const int w = 64, h = 32;
+    const std::vector<float> got = floats(scene_with(textured, true), o, w, h);
+    const std::vector<float> l = floats(scene_with(left, false), o, w, h), r = floats(scene_with(right, false), o, w, h);
+    std::size_t compared = 0, differ = 0;
+    for (int y = 8; y < 24; ++y) {
+      for (int x = 4; x < w - 4; ++x) {
+        if (std::abs(x - w / 2) < 3) continue;  // the texels' edge
+        const std::size_t i = 4 * (std::size_t(y) * w + std::size_t(x));
+        const std::vector<float>& want = x < w / 2 ? l : r;
+        for (int c = 0; c < 3; ++c) differ += std::abs(got[i + std::size_t(c)] - want[i + std::size_t(c)]) > 1e-6f * std::max(1.0f, want[i + std::size_t(c)]) ? 1 : 0;
+        ++compared;
+      }
+    }
+    EXPECT_GT(compared, 600u);
+    EXPECT_EQ(differ, 0u) << to_string(path) << " " << to_string(isa);
+    EXPECT_NE(l, r);
+  }
+}
+
 TEST(PbrRender, TheStudioGivesTheSameBytesForAnyThreadCount) {
   Scene s = furnace_scene();
   s.global_ambient = Color3::Zero();

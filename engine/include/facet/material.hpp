@@ -119,6 +119,10 @@ struct Material {
   float ior = 1.5f;                     // [1, 10]: dielectric reflectance ((ior - 1) / (ior + 1))^2
   float specular_weight = 1.0f;         // [0, 1]: KHR_materials_specular's specularFactor
   Color3 specular_color{1.0f, 1.0f, 1.0f};  // [0, 1e6]: its specularColorFactor (reflectance capped at 1)
+  // glTF's metallicRoughnessTexture (linear): its blue channel times `metallic` and its green
+  // channel times `roughness` are the pixel's, at the diffuse texture's uvs. Lit per pixel only
+  // (Phong), as the normal and occlusion maps: flat and Gouraud shading use the factors.
+  std::int32_t metallic_roughness_texture = kNoTexture;  // index into Scene::textures
 
   // Surface (see docs/surfaces.md). A texture needs the mesh's uvs.
   std::int32_t diffuse_texture = kNoTexture;  // index into Scene::textures
@@ -185,7 +189,7 @@ inline bool needs_tangents(const Material& m) noexcept {
 // Whether the material samples a texture (and so needs the mesh's uvs).
 inline bool uses_textures(const Material& m) noexcept {
   return m.diffuse_texture != kNoTexture || m.emissive_texture != kNoTexture || m.normal_texture != kNoTexture ||
-         m.occlusion_texture != kNoTexture || m.bump_texture != kNoTexture;
+         m.occlusion_texture != kNoTexture || m.bump_texture != kNoTexture || m.metallic_roughness_texture != kNoTexture;
 }
 
 }  // namespace facet

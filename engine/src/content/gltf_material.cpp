@@ -27,7 +27,8 @@ TextureFilter sampler_filter(int min, int mag) {
 std::uint32_t Reader::untextured_twin(std::uint32_t index) {
   if (auto it = untextured_.find(index); it != untextured_.end()) return it->second;
   Material copy = out_.scene.materials[index];
-  copy.diffuse_texture = copy.emissive_texture = copy.normal_texture = copy.occlusion_texture = copy.bump_texture = kNoTexture;
+  copy.diffuse_texture = copy.emissive_texture = copy.normal_texture = copy.occlusion_texture = copy.bump_texture =
+      copy.metallic_roughness_texture = kNoTexture;
   copy.name += " (untextured)";
   out_.scene.materials.push_back(copy);
   const auto twin = static_cast<std::uint32_t>(out_.scene.materials.size() - 1);
@@ -236,7 +237,26 @@ Status Reader::material(int index, MaterialInfo& info) {
     FACET_TRY(linear_map("normalTexture", "scale", -1e6, 1e6, mat.normal_texture, mat.normal_scale));
     info.normal_map = mat.normal_texture != kNoTexture;
     FACET_TRY(linear_map("occlusionTexture", "strength", 0.0, 1.0, mat.occlusion_texture, mat.occlusion_strength));
-    if (Fields::find(*pbr, "metallicRoughnessTexture")) warn(pp + ".metallicRoughnessTexture: not supported; ignored");
+    if (const Json* mr = Fields::find(*pbr, "metallicRoughnessTexture")) {
+      const std::string mp = pp + ".metallicRoughnessTexture";
+      if (mat.model != MaterialModel::pbr) {
+        warn(mp + ": ignored with GL materials (the factors alone are mapped)");
+      } else {
+        std::int32_t t = kNoTexture;
+        UvTransform transform;
+        bool has = false;
+        FACET_TRY(texture_info(*mr, mp, t, transform, has, TextureEncoding::linear));
+        if (t != kNoTexture) {
+          mat.metallic_roughness_texture = t;
+          if (!info.needs_uvs) info.uv_transform = transform;
+          else if (!(transform == info.uv_transform)) {
+            warn(mp + ": its KHR_texture_transform differs from the base colour texture's; facet samples both at one set "
+                      "of coordinates and uses the base colour texture's transform");
+          }
+          info.needs_uvs = true;
+        }
+      }
+    }
   }
   out_.scene.materials.push_back(std::move(mat));
   info.index = static_cast<std::uint32_t>(out_.scene.materials.size() - 1);

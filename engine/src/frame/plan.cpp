@@ -269,8 +269,11 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     // An occlusion map: per pixel, into the lighting's ambient terms.
     const bool occlusion_map = !plain && lit == raster::LitAt::pixel && m.occlusion_texture != kNoTexture;
     lf.occlusion = occlusion_map;
+    const bool metal_rough_map = !plain && lit == raster::LitAt::pixel && m.model == MaterialModel::pbr &&
+                                 m.metallic_roughness_texture != kNoTexture;
+    lf.metal_rough = metal_rough_map;
     lf.projectors = !plain && lit == raster::LitAt::pixel;  // spot lights' pictures, per pixel
-    needs.uv = textured || emission_texture || normal_map || occlusion_map || bump_map;
+    needs.uv = textured || emission_texture || normal_map || occlusion_map || bump_map || metal_rough_map;
     needs.environment = environment;
     needs.lightmap = lightmap_stage;
     pixel::Draw& d = out.programs[o];
@@ -309,6 +312,7 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
       d.normal_map = &samplers.as_made[static_cast<std::size_t>(m.normal_texture)];
       d.normal_scale = m.normal_scale;
     }
+    if (metal_rough_map) d.metal_rough_map = &samplers.as_made[static_cast<std::size_t>(m.metallic_roughness_texture)];
     if (occlusion_map) {
       d.occlusion_map = &samplers.as_made[static_cast<std::size_t>(m.occlusion_texture)];
       d.occlusion_strength = m.occlusion_strength;
@@ -328,7 +332,7 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
     d.clamp = clamp;
     const bool surface = textured || d.emission || d.blend != BlendMode::opaque || m.alpha_cutoff > 0.0f || d.alpha_to_coverage ||
                          !d.depth_write || f.mode != FogMode::none || needs.albedo || environment || normal_map ||
-                         occlusion_map || bump_map;
+                         occlusion_map || bump_map || metal_rough_map;
     using pixel::PixelProgram;
     if (!surface) {
       d.program = lit == raster::LitAt::triangle ? PixelProgram::flat
@@ -339,7 +343,7 @@ void plan_draws(const Scene& scene, const RenderOptions& options, const RenderPa
       // emission, no secondary colour, no fog, nothing per pixel (environment, maps, albedo).
       const bool fused_blend = lit == raster::LitAt::vertex && !d.emission && d.clamp && d.alpha_cutoff <= 0.0f && !d.alpha_to_coverage &&
                                f.mode == FogMode::none && !needs.albedo && !environment && !normal_map &&
-                               !occlusion_map && !bump_map && !d.layout.has(raster::Varying::front_secondary) &&
+                               !occlusion_map && !bump_map && !metal_rough_map && !d.layout.has(raster::Varying::front_secondary) &&
                                (d.blend == BlendMode::alpha || d.blend == BlendMode::premultiplied || d.blend == BlendMode::add);
       d.program = !fused_blend                      ? PixelProgram::surface
                   : d.blend == BlendMode::alpha         ? PixelProgram::blend_alpha

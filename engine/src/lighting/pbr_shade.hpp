@@ -34,22 +34,30 @@ namespace facet::lighting {
 
 template <class T>
 V3<T> shade_pbr(const ShadeParams<T>& sp, V3<T> p, V3<T> n_in, V3<T> albedo, V3<T>* secondary, const float* visibility,
-                T occlusion, const float* projector) {
+                T occlusion, const float* projector, const float* metal_rough) {
   const PbrTerms<T>& q = sp.pbr;
+  // The point's metallic and roughness: the factors, times the texels of a metallic-roughness map.
+  T metal = q.metallic, roughness = q.roughness, alpha = q.alpha;
+  if (sp.metal_rough && metal_rough) {
+    metal = clamp01(q.metallic * T(metal_rough[0]));
+    const T r = q.roughness_factor * T(metal_rough[1]);
+    roughness = r > T(0.045) ? (r < T(1) ? r : T(1)) : T(0.045);  // pbr::kMinRoughness; NaN -> 0.045
+    alpha = roughness * roughness;
+  }
   if (!sp.occlusion) occlusion = T(1);  // (callers may pass any value when the draw has no occlusion map)
   const V3<T> n = normalize_or_zero(n_in);
   const V3<T> v = sp.local_viewer ? normalize_or_zero(V3<T>{-p.x, -p.y, -p.z}) : V3<T>{T(0), T(0), T(1)};
   const T c[3] = {q.base_color.x * (sp.color_material ? albedo.x : T(1)),
                   q.base_color.y * (sp.color_material ? albedo.y : T(1)),
                   q.base_color.z * (sp.color_material ? albedo.z : T(1))};
-  const T metal = q.metallic, dielectric = T(1) - q.metallic;
+  const T dielectric = T(1) - metal;
   const T f0[3] = {q.f0.x, q.f0.y, q.f0.z};
   T x[3] = {T(0), T(0), T(0)}, y[3] = {T(0), T(0), T(0)}, m[3] = {T(0), T(0), T(0)};
   T surround[3] = {q.ambient.x, q.ambient.y, q.ambient.z};  // uniform radiance
   const bool lit = n.x != T(0) || n.y != T(0) || n.z != T(0);
   T n_dot_v = dot(n, v);
   n_dot_v = n_dot_v > T(1e-4) ? (n_dot_v < T(1) ? n_dot_v : T(1)) : T(1e-4);
-  const T a2 = q.alpha * q.alpha;
+  const T a2 = alpha * alpha;
   for (const EyeLight<T>& L : sp.lights) {
     V3<T> l;
     T att;
@@ -94,17 +102,17 @@ V3<T> shade_pbr(const ShadeParams<T>& sp, V3<T> p, V3<T> n_in, V3<T> albedo, V3<
     // direction: three.js mixes by roughness^2 as here; Filament likewise), which keeps rough
     // surfaces from gathering light from behind their tangent plane.
     const T two = T(2) * dot(n, v);
-    const V3<T> re{two * n.x - v.x + q.alpha * (n.x - two * n.x + v.x), two * n.y - v.y + q.alpha * (n.y - two * n.y + v.y),
-                   two * n.z - v.z + q.alpha * (n.z - two * n.z + v.z)};
+    const V3<T> re{two * n.x - v.x + alpha * (n.x - two * n.x + v.x), two * n.y - v.y + alpha * (n.y - two * n.y + v.y),
+                   two * n.z - v.z + alpha * (n.z - two * n.z + v.z)};
     const V3<T> rw{r[0] * re.x + r[1] * re.y + r[2] * re.z, r[3] * re.x + r[4] * re.y + r[5] * re.z,
                    r[6] * re.x + r[7] * re.y + r[8] * re.z};
-    const V3<T> diffuse = q.image->diffuse(nw), specular = q.image->specular(normalize_or_zero(rw), q.roughness);
+    const V3<T> diffuse = q.image->diffuse(nw), specular = q.image->specular(normalize_or_zero(rw), roughness);
     ld[0] += q.intensity * diffuse.x, ld[1] += q.intensity * diffuse.y, ld[2] += q.intensity * diffuse.z;
     ls[0] += q.intensity * specular.x, ls[1] += q.intensity * specular.y, ls[2] += q.intensity * specular.z;
   }
   if (lit && q.image) {
     T scale, bias;
-    q.image->dfg(n_dot_v, q.roughness, scale, bias);
+    q.image->dfg(n_dot_v, roughness, scale, bias);
     const T ess = scale + bias, ems = T(1) - ess;
     for (int ch = 0; ch < 3; ++ch) {
       // Dielectric layer: f0 and f90 do not depend on c.

@@ -424,7 +424,8 @@ void PointShader::find_projector_filters(std::size_t count, const float* px, con
 }
 
 void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out,
-                               SoaScratch& scratch, const Color3* albedo, Color3* secondary, const float* occlusion) const {
+                               SoaScratch& scratch, const Color3* albedo, Color3* secondary, const float* occlusion,
+                               const float* metal_rough) const {
   const float* filters = nullptr;
   const std::size_t filter_floats = 3 * static_cast<std::size_t>(projector_slots_) * count;
   if (projector_slots_ > 0) {
@@ -455,11 +456,11 @@ void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3*
   switch (path_) {
     case LightingPath::reference:
       lighting::shade_points(reference_, count, p_eye, n_eye, albedo, out, secondary, visibility, shadow_slots_, occlusion,
-                             filters, projector_slots_);
+                             filters, projector_slots_, metal_rough);
       return;
     case LightingPath::scalar:
       lighting::shade_points(scalar_, count, p_eye, n_eye, albedo, out, secondary, visibility, shadow_slots_, occlusion,
-                             filters, projector_slots_);
+                             filters, projector_slots_, metal_rough);
       return;
     case LightingPath::simd: break;
   }
@@ -503,10 +504,12 @@ void PointShader::shade_soa(const simd::Streams& streams, float* visibility, flo
     float filter[3 * kMaxProjectors];
     for (int k = 0; k < 3 * projector_slots_; ++k) filter[k] = filter_streams[k][i];
     Color3 c, spec;
+    const float mr[2] = {s.pm ? s.pm[i] : 1.0f, s.pr ? s.pr[i] : 1.0f};
+    const float* metal_rough = features_.metal_rough ? mr : nullptr;
     if (path_ == LightingPath::reference) {
-      lighting::shade_points(reference_, 1, &p, &n, &albedo, &c, &spec, vis, shadow_slots_, ao, filter, projector_slots_);
+      lighting::shade_points(reference_, 1, &p, &n, &albedo, &c, &spec, vis, shadow_slots_, ao, filter, projector_slots_, metal_rough);
     } else {
-      lighting::shade_points(scalar_, 1, &p, &n, &albedo, &c, &spec, vis, shadow_slots_, ao, filter, projector_slots_);
+      lighting::shade_points(scalar_, 1, &p, &n, &albedo, &c, &spec, vis, shadow_slots_, ao, filter, projector_slots_, metal_rough);
     }
     s.r[i] = c.x(), s.g[i] = c.y(), s.b[i] = c.z();
     if (s.sr) s.sr[i] = spec.x(), s.sg[i] = spec.y(), s.sb[i] = spec.z();

@@ -51,8 +51,10 @@ class PointShader {
 
   // Lights `count` eye-space points (albedo read with color_material, secondary written with
   // separate_specular, each point's ambient occlusion read with LightingFeatures::occlusion).
+  // `metal_rough` (LightingFeatures::metal_rough): point i's metallic texel at [i], roughness at [count + i].
   void shade_points(std::size_t count, const Vec3* p_eye, const Vec3* n_eye, Color3* out, SoaScratch& scratch,
-                    const Color3* albedo = nullptr, Color3* secondary = nullptr, const float* occlusion = nullptr) const;
+                    const Color3* albedo = nullptr, Color3* secondary = nullptr, const float* occlusion = nullptr,
+                    const float* metal_rough = nullptr) const;
 
   // Lights eye-space points given as padded structure-of-arrays streams (positions and normals in,
   // colours out; s.count a multiple of simd::kMaxLanes): what the SIMD rasterizer's Phong pixels use.

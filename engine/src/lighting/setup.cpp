@@ -40,6 +40,7 @@ void set_pbr_terms(const Scene& scene, const Eigen::Matrix4d& view, const Materi
   q.metallic = T(std::clamp(double(material.metallic), 0.0, 1.0));
   const double roughness = std::clamp(double(material.roughness), pbr::kMinRoughness<double>, 1.0);
   q.roughness = T(roughness);
+  q.roughness_factor = T(std::clamp(double(material.roughness), 0.0, 1.0));
   q.alpha = T(roughness * roughness);
   pbr::Material<double> m;
   m.ior = material.ior;
@@ -144,6 +145,7 @@ void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Ma
     sp.lights.push_back(L);
   }
   sp.pbr = PbrTerms<T>{};
+  sp.metal_rough = features.metal_rough && material.model == MaterialModel::pbr;
   if (material.model == MaterialModel::pbr) set_pbr_terms(scene, view, material, features, sp);
 }
 

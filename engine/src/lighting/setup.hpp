@@ -23,6 +23,7 @@ struct LightingFeatures {
   bool color_material = false;
   bool separate_specular = false;
   bool occlusion = false;  // a per-point ambient occlusion multiplies every ambient term (Phong with an occlusion map)
+  bool metal_rough = false;  // PBR: per-point metallic and roughness texels (Phong with a metallic-roughness map)
   bool projectors = false;  // spot lights with a projector filter their light per point (lit per pixel)
   // A lightmapped object (Instance::lightmap): the lightmap stands for the ambient and diffuse
   // light, so the lights give only their specular (LightmapMode::diffuse) or nothing (replace),

@@ -65,6 +65,7 @@ struct PbrTerms {
   bool on = false;
   V3<T> base_color{T(1), T(1), T(1)};  // the factor (times the albedo with colour material)
   T metallic = T(0), roughness = T(1);  // roughness held in [0.045, 1] (pbr::kMinRoughness)
+  T roughness_factor = T(1);            // the material's, before that hold (per-point texels multiply it)
   T alpha = T(1);                       // roughness^2
   V3<T> f0{};                           // the dielectric's reflectance at normal incidence, times f90
   T f90 = T(1);                         // KHR_materials_specular's weight
@@ -88,12 +89,14 @@ struct ShadeParams {
   bool clamp = true;
   std::vector<EyeLight<T>> lights;  // enabled lights only
   PbrTerms<T> pbr;  // pbr.on: a PBR material (the lights carry pi d_i as diffuse, a_i as ambient)
+  bool metal_rough = false;  // pbr: per-point metallic and roughness texels multiply the factors
 };
 
 // The PBR colour at p (pbr_shade.hpp; instantiated with light_mesh and shade_points).
+// `metal_rough`: with ShadeParams::metal_rough, the point's metallic and roughness texels.
 template <class T>
 V3<T> shade_pbr(const ShadeParams<T>& sp, V3<T> p, V3<T> n_in, V3<T> albedo, V3<T>* secondary, const float* visibility,
-                T occlusion, const float* projector);
+                T occlusion, const float* projector, const float* metal_rough);
 
 template <class T>
 T spot_factor(const EyeLight<T>& L, T cos_angle) {
@@ -190,8 +193,8 @@ V3<T> finish_colour(const ShadeParams<T>& sp, V3<T> c) {
 template <class T>
 V3<T> shade_vertex(const ShadeParams<T>& sp, V3<T> p, V3<T> n_in, V3<T> albedo = {T(1), T(1), T(1)},
                    V3<T>* secondary = nullptr, const float* visibility = nullptr, T occlusion = T(1),
-                   const float* projector = nullptr) {
-  if (sp.pbr.on) return shade_pbr(sp, p, n_in, albedo, secondary, visibility, occlusion, projector);
+                   const float* projector = nullptr, const float* metal_rough = nullptr) {
+  if (sp.pbr.on) return shade_pbr(sp, p, n_in, albedo, secondary, visibility, occlusion, projector, metal_rough);
   const V3<T> n = normalize_or_zero(n_in);
   const V3<T> eye_dir = sp.local_viewer ? normalize_or_zero(V3<T>{-p.x, -p.y, -p.z}) : V3<T>{T(0), T(0), T(1)};
   const V3<T> base = sp.occlusion ? sp.emission + occlusion * sp.ambient : sp.base;
@@ -253,11 +256,13 @@ void light_mesh(const ShadeParams<T>& sp, const EyeTransform<T>& xf, const Mesh&
 // lights): point i's visibility of the light in shadow slot k is visibility[k * count + i].
 // `occlusion` (with ShadeParams::occlusion): each point's ambient occlusion. `projector` (with
 // projector slots): channel c of point i's filter of slot k at projector[(3 k + c) * count + i].
+// `metal_rough` (with ShadeParams::metal_rough): point i's metallic texel at [i], roughness at
+// [count + i].
 template <class T>
 void shade_points(const ShadeParams<T>& sp, std::size_t count, const Vec3* p_eye, const Vec3* n_eye,
                   const Color3* albedo, Color3* out, Color3* secondary, const float* visibility = nullptr,
                   int shadow_slots = 0, const float* occlusion = nullptr, const float* projector = nullptr,
-                  int projector_slots = 0) {
+                  int projector_slots = 0, const float* metal_rough = nullptr) {
   for (std::size_t i = 0; i < count; ++i) {
     float vis[kMaxShadowedLights];
     for (int k = 0; k < shadow_slots; ++k) vis[k] = visibility[static_cast<std::size_t>(k) * count + i];
@@ -268,7 +273,9 @@ void shade_points(const ShadeParams<T>& sp, std::size_t count, const Vec3* p_eye
     const T o = occlusion ? T(occlusion[i]) : T(1);
     float filter[3 * kMaxProjectors];
     for (int k = 0; k < 3 * projector_slots; ++k) filter[k] = projector[static_cast<std::size_t>(k) * count + i];
-    const V3<T> c = shade_vertex(sp, p, n, a, &spec, shadow_slots > 0 ? vis : nullptr, o, projector_slots > 0 ? filter : nullptr);
+    const float mr[2] = {metal_rough ? metal_rough[i] : 1.0f, metal_rough ? metal_rough[count + i] : 1.0f};
+    const V3<T> c = shade_vertex(sp, p, n, a, &spec, shadow_slots > 0 ? vis : nullptr, o, projector_slots > 0 ? filter : nullptr,
+                                 metal_rough ? mr : nullptr);
     out[i] = Color3(float(c.x), float(c.y), float(c.z));
     if (sp.separate_specular) secondary[i] = Color3(float(spec.x), float(spec.y), float(spec.z));
   }
@@ -276,16 +283,18 @@ void shade_points(const ShadeParams<T>& sp, std::size_t count, const Vec3* p_eye
 
 // Each precision is instantiated in exactly one file, with that file's compile flags.
 extern template V3<double> shade_pbr<double>(const ShadeParams<double>&, V3<double>, V3<double>, V3<double>, V3<double>*,
-                                             const float*, double, const float*);
+                                             const float*, double, const float*, const float*);
 extern template V3<float> shade_pbr<float>(const ShadeParams<float>&, V3<float>, V3<float>, V3<float>, V3<float>*,
-                                           const float*, float, const float*);
+                                           const float*, float, const float*, const float*);
 extern template void light_mesh<double>(const ShadeParams<double>&, const EyeTransform<double>&, const Mesh&, bool,
                                         std::size_t, std::size_t, Color3*, Color3*, const std::uint32_t*, const Vec3*);
 extern template void light_mesh<float>(const ShadeParams<float>&, const EyeTransform<float>&, const Mesh&, bool,
                                        std::size_t, std::size_t, Color3*, Color3*, const std::uint32_t*, const Vec3*);
 extern template void shade_points<double>(const ShadeParams<double>&, std::size_t, const Vec3*, const Vec3*,
-                                          const Color3*, Color3*, Color3*, const float*, int, const float*, const float*, int);
+                                          const Color3*, Color3*, Color3*, const float*, int, const float*, const float*, int,
+                                          const float*);
 extern template void shade_points<float>(const ShadeParams<float>&, std::size_t, const Vec3*, const Vec3*,
-                                         const Color3*, Color3*, Color3*, const float*, int, const float*, const float*, int);
+                                         const Color3*, Color3*, Color3*, const float*, int, const float*, const float*, int,
+                                         const float*);
 
 }  // namespace facet::lighting

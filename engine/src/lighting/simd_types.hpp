@@ -115,6 +115,9 @@ struct Streams {
   // Shadowed lights (EyeLight::shadow >= 0): per shadow slot, each point's visibility of that light.
   const float* const* visibility = nullptr;
   const float* ao = nullptr;  // per point ambient occlusion: read with Params::occlusion
+  // PBR (lit by the scalar kernel for now): per point metallic and roughness texels, read when the
+  // shader's features have metal_rough.
+  const float *pm = nullptr, *pr = nullptr;
   // Projectors (EyeLight::projector >= 0): stream 3 k + c is each point's channel c of slot k's filter.
   const float* const* projector = nullptr;
   // Triples instead of the streams above (xyz, as a mesh holds them; any count, no padding):

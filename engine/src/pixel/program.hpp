@@ -117,6 +117,9 @@ struct Draw {
   // term by. Null: none.
   const texture::Sampler* occlusion_map = nullptr;
   float occlusion_strength = 1.0f;
+  // A PBR draw's metallic-roughness map (per pixel): its blue and green channels go to the
+  // lighting, which multiplies them by the material's factors.
+  const texture::Sampler* metal_rough_map = nullptr;
   // A height map (Material::bump_texture): its red channel's differences over one level-0 texel
   // (bump_du, bump_dv in texture coordinates) tilt the per-pixel normal (pixel_normal) or, in flat
   // and Gouraud draws with a 2D environment map, move the environment's coordinates. Null: none.
@@ -152,11 +155,12 @@ struct Fog {
 // inputs of their program's tail computed before lighting (pixel/stages.hpp: carry) in `carry`.
 inline constexpr int kPhongCapacity = 256;  // a multiple of the widest batch (16)
 inline constexpr int kMaxCarried = 8;
-inline constexpr int kPhongStreams = 16 + kMaxCarried;
+inline constexpr int kPhongStreams = 18 + kMaxCarried;
 struct PhongSink {
   float *px, *py, *pz, *nx, *ny, *nz, *r, *g, *b;
   float *ar, *ag, *ab, *sr, *sg, *sb;  // albedo in, secondary out
   float* ao;                           // ambient occlusion in (a draw with an occlusion map)
+  float *pm, *pr;                      // metallic and roughness texels in (a PBR draw with their map)
   float* carry[kMaxCarried];
   std::uint32_t* pixel;  // tile-buffer index of each entry
   // Multisampled tiles: each entry's samples (bit s: the pixel's sample s, at pixel + s x the

@@ -345,7 +345,7 @@ struct SurfaceProgram {
     };
     auto sample_uv = [&](const texture::Sampler& s, F(&t)[4]) { Texturing<Arch>::sample(s, uv, t); };
     auto to_phong = [&](const TailInputs<F>& tin) __attribute__((always_inline)) {  // light at the gather's flush
-      F v[10 + pixel::kMaxCarried];
+      F v[12 + pixel::kMaxCarried];
       const int position = d.layout.at(Varying::eye_position), albedo = d.layout.at(Varying::albedo);
       F normal[3];
       pixel_normal(d, value, cx.t.bitangent_negative(), sample_moved, normal);
@@ -356,11 +356,17 @@ struct SurfaceProgram {
       }
       int n = 9 + carry(d, *job.fog, tin, v + 9);
       PhongSink& s = *cx.phong.sink;
-      float* dst[10 + pixel::kMaxCarried] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab};
+      float* dst[12 + pixel::kMaxCarried] = {s.px, s.py, s.pz, s.nx, s.ny, s.nz, s.ar, s.ag, s.ab};
       for (int k = 0; k < pixel::kMaxCarried; ++k) dst[9 + k] = s.carry[k];
       if (d.occlusion_map) {  // after the carried values: the lighting reads it from s.ao
         dst[n] = s.ao;
         v[n++] = occlusion<F>(d, [&](const texture::Sampler& sm, F(&t)[4]) { sample_moved(sm, 0.0f, 0.0f, t); });
+      }
+      if (d.metal_rough_map) {  // likewise: the lighting reads them from s.pm and s.pr
+        F metal, rough;
+        metal_rough<F>(d, [&](const texture::Sampler& sm, F(&t)[4]) { sample_moved(sm, 0.0f, 0.0f, t); }, metal, rough);
+        dst[n] = s.pm, v[n++] = metal;
+        dst[n] = s.pr, v[n++] = rough;
       }
       cx.phong.gather(dst, v, n, pass, b.at, b.samples ? &ms : nullptr);
     };

@@ -422,6 +422,19 @@ template <class V, class Sample>
   return V(1.0f) + V(d.occlusion_strength) * (rgba[0] - V(1.0f));
 }
 
+// A PBR draw's metallic and roughness texel values (Draw::metal_rough_map): blue and green at the
+// pixel; 1 and 1 without a map (the factors alone).
+template <class V, class Sample>
+[[gnu::always_inline]] inline void metal_rough(const Draw& d, const Sample& sample, V& metal, V& rough) {
+  if (!d.metal_rough_map) {
+    metal = rough = V(1.0f);
+    return;
+  }
+  V rgba[4];
+  sample(*d.metal_rough_map, rgba);
+  metal = rgba[2], rough = rgba[1];
+}
+
 // The varyings generated per vertex for the tail's stages (generate_at_vertex),
 // interpolated: value(a) interpolates attribute a; `storage` holds them for `in`.
 template <class V, class Value>

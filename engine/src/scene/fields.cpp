@@ -114,6 +114,8 @@ constexpr MaterialField kMaterialFields[] = {
                            "pbr: strength of the dielectric's specular layer (KHR_materials_specular)"),
     m<&M::specular_color>("specular_color", FT::colour, 3, 0, 1e6, kNone,
                           "pbr: tints the dielectric's reflectance at normal incidence (capped at 1)"),
+    m<&M::metallic_roughness_texture>("metallic_roughness_texture", FT::texture, 1, -1, kMaxIndex, kNone,
+                                      "pbr: blue times metallic, green times roughness, per pixel (Phong; needs uvs)"),
     m<&M::alpha>("alpha", FT::number, 1, 0, 1, kNone, "the fragment's alpha (blending, the alpha test, the output's alpha)"),
     m<&M::diffuse_texture>("diffuse_texture", FT::texture, 1, -1, kMaxIndex, kNone,
                            "the texture combined with the lit colour by texture_mode (needs uvs)"),

@@ -351,7 +351,8 @@ Status validate_lighting_inputs(const Scene& scene) {
     FACET_TRY(validate_material(m, f));
     for (const auto& [index, member] : {std::pair{m.diffuse_texture, "diffuse_texture"}, std::pair{m.emissive_texture, "emissive_texture"},
                                         std::pair{m.normal_texture, "normal_texture"}, std::pair{m.occlusion_texture, "occlusion_texture"},
-                                        std::pair{m.bump_texture, "bump_texture"}}) {
+                                        std::pair{m.bump_texture, "bump_texture"},
+                                        std::pair{m.metallic_roughness_texture, "metallic_roughness_texture"}}) {
       if (index != kNoTexture && static_cast<std::size_t>(index) >= scene.textures.size()) {
         return invalid(f(member), "texture index " + std::to_string(index) + " is out of range (" +
                                       std::to_string(scene.textures.size()) + " textures)");

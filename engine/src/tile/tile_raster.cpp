@@ -71,12 +71,14 @@ class PixelBatch {
 
   void add(std::size_t index, const Vec3& p, const Vec3& n) {
     occlusion_[count_] = 1.0f;
+    metal_rough_[count_] = metal_rough_[kCapacity + count_] = 1.0f;
     push(index, p, n);
   }
-  void add_surface(std::size_t index, const Vec3& p, const Vec3& n, const Color3& albedo, float occlusion,
-                   const simd::Draw& d, const simd::Fog& fog, const stages::TailInputs<float>& in) {
+  void add_surface(std::size_t index, const Vec3& p, const Vec3& n, const Color3& albedo, float occlusion, float metal,
+                   float rough, const simd::Draw& d, const simd::Fog& fog, const stages::TailInputs<float>& in) {
     albedo_[count_] = albedo;
     occlusion_[count_] = occlusion;
+    metal_rough_[count_] = metal, metal_rough_[kCapacity + count_] = rough;
     stages::carry(d, fog, in, carried_[count_]);
     push(index, p, n);
   }
@@ -87,8 +89,11 @@ class PixelBatch {
     if (count_ == 0) return;
     const bool surface = pixel::runs_surface_stages(d.program);
     const bool separate = surface && d.separate_specular;
+    if (count_ < kCapacity) {  // the roughness texels right after the metallic ones (shade_points' layout)
+      std::copy_n(metal_rough_ + kCapacity, count_, metal_rough_ + count_);
+    }
     shader.shade_points(static_cast<std::size_t>(count_), p_, n_, out_, scratch_, albedo_, separate ? spec_ : nullptr,
-                        occlusion_);
+                        occlusion_, metal_rough_);
     for (int i = 0; i < count_; ++i) {
       const auto p = static_cast<std::size_t>(index_[i]);
       if (!surface) {
@@ -126,6 +131,7 @@ class PixelBatch {
   Vec3 p_[kCapacity], n_[kCapacity];
   Color3 out_[kCapacity], spec_[kCapacity], albedo_[kCapacity];
   float occlusion_[kCapacity];
+  float metal_rough_[2 * kCapacity];  // metallic texels at [0, kCapacity), roughness at [kCapacity, 2 kCapacity)
   float carried_[kCapacity][simd::kMaxCarried];
   lighting::SoaScratch& scratch_;
 };
@@ -148,6 +154,7 @@ void shade_phong(void* context, std::uint32_t object, std::size_t count, std::si
   streams.ar = f + 9 * cap, streams.ag = f + 10 * cap, streams.ab = f + 11 * cap;
   streams.sr = f + 12 * cap, streams.sg = f + 13 * cap, streams.sb = f + 14 * cap;
   streams.ao = f + 15 * cap;  // read when the object's lighting has occlusion
+  streams.pm = f + 16 * cap, streams.pr = f + 17 * cap;  // read when it has a metallic-roughness map
   shader.shade_soa(streams, f + simd::kPhongStreams * cap, f + (simd::kPhongStreams + lighting::kMaxShadowedLights) * cap);
   c.counters->shaded += count;
   c.counters->light_pairs += count * shader.light_count();
@@ -160,10 +167,10 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
   float* f = tile.phong.data();
   const std::size_t cap = simd::kPhongCapacity;
   simd::PhongSink sink{};
-  float** slots[16] = {&sink.px, &sink.py, &sink.pz, &sink.nx, &sink.ny, &sink.nz, &sink.r,  &sink.g,
-                       &sink.b,  &sink.ar, &sink.ag, &sink.ab, &sink.sr, &sink.sg, &sink.sb, &sink.ao};
-  for (int k = 0; k < 16; ++k) *slots[k] = f + static_cast<std::size_t>(k) * cap;
-  for (int k = 0; k < simd::kMaxCarried; ++k) sink.carry[k] = f + static_cast<std::size_t>(16 + k) * cap;
+  float** slots[18] = {&sink.px, &sink.py, &sink.pz, &sink.nx, &sink.ny, &sink.nz, &sink.r,  &sink.g,  &sink.b,
+                       &sink.ar, &sink.ag, &sink.ab, &sink.sr, &sink.sg, &sink.sb, &sink.ao, &sink.pm, &sink.pr};
+  for (int k = 0; k < 18; ++k) *slots[k] = f + static_cast<std::size_t>(k) * cap;
+  for (int k = 0; k < simd::kMaxCarried; ++k) sink.carry[k] = f + static_cast<std::size_t>(18 + k) * cap;
   sink.pixel = tile.phong_pixel.data();
   sink.samples = job.samples.count > 1 ? tile.phong_samples.data() : nullptr;
   sink.context = &context;
@@ -296,8 +303,10 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
                                                : Color3(1.0f, 1.0f, 1.0f);
           float n[3];
           stages::pixel_normal(d, interp, t.bitangent_negative(), sample_moved, n);
+          float metal = 1.0f, rough = 1.0f;
+          stages::metal_rough<float>(d, sample_at, metal, rough);
           batch.add_surface(pixel, Vec3(interp(position_at), interp(position_at + 1), interp(position_at + 2)),
-                            Vec3(n[0], n[1], n[2]), albedo, stages::occlusion<float>(d, sample_at), d, fog, in);
+                            Vec3(n[0], n[1], n[2]), albedo, stages::occlusion<float>(d, sample_at), metal, rough, d, fog, in);
           if (batch.full()) batch.flush(shading, d, fog, t.alpha, tile, counters);
         };
         float c[4];
