@@ -89,11 +89,14 @@ TEST(EnvironmentImage, MalformedRadianceFilesAreRefusedByName) {
   past[good.find("\n-Y") + 1 + std::string("-Y 8 +X 16\n").size() + 4] = char(100);  // a literal run of 100 in a row of 16
   std::string zero = good;
   zero[good.find("\n-Y") + 1 + std::string("-Y 8 +X 16\n").size() + 4] = char(0);
+  std::string repeat = good;  // the first repeated run of the first scanline (after 2 2 0 16, the literal run of 8)
+  repeat[good.find("\n-Y") + 1 + std::string("-Y 8 +X 16\n").size() + 4 + 1 + 8] = char(128 + 100);
   std::string length = good;
   length[good.find("\n-Y") + 1 + std::string("-Y 8 +X 16\n").size() + 3] = char(15);
   const Case cases[] = {
       {good.substr(0, good.size() - 5), "ends early"},
       {past, "passes the end of the scanline"},
+      {repeat, "a run passes the end of the scanline"},
       {zero, "literal run is empty"},
       {length, "its length is not the picture's width"},
       {hdr_file(16, 7, false), "twice as wide as high"},
