@@ -90,7 +90,7 @@ TEST(EnvironmentImage, MalformedRadianceFilesAreRefusedByName) {
   std::string zero = good;
   zero[good.find("\n-Y") + 1 + std::string("-Y 8 +X 16\n").size() + 4] = char(0);
   std::string repeat = good;  // the first repeated run of the first scanline (after 2 2 0 16, the literal run of 8)
-  repeat[good.find("\n-Y") + 1 + std::string("-Y 8 +X 16\n").size() + 4 + 1 + 8] = char(128 + 100);
+  repeat[good.find("\n-Y") + 1 + std::string("-Y 8 +X 16\n").size() + 4 + 1 + 8] = char(128 + 20);
   std::string length = good;
   length[good.find("\n-Y") + 1 + std::string("-Y 8 +X 16\n").size() + 3] = char(15);
   const Case cases[] = {
