@@ -46,7 +46,10 @@ const char* to_string(Mix m) {
   return "?";
 }
 
-facet::Scene bench_scene(int vertex_count, int light_count, Mix mix, bool phong_lobe = false) {
+// `pbr`: the material is glTF's (docs/pbr.md) instead of GL's; `studio`: and lit by the neutral
+// studio besides the lights.
+facet::Scene bench_scene(int vertex_count, int light_count, Mix mix, bool phong_lobe = false, bool pbr = false,
+                         bool studio = false) {
   using facet::Vec3;
   facet::Scene s;
   const int rings = std::max(2, static_cast<int>(std::sqrt(vertex_count / 2.0)));
@@ -57,6 +60,13 @@ facet::Scene bench_scene(int vertex_count, int light_count, Mix mix, bool phong_
   m.specular = {0.8f, 0.8f, 0.8f};
   m.shininess = 48.0f;
   if (phong_lobe) m.specular_model = facet::SpecularModel::phong;
+  if (pbr) {
+    m.model = facet::MaterialModel::pbr;
+    m.base_color = {0.7f, 0.5f, 0.3f};
+    m.metallic = 0.3f;
+    m.roughness = 0.4f;
+  }
+  if (studio) s.environment_light.source = facet::EnvironmentSource::studio;
   s.materials.push_back(m);
   s.objects.push_back({0, 0, facet::Mat4::Identity()});
   std::mt19937 rng(1);
@@ -96,8 +106,8 @@ struct Method {
 };
 
 void run_lighting(benchmark::State& state, const facet::LightingOptions& options, Mix mix, int lights, int vertex_count,
-                  bool phong_lobe = false, bool per_call = false) {
-  const facet::Scene scene = bench_scene(vertex_count, lights, mix, phong_lobe);
+                  bool phong_lobe = false, bool per_call = false, bool pbr = false, bool studio = false) {
+  const facet::Scene scene = bench_scene(vertex_count, lights, mix, phong_lobe, pbr, studio);
   const auto vertices = static_cast<std::int64_t>(scene.meshes[0].mesh.vertex_count());
   facet::VertexColors out;
   facet::Lighter lighter;  // its threads and working memory kept between calls, as a caller would
@@ -172,6 +182,20 @@ void register_all() {
       const facet::LightingOptions options = m.options;
       facet::bench::with_spread(benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& state) {
         run_lighting(state, options, Mix::mixed, 4, 4096, phong);
+      }))->Unit(benchmark::kMillisecond);
+    }
+  }
+  // The lighting models side by side: GL's Blinn-Phong, glTF's GGX BRDF under the lights alone, and
+  // under the lights and the neutral studio (image-based lighting per vertex). PBR draws have no
+  // SIMD kernel yet: the simd path runs the scalar float kernel for them.
+  for (const Method& m : all) {
+    if (m.options.path == facet::LightingPath::simd && m.options.pow_tier != facet::PowTier::automatic) continue;
+    for (const char* model : {"gl", "pbr", "pbr_studio"}) {
+      const std::string name = "BM_LightingModel/" + m.name + "/" + model + "/mixed/lights:4/vertices:65536";
+      const facet::LightingOptions options = m.options;
+      const bool pbr = std::string(model) != "gl", studio = std::string(model) == "pbr_studio";
+      facet::bench::with_spread(benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& state) {
+        run_lighting(state, options, Mix::mixed, 4, 1 << 16, false, false, pbr, studio);
       }))->Unit(benchmark::kMillisecond);
     }
   }

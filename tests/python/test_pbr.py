@@ -51,3 +51,30 @@ def test_pbr_materials_are_lit_by_the_surroundings():
     bright = renderer.render(scene, 64, 36, dtype="float32")
     assert bright[..., :3].mean() > dark[..., :3].mean() * 1.5
     assert renderer.last_stats["seconds_environment"] > 0.0
+
+
+def test_render_takes_the_environment_and_gl_materials(tmp_path):
+    # A glTF quad without lights: facet's default lighting is the studio for its PBR material, the
+    # GL rig with gl_materials=True; environment="none" leaves the PBR material in the dark.
+    import base64, json, struct
+    positions = struct.pack("<12f", -1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0)
+    normals = struct.pack("<12f", *([0, 0, 1] * 4))
+    indices = struct.pack("<6H", 0, 1, 2, 0, 2, 3)
+    blob = positions + normals + indices
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+           "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+           "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+                           {"buffer": 0, "byteOffset": 96, "byteLength": 12}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]},
+                         {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+                         {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+           "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicFactor": 0, "roughnessFactor": 0.6}}],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2, "material": 0}]}]}
+    path = tmp_path / "quad.gltf"
+    path.write_text(json.dumps(doc))
+    studio = facet.render(str(path), 32, 18, threads=1)
+    dark = facet.render(str(path), 32, 18, threads=1, environment="none")
+    gl = facet.render(str(path), 32, 18, threads=1, gl_materials=True)
+    assert studio[..., :3].mean() > 40
+    assert dark[..., :3].max() == 0
+    assert gl[..., :3].mean() > 40 and (gl != studio).any()
