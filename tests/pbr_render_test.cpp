@@ -34,16 +34,21 @@ Material pbr_material(Color3 base, float metallic, float roughness) {
   return m;
 }
 
+// An orthographic camera at `eye` looking at the origin, `half_height` above and below the view.
+void look_orthographic(Scene& s, const Vec3& eye, float half_height, float far) {
+  s.camera.eye = eye;
+  s.camera.target = Vec3(0, 0, 0);
+  s.camera.projection = Projection::orthographic;
+  s.camera.half_height = half_height;
+  s.camera.near = 1;
+  s.camera.far = far;
+}
+
 // Spheres of base colour 1 in a row per metallic value, roughness along the row, seen from the
 // front by an orthographic camera.
 Scene furnace_scene() {
   Scene s;
-  s.camera.eye = Vec3(0, 0, 10);
-  s.camera.target = Vec3(0, 0, 0);
-  s.camera.projection = Projection::orthographic;
-  s.camera.half_height = 3.5f;
-  s.camera.near = 1;
-  s.camera.far = 20;
+  look_orthographic(s, Vec3(0, 0, 10), 3.5f, 20);
   s.meshes.push_back({"ball", make_uv_sphere(1.0f, 48, 24)});
   const float metals[] = {0.0f, 0.5f, 1.0f}, roughs[] = {0.0f, 0.25f, 0.5f, 0.75f, 1.0f};
   for (int i = 0; i < 3; ++i) {
@@ -118,12 +123,7 @@ TEST(PbrClosedForm, DirectionalLightOnAPlaneIsTheBrdf) {
                         {Color3(1.0f, 1.0f, 1.0f), 0.0f, 0.05f, 10.0f, 15.0f}};
   for (const Case& c : cases) {
     Scene s;
-    s.camera.eye = Vec3(0, 0, 5);
-    s.camera.target = Vec3(0, 0, 0);
-    s.camera.projection = Projection::orthographic;
-    s.camera.half_height = 0.5f;
-    s.camera.near = 1;
-    s.camera.far = 10;
+    look_orthographic(s, Vec3(0, 0, 5), 0.5f, 10);
     s.viewer = ViewerMode::infinite;
     s.global_ambient = Color3::Zero();
     s.meshes.push_back({"plane", make_plane(4.0f, 4.0f, 1)});  // y up: turned to face +z below
@@ -178,13 +178,7 @@ TEST(PbrClosedForm, DirectionalLightOnAPlaneIsTheBrdf) {
 TEST(PbrEnvironmentPicture, IsReadAsThreeJsReadsIt) {
   auto brightness = [](float band_u, const Vec3& facing) {
     Scene s;
-    const Vec3 eye = 5.0f * facing;
-    s.camera.eye = eye;
-    s.camera.target = Vec3(0, 0, 0);
-    s.camera.projection = Projection::orthographic;
-    s.camera.half_height = 0.5f;
-    s.camera.near = 1;
-    s.camera.far = 10;
+    look_orthographic(s, 5.0f * facing, 0.5f, 10);
     s.meshes.push_back({"plane", make_plane(4.0f, 4.0f, 1)});
     s.materials.push_back(pbr_material(Color3::Ones(), 0.0f, 1.0f));
     // The plane's +y normal turned to `facing`.
