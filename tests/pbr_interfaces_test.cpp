@@ -108,11 +108,18 @@ TEST(PbrGltf, IorAndSpecularExtensionsAreRead) {
   EXPECT_FLOAT_EQ(mat.specular_weight, 0.5f);
   EXPECT_EQ(mat.specular_color, Color3(1.0f, 0.5f, 0.25f));
   EXPECT_TRUE(m->warnings.empty()) << m->warnings[0];
-  b.doc["materials"][0]["extensions"]["KHR_materials_ior"]["ior"] = 0.5;
+  b.doc["materials"][0]["extensions"]["KHR_materials_ior"]["ior"] = 0.5;  // below the schema's minimum: warned, 1.5 used
+  test::write_text(dir / "low.gltf", b.embedded());
+  Result<Model> low = load_model(dir / "low.gltf");
+  ASSERT_TRUE(low.ok()) << low.status().message();
+  EXPECT_FLOAT_EQ(low->scene.materials[0].ior, 1.5f);
+  ASSERT_EQ(low->warnings.size(), 1u);
+  EXPECT_NE(low->warnings[0].find("KHR_materials_ior.ior: 0.5 is below"), std::string::npos) << low->warnings[0];
+  b.doc["materials"][0]["extensions"]["KHR_materials_ior"]["ior"] = 11.0;  // beyond any material: refused by name
   test::write_text(dir / "bad.gltf", b.embedded());
   Result<Model> bad = load_model(dir / "bad.gltf");
   ASSERT_FALSE(bad.ok());
-  EXPECT_NE(bad.status().message().find("KHR_materials_ior.ior"), std::string::npos) << bad.status().message();
+  EXPECT_NE(bad.status().message().find("KHR_materials_ior"), std::string::npos) << bad.status().message();
 }
 
 }  // namespace

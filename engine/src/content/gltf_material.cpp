@@ -264,8 +264,8 @@ Status Reader::material(int index, MaterialInfo& info) {
   return {};
 }
 
-// KHR_materials_ior (ior >= 1; 0, which the extension allows for "no refraction", reads as
-// 1.5, its default) and KHR_materials_specular's factors; their textures are warned and ignored.
+// KHR_materials_ior (its schema's minimum is 1: a smaller value is warned of and glTF's 1.5 used)
+// and KHR_materials_specular's factors; the latter's textures are warned and ignored.
 Status Reader::pbr_extensions(const Json* ext, const std::string& p, Material& mat) {
   if (!ext) return {};
   if (const Json* ior = Fields::find(*ext, "KHR_materials_ior")) {
@@ -273,8 +273,11 @@ Status Reader::pbr_extensions(const Json* ext, const std::string& p, Material& m
     FACET_TRY(f_.object(*ior, ip));
     double value = 1.5;
     FACET_TRY(f_.number(*ior, ip, "ior", value, 0.0, 10.0));
-    if (value != 0.0 && value < 1.0) return f_.error(ip + ".ior", "expected 0 or a number in [1, 10], found " + format_number(value));
-    mat.ior = value == 0.0 ? 1.5f : float(value);
+    if (value < 1.0) {
+      warn(ip + ".ior: " + format_number(value) + " is below the extension's minimum of 1; glTF's 1.5 is used");
+      value = 1.5;
+    }
+    mat.ior = float(value);
   }
   if (const Json* sp = Fields::find(*ext, "KHR_materials_specular")) {
     const std::string xp = p + ".extensions.KHR_materials_specular";
