@@ -99,8 +99,7 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
 
 Status Renderer::Impl::prepare_image_light(const Scene& scene) {
   if (!image_light) image_light = std::make_unique<lighting::ImageLight>();
-  if (image_light->built_from(scene.environment_light)) return {};
-  return image_light->build(
+  return image_light->prepare(
       scene.environment_light,
       [&](std::size_t count, const std::function<void(std::size_t)>& fn) {
         arena->parallel_for(tbb::blocked_range<std::size_t>(0, count, 1), [&](const tbb::blocked_range<std::size_t>& r, int) {

@@ -99,6 +99,11 @@ class ImageLight {
   // in any order and on any threads; the result is the same. `cancelled` is polled between rows.
   Status build(const EnvironmentLight& env, const std::function<void(std::size_t, const std::function<void(std::size_t)>&)>& run,
                const std::function<bool()>& cancelled = {});
+  // build() unless `env`'s picture is what was built already.
+  Status prepare(const EnvironmentLight& env, const std::function<void(std::size_t, const std::function<void(std::size_t)>&)>& run,
+                 const std::function<bool()>& cancelled = {}) {
+    return built_from(env) ? Status{} : build(env, run, cancelled);
+  }
   bool has_image() const { return has_image_; }
   // Whether `env`'s picture is what was built (its source, size and a checksum of its texels).
   bool built_from(const EnvironmentLight& env) const;

@@ -134,12 +134,10 @@ Status Lighter::light_instance(const Scene& scene, std::size_t instance, const L
     features.color_material = !mesh.colors.empty();
     if (scene.materials[inst.material].model == MaterialModel::pbr) {
       if (!im.image_light) im.image_light = std::make_unique<lighting::ImageLight>();
-      if (!im.image_light->built_from(scene.environment_light)) {
-        const auto in_turn = [](std::size_t count, const std::function<void(std::size_t)>& fn) {
-          for (std::size_t i = 0; i < count; ++i) fn(i);
-        };
-        if (Status s = im.image_light->build(scene.environment_light, in_turn); !s.ok()) return s;
-      }
+      const auto in_turn = [](std::size_t count, const std::function<void(std::size_t)>& fn) {
+        for (std::size_t i = 0; i < count; ++i) fn(i);
+      };
+      if (Status s = im.image_light->prepare(scene.environment_light, in_turn); !s.ok()) return s;
       features.image_light = im.image_light.get();
     }
     // Prepared without bounds: every light. Each chunk then drops the lights that cannot reach its

@@ -168,13 +168,7 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
       same_slots(scalar_);
       break;
     case LightingPath::simd: {
-      const SimdKernels* kernels = simd_kernels(options.isa);
-      if (!kernels) {
-        return {ErrorCode::unsupported, "isa",
-                std::string("isa: this CPU has no ") + to_string(options.isa) + " (best available: " +
-                    to_string(best_isa()) + ")"};
-      }
-      simd_shade_ = kernels->shade;
+      simd_shade_ = simd_kernels(options.isa)->shade;  // (checked above)
       make_shade_params(scene, view, material, options.clamp, scalar_, features);
       remove_lights(scalar_, drop);
       same_slots(scalar_);
