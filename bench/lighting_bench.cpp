@@ -186,8 +186,7 @@ void register_all() {
     }
   }
   // The lighting models side by side: GL's Blinn-Phong, glTF's GGX BRDF under the lights alone, and
-  // under the lights and the neutral studio (image-based lighting per vertex). PBR draws have no
-  // SIMD kernel yet: the simd path runs the scalar float kernel for them.
+  // under the lights and the neutral studio (image-based lighting per vertex).
   for (const Method& m : all) {
     if (m.options.path == facet::LightingPath::simd && m.options.pow_tier != facet::PowTier::automatic) continue;
     for (const char* model : {"gl", "pbr", "pbr_studio"}) {

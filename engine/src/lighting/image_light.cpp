@@ -148,7 +148,7 @@ bool ImageLight::built_from(const EnvironmentLight& env) const {
 
 std::uint64_t ImageLight::bytes() const {
   std::uint64_t n = dfg_.size() * sizeof(float);
-  for (const auto& l : levels_) n += l.size() * sizeof(float);
+  n += radiance_.size() * sizeof(float);
   for (const auto& l : source_) n += l.rgb.size() * sizeof(float);
   for (const auto& l : source_cube_) n += l.size() * sizeof(float);
   return n;
@@ -181,7 +181,7 @@ Status ImageLight::build(const EnvironmentLight& env,
   has_image_ = false;
   source_.clear();
   source_cube_.clear();
-  for (auto& l : levels_) l.clear();
+  radiance_.clear();
   std::memset(sh_, 0, sizeof sh_);
   source_kind_ = env.source, width_ = env.width, height_ = env.height, checksum_ = 0;
   if (env.source == EnvironmentSource::none) return {};
@@ -254,11 +254,16 @@ Status ImageLight::build(const EnvironmentLight& env,
   // The prefiltered levels, one face row per task.
   const double texel0 = 4.0 * kPi / (6.0 * double(source_cube_size_) * double(source_cube_size_));
   bool stop = false;
+  std::size_t floats = 0;
+  for (int level = 0; level < kRadianceLevels; ++level) {
+    sizes_[level] = std::max(kRadianceMinSize, kRadianceSize >> level);
+    offsets_[level] = floats;
+    floats += std::size_t(6) * std::size_t(sizes_[level]) * std::size_t(sizes_[level]) * 3;
+  }
+  radiance_.assign(floats, 0.0f);
   for (int level = 0; level < kRadianceLevels && !stop; ++level) {
-    const int n = std::max(kRadianceMinSize, kRadianceSize >> level);
-    sizes_[level] = n;
-    std::vector<float>& out = levels_[level];
-    out.assign(std::size_t(6) * std::size_t(n) * std::size_t(n) * 3, 0.0f);
+    const int n = sizes_[level];
+    float* const out = radiance_.data() + offsets_[level];
     const double roughness = double(level) / (kRadianceLevels - 1);
     const double alpha = pbr::alpha_of(roughness);
     const double cube_texel = 4.0 * kPi / (6.0 * n * n);
@@ -319,7 +324,7 @@ Status ImageLight::build(const EnvironmentLight& env,
           }
           value = {sum[0] / weight, sum[1] / weight, sum[2] / weight};
         }
-        float* o = out.data() + 3 * ((std::size_t(face) * std::size_t(n) + std::size_t(j)) * std::size_t(n) + std::size_t(i));
+        float* o = out + 3 * ((std::size_t(face) * std::size_t(n) + std::size_t(j)) * std::size_t(n) + std::size_t(i));
         o[0] = float(value.x), o[1] = float(value.y), o[2] = float(value.z);
       }
     });
@@ -331,6 +336,19 @@ Status ImageLight::build(const EnvironmentLight& env,
   }
   has_image_ = true;
   return {};
+}
+
+simd::ImageView ImageLight::view() const {
+  simd::ImageView v;
+  v.dfg = dfg_.data();
+  v.has_image = has_image_ ? 1 : 0;
+  std::memcpy(v.sh, sh_, sizeof sh_);
+  v.radiance = radiance_.data();
+  for (int k = 0; k < kRadianceLevels; ++k) {
+    v.offset[k] = static_cast<int>(offsets_[k]);
+    v.size[k] = sizes_[k];
+  }
+  return v;
 }
 
 }  // namespace facet::lighting

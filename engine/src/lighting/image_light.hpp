@@ -18,13 +18,11 @@
 
 namespace facet::lighting {
 
-// The DFG table's grid (n.v by roughness) and the GGX samples per cell (pbr::DfgTable).
-inline constexpr int kDfgSize = 32;
+// The DFG table's grid is kDfgSize (simd_types.hpp) a side; GGX samples per cell (pbr::DfgTable).
 inline constexpr unsigned kDfgSamples = 512;
 
-// The prefiltered cube's levels: level k holds roughness k / (kRadianceLevels - 1), read
-// linearly between levels; faces of kRadianceSize >> k texels a side, at least kRadianceMinSize.
-inline constexpr int kRadianceLevels = 6;
+// The prefiltered cube's kRadianceLevels levels (simd_types.hpp), read linearly between levels:
+// faces of kRadianceSize >> k texels a side, at least kRadianceMinSize.
 inline constexpr int kRadianceSize = 128;
 inline constexpr int kRadianceMinSize = 16;
 // GGX samples per texel of level k >= 1: fewer for the narrow lobes, whose samples read finer halvings.
@@ -157,8 +155,8 @@ class ImageLight {
     return {a.x + (b.x - a.x) * f, a.y + (b.y - a.y) * f, a.z + (b.z - a.z) * f};
   }
 
-  int level_size(int k) const { return sizes_[static_cast<std::size_t>(k)]; }
-  const std::vector<float>& level(int k) const { return levels_[static_cast<std::size_t>(k)]; }
+  // What the SIMD kernels read (valid while this light is neither rebuilt nor destroyed).
+  simd::ImageView view() const;
   // The source's radiance (level 0 of the halvings), bilinear, at a unit direction (the tests'
   // brute-force integrals read the same picture the prefilter read).
   V3<double> source(const V3<double>& d, double lod = 0.0) const;
@@ -166,7 +164,7 @@ class ImageLight {
  private:
   template <class T>
   V3<T> cube_bilinear(int k, V3<T> r) const {
-    return cube_sample(levels_[static_cast<std::size_t>(k)].data(), sizes_[static_cast<std::size_t>(k)], r);
+    return cube_sample(radiance_.data() + offsets_[k], sizes_[k], r);
   }
   // The radiance the prefilter reads: the picture as a cube with its halvings, at a level of detail.
   V3<double> cube_source(const V3<double>& d, double lod) const;
@@ -175,7 +173,8 @@ class ImageLight {
   bool has_image_ = false;
   float sh_[3][9] = {};     // per channel: A_l L_lm / pi times each basis function's constant
   int sizes_[kRadianceLevels] = {};
-  std::vector<float> levels_[kRadianceLevels];  // 6 faces of size^2 RGB texels, t rows of s
+  std::size_t offsets_[kRadianceLevels] = {};
+  std::vector<float> radiance_;  // the levels one after another: 6 faces of size^2 RGB texels, t rows of s
   std::vector<EquirectLevel> source_;           // the picture and its halvings
   std::vector<std::vector<float>> source_cube_;  // the picture as a cube (source_cube_size_ texels a side) and its halvings
   int source_cube_size_ = 0;

@@ -76,8 +76,12 @@ V3<T> shade_pbr(const ShadeParams<T>& sp, V3<T> p, V3<T> n_in, V3<T> albedo, V3<
     }
     const V3<T> h = normalize_or_zero(l + v);
     const T n_dot_h = clamp01(dot(n, h)), v_dot_h = clamp01(dot(v, h));
-    // D V: GGX and the height-correlated Smith term (pbr::ggx_d, pbr::smith_v).
-    const T k = n_dot_h * n_dot_h * (a2 - T(1)) + T(1);
+    // D V: GGX and the height-correlated Smith term (pbr::ggx_d, pbr::smith_v). GGX's
+    // denominator 1 - (n.h)^2 (1 - a^2) as |n x h|^2 + (n.h)^2 a^2, which keeps its relative
+    // accuracy at the peak of a narrow lobe, where 1 - (n.h)^2 cancels (Filament's form); 1
+    // where there is no half vector (l = -v).
+    const V3<T> nxh{n.y * h.z - n.z * h.y, n.z * h.x - n.x * h.z, n.x * h.y - n.y * h.x};
+    const T k = dot(h, h) > T(0.5) ? dot(nxh, nxh) + n_dot_h * n_dot_h * a2 : T(1);
     const T d = a2 / (T(3.14159265358979323846) * k * k);
     const T gv = n_dot_l * std::sqrt(n_dot_v * n_dot_v * (T(1) - a2) + a2);
     const T gl = n_dot_v * std::sqrt(n_dot_l * n_dot_l * (T(1) - a2) + a2);

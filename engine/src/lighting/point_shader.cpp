@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <numbers>
 
+#include "lighting/image_light.hpp"
 #include "lighting/setup.hpp"
 #include "common/look_at.hpp"
 #include "lighting/soa.hpp"
@@ -13,7 +14,7 @@ namespace facet::lighting {
 
 void SoaScratch::reserve_padded(std::size_t count) {
   const std::size_t n = simd::padded(count);
-  for (auto* v : {&px, &py, &pz, &nx, &ny, &nz, &r, &g, &b, &ar, &ag, &ab, &sr, &sg, &sb, &ao}) {
+  for (auto* v : {&px, &py, &pz, &nx, &ny, &nz, &r, &g, &b, &ar, &ag, &ab, &sr, &sg, &sb, &ao, &pm, &pr}) {
     if (v->size() < n) v->resize(n);
   }
 }
@@ -71,6 +72,23 @@ void resolve_spot_pows(std::vector<EyeLight<T>>& lights, PowTier tier) {
   }
 }
 
+// The PBR kernel's terms (simd::PbrParams): the scalar path's, which are the double set-up rounded once.
+void set_pbr_params(const ShadeParams<float>& sp, simd::PbrParams& p) {
+  p = simd::PbrParams{};
+  const PbrTerms<float>& q = sp.pbr;
+  if (!q.on) return;
+  p.on = 1;
+  p.metal_rough = sp.metal_rough ? 1 : 0;
+  copy3(p.base_color, q.base_color);
+  p.metallic = q.metallic, p.roughness = q.roughness, p.roughness_factor = q.roughness_factor, p.alpha = q.alpha;
+  copy3(p.f0, q.f0);
+  p.f90 = q.f90;
+  copy3(p.ambient, q.ambient);
+  p.intensity = q.intensity;
+  std::copy(q.to_env, q.to_env + 9, p.to_env);
+  p.image = q.image->view();  // (prepare refuses a PBR material without the image light)
+}
+
 }  // namespace
 
 Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, const Material& material,
@@ -81,8 +99,6 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
     return {ErrorCode::unsupported, "isa",
             std::string("isa: this CPU has no ") + to_string(options.isa) + " (best available: " + to_string(best_isa()) + ")"};
   }
-  // PBR materials have no SIMD kernel yet: the SIMD path lights them with the scalar float kernel.
-  if (material.model == MaterialModel::pbr && path_ == LightingPath::simd) path_ = LightingPath::scalar;
   if (material.model == MaterialModel::pbr && !features.image_light) {
     return {ErrorCode::invalid_argument, "image_light", "image_light: a PBR material needs the prepared DFG table"};
   }
@@ -195,6 +211,7 @@ Status PointShader::prepare(const Scene& scene, const Eigen::Matrix4d& view, con
       p.lights = scalar_.lights.data();  // the kernels read the same lights as the scalar path
       p.lights_d = reference_.lights.data();
       p.light_count = static_cast<int>(scalar_.lights.size());
+      set_pbr_params(scalar_, p.pbr);
       break;
     }
     default: return {ErrorCode::invalid_argument, "path", "path: unknown lighting path"};
@@ -242,7 +259,8 @@ void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd:
               const Vec3* positions, const Vec3* normals, float normal_sign, const Color3* albedo, Color3* out,
               Color3* secondary, SoaScratch& scratch, const std::uint32_t* index = nullptr,
               const float* visibility = nullptr, int slots = 0, const float* occlusion = nullptr,
-              const float* filters = nullptr, int projector_slots = 0, float* filter_scratch = nullptr) {
+              const float* filters = nullptr, int projector_slots = 0, float* filter_scratch = nullptr,
+              const float* metal_rough = nullptr) {
   if (count == 0) return;
   if (xf && !index && slots == 0 && !params.occlusion && projector_slots == 0) {
     // The kernel reads and writes the triples itself: no copies. The back side's negated normals
@@ -299,6 +317,13 @@ void run_simd(simd::ShadeFunction shade, const simd::Params& params, const simd:
       std::copy_n(occlusion + start, n, scratch.ao.data());
       std::fill(scratch.ao.begin() + static_cast<std::ptrdiff_t>(n), scratch.ao.begin() + static_cast<std::ptrdiff_t>(padded), 1.0f);
       s.ao = scratch.ao.data();
+    }
+    if (metal_rough && params.pbr.metal_rough) {  // (points: metallic at [i], roughness at [count + i])
+      std::copy_n(metal_rough + start, n, scratch.pm.data());
+      std::copy_n(metal_rough + count + start, n, scratch.pr.data());
+      std::fill(scratch.pm.begin() + static_cast<std::ptrdiff_t>(n), scratch.pm.begin() + static_cast<std::ptrdiff_t>(padded), 1.0f);
+      std::fill(scratch.pr.begin() + static_cast<std::ptrdiff_t>(n), scratch.pr.begin() + static_cast<std::ptrdiff_t>(padded), 1.0f);
+      s.pm = scratch.pm.data(), s.pr = scratch.pr.data();
     }
     const float* filter_streams[3 * kMaxProjectors] = {};
     if (projector_slots > 0) {  // each slot's channels, padded with 0 (no light)
@@ -461,7 +486,7 @@ void PointShader::shade_points(std::size_t count, const Vec3* p_eye, const Vec3*
   // The SIMD path lights these points (at most a tile batch's) in one padded chunk.
   run_simd(simd_shade_, simd_params_, nullptr, count, p_eye, n_eye, 1.0f, albedo, out, secondary, scratch, nullptr,
            visibility, shadow_slots_, occlusion, filters, projector_slots_,
-           projector_slots_ > 0 ? scratch.projector.data() + filter_floats : nullptr);
+           projector_slots_ > 0 ? scratch.projector.data() + filter_floats : nullptr, metal_rough);
 }
 
 void PointShader::shade_soa(const simd::Streams& streams, float* visibility, float* projector) const {

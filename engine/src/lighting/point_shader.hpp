@@ -23,6 +23,7 @@ struct SoaScratch {
   std::vector<float> px, py, pz, nx, ny, nz, r, g, b;
   std::vector<float> ar, ag, ab, sr, sg, sb;  // albedo in, secondary out (when the shader uses them)
   std::vector<float> ao;                      // ambient occlusion in (LightingFeatures::occlusion)
+  std::vector<float> pm, pr;                  // PBR: metallic and roughness texels in (LightingFeatures::metal_rough)
   std::vector<float> projector;               // projectors: per slot and channel, per point
   std::vector<float> visibility;              // shadowed lights: per slot, per point
   void reserve_padded(std::size_t count);

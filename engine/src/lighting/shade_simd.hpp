@@ -149,7 +149,7 @@ B pow_cos_exact(const V<B>& a, const V<B>& b, float s) {
 template <class B>
 B pow_unit_double(const B& x, float s) {
   if (s == 0.0f) return B(1.0);
-  return xsimd::select(x > B(0.0), xsimd::exp2(B(double(s)) * xsimd::log2(xsimd::select(x > B(0.0), x, B(1.0)))), B(0.0));
+  return xsimd::select(x > B(0.0), xsimd::exp2(B(static_cast<typename B::value_type>(s)) * xsimd::log2(xsimd::select(x > B(0.0), x, B(1.0)))), B(0.0));
 }
 
 // The stored colour: clamped to [0, 1], or (HDR) kept >= 0 and finite as a float.
@@ -159,6 +159,93 @@ B finish(const Params& prm, const B& c) {
   if (prm.clamp) return fastmath::clamp01(c);
   const B big(FLT_MAX);  // the float colour's limit, also for double lanes
   return xsimd::select(c > zero, xsimd::min(c, big), zero);
+}
+
+// The unit vector from each point p towards light L and L's attenuation there (distance, range
+// window with Extras, spot cone), 0 where the position or the distance is not finite: the
+// classic kernel's and the PBR kernel's lights. Exact: IEEE sqrt and division (the exact tier;
+// double lanes in the classic kernel), else the estimates.
+template <bool Exact, bool Extras, class B, class T>
+[[gnu::always_inline]] inline V<B> light_vector(const EyeLight<T>& L, const V<B>& p, B& att) {
+  const B zero(0.0f), one(1.0f);
+// Spot exponents keep a run-time method: float lanes take any tier's, double lanes the exact
+// tier's (exact, or one for s = 0).
+auto pow_spot = [](const B& x, const PowSpec& spec) -> B {
+  if constexpr (Exact) {
+    return pow_unit_double(fastmath::clamp01(x), spec.method == PowMethod::one ? 0.0f : spec.exponent);
+  } else {
+    return pow_spec(x, spec);
+  }
+};
+  V<B> vp;
+  att = one;
+  if (L.type == LightType::directional) {
+    vp = {B(L.to_light.x), B(L.to_light.y), B(L.to_light.z)};
+  } else {
+    V<B> diff{B(L.position.x) - p.x, B(L.position.y) - p.y, B(L.position.z) - p.z};
+    const B d2 = dot3(diff, diff);
+    B d, inv_d;
+    typename B::batch_bool_type finite, has_dir;
+    if constexpr (Exact) {
+      d = xsimd::sqrt(d2);
+      finite = d <= B(std::numeric_limits<T>::max());  // NaN/Inf position or distance: no contribution
+      has_dir = d > B(1e-6f);
+      inv_d = one / d;
+    } else {
+      finite = d2 <= B(FLT_MAX);
+      has_dir = finite && (d2 > B(1e-12f));
+      // 1/d, or 0 where there is no direction: the products below are then 0 (a finite diff),
+      // or NaN where the position or distance is not finite, which only lanes the selects on
+      // `finite` (att) and `lit` (n.l > 0 fails for NaN) leave out; no select per product.
+      inv_d = xsimd::select(has_dir, rsqrt_nr(xsimd::select(has_dir, d2, one)), zero);
+      d = d2 * inv_d;  // below 1e-6 the distance counts as 0
+    }
+    if constexpr (Exact) {
+      vp = {xsimd::select(has_dir, diff.x * inv_d, zero), xsimd::select(has_dir, diff.y * inv_d, zero),
+            xsimd::select(has_dir, diff.z * inv_d, zero)};
+    } else {
+      vp = {diff.x * inv_d, diff.y * inv_d, diff.z * inv_d};
+    }
+    const B denom = xsimd::fma(B(L.k2), d2, xsimd::fma(B(L.k1), d, B(L.k0)));
+    if (Extras && L.linear_range) {
+      if constexpr (Exact) {
+        att = fastmath::clamp01((B(L.range_max) - d + B(L.range_min)) / B(L.range_max));
+      } else {
+        att = fastmath::clamp01((B(L.range_max) - d + B(L.range_min)) * B(L.inv_range_max));
+      }
+    } else if constexpr (Exact) {
+      att = one / xsimd::select(denom > B(1e-6f), denom, B(1e-6f));
+    } else {
+      // max(NaN, 1e-6) is 1e-6 (maxps returns its second operand); Inf becomes FLT_MAX.
+      att = rcp_nr(xsimd::min(xsimd::max(denom, B(1e-6f)), B(FLT_MAX)));
+    }
+    if (L.inv_range > 0.0f) {
+      const B x = d * B(L.inv_range), x2 = x * x;
+      const B w = fastmath::clamp01(one - x2 * x2);
+      att *= w * w;
+    }
+    if (L.type == LightType::spot) {
+      const B cos_angle = -dot3(vp, V<B>{B(L.spot_axis.x), B(L.spot_axis.y), B(L.spot_axis.z)});
+      B spot;
+      if (L.spot_shape == SpotShape::cutoff_exponent) {
+        if (!L.has_cone) {
+          spot = one;
+        } else {
+          const B factor = L.spot_pow.method == PowMethod::exact
+                               ? pow_cos_exact(V<B>{-diff.x, -diff.y, -diff.z}, V<B>{B(L.spot_axis.x), B(L.spot_axis.y), B(L.spot_axis.z)},
+                                               L.spot_pow.exponent)
+                               : pow_spot(cos_angle, L.spot_pow);
+          spot = xsimd::select(cos_angle >= B(L.cos_cutoff), factor, zero);
+        }
+      } else {
+        const B t = L.inv_cone_span > 0.0f ? fastmath::clamp01((cos_angle - B(L.cos_outer)) * B(L.inv_cone_span)) : one;
+        spot = xsimd::select(cos_angle >= B(L.cos_outer), pow_spot(t, L.spot_pow), zero);
+      }
+      att *= spot;
+    }
+    att = xsimd::select(finite, att, zero);
+  }
+  return vp;
 }
 
 // Extras: the kernel reads the per-material and per-light options most scenes do not use
@@ -185,15 +272,6 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
     lights = prm.lights, base = prm.base, scene_ambient = prm.scene_ambient;
     if (xf) xf_position = xf->position, xf_normal = xf->normal;
   }
-  // Spot exponents keep a run-time method: float lanes take any tier's, double lanes the exact
-  // tier's (exact, or one for s = 0).
-  auto pow_spot = [](const B& x, const PowSpec& spec) -> B {
-    if constexpr (Exact) {
-      return pow_unit_double(fastmath::clamp01(x), spec.method == PowMethod::one ? 0.0f : spec.exponent);
-    } else {
-      return pow_spec(x, spec);
-    }
-  };
   // Triples (Streams::p3): whole batches straight from the caller's arrays, the last one through
   // a buffer padded with zeros (finite, no normal: what the streams' padding holds).
   const bool triples = s.p3 != nullptr;
@@ -258,74 +336,8 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
 
     for (int li = 0; li < prm.light_count; ++li) {
       const EyeLight<T>& L = lights[li];
-      V<B> vp;
-      B att = one;
-      if (L.type == LightType::directional) {
-        vp = {B(L.to_light.x), B(L.to_light.y), B(L.to_light.z)};
-      } else {
-        V<B> diff{B(L.position.x) - p.x, B(L.position.y) - p.y, B(L.position.z) - p.z};
-        const B d2 = dot3(diff, diff);
-        B d, inv_d;
-        typename B::batch_bool_type finite, has_dir;
-        if constexpr (Exact) {
-          d = xsimd::sqrt(d2);
-          finite = d <= B(std::numeric_limits<T>::max());  // NaN/Inf position or distance: no contribution
-          has_dir = d > B(1e-6f);
-          inv_d = one / d;
-        } else {
-          finite = d2 <= B(FLT_MAX);
-          has_dir = finite && (d2 > B(1e-12f));
-          // 1/d, or 0 where there is no direction: the products below are then 0 (a finite diff),
-          // or NaN where the position or distance is not finite, which only lanes the selects on
-          // `finite` (att) and `lit` (n.l > 0 fails for NaN) leave out; no select per product.
-          inv_d = xsimd::select(has_dir, rsqrt_nr(xsimd::select(has_dir, d2, one)), zero);
-          d = d2 * inv_d;  // below 1e-6 the distance counts as 0
-        }
-        if constexpr (Exact) {
-          vp = {xsimd::select(has_dir, diff.x * inv_d, zero), xsimd::select(has_dir, diff.y * inv_d, zero),
-                xsimd::select(has_dir, diff.z * inv_d, zero)};
-        } else {
-          vp = {diff.x * inv_d, diff.y * inv_d, diff.z * inv_d};
-        }
-        const B denom = xsimd::fma(B(L.k2), d2, xsimd::fma(B(L.k1), d, B(L.k0)));
-        if (Extras && L.linear_range) {
-          if constexpr (Exact) {
-            att = fastmath::clamp01((B(L.range_max) - d + B(L.range_min)) / B(L.range_max));
-          } else {
-            att = fastmath::clamp01((B(L.range_max) - d + B(L.range_min)) * B(L.inv_range_max));
-          }
-        } else if constexpr (Exact) {
-          att = one / xsimd::select(denom > B(1e-6f), denom, B(1e-6f));
-        } else {
-          // max(NaN, 1e-6) is 1e-6 (maxps returns its second operand); Inf becomes FLT_MAX.
-          att = rcp_nr(xsimd::min(xsimd::max(denom, B(1e-6f)), B(FLT_MAX)));
-        }
-        if (L.inv_range > 0.0f) {
-          const B x = d * B(L.inv_range), x2 = x * x;
-          const B w = fastmath::clamp01(one - x2 * x2);
-          att *= w * w;
-        }
-        if (L.type == LightType::spot) {
-          const B cos_angle = -dot3(vp, V<B>{B(L.spot_axis.x), B(L.spot_axis.y), B(L.spot_axis.z)});
-          B spot;
-          if (L.spot_shape == SpotShape::cutoff_exponent) {
-            if (!L.has_cone) {
-              spot = one;
-            } else {
-              const B factor = L.spot_pow.method == PowMethod::exact
-                                   ? pow_cos_exact(V<B>{-diff.x, -diff.y, -diff.z}, V<B>{B(L.spot_axis.x), B(L.spot_axis.y), B(L.spot_axis.z)},
-                                                   L.spot_pow.exponent)
-                                   : pow_spot(cos_angle, L.spot_pow);
-              spot = xsimd::select(cos_angle >= B(L.cos_cutoff), factor, zero);
-            }
-          } else {
-            const B t = L.inv_cone_span > 0.0f ? fastmath::clamp01((cos_angle - B(L.cos_outer)) * B(L.inv_cone_span)) : one;
-            spot = xsimd::select(cos_angle >= B(L.cos_outer), pow_spot(t, L.spot_pow), zero);
-          }
-          att *= spot;
-        }
-        att = xsimd::select(finite, att, zero);
-      }
+      B att;
+      const V<B> vp = light_vector<Exact, Extras>(L, p, att);
       const B n_dot_l = dot3(n, vp);
       const auto lit = n_dot_l > zero;
       B sr = B(L.ambient.x), sg = B(L.ambient.y), sb = B(L.ambient.z);

@@ -3,11 +3,11 @@
 #error "shade_simd_avx2.cpp must be compiled with its ISA flags"
 #endif
 
-#include "lighting/shade_simd.hpp"
+#include "lighting/shade_pbr_simd.hpp"
 
 namespace facet::lighting::simd::avx2 {
 void shade(const Params& params, const Transform* xf, const Streams& streams) {
-  shade_streams<xsimd::fma3<xsimd::avx2>>(params, xf, streams);
+  shade_any<xsimd::fma3<xsimd::avx2>>(params, xf, streams);
 }
 void pow_array(const PowSpec& spec, const float* x, float* out, std::size_t count) {
   pow_streams<xsimd::fma3<xsimd::avx2>>(spec, x, out, count);

@@ -3,11 +3,11 @@
 #error "shade_simd_sse2.cpp must be compiled with its ISA flags"
 #endif
 
-#include "lighting/shade_simd.hpp"
+#include "lighting/shade_pbr_simd.hpp"
 
 namespace facet::lighting::simd::sse2 {
 void shade(const Params& params, const Transform* xf, const Streams& streams) {
-  shade_streams<xsimd::sse2>(params, xf, streams);
+  shade_any<xsimd::sse2>(params, xf, streams);
 }
 void pow_array(const PowSpec& spec, const float* x, float* out, std::size_t count) {
   pow_streams<xsimd::sse2>(spec, x, out, count);

@@ -16,6 +16,19 @@ inline std::size_t padded(std::size_t n) { return (n + kMaxLanes - 1) / kMaxLane
 
 enum class PowMethod : int { one, exact, fast, integer, schlick };
 
+}  // namespace facet::lighting::simd
+
+namespace facet::lighting {
+
+// The image light's DFG table (kDfgSize^2 cells, n.v by roughness) and prefiltered cube levels
+// (level k holds roughness k / (kRadianceLevels - 1)); image_light.hpp.
+inline constexpr int kDfgSize = 32;
+inline constexpr int kRadianceLevels = 6;
+
+}  // namespace facet::lighting
+
+namespace facet::lighting::simd {
+
 struct PowSpec {
   PowMethod method = PowMethod::one;
   float exponent = 0.0f;
@@ -69,6 +82,29 @@ struct EyeLight {
 
 namespace facet::lighting::simd {
 
+// What the PBR kernel reads of an image light (lighting/image_light.hpp), as plain data.
+struct ImageView {
+  const float* dfg = nullptr;  // kDfgSize^2 cells of (scale, bias), n.v fastest
+  int has_image = 0;           // 0: the DFG table alone
+  float sh[3][9] = {};         // per channel, the harmonics' coefficients times their basis constants
+  const float* radiance = nullptr;   // the prefiltered levels one after another
+  int offset[kRadianceLevels] = {};  // level k's first float in `radiance`
+  int size[kRadianceLevels] = {};    // level k's face size in texels
+};
+
+// A PBR material (pbr_shade.hpp's terms, rounded to float): Params::pbr.
+struct PbrParams {
+  int on = 0;
+  int metal_rough = 0;  // Streams::pm and pr multiply the metallic and roughness factors
+  float base_color[3] = {1.0f, 1.0f, 1.0f};
+  float metallic = 0.0f, roughness = 1.0f, roughness_factor = 1.0f, alpha = 1.0f;
+  float f0[3] = {}, f90 = 1.0f;
+  float ambient[3] = {};  // uniform radiance around: the scene's ambient without a picture
+  float intensity = 1.0f;
+  float to_env[9] = {1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f};  // eye -> environment
+  ImageView image;
+};
+
 struct Params {
   float base[3] = {};  // e_m + a_m a_scene; with color_material: e_m
   double base_d[3] = {};
@@ -93,6 +129,10 @@ struct Params {
   const EyeLight<float>* lights = nullptr;
   const EyeLight<double>* lights_d = nullptr;
   int light_count = 0;
+  // A PBR material: the PBR kernel (shade_pbr_simd.hpp) instead of the classic one; it reads
+  // base (the emission), color_material, separate_specular, occlusion, local_viewer, clamp,
+  // exact_math (IEEE sqrt and division instead of the estimates) and the float lights.
+  PbrParams pbr;
 };
 
 // Model -> eye, row-major (3x4 for positions, 3x3 inverse-transpose for normals), in float for
@@ -115,8 +155,7 @@ struct Streams {
   // Shadowed lights (EyeLight::shadow >= 0): per shadow slot, each point's visibility of that light.
   const float* const* visibility = nullptr;
   const float* ao = nullptr;  // per point ambient occlusion: read with Params::occlusion
-  // PBR (lit by the scalar kernel for now): per point metallic and roughness texels, read when the
-  // shader's features have metal_rough.
+  // PBR: per point metallic and roughness texels, read with PbrParams::metal_rough.
   const float *pm = nullptr, *pr = nullptr;
   // Projectors (EyeLight::projector >= 0): stream 3 k + c is each point's channel c of slot k's filter.
   const float* const* projector = nullptr;
