@@ -25,7 +25,7 @@ TEST(PbrSceneFile, ModelPbrAndAnEnvironmentPictureInTheScenesFolder) {
   test::TempDir dir;
   test::write_text(dir / "sky.hdr", grey_hdr());
   test::write_text(dir / "scene.json", R"({
-    "environment_image": { "file": "sky.hdr", "intensity": 2, "rotation_deg": 45 },
+    "environment_image": { "file": "sky.hdr", "intensity": 2, "rotation_deg": 45 }, "background": "environment",
     "materials": [ { "name": "gold", "model": "pbr", "base_color": [1, 0.77, 0.34], "metallic": 1, "roughness": 0.3, "ior": 1.4 } ],
     "meshes": [ { "name": "ball", "shape": "sphere" } ], "objects": [ { "mesh": "ball", "material": "gold" } ], "lights": [] })");
   Result<Scene> s = load_scene_file(dir / "scene.json");
@@ -38,6 +38,7 @@ TEST(PbrSceneFile, ModelPbrAndAnEnvironmentPictureInTheScenesFolder) {
   EXPECT_EQ(s->environment_light.rgb[0], 128.5f / 256.0f);
   EXPECT_EQ(s->environment_light.intensity, 2.0f);
   EXPECT_EQ(s->environment_light.rotation_deg, 45.0f);
+  EXPECT_EQ(s->background, Background::environment);
   // A picture outside the scene's folder is refused, naming the field.
   test::TempDir other("facet_other");
   test::write_text(other / "sky.hdr", grey_hdr());
@@ -47,6 +48,8 @@ TEST(PbrSceneFile, ModelPbrAndAnEnvironmentPictureInTheScenesFolder) {
   EXPECT_NE(outside.status().message().find("environment_image.file"), std::string::npos) << outside.status().message();
   for (const char* bad : {R"({ "environment_image": { "source": "studio", "file": "sky.hdr" } })",
                           R"({ "environment_image": { "source": "sunset" } })",
+                          R"({ "background": "sky" })",
+                          R"({ "background": "environment" })",
                           R"({ "environment_image": { "source": "studio", "intensity": -1 } })",
                           R"({ "environment_image": { "file": "missing.hdr" } })",
                           R"({ "materials": [ { "model": "pbr", "base_color": [2, 0, 0] } ] })",
@@ -86,6 +89,14 @@ TEST(PbrCApi, EnvironmentSetReadAndRefused) {
   test::write_text(dir / "sky.hdr", grey_hdr());
   EXPECT_EQ(facet_scene_load_environment_image(scene, (dir / "sky.hdr").c_str(), 1.0f, 0.0f, 0), FACET_OK);
   EXPECT_EQ(facet_scene_load_environment_image(scene, (dir / "none.hdr").c_str(), 1.0f, 0.0f, 0), FACET_IO_ERROR);
+  facet_background background = FACET_BACKGROUND_ENVIRONMENT;
+  EXPECT_EQ(facet_scene_get_background(scene, &background), FACET_OK);
+  EXPECT_EQ(background, FACET_BACKGROUND_COLOUR);
+  EXPECT_EQ(facet_scene_set_background(scene, FACET_BACKGROUND_ENVIRONMENT), FACET_OK);
+  EXPECT_EQ(facet_scene_get_background(scene, &background), FACET_OK);
+  EXPECT_EQ(background, FACET_BACKGROUND_ENVIRONMENT);
+  EXPECT_EQ(facet_scene_set_background(scene, static_cast<facet_background>(7)), FACET_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(facet_scene_last_error(scene)).find("background"), std::string::npos);
   facet_scene_destroy(scene);
 }
 

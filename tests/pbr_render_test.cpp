@@ -268,6 +268,49 @@ TEST(PbrMetalRough, TheMapIsTheFactorsTimesItsTexels) {
   }
 }
 
+// A ball over a plane under a sun at 45 degrees with ray-cast shadows and nothing else: the plane
+// in the ball's shadow is black on every path and shading, beside it lit, and the paths agree.
+TEST(PbrRender, ShadowsDarkenWhatTheyCover) {
+  Scene s;
+  look_orthographic(s, Vec3(0, 10, 0), 2.0f, 20);
+  s.camera.up = Vec3(0, 0, -1);  // +x to the image's right
+  s.meshes.push_back({"plane", make_plane(6.0f, 6.0f, 12)});
+  s.meshes.push_back({"ball", make_uv_sphere(0.6f, 24, 12)});
+  s.materials.push_back(pbr_material(Color3(0.8f, 0.8f, 0.8f), 0.0f, 0.5f));
+  s.objects.push_back({0, 0, Mat4::Identity()});
+  Instance ball{1, 0, Mat4::Identity()};
+  ball.model(1, 3) = 1.0f;
+  ball.model(0, 3) = 1.0f;  // off the view's centre, so the plane's centre is lit
+  s.objects.push_back(ball);
+  Light sun;  // directional, from above and +x
+  sun.direction = Vec3(-1.0f, -1.0f, 0.0f).normalized();
+  sun.diffuse = Color3(1.0f, 1.0f, 1.0f);
+  sun.ambient = Color3::Zero();
+  sun.shadow.method = ShadowMethod::raycast;
+  s.lights.push_back(sun);
+  s.global_ambient = Color3::Zero();
+  for (ShadingMode shading : {ShadingMode::phong, ShadingMode::gouraud}) {
+    std::vector<float> first;
+    for (const auto& [path, isa] : test::every_path()) {
+      RenderOptions o;
+      o.path = path, o.isa = isa, o.shading = shading;
+      const std::string what = std::string(to_string(path)) + " " + to_string(isa) + " " + to_string(shading);
+      const int w = 64, h = 64;
+      const std::vector<float> px = floats(s, o, w, h);
+      // 16 pixels a world unit, +x to the right: the ball's shadow falls around x = 0 (the
+      // view's centre), the plane at x = -1.5 is lit.
+      const float* shade = &px[4 * (std::size_t(h / 2) * w + std::size_t(w / 2))];
+      const float* lit = &px[4 * (std::size_t(h / 2) * w + std::size_t(w / 2 - 24))];
+      EXPECT_EQ(shade[0], 0.0f) << what;
+      EXPECT_GT(lit[0], 0.2f) << what;
+      if (first.empty()) first = px;
+      float worst = 0.0f;
+      for (std::size_t i = 0; i < px.size(); ++i) worst = std::max(worst, std::abs(px[i] - first[i]));
+      EXPECT_LT(worst, 1e-3f) << what;
+    }
+  }
+}
+
 TEST(PbrRender, TheStudioGivesTheSameBytesForAnyThreadCount) {
   Scene s = furnace_scene();
   s.global_ambient = Color3::Zero();

@@ -51,7 +51,7 @@ Scene lit_scene(EnvironmentSource source) {
   s.camera.eye = Vec3(0.0f, 0.0f, 0.0f);
   s.camera.target = Vec3(0.3f, -0.2f, -1.0f);
   Light sun;  // directional
-  sun.position = Vec3(0.3f, 1.0f, 0.6f);
+  sun.direction = Vec3(-0.3f, -1.0f, -0.6f).normalized();
   sun.diffuse = Color3(0.8f, 0.7f, 0.6f);
   sun.ambient = Color3(0.05f, 0.05f, 0.06f);
   s.lights.push_back(sun);

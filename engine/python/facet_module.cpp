@@ -634,6 +634,15 @@ PYBIND11_MODULE(_facet, m) {
         d["rotation_deg"] = e.rotation_deg;
         return d;
       }, "The scene's surroundings for PBR materials, as set_environment takes them (a picture's size, not its texels).")
+      .def_property("background", [](const PyScene& ps) { return std::string(to_string(ps.scene.background)); },
+           [](PyScene& ps, const std::string& b) {
+             if (b != "colour" && b != "color" && b != "environment") {
+               raise({ErrorCode::invalid_argument, "background", "background: expected 'colour' or 'environment'"});
+             }
+             ps.edit().background = b == "environment" ? Background::environment : Background::colour;
+           },
+           "What is drawn behind the model: 'colour' (the clear colour, default) or 'environment' (the surroundings, "
+           "exposed and tone-mapped with the model; needs set_environment other than 'none').")
       .def_property_readonly("warnings", [](const PyScene& ps) { return ps.warnings; },
                              "What loading read approximately or not at all, one line each (facet.load).")
       .def_property_readonly("display", [](const PyScene& ps) {

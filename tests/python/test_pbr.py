@@ -78,3 +78,25 @@ def test_render_takes_the_environment_and_gl_materials(tmp_path):
     assert studio[..., :3].mean() > 40
     assert dark[..., :3].max() == 0
     assert gl[..., :3].mean() > 40 and (gl != studio).any()
+
+
+def test_background_draws_the_surroundings_behind_the_model():
+    scene = pbr_sphere_scene()
+    assert scene.background == "colour"
+    with pytest.raises(facet.Error, match="background"):
+        scene.background = "sky"
+    renderer = facet.Renderer(threads=1, shading="phong")
+    sky = np.zeros((8, 16, 3), dtype=np.float32)
+    sky[:4] = (0.2, 0.4, 0.9)  # above the horizon
+    sky[4:] = (0.3, 0.2, 0.1)
+    scene.set_environment(sky)
+    plain = renderer.render(scene, 64, 36, dtype="float32")
+    scene.background = "environment"
+    assert scene.background == "environment"
+    behind = renderer.render(scene, 64, 36, dtype="float32")
+    assert (behind[..., 3] == 1.0).all()  # opaque everywhere
+    corner = behind[0, 0, :3]
+    assert corner[2] > corner[0] and not np.allclose(corner, plain[0, 0, :3])
+    scene.set_environment("none")
+    with pytest.raises(facet.Error, match="background"):
+        renderer.render(scene, 64, 36)

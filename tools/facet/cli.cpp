@@ -166,6 +166,10 @@ void add_environment_options(CLI::App* app, EnvironmentState& st, const char* gr
   in_group(app->add_option("--environment-rotation", st.rotation_deg,
                            "turns the surroundings by DEG about the world's +Y axis (default 0)")
                ->check(number_in(-3600, 3600)));
+  in_group(app->add_option("--background", st.background,
+                           "colour | environment: what is drawn behind the model, the clear colour (default) or the "
+                           "surroundings, exposed and tone-mapped with the model")
+               ->check(CLI::IsMember({"colour", "color", "environment"})));
 }
 
 bool apply_environment_options(const EnvironmentState& st, std::uint64_t memory_budget_bytes, Scene& scene) {
@@ -187,6 +191,7 @@ bool apply_environment_options(const EnvironmentState& st, std::uint64_t memory_
   }
   if (st.intensity >= 0.0) e.intensity = float(st.intensity);
   if (st.rotation_deg < 1e8) e.rotation_deg = float(st.rotation_deg);
+  if (!st.background.empty()) scene.background = st.background == "environment" ? Background::environment : Background::colour;
   return true;
 }
 
@@ -197,6 +202,7 @@ std::string describe_environment(const Scene& scene) {
   if (e.source != EnvironmentSource::none) {
     s += ", intensity " + format_number(e.intensity) + ", rotation " + format_number(e.rotation_deg) + " deg";
   }
+  if (scene.background == Background::environment) s += ", drawn behind the model";
   return s;
 }
 

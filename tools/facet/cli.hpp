@@ -68,6 +68,7 @@ bool apply_display_options(const std::string& exposure, const std::string& tone_
 struct EnvironmentState {
   std::string image;
   double intensity = -1.0, rotation_deg = 1e9;  // not given
+  std::string background;                       // "", "colour" or "environment"
 };
 void add_environment_options(CLI::App* app, EnvironmentState& st, const char* group = nullptr);
 // Reads the picture (a file the user named: not confined to the scene's folder) within the

@@ -23,6 +23,14 @@ enum class EnvironmentSource : std::uint8_t {
 };
 const char* to_string(EnvironmentSource source) noexcept;
 
+// What is drawn where no surface is (Scene::background).
+enum class Background : std::uint8_t {
+  colour,       // the render's clear colour (RenderOptions::clear_color), as stored
+  environment,  // the surroundings (Scene::environment_light: the studio or the picture, times its
+                // intensity, turned as it is), opaque, exposed and tone-mapped as the surfaces are
+};
+const char* to_string(Background background) noexcept;
+
 // Largest side of an environment picture (a texel count the prefilter's first pass reads whole).
 inline constexpr int kMaxEnvironmentSide = 16384;
 

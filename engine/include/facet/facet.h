@@ -565,6 +565,13 @@ facet_status facet_scene_set_environment_pixels(facet_scene* scene, const float*
 /* Any pointer may be null. */
 facet_status facet_scene_get_environment(const facet_scene* scene, facet_surroundings* source, int* width, int* height,
                                          float* intensity, float* rotation_deg);
+/* What is drawn behind the model (facet::Background): the render's clear colour (COLOUR, the
+ * default) or the surroundings above (ENVIRONMENT: opaque, exposed and tone-mapped with the
+ * model; blending and multisampled edges meet it as they meet the clear colour), which then need a
+ * source other than NONE (FACET_INVALID_ARGUMENT naming "background" at render otherwise). */
+typedef enum facet_background { FACET_BACKGROUND_COLOUR = 0, FACET_BACKGROUND_ENVIRONMENT = 1 } facet_background;
+facet_status facet_scene_set_background(facet_scene* scene, facet_background background);
+facet_status facet_scene_get_background(const facet_scene* scene, facet_background* background);
 /* Sets the camera's placement, field of view and planes; its projection (below) is kept. */
 facet_status facet_scene_set_camera(facet_scene* scene, const facet_camera* camera);
 /* The scene's camera (after facet_scene_frame, a load with FACET_LOAD_FRAME or an orbit). */

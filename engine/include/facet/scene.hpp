@@ -104,6 +104,10 @@ struct Scene {
   // What PBR materials see around them (facet/environment_light.hpp): none by default; glTF
   // models without lights of their own get the neutral studio.
   EnvironmentLight environment_light;
+  // What is drawn behind the model: the clear colour (default), or the surroundings, which then
+  // need a source (environment_light.source not none). Blended surfaces blend over it and
+  // multisampled edges resolve against it, as against the clear colour.
+  Background background = Background::colour;
   ViewerMode viewer = ViewerMode::local;
   bool two_sided = false;  // back faces are lit with the negated normal
   TransparentOrder transparent_order = TransparentOrder::submission;

@@ -1,5 +1,5 @@
 // The C API's surroundings for PBR materials (facet.h: facet_scene_set_environment and the rest;
-// Scene::environment_light).
+// Scene::environment_light) and the background (Scene::background).
 #include <cstring>
 
 #include "c_api/handles.hpp"
@@ -76,6 +76,24 @@ facet_status facet_scene_get_environment(const facet_scene* scene, facet_surroun
   if (height) *height = e.height;
   if (intensity) *intensity = e.intensity;
   if (rotation_deg) *rotation_deg = e.rotation_deg;
+  return FACET_OK;
+}
+
+facet_status facet_scene_set_background(facet_scene* scene, facet_background background) {
+  if (!scene) return FACET_INVALID_ARGUMENT;
+  return guarded(&scene->error, [&] {
+    const long b = raw(background);
+    if (b != FACET_BACKGROUND_COLOUR && b != FACET_BACKGROUND_ENVIRONMENT) {
+      return fail(scene->error, "background", "FACET_BACKGROUND_COLOUR or FACET_BACKGROUND_ENVIRONMENT");
+    }
+    scene->scene.background = b == FACET_BACKGROUND_ENVIRONMENT ? facet::Background::environment : facet::Background::colour;
+    return report(scene->error, {});
+  });
+}
+
+facet_status facet_scene_get_background(const facet_scene* scene, facet_background* background) {
+  if (!scene || !background) return FACET_INVALID_ARGUMENT;
+  *background = scene->scene.background == facet::Background::environment ? FACET_BACKGROUND_ENVIRONMENT : FACET_BACKGROUND_COLOUR;
   return FACET_OK;
 }
 

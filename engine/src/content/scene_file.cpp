@@ -43,7 +43,7 @@ class SceneReader : public scene_json::JsonFields {
 
   Status read(const json& root, Scene& scene) {
     FACET_TRY(expect_object(root, "", {"camera", "global_ambient", "viewer", "two_sided", "transparent_order",
-                                       "exposure", "tone_mapping", "environment_image", "textures", "materials", "meshes", "objects", "lights", "fog", "imports"}));
+                                       "exposure", "tone_mapping", "environment_image", "background", "textures", "materials", "meshes", "objects", "lights", "fog", "imports"}));
     if (root.contains("camera")) FACET_TRY(read_camera(root["camera"], scene.camera));
     FACET_TRY(opt_color(root, "", "global_ambient", scene.global_ambient));
     if (root.contains("viewer")) {
@@ -74,6 +74,11 @@ class SceneReader : public scene_json::JsonFields {
       scene.display.tone_mapping = op == "neutral" ? ToneMapping::neutral : op == "aces" ? ToneMapping::aces : ToneMapping::none;
     }
     if (root.contains("environment_image")) FACET_TRY(read_environment_image(root["environment_image"], scene.environment_light));
+    if (root.contains("background")) {  // what is drawn behind the model (facet/environment_light.hpp)
+      std::string b;
+      FACET_TRY(read_enum(root["background"], "background", {"colour", "color", "environment"}, b));
+      scene.background = b == "environment" ? Background::environment : Background::colour;
+    }
     auto add_texture = [&](const json& j, const std::string& p) {
       Texture t;
       FACET_TRY(read_texture(j, p, t));

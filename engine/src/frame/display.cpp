@@ -2,6 +2,7 @@
 // transform, rendered into floats and then exposed, tone-mapped and stored.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "common/format.hpp"
 #include "frame/frame.hpp"
@@ -106,11 +107,17 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
   if (!frame_status.ok() || cancelled.load(std::memory_order_relaxed)) return;
   const auto store_start = Clock::now();
   const float far = depth_mode_for(scene.camera, options.depth) == DepthMode::reversed ? 0.0f : 1.0f;
-  const std::array<float, 4>& clear = options.clear_color;
+  // With the surroundings behind the model (Scene::background), no pixel is stored as the clear
+  // colour: the backdrop is exposed and tone-mapped with the surfaces (a NaN clear colour matches
+  // no pixel), but only surfaces are metered.
+  const bool backdrop = scene.background == Background::environment;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::array<float, 4> clear = backdrop ? std::array<float, 4>{nan, nan, nan, nan} : options.clear_color;
   // A pixel's colour and depth, the depth row found once per row by each pass.
   auto background = [&](const float* rgba, float z) {
     return z == far && rgba[0] == clear[0] && rgba[1] == clear[1] && rgba[2] == clear[2] && rgba[3] == clear[3];
   };
+  auto unmetered = [&](const float* rgba, float z) { return backdrop ? z == far : background(rgba, z); };
   auto depth_row = [&](int y) { return reinterpret_cast<const float*>(io::row_bytes(inner_depth, y)); };
   float ev = scene.display.ev;
   if (scene.display.automatic) {
@@ -124,7 +131,7 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
         float* peaks = display_peaks.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
         for (int x = 0; x < w; ++x) {
           const float* p = row + 4 * x;
-          if (background(p, d[x])) continue;
+          if (unmetered(p, d[x])) continue;
           const double lum = 0.2126 * double(p[0]) + 0.7152 * double(p[1]) + 0.0722 * double(p[2]);
           if (!(lum > 0.0 && std::isfinite(lum))) continue;  // unlit: says nothing about the exposure
           sum += std::log(1e-4 + lum);
@@ -161,8 +168,11 @@ void Renderer::Impl::render_display(const Scene& scene, const RenderOptions& opt
   arena->parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows, int) {
     for (int y = rows.begin(); y != rows.end(); ++y) {
       std::uint8_t* dst = io::row_bytes(color, y);
-      const float* row = display_color.data() + 4 * static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+      float* const row = display_color.data() + 4 * static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
       const float* d = depth_row(y);
+      if (backdrop) {  // over an opaque backdrop every pixel is opaque, whatever blending left in alpha
+        for (int x = 0; x < w; ++x) row[4 * x + 3] = 1.0f;
+      }
       if (!float_out) {
         int x = 0;
         if (simd_kernels) {  // the ISA's batches first (the same bytes), the scalar loop for the rest

@@ -70,6 +70,9 @@ struct Renderer::Impl {
   // material, rebuilt only when Scene::environment_light's picture changes.
   std::unique_ptr<lighting::ImageLight> image_light;
   const lighting::ImageLight* frame_image_light = nullptr;  // this frame's, or null (no PBR material)
+  // Scene::background == environment: the camera pass's clear value per pixel (tile/backdrop.hpp).
+  tile::Backdrop frame_backdrop;
+  bool backdrop_on = false;
   Status prepare_image_light(const Scene& scene);
   Status frame_status;  // a failure inside the arena (the casters' build)
   // One per arena slot (tbb::this_task_arena::current_thread_index()), sized on the calling

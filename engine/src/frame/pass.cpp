@@ -37,7 +37,8 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
                               &fog,
                               options.srgb && p.color && p.color->format != PixelFormat::rgba32f && !p.environment_face ? &srgb : nullptr,
                               p.assembly.viewport.depth,
-                              p.samples};
+                              p.samples,
+                              backdrop_on && &p == &plan.camera().pass ? &frame_backdrop : nullptr};
   const int tile_count = p.tile_count();
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});
   const auto raster_start = Clock::now();
@@ -63,9 +64,13 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
         unit_done();
         continue;
       }
-      if (bin.empty()) {  // nothing to rasterize: the clear colour goes straight to the image
+      if (bin.empty()) {  // nothing to rasterize: the clear colour (or backdrop) goes straight to the image
         const auto resolve_start = Clock::now();
-        tile::resolve_clear_tile(p.clear_color, job.srgb, rect, *p.color, p.depth, job.depth.output(job.depth.far()));
+        if (job.backdrop) {
+          tile::resolve_backdrop_tile(*job.backdrop, job.srgb, rect, *p.color, p.depth, job.depth.output(job.depth.far()));
+        } else {
+          tile::resolve_clear_tile(p.clear_color, job.srgb, rect, *p.color, p.depth, job.depth.output(job.depth.far()));
+        }
         c.seconds_resolve = seconds_since(resolve_start);
         continue;
       }

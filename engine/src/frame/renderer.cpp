@@ -75,7 +75,7 @@ Status Renderer::render(const Scene& scene, const RenderOptions& options, const 
                              return l.enabled && l.shadow.method != ShadowMethod::none;
                            });
     impl_->arena->execute([&] {
-      if (!scene.display.identity()) {
+      if (!scene.display.identity() || scene.background == Background::environment) {
         impl_->render_display(scene, options, color, depth, composite);
       } else if (composite) {
         impl_->render_composite(scene, options, color, depth);
@@ -135,12 +135,16 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   vertex_relief = options.vertex_relief;
   frame::make_samplers(scene, samplers);
   frame_image_light = nullptr;
-  if (std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.model == MaterialModel::pbr; })) {
+  const bool pbr = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.model == MaterialModel::pbr; });
+  // The backdrop: in whole frames and a shadowed frame's base, not in its visibility or light parts.
+  const bool backdrop = scene.background == Background::environment &&
+                        (kind.kind == FrameKind::Kind::whole || (kind.kind == FrameKind::Kind::part && !kind.without_emission));
+  if (pbr || backdrop) {
     const auto start = Clock::now();
     frame_status = prepare_image_light(scene);
     stats.seconds_environment += seconds_since(start);
     if (!frame_status.ok()) return;
-    frame_image_light = image_light.get();
+    if (pbr) frame_image_light = image_light.get();
   }
   simd_raster = options.path == LightingPath::simd;
   simd_kernels = simd_raster ? tile::simd_raster_kernels(options.isa) : nullptr;
@@ -150,6 +154,10 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   stats.seconds_shadows += plan.seconds_maps;
   // Ray-cast shadows: the casters as Embree sees them, built here, in this renderer's arena.
   const RenderPass& camera = plan.camera().pass;
+  backdrop_on = backdrop;
+  if (backdrop) {
+    frame_backdrop = tile::make_backdrop(*image_light, scene.environment_light, camera.view, camera.projection, color.width, color.height);
+  }
   frame_caster = nullptr;
   if (plan.raycast) {
     const auto start = Clock::now();

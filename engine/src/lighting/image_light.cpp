@@ -355,6 +355,14 @@ simd::ImageView ImageLight::view() const {
 
 namespace facet {
 
+const char* to_string(Background background) noexcept {
+  switch (background) {
+    case Background::colour: return "colour";
+    case Background::environment: return "environment";
+  }
+  return "?";
+}
+
 const char* to_string(EnvironmentSource source) noexcept {
   switch (source) {
     case EnvironmentSource::none: return "none";

@@ -55,15 +55,7 @@ void set_pbr_terms(const Scene& scene, const Eigen::Matrix4d& view, const Materi
   q.image = features.image_light;
   const EnvironmentLight& env = scene.environment_light;
   q.intensity = T(env.intensity);
-  // eye -> world (the view's inverse rotation), then world -> the picture's frame: the
-  // surroundings turned by rotation_deg about +Y, so a world direction is the picture's direction
-  // turned back; and three.js's reading of the picture (its centre column seen along +X, u = 1/2 +
-  // atan2(z, x) / 2 pi) onto the image light's (centre along -Z), a quarter turn.
-  const Eigen::Matrix3d to_world = view.topLeftCorner<3, 3>().inverse();
-  const double a = (90.0 - double(env.rotation_deg)) * std::numbers::pi / 180.0;
-  Eigen::Matrix3d turn;
-  turn << std::cos(a), 0.0, std::sin(a), 0.0, 1.0, 0.0, -std::sin(a), 0.0, std::cos(a);
-  const Eigen::Matrix3d to_env = turn * to_world;
+  const Eigen::Matrix3d to_env = environment_frame(env, view);
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) q.to_env[3 * r + c] = T(to_env(r, c));
   sp.base = v3<T>(material.emissive.cast<double>());
@@ -78,6 +70,18 @@ void set_pbr_terms(const Scene& scene, const Eigen::Matrix4d& view, const Materi
 }
 
 }  // namespace
+
+Eigen::Matrix3d environment_frame(const EnvironmentLight& env, const Eigen::Matrix4d& view) {
+  // eye -> world (the view's inverse rotation), then world -> the picture's frame: the
+  // surroundings turned by rotation_deg about +Y, so a world direction is the picture's direction
+  // turned back; and three.js's reading of the picture (its centre column seen along +X, u = 1/2 +
+  // atan2(z, x) / 2 pi) onto the image light's (centre along -Z), a quarter turn.
+  const Eigen::Matrix3d to_world = view.topLeftCorner<3, 3>().inverse();
+  const double a = (90.0 - double(env.rotation_deg)) * std::numbers::pi / 180.0;
+  Eigen::Matrix3d turn;
+  turn << std::cos(a), 0.0, std::sin(a), 0.0, 1.0, 0.0, -std::sin(a), 0.0, std::cos(a);
+  return turn * to_world;
+}
 
 template <class T>
 void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Material& material, bool clamp,

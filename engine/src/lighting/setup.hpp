@@ -34,6 +34,10 @@ struct LightingFeatures {
   const ImageLight* image_light = nullptr;
 };
 
+// Eye space -> the image light's frame for `env` seen through `view` (its rotation and three.js's
+// reading of the picture): what PBR materials and the backdrop (Scene::background) look up.
+Eigen::Matrix3d environment_frame(const EnvironmentLight& env, const Eigen::Matrix4d& view);
+
 // Fills `out` (its light list keeps its capacity, so a steady frame allocates nothing).
 template <class T>
 void make_shade_params(const Scene& scene, const Eigen::Matrix4d& view, const Material& material, bool clamp,

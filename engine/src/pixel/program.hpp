@@ -50,6 +50,9 @@ struct TileView {
   std::size_t sample_stride = 0;
   const std::int32_t* sample_x = nullptr;
   const std::int32_t* sample_y = nullptr;
+  // The planes already hold each pixel's clear values (a backdrop, tile/backdrop.hpp): every
+  // block counts as touched from the start.
+  bool prefilled = false;
 };
 
 // The pixel program of one draw (an object with one material), decided by the frame plan

@@ -345,6 +345,13 @@ Status validate_lighting_inputs(const Scene& scene) {
   FACET_TRY(check_camera(scene.camera));
   FACET_TRY(validate_display(scene.display));
   FACET_TRY(validate_environment_light(scene.environment_light));
+  if (scene.background == Background::environment && scene.environment_light.source == EnvironmentSource::none) {
+    return {ErrorCode::invalid_argument, "background",
+            "background: \"environment\" draws the surroundings, and environment_light.source is none (a picture or the studio)"};
+  }
+  if (scene.background != Background::colour && scene.background != Background::environment) {
+    return {ErrorCode::invalid_argument, "background", "background: expected colour or environment"};
+  }
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
     const Field f{"materials", i, true};

@@ -76,12 +76,14 @@ struct TileKernel {
   static std::int64_t lmin0(std::int64_t a) { return a < 0 ? a : 0; }
   static std::int64_t lmax0(std::int64_t a) { return a > 0 ? a : 0; }
 
-  // Marks every block of the tile untouched (the lazy clear; see TileView).
+  // Marks every block of the tile untouched (the lazy clear; see TileView), or touched when the
+  // planes were filled before (TileView::prefilled).
   static void clear(const TileJob& job, const TileView& tv) {
     const int nbx = (job.x1 - job.x0 + kBlock - 1) / kBlock, nby = (job.y1 - job.y0 + kBlock - 1) / kBlock;
     const int blocks_per_row = tv.size / kBlock;
+    const std::uint8_t state = tv.prefilled ? 1 : 0;
     for (int by = 0; by < nby; ++by) {
-      for (int bx = 0; bx < nbx; ++bx) tv.touched[by * blocks_per_row + bx] = 0;
+      for (int bx = 0; bx < nbx; ++bx) tv.touched[by * blocks_per_row + bx] = state;
     }
   }
 

@@ -187,7 +187,12 @@ void rasterize_tile_simd(const RasterJob& job, std::span<const std::uint32_t> bi
                    job.draws,
                    job.fog};
   simd::TileCounters tc;
-  job.kernels->raster(tj, tile.view(job.clear_color, job.depth, nullptr, &job.samples), tc);
+  simd::TileView tv = tile.view(job.clear_color, job.depth, nullptr, &job.samples);
+  if (job.backdrop) {
+    fill_backdrop(*job.backdrop, rect, tile, job.depth.far());
+    tv.prefilled = true;
+  }
+  job.kernels->raster(tj, tv, tc);
   counters.tested += tc.tested;
   counters.filled += tc.filled;
 }
@@ -220,7 +225,8 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
     return;
   }
   const int samples = job.samples.count;
-  for (int s = 0; s < samples; ++s) {
+  if (job.backdrop) fill_backdrop(*job.backdrop, rect, tile, job.depth.far());
+  for (int s = 0; s < samples && !job.backdrop; ++s) {
     for (int y = 0; y < rect.y1 - rect.y0; ++y) {
       for (int x = 0; x < rect.x1 - rect.x0; ++x) {
         const std::size_t p = tile.index(x, y) + static_cast<std::size_t>(s) * tile.sample_stride();

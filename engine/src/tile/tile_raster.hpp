@@ -12,6 +12,7 @@
 
 #include "facet/render.hpp"
 #include "lighting/point_shader.hpp"
+#include "tile/backdrop.hpp"
 #include "tile/kernels.hpp"
 #include "raster/samples.hpp"
 #include "raster/triangle_setup.hpp"
@@ -77,6 +78,7 @@ struct RasterJob {
   const SrgbTable* srgb;          // when 8-bit output is sRGB-encoded, else null
   geometry::DepthFormat depth;    // how the pass stores depth (the viewport's)
   SamplePattern samples{};        // the pass's samples per pixel (one: the centre)
+  const Backdrop* backdrop = nullptr;  // the clear value per pixel instead of clear_color (tile/backdrop.hpp)
 };
 
 // The SIMD rasterizer of an ISA (Isa::best resolved), or null if this CPU lacks it.
