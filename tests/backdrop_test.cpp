@@ -97,27 +97,36 @@ TEST(Backdrop, SurfacesCoverItBlendOverItAndEdgesResolveAgainstIt) {
   glass.blend = BlendMode::alpha;
   glass.alpha = 0.5f;
   const int w = 64, h = 48;
-  RenderOptions o;
-  const std::vector<float> px = backdrop_floats(s, o, w, h);
-  const float* black = pixel_at(px, w, 16, 24);
-  EXPECT_EQ(black[0], 0.0f);
-  EXPECT_EQ(black[2], 0.0f);
-  EXPECT_EQ(black[3], 1.0f);
-  // White at half alpha over the red +X backdrop below the horizon (1, 0, 0): (1, 0.5, 0.5).
-  const float* glassy = pixel_at(px, w, 48, 30);
-  EXPECT_FLOAT_EQ(glassy[0], 1.0f);
-  EXPECT_FLOAT_EQ(glassy[1], 0.5f);
-  EXPECT_FLOAT_EQ(glassy[2], 0.5f);
-  // Multisampled: an edge pixel of the black quad is part black, part backdrop, never the clear colour.
-  o.samples = 4;
-  const std::vector<float> ms = backdrop_floats(s, o, w, h);
-  bool partial = false;
-  for (int x = 0; x < w; ++x) {
-    const float* p = pixel_at(ms, w, x, 30);  // below the horizon: the backdrop has no green
-    EXPECT_NE(p[0], 0.25f) << x;
-    if (p[2] > 0.0f && p[2] < 1.0f && x < w / 2) partial = true;  // blue backdrop partly covered
+  for (const auto& [path, isa] : test::every_path()) {
+    RenderOptions o;
+    o.path = path, o.isa = isa;
+    const std::string what = std::string(to_string(path)) + " " + to_string(isa);
+    const std::vector<float> px = backdrop_floats(s, o, w, h);
+    const float* black = pixel_at(px, w, 16, 24);
+    EXPECT_EQ(black[0], 0.0f) << what;
+    EXPECT_EQ(black[2], 0.0f) << what;
+    EXPECT_EQ(black[3], 1.0f) << what;
+    // White at half alpha over the red +X backdrop below the horizon (1, 0, 0): (1, 0.5, 0.5).
+    const float* glassy = pixel_at(px, w, 48, 30);
+    EXPECT_FLOAT_EQ(glassy[0], 1.0f) << what;
+    EXPECT_FLOAT_EQ(glassy[1], 0.5f) << what;
+    EXPECT_FLOAT_EQ(glassy[2], 0.5f) << what;
+    // Between the quads, in a tile both touch: the backdrop below the horizon (no green), looking
+    // straight ahead, where the picture turns from -X (blue) to +X (red).
+    const float* gap = pixel_at(px, w, 32, 46);
+    EXPECT_EQ(gap[1], 0.0f) << what;
+    EXPECT_EQ(gap[0] + gap[2], 1.0f) << what;
+    // Multisampled: an edge pixel of the black quad is part black, part backdrop, never the clear colour.
+    o.samples = 4;
+    const std::vector<float> ms = backdrop_floats(s, o, w, h);
+    bool partial = false;
+    for (int x = 0; x < w; ++x) {
+      const float* p = pixel_at(ms, w, x, 30);  // below the horizon: the backdrop has no green
+      EXPECT_NE(p[0], 0.25f) << what << " " << x;
+      if (p[2] > 0.0f && p[2] < 1.0f && x < w / 2) partial = true;  // blue backdrop partly covered
+    }
+    EXPECT_TRUE(partial) << what << ": no edge pixel between the black quad and the blue backdrop";
   }
-  EXPECT_TRUE(partial) << "no edge pixel between the black quad and the blue backdrop";
 }
 
 TEST(Backdrop, SameBytesForAnyThreadCountAndExposedByTheDisplay) {

@@ -48,5 +48,6 @@ Status environment_accuracy(bool quick, std::vector<Row>& rows);
 Status relief_accuracy(bool quick, std::vector<Row>& rows);
 Status msaa_accuracy(bool quick, std::vector<Row>& rows);
 Status bake_accuracy(bool quick, std::vector<Row>& rows);
+Status pbr_accuracy(bool quick, std::vector<Row>& rows);
 
 }  // namespace facet::cli

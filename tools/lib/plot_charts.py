@@ -427,6 +427,34 @@ if relief_rows:
     save(fig, "relief_speed_vs_accuracy")
     charts.append("relief_speed_vs_accuracy")
 
+# --- 7b. PBR materials under the studio: per vertex against per pixel ----------------------------------
+pbr_rows = [r for r in accuracy if r["kind"] == "pbr"]
+if pbr_rows:
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    colours = {"PBR per vertex (gouraud)": "#1f77b4", "PBR per pixel (phong)": "#d62728"}
+    for method, colour in colours.items():
+        pts = [r for r in pbr_rows if r["method"] == method]
+        pts.sort(key=lambda r: int(r["item"].split("=")[1]))
+        ax.plot([max(r["mean_lsb"], FLOOR) for r in pts], [r["ms_per_frame"] for r in pts], color=colour, marker="o",
+                label=method)
+        for r in pts:
+            if "ms_per_frame_min" in r:
+                ax.errorbar([max(r["mean_lsb"], FLOOR)], [r["ms_per_frame"]],
+                            yerr=[[r["ms_per_frame"] - r["ms_per_frame_min"]], [r["ms_per_frame_max"] - r["ms_per_frame"]]],
+                            color=colour, lw=0.7, capsize=2)
+            ax.annotate(r["item"].split("=")[1], (max(r["mean_lsb"], FLOOR), r["ms_per_frame"]), textcoords="offset points",
+                        xytext=(4, 3), fontsize=7, color=colour)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("mean error against the reference path per pixel, 512 segments (8-bit sRGB steps)")
+    ax.set_ylabel("ms per frame (720x240, 1 thread)")
+    ax.set_title(f"PBR under the neutral studio, per vertex and per pixel (labels: segments; simd {best})")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    save(fig, "pbr_speed_vs_accuracy")
+    charts.append("pbr_speed_vs_accuracy")
+
 # --- 8. multisampling: edge error against a 64-sample reference, against ms per frame ---------------
 msaa_rows = [r for r in accuracy if r["kind"] == "msaa"]
 if msaa_rows:
