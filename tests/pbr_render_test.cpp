@@ -333,3 +333,34 @@ TEST(PbrRender, TheStudioGivesTheSameBytesForAnyThreadCount) {
 
 }  // namespace
 }  // namespace facet
+
+namespace facet {
+namespace {
+
+// The surroundings count against the memory budget: a picture's prefiltered light is part of the
+// frame's estimate when a PBR material or the backdrop reads it, and a budget below it refuses the
+// frame by name before anything is built.
+TEST(PbrRender, TheSurroundingsCountAgainstTheMemoryBudget) {
+  Scene s = furnace_scene();
+  s.environment_light.source = EnvironmentSource::image;
+  s.environment_light.width = 1024, s.environment_light.height = 512;
+  s.environment_light.rgb.assign(1024 * 512 * 3, 0.5f);
+  RenderOptions o;
+  const std::uint64_t with = estimate_frame_bytes(s, o, 64, 48);
+  Scene gl = s;
+  for (Material& m : gl.materials) m.model = MaterialModel::gl;
+  const std::uint64_t without = estimate_frame_bytes(gl, o, 64, 48);
+  EXPECT_GT(with, without + 1024u * 512u * 12u) << "the picture and its prefiltered cube";
+  gl.background = Background::environment;
+  EXPECT_GT(estimate_frame_bytes(gl, o, 64, 48), without + 1024u * 512u * 12u) << "the backdrop reads it too";
+  o.memory_budget_bytes = (with + without) / 2;
+  std::vector<float> out(4 * 64 * 48);
+  Renderer r;
+  const Status st = r.render(s, o, ImageView{out.data(), 64, 48, 64 * 16, PixelFormat::rgba32f, false}, nullptr, nullptr);
+  EXPECT_EQ(st.code(), ErrorCode::out_of_memory);
+  EXPECT_EQ(st.field(), "options.memory_budget_bytes");
+  EXPECT_TRUE(r.render(s, RenderOptions{}, ImageView{out.data(), 64, 48, 64 * 16, PixelFormat::rgba32f, false}, nullptr, nullptr).ok());
+}
+
+}  // namespace
+}  // namespace facet

@@ -10,6 +10,7 @@
 #include "common/format.hpp"
 #include "common/parallel.hpp"
 #include "frame/plan.hpp"
+#include "lighting/image_light.hpp"
 #include "lighting/point_shader.hpp"
 #include "raster/triangle_setup.hpp"
 #include "scene/validate.hpp"
@@ -131,9 +132,17 @@ std::uint64_t estimate_frame_bytes(const Scene& scene, const RenderOptions& opti
   if (raycast || maps || volume_lights > 0) {
     bytes = sat_add(bytes, sat_mul(slots, U(kMaxShadowedLights) * (frame::kVertexChunk + frame::kTriangleRange) * 8));
   }
-  // A display transform (Scene::display): the frame in floats and its depth (render_display).
-  if (!scene.display.identity()) {
+  // A display transform (Scene::display) or a backdrop: the frame in floats and its depth
+  // (render_display).
+  if (!scene.display.identity() || scene.background == Background::environment) {
     bytes = sat_add(bytes, sat_mul(static_cast<U>(std::max(width, 1)) * static_cast<U>(std::max(height, 1)), 20));
+  }
+  // The surroundings of PBR materials and of the backdrop, prepared once and kept by the
+  // renderer (lighting/image_light.hpp).
+  const bool pbr = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.model == MaterialModel::pbr; });
+  const bool surroundings = pbr || scene.background == Background::environment;
+  if (surroundings) {
+    bytes = sat_add(bytes, lighting::ImageLight::estimate_bytes(scene.environment_light));
   }
   // Dynamic environments: six RGBA8 faces per reflecting object, and their passes' bins.
   for (const Instance& inst : scene.objects) {

@@ -154,6 +154,21 @@ std::uint64_t ImageLight::bytes() const {
   return n;
 }
 
+std::uint64_t ImageLight::estimate_bytes(const EnvironmentLight& env) {
+  std::uint64_t n = std::uint64_t(kDfgSize) * kDfgSize * 2 * sizeof(float);
+  if (env.source == EnvironmentSource::none) return n;
+  const std::uint64_t w = env.source == EnvironmentSource::studio ? 256 : std::uint64_t(std::max(env.width, 1));
+  const std::uint64_t h = env.source == EnvironmentSource::studio ? 128 : std::uint64_t(std::max(env.height, 1));
+  n += w * h * 3 * sizeof(float) * 4 / 3 + 64 * 1024;  // the picture and its halvings (rounding up)
+  const std::uint64_t cube = std::uint64_t(std::clamp(int(h / 2), 8, 256));
+  n += 6 * cube * cube * 3 * sizeof(float) * 4 / 3 + 6 * 3 * sizeof(float) * 64;  // the source cube and its halvings
+  for (int level = 0; level < kRadianceLevels; ++level) {
+    const std::uint64_t side = std::uint64_t(std::max(kRadianceMinSize, kRadianceSize >> level));
+    n += 6 * side * side * 3 * sizeof(float);
+  }
+  return n;
+}
+
 V3<double> ImageLight::cube_source(const V3<double>& d, double lod) const {
   lod = std::clamp(lod, 0.0, double(source_cube_.size() - 1));
   const std::size_t k = std::min(static_cast<std::size_t>(lod), source_cube_.size() - 1);

@@ -107,6 +107,9 @@ class ImageLight {
   bool built_from(const EnvironmentLight& env) const;
   // Bytes this light holds (its levels, the source's halvings and the table).
   std::uint64_t bytes() const;
+  // At most the bytes a light built from `env` holds (before building it: the memory budget's
+  // share of the surroundings).
+  static std::uint64_t estimate_bytes(const EnvironmentLight& env);
 
   // Split-sum terms at (n.v, roughness): scale and bias of f0 and f90.
   template <class T>
