@@ -49,5 +49,6 @@ Status relief_accuracy(bool quick, std::vector<Row>& rows);
 Status msaa_accuracy(bool quick, std::vector<Row>& rows);
 Status bake_accuracy(bool quick, std::vector<Row>& rows);
 Status pbr_accuracy(bool quick, std::vector<Row>& rows);
+Status ibl_accuracy(bool quick, std::vector<Row>& rows);
 
 }  // namespace facet::cli

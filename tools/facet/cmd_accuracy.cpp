@@ -81,8 +81,8 @@ Command add_accuracy(CLI::App& facet) {
       "reference path, multisampled edges against a 64-sample reference, and radiosity's convergence in the\n"
       "white furnace (B = E / (1 - albedo)) against the shots and time spent.");
   app->add_option("--only", st->only,
-                  "vertices | pow | images | textures | shadows | environment | relief | msaa | bake | pbr (default: all ten)")
-      ->check(one_of({"vertices", "pow", "images", "textures", "shadows", "environment", "relief", "msaa", "bake", "pbr"}, "part"));
+                  "vertices | pow | images | textures | shadows | environment | relief | msaa | bake | pbr | ibl (default: all eleven)")
+      ->check(one_of({"vertices", "pow", "images", "textures", "shadows", "environment", "relief", "msaa", "bake", "pbr", "ibl"}, "part"));
   app->add_flag("--quick", st->quick, "fewer vertices (10^4) and tessellation levels, for tests");
   app->add_option("--json", st->json_path, "write all results as JSON to FILE");
   app->add_option("--csv", st->csv_path, "write all results as CSV (one row per measurement) to FILE");
@@ -118,6 +118,9 @@ int accuracy(const std::string& only, bool quick, bool check, const std::string&
   if (only.empty() || only == "pbr") {
     if (Status s = pbr_accuracy(quick, rows); !s.ok()) return fail(s.message());
   }
+  if (only.empty() || only == "ibl") {
+    if (Status s = ibl_accuracy(quick, rows); !s.ok()) return fail(s.message());
+  }
 
   int failures = 0;
   // The pow sweep has hundreds of rows: print only its failures and the worst case of each method
@@ -140,6 +143,7 @@ int accuracy(const std::string& only, bool quick, bool check, const std::string&
                 r.kind == "image" || r.kind == "shadow" ? number(r.psnr_db).c_str() : "", r.verdict.c_str());
     if (r.kind == "texture") std::printf(" (%.1f M samples/s)", r.rate / 1e6);
     if (r.kind == "environment" || r.kind == "relief" || r.kind == "pbr") std::printf(" (%.1f %% of pixels within 2 steps; %.2f ms/frame)", 100.0 * r.share, r.ms_per_frame);
+    if (r.kind == "ibl") std::printf(" (relative error in %%, not LSB; the build %.1f ms on one thread)", r.ms_per_frame);
     if (r.kind == "msaa") std::printf(" (%.1f %% of edge pixels within 8 steps; %.2f ms/frame)", 100.0 * r.share, r.ms_per_frame);
     if (r.kind == "bake") std::printf(" (%.3g %% of the power unshot; %.1f ms)", 100.0 * r.share, r.ms_per_frame);
     if (r.kind == "shadow") {

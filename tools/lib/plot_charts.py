@@ -455,6 +455,30 @@ if pbr_rows:
     save(fig, "pbr_speed_vs_accuracy")
     charts.append("pbr_speed_vs_accuracy")
 
+# --- 7c. the prefilter: face size and samples per texel, build time against error -------------------
+ibl_rows = [r for r in accuracy if r["kind"] == "ibl"]
+if ibl_rows:
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    sizes = sorted({int(r["method"].split("=")[1]) for r in ibl_rows})
+    palette = ["#9467bd", "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e"]
+    for size, colour in zip(sizes, palette):
+        pts = sorted([r for r in ibl_rows if int(r["method"].split("=")[1]) == size], key=lambda r: int(r["item"].split("=")[1]))
+        ax.plot([r["mean_lsb"] for r in pts], [r["ms_per_frame"] for r in pts], color=colour, marker="o",
+                label="finest face %d texels%s" % (size, " (the renderer's)" if size == 128 else ""))
+        for r in pts:
+            ax.annotate(r["item"].split("=")[1], (r["mean_lsb"], r["ms_per_frame"]), textcoords="offset points",
+                        xytext=(4, 3), fontsize=7, color=colour)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("mean relative error of the prefiltered cube against the GGX integral (%), roughness 0.2 .. 1")
+    ax.set_ylabel("build ms (1024 x 512 picture, 1 thread)")
+    ax.set_title("Prefiltering an environment picture (labels: GGX samples per texel)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    save(fig, "ibl_speed_vs_accuracy")
+    charts.append("ibl_speed_vs_accuracy")
+
 # --- 8. multisampling: edge error against a 64-sample reference, against ms per frame ---------------
 msaa_rows = [r for r in accuracy if r["kind"] == "msaa"]
 if msaa_rows:

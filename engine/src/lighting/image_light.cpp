@@ -128,7 +128,9 @@ EquirectLevel make_studio(int width, int height) {
   return out;
 }
 
-ImageLight::ImageLight() {
+ImageLight::ImageLight(PrefilterSettings settings) : settings_(settings) {
+  settings_.size = std::clamp(settings_.size, kRadianceMinSize, 512);
+  settings_.samples = std::clamp(settings_.samples, 2u, 1u << 16);
   const pbr::DfgTable table(kDfgSize, kDfgSamples);
   dfg_.resize(2 * kDfgSize * kDfgSize);
   for (int j = 0; j < kDfgSize; ++j) {
@@ -271,7 +273,7 @@ Status ImageLight::build(const EnvironmentLight& env,
   bool stop = false;
   std::size_t floats = 0;
   for (int level = 0; level < kRadianceLevels; ++level) {
-    sizes_[level] = std::max(kRadianceMinSize, kRadianceSize >> level);
+    sizes_[level] = std::max(kRadianceMinSize, settings_.size >> level);
     offsets_[level] = floats;
     floats += std::size_t(6) * std::size_t(sizes_[level]) * std::size_t(sizes_[level]) * 3;
   }
@@ -292,7 +294,7 @@ Status ImageLight::build(const EnvironmentLight& env,
     double weight = 0.0;
     const int halvings = int(source_cube_.size());
     if (level > 0) {
-      const unsigned count = prefilter_samples(level);
+      const unsigned count = settings_.samples_at(level);
       for (unsigned s = 0; s < count; ++s) {
         const V3<double> hs = pbr::ggx_sample(s, count, alpha);
         const double n_dot_l = 2.0 * hs.z * hs.z - 1.0;

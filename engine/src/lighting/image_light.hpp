@@ -22,11 +22,19 @@ namespace facet::lighting {
 inline constexpr unsigned kDfgSamples = 512;
 
 // The prefiltered cube's kRadianceLevels levels (simd_types.hpp), read linearly between levels:
-// faces of kRadianceSize >> k texels a side, at least kRadianceMinSize.
+// faces of size >> k texels a side, at least kRadianceMinSize.
 inline constexpr int kRadianceSize = 128;
 inline constexpr int kRadianceMinSize = 16;
-// GGX samples per texel of level k >= 1: fewer for the narrow lobes, whose samples read finer halvings.
-inline constexpr unsigned prefilter_samples(int level) { return 128u << (level < 3 ? level - 1 : 1); }
+
+// The prefilter's choices (what the renderer uses: the defaults; `facet accuracy --only ibl`
+// charts the others): the finest level's face size, in [kRadianceMinSize, 512], and the GGX
+// samples per texel of the levels above the first rough one, which takes half as many (its narrow
+// lobe's samples read finer halvings).
+struct PrefilterSettings {
+  int size = kRadianceSize;
+  unsigned samples = 256;
+  unsigned samples_at(int level) const { return level <= 1 ? (samples + 1) / 2 : samples; }
+};
 
 // GL's cube face of a direction (GL 2.1 table 3.21): faces +X, -X, +Y, -Y, +Z, -Z and the face
 // coordinates s, t in [0, 1]; and back.
@@ -92,7 +100,7 @@ struct EquirectLevel {
 class ImageLight {
  public:
   // The DFG table alone (every PBR draw reads it): no environment.
-  ImageLight();
+  explicit ImageLight(PrefilterSettings settings = {});
   // Prepares `env` (none: only the table). run(count, fn) calls fn(i) for every i in [0, count),
   // in any order and on any threads; the result is the same. `cancelled` is polled between rows.
   Status build(const EnvironmentLight& env, const std::function<void(std::size_t, const std::function<void(std::size_t)>&)>& run,
@@ -175,6 +183,7 @@ class ImageLight {
   std::vector<float> dfg_;  // kDfgSize^2 cells of (scale, bias), n.v fastest
   bool has_image_ = false;
   float sh_[3][9] = {};     // per channel: A_l L_lm / pi times each basis function's constant
+  PrefilterSettings settings_;
   int sizes_[kRadianceLevels] = {};
   std::size_t offsets_[kRadianceLevels] = {};
   std::vector<float> radiance_;  // the levels one after another: 6 faces of size^2 RGB texels, t rows of s
