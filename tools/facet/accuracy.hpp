@@ -39,6 +39,12 @@ inline std::string number(double v) {
   return o.str();
 }
 
+// The error of an RGBA8 image against its reference over the pixels `inside` marks: the largest
+// and mean difference per channel in steps, and (share) the pixels whose every channel is within
+// 2 steps.
+void compare_inside(const std::vector<std::uint8_t>& rgba, const std::vector<std::uint8_t>& reference,
+                    const std::vector<std::uint8_t>& inside, Row& row);
+
 Status vertex_accuracy(bool quick, std::vector<Row>& rows);
 void pow_sweep(std::vector<Row>& rows);
 Status image_accuracy(bool quick, std::vector<Row>& rows);

@@ -92,23 +92,7 @@ Status pbr_accuracy(bool quick, std::vector<Row>& rows) {
       const auto t0 = std::chrono::steady_clock::now();
       for (int i = 0; i < repeats; ++i) (void)r->render(s, view);
       row.ms_per_frame = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / repeats;
-      double sum = 0;
-      std::size_t pixels = 0, close = 0;
-      for (std::size_t i = 0; i < inside.size(); ++i) {
-        if (!inside[i]) continue;
-        bool near = true;
-        for (std::size_t c = 0; c < 3; ++c) {
-          const double e = std::abs(double(rgba[4 * i + c]) - double(reference[4 * i + c]));
-          sum += e;
-          row.max_lsb = std::max(row.max_lsb, e);
-          near = near && e <= 2;
-        }
-        ++pixels;
-        close += near;
-      }
-      row.mean_lsb = pixels ? sum / double(3 * pixels) : 0.0;
-      row.max_step = static_cast<int>(std::lround(row.max_lsb));
-      row.share = pixels ? double(close) / double(pixels) : 0.0;
+      compare_inside(rgba, reference, inside, row);
       // The contract: per pixel, the SIMD kernel and the reference agree within half a step on
       // average from 64 segments (the normals are interpolated; only the facets' positions
       // differ); per vertex the polished metal's highlights and reflections need many more

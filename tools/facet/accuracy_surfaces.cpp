@@ -22,6 +22,27 @@
 #include "texture/sampler.hpp"
 
 namespace facet::cli {
+
+void compare_inside(const std::vector<std::uint8_t>& rgba, const std::vector<std::uint8_t>& reference,
+                    const std::vector<std::uint8_t>& inside, Row& row) {
+  double sum = 0;
+  std::size_t pixels = 0, close = 0;
+  for (std::size_t i = 0; i < inside.size(); ++i) {
+    if (!inside[i]) continue;
+    bool near = true;
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double e = std::abs(double(rgba[4 * i + c]) - double(reference[4 * i + c]));
+      sum += e;
+      row.max_lsb = std::max(row.max_lsb, e);
+      near = near && e <= 2;
+    }
+    ++pixels;
+    close += near;
+  }
+  row.mean_lsb = pixels ? sum / double(3 * pixels) : 0.0;
+  row.max_step = static_cast<int>(std::lround(row.max_lsb));
+  row.share = pixels ? double(close) / double(pixels) : 0.0;
+}
 // Bump mapping per vertex (Gouraud with RenderOptions::vertex_relief) and per pixel (Phong) on a
 // sphere of `segments` around, against per-pixel bump on the reference lighting path at 512
 // segments, over the pixels well inside the silhouette; the frame's time on one thread beside it.
@@ -110,23 +131,7 @@ Status relief_accuracy(bool quick, std::vector<Row>& rows) {
       for (int i = 0; i < repeats; ++i) (void)r->render(s, view);
       row.ms_per_frame = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / repeats;
       delete r;
-      double sum = 0;
-      std::size_t pixels = 0, close = 0;
-      for (std::size_t i = 0; i < inside.size(); ++i) {
-        if (!inside[i]) continue;
-        bool near = true;
-        for (std::size_t c = 0; c < 3; ++c) {
-          const double e = std::abs(double(rgba[4 * i + c]) - double(reference[4 * i + c]));
-          sum += e;
-          row.max_lsb = std::max(row.max_lsb, e);
-          near = near && e <= 2;
-        }
-        ++pixels;
-        close += near;
-      }
-      row.mean_lsb = pixels ? sum / double(3 * pixels) : 0.0;
-      row.max_step = static_cast<int>(std::lround(row.max_lsb));
-      row.share = pixels ? double(close) / double(pixels) : 0.0;
+      compare_inside(rgba, reference, inside, row);
       // The contract: from 128 segments (where the facets no longer move the pixels' texture
       // coordinates by much) per pixel is within a step of the reference on average; per vertex
       // only approaches it, within 4 steps at 256 segments.

@@ -372,88 +372,55 @@ if shadow_rows:
     save(fig, "shadows_speed_vs_accuracy")
     charts.append("shadows_speed_vs_accuracy")
 
-# --- 6. environment maps: per vertex against per pixel, ms per frame against error ------------------
-env_rows = [r for r in accuracy if r["kind"] == "environment"]
-if env_rows:
+def per_vertex_and_pixel(rows, colours, xlabel, ylabel, title, name):
+    """ms per frame against mean error, one line per method, each point labelled by its segments."""
     fig, ax = plt.subplots(figsize=(8, 5.5))
-    colours = {"per vertex (gouraud)": "#1f77b4", "per pixel (phong)": "#d62728"}
     for method, colour in colours.items():
-        pts = [r for r in env_rows if r["method"] == method]
-        pts.sort(key=lambda r: int(r["item"].split("=")[1]))
-        ax.plot([r["mean_lsb"] for r in pts], [r["ms_per_frame"] for r in pts], color=colour, marker="o", label=method)
+        pts = sorted([r for r in rows if r["method"] == method], key=lambda r: int(r["item"].split("=")[1]))
+        ax.plot([max(r["mean_lsb"], FLOOR) for r in pts], [r["ms_per_frame"] for r in pts], color=colour, marker="o",
+                label=method)
         for r in pts:
             if "ms_per_frame_min" in r:
-                ax.errorbar([r["mean_lsb"]], [r["ms_per_frame"]],
+                ax.errorbar([max(r["mean_lsb"], FLOOR)], [r["ms_per_frame"]],
                             yerr=[[r["ms_per_frame"] - r["ms_per_frame_min"]], [r["ms_per_frame_max"] - r["ms_per_frame"]]],
                             color=colour, lw=0.7, capsize=2)
-            ax.annotate(r["item"].split("=")[1], (r["mean_lsb"], r["ms_per_frame"]), textcoords="offset points",
+            ax.annotate(r["item"].split("=")[1], (max(r["mean_lsb"], FLOOR), r["ms_per_frame"]), textcoords="offset points",
                         xytext=(4, 3), fontsize=7, color=colour)
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("mean error against exact reflection rays (8-bit steps)")
-    ax.set_ylabel("ms per frame (1 thread)")
-    ax.set_title(f"Environment maps on a mirror ball (labels: segments; simd {best})")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    save(fig, "environment_speed_vs_accuracy")
-    charts.append("environment_speed_vs_accuracy")
+    save(fig, name)
+    charts.append(name)
+
+
+# --- 6. environment maps: per vertex against per pixel, ms per frame against error ------------------
+env_rows = [r for r in accuracy if r["kind"] == "environment"]
+if env_rows:
+    per_vertex_and_pixel(env_rows, {"per vertex (gouraud)": "#1f77b4", "per pixel (phong)": "#d62728"},
+                         "mean error against exact reflection rays (8-bit steps)", "ms per frame (1 thread)",
+                         f"Environment maps on a mirror ball (labels: segments; simd {best})", "environment_speed_vs_accuracy")
 
 # --- 7. bump maps: per vertex against per pixel, ms per frame against error -------------------------
 relief_rows = [r for r in accuracy if r["kind"] == "relief"]
 if relief_rows:
-    fig, ax = plt.subplots(figsize=(8, 5.5))
-    colours = {"bump per vertex (gouraud)": "#1f77b4", "bump per pixel (phong)": "#d62728"}
-    for method, colour in colours.items():
-        pts = [r for r in relief_rows if r["method"] == method]
-        pts.sort(key=lambda r: int(r["item"].split("=")[1]))
-        ax.plot([max(r["mean_lsb"], FLOOR) for r in pts], [r["ms_per_frame"] for r in pts], color=colour, marker="o",
-                label=method)
-        for r in pts:
-            if "ms_per_frame_min" in r:
-                ax.errorbar([max(r["mean_lsb"], FLOOR)], [r["ms_per_frame"]],
-                            yerr=[[r["ms_per_frame"] - r["ms_per_frame_min"]], [r["ms_per_frame_max"] - r["ms_per_frame"]]],
-                            color=colour, lw=0.7, capsize=2)
-            ax.annotate(r["item"].split("=")[1], (max(r["mean_lsb"], FLOOR), r["ms_per_frame"]), textcoords="offset points",
-                        xytext=(4, 3), fontsize=7, color=colour)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("mean error against per-pixel bump on the reference path, 512 segments (8-bit steps)")
-    ax.set_ylabel("ms per frame (480x480, 1 thread)")
-    ax.set_title(f"Bump maps per vertex and per pixel (labels: segments; simd {best})")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    save(fig, "relief_speed_vs_accuracy")
-    charts.append("relief_speed_vs_accuracy")
+    per_vertex_and_pixel(relief_rows, {"bump per vertex (gouraud)": "#1f77b4", "bump per pixel (phong)": "#d62728"},
+                         "mean error against per-pixel bump on the reference path, 512 segments (8-bit steps)",
+                         "ms per frame (480x480, 1 thread)",
+                         f"Bump maps per vertex and per pixel (labels: segments; simd {best})", "relief_speed_vs_accuracy")
 
 # --- 7b. PBR materials under the studio: per vertex against per pixel ----------------------------------
 pbr_rows = [r for r in accuracy if r["kind"] == "pbr"]
 if pbr_rows:
-    fig, ax = plt.subplots(figsize=(8, 5.5))
-    colours = {"PBR per vertex (gouraud)": "#1f77b4", "PBR per pixel (phong)": "#d62728"}
-    for method, colour in colours.items():
-        pts = [r for r in pbr_rows if r["method"] == method]
-        pts.sort(key=lambda r: int(r["item"].split("=")[1]))
-        ax.plot([max(r["mean_lsb"], FLOOR) for r in pts], [r["ms_per_frame"] for r in pts], color=colour, marker="o",
-                label=method)
-        for r in pts:
-            if "ms_per_frame_min" in r:
-                ax.errorbar([max(r["mean_lsb"], FLOOR)], [r["ms_per_frame"]],
-                            yerr=[[r["ms_per_frame"] - r["ms_per_frame_min"]], [r["ms_per_frame_max"] - r["ms_per_frame"]]],
-                            color=colour, lw=0.7, capsize=2)
-            ax.annotate(r["item"].split("=")[1], (max(r["mean_lsb"], FLOOR), r["ms_per_frame"]), textcoords="offset points",
-                        xytext=(4, 3), fontsize=7, color=colour)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("mean error against the reference path per pixel, 512 segments (8-bit sRGB steps)")
-    ax.set_ylabel("ms per frame (720x240, 1 thread)")
-    ax.set_title(f"PBR under the neutral studio, per vertex and per pixel (labels: segments; simd {best})")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    save(fig, "pbr_speed_vs_accuracy")
-    charts.append("pbr_speed_vs_accuracy")
+    per_vertex_and_pixel(pbr_rows, {"PBR per vertex (gouraud)": "#1f77b4", "PBR per pixel (phong)": "#d62728"},
+                         "mean error against the reference path per pixel, 512 segments (8-bit sRGB steps)",
+                         "ms per frame (720x240, 1 thread)",
+                         f"PBR under the neutral studio, per vertex and per pixel (labels: segments; simd {best})",
+                         "pbr_speed_vs_accuracy")
 
 # --- 7c. the prefilter: face size and samples per texel, build time against error -------------------
 ibl_rows = [r for r in accuracy if r["kind"] == "ibl"]

@@ -152,47 +152,15 @@ void shade_pbr_kernel(const Params& prm, const Transform* xf, const Streams& s) 
     else return a * rcp_nr(b);
   };
   const bool triples = s.p3 != nullptr;
-  auto read3 = [&](const float* src, std::size_t i) {
-    V<B> v;
-    if (i + lanes <= s.count) {
-      load_xyz(src + 3 * i, v.x, v.y, v.z);
-    } else {
-      alignas(64) float buf[3 * lanes] = {};
-      for (std::size_t k = 0; k < 3 * (s.count - i); ++k) buf[k] = src[3 * i + k];
-      load_xyz(buf, v.x, v.y, v.z);
-    }
-    return v;
-  };
-  auto write3 = [&](float* dst, std::size_t i, const B& x, const B& y, const B& z) {
-    if (i + lanes <= s.count) {
-      store_xyz(x, y, z, dst + 3 * i);
-    } else {
-      alignas(64) float buf[3 * lanes];
-      store_xyz(x, y, z, buf);
-      for (std::size_t k = 0; k < 3 * (s.count - i); ++k) dst[3 * i + k] = buf[k];
-    }
-  };
+  auto read3 = [&](const float* src, std::size_t i) { return read_triples<B>(src, i, s.count); };
+  auto write3 = [&](float* dst, std::size_t i, const B& x, const B& y, const B& z) { write_triples(dst, i, s.count, x, y, z); };
   const float* m = xf ? xf->position : nullptr;
   const float* nm = xf ? xf->normal : nullptr;
   const float* te = q.to_env;
   const bool textured = q.metal_rough && s.pm && s.pr;
   for (std::size_t i = 0; i < s.count; i += lanes) {
     V<B> p, n;
-    if (triples) {
-      p = read3(s.p3, i);
-      n = read3(s.n3, i);
-    } else {
-      p = {B::load_unaligned(s.px + i), B::load_unaligned(s.py + i), B::load_unaligned(s.pz + i)};
-      n = {B::load_unaligned(s.nx + i), B::load_unaligned(s.ny + i), B::load_unaligned(s.nz + i)};
-    }
-    if (xf) {
-      p = {xsimd::fma(B(m[0]), p.x, xsimd::fma(B(m[1]), p.y, xsimd::fma(B(m[2]), p.z, B(m[3])))),
-           xsimd::fma(B(m[4]), p.x, xsimd::fma(B(m[5]), p.y, xsimd::fma(B(m[6]), p.z, B(m[7])))),
-           xsimd::fma(B(m[8]), p.x, xsimd::fma(B(m[9]), p.y, xsimd::fma(B(m[10]), p.z, B(m[11]))))};
-      n = {xsimd::fma(B(nm[0]), n.x, xsimd::fma(B(nm[1]), n.y, B(nm[2]) * n.z)),
-           xsimd::fma(B(nm[3]), n.x, xsimd::fma(B(nm[4]), n.y, B(nm[5]) * n.z)),
-           xsimd::fma(B(nm[6]), n.x, xsimd::fma(B(nm[7]), n.y, B(nm[8]) * n.z))};
-    }
+    load_point(s, i, m, nm, p, n);
     // The point's metallic and roughness: the factors, times the texels of a metallic-roughness map.
     B metal(q.metallic), roughness(q.roughness), alpha(q.alpha);
     if (textured) {

@@ -248,6 +248,56 @@ auto pow_spot = [](const B& x, const PowSpec& spec) -> B {
   return vp;
 }
 
+// Points [i, i + lanes) of `count` xyz triples as a batch of each coordinate; a last batch past
+// `count` through a buffer padded with zeros (finite, no normal: what the streams' padding holds).
+template <class B>
+[[gnu::always_inline]] inline V<B> read_triples(const float* src, std::size_t i, std::size_t count) {
+  constexpr std::size_t lanes = B::size;
+  V<B> v;
+  if (i + lanes <= count) {
+    load_xyz(src + 3 * i, v.x, v.y, v.z);
+  } else {
+    alignas(64) float buf[3 * lanes] = {};
+    for (std::size_t k = 0; k < 3 * (count - i); ++k) buf[k] = src[3 * i + k];
+    load_xyz(buf, v.x, v.y, v.z);
+  }
+  return v;
+}
+
+// The other way: points [i, min(i + lanes, count)) written as xyz triples.
+template <class B>
+[[gnu::always_inline]] inline void write_triples(float* dst, std::size_t i, std::size_t count, const B& x, const B& y, const B& z) {
+  constexpr std::size_t lanes = B::size;
+  if (i + lanes <= count) {
+    store_xyz(x, y, z, dst + 3 * i);
+  } else {
+    alignas(64) float buf[3 * lanes];
+    store_xyz(x, y, z, buf);
+    for (std::size_t k = 0; k < 3 * (count - i); ++k) dst[3 * i + k] = buf[k];
+  }
+}
+
+// Point i's position and normal (batches of lanes points) from the streams or the triples, through
+// the model -> eye transform (m: 3x4 rows, q: the normal's 3x3) when it is given.
+template <class B, class T>
+[[gnu::always_inline]] inline void load_point(const Streams& s, std::size_t i, const T* m, const T* q, V<B>& p, V<B>& n) {
+  if (s.p3) {
+    p = read_triples<B>(s.p3, i, s.count);
+    n = read_triples<B>(s.n3, i, s.count);
+  } else {
+    p = {B::load_unaligned(s.px + i), B::load_unaligned(s.py + i), B::load_unaligned(s.pz + i)};
+    n = {B::load_unaligned(s.nx + i), B::load_unaligned(s.ny + i), B::load_unaligned(s.nz + i)};
+  }
+  if (m) {
+    p = {xsimd::fma(B(m[0]), p.x, xsimd::fma(B(m[1]), p.y, xsimd::fma(B(m[2]), p.z, B(m[3])))),
+         xsimd::fma(B(m[4]), p.x, xsimd::fma(B(m[5]), p.y, xsimd::fma(B(m[6]), p.z, B(m[7])))),
+         xsimd::fma(B(m[8]), p.x, xsimd::fma(B(m[9]), p.y, xsimd::fma(B(m[10]), p.z, B(m[11]))))};
+    n = {xsimd::fma(B(q[0]), n.x, xsimd::fma(B(q[1]), n.y, B(q[2]) * n.z)),
+         xsimd::fma(B(q[3]), n.x, xsimd::fma(B(q[4]), n.y, B(q[5]) * n.z)),
+         xsimd::fma(B(q[6]), n.x, xsimd::fma(B(q[7]), n.y, B(q[8]) * n.z))};
+  }
+}
+
 // Extras: the kernel reads the per-material and per-light options most scenes do not use
 // (occlusion, Phong's lobe, linear range attenuation, projectors); without them those paths are
 // compiled out, so a scene that uses none of them runs the kernel it ran before they existed.
@@ -275,45 +325,11 @@ void shade_kernel(const Params& prm, const Transform* xf, const Streams& s) {
   // Triples (Streams::p3): whole batches straight from the caller's arrays, the last one through
   // a buffer padded with zeros (finite, no normal: what the streams' padding holds).
   const bool triples = s.p3 != nullptr;
-  auto read3 = [&](const float* src, std::size_t i) {
-    V<B> v;
-    if (i + lanes <= s.count) {
-      load_xyz(src + 3 * i, v.x, v.y, v.z);
-    } else {
-      alignas(64) float buf[3 * lanes] = {};
-      for (std::size_t k = 0; k < 3 * (s.count - i); ++k) buf[k] = src[3 * i + k];
-      load_xyz(buf, v.x, v.y, v.z);
-    }
-    return v;
-  };
-  auto write3 = [&](float* dst, std::size_t i, const B& x, const B& y, const B& z) {
-    if (i + lanes <= s.count) {
-      store_xyz(x, y, z, dst + 3 * i);
-    } else {
-      alignas(64) float buf[3 * lanes];
-      store_xyz(x, y, z, buf);
-      for (std::size_t k = 0; k < 3 * (s.count - i); ++k) dst[3 * i + k] = buf[k];
-    }
-  };
+  auto read3 = [&](const float* src, std::size_t i) { return read_triples<B>(src, i, s.count); };
+  auto write3 = [&](float* dst, std::size_t i, const B& x, const B& y, const B& z) { write_triples(dst, i, s.count, x, y, z); };
   for (std::size_t i = 0; i < s.count; i += lanes) {
     V<B> p, n;
-    if (triples) {
-      p = read3(s.p3, i);
-      n = read3(s.n3, i);
-    } else {
-      p = {B::load_unaligned(s.px + i), B::load_unaligned(s.py + i), B::load_unaligned(s.pz + i)};
-      n = {B::load_unaligned(s.nx + i), B::load_unaligned(s.ny + i), B::load_unaligned(s.nz + i)};
-    }
-    if (xf) {
-      const T* m = xf_position;
-      const T* q = xf_normal;
-      p = {xsimd::fma(B(m[0]), p.x, xsimd::fma(B(m[1]), p.y, xsimd::fma(B(m[2]), p.z, B(m[3])))),
-           xsimd::fma(B(m[4]), p.x, xsimd::fma(B(m[5]), p.y, xsimd::fma(B(m[6]), p.z, B(m[7])))),
-           xsimd::fma(B(m[8]), p.x, xsimd::fma(B(m[9]), p.y, xsimd::fma(B(m[10]), p.z, B(m[11]))))};
-      n = {xsimd::fma(B(q[0]), n.x, xsimd::fma(B(q[1]), n.y, B(q[2]) * n.z)),
-           xsimd::fma(B(q[3]), n.x, xsimd::fma(B(q[4]), n.y, B(q[5]) * n.z)),
-           xsimd::fma(B(q[6]), n.x, xsimd::fma(B(q[7]), n.y, B(q[8]) * n.z))};
-    }
+    load_point(s, i, xf_position, xf_normal, p, n);
     n = normalize_or_zero<Exact>(n);
     const V<B> eye = prm.local_viewer ? normalize_or_zero<Exact>(V<B>{-p.x, -p.y, -p.z}) : V<B>{zero, zero, one};
     const B n_dot_v = Extras && prm.phong_lobe ? dot3(n, eye) : zero;  // Phong's lobe
