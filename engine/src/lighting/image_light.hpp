@@ -111,7 +111,7 @@ class ImageLight {
     return built_from(env) ? Status{} : build(env, run, cancelled);
   }
   bool has_image() const { return has_image_; }
-  // Whether `env`'s picture is what was built (its source, size and a checksum of its texels).
+  // Whether `env`'s picture is what was built (its source, size and texels).
   bool built_from(const EnvironmentLight& env) const;
   // Bytes this light holds (its levels, the source's halvings and the table).
   std::uint64_t bytes() const;
@@ -194,7 +194,6 @@ class ImageLight {
   // kernels' to apply, so that turning the surroundings rebuilds nothing).
   EnvironmentSource source_kind_ = EnvironmentSource::none;
   int width_ = 0, height_ = 0;
-  std::uint64_t checksum_ = 0;
 };
 
 // facet's neutral studio as an equirectangular picture of width x height (docs/pbr.md).
