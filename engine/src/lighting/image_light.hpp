@@ -171,6 +171,9 @@ class ImageLight {
   // The source's radiance (level 0 of the halvings), bilinear, at a unit direction (the tests'
   // brute-force integrals read the same picture the prefilter read).
   V3<double> source(const V3<double>& d, double lod = 0.0) const;
+  // The picture itself at a unit direction, bilinear at full resolution, in float: what the
+  // backdrop (Scene::background) shows, read once per uncovered pixel; (0, 0, 0) without one.
+  V3<float> picture(float x, float y, float z) const;
 
  private:
   template <class T>

@@ -39,13 +39,14 @@ Backdrop make_backdrop(const lighting::ImageLight& light, const EnvironmentLight
 void backdrop_pixel(const Backdrop& b, int x, int y, float rgba[4]) {
   const double px = x + 0.5, py = y + 0.5;
   const double* m = b.ray;
-  lighting::V3<double> d{m[0] * px + m[1] * py + m[2], m[3] * px + m[4] * py + m[5], m[6] * px + m[7] * py + m[8]};
-  const double len = std::sqrt(dot(d, d));
-  d = len > 0.0 ? (1.0 / len) * d : lighting::V3<double>{0.0, 0.0, -1.0};
-  const lighting::V3<double> c = b.light->source(d);
-  rgba[0] = static_cast<float>(b.intensity * c.x);
-  rgba[1] = static_cast<float>(b.intensity * c.y);
-  rgba[2] = static_cast<float>(b.intensity * c.z);
+  const double dx = m[0] * px + m[1] * py + m[2], dy = m[3] * px + m[4] * py + m[5], dz = m[6] * px + m[7] * py + m[8];
+  const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
+  const double inv = len > 0.0 ? 1.0 / len : 0.0;
+  const lighting::V3<float> c =
+      len > 0.0 ? b.light->picture(float(dx * inv), float(dy * inv), float(dz * inv)) : b.light->picture(0.0f, 0.0f, -1.0f);
+  rgba[0] = b.intensity * c.x;
+  rgba[1] = b.intensity * c.y;
+  rgba[2] = b.intensity * c.z;
   rgba[3] = 1.0f;
 }
 
