@@ -11,6 +11,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
@@ -71,8 +72,7 @@ struct Renderer::Impl {
   std::unique_ptr<lighting::ImageLight> image_light;
   const lighting::ImageLight* frame_image_light = nullptr;  // this frame's, or null (no PBR material)
   // Scene::background == environment: the camera pass's clear value per pixel (tile/backdrop.hpp).
-  tile::Backdrop frame_backdrop;
-  bool backdrop_on = false;
+  std::optional<tile::Backdrop> frame_backdrop;
   Status prepare_image_light(const Scene& scene);
   Status frame_status;  // a failure inside the arena (the casters' build)
   // One per arena slot (tbb::this_task_arena::current_thread_index()), sized on the calling

@@ -38,7 +38,7 @@ void Renderer::Impl::run_pass(const Scene& scene, const RenderOptions& options, 
                               options.srgb && p.color && p.color->format != PixelFormat::rgba32f && !p.environment_face ? &srgb : nullptr,
                               p.assembly.viewport.depth,
                               p.samples,
-                              backdrop_on && &p == &plan.camera().pass ? &frame_backdrop : nullptr};
+                              frame_backdrop && &p == &plan.camera().pass ? &*frame_backdrop : nullptr};
   const int tile_count = p.tile_count();
   tile_counters.assign(static_cast<std::size_t>(tile_count), {});
   const auto raster_start = Clock::now();

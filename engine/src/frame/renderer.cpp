@@ -154,7 +154,7 @@ void Renderer::Impl::render(const Scene& scene, const RenderOptions& options, co
   stats.seconds_shadows += plan.seconds_maps;
   // Ray-cast shadows: the casters as Embree sees them, built here, in this renderer's arena.
   const RenderPass& camera = plan.camera().pass;
-  backdrop_on = backdrop;
+  frame_backdrop.reset();
   if (backdrop) {
     frame_backdrop = tile::make_backdrop(*image_light, scene.environment_light, camera.view, camera.projection, color.width, color.height);
   }

@@ -225,13 +225,16 @@ void rasterize_tile(const RasterJob& job, std::span<const std::uint32_t> bin, co
     return;
   }
   const int samples = job.samples.count;
-  if (job.backdrop) fill_backdrop(*job.backdrop, rect, tile, job.depth.far());
-  for (int s = 0; s < samples && !job.backdrop; ++s) {
-    for (int y = 0; y < rect.y1 - rect.y0; ++y) {
-      for (int x = 0; x < rect.x1 - rect.x0; ++x) {
-        const std::size_t p = tile.index(x, y) + static_cast<std::size_t>(s) * tile.sample_stride();
-        for (int c = 0; c < 4; ++c) tile.plane(c)[p] = job.clear_color[static_cast<std::size_t>(c)];
-        tile.plane(4)[p] = job.depth.far();
+  if (job.backdrop) {  // each pixel's clear value from the backdrop
+    fill_backdrop(*job.backdrop, rect, tile, job.depth.far());
+  } else {
+    for (int s = 0; s < samples; ++s) {
+      for (int y = 0; y < rect.y1 - rect.y0; ++y) {
+        for (int x = 0; x < rect.x1 - rect.x0; ++x) {
+          const std::size_t p = tile.index(x, y) + static_cast<std::size_t>(s) * tile.sample_stride();
+          for (int c = 0; c < 4; ++c) tile.plane(c)[p] = job.clear_color[static_cast<std::size_t>(c)];
+          tile.plane(4)[p] = job.depth.far();
+        }
       }
     }
   }
