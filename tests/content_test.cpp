@@ -444,7 +444,7 @@ TEST(GltfImport, NodeHierarchyTrsMatrixAndMirroring) {
   EXPECT_LT((w.topLeftCorner<3, 3>().determinant()), 0.0f);
 }
 
-TEST(GltfImport, AnimationsAreNamedAsNotRead) {
+TEST(GltfImport, AnimationsAreListed) {
   GltfBuilder b;
   const int pos = b.vec3(kQuadPositions);
   b.add("meshes", mesh_of({{"POSITION", pos}}, b.indices16(kQuadIndices)));
@@ -457,9 +457,11 @@ TEST(GltfImport, AnimationsAreNamedAsNotRead) {
   const std::string text = b.embedded();
   Result<Model> m = parse_gltf(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), "anim.gltf", "");
   ASSERT_TRUE(m.ok()) << m.status().message();
-  bool warned = false;
-  for (const auto& w : m->warnings) warned |= w.find("animations") != std::string::npos;
-  EXPECT_TRUE(warned);
+  ASSERT_EQ(m->motion.animations.size(), 1u);
+  EXPECT_EQ(m->motion.animations[0].name, "animations[0]");
+  EXPECT_EQ(m->motion.animations[0].end_s, 1.0);
+  EXPECT_EQ(m->motion.animations[0].channels, 1u);
+  for (const auto& w : m->warnings) EXPECT_EQ(w.find("animations"), std::string::npos) << w;
 }
 
 TEST(GltfImport, StripsAndFansBecomeTriangles) {

@@ -405,9 +405,68 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
   }
   for (const std::string& w : model->warnings) notes.push_back("warning: " + w);
   input.cameras = model->cameras;
+  input.rig = model->rig;
+  input.motion = model->motion;
+  input.file_camera = model->has_camera && !options.reframe;
+  const bool posed = !options.animation.empty() || !std::isnan(options.time);
+  if (posed && model->motion.animations.empty()) {
+    if (!options.animation.empty()) {
+      fail(path + ": --animation: the model has no animations");
+      return std::nullopt;
+    }
+    notes.push_back("--time: the model has no animations; drawn as the file places it");
+  } else if (posed) {
+    Result<int> chosen = find_animation(*model, options.animation.empty() ? "0" : options.animation);
+    if (!chosen) {
+      fail(path + ": --animation: " + chosen.status().message());
+      return std::nullopt;
+    }
+    input.animation = *chosen;
+    const AnimationInfo& a = model->motion.animations[std::size_t(*chosen)];
+    input.seconds = std::isnan(options.time) ? a.start_s : options.time;
+    PoseOptions po;
+    po.animation = input.animation;
+    if (Status s = pose_model(*model, input.seconds, po); !s.ok()) {
+      fail(path + ": " + s.message());
+      return std::nullopt;
+    }
+  }
+  // An animated model is framed over its animation (the union of its poses' boxes at 32 times):
+  // it does not walk out of the picture.
+  std::optional<Bounds> moving;
+  if (input.animation >= 0 && (!model->has_camera || options.reframe)) {
+    PoseOptions po;
+    po.animation = input.animation;
+    Result<Bounds> box = animation_bounds(*model, po);
+    if (!box) {
+      fail(path + ": " + box.status().message());
+      return std::nullopt;
+    }
+    moving = *box;
+  }
+  if (input.animation >= 0) {
+    PoseOptions po;
+    po.animation = input.animation;
+    Result<Bounds> box = moving ? Result<Bounds>(*moving) : animation_bounds(*model, po);
+    if (!box) {
+      fail(path + ": " + box.status().message());
+      return std::nullopt;
+    }
+    input.moving = *box;
+  }
   input.scene = std::move(model->scene);
   Scene& scene = input.scene;
-  if (!model->has_camera || options.reframe) {
+  if (moving && !moving->empty()) {
+    Result<Camera> framed = frame_bounds(*moving, options.aspect, options.view);
+    if (!framed) {
+      fail(path + ": " + framed.status().message());
+      return std::nullopt;
+    }
+    scene.camera = *framed;
+    notes.push_back(std::string(model->has_camera ? "--view, --fov, --projection or --ignore-camera" : "no camera in the file") +
+                    ": framing the whole animation: " + describe_camera(scene.camera));
+    input.framed = true;
+  } else if (!model->has_camera || options.reframe) {
     if (!frame(scene, path, options, model->has_camera ? "--view, --fov, --projection or --ignore-camera" : "no camera in the file", notes)) {
       return std::nullopt;
     }
@@ -418,6 +477,39 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
     notes.push_back(std::string("no lights in the file: ") + add_default_lights(scene));
   }
   return input;
+}
+
+Status pose_input(Input& input, double seconds) {
+  if (!input.rig) return {};
+  Model shell;
+  shell.scene = std::move(input.scene);
+  shell.rig = input.rig;
+  shell.motion = input.motion;
+  shell.has_camera = input.file_camera;
+  PoseOptions po;
+  po.animation = input.animation;
+  Status s = pose_model(shell, seconds, po);
+  input.scene = std::move(shell.scene);
+  if (s.ok()) input.seconds = seconds;
+  return s;
+}
+
+std::vector<std::string> describe_motion(const MotionInfo& motion) {
+  std::vector<std::string> lines;
+  for (std::size_t i = 0; i < motion.animations.size(); ++i) {
+    const AnimationInfo& a = motion.animations[i];
+    lines.push_back("animation " + std::to_string(i) + " " + json_escape(a.name) + ": " + format_number(a.start_s) + " to " +
+                    format_number(a.end_s) + " s, " + std::to_string(a.channels) + " channels (--animation " + std::to_string(i) +
+                    " --time SECONDS, or --frames N)");
+  }
+  for (const SkinInfo& s : motion.skins) {
+    lines.push_back("skin " + json_escape(s.name) + ": " + std::to_string(s.joints) + " joints, " + std::to_string(s.vertices) +
+                    " vertices, " + std::to_string(s.influences) + " influences per vertex");
+  }
+  if (motion.morphed_meshes > 0) {
+    lines.push_back("morph targets: " + std::to_string(motion.morph_targets) + " over " + std::to_string(motion.morphed_meshes) + " meshes");
+  }
+  return lines;
 }
 
 Deadline::Deadline(double seconds)

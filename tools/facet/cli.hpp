@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cstdio>
 #include <functional>
+#include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -105,6 +107,9 @@ struct InputOptions {
   std::string cancelled_message;
   // Told of every file the load read, and its bytes (AssetAccess::on_read).
   std::function<void(const std::string& name, const std::string& bytes)> on_read;
+  // --animation INDEX|NAME and --time SECONDS (NaN: not given): a glTF model's pose.
+  std::string animation;
+  double time = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The options that say where a framing camera looks from (render, check, light).
@@ -125,7 +130,19 @@ struct Input {
   bool framed = false;       // the camera is facet's framing, not the file's
   std::size_t rig_first = 0;  // facet's default rig is lights [rig_first, end); none when == lights.size()
   std::vector<std::string> cameras;  // a glTF file's cameras (Model::cameras), for --camera
+  // A glTF model that moves: what posing it again needs (pose_input), and what --animation chose.
+  std::shared_ptr<const Rig> rig;
+  MotionInfo motion;
+  bool file_camera = false;  // the scene's camera is the file's (it follows its node)
+  int animation = -1;
+  double seconds = 0.0;
+  Bounds moving;  // the box over the animation (animation_bounds), when one is chosen
 };
+// The input's model posed at `seconds` into its animation (Input::animation); nothing for a
+// model that does not move.
+Status pose_input(Input& input, double seconds);
+// "  animations: 0 \"Walk\" 0 to 1.25 s (24 channels); skins: ...", for check and render's notes.
+std::vector<std::string> describe_motion(const MotionInfo& motion);
 // What a --json record says of its input ("input": {"name", "hash", "files"}): the file's name and
 // a hash of the bytes of every file the load read (FNV-1a 64 over each file's size and bytes, in
 // the order read), so that facet compare-runs can tell records of different inputs apart, and

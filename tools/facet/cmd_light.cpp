@@ -212,6 +212,8 @@ struct CheckState {
   EnvironmentState environment;
   std::vector<std::string> allow_paths;
   ViewState view;
+  std::string animation;
+  double time = std::numeric_limits<double>::quiet_NaN();
 };
 
 int check(const CheckState& st);
@@ -247,6 +249,8 @@ Command add_check(CLI::App& facet) {
   app->add_flag("--allow-missing", st->allow_missing, "a model's missing or unreadable .mtl, texture or image files are warnings (the default)");
   app->add_flag("--strict", st->strict, "a model's missing or unreadable .mtl, texture or image files are errors")->excludes("--allow-missing");
   app->add_flag("--gl-materials", st->gl_materials, "light a glTF model's materials with GL's lighting model (facet's Blinn-Phong mapping) instead of the glTF BRDF");
+  app->add_option("--animation", st->animation, "INDEX | NAME: check the pose of a glTF model's animation, as 'facet render'");
+  app->add_option("--time", st->time, "SECONDS into the animation, as 'facet render'")->check(number_in(-1e9, 1e9));
   app->add_option("--allow-path", st->allow_paths, kAllowPathHelp);
   add_view_options(app, st->view);
   add_environment_options(app, st->environment);
@@ -316,6 +320,8 @@ int check(const CheckState& st) {
   input.memory_budget_bytes = options.memory_budget_bytes;
   input.allow_missing = !st.strict;
   input.gl_materials = st.gl_materials;
+  input.animation = st.animation;
+  input.time = st.time;
   input.aspect = float(width) / float(height);
   if (!apply_view_options(st.view, input)) return 2;
   std::vector<std::string> notes;
@@ -378,6 +384,10 @@ int check(const CheckState& st) {
   if (!loaded->cameras.empty()) {
     std::printf("  the file's cameras (--camera INDEX or NAME):\n");
     for (const std::string& c : loaded->cameras) std::printf("    %s\n", c.c_str());
+  }
+  if (loaded->motion.any()) {
+    std::printf("  what moves (docs/animation.md):\n");
+    for (const std::string& line : describe_motion(loaded->motion)) std::printf("    %s\n", line.c_str());
   }
   if (depth_mode_for(cam, options.depth) == DepthMode::reversed) {
     std::printf("  depth: reversed-Z (near %g, far %s%s)\n", double(cam.near),

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli.hpp"
+#include "common/format.hpp"
 
 namespace facet::cli {
 namespace {
@@ -162,7 +163,9 @@ struct Turntable {
 int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, const RenderOptions& options,
                   const ImageView& image, const std::string& output, const Turntable& t) {
   Scene& scene = input.scene;
-  const Bounds bounds = scene_bounds(scene);
+  const bool animated = input.animation >= 0;
+  const AnimationInfo* clip = animated ? &input.motion.animations[std::size_t(input.animation)] : nullptr;
+  const Bounds bounds = animated ? input.moving : scene_bounds(scene);
   if (bounds.empty()) return fail("--frames: the scene has no vertices to turn around");
   const Vec3 centre = ((bounds.min.cast<double>() + bounds.max.cast<double>()) * 0.5).cast<float>();
   Camera start = scene.camera;
@@ -172,7 +175,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
     for (int k = 0; k < t.frames; ++k) {
       ViewOptions view = in.view;
       view.azimuth_deg = static_cast<float>(double(view.azimuth_deg) + t.orbit_deg * k / t.frames);
-      Result<Camera> c = frame_scene(scene, in.aspect, view);
+      Result<Camera> c = animated ? frame_bounds(bounds, in.aspect, view) : frame_scene(scene, in.aspect, view);
       if (!c) return fail(c.status().message());
       distance = std::max(distance, (c->eye.cast<double>() - centre.cast<double>()).norm());
       if (k == 0) start = *c;
@@ -195,10 +198,17 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
   int empty_frames = 0;
   for (int k = t.first; k < t.last; ++k) {
     const double angle = t.orbit_deg * k / t.frames;
+    // An animation's frame k is at k / N of its duration (a loop, as the turntable's angles).
+    const double time = animated ? clip->start_s + (clip->end_s - clip->start_s) * k / t.frames : 0.0;
+    if (animated) {
+      if (Status s = pose_input(input, time); !s.ok()) return fail(s.message());
+      if (input.file_camera) start = scene.camera;  // the file's camera where its node is now
+    }
     scene.camera = orbit_camera(start, centre, in.view.up, static_cast<float>(angle));
     for (std::size_t i = 0; i < scene.lights.size(); ++i) {
       const bool turn = t.lights == TurnLights::camera || (t.lights == TurnLights::automatic && i >= input.rig_first);
-      scene.lights[i] = turn ? orbit_light(start_lights[i], centre, in.view.up, static_cast<float>(angle)) : start_lights[i];
+      if (turn) scene.lights[i] = orbit_light(start_lights[i], centre, in.view.up, static_cast<float>(angle));
+      else if (!animated) scene.lights[i] = start_lights[i];  // posed lights stay where the pose put them
     }
     FrameStats stats;
     const auto t0 = std::chrono::steady_clock::now();
@@ -216,8 +226,9 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
     if (Status s = writer.wait(); !s.ok()) return fail(s.message());
     writer.start(name, image);
     if (t.json) {
-      char fields[128];
-      std::snprintf(fields, sizeof fields, "\"frame\": %d, \"angle_deg\": %.6g, ", k, angle);
+      char fields[160];
+      std::snprintf(fields, sizeof fields, "\"frame\": %d, \"angle_deg\": %.6g, %s", k, angle,
+                    animated ? ("\"time_s\": " + format_number(time) + ", ").c_str() : "");
       print_stats_json(stats, 1, frame_seconds, options, image.width, image.height,
                        fields + std::string("\"file\": \"") + json_escape(name) + "\", " + t.input, {},
                        display_fields(scene.display, options, stats), nothing);
@@ -259,6 +270,9 @@ struct RenderState {
                                                 exposure, tone_mapping;
   int width = 1280, height = 720, threads = 0, tile = 64, memory_mb = -1, frame_count = 1, msaa = 1;
   double min_seconds = 0, orbit_deg = 360.0, time_limit = 0;
+  double time = std::numeric_limits<double>::quiet_NaN();
+  std::string animation;
+  bool orbit_given = false;
   std::vector<std::string> allow_paths;
   ViewState view;
   bool gl_materials = false;
@@ -352,7 +366,14 @@ Command add_render(CLI::App& facet) {
                   "auto | camera | world: which lights turn with a turntable's camera (default auto: facet's default rig "
                   "turns, a file's own lights stay; camera: all; world: none)")
       ->check(one_of({"auto", "camera", "world"}, "lights mode"))->group(model);
-  app->add_option("--orbit", st->orbit_deg, "the turntable's whole sweep in degrees (default 360)")->check(number_in(-36000, 36000))->group(model);
+  app->add_option("--orbit", st->orbit_deg, "the turntable's whole sweep in degrees (default 360; 0 with --animation)")
+      ->check(number_in(-36000, 36000))->group(model)->each([st](const std::string&) { st->orbit_given = true; });
+  app->add_option("--animation", st->animation,
+                  "INDEX | NAME: a glTF model's animation to pose (default: none, the file's rest pose); with --frames N, N "
+                  "frames over its duration, the camera fixed unless --orbit is given")
+      ->group(model);
+  app->add_option("--time", st->time, "SECONDS into the animation (--animation, default 0: the first); clamped to its keys")
+      ->check(number_in(-1e9, 1e9))->group(model);
   const char* measure = "Measurement";
   app->add_option("--time-limit", st->time_limit, kTimeLimitHelp)->check(number_in(0, 1e9))->group(measure);
   app->add_option("--seconds", st->min_seconds, "render repeatedly for at least S seconds; report the mean frame time")
@@ -443,6 +464,8 @@ int render(const RenderState& st) {
   input.gl_materials = st.gl_materials;
   input.allowed_paths = st.allow_paths;
   input.aspect = float(width) / float(height);
+  input.animation = st.animation;
+  input.time = st.time;
   if (!apply_view_options(st.view, input)) return 2;
   std::vector<std::string> notes;
   std::optional<Input> loaded = load_input(scene_path, input, notes);
@@ -490,7 +513,8 @@ int render(const RenderState& st) {
       }
       t.first = a, t.last = b;
     }
-    t.orbit_deg = orbit_deg;
+    // An animation's frames keep the camera still unless --orbit asks for both.
+    t.orbit_deg = loaded->animation >= 0 && !st.orbit_given ? 0.0 : orbit_deg;
     t.lights = st.lights == "camera" ? TurnLights::camera : st.lights == "world" ? TurnLights::world : TurnLights::automatic;
     t.json = as_json;
     t.input = identity.json_field();

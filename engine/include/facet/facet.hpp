@@ -1,6 +1,7 @@
 // Umbrella header: the whole public C++ API of facet.
 #pragma once
 
+#include "facet/animation.hpp"
 #include "facet/camera.hpp"
 #include "facet/image.hpp"
 #include "facet/light.hpp"

@@ -62,7 +62,10 @@ Result<Mesh> mesh_from_arrays(std::span<const float> positions_xyz, std::span<co
 // than the crease angle stay hard. Positions that are bit-identical are treated as one vertex (so
 // the seams of a UV-mapped mesh are smoothed). Degenerate triangles get no weight; a vertex with
 // no usable face gets a zero normal. Triangles and their winding are kept; `normals` is replaced.
-void compute_vertex_normals(Mesh& mesh, float crease_angle_deg = kDefaultCreaseAngleDeg);
+// `origin`, when given, holds one entry per vertex on entry; each vertex added by a split gets
+// the entry of the vertex it copies (the identity 0..n-1 tells which input vertex each comes from).
+void compute_vertex_normals(Mesh& mesh, float crease_angle_deg = kDefaultCreaseAngleDeg,
+                            std::vector<std::uint32_t>* origin = nullptr);
 
 // Tangents by the MikkTSpace algorithm (Mikkelsen 2008, the tangent space of glTF and Blender's
 // bakers): per triangle the direction of increasing u in the plane of its positions, and the sign
@@ -72,8 +75,9 @@ void compute_vertex_normals(Mesh& mesh, float crease_angle_deg = kDefaultCreaseA
 // through it) is split in two, as compute_vertex_normals splits creases. Triangles with a
 // degenerate uv area or positions contribute nothing; a vertex left with no direction gets one
 // perpendicular to its normal (any: its normal map then has no defined orientation). Needs uvs;
-// `tangents` is replaced (triangles may be re-indexed, their order and winding kept).
-Status generate_tangents(Mesh& mesh);
+// `tangents` is replaced (triangles may be re-indexed, their order and winding kept). `origin`:
+// as compute_vertex_normals's.
+Status generate_tangents(Mesh& mesh, std::vector<std::uint32_t>* origin = nullptr);
 
 // Procedural shapes, centred on the origin. Tessellation arguments are clamped to their minimum
 // (noted per shape) and to 4096 per axis.

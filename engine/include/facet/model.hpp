@@ -7,11 +7,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "facet/animation.hpp"
 #include "facet/assets.hpp"
 #include "facet/mesh.hpp"
 #include "facet/scene.hpp"
@@ -61,6 +63,13 @@ struct Model {
   // What was read approximately or not at all, one line each ("materials[2]: normalTexture is
   // not supported; ignored").
   std::vector<std::string> warnings;
+  // glTF: what moves (facet/animation.hpp); pose_model() poses the scene. `rig` is what posing
+  // reads (null for a static model), `pose` and `pose_seconds` the pose the scene shows (at load:
+  // the rest pose, animation -1).
+  MotionInfo motion;
+  std::shared_ptr<const Rig> rig;
+  PoseOptions pose{.animation = -1};
+  double pose_seconds = 0.0;
 };
 
 // By extension: .gltf, .glb or .obj (case-insensitive). Errors name the file and the JSON path

@@ -98,6 +98,31 @@ bool allowed(const char* semantic, int components, int component, bool normalize
   } else if (s == "ROTATION") {
     if (components != 4) return false;
     forms = {{kFloat, 0}, {kByte, 1}, {kShort, 1}};
+  } else if (s == "JOINTS") {  // skins: JOINTS_0, JOINTS_1
+    if (components != 4) return false;
+    forms = {{kUnsignedByte, 0}, {kUnsignedShort, 0}};
+  } else if (s == "WEIGHTS" || s == "KEY_WEIGHTS") {  // skins; animated morph weights (one per key and target)
+    if (components != (s == "WEIGHTS" ? 4 : 1)) return false;
+    forms = {{kFloat, 0}, {kUnsignedByte, 1}, {kUnsignedShort, 1}};
+    if (s == "KEY_WEIGHTS") forms.insert(forms.end(), {{kByte, 1}, {kShort, 1}});
+  } else if (s == "TARGET_POSITION") {  // morph targets' deltas (KHR_mesh_quantization's forms too)
+    if (components != 3) return false;
+    forms = {{kFloat, 0}, {kByte, 2}, {kShort, 2}};
+  } else if (s == "TARGET_NORMAL" || s == "TARGET_TANGENT") {
+    if (components != 3) return false;
+    forms = {{kFloat, 0}, {kByte, 1}, {kShort, 1}};
+  } else if (s == "TIME") {  // an animation sampler's input
+    if (components != 1) return false;
+    forms = {{kFloat, 0}};
+  } else if (s == "KEY_TRANSLATION" || s == "KEY_SCALE") {
+    if (components != 3) return false;
+    forms = {{kFloat, 0}, {kByte, 2}, {kUnsignedByte, 2}, {kShort, 2}, {kUnsignedShort, 2}};
+  } else if (s == "KEY_ROTATION") {
+    if (components != 4) return false;
+    forms = {{kFloat, 0}, {kByte, 1}, {kShort, 1}};
+  } else if (s == "MATRIX") {  // a skin's inverse bind matrices
+    if (components != 16) return false;
+    forms = {{kFloat, 0}};
   } else if (s == "COLOR_0") {
     if (components != 3 && components != 4) return false;
     forms = {{kFloat, 0}, {kUnsignedByte, 1}, {kUnsignedShort, 1}};
@@ -127,10 +152,7 @@ Status Reader::read(std::uint64_t bytes_used) {
   used_ = bytes_used;
   FACET_TRY(check_extensions());
   const Json& j = doc_.json();
-  if (doc_.count("animations") > 0) {
-    warn("animations: " + std::to_string(doc_.count("animations")) +
-         " animation(s) not supported; the nodes are drawn as the file places them");
-  }
+  animated_ = doc_.count("animations") > 0;
   // ModelOptions::camera names a camera the drawn scene does not have: an error listing those it has.
   const auto camera_found = [&]() -> Status {
     if (options_.camera.empty() || out_.has_camera) return {};
@@ -150,6 +172,7 @@ Status Reader::read(std::uint64_t bytes_used) {
     warn("the file has " + std::to_string(doc_.count("scenes")) + " scenes; scenes[" + std::to_string(scene_index) + "] is drawn");
   }
   FACET_TRY(walk(static_cast<std::size_t>(scene_index)));
+  FACET_TRY(finish_rig());
   return camera_found();
 }
 
@@ -221,13 +244,26 @@ Status Reader::walk(std::size_t scene_index) {
     const Json* ext = nullptr;
     FACET_TRY(f_.object(node, p, "extensions", ext));
     const Json* instancing = ext ? Fields::find(*ext, "EXT_mesh_gpu_instancing") : nullptr;
-    if (mesh >= 0 && instancing) FACET_TRY(add_gpu_instances(mesh, p, world, *instancing));
-    if (mesh >= 0 && !instancing) FACET_TRY(add_mesh_instances(mesh, p, world));
+    bool deformed = false;
+    if (mesh >= 0) FACET_TRY(deforms(mesh, skin, p, deformed));
+    if (deformed) {
+      if (instancing) warn(p + ".extensions.EXT_mesh_gpu_instancing: not read for a skinned or morphed mesh; drawn once");
+      FACET_TRY(add_deformed(mesh, skin, n, p, world));
+    } else {
+      const std::size_t first = out_.scene.objects.size();
+      if (mesh >= 0 && instancing) FACET_TRY(add_gpu_instances(mesh, p, world, *instancing));
+      if (mesh >= 0 && !instancing) FACET_TRY(add_mesh_instances(mesh, p, world));
+      if (animated_) FACET_TRY(place(n, first, world));
+      if (skin >= 0) warn(p + ".skin: the node's mesh has no JOINTS_0 and WEIGHTS_0; drawn unskinned");
+    }
+    const bool had_camera = out_.has_camera;
     if (camera >= 0) FACET_TRY(add_camera(camera, n, p, world));
-    if (skin >= 0) warn(p + ": skins are not supported; the mesh is drawn in its bind pose");
-    if (Fields::find(node, "weights")) warn(p + ": morph target weights are not supported; the base mesh is drawn");
+    if (out_.has_camera && !had_camera) camera_node_ = static_cast<int>(n);
     if (ext) {
-      if (const Json* l = Fields::find(*ext, "KHR_lights_punctual")) FACET_TRY(add_light(*l, p, world));
+      if (const Json* l = Fields::find(*ext, "KHR_lights_punctual")) {
+        FACET_TRY(add_light(*l, p, world));
+        if (animated_) node_lights_.push_back({static_cast<std::uint32_t>(out_.scene.lights.size() - 1), static_cast<std::uint32_t>(n)});
+      }
     }
     const Json* children = nullptr;
     FACET_TRY(f_.array(node, p, "children", children));
@@ -472,7 +508,6 @@ Status Reader::primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index
   FACET_TRY(f_.integer(prim, p, "mode", mode, 0, 6));
   static constexpr const char* kModes[] = {"points", "lines", "line loops", "line strips"};
   if (mode <= 3) return skip(std::string(kModes[mode]) + " (mode " + std::to_string(mode) + ") are not drawn: facet draws triangles only");
-  if (Fields::find(prim, "targets")) warn(p + ": morph targets are not supported; the base mesh is drawn");
   // The material first: vertex colours are multiplied by its base colour.
   int material_id = -1;
   FACET_TRY(f_.index(prim, p, "material", doc_.count("materials"), material_id));
@@ -487,7 +522,7 @@ Status Reader::primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index
     FACET_TRY(f_.index(*attrs, p + ".attributes", name, doc_.count("accessors"), a, true));
     attributes[name] = a;
     if (name != "POSITION" && name != "NORMAL" && name != "TEXCOORD_0" && name != "TEXCOORD_1" && name != "COLOR_0" && name != "TANGENT" &&
-        name.rfind("_", 0) != 0) {
+        name != "JOINTS_0" && name != "JOINTS_1" && name != "WEIGHTS_0" && name != "WEIGHTS_1" && name.rfind("_", 0) != 0) {
       const std::string shown = Fields::dot(p + ".attributes", name);
       if (ignored_attributes_.insert(name).second) warn(shown + ": not used by facet");
     }
@@ -630,16 +665,27 @@ Status Reader::primitive(std::size_t m, std::size_t k, std::uint32_t& mesh_index
     for (std::size_t i = 1; i + 1 < idxs.size(); ++i) mesh.triangles.push_back({idxs[i], idxs[i + 1], idxs[0]});
   }
   if (mesh.triangles.empty()) return skip("no triangles; not drawn");
+  // A mesh that may be deformed keeps which file vertex each of its vertices comes from (normals
+  // and tangents made here may split vertices): its joints, weights and targets are the file's.
+  std::vector<std::uint32_t> origin;
+  const bool may_deform = Fields::find(prim, "targets") || attributes.count("JOINTS_0");
+  if (may_deform) {
+    FACET_TRY(reserve(std::uint64_t(n) * 8, p));
+    origin.resize(n);
+    for (std::size_t i = 0; i < n; ++i) origin[i] = static_cast<std::uint32_t>(i);
+  }
+  std::vector<std::uint32_t>* keep = may_deform ? &origin : nullptr;
   // glTF: without normals, flat shading (each triangle its own normal).
-  if (mesh.normals.empty()) compute_vertex_normals(mesh, 0.0f);
+  if (mesh.normals.empty()) compute_vertex_normals(mesh, 0.0f, keep);
   if (info.needs_uvs && mesh.uvs.empty()) {
     warn(p + ": its material is textured but it has no TEXCOORD_0; drawn untextured");
     info.index = untextured_twin(info.index);
     mesh.tangents.clear();
   } else if (info.normal_map && mesh.tangents.empty()) {
     FACET_TRY(reserve(std::uint64_t(n) * sizeof(Vec4), p + ".attributes.TANGENT"));
-    if (Status s = generate_tangents(mesh); !s.ok()) return f_.error(p, s.message(), s.code());
+    if (Status s = generate_tangents(mesh, keep); !s.ok()) return f_.error(p, s.message(), s.code());
   }
+  if (may_deform) origins_[key] = std::move(origin);
   std::string name;
   FACET_TRY(f_.string(gm, Fields::at("meshes", m), "name", name));
   NamedMesh named;
@@ -684,6 +730,8 @@ Result<Model> parse_in(std::span<const std::uint8_t> bytes, const std::string& s
     model.scene.transparent_order = TransparentOrder::back_to_front;
     gltf::Reader reader(*doc, folder, options, model);
     FACET_TRY(reader.read(used));
+    // Skinned meshes are drawn where their joints put them, even at rest.
+    if (model.rig) FACET_TRY(pose_model(model, 0.0, model.pose));
     // As a glTF viewer shows it: the neutral operator, and lights in physical units metered.
     model.scene.display.tone_mapping = ToneMapping::neutral;
     model.scene.display.automatic = model.has_lights;

@@ -13,6 +13,7 @@
 
 #include "content/gltf_document.hpp"
 #include "facet/model.hpp"
+#include "scene/rig.hpp"
 
 namespace facet::gltf {
 
@@ -73,6 +74,20 @@ class Reader {
   Status draco_attributes(const Json& ext, const std::string& p, const std::map<std::string, int>& attributes,
                           std::map<std::string, Values>& values, std::vector<std::uint32_t>& indices);
 
+  // gltf_animation.cpp: what moves (scene/rig.hpp)
+  // Whether meshes[mesh] is drawn deformed by a node with `skin` (-1: none): it has morph targets,
+  // or the skin and JOINTS_0/WEIGHTS_0.
+  Status deforms(int mesh, int skin, const std::string& node_path, bool& out);
+  Status add_deformed(int mesh, int skin, std::size_t node, const std::string& node_path, const Eigen::Matrix4d& world);
+  Status place(std::size_t node, std::size_t first_object, const Eigen::Matrix4d& world);
+  Status read_skin(int skin, int& rig_skin);
+  Status read_targets(std::size_t m, std::size_t k, const std::vector<std::uint32_t>& origin, Rig::Deform& d);
+  Status read_skin_weights(std::size_t m, std::size_t k, const std::vector<std::uint32_t>& origin, std::size_t joints,
+                           Rig::Deform& d);
+  Status rig_nodes();
+  Status read_animation(std::size_t a);
+  Status finish_rig();
+
   // gltf_material.cpp
   Status material(int index, MaterialInfo& info);
   // `encoding`: glTF's rule for the slot (base colour and emission sRGB, the others linear),
@@ -97,6 +112,13 @@ class Reader {
   std::map<std::uint32_t, std::uint32_t> untextured_;
   std::map<std::tuple<int, TextureFilter, TextureWrap, TextureEncoding>, std::int32_t> textures_;
   std::set<std::string> ignored_attributes_;
+  // What moves: built while walking, handed to Model::rig when anything does.
+  bool animated_ = false;
+  std::shared_ptr<Rig> rig_ = std::make_shared<Rig>();
+  std::map<std::pair<std::size_t, std::size_t>, std::vector<std::uint32_t>> origins_;
+  std::map<int, int> skins_;  // skins[i] -> Rig::skins
+  std::vector<Rig::NodeLight> node_lights_;
+  int camera_node_ = -1;
 };
 
 }  // namespace facet::gltf

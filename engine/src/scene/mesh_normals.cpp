@@ -64,7 +64,7 @@ double corner_angle(const Vec3d& p, const Vec3d& a, const Vec3d& b) {
 
 }  // namespace
 
-void compute_vertex_normals(Mesh& mesh, float crease_angle_deg) {
+void compute_vertex_normals(Mesh& mesh, float crease_angle_deg, std::vector<std::uint32_t>* origin) {
   const std::size_t vertex_count = mesh.positions.size();
   const std::size_t tri_count = mesh.triangles.size();
   const double cos_crease =
@@ -133,6 +133,7 @@ void compute_vertex_normals(Mesh& mesh, float crease_angle_deg) {
       }
       if (!found) {
         target = static_cast<std::uint32_t>(mesh.positions.size());
+        if (origin) origin->push_back(std::uint32_t((*origin)[v]));
         mesh.positions.push_back(mesh.positions[v]);
         if (!mesh.uvs.empty()) mesh.uvs.push_back(mesh.uvs[v]);
         if (!mesh.colors.empty()) mesh.colors.push_back(mesh.colors[v]);

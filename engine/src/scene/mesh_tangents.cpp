@@ -36,7 +36,7 @@ V any_perpendicular(const V& n) {
 
 }  // namespace
 
-Status generate_tangents(Mesh& mesh) {
+Status generate_tangents(Mesh& mesh, std::vector<std::uint32_t>* origin) {
   const std::size_t n = mesh.vertex_count();
   if (mesh.uvs.size() != n || mesh.normals.size() != n) {
     return {ErrorCode::invalid_argument, "uvs", "uvs: tangents need one texture coordinate and one normal per vertex"};
@@ -73,6 +73,7 @@ Status generate_tangents(Mesh& mesh) {
         return {ErrorCode::invalid_argument, "positions", "positions: splitting mirrored seams exceeds 32-bit indices"};
       }
       twin[v] = static_cast<std::uint32_t>(mesh.positions.size());
+      if (origin) origin->push_back(std::uint32_t((*origin)[v]));
       mesh.positions.push_back(mesh.positions[v]);
       mesh.normals.push_back(mesh.normals[v]);
       mesh.uvs.push_back(mesh.uvs[v]);
