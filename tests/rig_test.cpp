@@ -10,6 +10,7 @@
 
 #include "facet/facet.hpp"
 #include "gltf_builder.hpp"
+#include "test_support.hpp"
 
 namespace facet {
 namespace {
@@ -225,6 +226,34 @@ TEST(RigPose, FramingCoversTheWholeAnimation) {
   EXPECT_LE(box->max.y(), 1.0 + std::sqrt(2.0) + 1e-6);
   EXPECT_EQ(m->pose.animation, -1);       // posed again as it was
   EXPECT_EQ(m->scene.meshes[m->scene.objects[0].mesh].mesh.positions[5], Vec3(1, 2, 0));
+}
+
+// A scene file imports the model posed: "animation" by name or index, "time" in seconds.
+TEST(RigPose, SceneFilesImportAPose) {
+  test::TempDir dir;
+  const std::string strip = test::data_dir() + "/gltf/bending_strip.gltf";
+  auto load = [&](const std::string& fields) {
+    test::write_text(dir / "posed.json", R"({ "imports": [ { "file": ")" + strip + "\" " + fields + " } ] }");
+    LoadOptions o;
+    o.assets.allowed_roots = {test::data_dir()};
+    return load_scene_file(dir / "posed.json", o);
+  };
+  Result<Scene> rest = load(""), bent = load(R"(, "animation": "bend", "time": 1)"), by_index = load(R"(, "animation": 0, "time": 1)");
+  ASSERT_TRUE(rest.ok()) << rest.status().message();
+  ASSERT_TRUE(bent.ok()) << bent.status().message();
+  ASSERT_TRUE(by_index.ok()) << by_index.status().message();
+  const Vec3 tip = bent->meshes[0].mesh.positions.back();  // (1, 2, 0) bent about (0, 1): (-1, 2)
+  EXPECT_NEAR(tip.x(), -1.0f, 1e-5f);
+  EXPECT_NEAR(tip.y(), 2.0f, 1e-5f);
+  EXPECT_EQ(rest->meshes[0].mesh.positions.back(), Vec3(1, 2, 0));
+  EXPECT_EQ(by_index->meshes[0].mesh.positions, bent->meshes[0].mesh.positions);
+  Result<Scene> wrong = load(R"(, "animation": "walk")");
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_NE(wrong.status().message().find("imports[0].animation"), std::string::npos) << wrong.status().message();
+  EXPECT_NE(wrong.status().message().find("bend"), std::string::npos) << wrong.status().message();
+  Result<Scene> bad_time = load(R"(, "time": "soon")");
+  ASSERT_FALSE(bad_time.ok());
+  EXPECT_NE(bad_time.status().message().find("imports[0].time"), std::string::npos) << bad_time.status().message();
 }
 
 }  // namespace

@@ -119,7 +119,7 @@ bool is_model_file(const std::string& path) {
 Scene load_for_render(const std::optional<std::string>& path, float aspect, const std::vector<std::string>& allow_paths,
                       bool strict = false, std::vector<std::string>* warnings = nullptr, const std::string& camera = "",
                       const ViewOptions& framing = {}, bool reframe = false, std::vector<std::string>* cameras = nullptr,
-                      bool gl_materials = false) {
+                      bool gl_materials = false, PyScene* motion = nullptr) {
   if (!path) {
     if (!camera.empty()) raise({ErrorCode::invalid_argument, "camera", "camera: picks one of a glTF file's cameras; no file was given"});
     Scene s = make_default_scene();
@@ -135,6 +135,7 @@ Scene load_for_render(const std::optional<std::string>& path, float aspect, cons
     Model m = value_or_raise(load_model(*path, mo));
     if (warnings) *warnings = m.warnings;
     if (cameras) *cameras = m.cameras;
+    if (motion) motion->rig = m.rig, motion->motion = m.motion, motion->file_camera = m.has_camera && !reframe;
     if (!m.has_camera || reframe) m.scene.camera = value_or_raise(frame_scene(m.scene, aspect, framing));
     if (!m.has_lights) add_default_lights(m.scene);
     return std::move(m.scene);
@@ -673,7 +674,7 @@ PYBIND11_MODULE(_facet, m) {
     }
     const ViewOptions framing = view_of(view.value_or(std::array<float, 2>{0, 0}), up, fov_deg.value_or(45.0f),
                                         projection.value_or("perspective"), 0.85f);
-    ps.scene = load_for_render(path, aspect, allow_paths, strict, &ps.warnings, camera, framing, reframe, &ps.cameras, gl_materials);
+    ps.scene = load_for_render(path, aspect, allow_paths, strict, &ps.warnings, camera, framing, reframe, &ps.cameras, gl_materials, &ps);
     ps.model = is_model_file(path);
     return ps;
   }, py::arg("path"), py::arg("aspect") = 16.0f / 9.0f, py::arg("allow_paths") = std::vector<std::string>{},
@@ -703,4 +704,5 @@ PYBIND11_MODULE(_facet, m) {
         "Lights every vertex of the scene (or model, or the built-in scene) again and again for `seconds`: vertices lit "
         "per second on one lighting path, ISA and pow method.");
   facet_py::bind_fields(m, scene_class);
+  facet_py::bind_animation(scene_class);
 }

@@ -4,6 +4,7 @@
 
 #include <pybind11/pybind11.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,10 @@ struct PyScene {
   std::vector<std::string> warnings;  // what loading read approximately or not at all
   std::vector<std::string> cameras;   // a loaded glTF file's cameras (Model::cameras)
   bool model = false;                 // loaded from a model (.gltf, .glb, .obj): Renderer's "auto" shading is Phong
+  // A loaded glTF model's motion (facet/animation.hpp): what Scene.pose reads.
+  std::shared_ptr<const Rig> rig;
+  MotionInfo motion;
+  bool file_camera = false;
 
   Scene& edit() {
     if (rendering > 0) {
@@ -44,6 +49,9 @@ struct PyScene {
     return scene;
   }
 };
+
+// Binds Scene.animations and Scene.pose (animation_module.cpp).
+void bind_animation(py::class_<PyScene>& scene_class);
 
 // Binds Scene.material / set_material / light / set_light and facet.fields (fields_module.cpp).
 void bind_fields(py::module_& m, py::class_<PyScene>& scene_class);

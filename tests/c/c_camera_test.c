@@ -20,6 +20,15 @@ static int covered(facet_scene* s, facet_renderer* r) {
   return n;
 }
 
+/* A hash of the whole picture (FNV-1a over its bytes). */
+static unsigned long long picture(facet_scene* s, facet_renderer* r) {
+  static unsigned char px[W * H * 4];
+  CHECK(facet_render(r, s, px, W, H, W * 4, FACET_RGBA8, 0, NULL, 0, NULL) == FACET_OK);
+  unsigned long long h = 1469598103934665603ull;
+  for (int i = 0; i < W * H * 4; ++i) h = (h ^ px[i]) * 1099511628211ull;
+  return h;
+}
+
 static facet_scene* quad_at(float z) {
   facet_scene* s = facet_scene_create();
   const float quad[] = {-1, -1, z, 1, -1, z, 1, 1, z, -1, 1, z};
@@ -100,6 +109,26 @@ int main(void) {
   CHECK(facet_scene_set_load_camera(s, NULL) == FACET_OK);
   CHECK(facet_scene_load_file(s, FACET_TEST_DATA_DIR "/gltf/two_cameras.gltf", 0, 0, 0) == FACET_OK);
   CHECK(facet_scene_get_projection(s, &p, &half) == FACET_OK && p == FACET_PROJECTION_PERSPECTIVE);
+  facet_scene_destroy(s);
+
+  /* An animated glTF: its animations listed, posed at a time, back at rest with -1. */
+  s = facet_scene_create();
+  CHECK(facet_scene_load_file(s, FACET_TEST_DATA_DIR "/gltf/bending_strip.gltf", FACET_LOAD_FRAME, 1.0f, 0) == FACET_OK);
+  CHECK(facet_scene_animation_count(s) == 2);
+  const char* name = NULL;
+  double start = -1, end = -1;
+  CHECK(facet_scene_animation_info(s, 1, &name, &start, &end) == FACET_OK);
+  CHECK(name && strcmp(name, "puff") == 0 && start == 0.0 && end == 2.0);
+  CHECK(facet_scene_animation_info(s, 2, &name, &start, &end) == FACET_INVALID_ARGUMENT);
+  const unsigned long long rest = picture(s, r);
+  CHECK(facet_scene_pose(s, 0, 1.0) == FACET_OK);
+  const unsigned long long bent = picture(s, r);
+  CHECK(bent != rest);
+  CHECK(facet_scene_pose(s, -1, 0.0) == FACET_OK);
+  CHECK(picture(s, r) == rest);
+  CHECK(facet_scene_pose(s, 2, 0.0) == FACET_INVALID_ARGUMENT);
+  CHECK(strstr(facet_scene_last_error(s), "out of range") != NULL);
+  CHECK(facet_scene_pose(s, 0, NAN) == FACET_INVALID_ARGUMENT);
   facet_scene_destroy(s);
   facet_renderer_destroy(r);
   if (failures) fprintf(stderr, "%d checks failed\n", failures);

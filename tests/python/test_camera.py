@@ -93,3 +93,29 @@ def test_auto_shading_lights_a_model_per_pixel_and_a_scene_file_per_vertex():
     assert (facet.render(width=64, height=36, threads=1) == facet.render(width=64, height=36, threads=1, shading="gouraud")).all()
     with pytest.raises(facet.Error, match="shading"):
         facet.Renderer(shading="per-pixel")
+
+
+STRIP = os.path.join(DATA, "gltf", "bending_strip.gltf")
+
+
+def test_an_animated_model_is_posed_by_index_name_and_time():
+    scene = facet.load(STRIP)
+    assert [a["name"] for a in scene.animations] == ["bend", "puff"]
+    assert scene.animations[1]["end_s"] == 2.0
+    renderer = facet.Renderer(threads=1)
+    rest = renderer.render(scene, 96, 96).tobytes()
+    scene.pose("bend", 1.0)
+    bent = renderer.render(scene, 96, 96).tobytes()
+    assert bent != rest
+    scene.pose(0, 5.0)  # clamped to the last key
+    assert renderer.render(scene, 96, 96).tobytes() == bent
+    scene.pose(None)
+    assert renderer.render(scene, 96, 96).tobytes() == rest
+    with pytest.raises(facet.Error, match="no animation 'walk'"):
+        scene.pose("walk")
+    with pytest.raises(facet.Error, match="out of range"):
+        scene.pose(7)
+    with pytest.raises(facet.Error, match="finite"):
+        scene.pose(0, float("nan"))
+    with pytest.raises(facet.Error, match="not loaded from a model that moves"):
+        facet.Scene().pose(0)

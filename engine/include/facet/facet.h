@@ -378,6 +378,17 @@ const char* facet_scene_warnings(const facet_scene* scene);
  * has. facet_scene_cameras lists the last loaded file's cameras, one a line ("" if none). */
 facet_status facet_scene_set_load_camera(facet_scene* scene, const char* camera);
 const char* facet_scene_cameras(const facet_scene* scene);
+
+/* A glTF model's animations (docs/animation.md), as the last facet_scene_load_file read them:
+ * how many, and each one's name (valid until the next load) and first and last keyframe in
+ * seconds. facet_scene_pose poses the model at `seconds` into `animation` (-1: the rest pose;
+ * times clamp to the keys): its objects move, its skinned and morphed meshes are rewritten, the
+ * file's camera and lights follow their nodes. Meshes and objects added after the load are left
+ * alone; after an object or light of the model is removed it fails (load again). */
+size_t facet_scene_animation_count(const facet_scene* scene);
+facet_status facet_scene_animation_info(facet_scene* scene, size_t index, const char** name, double* start_s,
+                                        double* end_s);
+facet_status facet_scene_pose(facet_scene* scene, int animation, double seconds);
 /* Which files facet_scene_load_file may read (facet/assets.hpp). By default a scene or model may
  * name files in its own folder only: no absolute path, no ".." that climbs out, no URI, no link
  * leading out. facet_scene_allow_path adds a folder whose files may be named too (NULL clears the

@@ -277,6 +277,7 @@ facet_status facet_scene_remove_light(facet_scene* scene, uint32_t light_id) {
     if (index == SIZE_MAX) return fail(scene->error, "light_id", "no light " + std::to_string(light_id));
     scene->scene.lights.erase(scene->scene.lights.begin() + static_cast<std::ptrdiff_t>(index));
     scene->light_ids.erase(scene->light_ids.begin() + static_cast<std::ptrdiff_t>(index));
+    scene->rig.reset();
     return report(scene->error, {});
   });
 }
@@ -434,6 +435,7 @@ facet_status facet_scene_remove_object(facet_scene* scene, uint32_t object_id) {
     if (index == SIZE_MAX) return fail(scene->error, "object_id", "no object " + std::to_string(object_id));
     scene->scene.objects.erase(scene->scene.objects.begin() + static_cast<std::ptrdiff_t>(index));
     scene->object_ids.erase(scene->object_ids.begin() + static_cast<std::ptrdiff_t>(index));
+    scene->rig.reset();
     return report(scene->error, {});
   });
 }
@@ -533,6 +535,9 @@ facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigne
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     facet::Scene loaded;
     std::string warnings, cameras;
+    std::shared_ptr<const facet::Rig> rig;
+    facet::MotionInfo motion;
+    bool file_camera = false;
     if (ext == ".gltf" || ext == ".glb" || ext == ".obj") {
       facet::ModelOptions o;
       o.memory_budget_bytes = memory_budget_bytes;
@@ -545,6 +550,7 @@ facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigne
       for (const std::string& w : model->warnings) warnings += w + "\n";
       for (const std::string& c : model->cameras) cameras += c + "\n";
       loaded = std::move(model->scene);
+      rig = model->rig, motion = model->motion, file_camera = model->has_camera;
       if (flags & FACET_LOAD_FRAME) {
         if (!model->has_camera) {
           facet::Result<facet::Camera> framed = facet::frame_scene(loaded, aspect);
@@ -566,6 +572,7 @@ facet_status facet_scene_load_file(facet_scene* scene, const char* path, unsigne
     scene->scene = std::move(loaded);
     scene->warnings = std::move(warnings);
     scene->cameras = std::move(cameras);
+    scene->rig = std::move(rig), scene->motion = std::move(motion), scene->file_camera = file_camera;
     scene->reset_ids();
     return report(scene->error, {});
   });

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <new>
 #include <tuple>
 #include <string>
@@ -39,6 +40,11 @@ struct facet_scene {
   // Cube faces made from an equirectangular texture: (texture id, face size, encoding) -> the
   // first face's id, so that asking again costs nothing.
   std::map<std::tuple<std::uint32_t, int, int>, std::uint32_t> equirect_faces;
+  // The last loaded model's motion (facet/animation.hpp): what facet_scene_pose reads. Dropped
+  // when an object or light the model placed is removed (their indices no longer match).
+  std::shared_ptr<const facet::Rig> rig;
+  facet::MotionInfo motion;
+  bool file_camera = false;
 
   // The index of an object or light id, or SIZE_MAX.
   static std::size_t index_of(const std::vector<std::uint32_t>& ids, std::uint32_t id) {

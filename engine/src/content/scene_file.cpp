@@ -589,7 +589,8 @@ class SceneReader : public scene_json::JsonFields {
   // with their names prefixed by the file name ("chair.obj:wood"), its objects transformed, its
   // lights added unless "lights" is false, its camera used when "camera" is true.
   Status read_import(const json& j, const std::string& p, bool scene_has_camera, Scene& scene) {
-    FACET_TRY(expect_object(j, p, {"file", "translate", "rotate_deg", "scale", "matrix", "lights", "camera", "allow_missing", "lightmaps", "gl_materials"}));
+    FACET_TRY(expect_object(j, p, {"file", "translate", "rotate_deg", "scale", "matrix", "lights", "camera", "allow_missing", "lightmaps", "gl_materials",
+                                  "animation", "time"}));
     if (!j.contains("file")) return invalid(child(p, "file"), "missing: the model file (.gltf, .glb or .obj)");
     std::string file;
     FACET_TRY(opt_string(j, p, "file", file));
@@ -618,6 +619,20 @@ class SceneReader : public scene_json::JsonFields {
     if (!model) return located(child(p, "file"), model.status().code(), child(p, "file") + ": " + model.status().message());
     if (options_.warning) {
       for (const std::string& w : model->warnings) options_.warning(p + ": " + w);
+    }
+    // "animation" (an index or a name) and "time" (seconds): the model's pose (facet/animation.hpp).
+    if (j.contains("animation") || j.contains("time")) {
+      std::string name = "0";
+      if (j.contains("animation") && j["animation"].is_number_unsigned()) name = std::to_string(j["animation"].get<std::uint64_t>());
+      else FACET_TRY(opt_string(j, p, "animation", name));
+      double seconds = std::numeric_limits<double>::quiet_NaN();
+      FACET_TRY(opt_number(j, p, "time", seconds));
+      Result<int> chosen = find_animation(*model, name);
+      if (!chosen) return located(child(p, "animation"), chosen.status().code(), child(p, "animation") + ": " + chosen.status().message());
+      PoseOptions po;
+      po.animation = *chosen;
+      if (std::isnan(seconds)) seconds = model->motion.animations[std::size_t(*chosen)].start_s;
+      if (Status s = pose_model(*model, seconds, po); !s.ok()) return located(child(p, "time"), s.code(), child(p, "time") + ": " + s.message());
     }
     Scene& m = model->scene;
     std::uint64_t bytes = 0;
