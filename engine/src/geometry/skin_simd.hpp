@@ -1,13 +1,18 @@
 // Internal: the morph and skinning kernels (skin.hpp) W vertices at a time, a template on the
 // xsimd architecture, included only by skin_{sse2,avx2,avx512}.cpp (each compiled with its ISA's
-// flags and -ffp-contract=off). The arithmetic is skin_math.hpp's, as in the scalar twin; the
-// joint matrices are gathered per lane (hardware gathers on avx2 and avx512); the tail of fewer
-// than W vertices runs through the same batch code on padded copies.
+// flags and -ffp-contract=off). The arithmetic is skin_math.hpp's, as in the scalar twin. Each
+// vertex's joint matrices are blended with whole-row vector loads (12 elements, k influences),
+// then the W blended matrices are turned into 12 element batches by 12 gathers from the stack
+// (gathering every joint's elements per lane instead takes 12 k gathers and was slower:
+// bench/results/2026-11-29-skinning.md); the position, normal and tangent math runs on the batches.
+// The tail of fewer than W vertices runs through the same code on padded copies.
 #pragma once
 
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+
+#include <immintrin.h>
 
 #include <xsimd/xsimd.hpp>
 
@@ -49,46 +54,98 @@ struct SkinKernel {
     }
   }
 
-  // W vertices from `first`: lanes past `count` read vertex `first` again and are not stored.
+  // W vertices from `first` (all present): streams loaded directly, joint indices widened in
+  // registers, the joints' matrices gathered element by element.
+  template <bool Full>
   static void block(const SkinJob& job, std::size_t first) {
-    const std::size_t n = job.count, live = std::min(W, n - first);
-    alignas(64) std::int32_t index[W];
-    alignas(64) float in[9][W], w[W];
-    auto load = [&](const float* s, float* lanes) {
+    const std::size_t n = job.count, live = Full ? W : n - first;
+    // A partial block reads padded copies: lanes past `live` repeat vertex `first`.
+    alignas(64) float pad[9][W];
+    auto stream = [&](const float* s, float* lanes) -> F {
+      if constexpr (Full) return F::load_unaligned(s + first);
       for (std::size_t l = 0; l < W; ++l) lanes[l] = s[first + (l < live ? l : 0)];
+      return F::load_aligned(lanes);
     };
-    skin_math::Blend<F> b;
-    const auto* matrices = reinterpret_cast<const std::int32_t*>(job.matrices);
-    for (int k = 0; k < job.influences; ++k) {
-      const std::uint16_t* jk = job.joints + std::size_t(k) * n;
-      for (std::size_t l = 0; l < W; ++l) index[l] = 12 * std::int32_t(jk[first + (l < live ? l : 0)]);
-      load(job.weights + std::size_t(k) * n, w);
-      const I at = I::load_aligned(index);
-      F j[12];
-      for (int e = 0; e < 12; ++e) j[e] = xsimd::bitwise_cast<F>(simd_util::gather32<Arch>(matrices + e, at));
-      const F wk = F::load_aligned(w);
-      if (k == 0) b.first(wk, j);
-      else b.add(wk, j);
+    // The blend, one vertex at a time across the matrix's 12 elements (the scalar twin's
+    // multiplies and adds, element by element), into `blended`; then element e of the W vertices
+    // gathered from there (12 gathers from L1 where gathering each joint's elements took 12 k).
+    alignas(64) float blended[W * 16];
+    for (std::size_t l = 0; l < W; ++l) {
+      const std::size_t v = first + (l < live ? l : 0);
+      blend_one(job, v, blended + 16 * l);
     }
-    for (int c = 0; c < 3; ++c) load(job.position[c], in[c]);
+    skin_math::Blend<F> b;
+    const I rows = I(16) * lane_index();
+    const auto* words = reinterpret_cast<const std::int32_t*>(blended);
+    for (int e = 0; e < 12; ++e) b.m[e] = xsimd::bitwise_cast<F>(simd_util::gather32<Arch>(words + e, rows));
     F p[3];
-    b.point(F::load_aligned(in[0]), F::load_aligned(in[1]), F::load_aligned(in[2]), p);
+    b.point(stream(job.position[0], pad[0]), stream(job.position[1], pad[1]), stream(job.position[2], pad[2]), p);
     store(p, job.out_position, 3, first, live);
     if (job.normal[0] && job.out_normal) {
-      for (int c = 0; c < 3; ++c) load(job.normal[c], in[3 + c]);
       F v[3];
-      const F x = F::load_aligned(in[3]), y = F::load_aligned(in[4]), z = F::load_aligned(in[5]);
+      const F x = stream(job.normal[0], pad[3]), y = stream(job.normal[1], pad[4]), z = stream(job.normal[2], pad[5]);
       if (job.normals == NormalTransform::cofactor) b.cofactor(x, y, z, v);
       else b.vector(x, y, z, v);
       skin_math::normalise(v);
       store(v, job.out_normal, 3, first, live);
     }
     if (job.tangent[0] && job.out_tangent) {
-      for (int c = 0; c < 3; ++c) load(job.tangent[c], in[6 + c]);
       F v[3];
-      b.vector(F::load_aligned(in[6]), F::load_aligned(in[7]), F::load_aligned(in[8]), v);
+      b.vector(stream(job.tangent[0], pad[6]), stream(job.tangent[1], pad[7]), stream(job.tangent[2], pad[8]), v);
       skin_math::normalise(v);
       store(v, job.out_tangent, 4, first, live);
+    }
+  }
+
+  static I lane_index() {
+    alignas(64) std::int32_t at[W];
+    for (std::size_t l = 0; l < W; ++l) at[l] = static_cast<std::int32_t>(l);
+    return I::load_aligned(at);
+  }
+
+  // out[e] = w0 J0[e], then out[e] = out[e] + wk Jk[e], for the 12 elements of vertex v's joints'
+  // 3x4 matrices: the products and sums of skin_math::Blend, in its order, 16, 8 or 4 elements at
+  // a time (explicit multiplies and adds: nothing to contract).
+  static void blend_one(const SkinJob& job, std::size_t v, float* out) {
+    const std::size_t n = job.count;
+    const float* m = job.matrices;
+    if constexpr (W == 16) {
+      const __mmask16 twelve = 0x0fff;
+      __m512 acc = _mm512_mul_ps(_mm512_set1_ps(job.weights[v]), _mm512_maskz_loadu_ps(twelve, m + 12 * std::size_t(job.joints[v])));
+      for (int k = 1; k < job.influences; ++k) {
+        const std::size_t at = std::size_t(k) * n + v;
+        acc = _mm512_add_ps(acc, _mm512_mul_ps(_mm512_set1_ps(job.weights[at]), _mm512_maskz_loadu_ps(twelve, m + 12 * std::size_t(job.joints[at]))));
+      }
+      _mm512_store_ps(out, acc);
+    } else if constexpr (W == 8) {
+      const float* j = m + 12 * std::size_t(job.joints[v]);
+      __m256 w = _mm256_set1_ps(job.weights[v]);
+      __m256 lo = _mm256_mul_ps(w, _mm256_loadu_ps(j));
+      __m128 hi = _mm_mul_ps(_mm256_castps256_ps128(w), _mm_loadu_ps(j + 8));
+      for (int k = 1; k < job.influences; ++k) {
+        const std::size_t at = std::size_t(k) * n + v;
+        j = m + 12 * std::size_t(job.joints[at]);
+        w = _mm256_set1_ps(job.weights[at]);
+        lo = _mm256_add_ps(lo, _mm256_mul_ps(w, _mm256_loadu_ps(j)));
+        hi = _mm_add_ps(hi, _mm_mul_ps(_mm256_castps256_ps128(w), _mm_loadu_ps(j + 8)));
+      }
+      _mm256_store_ps(out, lo);
+      _mm_store_ps(out + 8, hi);
+    } else {
+      const float* j = m + 12 * std::size_t(job.joints[v]);
+      __m128 w = _mm_set1_ps(job.weights[v]);
+      __m128 r0 = _mm_mul_ps(w, _mm_loadu_ps(j)), r1 = _mm_mul_ps(w, _mm_loadu_ps(j + 4)), r2 = _mm_mul_ps(w, _mm_loadu_ps(j + 8));
+      for (int k = 1; k < job.influences; ++k) {
+        const std::size_t at = std::size_t(k) * n + v;
+        j = m + 12 * std::size_t(job.joints[at]);
+        w = _mm_set1_ps(job.weights[at]);
+        r0 = _mm_add_ps(r0, _mm_mul_ps(w, _mm_loadu_ps(j)));
+        r1 = _mm_add_ps(r1, _mm_mul_ps(w, _mm_loadu_ps(j + 4)));
+        r2 = _mm_add_ps(r2, _mm_mul_ps(w, _mm_loadu_ps(j + 8)));
+      }
+      _mm_store_ps(out, r0);
+      _mm_store_ps(out + 4, r1);
+      _mm_store_ps(out + 8, r2);
     }
   }
 
@@ -101,7 +158,9 @@ struct SkinKernel {
   }
 
   static void skin(const SkinJob& job) {
-    for (std::size_t i = 0; i < job.count; i += W) block(job, i);
+    std::size_t i = 0;
+    for (; i + W <= job.count; i += W) block<true>(job, i);
+    if (i < job.count) block<false>(job, i);
   }
 };
 
