@@ -8,14 +8,15 @@
 
 namespace facet::cli {
 namespace {
-int compare(const std::vector<std::string>& files, int tolerance, bool json, const std::string& diff_path, int drawn_within);
+int compare(const std::vector<std::string>& files, int tolerance, bool json, const std::string& diff_path, int drawn_within,
+            int silhouette);
 }  // namespace
 
 Command add_compare(CLI::App& facet) {
   struct State {
     std::vector<std::string> files;
     std::string diff;
-    int tolerance = 0, drawn_within = -1;
+    int tolerance = 0, drawn_within = -1, silhouette = -1;
     bool json = false;
   };
   auto st = std::make_shared<State>();
@@ -35,7 +36,11 @@ Command add_compare(CLI::App& facet) {
                   "N: also measure over the pixels either image draws (not pure black in both: a comparison with another "
                   "renderer on a black background): their mean difference and the share within N steps in every channel")
       ->check(int_in(0, 255));
-  return {app, [st] { return compare(st->files, st->tolerance, st->json, st->diff, st->drawn_within); }};
+  app->add_option("--silhouette", st->silhouette,
+                  "N: also compare the silhouettes, the pixels with a channel above N steps (on a black background): "
+                  "the intersection over union of the two")
+      ->check(CLI::Range(0, 254));
+  return {app, [st] { return compare(st->files, st->tolerance, st->json, st->diff, st->drawn_within, st->silhouette); }};
 }
 
 namespace {
@@ -65,7 +70,23 @@ Drawn drawn_difference(const Rgba8Image& a, const Rgba8Image& b, int within) {
   return d;
 }
 
-int compare(const std::vector<std::string>& files, int tolerance, bool json, const std::string& diff_path, int drawn_within) {
+// The pixels each image draws (a channel above `above`): how many, and how many both draw.
+struct Silhouettes {
+  std::size_t a = 0, b = 0, both = 0;
+  double iou() const { return a + b - both ? double(both) / double(a + b - both) : 1.0; }
+};
+Silhouettes silhouettes(const Rgba8Image& a, const Rgba8Image& b, int above) {
+  Silhouettes s;
+  for (std::size_t i = 0; i < a.pixels.size(); i += 4) {
+    const bool in_a = std::max({a.pixels[i], a.pixels[i + 1], a.pixels[i + 2]}) > above;
+    const bool in_b = std::max({b.pixels[i], b.pixels[i + 1], b.pixels[i + 2]}) > above;
+    s.a += in_a, s.b += in_b, s.both += in_a && in_b;
+  }
+  return s;
+}
+
+int compare(const std::vector<std::string>& files, int tolerance, bool json, const std::string& diff_path, int drawn_within,
+            int silhouette) {
   Result<Rgba8Image> a = read_png(files[0]);
   if (!a) return fail(a.status().message());
   Result<Rgba8Image> b = read_png(files[1]);
@@ -94,13 +115,20 @@ int compare(const std::vector<std::string>& files, int tolerance, bool json, con
   const std::string psnr = std::isinf(d->psnr_db) ? "inf" : std::to_string(d->psnr_db);
   const Drawn drawn = drawn_within >= 0 ? drawn_difference(*a, *b, drawn_within) : Drawn{};
   const double close_share = drawn.pixels ? 100.0 * double(drawn.close) / double(drawn.pixels) : 100.0;
+  const Silhouettes shapes = silhouette >= 0 ? silhouettes(*a, *b, silhouette) : Silhouettes{};
   if (json) {
     std::string extra;
+    if (silhouette >= 0) {
+      char buffer[160];
+      std::snprintf(buffer, sizeof buffer, ", \"silhouette_above\": %d, \"silhouette_pixels\": [%zu, %zu], \"silhouette_iou\": %.6g", silhouette,
+                    shapes.a, shapes.b, shapes.iou());
+      extra += buffer;
+    }
     if (drawn_within >= 0) {
       char buffer[160];
       std::snprintf(buffer, sizeof buffer, ", \"drawn_pixels\": %zu, \"drawn_mean_difference\": %.6g, \"drawn_within\": %d, \"drawn_within_share\": %.6g",
                     drawn.pixels, drawn.mean, drawn_within, close_share / 100.0);
-      extra = buffer;
+      extra += buffer;
     }
     std::printf("{\"psnr_db\": %s, \"max_channel_difference\": %d, \"mean_absolute_difference\": %.6g, "
                 "\"differing_pixels\": %zu, \"pixels\": %zu, \"tolerance\": %d, \"match\": %s%s}\n",
@@ -116,6 +144,10 @@ int compare(const std::vector<std::string>& files, int tolerance, bool json, con
     if (drawn_within >= 0) {
       std::printf("drawn by either: %zu pixels, mean difference %.3g steps, %.1f %% within %d\n", drawn.pixels, drawn.mean,
                   close_share, drawn_within);
+    }
+    if (silhouette >= 0) {
+      std::printf("silhouettes (a channel above %d): %zu and %zu pixels, %zu in both: intersection over union %.4f\n", silhouette,
+                  shapes.a, shapes.b, shapes.both, shapes.iou());
     }
   }
   return match ? 0 : 1;
