@@ -187,6 +187,21 @@ TEST(RigPose, BadFilesAreRefusedByPath) {
       {"a matrix node animated", [](GltfBuilder& b) { b.doc["nodes"][2] = {{"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 1, 0, 1}}}; },
        "animations[0].channels[0].target.node"},
       {"a cycle", [](GltfBuilder& b) { b.doc["nodes"][2]["children"] = {1}; }, "nodes"},
+      {"a cycle outside the scene",
+       [](GltfBuilder& b) {
+         b.add("nodes", {{"children", {4}}});
+         b.add("nodes", {{"children", {3}}});
+       },
+       "nodes[3]: is in a cycle"},
+      {"two parents", [](GltfBuilder& b) { b.add("nodes", {{"children", {2}}}); }, "has two parents"},
+      {"a pose beyond float's range",
+       [](GltfBuilder& b) {
+         const std::vector<float> huge = {2e38f, 0, 0, 0, 0, 2e38f, 0, 0, 0, 0, 2e38f, 0, 0, 0, 0, 1,
+                                          2e38f, 0, 0, 0, 0, 2e38f, 0, 0, 0, 0, 2e38f, 0, 0, 0, 0, 1};
+         b.doc["skins"][0]["inverseBindMatrices"] = b.floats(huge, "MAT4", 16);
+         b.doc["nodes"][1]["scale"] = {10, 10, 10};
+       },
+       "out of float's range"},
       {"an unknown path", [](GltfBuilder& b) { b.doc["animations"][0]["channels"][0]["target"]["path"] = "colour"; },
        "animations[0].channels[0].target.path"},
   };

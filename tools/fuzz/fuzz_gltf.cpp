@@ -19,6 +19,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::size_t triangles = 0;
   for (const auto& m : model->scene.meshes) triangles += m.mesh.triangle_count();
   if (triangles > 20000) return 0;
+  // Posing: every animation (up to 4) at its ends, its middle and beyond; a pose either fails
+  // with a message or leaves a valid scene.
+  facet::Model posed = *model;
+  const int animations = static_cast<int>(std::min<std::size_t>(posed.motion.animations.size(), 4));
+  for (int a = -1; a < animations; ++a) {
+    const facet::AnimationInfo span = a >= 0 ? posed.motion.animations[std::size_t(a)] : facet::AnimationInfo{};
+    for (const double t : {span.start_s, 0.5 * (span.start_s + span.end_s), span.end_s, span.end_s + 1e6}) {
+      facet::PoseOptions po;
+      po.animation = a;
+      const facet::Status s = facet::pose_model(posed, t, po);
+      if (!s.ok() && s.message().empty()) facet::fuzz::broken("a pose error without a message");
+      if (s.ok() && !facet::validate_scene(posed.scene).ok()) facet::fuzz::broken("pose_model left an invalid scene");
+    }
+  }
   facet::Scene scene = model->scene;
   if (!model->has_camera) {
     facet::Result<facet::Camera> framed = facet::frame_scene(scene, 1.0f);

@@ -350,11 +350,11 @@ Status Reader::rig_nodes() {
     rig_->order.push_back(i);
     for (const std::uint32_t c : children[i]) queue.push_back(c);
   }
-  if (rig_->order.size() != count) {
+  if (rig_->order.size() != count) {  // a node no root reaches: in a cycle
+    std::vector<char> reached(count, 0);
+    for (const std::uint32_t i : rig_->order) reached[i] = 1;
     for (std::size_t i = 0; i < count; ++i) {
-      if (std::find(rig_->order.begin(), rig_->order.end(), static_cast<std::uint32_t>(i)) == rig_->order.end()) {
-        return f_.error(Fields::at("nodes", i), "is in a cycle of nodes: glTF's nodes form trees");
-      }
+      if (!reached[i]) return f_.error(Fields::at("nodes", i), "is in a cycle of nodes: glTF's nodes form trees");
     }
   }
   return {};

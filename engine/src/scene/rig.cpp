@@ -196,10 +196,25 @@ Status pose_model(Model& model, double seconds, const PoseOptions& options) {
   std::vector<Eigen::Matrix4d> world;
   std::vector<std::vector<float>> weights;
   pose_nodes(rig, options.animation, seconds, world, weights);
-  for (const Rig::Placed& p : rig.placed) scene.objects[p.object].model = to_float(world[p.node] * p.local);
+  // A pose that takes something out of float's range (keys or bind matrices so large their
+  // products overflow) is an error naming what, not a scene that fails to draw later.
+  const auto out_of_range = [&](const std::string& what) {
+    return Status{ErrorCode::invalid_argument, "seconds",
+                  "pose_model: at " + format_number(seconds) + " s the pose puts " + what + " out of float's range"};
+  };
+  for (const Rig::Placed& p : rig.placed) {
+    const Mat4 m = to_float(world[p.node] * p.local);
+    if (!m.allFinite()) return out_of_range("an object (node " + std::to_string(p.node) + ")");
+    scene.objects[p.object].model = m;
+  }
   for (const Rig::Deform& d : rig.deforms) {
-    scene.objects[d.object].model = d.skin >= 0 ? Mat4(Mat4::Identity()) : to_float(world[d.node]);
-    deform(rig, d, world, weights[d.node], options, scene.meshes[d.mesh].mesh);
+    const Mat4 m = d.skin >= 0 ? Mat4(Mat4::Identity()) : to_float(world[d.node]);
+    if (!m.allFinite()) return out_of_range("an object (node " + std::to_string(d.node) + ")");
+    scene.objects[d.object].model = m;
+    Mesh& mesh = scene.meshes[d.mesh].mesh;
+    deform(rig, d, world, weights[d.node], options, mesh);
+    for (const Vec3& v : mesh.positions)
+      if (!v.allFinite()) return out_of_range("vertices of " + quote(scene.meshes[d.mesh].name, 64));
   }
   for (const Rig::NodeLight& l : rig.lights) {
     const Eigen::Matrix4d& w = world[l.node];
