@@ -56,5 +56,6 @@ Status msaa_accuracy(bool quick, std::vector<Row>& rows);
 Status bake_accuracy(bool quick, std::vector<Row>& rows);
 Status pbr_accuracy(bool quick, std::vector<Row>& rows);
 Status ibl_accuracy(bool quick, std::vector<Row>& rows);
+Status skin_accuracy(bool quick, std::vector<Row>& rows);
 
 }  // namespace facet::cli

@@ -24,6 +24,8 @@
 //     them lies from a ray-cast shadow edge, PSNR against the ray-cast image, and ms per frame.
 //  6-7. Environment and bump maps per vertex and per pixel (see their functions).
 //  8. Multisampling: edge pixels at 1, 4, 8 and 16 samples against a 64-sample reference.
+//  9-12. Baking, PBR per vertex and per pixel, the prefilter, and skinned normals (cofactor
+//     against the plain 3x3, accuracy_skin.cpp).
 // Output: a table, or JSON (--json FILE) and CSV (--csv FILE). The measurements themselves are in
 // accuracy_*.cpp (accuracy.hpp lists them).
 #include <cstdio>
@@ -82,7 +84,7 @@ Command add_accuracy(CLI::App& facet) {
       "white furnace (B = E / (1 - albedo)) against the shots and time spent.");
   app->add_option("--only", st->only,
                   "vertices | pow | images | textures | shadows | environment | relief | msaa | bake | pbr | ibl (default: all eleven)")
-      ->check(one_of({"vertices", "pow", "images", "textures", "shadows", "environment", "relief", "msaa", "bake", "pbr", "ibl"}, "part"));
+      ->check(one_of({"vertices", "pow", "images", "textures", "shadows", "environment", "relief", "msaa", "bake", "pbr", "ibl", "skin"}, "part"));
   app->add_flag("--quick", st->quick, "fewer vertices (10^4) and tessellation levels, for tests");
   app->add_option("--json", st->json_path, "write all results as JSON to FILE");
   app->add_option("--csv", st->csv_path, "write all results as CSV (one row per measurement) to FILE");
@@ -121,6 +123,9 @@ int accuracy(const std::string& only, bool quick, bool check, const std::string&
   if (only.empty() || only == "ibl") {
     if (Status s = ibl_accuracy(quick, rows); !s.ok()) return fail(s.message());
   }
+  if (only.empty() || only == "skin") {
+    if (Status s = skin_accuracy(quick, rows); !s.ok()) return fail(s.message());
+  }
 
   int failures = 0;
   // The pow sweep has hundreds of rows: print only its failures and the worst case of each method
@@ -144,6 +149,7 @@ int accuracy(const std::string& only, bool quick, bool check, const std::string&
     if (r.kind == "texture") std::printf(" (%.1f M samples/s)", r.rate / 1e6);
     if (r.kind == "environment" || r.kind == "relief" || r.kind == "pbr") std::printf(" (%.1f %% of pixels within 2 steps; %.2f ms/frame)", 100.0 * r.share, r.ms_per_frame);
     if (r.kind == "ibl") std::printf(" (relative error in %%, not LSB; the build %.1f ms on one thread)", r.ms_per_frame);
+    if (r.kind == "skin") std::printf(" (normal angle in degrees, not LSB; %.1f M vertices skinned/s on one thread)", r.rate / 1e6);
     if (r.kind == "msaa") std::printf(" (%.1f %% of edge pixels within 8 steps; %.2f ms/frame)", 100.0 * r.share, r.ms_per_frame);
     if (r.kind == "bake") std::printf(" (%.3g %% of the power unshot; %.1f ms)", 100.0 * r.share, r.ms_per_frame);
     if (r.kind == "shadow") {
