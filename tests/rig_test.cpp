@@ -241,6 +241,23 @@ TEST(RigPose, FramingCoversTheWholeAnimation) {
   EXPECT_LE(box->max.y(), 1.0 + std::sqrt(2.0) + 1e-6);
   EXPECT_EQ(m->pose.animation, -1);       // posed again as it was
   EXPECT_EQ(m->scene.meshes[m->scene.objects[0].mesh].mesh.positions[5], Vec3(1, 2, 0));
+  // The framing of every pose's vertices: the bent poses reach x = -1, so the view is wider than
+  // the rest pose's, and every sampled pose's vertices lie within it.
+  Result<Camera> rest = frame_scene(m->scene, 1.0f), moving = frame_animation(*m, 1.0f, ViewOptions{}, po);
+  ASSERT_TRUE(rest.ok() && moving.ok());
+  EXPECT_GT((moving->eye - moving->target).norm(), (rest->eye - rest->target).norm());
+  EXPECT_EQ(m->pose.animation, -1);
+  const double half = std::tan(0.5 * double(moving->vertical_fov_deg) * std::numbers::pi / 180.0);
+  for (const double t : animation_sample_times(m->motion.animations[0], 16)) {
+    ASSERT_TRUE(pose_model(*m, t, po).ok());
+    for (const Vec3& p : m->scene.meshes[m->scene.objects[0].mesh].mesh.positions) {
+      // The camera looks along -z from +z (the default view): the point's slope from the axis.
+      const Eigen::Vector3d rel = (p - moving->eye).cast<double>();
+      const double depth = -rel.z();
+      EXPECT_LE(std::abs(rel.x()) / depth, half * (1 + 1e-6));
+      EXPECT_LE(std::abs(rel.y()) / depth, half * (1 + 1e-6));
+    }
+  }
 }
 
 // A scene file imports the model posed: "animation" by name or index, "time" in seconds.

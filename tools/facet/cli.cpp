@@ -431,10 +431,10 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
       return std::nullopt;
     }
   }
-  // An animated model is framed over its animation (the union of its poses' boxes at 32 times):
-  // it does not walk out of the picture.
-  std::optional<Bounds> moving;
-  if (input.animation >= 0 && (!model->has_camera || options.reframe)) {
+  // An animated model is framed over its animation (every vertex of its poses at 16 times): it
+  // does not walk out of the picture; its box over 32 times is what a turntable turns about.
+  std::optional<Camera> moving_camera;
+  if (input.animation >= 0) {
     PoseOptions po;
     po.animation = input.animation;
     Result<Bounds> box = animation_bounds(*model, po);
@@ -442,27 +442,20 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
       fail(path + ": " + box.status().message());
       return std::nullopt;
     }
-    moving = *box;
-  }
-  if (input.animation >= 0) {
-    PoseOptions po;
-    po.animation = input.animation;
-    Result<Bounds> box = moving ? Result<Bounds>(*moving) : animation_bounds(*model, po);
-    if (!box) {
-      fail(path + ": " + box.status().message());
-      return std::nullopt;
-    }
     input.moving = *box;
+    if (!model->has_camera || options.reframe) {
+      Result<Camera> framed = frame_animation(*model, options.aspect, options.view, po);
+      if (!framed) {
+        fail(path + ": " + framed.status().message());
+        return std::nullopt;
+      }
+      moving_camera = *framed;
+    }
   }
   input.scene = std::move(model->scene);
   Scene& scene = input.scene;
-  if (moving && !moving->empty()) {
-    Result<Camera> framed = frame_bounds(*moving, options.aspect, options.view);
-    if (!framed) {
-      fail(path + ": " + framed.status().message());
-      return std::nullopt;
-    }
-    scene.camera = *framed;
+  if (moving_camera) {
+    scene.camera = *moving_camera;
     notes.push_back(std::string(model->has_camera ? "--view, --fov, --projection or --ignore-camera" : "no camera in the file") +
                     ": framing the whole animation: " + describe_camera(scene.camera));
     input.framed = true;

@@ -169,7 +169,9 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
   if (bounds.empty()) return fail("--frames: the scene has no vertices to turn around");
   const Vec3 centre = ((bounds.min.cast<double>() + bounds.max.cast<double>()) * 0.5).cast<float>();
   Camera start = scene.camera;
-  if (input.framed) {
+  // An animation with the camera still keeps the framing of its poses (load_input's).
+  const bool still = animated && t.orbit_deg == 0.0;
+  if (input.framed && !still) {
     // The farthest of every frame's framing distances, so that each frame holds the whole model.
     double distance = 0.0;
     for (int k = 0; k < t.frames; ++k) {
@@ -204,7 +206,7 @@ int run_turntable(Renderer& renderer, Input& input, const InputOptions& in, cons
       if (Status s = pose_input(input, time); !s.ok()) return fail(s.message());
       if (input.file_camera) start = scene.camera;  // the file's camera where its node is now
     }
-    scene.camera = orbit_camera(start, centre, in.view.up, static_cast<float>(angle));
+    scene.camera = still ? start : orbit_camera(start, centre, in.view.up, static_cast<float>(angle));
     for (std::size_t i = 0; i < scene.lights.size(); ++i) {
       const bool turn = t.lights == TurnLights::camera || (t.lights == TurnLights::automatic && i >= input.rig_first);
       if (turn) scene.lights[i] = orbit_light(start_lights[i], centre, in.view.up, static_cast<float>(angle));

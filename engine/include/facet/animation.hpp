@@ -84,4 +84,12 @@ std::vector<double> animation_sample_times(const AnimationInfo& animation, int c
 // model or animation -1, the box of that pose.
 Result<Bounds> animation_bounds(Model& model, const PoseOptions& options, int count = 32);
 
+// frame_scene (facet/model.hpp) over the whole animation: a camera that frames every vertex of
+// the poses at animation_sample_times(count), so that the model does not leave the picture; the
+// model is posed again as it was. Animation -1: frame_scene of the rest pose.
+struct Camera;
+struct ViewOptions;
+Result<Camera> frame_animation(Model& model, float aspect, const ViewOptions& view, const PoseOptions& options,
+                               int count = 16);
+
 }  // namespace facet

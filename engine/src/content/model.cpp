@@ -238,6 +238,32 @@ Result<Camera> frame_scene(const Scene& scene, float aspect, const ViewOptions& 
   return frame_points([&](auto fn) { for_each_world_vertex(scene, fn); }, aspect, view);
 }
 
+Result<Camera> frame_animation(Model& model, float aspect, const ViewOptions& view, const PoseOptions& options, int count) {
+  if (options.animation < 0 || options.animation >= static_cast<int>(model.motion.animations.size())) {
+    if (Status s = pose_model(model, 0.0, options); !s.ok()) return s;
+    return frame_scene(model.scene, aspect, view);
+  }
+  const PoseOptions was = model.pose;
+  const double was_seconds = model.pose_seconds;
+  const std::vector<double> times = animation_sample_times(model.motion.animations[std::size_t(options.animation)], count);
+  Status failed;
+  Result<Camera> framed = frame_points(
+      [&](auto fn) {
+        for (const double t : times) {
+          if (!failed.ok()) return;
+          if (Status s = pose_model(model, t, options); !s.ok()) {
+            failed = s;
+            return;
+          }
+          for_each_world_vertex(model.scene, fn);
+        }
+      },
+      aspect, view);
+  if (Status s = pose_model(model, was_seconds, was); !s.ok() && failed.ok()) failed = s;
+  if (!failed.ok()) return failed;
+  return framed;
+}
+
 Result<Camera> frame_bounds(const Bounds& bounds, float aspect, const ViewOptions& view) {
   return frame_points(
       [&](auto fn) {
