@@ -8,7 +8,7 @@ Commands are the lines of ``` blocks that start with `facet ` or `build/bin/face
 `python3 -m facet.sweep ` when PYTHONPATH holds the bindings), and whole commands quoted in the
 text (`facet render|check|bake|light` with a .json, .gltf, .glb or .obj file). Synopses (with [ ] or |), printed
 output (`facet render: ...`) and C++ are not commands. Each runs in WORK, where the names the docs
-use stand for small real files: model.glb, model.gltf, model.obj, scene.json, and the repository's
+use stand for small real files: model.glb, model.gltf, model.obj, animated.glb, scene.json, and the repository's
 tests/data. Every command must exit 0 (bakes run with at most 2000 radiosity shots: the README's
 bake of the Cornell box takes 90 s to converge, and what is checked here is its options and files). Not run: tools/run and tools/test (CI runs tools/test
 itself, and tools/run's render is the built-in scene's), tools/charts (minutes of benchmarks),
@@ -80,6 +80,7 @@ def prepare(source, work):
     shutil.copytree(os.path.join(source, "tests", "data"), os.path.join(work, "tests", "data"))
     data = os.path.join(source, "tests", "data")
     glb_from_gltf(os.path.join(data, "gltf", "tetrahedron_camera.gltf"), os.path.join(work, "model.glb"))
+    glb_from_gltf(os.path.join(data, "gltf", "bending_strip.gltf"), os.path.join(work, "animated.glb"))
     shutil.copy(os.path.join(data, "gltf", "relief_cube.gltf"), os.path.join(work, "model.gltf"))
     shutil.copy(os.path.join(data, "obj", "tetrahedron.obj"), os.path.join(work, "model.obj"))
     scene = json.load(open(os.path.join(data, "scenes", "example.json")))
