@@ -21,9 +21,12 @@ Result<Model> parse_rig_text(const std::string& text) {
   return parse_gltf(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), "rig.gltf", "");
 }
 
-// A node whose quad turns about +Y from 0 to 90 degrees over 1 s, with `interpolation`.
+// A node whose quad turns about +Y from 0 to 90 degrees over 1 s, with `interpolation`, below a
+// parent node 3 along +X.
 GltfBuilder turning_quad(const char* interpolation) {
   GltfBuilder b = test::quad();
+  b.doc["nodes"].push_back({{"children", {0}}, {"translation", {3, 0, 0}}});
+  b.doc["scenes"][0]["nodes"] = {1};
   const double h = std::sqrt(0.5);
   const int times = b.floats({0.0f, 1.0f}, "SCALAR", 1);
   std::vector<float> keys = {0, 0, 0, 1, 0, float(h), 0, float(h)};
@@ -61,6 +64,7 @@ TEST(RigPose, ANodeTurnsAsItsKeysSay) {
         want = 2.0 * std::atan2(bw * h, aw + bw * h) * 180.0 / std::numbers::pi;
       }
       EXPECT_NEAR(yaw_deg(m->scene.objects[0]), want, 1e-4) << "t = " << t;
+      EXPECT_EQ(m->scene.objects[0].model(0, 3), 3.0f);  // the parent's translation, composed
     }
   }
 }
@@ -134,6 +138,24 @@ TEST(RigPose, ATwoJointSkinBendsByItsAngle) {
   const double c = std::cos(std::numbers::pi / 4), s = std::sin(std::numbers::pi / 4);
   EXPECT_NEAR(mesh.positions[5].x(), c * 1 - s * 1, 1e-6);
   EXPECT_NEAR(mesh.positions[5].y(), 1 + s * 1 + c * 1, 1e-6);
+}
+
+TEST(RigPose, WeightsThatDoNotAddUpToOneAreRenormalised) {
+  GltfBuilder b = bending_strip();
+  // The top row's weights halved: renormalised to 1, it still follows joint 1 all the way.
+  const std::vector<float> weights = {1, 0, 0, 0, 1, 0, 0, 0, 0.5f, 0.5f, 0, 0, 0.5f, 0.5f, 0, 0, 0, 0.5f, 0, 0, 0, 0.5f, 0, 0};
+  b.doc["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = b.vec4(weights);
+  Result<Model> m = parse_rig_text(b.embedded());
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  bool warned = false;
+  for (const std::string& w : m->warnings) warned |= w.find("2 vertices' weights do not add up to 1") != std::string::npos;
+  EXPECT_TRUE(warned);
+  PoseOptions po;
+  po.animation = 0;
+  ASSERT_TRUE(pose_model(*m, 1.0, po).ok());
+  const Mesh& mesh = m->scene.meshes[m->scene.objects[0].mesh].mesh;
+  EXPECT_NEAR(mesh.positions[4].x(), -1.0, 1e-6);
+  EXPECT_NEAR(mesh.positions[4].y(), 1.0, 1e-6);
 }
 
 TEST(RigPose, AMorphTargetMovesByItsWeight) {
