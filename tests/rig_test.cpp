@@ -1,6 +1,7 @@
 // Posing glTF models (facet/animation.hpp): a node's keyframes, a two-joint skin bent by a known
 // angle and a morph target at chosen weights, all against closed forms; the three pose paths;
 // bad files refused by JSON path.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -235,6 +236,32 @@ TEST(RigPose, BadFilesAreRefusedByPath) {
     ASSERT_FALSE(m.ok());
     EXPECT_NE(m.status().message().find(c.expect), std::string::npos) << m.status().message();
   }
+}
+
+TEST(RigPose, APosedModelIsTheSameBytesForAnyThreadCount) {
+  Result<Model> m = parse_rig_text(bending_strip().embedded());
+  ASSERT_TRUE(m.ok());
+  PoseOptions po;
+  po.animation = 0;
+  ASSERT_TRUE(pose_model(*m, 0.6, po).ok());
+  m->scene.camera = *frame_scene(m->scene, 1.0f);
+  Light sun;  // a light of its own: the studio's prefiltering would dominate the test's time
+  sun.type = LightType::directional;
+  sun.direction = Vec3(0.3f, -0.5f, -1.0f).normalized();
+  m->scene.lights.push_back(sun);
+  std::vector<std::uint8_t> pictures[3];
+  for (int threads : {1, 2, 3}) {
+    std::vector<std::uint8_t>& px = pictures[threads - 1];
+    px.assign(96 * 96 * 4, 0);
+    RenderOptions o;
+    o.threads = threads;
+    o.shading = ShadingMode::phong;
+    Renderer r(o);
+    ASSERT_TRUE(r.render(m->scene, {px.data(), 96, 96, 96 * 4, PixelFormat::rgba8, false}).ok());
+  }
+  EXPECT_EQ(pictures[0], pictures[1]);
+  EXPECT_EQ(pictures[0], pictures[2]);
+  EXPECT_NE(std::count(pictures[0].begin(), pictures[0].end(), 0), static_cast<long>(pictures[0].size()));
 }
 
 TEST(RigPose, PosingRefusesWhatIsNotThere) {
