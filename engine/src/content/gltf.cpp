@@ -245,7 +245,7 @@ Status Reader::walk(std::size_t scene_index) {
     FACET_TRY(f_.object(node, p, "extensions", ext));
     const Json* instancing = ext ? Fields::find(*ext, "EXT_mesh_gpu_instancing") : nullptr;
     bool deformed = false;
-    if (mesh >= 0) FACET_TRY(deforms(mesh, skin, p, deformed));
+    if (mesh >= 0) FACET_TRY(deforms(mesh, skin, deformed));
     if (deformed) {
       if (instancing) warn(p + ".extensions.EXT_mesh_gpu_instancing: not read for a skinned or morphed mesh; drawn once");
       FACET_TRY(add_deformed(mesh, skin, n, p, world));

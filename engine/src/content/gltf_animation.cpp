@@ -28,7 +28,7 @@ std::size_t target_count(const Json& mesh) {
 
 }  // namespace
 
-Status Reader::deforms(int mesh, int skin, const std::string& node_path, bool& out) {
+Status Reader::deforms(int mesh, int skin, bool& out) {
   out = false;
   const Json* prims = Fields::find(doc_.item("meshes", static_cast<std::size_t>(mesh)), "primitives");
   if (!prims || !prims->is_array()) return {};  // add_mesh_instances names it
@@ -50,7 +50,6 @@ Status Reader::deforms(int mesh, int skin, const std::string& node_path, bool& o
     const Json* a = Fields::find(prim, "attributes");
     if (skin >= 0 && a && a->is_object() && Fields::find(*a, "JOINTS_0") && Fields::find(*a, "WEIGHTS_0")) out = true;
   }
-  (void)node_path;
   return {};
 }
 

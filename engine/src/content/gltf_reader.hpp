@@ -77,7 +77,7 @@ class Reader {
   // gltf_animation.cpp: what moves (scene/rig.hpp)
   // Whether meshes[mesh] is drawn deformed by a node with `skin` (-1: none): it has morph targets,
   // or the skin and JOINTS_0/WEIGHTS_0.
-  Status deforms(int mesh, int skin, const std::string& node_path, bool& out);
+  Status deforms(int mesh, int skin, bool& out);
   Status add_deformed(int mesh, int skin, std::size_t node, const std::string& node_path, const Eigen::Matrix4d& world);
   Status place(std::size_t node, std::size_t first_object, const Eigen::Matrix4d& world);
   Status read_skin(int skin, int& rig_skin);

@@ -187,9 +187,11 @@ Status pose_model(Model& model, double seconds, const PoseOptions& options) {
   if (options.path != PosePath::simd && options.path != PosePath::scalar && options.path != PosePath::reference) {
     return {ErrorCode::invalid_argument, "path", "pose_model: unknown path"};
   }
-  model.pose = options;
-  model.pose_seconds = seconds;
-  if (!model.rig) return {};
+  if (!model.rig) {
+    model.pose = options;
+    model.pose_seconds = seconds;
+    return {};
+  }
   const Rig& rig = *model.rig;
   Scene& scene = model.scene;
   if (Status s = check_scene(rig, scene); !s.ok()) return s;
@@ -232,6 +234,8 @@ Status pose_model(Model& model, double seconds, const PoseOptions& options) {
       scene.camera.up = up.normalized().cast<float>();
     }
   }
+  model.pose = options;
+  model.pose_seconds = seconds;
   return {};
 }
 
