@@ -159,6 +159,21 @@ TEST(RigPose, WeightsThatDoNotAddUpToOneAreRenormalised) {
   EXPECT_NEAR(mesh.positions[4].y(), 1.0, 1e-6);
 }
 
+TEST(RigPose, AMorphedNodeScaledToNothingIsNotDrawn) {
+  GltfBuilder b;
+  const int pos = b.vec3(test::kQuadPositions);
+  const int delta = b.vec3({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1});
+  b.add("meshes", {{"primitives", {{{"attributes", {{"POSITION", pos}}}, {"indices", b.indices16(test::kQuadIndices)},
+                                    {"targets", {{{"POSITION", delta}}}}}}}});
+  b.add("nodes", {{"mesh", 0}, {"scale", {0, 1, 1}}});
+  b.add("scenes", {{"nodes", {0}}});
+  Result<Model> m = parse_rig_text(b.embedded());
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_TRUE(m->scene.objects.empty());
+  ASSERT_FALSE(m->warnings.empty());
+  EXPECT_NE(m->warnings.back().find("singular"), std::string::npos) << m->warnings.back();
+}
+
 TEST(RigPose, AMorphTargetMovesByItsWeight) {
   GltfBuilder b;
   const int pos = b.vec3(test::kQuadPositions);

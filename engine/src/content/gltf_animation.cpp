@@ -214,6 +214,12 @@ Status Reader::add_deformed(int mesh_id, int skin, std::size_t node, const std::
     const bool skinned = rig_skin >= 0 && attrs && Fields::find(*attrs, "JOINTS_0") && Fields::find(*attrs, "WEIGHTS_0");
     const Json* targets = Fields::find(prim, "targets");
     const bool morphed = targets && !targets->empty();
+    // Placed by the node's matrix (a skinned mesh is placed by its joints instead): a singular one
+    // draws nothing, as add_mesh_instances says.
+    if (!skinned && !(std::abs(world.topLeftCorner<3, 3>().determinant()) > 1e-30)) {
+      warn(node_path + ": its world matrix is singular (a zero scale); its mesh is not drawn");
+      continue;
+    }
     if (origin == origins_.end() || (!skinned && !morphed)) {  // this primitive is drawn rigid
       Instance inst;
       inst.mesh = mesh_index, inst.material = material_index, inst.double_sided = double_sided;
