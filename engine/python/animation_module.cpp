@@ -27,11 +27,9 @@ void bind_animation(py::class_<PyScene>& scene_class) {
         if (!ps.rig) {
           raise({ErrorCode::invalid_argument, "animation", "animation: the scene was not loaded from a model that moves"});
         }
-        Model shell;
-        shell.motion = ps.motion;
         int index = -1;
         if (py::isinstance<py::str>(animation)) {
-          Result<int> found = find_animation(shell, animation.cast<std::string>());
+          Result<int> found = find_animation(ps.motion, animation.cast<std::string>());
           if (!found) raise(found.status());
           index = *found;
         } else if (!animation.is_none()) {
@@ -39,14 +37,9 @@ void bind_animation(py::class_<PyScene>& scene_class) {
         }
         if (time && !std::isfinite(*time)) raise({ErrorCode::invalid_argument, "time", "time: not a finite number"});
         const double seconds = time ? *time : (index >= 0 && std::size_t(index) < ps.motion.animations.size() ? ps.motion.animations[std::size_t(index)].start_s : 0.0);
-        shell.scene = std::move(s);
-        shell.rig = ps.rig;
-        shell.has_camera = ps.file_camera;
         PoseOptions po;
         po.animation = index;
-        const Status st = pose_model(shell, seconds, po);
-        s = std::move(shell.scene);
-        if (!st.ok()) raise(st);
+        if (const Status st = pose_scene(s, ps.rig.get(), ps.file_camera, seconds, po); !st.ok()) raise(st);
       }, py::arg("animation") = 0, py::arg("time") = py::none(),
         "Poses a loaded glTF model at `time` seconds into `animation` (an index, a name, or None for the rest pose; "
         "time defaults to the animation's first key and clamps to its keys): objects move, skinned and morphed meshes are "

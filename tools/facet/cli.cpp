@@ -1,6 +1,7 @@
 #include "cli.hpp"
 
 #include "common/format.hpp"
+#include "common/try.hpp"
 
 #include <cerrno>
 #include <cstring>
@@ -474,17 +475,11 @@ std::optional<Input> load_input(const std::string& path, const InputOptions& opt
 
 Status pose_input(Input& input, double seconds) {
   if (!input.rig) return {};
-  Model shell;
-  shell.scene = std::move(input.scene);
-  shell.rig = input.rig;
-  shell.motion = input.motion;
-  shell.has_camera = input.file_camera;
   PoseOptions po;
   po.animation = input.animation;
-  Status s = pose_model(shell, seconds, po);
-  input.scene = std::move(shell.scene);
-  if (s.ok()) input.seconds = seconds;
-  return s;
+  FACET_TRY(pose_scene(input.scene, input.rig.get(), input.file_camera, seconds, po));
+  input.seconds = seconds;
+  return {};
 }
 
 std::vector<std::string> describe_motion(const MotionInfo& motion) {

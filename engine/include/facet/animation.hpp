@@ -72,8 +72,15 @@ struct PoseOptions {
 // range, a time that is not finite. A model with nothing that moves is left as it is.
 Status pose_model(Model& model, double seconds, const PoseOptions& options = {});
 
+// pose_model for a host that keeps a model's scene apart from its Model (the C and Python
+// bindings, facet's CLI): the scene `rig` was read with (null: nothing moves), whose camera is the
+// file's when `file_camera`.
+struct Scene;
+Status pose_scene(Scene& scene, const Rig* rig, bool file_camera, double seconds, const PoseOptions& options = {});
+
 // An animation by index ("0") or by name; the index, or an error listing the model's animations.
 Result<int> find_animation(const Model& model, std::string_view index_or_name);
+Result<int> find_animation(const MotionInfo& motion, std::string_view index_or_name);
 
 // The times at which framing samples an animation: `count` (at least 2) times spread evenly from
 // its first to its last key, both included.

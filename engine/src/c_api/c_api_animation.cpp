@@ -35,17 +35,9 @@ facet_status facet_scene_pose(facet_scene* scene, int animation, double seconds)
       }
       return fail(scene->error, "scene", "an object or light of the loaded model was removed; load it again to pose it");
     }
-    // pose_model works on a Model: the scene's contents are lent to one and given back.
-    facet::Model shell;
-    shell.scene = std::move(scene->scene);
-    shell.rig = scene->rig;
-    shell.motion = scene->motion;
-    shell.has_camera = scene->file_camera;
     facet::PoseOptions options;
     options.animation = animation;
-    const facet::Status s = facet::pose_model(shell, seconds, options);
-    scene->scene = std::move(shell.scene);
-    return report(scene->error, s);
+    return report(scene->error, facet::pose_scene(scene->scene, scene->rig.get(), scene->file_camera, seconds, options));
   });
 }
 

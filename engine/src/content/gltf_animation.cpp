@@ -255,6 +255,12 @@ Status Reader::add_deformed(int mesh_id, int skin, std::size_t node, const std::
       info.vertices += n;
       info.influences = std::max(info.influences, d.influences);
     }
+    if (!skinned) {  // one joint, the identity, at weight 1: the skin kernel renormalises the morphed normals
+      FACET_TRY(reserve(std::uint64_t(n) * 6, node_path + ".mesh"));
+      d.influences = 1;
+      d.joints.assign(n, 0);
+      d.weights.assign(n, 1.0f);
+    }
     if (morphed) {
       ++out_.motion.morphed_meshes;
       out_.motion.morph_targets += d.targets.size();

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/format.hpp"
+#include "common/try.hpp"
 #include "facet/model.hpp"
 #include "geometry/skin.hpp"
 
@@ -74,37 +75,30 @@ Status check_scene(const Rig& rig, const Scene& scene) {
   return {};
 }
 
-// A deformed mesh at the nodes' pose: morph targets, then the skin (or the identity, which
-// renormalises morphed normals and tangents).
+// A deformed mesh at the nodes' pose: morph targets (those of non-zero weight), then the skin (a
+// mesh that is only morphed has one joint, the identity, which renormalises its normals and
+// tangents).
 void deform(const Rig& rig, const Rig::Deform& d, const std::vector<Eigen::Matrix4d>& world,
             const std::vector<float>& weights, const PoseOptions& options, Mesh& mesh) {
   const std::size_t n = d.count;
+  const bool scalar = options.path != PosePath::simd;
   std::vector<float> morphed[9];
   const float* in[9];
   for (int c = 0; c < 9; ++c) in[c] = d.rest[c].empty() ? nullptr : d.rest[c].data();
   std::vector<geometry::MorphTarget> targets;
-  for (std::size_t t = 0; t < d.targets.size() && t < weights.size(); ++t) {
-    if (weights[t] == 0.0f) continue;  // a frame pays only for the targets it shows
-    targets.emplace_back();
-    targets.back().weight = weights[t];
-  }
-  const Isa isa = options.path == PosePath::simd ? Isa::best : Isa::sse2;
-  for (int group = 0; group < 3 && !targets.empty(); ++group) {
+  for (int group = 0; group < 3; ++group) {  // positions, normals, tangents
     if (!in[3 * group]) continue;
+    targets.clear();
+    for (std::size_t t = 0; t < d.targets.size() && t < weights.size(); ++t) {
+      if (weights[t] == 0.0f || !((d.target_kinds[t] >> group) & 1)) continue;  // a frame pays only for what it shows
+      geometry::MorphTarget mt;
+      mt.weight = weights[t];
+      for (int c = 0; c < 3; ++c) mt.delta[c] = d.targets[t].data() + std::size_t(3 * group + c) * n;
+      targets.push_back(mt);
+    }
+    if (targets.empty()) continue;
     geometry::MorphJob job;
     job.count = n;
-    bool any = false;
-    for (std::size_t t = 0, u = 0; t < d.targets.size() && t < weights.size(); ++t) {
-      if (weights[t] == 0.0f) continue;
-      geometry::MorphTarget& mt = targets[u++];
-      for (int c = 0; c < 3; ++c) {
-        const std::vector<float>& stream = d.targets[t];
-        const bool has = (d.target_kinds[t] >> group) & 1;
-        mt.delta[c] = has ? stream.data() + std::size_t(3 * group + c) * n : nullptr;
-        any = any || has;
-      }
-    }
-    if (!any) continue;
     for (int c = 0; c < 3; ++c) {
       morphed[3 * group + c].resize(n);
       job.base[c] = in[3 * group + c];
@@ -113,17 +107,12 @@ void deform(const Rig& rig, const Rig::Deform& d, const std::vector<Eigen::Matri
     }
     job.targets = targets.data();
     job.target_count = targets.size();
-    if (options.path == PosePath::scalar || options.path == PosePath::reference) geometry::morph_scalar(job);
-    else geometry::morph(job, isa);
+    if (scalar) geometry::morph_scalar(job);
+    else geometry::morph(job, Isa::best);
   }
-  std::vector<float> matrices;
-  std::vector<double> matrices_d;
-  std::vector<std::uint16_t> zero_joints;
-  std::vector<float> unit_weights;
-  geometry::SkinJob job;
-  job.count = n;
-  for (int c = 0; c < 3; ++c) job.position[c] = in[c], job.normal[c] = in[3 + c], job.tangent[c] = in[6 + c];
-  job.normals = options.normals;
+  static constexpr float kIdentity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  std::vector<float> matrices(kIdentity, kIdentity + 12);
+  std::vector<double> matrices_d(kIdentity, kIdentity + 12);
   if (d.skin >= 0) {
     const Rig::Skin& skin = rig.skins[static_cast<std::size_t>(d.skin)];
     matrices.resize(12 * skin.joints.size());
@@ -133,26 +122,21 @@ void deform(const Rig& rig, const Rig::Deform& d, const std::vector<Eigen::Matri
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 4; ++c) matrices_d[12 * j + 4 * r + c] = m(r, c), matrices[12 * j + 4 * r + c] = float(m(r, c));
     }
-    job.influences = d.influences;
-    job.joints = d.joints.data();
-    job.weights = d.weights.data();
-    job.joint_count = skin.joints.size();
-  } else {
-    matrices = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
-    matrices_d.assign(matrices.begin(), matrices.end());
-    zero_joints.assign(n, 0);
-    unit_weights.assign(n, 1.0f);
-    job.influences = 1;
-    job.joints = zero_joints.data();
-    job.weights = unit_weights.data();
-    job.joint_count = 1;
   }
+  geometry::SkinJob job;
+  job.count = n;
+  for (int c = 0; c < 3; ++c) job.position[c] = in[c], job.normal[c] = in[3 + c], job.tangent[c] = in[6 + c];
+  job.normals = options.normals;
+  job.influences = d.influences;
+  job.joints = d.joints.data();
+  job.weights = d.weights.data();
   job.matrices = matrices.data();
+  job.joint_count = matrices.size() / 12;
   job.out_position = mesh.positions.data()->data();
   job.out_normal = in[3] ? mesh.normals.data()->data() : nullptr;
   job.out_tangent = in[6] ? mesh.tangents.data()->data() : nullptr;
   switch (options.path) {
-    case PosePath::simd: geometry::skin(job, isa); break;
+    case PosePath::simd: geometry::skin(job, Isa::best); break;
     case PosePath::scalar: geometry::skin_scalar(job); break;
     case PosePath::reference: {
       std::vector<double> p(3 * n), nn(in[3] ? 3 * n : 0), tt(in[6] ? 4 * n : 0);
@@ -173,9 +157,9 @@ Mat4 to_float(const Eigen::Matrix4d& m) { return m.cast<float>(); }
 
 }  // namespace
 
-Status pose_model(Model& model, double seconds, const PoseOptions& options) {
+Status pose_scene(Scene& scene, const Rig* rig_in, bool file_camera, double seconds, const PoseOptions& options) {
   if (!std::isfinite(seconds)) return {ErrorCode::invalid_argument, "seconds", "pose_model: the time is not finite"};
-  const int clips = model.rig ? static_cast<int>(model.rig->clips.size()) : 0;
+  const int clips = rig_in ? static_cast<int>(rig_in->clips.size()) : 0;
   if (options.animation < -1 || options.animation >= clips) {
     return {ErrorCode::invalid_argument, "animation",
             "pose_model: animation " + std::to_string(options.animation) + " is out of range (the model has " +
@@ -187,13 +171,8 @@ Status pose_model(Model& model, double seconds, const PoseOptions& options) {
   if (options.path != PosePath::simd && options.path != PosePath::scalar && options.path != PosePath::reference) {
     return {ErrorCode::invalid_argument, "path", "pose_model: unknown path"};
   }
-  if (!model.rig) {
-    model.pose = options;
-    model.pose_seconds = seconds;
-    return {};
-  }
-  const Rig& rig = *model.rig;
-  Scene& scene = model.scene;
+  if (!rig_in) return {};
+  const Rig& rig = *rig_in;
   if (Status s = check_scene(rig, scene); !s.ok()) return s;
   std::vector<Eigen::Matrix4d> world;
   std::vector<std::vector<float>> weights;
@@ -225,7 +204,7 @@ Status pose_model(Model& model, double seconds, const PoseOptions& options) {
     if (dir.norm() > 1e-12) light.direction = dir.normalized().cast<float>();
     if (light.type != LightType::directional) light.position = w.topRightCorner<3, 1>().cast<float>();
   }
-  if (rig.camera_node >= 0 && model.has_camera) {
+  if (rig.camera_node >= 0 && file_camera) {
     const Eigen::Matrix4d& w = world[static_cast<std::size_t>(rig.camera_node)];
     const Eigen::Vector3d eye = w.topRightCorner<3, 1>(), forward = -w.block<3, 1>(0, 2), up = w.block<3, 1>(0, 1);
     if (forward.norm() > 1e-12 && up.norm() > 1e-12) {
@@ -234,13 +213,20 @@ Status pose_model(Model& model, double seconds, const PoseOptions& options) {
       scene.camera.up = up.normalized().cast<float>();
     }
   }
+  return {};
+}
+
+Status pose_model(Model& model, double seconds, const PoseOptions& options) {
+  FACET_TRY(pose_scene(model.scene, model.rig.get(), model.has_camera, seconds, options));
   model.pose = options;
   model.pose_seconds = seconds;
   return {};
 }
 
-Result<int> find_animation(const Model& model, std::string_view key) {
-  const auto& list = model.motion.animations;
+Result<int> find_animation(const Model& model, std::string_view key) { return find_animation(model.motion, key); }
+
+Result<int> find_animation(const MotionInfo& motion, std::string_view key) {
+  const auto& list = motion.animations;
   std::string names;
   for (std::size_t i = 0; i < list.size(); ++i) {
     if (list[i].name == key || std::to_string(i) == key) return static_cast<int>(i);

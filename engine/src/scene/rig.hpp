@@ -46,7 +46,8 @@ struct Rig {
   };
   // A mesh drawn deformed: its rest vertices (structure of arrays, `rest[0..2]` positions,
   // `rest[3..5]` normals, `rest[6..8]` tangents' xyz; absent kinds empty), the targets' deltas
-  // (same layout) and the skin's joints and weights (influences x count, by influence).
+  // (same layout) and the skin's joints and weights (influences x count, by influence; a mesh
+  // that is only morphed: one influence, joint 0, the identity).
   struct Deform {
     std::uint32_t mesh = 0;    // Scene::meshes, rewritten by each pose
     std::uint32_t object = 0;  // Scene::objects drawing it
