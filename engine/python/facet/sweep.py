@@ -145,21 +145,28 @@ def run(jobs, client, retries=2, deadline=None):
     futures = {client.submit(run_job, job, key="facet-" + job["key"] + "-" + str(time.time_ns()), retries=retries, pure=False): job
                for job in jobs}
     refused = None
-    pending = list(futures)
+    seen = set()  # futures finished and looked at
     end = None if deadline is None else deadline + 1.0  # a second past the deadline: the jobs themselves stop at it
-    while pending and refused is None:
+    while refused is None:
+        # Asked again each round: a future whose worker died goes back to pending when Dask runs
+        # its job again elsewhere, even after wait() has returned it (a lost worker must not
+        # make its jobs look finished, or cancelled at a time limit the sweep does not have).
+        pending = [f for f in futures if not f.done()]
+        for future in futures:
+            if future.done() and future not in seen:
+                seen.add(future)
+                if future.status == "finished" and future.result().get("status") == "refused":
+                    refused = future.result()
+                    break
+        if not pending or refused is not None:
+            break
         remaining = None if end is None else end - time.time()
         if remaining is not None and remaining <= 0:
             break
         try:
-            done, not_done = wait(pending, timeout=remaining, return_when="FIRST_COMPLETED")
+            wait(pending, timeout=1.0 if remaining is None else min(1.0, remaining), return_when="FIRST_COMPLETED")
         except TimeoutError:
-            break
-        pending = list(not_done)
-        for future in done:
-            if future.status == "finished" and future.result().get("status") == "refused":
-                refused = future.result()
-                break
+            pass
     rows = {}
     for future, job in futures.items():
         if not future.done():
